@@ -1,0 +1,61 @@
+"""The ``lighting-explorer`` command."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
+from lighting.analytic import render_sphere
+from lighting.image import encode_srgb8, write_png
+
+
+def _cmd_sphere(args) -> int:
+    material = Material(Lambert(args.kd) + BlinnPhong(args.ks, args.shininess), ambient=args.kd)
+    lights = [
+        AmbientLight(intensity=args.ambient),
+        DirectionalLight.from_angles(args.elevation, args.azimuth),
+    ]
+    img = render_sphere(material, lights, size=args.size)
+    rgb8, report = encode_srgb8(img, exposure=args.exposure, tonemap=args.tonemap)
+    write_png(args.out, rgb8)
+    print(f"wrote {args.out} ({args.size}x{args.size}); {report}")
+    return 0
+
+
+def _rgb(text: str):
+    parts = [float(x) for x in text.split(",")]
+    if len(parts) not in (1, 3):
+        raise argparse.ArgumentTypeError(f"expected one number or three comma-separated numbers; got {text!r}")
+    return parts[0] if len(parts) == 1 else tuple(parts)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="lighting-explorer", description="Explore local illumination models.")
+    sub = p.add_subparsers(dest="command", required=True)
+    s = sub.add_parser("sphere", help="render one lit sphere with the engine and save it as PNG")
+    s.add_argument("-o", "--out", default="sphere.png", help="output PNG path (default: sphere.png)")
+    s.add_argument("--size", type=int, default=384, help="image width and height in pixels")
+    s.add_argument("--kd", type=_rgb, default=(0.8, 0.25, 0.2), help="diffuse colour, e.g. 0.8,0.25,0.2")
+    s.add_argument("--ks", type=_rgb, default=0.5, help="specular coefficient")
+    s.add_argument("--shininess", type=float, default=40.0, help="Blinn-Phong exponent")
+    s.add_argument("--ambient", type=float, default=0.1, help="ambient intensity I_a")
+    s.add_argument("--elevation", type=float, default=45.0, help="light elevation in degrees")
+    s.add_argument("--azimuth", type=float, default=135.0, help="light azimuth in degrees")
+    s.add_argument("--exposure", type=float, default=0.0, help="exposure in stops")
+    s.add_argument("--tonemap", choices=("clamp", "reinhard"), default="clamp")
+    s.set_defaults(func=_cmd_sphere)
+    return p
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except ValueError as exc:
+        print(f"lighting-explorer: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,44 @@
+"""lighting — a standalone local-illumination engine for teaching (NumPy only).
+
+Modules
+-------
+vec         vectors: normalize, dot, reflect, halfway
+brdf        reflectance models: Lambert, Phong, BlinnPhong, CookTorrance, sums
+microfacet  NDFs (Beckmann, GGX) and shadowing–masking (V-cavity, Smith)
+fresnel     Schlick and exact dielectric Fresnel
+lights      ambient, directional, point, spot and area lights
+illumination the illumination equation, classic and physical form
+gl          the OpenGL 1.x/2.1 fixed-function lighting equation, exactly
+image       linear float images → sRGB 8-bit PNG
+
+Importing this package loads NumPy and nothing heavier.
+"""
+
+from . import brdf, fresnel, illumination, lights, microfacet, vec
+from .brdf import BlinnPhong, CookTorrance, Lambert, Phong
+from .illumination import Material, shade, shade_terms
+from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "brdf",
+    "fresnel",
+    "lights",
+    "microfacet",
+    "illumination",
+    "vec",
+    "Lambert",
+    "Phong",
+    "BlinnPhong",
+    "CookTorrance",
+    "AmbientLight",
+    "DirectionalLight",
+    "PointLight",
+    "SpotLight",
+    "RectLight",
+    "DiskLight",
+    "Material",
+    "shade",
+    "shade_terms",
+]

@@ -1,0 +1,539 @@
+r"""Reflectance models: the BRDFs of the two lecture decks.
+
+Every model is one small class with the slide's formula in its docstring and the
+code that computes exactly it.  The radiometric contract (conventions.md):
+
+* ``eval(n, l, v)`` returns the physical BRDF ``f_r`` in 1/sr per RGB channel,
+  shape ``(..., 3)``, zero below the horizon (``n·l <= 0`` or ``n·v <= 0``).
+* ``eval_cos(n, l, v)`` returns ``f_r (n·l)``, the integrand of the reflection
+  and rendering equations.  It is computed directly (never as
+  ``eval(...) * (n·l)``), so it stays exact where ``f_r`` itself divides by
+  ``n·l`` (the slides' Phong BRDF) and blows up at grazing light.
+* ``classic(n, l, v)`` returns the slides' illumination term,
+  ``π f_r (n·l)`` — ``k_d (n·l)`` for Lambert, ``k_s (R_l·v)^e`` for Phong —
+  so that ``I = I_a k_a + Σ_p I_p / A(d_p) · classic`` is the slides' equation.
+
+Vectors need not be unit length: ``n``, ``l`` and ``v`` are normalized on entry
+(a zero vector gives zero reflectance, never NaN).  Models broadcast over the
+leading axes and keep the float dtype of their vector inputs.
+
+Models add: ``Lambert(0.6) + Phong(0.3, 20)`` is a :class:`BRDFSum` whose
+``parts`` are the slides' decomposition ``f_r = f_d + f_s``.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cached_property
+
+import numpy as np
+
+from . import fresnel as _fresnel
+from . import microfacet as _mf
+from ._numeric import as_float, check_choice, check_color, check_nonnegative, working_dtype
+from .vec import normalize
+
+__all__ = [
+    "Geometry",
+    "BRDF",
+    "Lambert",
+    "Phong",
+    "BlinnPhong",
+    "CookTorrance",
+    "BRDFSum",
+    "cos_power",
+]
+
+
+def cos_power(one_minus_cos: np.ndarray, exponent: float) -> np.ndarray:
+    """``max(cos φ, 0)^e`` from ``1 − cos φ`` (given accurately), with ``0^0 = 1``.
+
+    Written as ``exp(e · log1p(−(1 − cos φ)))``: for a shininess of 1e6 the
+    lobe lives where ``1 − cos φ ~ 1e-6``, and forming ``cos φ`` first would
+    throw away the digits that the millionth power then amplifies.
+    """
+    d = one_minus_cos
+    if exponent == 0:
+        return np.ones_like(d)
+    with np.errstate(divide="ignore", under="ignore", invalid="ignore"):
+        out = np.exp(exponent * np.log1p(-np.minimum(d, 1)))
+    return np.where(d < 1, out, 0).astype(d.dtype, copy=False)
+
+
+class Geometry:
+    """The slides' shading directions at a set of points, each derived quantity on demand.
+
+    ``n``, ``l``, ``v`` are normalized on construction (pass ``unit=True`` when
+    they already are).  Derived quantities (``n_dot_l``, ``h``, ``r_dot_v`` …)
+    are computed the first time a model asks for them and cached, so a model
+    that never needs the half vector never pays for it.
+    """
+
+    def __init__(self, n, l, v, *, unit: bool = False, dtype=None):  # noqa: E741
+        dt = dtype or working_dtype(n, l, v)
+        n, l, v = (as_float(x, dt) for x in (n, l, v))
+        if not unit:
+            n, l, v = normalize(n), normalize(l), normalize(v)
+        self.dtype = dt
+        self.n, self.l, self.v = n, l, v
+
+    @staticmethod
+    def _dot(a, b):
+        return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+
+    @staticmethod
+    def _cross2(a, b):
+        """``|a × b|²``."""
+        x = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+        y = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+        z = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+        return x * x + y * y + z * z
+
+    @cached_property
+    def n_dot_l(self):
+        return self._dot(self.n, self.l)
+
+    @cached_property
+    def n_dot_v(self):
+        return self._dot(self.n, self.v)
+
+    @cached_property
+    def above(self):
+        """Both directions strictly above the surface: where any BRDF may be nonzero."""
+        return (self.n_dot_l > 0) & (self.n_dot_v > 0)
+
+    @cached_property
+    def h(self):
+        return normalize(self.l + self.v)
+
+    @cached_property
+    def n_dot_h(self):
+        return self._dot(self.n, self.h)
+
+    @cached_property
+    def v_dot_h(self):
+        return self._dot(self.v, self.h)
+
+    @cached_property
+    def sin2_h(self):
+        """``sin²θ_h = |n × h|²``: exact at the lobe peak, unlike ``1 − (n·h)²``."""
+        return np.clip(self._cross2(self.n, self.h), 0, 1)
+
+    @cached_property
+    def one_minus_n_dot_h(self):
+        """``1 − n·h = sin²θ_h / (1 + n·h)`` without cancellation."""
+        return self.sin2_h / (1 + np.maximum(self.n_dot_h, 0))
+
+    @cached_property
+    def r_dot_v(self):
+        """``R_l·v = 2 (n·l)(n·v) − l·v`` (equal to ``R_v·l``)."""
+        return 2 * self.n_dot_l * self.n_dot_v - self._dot(self.l, self.v)
+
+    @cached_property
+    def one_minus_r_dot_v(self):
+        """``1 − R_l·v = |R_l − v|² / 2`` (accurate near the mirror direction)."""
+        r = 2 * self.n * self.n_dot_l[..., None] - self.l
+        d = r - self.v
+        return np.clip(0.5 * self._dot(d, d), 0, 2)
+
+
+def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
+    """Scalar field ``(...)`` times RGB coefficient ``(3,)`` → ``(..., 3)``."""
+    return values[..., None] * coeff.astype(values.dtype)
+
+
+def _saturating_div(num: np.ndarray, den: np.ndarray) -> np.ndarray:
+    big = np.finfo(num.dtype).max
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        q = np.where(den > 0, num / np.where(den > 0, den, 1), 0)
+    return np.minimum(q, big).astype(num.dtype, copy=False)
+
+
+class BRDF:
+    """Base class: a reflectance model ``f_r(n, l, v)``.
+
+    Subclasses implement ``_f(g)`` (the BRDF) and/or ``_f_cos(g)`` (``f_r (n·l)``)
+    on a :class:`Geometry`; each default derives one from the other.
+    """
+
+    #: Which term of the slides' decomposition this model is ("diffuse" or "specular").
+    term = "specular"
+
+    # -- evaluation -----------------------------------------------------------------
+    def eval(self, n, l, v):  # noqa: E741
+        """Physical BRDF ``f_r`` in 1/sr, shape ``(..., 3)``; 0 below the horizon."""
+        return self.eval_geometry(Geometry(n, l, v))
+
+    def eval_cos(self, n, l, v):  # noqa: E741
+        """``f_r (n·l)``, computed without dividing by ``n·l``; shape ``(..., 3)``."""
+        return self.eval_cos_geometry(Geometry(n, l, v))
+
+    def classic(self, n, l, v):  # noqa: E741
+        """The slides' illumination term ``π f_r (n·l)``; shape ``(..., 3)``."""
+        return self.classic_geometry(Geometry(n, l, v))
+
+    def eval_geometry(self, g: Geometry):
+        return self._f(g)
+
+    def eval_cos_geometry(self, g: Geometry):
+        return self._f_cos(g)
+
+    def classic_geometry(self, g: Geometry):
+        return (math.pi * self._f_cos(g)).astype(g.dtype, copy=False)
+
+    def _f(self, g: Geometry):
+        nl = g.n_dot_l
+        return _saturating_div(self._f_cos(g), nl[..., None])
+
+    def _f_cos(self, g: Geometry):
+        return self._f(g) * np.maximum(g.n_dot_l, 0)[..., None]
+
+    # -- structure ------------------------------------------------------------------
+    @property
+    def parts(self) -> tuple[BRDF, ...]:
+        """The terms of the slides' decomposition ``f_d + f_s`` (just ``self`` here)."""
+        return (self,)
+
+    def __add__(self, other: BRDF) -> BRDFSum:
+        if not isinstance(other, BRDF):
+            return NotImplemented
+        return BRDFSum(*self.parts, *other.parts)
+
+    @property
+    def diffuse_albedo(self) -> np.ndarray:
+        """The Lambertian ``k_d`` of this model (zeros for a purely specular one)."""
+        return np.zeros(3)
+
+    def __repr__(self) -> str:
+        fields = ", ".join(f"{k}={_short(v)}" for k, v in self._params().items())
+        return f"{type(self).__name__}({fields})"
+
+    def _params(self) -> dict:
+        return {}
+
+
+def _short(v):
+    if isinstance(v, np.ndarray):
+        if np.all(v == v.flat[0]):
+            return repr(float(v.flat[0]))
+        return "(" + ", ".join(f"{x:g}" for x in v) + ")"
+    return repr(v)
+
+
+class Lambert(BRDF):
+    r"""Ideal diffuse (Lambertian, "matte") reflection.
+
+        f_r = k_d / π                (BRDF constant)
+        classic term: k_d (n·l)      (Lambert's cosine law)
+
+    ``kd`` is the albedo: a Lambertian surface reflects the fraction ``k_d`` of
+    the light it receives, in every direction alike.
+
+    Parameters
+    ----------
+    kd : float or RGB triple, >= 0
+        Diffuse albedo (the surface colour).
+
+    Examples
+    --------
+    >>> Lambert(1.0).eval((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0)).round(6).tolist()
+    [0.31831, 0.31831, 0.31831]
+    """
+
+    term = "diffuse"
+
+    def __init__(self, kd=0.8):
+        self.kd = check_color("kd", kd)
+
+    def _params(self):
+        return {"kd": self.kd}
+
+    @property
+    def diffuse_albedo(self):
+        return self.kd
+
+    def _f(self, g):
+        return _rgb(np.where(g.above, 1 / math.pi, 0).astype(g.dtype), self.kd)
+
+    def _f_cos(self, g):
+        return _rgb(np.where(g.above, g.n_dot_l / math.pi, 0).astype(g.dtype), self.kd)
+
+    def classic_geometry(self, g):
+        return _rgb(np.where(g.above, g.n_dot_l, 0).astype(g.dtype), self.kd)
+
+
+class Phong(BRDF):
+    r"""Phong lighting (Bui-Tuong Phong, 1975), as the slides write it.
+
+        classic term: k_s (R_l·v)^e,          R_l = 2 n (n·l) − l
+        BRDF:         f_r = k_s (R_l·v)^e / (π (n·l))
+
+    The BRDF form is the one the CMSC 435 deck gives (up to the engine's single
+    π).  It is **not physical**, which is the teaching point and is kept:
+
+    * dividing by ``n·l`` breaks reciprocity (``f(l, v) ≠ f(v, l)``);
+    * it reflects more energy than comes in: at normal incidence the
+      directional albedo is ``2 k_s / (e + 1)``, twice the input at ``e = 0``.
+
+    ``eval`` saturates (stays finite) where ``n·l → 0``; ``eval_cos`` and
+    ``classic`` never divide.  ``(R·v)^e`` is clamped to ``R·v >= 0`` and
+    ``0^0 = 1``.
+
+    Parameters
+    ----------
+    ks : float or RGB triple, >= 0
+        Specular coefficient (highlight colour).
+    shininess : float >= 0
+        The exponent ``e`` (the slides' ``n_s``).
+
+    Examples
+    --------
+    >>> Phong(1.0, 10).classic((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0)).tolist()
+    [1.0, 1.0, 1.0]
+    """
+
+    def __init__(self, ks=0.5, shininess=32.0):
+        self.ks = check_color("ks", ks)
+        self.shininess = check_nonnegative("shininess", shininess)
+
+    def _params(self):
+        return {"ks": self.ks, "shininess": self.shininess}
+
+    def _lobe(self, g):
+        lobe = cos_power(g.one_minus_r_dot_v, self.shininess)
+        return np.where(g.above, lobe, 0).astype(g.dtype, copy=False)
+
+    def _f_cos(self, g):
+        return _rgb(self._lobe(g) / g.dtype(math.pi), self.ks)
+
+    def classic_geometry(self, g):
+        return _rgb(self._lobe(g), self.ks)
+
+
+class BlinnPhong(BRDF):
+    r"""Blinn–Phong (Jim Blinn, 1977): the highlight from the half vector.
+
+    Unnormalized (the slides' and OpenGL's form, ``normalized=False``)::
+
+        classic term: k_s (n·h)^e,     f_r = k_s (n·h)^e / (π (n·l))
+
+    Normalized as a microfacet NDF (``normalized=True``)::
+
+        f_r = k_s (e + 2)/(2π) (n·h)^e,   classic term: π f_r (n·l)
+
+    The normalized lobe ``(e+2)/(2π)(n·h)^e`` integrates to one against
+    ``(n·h) dω_h``; the BRDF is reciprocal and, for ``k_s <= 1``, reflects no
+    more than it receives at normal incidence.
+
+    Parameters
+    ----------
+    ks : float or RGB triple, >= 0
+    shininess : float >= 0
+        Exponent ``e``; the slides' roughness ``r`` is ``1/e``.
+    normalized : bool
+        Use the NDF-normalized form.
+
+    Examples
+    --------
+    >>> BlinnPhong(1.0, 50).classic((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0)).tolist()
+    [1.0, 1.0, 1.0]
+    """
+
+    def __init__(self, ks=0.5, shininess=32.0, normalized=False):
+        self.ks = check_color("ks", ks)
+        self.shininess = check_nonnegative("shininess", shininess)
+        if not isinstance(normalized, (bool, np.bool_)):
+            raise ValueError(f"normalized must be True or False; got {normalized!r}")
+        self.normalized = bool(normalized)
+
+    def _params(self):
+        return {"ks": self.ks, "shininess": self.shininess, "normalized": self.normalized}
+
+    def _lobe(self, g):
+        lobe = cos_power(g.one_minus_n_dot_h, self.shininess)
+        return np.where(g.above, lobe, 0).astype(g.dtype, copy=False)
+
+    def _norm(self):
+        return (self.shininess + 2) / (2 * math.pi)
+
+    def _f(self, g):
+        if not self.normalized:
+            return super()._f(g)
+        return _rgb(self._lobe(g) * g.dtype(self._norm()), self.ks)
+
+    def _f_cos(self, g):
+        lobe = self._lobe(g)
+        if self.normalized:
+            return _rgb(lobe * g.dtype(self._norm()) * np.maximum(g.n_dot_l, 0), self.ks)
+        return _rgb(lobe / g.dtype(math.pi), self.ks)
+
+    def classic_geometry(self, g):
+        if self.normalized:
+            return super().classic_geometry(g)
+        return _rgb(self._lobe(g), self.ks)
+
+
+class CookTorrance(BRDF):
+    r"""Cook–Torrance microfacet specular reflection.
+
+    Default (energy-consistent, Walter et al. 2007)::
+
+        f_r = k_s D(h) G(n, v, l) F(v·h) / (4 (n·v)(n·l))
+
+    With ``denominator="pi"`` the slide's (and the 1982 paper's) form::
+
+        f_r = k_s D G F / (π (n·v)(n·l))
+
+    which, with a normalized ``D``, reflects up to ``4/π ≈ 1.27`` times too
+    much; it is kept so the plausibility audit and the figures can show that.
+
+    Parts: ``D`` Beckmann (Gaussian slopes, the slides') or GGX; ``G`` the
+    slides' V-cavity term or separable Smith ``G1(v) G1(l)`` for the chosen NDF;
+    ``F`` Schlick, the exact dielectric formula with ``η`` from ``f0``, or
+    ``"none"`` (F = 1).
+
+    Parameters
+    ----------
+    ks : float or RGB triple, >= 0
+        Scale of the specular lobe (1 for a pure microfacet model).
+    roughness : float > 0
+        The NDF's α.  Values down to 1e-6 are evaluated as given (results stay
+        finite; the peak of ``D`` is ``1/(π α²)``).
+    f0 : float or RGB triple in [0, 1]
+        Fresnel reflectance at normal incidence (0.04 for common dielectrics).
+    ndf : {"beckmann", "ggx"}
+    geometry : {"v-cavity", "smith"}
+    fresnel : {"schlick", "dielectric", "none"}
+    denominator : {"4", "pi"}
+
+    Examples
+    --------
+    >>> ct = CookTorrance(1.0, 0.3, 1.0)
+    >>> round(float(ct.eval((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0))[0]), 6)  # D(0)/4
+    0.884194
+    """
+
+    NDFS = ("beckmann", "ggx")
+    GEOMETRIES = ("v-cavity", "smith")
+    FRESNELS = ("schlick", "dielectric", "none")
+    DENOMINATORS = ("4", "pi")
+
+    def __init__(
+        self,
+        ks=1.0,
+        roughness=0.3,
+        f0=0.04,
+        ndf="beckmann",
+        geometry="v-cavity",
+        fresnel="schlick",
+        denominator="4",
+    ):
+        self.ks = check_color("ks", ks)
+        try:
+            self.roughness = float(_mf.check_alpha(roughness))
+        except TypeError:
+            raise ValueError(f"roughness must be a finite number > 0; got {roughness!r}") from None
+        self.f0 = check_color("f0", f0)
+        if np.any(self.f0 > 1):
+            raise ValueError(f"f0 must be a scalar or RGB triple in [0, 1]; got {f0!r}")
+        self.ndf = check_choice("ndf", ndf, self.NDFS)
+        self.geometry = check_choice("geometry", geometry, self.GEOMETRIES)
+        self.fresnel = check_choice("fresnel", fresnel, self.FRESNELS)
+        self.denominator = check_choice("denominator", str(denominator), self.DENOMINATORS)
+
+    def _params(self):
+        return {
+            "ks": self.ks,
+            "roughness": self.roughness,
+            "f0": self.f0,
+            "ndf": self.ndf,
+            "geometry": self.geometry,
+            "fresnel": self.fresnel,
+            "denominator": self.denominator,
+        }
+
+    # The three factors, public so that figures can show each one.
+    def D(self, g: Geometry):
+        """Normal distribution at ``h`` (1/sr)."""
+        f = _mf.beckmann_ndf if self.ndf == "beckmann" else _mf.ggx_ndf
+        return f(g.n_dot_h, self.roughness, sin2_theta_h=g.sin2_h)
+
+    def G(self, g: Geometry):
+        """Shadowing–masking in [0, 1]."""
+        if self.geometry == "v-cavity":
+            return _mf.vcavity_g(g.n_dot_h, g.n_dot_v, g.n_dot_l, g.v_dot_h)
+        g1 = _mf.smith_g1_beckmann if self.ndf == "beckmann" else _mf.smith_g1_ggx
+        s2v = np.clip(Geometry._cross2(g.n, g.v), 0, 1)
+        s2l = np.clip(Geometry._cross2(g.n, g.l), 0, 1)
+        return g1(g.n_dot_v, self.roughness, s2v) * g1(g.n_dot_l, self.roughness, s2l)
+
+    def F(self, g: Geometry):
+        """Fresnel reflectance per channel, shape ``(..., 3)``."""
+        c = g.v_dot_h
+        if self.fresnel == "none":
+            return np.ones(c.shape + (3,), dtype=g.dtype)
+        if self.fresnel == "schlick":
+            return _fresnel.schlick(c, self.f0)
+        return _fresnel.dielectric(c, _fresnel.eta_from_f0(self.f0))
+
+    def _dgf(self, g):
+        dg = self.D(g).astype(np.float64) * self.G(g).astype(np.float64)
+        dg = np.where(g.above, dg, 0.0)
+        return dg[..., None] * self.F(g).astype(np.float64) * self.ks
+
+    def _den_const(self):
+        return 4.0 if self.denominator == "4" else math.pi
+
+    def _f(self, g):
+        den = self._den_const() * g.n_dot_v.astype(np.float64) * g.n_dot_l.astype(np.float64)
+        return _saturating_div(self._dgf(g), den[..., None]).astype(g.dtype)
+
+    def _f_cos(self, g):
+        den = self._den_const() * g.n_dot_v.astype(np.float64)
+        return _clip_to(g.dtype, _saturating_div(self._dgf(g), den[..., None]))
+
+
+def _clip_to(dt, x):
+    return np.minimum(x, float(np.finfo(dt).max)).astype(dt)
+
+
+class BRDFSum(BRDF):
+    r"""Sum of reflectance models, the slides' decomposition ``f_r = f_d + f_s``.
+
+    ``parts`` gives each term, so a front end can show the diffuse and specular
+    contributions separately.  Build it with ``+``.
+
+    Examples
+    --------
+    >>> m = Lambert(0.5) + BlinnPhong(0.3, 40)
+    >>> [p.term for p in m.parts]
+    ['diffuse', 'specular']
+    """
+
+    def __init__(self, *parts: BRDF):
+        if not parts or not all(isinstance(p, BRDF) for p in parts):
+            raise ValueError(f"BRDFSum needs one or more BRDF models; got {parts!r}")
+        flat = []
+        for p in parts:
+            flat.extend(p.parts)
+        self._parts = tuple(flat)
+
+    @property
+    def parts(self):
+        return self._parts
+
+    @property
+    def diffuse_albedo(self):
+        return sum((p.diffuse_albedo for p in self._parts), np.zeros(3))
+
+    def _f(self, g):
+        return sum(p.eval_geometry(g) for p in self._parts)
+
+    def _f_cos(self, g):
+        return sum(p.eval_cos_geometry(g) for p in self._parts)
+
+    def classic_geometry(self, g):
+        return sum(p.classic_geometry(g) for p in self._parts)
+
+    def __repr__(self):
+        return " + ".join(repr(p) for p in self._parts)

@@ -1,0 +1,101 @@
+"""Fresnel reflectance: the fraction of light a smooth interface reflects.
+
+Both functions broadcast, keep the float dtype of ``cos_theta`` and take RGB
+parameters as a trailing axis of length 3 when given a triple.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._numeric import working_dtype
+
+__all__ = ["schlick", "dielectric", "f0_from_eta", "eta_from_f0"]
+
+
+def _param(x, dt, name):
+    a = np.asarray(x, dtype=np.float64)
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite; got {x!r}")
+    return a.astype(dt)
+
+
+def schlick(cos_theta, f0) -> np.ndarray:
+    """Schlick's approximation ``F = F0 + (1 - F0) (1 - cos θ)^5``.
+
+    ``cos_theta`` is the cosine between the incident direction and the
+    (micro)normal, clamped to [0, 1].  ``f0`` (reflectance at normal incidence)
+    is a scalar or an RGB triple; with a triple the result has a trailing axis 3.
+
+    Examples
+    --------
+    >>> float(schlick(1.0, 0.04))
+    0.04
+    >>> float(schlick(0.0, 0.04))
+    1.0
+    """
+    dt = working_dtype(cos_theta)
+    c = np.clip(np.asarray(cos_theta, dtype=dt), 0, 1)
+    f0 = _param(f0, dt, "f0")
+    if np.any((f0 < 0) | (f0 > 1)):
+        raise ValueError(f"f0 must be in [0, 1]; got {f0!r}")
+    m = (1 - c) ** 5
+    if f0.ndim:
+        m = m[..., None]
+    return (f0 + (1 - f0) * m).astype(dt, copy=False)
+
+
+def dielectric(cos_theta_i, eta) -> np.ndarray:
+    """Exact unpolarized Fresnel reflectance of a dielectric interface.
+
+    ``eta = n_t / n_i`` is the relative index of refraction seen from the side
+    the light arrives on.  With ``cos_theta_i < 0`` the light arrives from the
+    other side, so ``eta`` is inverted and ``|cos|`` used.  Past the critical
+    angle (``sin θ_t > 1``) the reflectance is 1 (total internal reflection).
+
+        F = (r_par² + r_perp²) / 2,
+        r_par  = (η cos θ_i − cos θ_t) / (η cos θ_i + cos θ_t),
+        r_perp = (cos θ_i − η cos θ_t) / (cos θ_i + η cos θ_t).
+
+    At normal incidence this is ``((η − 1) / (η + 1))²``.
+
+    Examples
+    --------
+    >>> round(float(dielectric(1.0, 1.5)), 6)
+    0.04
+    """
+    dt = working_dtype(cos_theta_i)
+    ci = np.clip(np.asarray(cos_theta_i, dtype=np.float64), -1, 1)
+    eta = np.asarray(eta, dtype=np.float64)
+    if not np.all(np.isfinite(eta)) or np.any(eta <= 0):
+        raise ValueError(f"eta must be finite and > 0; got {eta!r}")
+    if eta.ndim:
+        ci = ci[..., None]
+    eta = np.where(ci < 0, 1 / eta, eta)
+    ci = np.abs(ci)
+    # sin²θ_t from Snell's law; (1 - c)(1 + c) keeps 1 - cos² accurate near normal incidence.
+    sin2_t = (1 - ci) * (1 + ci) / (eta * eta)
+    tir = sin2_t >= 1
+    ct = np.sqrt(np.clip((1 - sin2_t), 0, None))
+    d_par = eta * ci + ct
+    d_perp = ci + eta * ct
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r_par = np.where(d_par > 0, (eta * ci - ct) / np.where(d_par > 0, d_par, 1), 0)
+        r_perp = np.where(d_perp > 0, (ci - eta * ct) / np.where(d_perp > 0, d_perp, 1), 0)
+    f = np.where(tir, 1.0, 0.5 * (r_par * r_par + r_perp * r_perp))
+    return f.astype(dt, copy=False)
+
+
+def f0_from_eta(eta):
+    """Normal-incidence reflectance ``((η − 1)/(η + 1))²``."""
+    eta = np.asarray(eta, dtype=np.float64)
+    return ((eta - 1) / (eta + 1)) ** 2
+
+
+def eta_from_f0(f0):
+    """Inverse of :func:`f0_from_eta` on the branch ``η >= 1``: ``(1 + √F0)/(1 − √F0)``.
+
+    ``F0 = 1`` (a perfect conductor in this approximation) maps to a very large η.
+    """
+    s = np.sqrt(np.clip(np.asarray(f0, dtype=np.float64), 0, 1))
+    return (1 + s) / np.maximum(1 - s, 1e-12)

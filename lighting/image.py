@@ -1,0 +1,150 @@
+"""From linear float images to pictures: exposure, tone map, sRGB encoding, PNG.
+
+Lighting happens in linear RGB.  Turning a result into an 8-bit picture is an
+explicit, documented last step:
+
+1. multiply by ``2**exposure`` (stops);
+2. tone map: ``"clamp"`` (values above 1 clip — the count is reported),
+   or ``"reinhard"`` (``x / (1 + x)``, nothing clips);
+3. encode with the sRGB transfer function (IEC 61966-2-1) and round to 8 bits.
+
+:func:`write_png` writes a PNG with the standard library only (``zlib``), to a
+temporary file that is renamed into place, so a failed write never leaves half a
+file behind.
+"""
+
+from __future__ import annotations
+
+import os
+import struct
+import tempfile
+import zlib
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._numeric import check_choice, check_finite
+
+__all__ = ["EncodeReport", "linear_to_srgb", "srgb_to_linear", "encode_srgb8", "write_png", "read_png"]
+
+
+def linear_to_srgb(x):
+    """The sRGB transfer function on values in [0, 1]."""
+    x = np.clip(np.asarray(x, dtype=np.float64), 0, 1)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def srgb_to_linear(y):
+    """Inverse of :func:`linear_to_srgb`."""
+    y = np.clip(np.asarray(y, dtype=np.float64), 0, 1)
+    return np.where(y <= 0.04045, y / 12.92, ((y + 0.055) / 1.055) ** 2.4)
+
+
+@dataclass(frozen=True)
+class EncodeReport:
+    """What the encoding did: how many pixels clipped, out of how many."""
+
+    clipped_pixels: int
+    total_pixels: int
+    max_value: float
+
+    @property
+    def clipped_fraction(self) -> float:
+        return self.clipped_pixels / max(self.total_pixels, 1)
+
+    def __str__(self) -> str:
+        return (
+            f"{self.clipped_pixels} of {self.total_pixels} pixels clipped "
+            f"({100 * self.clipped_fraction:.2f} %), brightest value {self.max_value:.4g}"
+        )
+
+
+def encode_srgb8(image, *, exposure: float = 0.0, tonemap: str = "clamp"):
+    """Linear RGB ``(H, W, 3)`` → sRGB ``uint8`` ``(H, W, 3)`` plus an :class:`EncodeReport`.
+
+    Parameters
+    ----------
+    image : array_like, (H, W, 3)
+        Linear RGB, any float dtype.  NaN is an error (the engine never makes it).
+    exposure : float
+        Stops: values are multiplied by ``2**exposure`` first.
+    tonemap : {"clamp", "reinhard"}
+        ``clamp`` clips at 1 (clipped pixels are counted in the report);
+        ``reinhard`` maps ``x → x / (1 + x)``.
+
+    Examples
+    --------
+    >>> img, rep = encode_srgb8(np.array([[[0.0, 0.5, 2.0]]]))
+    >>> img.tolist(), rep.clipped_pixels
+    ([[[0, 188, 255]]], 1)
+    """
+    tonemap = check_choice("tonemap", tonemap, ("clamp", "reinhard"))
+    exposure = float(check_finite("exposure", exposure))
+    x = np.asarray(image, dtype=np.float64)
+    if x.ndim != 3 or x.shape[-1] != 3:
+        raise ValueError(f"image must have shape (H, W, 3); got {x.shape}")
+    if np.isnan(x).any():
+        raise ValueError("image contains NaN")
+    x = np.maximum(x, 0) * 2.0**exposure
+    peak = float(x.max()) if x.size else 0.0
+    clipped = int(np.count_nonzero(np.any(x > 1, axis=-1)))
+    if tonemap == "reinhard":
+        x = x / (1 + x)
+        clipped = 0
+    y = np.round(linear_to_srgb(x) * 255).astype(np.uint8)
+    return y, EncodeReport(clipped, x.shape[0] * x.shape[1], peak)
+
+
+def _png_bytes(rgb8: np.ndarray) -> bytes:
+    h, w, c = rgb8.shape
+    color_type = {3: 2, 4: 6}[c]
+    raw = np.concatenate([np.zeros((h, 1), np.uint8), rgb8.reshape(h, w * c)], axis=1).tobytes()
+
+    def chunk(tag: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+
+    ihdr = struct.pack(">IIBBBBB", w, h, 8, color_type, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
+
+
+def write_png(path, rgb8) -> None:
+    """Write an ``(H, W, 3)`` or ``(H, W, 4)`` ``uint8`` array as PNG, atomically."""
+    a = np.asarray(rgb8)
+    if a.dtype != np.uint8 or a.ndim != 3 or a.shape[-1] not in (3, 4):
+        raise ValueError(f"write_png needs a uint8 array of shape (H, W, 3|4); got {a.dtype} {a.shape}")
+    data = _png_bytes(np.ascontiguousarray(a))
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".png", dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def read_png(path) -> np.ndarray:
+    """Read back a PNG written by :func:`write_png` (8-bit RGB/RGBA, no interlace)."""
+    data = open(path, "rb").read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(f"{path}: not a PNG file")
+    pos, idat = 8, b""
+    w = h = c = None
+    while pos < len(data):
+        (n,) = struct.unpack(">I", data[pos : pos + 4])
+        tag, body = data[pos + 4 : pos + 8], data[pos + 8 : pos + 8 + n]
+        pos += 12 + n
+        if tag == b"IHDR":
+            w, h, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            if depth != 8 or ctype not in (2, 6) or interlace:
+                raise ValueError(f"{path}: only 8-bit RGB/RGBA non-interlaced PNG is supported")
+            c = 3 if ctype == 2 else 4
+        elif tag == b"IDAT":
+            idat += body
+    raw = np.frombuffer(zlib.decompress(idat), np.uint8).reshape(h, 1 + w * c)
+    if np.any(raw[:, 0] != 0):
+        raise ValueError(f"{path}: PNG filters other than 'None' are not supported by this reader")
+    return raw[:, 1:].reshape(h, w, c).copy()

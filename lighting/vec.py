@@ -1,0 +1,174 @@
+"""Small vector toolkit used everywhere in the engine.
+
+All functions take arrays of shape ``(..., 3)`` (or anything that broadcasts to
+it, including Python tuples), broadcast over the leading axes and keep the float
+dtype of their array inputs (see :mod:`lighting._numeric`).
+
+Names follow the slides: ``n`` the unit normal, ``l`` the unit vector toward the
+light, ``v`` toward the viewer, ``h = (l + v) / |l + v|``,
+``R_l = 2 n (n·l) - l``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._numeric import as_float, working_dtype
+
+__all__ = [
+    "dot",
+    "cross",
+    "length",
+    "normalize",
+    "reflect",
+    "halfway",
+    "orthonormal_basis",
+    "spherical_direction",
+    "to_local",
+    "from_local",
+]
+
+
+def _vec(x, dtype=None) -> np.ndarray:
+    dt = working_dtype(x) if dtype is None else dtype
+    a = as_float(x, dt)
+    if a.shape[-1:] != (3,):
+        raise ValueError(f"expected vectors of shape (..., 3); got shape {a.shape}")
+    return a
+
+
+def dot(a, b) -> np.ndarray:
+    """Dot product over the last axis: shape ``(...)``.
+
+    Examples
+    --------
+    >>> float(dot((1.0, 2.0, 3.0), (4.0, 5.0, 6.0)))
+    32.0
+    """
+    dt = working_dtype(a, b)
+    a, b = _vec(a, dt), _vec(b, dt)
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+
+
+def cross(a, b) -> np.ndarray:
+    """Cross product ``a × b``, shape ``(..., 3)``."""
+    dt = working_dtype(a, b)
+    a, b = _vec(a, dt), _vec(b, dt)
+    return np.stack(
+        [
+            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+        ],
+        axis=-1,
+    )
+
+
+def _scaled(a: np.ndarray):
+    """``a / max|a_i|`` and ``max|a_i|``: the scaled vector has entries in [-1, 1].
+
+    Scaling first is what keeps ``|a|`` free of overflow (components ~1e20 in
+    float32) and underflow (components ~1e-30 in float32).
+    """
+    m = np.max(np.abs(a), axis=-1, keepdims=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(m > 0, a / np.where(m > 0, m, 1), 0)
+    return s.astype(a.dtype, copy=False), m
+
+
+def length(a) -> np.ndarray:
+    """Euclidean length over the last axis, computed without overflow or underflow."""
+    a = _vec(a)
+    s, m = _scaled(a)
+    return m[..., 0] * np.sqrt(dot(s, s))
+
+
+def normalize(a) -> np.ndarray:
+    """Unit vector along ``a``; the zero vector maps to the zero vector.
+
+    Uses the direct ``a / |a|`` where ``|a|²`` is safely representable and a
+    scaled form elsewhere, so tiny (1e-30 in float32) and huge (1e20 in float32)
+    vectors normalize correctly.  No warning is raised for zero vectors.
+
+    Examples
+    --------
+    >>> normalize((3.0, 0.0, 4.0)).tolist()
+    [0.6, 0.0, 0.8]
+    >>> normalize((0.0, 0.0, 0.0)).tolist()
+    [0.0, 0.0, 0.0]
+    """
+    a = _vec(a)
+    fi = np.finfo(a.dtype)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        len2 = a[..., 0] * a[..., 0] + a[..., 1] * a[..., 1] + a[..., 2] * a[..., 2]
+    # Fast path: squared length comfortably inside the normal range.
+    lo, hi = float(fi.tiny) * 1e4, float(fi.max) * 1e-4
+    if np.all((len2 > lo) & (len2 < hi)):
+        return a / np.sqrt(len2)[..., None]
+    s, _ = _scaled(a)
+    len_s = np.sqrt(s[..., 0] * s[..., 0] + s[..., 1] * s[..., 1] + s[..., 2] * s[..., 2])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.where(len_s[..., None] > 0, s / np.where(len_s > 0, len_s, 1)[..., None], 0)
+    return out.astype(a.dtype, copy=False)
+
+
+def reflect(d, n) -> np.ndarray:
+    """Mirror ``d`` about ``n``: ``2 n (n·d) - d`` (the slides' ``R_l`` for ``d = l``)."""
+    dt = working_dtype(d, n)
+    d, n = _vec(d, dt), _vec(n, dt)
+    return 2 * n * dot(n, d)[..., None] - d
+
+
+def halfway(l, v) -> np.ndarray:  # noqa: E741 - the slides' name
+    """Halfway vector ``h = (l + v) / |l + v|``.
+
+    Where ``l = -v`` exactly the sum is the zero vector and so is the result:
+    then every ``n·h`` is 0, which is the right limit for the shading models
+    (one of ``l``, ``v`` is then at or below the horizon, where every BRDF is 0).
+
+    Examples
+    --------
+    >>> halfway((1.0, 0.0, 0.0), (0.0, 1.0, 0.0)).round(6).tolist()
+    [0.707107, 0.707107, 0.0]
+    >>> halfway((1.0, 0.0, 0.0), (-1.0, 0.0, 0.0)).tolist()
+    [0.0, 0.0, 0.0]
+    """
+    dt = working_dtype(l, v)
+    return normalize(_vec(l, dt) + _vec(v, dt))
+
+
+def orthonormal_basis(n):
+    """Two unit tangents ``(t, b)`` with ``(t, b, n)`` a right-handed orthonormal frame.
+
+    Branch-free construction of Duff et al., "Building an Orthonormal Basis,
+    Revisited" (JCGT 2017); continuous except across ``n_z = 0`` sign flips.
+    """
+    n = normalize(n)
+    sign = np.where(n[..., 2] >= 0, 1.0, -1.0).astype(n.dtype)
+    a = -1.0 / (sign + n[..., 2])
+    b = n[..., 0] * n[..., 1] * a
+    t = np.stack([1.0 + sign * n[..., 0] ** 2 * a, sign * b, -sign * n[..., 0]], axis=-1)
+    bt = np.stack([b, sign + n[..., 1] ** 2 * a, -n[..., 1]], axis=-1)
+    return t.astype(n.dtype, copy=False), bt.astype(n.dtype, copy=False)
+
+
+def spherical_direction(theta, phi, dtype=None) -> np.ndarray:
+    """Unit vector at polar angle ``theta`` (from +z) and azimuth ``phi`` (from +x toward +y)."""
+    dt = dtype or working_dtype(theta, phi)
+    theta = np.asarray(theta, dtype=dt)
+    phi = np.asarray(phi, dtype=dt)
+    st = np.sin(theta)
+    return np.stack(np.broadcast_arrays(st * np.cos(phi), st * np.sin(phi), np.cos(theta)), axis=-1)
+
+
+def to_local(d, n) -> np.ndarray:
+    """Express world direction ``d`` in the shading frame whose ``z`` is ``n``."""
+    t, b = orthonormal_basis(n)
+    return np.stack([dot(d, t), dot(d, b), dot(d, normalize(n))], axis=-1)
+
+
+def from_local(d_local, n) -> np.ndarray:
+    """Inverse of :func:`to_local`."""
+    t, b = orthonormal_basis(n)
+    d_local = np.asarray(d_local, dtype=t.dtype)
+    return d_local[..., 0:1] * t + d_local[..., 1:2] * b + d_local[..., 2:3] * normalize(n)
