@@ -317,13 +317,22 @@ class BlinnPhong(BRDF):
 
         classic term: k_s (n·h)^e,     f_r = k_s (n·h)^e / (π (n·l))
 
-    Normalized as a microfacet NDF (``normalized=True``)::
+    Normalized (``normalized=True``), the CMSC 435 slide's "think of it as an NDF"::
 
         f_r = k_s (e + 2)/(2π) (n·h)^e,   classic term: π f_r (n·l)
 
-    The normalized lobe ``(e+2)/(2π)(n·h)^e`` integrates to one against
-    ``(n·h) dω_h``; the BRDF is reciprocal and, for ``k_s <= 1``, reflects no
-    more than it receives at normal incidence.
+    The lobe ``D(h) = (e+2)/(2π)(n·h)^e`` integrates to one against
+    ``(n·h) dω_h``, so the highlight keeps its energy as it sharpens, and the
+    BRDF is reciprocal.  Used on its own as a BRDF (as the slide's sum does)
+    it still reflects too much for ``k_s = 1``: the directional albedo at
+    normal incidence is
+
+        ρ(e) = 4 (e+2) [2/(e+4) − 1/(e+2) − 2^{−(e+4)/2}·2/(e+4) + 2^{−(e+2)/2}/(e+2)]
+
+    — exactly 1 at ``e = 0``, rising toward 4 for sharp lobes, because the
+    microfacet Jacobian ``1/(4 (v·h))`` and the ``G/(n·l)(n·v)`` factors are
+    missing.  "Combine with other terms", as the slide says, is
+    :class:`CookTorrance` with ``ndf="blinn-phong"``, which conserves energy.
 
     Parameters
     ----------
@@ -387,7 +396,8 @@ class CookTorrance(BRDF):
     which, with a normalized ``D``, reflects up to ``4/π ≈ 1.27`` times too
     much; it is kept so the plausibility audit and the figures can show that.
 
-    Parts: ``D`` Beckmann (Gaussian slopes, the slides') or GGX; ``G`` the
+    Parts: ``D`` Beckmann (Gaussian slopes, the slides'), GGX, or the slides'
+    normalized Blinn–Phong lobe with exponent ``e = 2/α² − 2``; ``G`` the
     slides' V-cavity term or separable Smith ``G1(v) G1(l)`` for the chosen NDF;
     ``F`` Schlick, the exact dielectric formula with ``η`` from ``f0``, or
     ``"none"`` (F = 1).
@@ -401,7 +411,7 @@ class CookTorrance(BRDF):
         finite; the peak of ``D`` is ``1/(π α²)``).
     f0 : float or RGB triple in [0, 1]
         Fresnel reflectance at normal incidence (0.04 for common dielectrics).
-    ndf : {"beckmann", "ggx"}
+    ndf : {"beckmann", "ggx", "blinn-phong"}
     geometry : {"v-cavity", "smith"}
     fresnel : {"schlick", "dielectric", "none"}
     denominator : {"4", "pi"}
@@ -413,7 +423,7 @@ class CookTorrance(BRDF):
     0.884194
     """
 
-    NDFS = ("beckmann", "ggx")
+    NDFS = ("beckmann", "ggx", "blinn-phong")
     GEOMETRIES = ("v-cavity", "smith")
     FRESNELS = ("schlick", "dielectric", "none")
     DENOMINATORS = ("4", "pi")
@@ -455,6 +465,9 @@ class CookTorrance(BRDF):
     # The three factors, public so that figures can show each one.
     def D(self, g: Geometry):
         """Normal distribution at ``h`` (1/sr)."""
+        if self.ndf == "blinn-phong":
+            e = _mf.blinn_phong_exponent(self.roughness)
+            return _mf.blinn_phong_ndf(g.n_dot_h, e, sin2_theta_h=g.sin2_h)
         f = _mf.beckmann_ndf if self.ndf == "beckmann" else _mf.ggx_ndf
         return f(g.n_dot_h, self.roughness, sin2_theta_h=g.sin2_h)
 
@@ -462,7 +475,8 @@ class CookTorrance(BRDF):
         """Shadowing–masking in [0, 1]."""
         if self.geometry == "v-cavity":
             return _mf.vcavity_g(g.n_dot_h, g.n_dot_v, g.n_dot_l, g.v_dot_h)
-        g1 = _mf.smith_g1_beckmann if self.ndf == "beckmann" else _mf.smith_g1_ggx
+        # Blinn–Phong lobes use the Beckmann G1 of the equivalent α (Walter et al. 2007).
+        g1 = _mf.smith_g1_ggx if self.ndf == "ggx" else _mf.smith_g1_beckmann
         s2v = np.clip(Geometry._cross2(g.n, g.v), 0, 1)
         s2l = np.clip(Geometry._cross2(g.n, g.l), 0, 1)
         return g1(g.n_dot_v, self.roughness, s2v) * g1(g.n_dot_l, self.roughness, s2l)

@@ -262,7 +262,7 @@ class PointLight(Light):
         yield Incidence(l.astype(dt), _to_dtype(irr, dt))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SpotLight(PointLight):
     r"""A point light restricted to a cone (OpenGL semantics).
 
@@ -329,7 +329,7 @@ def _r2_sequence(n: int, seed: int | None) -> np.ndarray:
     return (shift + k * a) % 1.0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class AreaLight(Light):
     r"""Base of lights with an extent, integrated by sampling.
 

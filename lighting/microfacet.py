@@ -35,6 +35,8 @@ from ._numeric import working_dtype
 __all__ = [
     "beckmann_ndf",
     "ggx_ndf",
+    "blinn_phong_ndf",
+    "blinn_phong_exponent",
     "smith_g1_beckmann",
     "smith_g1_ggx",
     "vcavity_g",
@@ -124,6 +126,41 @@ def ggx_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
         den = s2 + (a * c) ** 2
         d = np.where(den > 0, (a * a) / (math.pi * den * den), np.inf)
         d = np.where(c > 0, d, 0.0)
+    return _finish(d, dt)
+
+
+def blinn_phong_exponent(alpha) -> np.ndarray:
+    """Blinn–Phong exponent equivalent to a Beckmann α: ``e = 2/α² − 2`` (Walter et al. 2007, eq. 30).
+
+    Clamped at 0 for α >= 1 (the flattest Blinn–Phong lobe is ``e = 0``).
+    """
+    a = check_alpha(alpha)
+    return np.maximum(2.0 / (a * a) - 2.0, 0.0)
+
+
+def blinn_phong_ndf(cos_theta_h, exponent, sin2_theta_h=None) -> np.ndarray:
+    """The slides' normalized Blinn–Phong distribution ``D(h) = (e+2)/(2π) (n·h)^e``.
+
+    ``(n·h)^e`` is evaluated as ``exp(e·log1p(−(1 − n·h)))`` with
+    ``1 − n·h = sin²θ_h / (1 + cos θ_h)``, accurate for exponents up to 1e6 and
+    beyond; ``0^0 = 1``.
+
+    Examples
+    --------
+    >>> round(float(blinn_phong_ndf(1.0, 10.0)), 6)  # (e+2)/(2π)
+    1.909859
+    """
+    dt = working_dtype(cos_theta_h)
+    e = np.asarray(exponent, dtype=np.float64)
+    if not np.all(np.isfinite(e)) or np.any(e < 0):
+        raise ValueError(f"exponent (shininess) must be a finite number >= 0; got {exponent!r}")
+    c, s2 = _cos_sin2(cos_theta_h, sin2_theta_h)
+    cp = np.maximum(c, 0.0)
+    one_minus = np.where(c > 0, s2 / (1.0 + cp), 1.0)
+    with np.errstate(divide="ignore", under="ignore", invalid="ignore"):
+        p = np.exp(e * np.log1p(-np.minimum(one_minus, 1.0)))
+    p = np.where(one_minus < 1, p, np.where(e == 0, 1.0, 0.0))
+    d = np.where(c > 0, (e + 2) / (2 * math.pi) * p, 0.0)
     return _finish(d, dt)
 
 

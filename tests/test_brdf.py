@@ -1,0 +1,201 @@
+import math
+
+import numpy as np
+import pytest
+from quadrature import direction, hemisphere
+
+from lighting import vec
+from lighting.brdf import BlinnPhong, CookTorrance, Lambert, Phong
+
+N = np.array([0.0, 0.0, 1.0])
+
+
+def albedo(model, theta_v, **quad):
+    """Directional albedo ρ(v) = ∫ f_r (n·l) dω_l by independent quadrature (channel 0)."""
+    v = direction(theta_v)
+    return hemisphere(lambda l: model.eval_cos(N, l, v)[..., 0], **quad)
+
+
+@pytest.mark.parametrize("theta_v", [0.0, 0.5, 1.2, 1.55])
+def test_lambert_albedo_is_kd(theta_v):
+    assert albedo(Lambert(0.7), theta_v) == pytest.approx(0.7, rel=1e-12)
+
+
+def test_lambert_value_and_rgb():
+    f = Lambert((0.2, 0.4, 0.6)).eval(N, direction(0.3), direction(1.0))
+    np.testing.assert_allclose(f, np.array([0.2, 0.4, 0.6]) / math.pi, rtol=1e-15)
+
+
+@pytest.mark.parametrize("e", [0.0, 1.0, 10.0, 100.0])
+def test_phong_albedo_at_normal_incidence(e):
+    # Slides: "too much energy".  With k_s = 1 the albedo at normal incidence is 2/(e+1).
+    got = albedo(Phong(1.0, e), 0.0, scale=1e-2 / math.sqrt(e + 1))
+    assert got == pytest.approx(2 / (e + 1), rel=1e-9)
+
+
+@pytest.mark.parametrize("e", [1.0, 20.0, 500.0])
+def test_normalized_blinn_phong_ndf_integrates_to_one(e):
+    # (e+2)/(2π) (n·h)^e is a normalized NDF: ∫ D (n·h) dω_h = 1.
+    def d_cos(h):
+        return (e + 2) / (2 * math.pi) * h[..., 2] ** e * h[..., 2]
+
+    assert hemisphere(d_cos, scale=1e-2 / math.sqrt(e)) == pytest.approx(1.0, rel=1e-10)
+
+
+def _literal_normalized_bp_albedo(e):
+    a, b = 2 ** (-(e + 4) / 2), 2 ** (-(e + 2) / 2)
+    return 4 * (e + 2) * (2 / (e + 4) - 1 / (e + 2) - 2 * a / (e + 4) + b / (e + 2))
+
+
+@pytest.mark.parametrize("e", [0.0, 1.0, 30.0, 1000.0])
+def test_normalized_blinn_phong_albedo_closed_form(e):
+    # The slide's (e+2)/(2π)(n·h)^e used directly as a BRDF: albedo 1 at e = 0, toward 4 for sharp lobes.
+    got = albedo(BlinnPhong(1.0, e, normalized=True), 0.0, scale=1e-2 / math.sqrt(e + 1))
+    assert got == pytest.approx(_literal_normalized_bp_albedo(e), rel=1e-9)
+
+
+@pytest.mark.parametrize("alpha", [0.05, 0.3, 0.8])
+def test_blinn_phong_ndf_inside_cook_torrance_conserves_energy(alpha):
+    ct = CookTorrance(1.0, alpha, 1.0, ndf="blinn-phong", fresnel="none")
+    for tv in (0.0, 0.7, 1.3, 1.5):
+        assert albedo(ct, tv, scale=alpha * 1e-2) <= 1.0
+
+
+def test_normalized_blinn_phong_matches_formula():
+    m = BlinnPhong(1.0, 30.0, normalized=True)
+    rng = np.random.default_rng(5)
+    l = vec.normalize(rng.normal(size=(50, 3)) * [1, 1, 0] + [0, 0, 1.5])  # noqa: E741
+    v = vec.normalize(rng.normal(size=(50, 3)) * [1, 1, 0] + [0, 0, 1.5])
+    h = vec.halfway(l, v)
+    np.testing.assert_allclose(m.eval(N, l, v)[:, 1], 32 / (2 * math.pi) * h[:, 2] ** 30, rtol=1e-12)
+
+
+def _pairs(k=300, seed=7):
+    rng = np.random.default_rng(seed)
+    d = vec.normalize(rng.normal(size=(2, k, 3)))
+    d[..., 2] = np.abs(d[..., 2]) + 0.05
+    return vec.normalize(d[0]), vec.normalize(d[1])
+
+
+RECIPROCAL = [
+    Lambert(0.5),
+    BlinnPhong(0.5, 40.0, normalized=True),
+    CookTorrance(1.0, 0.3, 0.04),
+    CookTorrance(1.0, 0.2, 0.5, ndf="ggx", geometry="smith", fresnel="dielectric"),
+    CookTorrance(1.0, 0.5, 0.9, ndf="beckmann", geometry="smith", denominator="pi"),
+]
+
+
+@pytest.mark.parametrize("model", RECIPROCAL, ids=repr)
+def test_reciprocity_holds(model):
+    l, v = _pairs()  # noqa: E741
+    np.testing.assert_allclose(model.eval(N, l, v), model.eval(N, v, l), rtol=1e-12, atol=0)
+
+
+@pytest.mark.parametrize("model", [Phong(1.0, 10.0), BlinnPhong(1.0, 10.0)], ids=repr)
+def test_reciprocity_broken_by_division_by_n_dot_l(model):
+    l, v = _pairs()  # noqa: E741
+    a, b = model.eval(N, l, v)[:, 0], model.eval(N, v, l)[:, 0]
+    lit = a > 1e-6
+    # The numerator is symmetric (R_l·v = R_v·l, n·h); only 1/(n·l) differs.
+    np.testing.assert_allclose(a[lit] / b[lit], v[lit, 2] / l[lit, 2], rtol=1e-10)
+    assert np.max(np.abs(a - b) / np.maximum(a, b).clip(1e-300)) > 0.5
+
+
+def test_phong_classic_term_is_the_slides_formula():
+    rng = np.random.default_rng(8)
+    l, v = _pairs(seed=9)  # noqa: E741
+    ks, e = np.array([0.9, 0.5, 0.1]), 12.0
+    r = vec.reflect(l, N)
+    expected = ks * np.maximum(np.sum(r * v, -1), 0)[:, None] ** e
+    np.testing.assert_allclose(Phong(ks, e).classic(N, l, v), expected, rtol=1e-10, atol=1e-15)
+    # And its BRDF form divides by π (n·l).
+    np.testing.assert_allclose(Phong(ks, e).eval(N, l, v), expected / (math.pi * l[:, 2:3]), rtol=1e-10, atol=1e-15)
+    del rng
+
+
+def test_blinn_phong_raw_classic_and_mirror_values():
+    l, v = direction(0.4, 0.0), direction(0.4, math.pi)  # mirror pair: h = n
+    assert BlinnPhong(0.8, 1000.0).classic(N, l, v)[0] == pytest.approx(0.8, rel=1e-14)
+    assert Phong(0.8, 1000.0).classic(N, l, v)[0] == pytest.approx(0.8, rel=1e-14)
+    hv = vec.halfway(direction(0.4), direction(0.9, 2.0))
+    assert BlinnPhong(0.8, 7.0).classic(N, direction(0.4), direction(0.9, 2.0))[0] == pytest.approx(
+        0.8 * hv[2] ** 7, rel=1e-12
+    )
+
+
+@pytest.mark.parametrize("model", RECIPROCAL + [Phong(0.5, 3.0), BlinnPhong(0.5, 3.0)], ids=repr)
+def test_classic_equals_pi_eval_cos_equals_pi_eval_times_cos(model):
+    l, v = _pairs(seed=11)  # noqa: E741
+    fc = model.eval_cos(N, l, v)
+    np.testing.assert_allclose(model.classic(N, l, v), math.pi * fc, rtol=1e-14, atol=1e-300)
+    np.testing.assert_allclose(model.eval(N, l, v) * l[:, 2:3], fc, rtol=1e-13, atol=1e-300)
+
+
+# ---------------------------------------------------------------- Cook–Torrance facts
+@pytest.mark.parametrize("alpha, expected", [(0.1, 1.000), (0.5, 0.892), (1.0, 0.453)])
+def test_cook_torrance_beckmann_vcavity_albedo(alpha, expected):
+    ct = CookTorrance(1.0, alpha, 1.0, fresnel="none")
+    assert albedo(ct, 0.0, scale=alpha * 1e-2) == pytest.approx(expected, abs=6e-4)
+
+
+def test_cook_torrance_ggx_smith_albedo_is_one_minus_ln2():
+    ct = CookTorrance(1.0, 1.0, 1.0, ndf="ggx", geometry="smith", fresnel="none")
+    assert albedo(ct, 0.0) == pytest.approx(1 - math.log(2), rel=1e-9)
+
+
+def test_pi_denominator_reflects_four_over_pi_more():
+    a = CookTorrance(1.0, 0.3, 0.04, denominator="4")
+    b = CookTorrance(1.0, 0.3, 0.04, denominator="pi")
+    l, v = _pairs(seed=12)  # noqa: E741
+    np.testing.assert_allclose(b.eval(N, l, v), 4 / math.pi * a.eval(N, l, v), rtol=1e-13)
+    assert albedo(b, 0.0, scale=1e-3) == pytest.approx(4 / math.pi * albedo(a, 0.0, scale=1e-3), rel=1e-12)
+
+
+def test_cook_torrance_terms_compose():
+    from lighting.brdf import Geometry
+
+    ct = CookTorrance((1.0, 0.5, 0.25), 0.25, (0.9, 0.6, 0.3), ndf="ggx", geometry="v-cavity")
+    l, v = _pairs(seed=13)  # noqa: E741
+    g = Geometry(N, l, v)
+    expected = ct.D(g)[:, None] * ct.G(g)[:, None] * ct.F(g) * np.array([1.0, 0.5, 0.25])
+    expected /= 4 * l[:, 2:3] * v[:, 2:3]
+    np.testing.assert_allclose(ct.eval(N, l, v), expected, rtol=1e-12)
+
+
+def test_sum_decomposes():
+    m = Lambert(0.5) + Phong(0.3, 20.0) + BlinnPhong(0.1, 5.0)
+    assert [p.term for p in m.parts] == ["diffuse", "specular", "specular"]
+    l, v = _pairs(seed=14)  # noqa: E741
+    total = sum(p.eval(N, l, v) for p in m.parts)
+    np.testing.assert_allclose(m.eval(N, l, v), total, rtol=1e-15)
+    np.testing.assert_allclose(m.diffuse_albedo, [0.5, 0.5, 0.5])
+
+
+def test_below_horizon_is_zero():
+    for m in RECIPROCAL + [Phong(1.0, 0.0), BlinnPhong(1.0, 0.0)]:
+        assert np.all(m.eval(N, direction(1.7), direction(0.3)) == 0)
+        assert np.all(m.eval(N, direction(0.3), direction(1.7)) == 0)
+
+
+@pytest.mark.parametrize(
+    "factory, match",
+    [
+        (lambda: Lambert(-0.1), "kd"),
+        (lambda: Lambert(float("nan")), "kd"),
+        (lambda: Lambert((1, 2)), "kd"),
+        (lambda: Phong(0.5, -1), "shininess"),
+        (lambda: BlinnPhong(0.5, float("inf")), "shininess"),
+        (lambda: CookTorrance(1.0, 0.0), "roughness"),
+        (lambda: CookTorrance(1.0, -0.2), "roughness"),
+        (lambda: CookTorrance(1.0, 0.2, 1.5), "f0"),
+        (lambda: CookTorrance(1.0, 0.2, ndf="phong"), "ndf"),
+        (lambda: CookTorrance(1.0, 0.2, geometry="none"), "geometry"),
+        (lambda: CookTorrance(1.0, 0.2, fresnel="conductor"), "fresnel"),
+        (lambda: CookTorrance(1.0, 0.2, denominator="2"), "denominator"),
+    ],
+)
+def test_bad_parameters_raise_clear_errors(factory, match):
+    with pytest.raises(ValueError, match=match) as info:
+        factory()
+    assert "got" in str(info.value)

@@ -1,0 +1,247 @@
+import math
+
+import numpy as np
+import pytest
+
+from lighting import (
+    AmbientLight,
+    BlinnPhong,
+    CookTorrance,
+    DirectionalLight,
+    DiskLight,
+    Lambert,
+    Material,
+    Phong,
+    PointLight,
+    RectLight,
+    SpotLight,
+    shade,
+    shade_terms,
+    vec,
+)
+
+ORIGIN = np.zeros((1, 3))
+UP = (0.0, 0.0, 1.0)
+
+
+def irradiance(light, points):
+    """Irradiance arriving on a surface facing each incidence direction (no n·l)."""
+    return sum(inc.irradiance for inc in light.incident(np.asarray(points, dtype=float)))
+
+
+def horizontal_irradiance(light, points):
+    """Irradiance on an upward-facing surface: Σ E (n·l) with n = +z."""
+    return sum(
+        inc.irradiance * np.maximum(inc.direction[..., 2:3], 0)
+        for inc in light.incident(np.asarray(points, dtype=float))
+    )
+
+
+# ------------------------------------------------------------------ lights
+def test_directional_same_everywhere():
+    light = DirectionalLight((1.0, 1.0, 1.0), color=(1.0, 0.5, 0.25), intensity=2.0)
+    inc = next(light.incident(np.random.default_rng(0).normal(size=(10, 3))))
+    np.testing.assert_allclose(inc.direction, np.ones(3) / math.sqrt(3))
+    np.testing.assert_allclose(inc.irradiance, [2.0, 1.0, 0.5])
+
+
+def test_point_light_falloff_formula():
+    pts = np.array([[0, 0, 0.0], [0, 0, 1.0], [3.0, 0, 2.0]])
+    light = PointLight((0, 0, 2.0), intensity=4.0, attenuation=(0.5, 0.25, 1.0))
+    r = np.array([2.0, 1.0, 3.0])
+    np.testing.assert_allclose(irradiance(light, pts)[:, 0], 4.0 / (0.5 * r**2 + 0.25 * r + 1.0), rtol=1e-15)
+    # Default: the physical inverse-square law.
+    np.testing.assert_allclose(irradiance(PointLight((0, 0, 2.0)), pts)[:, 0], 1 / r**2, rtol=1e-15)
+    inc = next(light.incident(pts))
+    np.testing.assert_allclose(inc.direction, vec.normalize(np.array([0, 0, 2.0]) - pts), atol=1e-16)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_point_light_at_extreme_distances_is_finite(dtype):
+    pts = np.array([[0, 0, 0], [0, 0, 2 - 1e-12], [0, 0, 2 - 1e12], [0, 0, 2 - 1e-30]], dtype=dtype)
+    inc = next(PointLight((0, 0, 2.0)).incident(pts))
+    assert inc.irradiance.dtype == dtype
+    assert np.all(np.isfinite(inc.irradiance)) and np.all(np.isfinite(inc.direction))
+    # A point exactly at the light has no direction toward it and receives nothing.
+    at = next(PointLight((0, 0, 0.0)).incident(np.zeros((1, 3), dtype)))
+    assert at.irradiance.tolist() == [[0.0, 0.0, 0.0]] and at.direction.tolist() == [[0.0, 0.0, 0.0]]
+
+
+def test_spot_light_cone_and_exponent():
+    spot = SpotLight((0, 0, 1.0), direction=(0, 0, -1.0), cutoff_deg=45, exponent=2.0, attenuation=(0, 0, 1))
+    angles = np.radians([0.0, 30.0, 44.9, 45.1, 80.0])
+    pts = np.stack([np.tan(angles), np.zeros(5), np.zeros(5)], -1)
+    got = irradiance(spot, pts)[:, 0]
+    expected = np.where(angles <= np.radians(45), np.cos(angles) ** 2, 0.0)
+    np.testing.assert_allclose(got, expected, rtol=1e-14, atol=0)
+    # 180 means no cone at all; 90 is exactly the lower half-space; 0 only the axis.
+    wide = SpotLight((0, 0, 1.0), direction=(0, 0, -1.0), cutoff_deg=180, attenuation=(0, 0, 1))
+    np.testing.assert_allclose(irradiance(wide, pts)[:, 0], 1.0)
+    half = SpotLight((0, 0, 0.0), direction=(0, 0, -1.0), cutoff_deg=90, attenuation=(0, 0, 1))
+    np.testing.assert_array_equal(irradiance(half, [[1, 0, 0.0], [1, 0, -1e-9], [1, 0, 1e-9]])[:, 0], [1, 1, 0])
+    pin = SpotLight((0, 0, 1.0), direction=(0, 0, -1.0), cutoff_deg=0, attenuation=(0, 0, 1))
+    np.testing.assert_array_equal(irradiance(pin, [[0, 0, 0.0], [1e-3, 0, 0]])[:, 0], [1, 0])
+
+
+def test_disk_light_matches_closed_form_and_converges():
+    # On-axis irradiance of a Lambertian disk of radiance L, radius R, height h: π L R² / (h² + R²).
+    h, radius, radiance = 1.5, 1.0, 2.0
+    exact = math.pi * radiance * radius**2 / (h**2 + radius**2)
+    errors = []
+    for s in (4, 16, 64, 256, 1024, 4096):
+        light = DiskLight((0, 0, h), (0, 0, -1.0), radius, intensity=radiance, samples=s)
+        errors.append(abs(horizontal_irradiance(light, ORIGIN)[0, 0] - exact) / exact)
+    assert errors[-1] < 1e-4
+    assert errors[-1] < errors[0] / 1000  # low-discrepancy points: error falls about as 1/samples
+
+
+def test_rect_light_tends_to_point_light():
+    point = PointLight((0.3, -0.2, 2.0), intensity=1.0)
+    pts = np.array([[0, 0, 0.0], [1.0, 0.5, 0.0]])
+    n = np.array([0, 0, 1.0])
+    mat = Material(Lambert(1.0))
+    ref = shade(pts, n, mat, [point], view_dir=UP)
+    for size, tol in ((0.2, 1e-2), (0.02, 1e-3)):  # the error shrinks with the light's size
+        rect = RectLight(
+            center=(0.3, -0.2, 2.0), edge_u=(size, 0, 0), edge_v=(0, -size, 0), intensity=1 / size**2, two_sided=True
+        )
+        # A face-on square: cosθ_e differs from 1 across it, so compare with the light's own facing factor.
+        got = shade(pts, n, mat, [rect], view_dir=UP)
+        cos_e = 2.0 / np.linalg.norm(np.array([0.3, -0.2, 2.0]) - pts, axis=-1)
+        np.testing.assert_allclose(got, ref * cos_e[:, None], rtol=tol)
+
+
+def test_area_light_seed_changes_pattern_and_stays_unbiased():
+    h, radius = 1.0, 0.8
+    exact = math.pi * radius**2 / (h**2 + radius**2)
+    est = [
+        horizontal_irradiance(DiskLight((0, 0, h), (0, 0, -1.0), radius, samples=8, seed=s), ORIGIN)[0, 0]
+        for s in range(400)
+    ]
+    assert len(set(np.round(est, 12))) > 300
+    assert np.mean(est) == pytest.approx(exact, abs=3 * np.std(est) / math.sqrt(len(est)) + 1e-12)
+
+
+@pytest.mark.parametrize(
+    "factory, match",
+    [
+        (lambda: PointLight(attenuation=(0, 0, 0)), "attenuation"),
+        (lambda: PointLight(attenuation=(1, -1, 0)), "attenuation"),
+        (lambda: PointLight(position=(0, float("nan"), 0)), "position"),
+        (lambda: SpotLight(cutoff_deg=120), "cutoff_deg"),
+        (lambda: SpotLight(cutoff_deg=-1), "cutoff_deg"),
+        (lambda: SpotLight(exponent=-2), "exponent"),
+        (lambda: DirectionalLight((0, 0, 0)), "direction"),
+        (lambda: DirectionalLight(color=(1, 0)), "color"),
+        (lambda: AmbientLight(intensity=-1), "intensity"),
+        (lambda: DiskLight(samples=0), "samples"),
+        (lambda: DiskLight(radius=0), "radius"),
+        (lambda: RectLight(edge_u=(1, 0, 0), edge_v=(2, 0, 0)), "edge_u"),
+    ],
+)
+def test_bad_light_parameters(factory, match):
+    with pytest.raises(ValueError, match=match) as info:
+        factory()
+    assert "got" in str(info.value)
+
+
+# ------------------------------------------------------------------ illumination equation
+def test_red_light_on_green_surface_is_black():
+    out = shade(ORIGIN, UP, Material(Lambert((0, 1, 0))), [DirectionalLight(UP, color=(1, 0, 0))], view_dir=UP)
+    assert out.tolist() == [[0.0, 0.0, 0.0]]
+
+
+def test_blue_light_on_white_and_red_surfaces():
+    blue = [AmbientLight(color=(0, 0, 1), intensity=1.0)]
+    white = shade(ORIGIN, UP, Material(Lambert(1.0)), blue, view_dir=UP)
+    red = shade(ORIGIN, UP, Material(Lambert((1, 0, 0))), blue, view_dir=UP)
+    assert white.tolist() == [[0.0, 0.0, 1.0]]
+    assert red.tolist() == [[0.0, 0.0, 0.0]]
+
+
+def test_classic_equation_by_hand():
+    # I = I_a k_a + Σ_p I_p/A(d_p) (k_d n·l + k_s (r·v)^n), one point light with attenuation.
+    p = np.array([0.2, -0.1, 0.0])
+    n = vec.normalize(np.array([0.1, 0.2, 1.0]))
+    eye = np.array([1.0, 2.0, 4.0])
+    lp = np.array([-2.0, 1.0, 3.0])
+    ka, kd, ks, e = np.array([0.1, 0.2, 0.3]), np.array([0.7, 0.5, 0.2]), np.array([0.4, 0.4, 0.4]), 15.0
+    ia, ip = np.array([0.3, 0.3, 0.2]), np.array([1.0, 0.9, 0.8])
+    a, b, c = 0.05, 0.1, 1.0
+    l = vec.normalize(lp - p)  # noqa: E741
+    v = vec.normalize(eye - p)
+    r = 2 * n * (n @ l) - l
+    d = np.linalg.norm(lp - p)
+    expected = ia * ka + ip / (a * d * d + b * d + c) * (kd * (n @ l) + ks * max(r @ v, 0) ** e)
+    mat = Material(Lambert(kd) + Phong(ks, e), ambient=ka)
+    lights = [AmbientLight(ia, 1.0), PointLight(lp, ip, 1.0, attenuation=(a, b, c))]
+    np.testing.assert_allclose(shade(p, n, mat, lights, eye=eye), expected, rtol=1e-13)
+    # The UBC slide's d_p: distance to the light plus distance to the viewer.
+    d2 = d + np.linalg.norm(eye - p)
+    exp2 = ia * ka + ip / (a * d2 * d2 + b * d2 + c) * (kd * (n @ l) + ks * max(r @ v, 0) ** e)
+    got2 = shade(p, n, mat, lights, eye=eye, attenuation_distance="light+viewer")
+    np.testing.assert_allclose(got2, exp2, rtol=1e-13)
+
+
+MODELS = [
+    Lambert(0.6) + Phong(0.4, 30.0),
+    Lambert(0.5) + BlinnPhong(0.5, 60.0),
+    Lambert(0.3) + BlinnPhong(0.2, 60.0, normalized=True),
+    Lambert(0.2) + CookTorrance(1.0, 0.2, 0.5, ndf="ggx", geometry="smith"),
+]
+
+
+def _scene(seed=0, k=200):
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform(-1, 1, (k, 3))
+    nrm = vec.normalize(rng.normal(size=(k, 3)))
+    lights = [
+        AmbientLight((0.2, 0.3, 0.4), 0.5),
+        DirectionalLight((0.3, 0.4, 1.0), (1.0, 0.9, 0.8)),
+        PointLight((2.0, 1.0, 3.0), (0.5, 0.5, 1.0), 9.0, attenuation=(1, 0.2, 0.1)),
+        SpotLight((0, 0, 4.0), (1, 1, 1), 20.0, direction=(0.1, 0, -1.0), cutoff_deg=35, exponent=4),
+        RectLight((1, -1, 3.0), (0.5, 0, 0), (0, -0.5, 0), intensity=4.0, samples=9),
+    ]
+    return pts, nrm, lights
+
+
+@pytest.mark.parametrize("brdf", MODELS, ids=repr)
+def test_physical_form_is_classic_over_pi(brdf):
+    pts, nrm, lights = _scene()
+    mat = Material(brdf, emission=(0.01, 0.0, 0.02))
+    classic = shade(pts, nrm, mat, lights, eye=(0.5, 0.5, 5.0), form="classic")
+    physical = shade(pts, nrm, mat, lights, eye=(0.5, 0.5, 5.0), form="physical")
+    np.testing.assert_allclose(classic, math.pi * physical, rtol=1e-13, atol=1e-15)
+    assert np.all(classic >= 0)
+
+
+def test_light_is_linear_and_terms_add_up():
+    pts, nrm, lights = _scene(seed=1)
+    mat = Material(MODELS[0], emission=0.05)
+    total = shade(pts, nrm, mat, lights, view_dir=UP)
+    one_by_one = sum(shade(pts, nrm, mat, [lt], view_dir=UP) for lt in lights) - 4 * 0.05  # emission once
+    np.testing.assert_allclose(total, one_by_one, rtol=1e-13, atol=1e-14)
+    terms = shade_terms(pts, nrm, mat, lights, view_dir=UP)
+    assert set(terms) == {"emission", "ambient", "diffuse", "specular"}
+    np.testing.assert_allclose(sum(terms.values()), total, rtol=1e-15)
+    only = shade_terms(pts, nrm, mat, lights, view_dir=UP, terms=["specular"])
+    assert set(only) == {"specular"}
+    np.testing.assert_array_equal(only["specular"], terms["specular"])
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_shade_keeps_dtype(dtype):
+    pts, nrm, lights = _scene(seed=2)
+    out = shade(pts.astype(dtype), nrm.astype(dtype), Material(MODELS[1]), lights, view_dir=UP)
+    assert out.dtype == dtype
+    ref = shade(pts, nrm, Material(MODELS[1]), lights, view_dir=UP)
+    np.testing.assert_allclose(out, ref, rtol=2e-4, atol=2e-6)
+
+
+def test_shade_errors():
+    with pytest.raises(ValueError, match="exactly one of eye"):
+        shade(ORIGIN, UP, Material(Lambert(1.0)), [DirectionalLight()])
+    with pytest.raises(ValueError, match="form"):
+        shade(ORIGIN, UP, Material(Lambert(1.0)), [], view_dir=UP, form="pbr")
+    with pytest.raises(ValueError, match="brdf"):
+        Material("lambert")
