@@ -179,7 +179,9 @@ class BRDF:
         return self._f_cos(g)
 
     def classic_geometry(self, g: Geometry):
-        return (math.pi * self._f_cos(g)).astype(g.dtype, copy=False)
+        f = self._f_cos(g)
+        with np.errstate(over="ignore"):
+            return np.minimum(f * g.dtype(math.pi), np.finfo(g.dtype).max)
 
     def _f(self, g: Geometry):
         nl = g.n_dot_l
@@ -500,7 +502,7 @@ class CookTorrance(BRDF):
 
     def _f(self, g):
         den = self._den_const() * g.n_dot_v.astype(np.float64) * g.n_dot_l.astype(np.float64)
-        return _saturating_div(self._dgf(g), den[..., None]).astype(g.dtype)
+        return _clip_to(g.dtype, _saturating_div(self._dgf(g), den[..., None]))
 
     def _f_cos(self, g):
         den = self._den_const() * g.n_dot_v.astype(np.float64)

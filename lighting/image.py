@@ -128,7 +128,8 @@ def write_png(path, rgb8) -> None:
 
 def read_png(path) -> np.ndarray:
     """Read back a PNG written by :func:`write_png` (8-bit RGB/RGBA, no interlace)."""
-    data = open(path, "rb").read()
+    with open(path, "rb") as f:
+        data = f.read()
     if data[:8] != b"\x89PNG\r\n\x1a\n":
         raise ValueError(f"{path}: not a PNG file")
     pos, idat = 8, b""

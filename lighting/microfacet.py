@@ -190,7 +190,7 @@ def smith_g1_beckmann(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
     s = np.sqrt(s2)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         a = np.where(al * s > 0, c / (al * s), np.inf)
-    a = np.minimum(a, 1e8)  # G1 = 1 to double precision long before this
+    a = np.clip(a, 0.0, 1e8)  # below the horizon G1 is 0; G1 = 1 to double precision long before 1e8
     sp = math.sqrt(math.pi)
     with np.errstate(under="ignore"):
         g = 2 * a * sp / (a * sp * (1 + _erf(a)) + np.exp(-a * a))

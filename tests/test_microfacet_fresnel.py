@@ -23,6 +23,14 @@ def test_ndf_normalized(ndf, alpha):
     assert _projected_area(ndf, alpha) == pytest.approx(1.0, abs=2e-6)
 
 
+@pytest.mark.parametrize("e", [0.0, 1.0, 50.0, 1e4, 1e6])
+def test_blinn_phong_ndf_normalized(e):
+    th, w = theta_nodes(scale=1e-3 / np.sqrt(e + 1), panels=80, order=24)
+    c, s2 = np.cos(th), np.sin(th) ** 2
+    total = 2 * np.pi * np.sum(microfacet.blinn_phong_ndf(c, e, sin2_theta_h=s2) * c * np.sin(th) * w)
+    assert total == pytest.approx(1.0, abs=2e-6)
+
+
 @pytest.mark.parametrize("alpha", [1e-6, 1e-4])
 def test_ndf_peak_is_one_over_pi_alpha2(alpha):
     for ndf in (microfacet.beckmann_ndf, microfacet.ggx_ndf):
