@@ -142,6 +142,17 @@ def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
     return values[..., None] * coeff.astype(values.dtype)
 
 
+_UNIT_RGB = np.eye(3)
+
+
+def _combine(terms, dt) -> np.ndarray:
+    """``Σ_k s_k c_k`` → ``(..., 3)`` (the inverse of the separable form)."""
+    big = np.finfo(dt).max
+    with np.errstate(over="ignore"):
+        out = sum(_rgb(np.asarray(s, dtype=dt), c) for s, c in terms)
+    return np.minimum(out, big)
+
+
 def _saturating_div(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     big = np.finfo(num.dtype).max
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
@@ -179,16 +190,31 @@ class BRDF:
         return self._f_cos(g)
 
     def classic_geometry(self, g: Geometry):
-        f = self._f_cos(g)
-        with np.errstate(over="ignore"):
-            return np.minimum(f * g.dtype(math.pi), np.finfo(g.dtype).max)
+        return _combine(self.separable_classic(g), g.dtype)
 
     def _f(self, g: Geometry):
         nl = g.n_dot_l
         return _saturating_div(self._f_cos(g), nl[..., None])
 
     def _f_cos(self, g: Geometry):
-        return self._f(g) * np.maximum(g.n_dot_l, 0)[..., None]
+        return _combine(self.separable_cos(g), g.dtype)
+
+    # -- separable form: what the shading pass uses -------------------------------------
+    def separable_cos(self, g: Geometry) -> list[tuple[np.ndarray, np.ndarray]]:
+        """``f_r (n·l)`` as ``Σ_k s_k c_k``: scalar fields ``s_k (...)`` times RGB constants ``c_k (3,)``.
+
+        Most models are one scalar lobe times a colour (``k_d``, ``k_s``), so a
+        shading pass can combine colours once per term instead of once per
+        pixel and channel.  The default splits the RGB result into channels.
+        """
+        f = self._f_cos(g)
+        return [(f[..., i], _UNIT_RGB[i]) for i in range(3)]
+
+    def separable_classic(self, g: Geometry) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The classic term ``π f_r (n·l)`` in the separable form of :meth:`separable_cos`."""
+        pi = g.dtype(math.pi)
+        with np.errstate(over="ignore"):
+            return [(_clip_to(g.dtype, s * pi), c) for s, c in self.separable_cos(g)]
 
     # -- structure ------------------------------------------------------------------
     @property
@@ -257,11 +283,11 @@ class Lambert(BRDF):
     def _f(self, g):
         return _rgb(np.where(g.above, 1 / math.pi, 0).astype(g.dtype), self.kd)
 
-    def _f_cos(self, g):
-        return _rgb(np.where(g.above, g.n_dot_l / math.pi, 0).astype(g.dtype), self.kd)
+    def separable_cos(self, g):
+        return [(np.where(g.above, g.n_dot_l / g.dtype(math.pi), 0).astype(g.dtype), self.kd)]
 
-    def classic_geometry(self, g):
-        return _rgb(np.where(g.above, g.n_dot_l, 0).astype(g.dtype), self.kd)
+    def separable_classic(self, g):
+        return [(np.where(g.above, g.n_dot_l, 0).astype(g.dtype), self.kd)]
 
 
 class Phong(BRDF):
@@ -305,11 +331,11 @@ class Phong(BRDF):
         lobe = cos_power(g.one_minus_r_dot_v, self.shininess)
         return np.where(g.above, lobe, 0).astype(g.dtype, copy=False)
 
-    def _f_cos(self, g):
-        return _rgb(self._lobe(g) / g.dtype(math.pi), self.ks)
+    def separable_cos(self, g):
+        return [(self._lobe(g) / g.dtype(math.pi), self.ks)]
 
-    def classic_geometry(self, g):
-        return _rgb(self._lobe(g), self.ks)
+    def separable_classic(self, g):
+        return [(self._lobe(g), self.ks)]
 
 
 class BlinnPhong(BRDF):
@@ -372,16 +398,16 @@ class BlinnPhong(BRDF):
             return super()._f(g)
         return _rgb(self._lobe(g) * g.dtype(self._norm()), self.ks)
 
-    def _f_cos(self, g):
+    def separable_cos(self, g):
         lobe = self._lobe(g)
         if self.normalized:
-            return _rgb(lobe * g.dtype(self._norm()) * np.maximum(g.n_dot_l, 0), self.ks)
-        return _rgb(lobe / g.dtype(math.pi), self.ks)
+            return [(lobe * g.dtype(self._norm()) * np.maximum(g.n_dot_l, 0), self.ks)]
+        return [(lobe / g.dtype(math.pi), self.ks)]
 
-    def classic_geometry(self, g):
+    def separable_classic(self, g):
         if self.normalized:
-            return super().classic_geometry(g)
-        return _rgb(self._lobe(g), self.ks)
+            return super().separable_classic(g)
+        return [(self._lobe(g), self.ks)]
 
 
 class CookTorrance(BRDF):
@@ -492,21 +518,34 @@ class CookTorrance(BRDF):
             return _fresnel.schlick(c, self.f0)
         return _fresnel.dielectric(c, _fresnel.eta_from_f0(self.f0))
 
-    def _dgf(self, g):
-        dg = self.D(g).astype(np.float64) * self.G(g).astype(np.float64)
-        dg = np.where(g.above, dg, 0.0)
-        return dg[..., None] * self.F(g).astype(np.float64) * self.ks
-
     def _den_const(self):
         return 4.0 if self.denominator == "4" else math.pi
 
-    def _f(self, g):
-        den = self._den_const() * g.n_dot_v.astype(np.float64) * g.n_dot_l.astype(np.float64)
-        return _clip_to(g.dtype, _saturating_div(self._dgf(g), den[..., None]))
-
-    def _f_cos(self, g):
+    def _separable(self, g, with_n_dot_l: bool):
+        """``k_s D G F / (c (n·v) [(n·l)])`` split into scalar lobes × RGB colours (float64)."""
+        dg = self.D(g).astype(np.float64) * self.G(g).astype(np.float64)
+        dg = np.where(g.above, dg, 0.0)
         den = self._den_const() * g.n_dot_v.astype(np.float64)
-        return _clip_to(g.dtype, _saturating_div(self._dgf(g), den[..., None]))
+        if with_n_dot_l:
+            den = den * g.n_dot_l.astype(np.float64)
+        s = _saturating_div(dg, den)
+        if self.fresnel == "none":
+            return [(s, self.ks)]
+        if self.fresnel == "schlick":
+            # F = f0 + (1 − f0)(1 − v·h)^5: two lobes with colours k_s f0 and k_s (1 − f0).
+            m = (1.0 - np.clip(g.v_dot_h.astype(np.float64), 0.0, 1.0)) ** 5
+            return [(s, self.ks * self.f0), (s * m, self.ks * (1.0 - self.f0))]
+        fr = self.F(g).astype(np.float64)
+        return [(s * fr[..., i], self.ks * _UNIT_RGB[i]) for i in range(3)]
+
+    def _f(self, g):
+        return _clip_to(g.dtype, _combine(self._separable(g, True), np.float64))
+
+    def separable_cos(self, g):
+        return [(_clip_to(g.dtype, s), c) for s, c in self._separable(g, False)]
+
+    def separable_classic(self, g):
+        return [(_clip_to(g.dtype, s * math.pi), c) for s, c in self._separable(g, False)]
 
 
 def _clip_to(dt, x):
@@ -548,8 +587,11 @@ class BRDFSum(BRDF):
     def _f_cos(self, g):
         return sum(p.eval_cos_geometry(g) for p in self._parts)
 
-    def classic_geometry(self, g):
-        return sum(p.classic_geometry(g) for p in self._parts)
+    def separable_cos(self, g):
+        return [t for p in self._parts for t in p.separable_cos(g)]
+
+    def separable_classic(self, g):
+        return [t for p in self._parts for t in p.separable_classic(g)]
 
     def __repr__(self):
         return " + ".join(repr(p) for p in self._parts)

@@ -49,10 +49,23 @@ __all__ = [
 
 
 class Incidence(NamedTuple):
-    """Light arriving at surface points from one direction (see module docs)."""
+    """Light arriving at surface points from one direction (see module docs).
+
+    The irradiance is kept factored as ``scale × radiant``: a scalar field
+    (falloff, spot factor, emitter cosine) times the light's RGB colour, so a
+    shading pass can apply colours once per light rather than once per pixel.
+    """
 
     direction: np.ndarray
-    irradiance: np.ndarray
+    scale: np.ndarray
+    radiant: np.ndarray
+
+    @property
+    def irradiance(self) -> np.ndarray:
+        """``scale × radiant``: RGB irradiance on a surface facing the light, ``(..., 3)`` or ``(3,)``."""
+        with np.errstate(over="ignore"):
+            e = np.asarray(self.scale)[..., None] * self.radiant
+        return np.minimum(e, np.finfo(e.dtype).max)
 
 
 def _vector3(name: str, value, *, nonzero: bool = False) -> np.ndarray:
@@ -185,7 +198,7 @@ class DirectionalLight(Light):
 
     def incident(self, points, *, dtype=None, extra_distance=None):
         dt = dtype or working_dtype(points)
-        yield Incidence(self.direction.astype(dt), self.radiant.astype(dt))
+        yield Incidence(self.direction.astype(dt), np.ones((), dtype=dt), self.radiant.astype(dt))
 
 
 def _falloff(dist: np.ndarray, att: tuple[float, float, float]) -> np.ndarray:
@@ -258,8 +271,7 @@ class PointLight(Light):
         spot = self._spot(l)
         if spot is not None:
             scale = scale * spot
-        irr = scale[..., None] * self.radiant
-        yield Incidence(l.astype(dt), _to_dtype(irr, dt))
+        yield Incidence(l.astype(dt), _to_dtype(scale, dt), self.radiant.astype(dt))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -381,8 +393,7 @@ class AreaLight(Light):
             cos_e = np.abs(cos_e) if self.two_sided else np.maximum(cos_e, 0.0)
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
                 g = np.where(dist > 0, cos_e * weight / np.where(dist > 0, dist * dist, 1.0), 0.0)
-            irr = g[..., None] * self.radiant
-            yield Incidence(l.astype(dt), _to_dtype(irr, dt))
+            yield Incidence(l.astype(dt), _to_dtype(g, dt), self.radiant.astype(dt))
 
 
 @dataclass(frozen=True)
