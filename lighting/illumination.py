@@ -159,7 +159,6 @@ def shade_terms(
     n = normalize(as_float(normals, dt))
     shape = np.broadcast_shapes(p.shape, n.shape)
     scale = 1.0 if form == "classic" else 1.0 / math.pi
-    big = float(np.finfo(dt).max)
     lights = list(lights)
     out: dict[str, np.ndarray] = {}
 
