@@ -167,9 +167,13 @@ class Material:
     def __post_init__(self):
         for name in ("ambient", "diffuse", "specular", "emission"):
             object.__setattr__(self, name, _rgba(name, getattr(self, name)))
-        object.__setattr__(
-            self, "shininess", _in_range("shininess", self.shininess, 0.0, GL_MAX_SHININESS)
-        )
+        # The specification allows any value, but a negative *reflectance* is an error by
+        # the engine's contract (conventions.md); emission and light colours stay free.
+        for name in ("ambient", "diffuse", "specular"):
+            rgba = getattr(self, name)
+            if any(c < 0 for c in rgba):
+                raise ValueError(f"{name} (a reflectance) must have every component >= 0; got {rgba!r}")
+        object.__setattr__(self, "shininess", _in_range("shininess", self.shininess, 0.0, GL_MAX_SHININESS))
 
 
 @dataclass(frozen=True)
@@ -427,9 +431,7 @@ def shade_vertices(
     try:
         shape = np.broadcast_shapes(p.shape, n.shape)
     except ValueError:
-        raise ValueError(
-            f"positions and normals must broadcast together; got shapes {p.shape} and {n.shape}"
-        ) from None
+        raise ValueError(f"positions and normals must broadcast together; got shapes {p.shape} and {n.shape}") from None
     p = np.broadcast_to(p, shape)
     n = np.broadcast_to(n, shape)
 
@@ -473,7 +475,9 @@ def shade_vertices(
                     light.linear_attenuation,
                     light.quadratic_attenuation,
                 )
-                den = k0 + k1 * d + k2 * (d * d)
+                # A zero coefficient must drop its term even where d² overflowed
+                # (0 · inf would be NaN).
+                den = k0 + (k1 * d if k1 else 0.0) + (k2 * (d * d) if k2 else 0.0)
                 # den == 0 only at d == 0 with k0 == 0: the attenuation is
                 # infinite there, so saturate it rather than divide by zero.
                 att = np.where(den > 0, 1.0 / np.where(den > 0, den, 1.0), _BIG)
@@ -489,15 +493,15 @@ def shade_vertices(
                 spot = np.where(cos_s >= cos_cut, np.power(cos_s, light.spot_exponent), 0.0)
                 att = att * spot
 
-            n_dot_vp = np.maximum(_dot(n, vp), 0.0)
+            # Only un-normalized normals can push these past the float range;
+            # kept finite so that a zero colour times them is 0, not NaN.
+            n_dot_vp = _sat(np.maximum(_dot(n, vp), 0.0))
             f = n_dot_vp > 0.0
             h, _ = _unit(vp + vp_e)
             n_dot_h = np.maximum(_dot(n, h), 0.0)
-            spec = np.where(f, np.power(n_dot_h, s_rm), 0.0)
+            spec = _sat(np.where(f, np.power(n_dot_h, s_rm), 0.0))
 
-            bracket = _sat(
-                amb + n_dot_vp[..., None] * dif + spec[..., None] * spe
-            )
+            bracket = _sat(amb + _sat(n_dot_vp[..., None] * dif) + _sat(spec[..., None] * spe))
             color = _sat(color + _sat(att[..., None] * bracket))
 
     rgba = np.empty(shape[:-1] + (4,), dtype=np.float64)

@@ -24,6 +24,13 @@ bit-identical parameters (GL stores them as floats).  Vertices within 1e-4 of
 a discontinuity of the equation (the edge of a spot cone, ``n·VP = 0`` where
 the ``f_i`` switch flips) are redrawn: there a 1-ulp difference in a cosine
 legitimately flips a term on or off.
+
+Mesa departs from the letter of §2.14.1 in two places (zero shininess with an
+attenuated or spot light; a 90° spot with exponent 0), described at
+``_reference`` below.  Configurations that can hit them are compared through
+an independent transcription of the equation with those departures switched
+on, so that every difference from the engine is accounted for exactly; all
+other configurations are compared with the engine directly.
 """
 
 from __future__ import annotations
@@ -39,7 +46,8 @@ import numpy as np
 import pytest
 
 TOL = 1e-5  # "about 1 part in 10^5", the accuracy the specification asks for
-N_RANDOM = 240
+N_CLEAN = 220
+N_QUIRKY = 40
 VERTS_PER_CONFIG = 24
 SEED = 20240521
 _WORKER_TIMEOUT = 300
@@ -58,9 +66,13 @@ _PLATFORMS = (
 def _egl_context():
     import ctypes
 
-    from OpenGL import EGL
+    try:
+        from OpenGL import EGL
 
-    dpy = EGL.eglGetDisplay(EGL.EGL_DEFAULT_DISPLAY)
+        dpy = EGL.eglGetDisplay(EGL.EGL_DEFAULT_DISPLAY)
+    except Exception as exc:
+        raise RuntimeError(f"no usable libEGL (Debian: libegl1 libegl-mesa0 libgl1-mesa-dri): {exc}") from None
+
     if not dpy:
         raise RuntimeError("eglGetDisplay returned no display")
     major, minor = EGL.EGLint(), EGL.EGLint()
@@ -69,16 +81,16 @@ def _egl_context():
     if not EGL.eglBindAPI(EGL.EGL_OPENGL_API):
         raise RuntimeError("this EGL cannot bind desktop OpenGL (EGL_OPENGL_API)")
     attrs = (EGL.EGLint * 5)(
-        EGL.EGL_SURFACE_TYPE, EGL.EGL_PBUFFER_BIT,
-        EGL.EGL_RENDERABLE_TYPE, EGL.EGL_OPENGL_BIT,
+        EGL.EGL_SURFACE_TYPE,
+        EGL.EGL_PBUFFER_BIT,
+        EGL.EGL_RENDERABLE_TYPE,
+        EGL.EGL_OPENGL_BIT,
         EGL.EGL_NONE,
     )
     cfg, n = EGL.EGLConfig(), EGL.EGLint()
     if not EGL.eglChooseConfig(dpy, attrs, ctypes.pointer(cfg), 1, ctypes.pointer(n)) or n.value < 1:
         raise RuntimeError("no EGL config with a pbuffer surface and desktop OpenGL")
-    surf = EGL.eglCreatePbufferSurface(
-        dpy, cfg, (EGL.EGLint * 5)(EGL.EGL_WIDTH, 8, EGL.EGL_HEIGHT, 8, EGL.EGL_NONE)
-    )
+    surf = EGL.eglCreatePbufferSurface(dpy, cfg, (EGL.EGLint * 5)(EGL.EGL_WIDTH, 8, EGL.EGL_HEIGHT, 8, EGL.EGL_NONE))
     # The fixed-function pipeline needs a compatibility profile; ask for one
     # explicitly where EGL 1.5 understands the request, else take the default
     # (which is a compatibility context for desktop OpenGL).
@@ -100,9 +112,12 @@ def _egl_context():
 
 
 def _osmesa_context():
-    from OpenGL import GL, osmesa
+    try:
+        from OpenGL import GL, osmesa
 
-    ctx = osmesa.OSMesaCreateContextExt(osmesa.OSMESA_RGBA, 24, 0, 0, None)
+        ctx = osmesa.OSMesaCreateContextExt(osmesa.OSMESA_RGBA, 24, 0, 0, None)
+    except Exception as exc:
+        raise RuntimeError(f"no usable libOSMesa (Debian: libosmesa6): {exc}") from None
     if not ctx:
         raise RuntimeError("OSMesaCreateContextExt failed")
     buf = (GL.GLubyte * (8 * 8 * 4))()
@@ -171,7 +186,7 @@ def _gl_light_all(cfg_list):
         raw.glFeedbackBuffer(size, GL.GL_3D_COLOR, buf.ctypes.data_as(ctypes.POINTER(ctypes.c_float)))
         raw.glRenderMode(GL.GL_FEEDBACK)
         GL.glBegin(GL.GL_POINTS)
-        for p, n in zip(pos, nrm):
+        for p, n in zip(pos, nrm, strict=True):
             GL.glNormal3d(*n)
             GL.glVertex3d(*p)
         GL.glEnd()
@@ -202,7 +217,12 @@ def _worker_main(platform: str) -> int:
             "vendor": GL.glGetString(GL.GL_VENDOR).decode(),
         }
     except Exception as exc:  # no context: the parent skips
-        json.dump({"error": f"{platform}: {type(exc).__name__}: {exc}"}, sys.stdout)
+        if hasattr(exc, "baseOperation") and hasattr(exc, "err"):  # PyOpenGL's GLError/EGLError
+            text = f"{getattr(exc.baseOperation, '__name__', exc.baseOperation)} failed with {exc.err}"
+        else:
+            text = " ".join(str(exc).split())
+        text = text if len(text) <= 160 else text[:157] + "..."
+        json.dump({"error": f"{platform}: {type(exc).__name__}: {text}"}, sys.stdout)
         return 0
     info["results"] = _gl_light_all(request["configs"])
     json.dump(info, sys.stdout)
@@ -210,6 +230,7 @@ def _worker_main(platform: str) -> int:
 
 
 # =========================================================================== test side
+
 
 def _run_gl(configs):
     """Lit colours from the first platform that gives a context, or skip."""
@@ -229,11 +250,11 @@ def _run_gl(configs):
             timeout=_WORKER_TIMEOUT,
         )
         if proc.returncode != 0:
-            tail = (proc.stderr or "").strip().splitlines()[-1:] or ["(no stderr)"]
-            # A crash while loading libraries means this platform is absent;
-            # a crash after a context exists is a real failure.
-            if '"error"' not in proc.stdout and "Traceback" in proc.stderr and "_gl_light_all" in proc.stderr:
+            # Context creation reports its failure as JSON; a crash after a
+            # context exists is a real failure, not a reason to skip.
+            if "_gl_light_all" in proc.stderr:
                 raise AssertionError(f"GL worker ({name}) failed:\n{proc.stderr}")
+            tail = (proc.stderr or "").strip().splitlines()[-1:] or ["(no stderr)"]
             reasons.append(f"{name}: worker exited {proc.returncode}: {tail[0]}")
             continue
         answer = json.loads(proc.stdout)
@@ -253,6 +274,89 @@ def _unit(v):
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
+# --------------------------------------------------------------------------- reference model
+# A second, deliberately plain transcription of §2.14.1 (no care for
+# degenerate cases, which the configurations avoid), with switches for the two
+# places where Mesa's fixed-function vertex program departs from the letter of
+# the specification.  With the switches off it must equal shade_vertices; with
+# them on it must equal Mesa.  Together that proves every difference between
+# shade_vertices and Mesa is one of these two, and nothing else.
+#
+# 1. Zero shininess with an attenuated or spot light.  Mesa builds the
+#    specular factor with the LIT instruction, whose exponent channel should
+#    hold the shininess; when the shininess is exactly 0 it skips loading it
+#    and fills every channel with n·VP, so LIT returns (n·VP)^(n·VP) instead
+#    of 0^0 = 1.  Lights with neither distance nor spot attenuation take
+#    another path (f_i directly) and are right.
+# 2. The cone test.  The specification tests the *clamped* cosine,
+#    max(-VP·ŝ, 0) >= cos(cutoff); Mesa tests the raw cosine, -VP·ŝ >
+#    max(cos(cutoff), 0).  They differ only for a 90° cutoff with exponent 0
+#    behind the spot's plane: the specification gives 0^0 = 1 there, Mesa 0.
+
+
+def _lit_specular_quirk(cfg, light):
+    if cfg["material"]["shininess"] != 0.0:
+        return False
+    attenuated = light["position"][3] != 0.0 and (
+        light["constant_attenuation"],
+        light["linear_attenuation"],
+        light["quadratic_attenuation"],
+    ) != (1.0, 0.0, 0.0)
+    return attenuated or light["spot_cutoff"] != 180.0
+
+
+def _cone_quirk(light):
+    return light["spot_cutoff"] == 90.0 and light["spot_exponent"] == 0.0
+
+
+def _has_quirk(cfg):
+    return any(_lit_specular_quirk(cfg, L) or _cone_quirk(L) for L in cfg["lights"])
+
+
+def _reference(cfg, mesa=False):
+    m = cfg["material"]
+    p = np.asarray(cfg["positions"], dtype=float)
+    n = _unit(np.asarray(cfg["normals"], dtype=float))
+    a_cm, d_cm, s_cm, e_cm = (np.array(m[k][:3]) for k in ("ambient", "diffuse", "specular", "emission"))
+    c = e_cm + a_cm * np.array(cfg["scene_ambient"][:3])
+    for L in cfg["lights"]:
+        x, y, z, w = L["position"]
+        if w == 0.0:
+            vp = np.broadcast_to(_unit(np.array([x, y, z])), p.shape)
+            att = np.ones(len(p))
+        else:
+            to_light = np.array([x, y, z]) / w - p
+            d = np.linalg.norm(to_light, axis=-1)
+            vp = to_light / d[:, None]
+            att = 1.0 / (L["constant_attenuation"] + L["linear_attenuation"] * d + L["quadratic_attenuation"] * d * d)
+        if L["spot_cutoff"] != 180.0:
+            cos_s = -(vp @ _unit(np.array(L["spot_direction"])))
+            if mesa:
+                cos_cut = max(float(np.float32(math.cos(math.radians(L["spot_cutoff"])))), 0.0)
+                inside = cos_s > cos_cut
+            else:
+                cos_cut = 0.0 if L["spot_cutoff"] == 90.0 else math.cos(math.radians(L["spot_cutoff"]))
+                inside = np.maximum(cos_s, 0.0) >= cos_cut
+            att = att * np.where(inside, np.maximum(cos_s, 0.0) ** L["spot_exponent"], 0.0)
+        v_e = _unit(-p) if cfg["local_viewer"] else np.array([0.0, 0.0, 1.0])
+        h = _unit(vp + v_e)
+        n_vp = np.sum(n * vp, axis=-1)
+        n_h = np.maximum(np.sum(n * h, axis=-1), 0.0)
+        lit = n_vp > 0.0
+        if mesa and _lit_specular_quirk(cfg, L):
+            spec = np.where(lit, np.where(lit, n_vp, 1.0) ** np.clip(n_vp, -128, 128), 0.0)
+        else:
+            spec = np.where(lit, n_h ** m["shininess"], 0.0)
+        c = c + att[:, None] * (
+            a_cm * np.array(L["ambient"][:3])
+            + np.maximum(n_vp, 0.0)[:, None] * d_cm * np.array(L["diffuse"][:3])
+            + spec[:, None] * s_cm * np.array(L["specular"][:3])
+        )
+    alpha = np.full((len(p), 1), min(max(m["diffuse"][3], 0.0), 1.0))
+    return np.concatenate([np.clip(c, 0.0, 1.0), alpha], axis=-1)
+
+
+# --------------------------------------------------------------------------- configurations
 def _near_discontinuity(cfg, p, n, margin=1e-4):
     """Vertices where a cosine sits within ``margin`` of a switch of the equation."""
     bad = np.zeros(len(p), dtype=bool)
@@ -268,18 +372,17 @@ def _near_discontinuity(cfg, p, n, margin=1e-4):
             vp = d / np.maximum(dist, 1e-300)
         bad |= np.abs(np.sum(n * vp, axis=-1)) < margin
         if L["spot_cutoff"] != 180.0:
-            s = _unit(np.array(L["spot_direction"]))
-            cos_s = -(vp @ s)
+            cos_s = -(vp @ _unit(np.array(L["spot_direction"])))
             cos_cut = math.cos(math.radians(L["spot_cutoff"]))
             bad |= np.abs(cos_s - cos_cut) < margin
-        h = vp + (_unit(-p) if cfg["local_viewer"] else np.array([0.0, 0.0, 1.0]))
-        bad |= np.linalg.norm(h, axis=-1) < 1e-3
+        v_e = _unit(-p) if cfg["local_viewer"] else np.array([0.0, 0.0, 1.0])
+        bad |= np.linalg.norm(vp + v_e, axis=-1) < 1e-3
     return bad
 
 
 def _random_light(rng, n_lights):
     kind = rng.choice(["directional", "positional", "spot", "directional-spot"], p=[0.3, 0.3, 0.3, 0.1])
-    scale = 1.2 / n_lights  # keep sums of several lights below the clamp often enough
+    scale = 1.2 / n_lights  # keep the sum of several lights below the clamp often enough
     light = {
         "ambient": list(_f32(np.append(rng.uniform(0, 0.5, 3) * scale, 1.0))),
         "diffuse": list(_f32(np.append(rng.uniform(0, 1, 3) * scale, 1.0))),
@@ -301,14 +404,15 @@ def _random_light(rng, n_lights):
             k = rng.uniform(0, 1.5, 3) * (rng.random(3) < 0.6)
             if not k.any():
                 k[0] = 1.0
-            light["constant_attenuation"], light["linear_attenuation"], light["quadratic_attenuation"] = (
-                float(v) for v in _f32(k)
-            )
+            k = _f32(k)
+            light["constant_attenuation"] = float(k[0])
+            light["linear_attenuation"] = float(k[1])
+            light["quadratic_attenuation"] = float(k[2])
     if kind in ("spot", "directional-spot"):
         light["spot_cutoff"] = float(_f32(rng.choice([rng.uniform(5, 89.5), 45.0, 90.0], p=[0.8, 0.1, 0.1])))
         light["spot_exponent"] = float(_f32(rng.choice([0.0, rng.uniform(0, 128), rng.integers(1, 20)])))
         if kind == "spot":
-            # Aim roughly at the vertex cloud so the cone edge crosses it.
+            # Aim roughly at the vertex cloud so the cone's edge crosses it.
             target = rng.uniform(-0.5, 0.5, 3)
             pos = np.array(light["position"][:3]) / light["position"][3]
             light["spot_direction"] = list(_f32(target - pos + rng.normal(scale=0.3, size=3)))
@@ -347,33 +451,39 @@ def _random_config(rng):
     return cfg
 
 
-def _shade(cfg, dtype=np.float64):
-    from lighting.gl import Light, Material, shade_vertices
-
-    mat = Material(**cfg["material"])
-    lights = [Light(**L) for L in cfg["lights"]]
-    return shade_vertices(
-        np.asarray(cfg["positions"], dtype=dtype),
-        np.asarray(cfg["normals"], dtype=dtype),
-        mat,
-        lights,
-        scene_ambient=cfg["scene_ambient"],
-        local_viewer=cfg["local_viewer"],
-    )
+def _random_configs():
+    """N_CLEAN configurations free of Mesa's two quirks, N_QUIRKY with one."""
+    rng = np.random.default_rng(SEED)
+    clean, quirky = [], []
+    while len(clean) < N_CLEAN or len(quirky) < N_QUIRKY:
+        cfg = _random_config(rng)
+        bucket, cap = (quirky, N_QUIRKY) if _has_quirk(cfg) else (clean, N_CLEAN)
+        if len(bucket) < cap:
+            bucket.append(cfg)
+    return clean, quirky
 
 
 def _edge_configs():
-    """Hand-picked states that exercise the spec's special rules."""
-    white = [1.0, 1.0, 1.0, 1.0]
-    black = [0.0, 0.0, 0.0, 1.0]
+    """Hand-picked states that exercise the specification's special rules."""
     base_light = {
-        "ambient": [0.1, 0.1, 0.1, 1.0], "diffuse": [0.5, 0.4, 0.3, 1.0], "specular": [0.3, 0.3, 0.3, 1.0],
-        "position": [0.0, 0.0, 1.0, 0.0], "spot_direction": [0.0, 0.0, -1.0], "spot_exponent": 0.0,
-        "spot_cutoff": 180.0, "constant_attenuation": 1.0, "linear_attenuation": 0.0,
+        "ambient": [0.1, 0.1, 0.1, 1.0],
+        "diffuse": [0.5, 0.4, 0.3, 1.0],
+        "specular": [0.3, 0.3, 0.3, 1.0],
+        "position": [0.0, 0.0, 1.0, 0.0],
+        "spot_direction": [0.0, 0.0, -1.0],
+        "spot_exponent": 0.0,
+        "spot_cutoff": 180.0,
+        "constant_attenuation": 1.0,
+        "linear_attenuation": 0.0,
         "quadratic_attenuation": 0.0,
     }
-    mat = {"ambient": [0.2, 0.2, 0.2, 1.0], "diffuse": [0.6, 0.5, 0.4, 0.75], "specular": white,
-           "emission": black, "shininess": 0.0}
+    mat = {
+        "ambient": [0.2, 0.2, 0.2, 1.0],
+        "diffuse": [0.6, 0.5, 0.4, 0.75],
+        "specular": [1.0, 1.0, 1.0, 1.0],
+        "emission": [0.0, 0.0, 0.0, 1.0],
+        "shininess": 0.0,
+    }
     rng = np.random.default_rng(SEED + 1)
     pos = _f32(rng.uniform(-0.9, 0.9, (32, 3)))
     nrm = _f32(_unit(rng.normal(size=(32, 3))))
@@ -391,81 +501,147 @@ def _edge_configs():
         return c
 
     return {
-        "shininess 0, directional": cfg({}),
-        "shininess 0, attenuated positional": cfg(
-            {"position": [0.5, 1.0, 1.5, 1.0], "linear_attenuation": 0.5}),
-        "shininess 0, spot": cfg(
-            {"position": [0.0, 0.0, 2.0, 1.0], "spot_cutoff": 30.0, "spot_exponent": 2.0}),
+        "shininess 0, directional (f_i alone)": cfg({}),
+        "shininess 0, attenuated positional": cfg({"position": [0.5, 1.0, 1.5, 1.0], "linear_attenuation": 0.5}),
+        "shininess 0, spot": cfg({"position": [0.0, 0.0, 2.0, 1.0], "spot_cutoff": 30.0, "spot_exponent": 2.0}),
         "spot cutoff 90, exponent 0": cfg(
             {"position": [0.0, 0.0, 0.0, 1.0], "spot_direction": [0.0, 1.0, 0.0], "spot_cutoff": 90.0},
-            {"shininess": 10.0}),
-        "directional spot": cfg(
-            {"position": [0.0, 0.3, 1.0, 0.0], "spot_direction": [0.0, 0.0, -1.0], "spot_cutoff": 60.0,
-             "spot_exponent": 3.0}, {"shininess": 10.0}),
-        "homogeneous w = 4": cfg(
-            {"position": [2.0, 4.0, 6.0, 4.0], "quadratic_attenuation": 0.7}, {"shininess": 5.0}, True),
+            {"shininess": 10.0},
+        ),
+        "spot cutoff 90, exponent 1": cfg(
+            {
+                "position": [0.0, 0.0, 0.0, 1.0],
+                "spot_direction": [0.0, 1.0, 0.0],
+                "spot_cutoff": 90.0,
+                "spot_exponent": 1.0,
+            },
+            {"shininess": 10.0},
+        ),
+        "spot on a directional light": cfg(
+            {
+                "position": [0.0, 0.3, 1.0, 0.0],
+                "spot_direction": [0.0, 0.0, -1.0],
+                "spot_cutoff": 60.0,
+                "spot_exponent": 3.0,
+            },
+            {"shininess": 10.0},
+        ),
+        "homogeneous position, w = 4": cfg(
+            {"position": [2.0, 4.0, 6.0, 4.0], "quadratic_attenuation": 0.7}, {"shininess": 5.0}, True
+        ),
         "only quadratic attenuation": cfg(
             {"position": [0.2, 0.1, 1.2, 1.0], "constant_attenuation": 0.0, "quadratic_attenuation": 1.0},
-            {"shininess": 50.0}, True),
+            {"shininess": 50.0},
+            True,
+        ),
+        "shininess 128, local viewer": cfg({"position": [0.3, -0.2, 0.8, 1.0]}, {"shininess": 128.0}, True),
+        "bright light, clamped": cfg(
+            {"diffuse": [3.0, 0.9, 0.2, 1.0], "specular": [2.0, 2.0, 2.0, 1.0]},
+            {"emission": [0.3, 0.0, 0.0, 1.0], "shininess": 4.0},
+        ),
     }
+
+
+def _shade(cfg, dtype=np.float64):
+    from lighting.gl import Light, Material, shade_vertices
+
+    return shade_vertices(
+        np.asarray(cfg["positions"], dtype=dtype),
+        np.asarray(cfg["normals"], dtype=dtype),
+        Material(**cfg["material"]),
+        [Light(**L) for L in cfg["lights"]],
+        scene_ambient=cfg["scene_ambient"],
+        local_viewer=cfg["local_viewer"],
+    )
+
+
+# --------------------------------------------------------------------------- tests
+@pytest.fixture(scope="module")
+def configs():
+    clean, quirky = _random_configs()
+    return {"clean": clean, "quirky": quirky, "edge": _edge_configs()}
 
 
 @pytest.fixture(scope="module")
-def gl_answers():
-    rng = np.random.default_rng(SEED)
-    random_cfgs = [_random_config(rng) for _ in range(N_RANDOM)]
-    edge = _edge_configs()
-    answer = _run_gl(random_cfgs + list(edge.values()))
-    results = answer["results"]
+def gl_answers(configs):
+    edge = configs["edge"]
+    batch = configs["clean"] + configs["quirky"] + list(edge.values())
+    answer = _run_gl(batch)
+    res = [np.asarray(r) for r in answer["results"]]
+    n_c, n_q = len(configs["clean"]), len(configs["quirky"])
     return {
-        "info": {k: answer[k] for k in ("platform", "version", "renderer", "vendor")},
-        "random": list(zip(random_cfgs, results[:N_RANDOM])),
-        "edge": dict(zip(edge, zip(edge.values(), results[N_RANDOM:]))),
+        "info": f"{answer['renderer']} ({answer['version']}, via {answer['platform']})",
+        "clean": res[:n_c],
+        "quirky": res[n_c : n_c + n_q],
+        "edge": dict(zip(edge, res[n_c + n_q :], strict=True)),
     }
 
 
-def test_random_configurations_match_gl(gl_answers):
+def test_reference_model_is_shade_vertices(configs):
+    """The plain transcription above agrees with the engine (no GL needed)."""
+    for cfg in configs["clean"] + configs["quirky"] + list(configs["edge"].values()):
+        np.testing.assert_allclose(_shade(cfg), _reference(cfg), rtol=0, atol=1e-12)
+
+
+def test_random_configurations_match_gl(configs, gl_answers):
     worst, worst_at, interior, total = 0.0, None, 0, 0
-    for k, (cfg, gl_rgba) in enumerate(gl_answers["random"]):
-        ours = _shade(cfg)
-        ref = np.asarray(gl_rgba)
-        diff = np.abs(ours - ref)
-        if diff.max() > worst:
-            worst, worst_at = float(diff.max()), k
+    for k, (cfg, ref) in enumerate(zip(configs["clean"], gl_answers["clean"], strict=True)):
+        diff = float(np.max(np.abs(_shade(cfg) - ref)))
+        if diff > worst:
+            worst, worst_at = diff, k
         interior += int(np.count_nonzero((ref[:, :3] > 1e-3) & (ref[:, :3] < 1 - 1e-3)))
         total += ref[:, :3].size
-    info = gl_answers["info"]
     print(
-        f"\n{len(gl_answers['random'])} configurations, {total // 3} vertices vs "
-        f"{info['renderer']} ({info['version']}, {info['platform']}): max |diff| = {worst:.3g}"
+        f"\n{len(configs['clean'])} configurations, {total // 3} vertices vs {gl_answers['info']}: "
+        f"max |diff| = {worst:.3g}; {interior / total:.0%} of channels unclamped"
     )
-    assert worst <= TOL, f"configuration {worst_at} differs from {info['renderer']} by {worst:.3g}"
+    assert len(configs["clean"]) >= 200
+    assert worst <= TOL, f"configuration {worst_at} differs from {gl_answers['info']} by {worst:.3g}"
     # The comparison says little if almost every channel is clamped.
     assert interior > 0.5 * total
 
 
-def test_float32_inputs_match_gl(gl_answers):
-    for cfg, gl_rgba in gl_answers["random"][:40]:
+def test_float32_inputs_match_gl(configs, gl_answers):
+    for cfg, ref in list(zip(configs["clean"], gl_answers["clean"], strict=True))[:40]:
         ours = _shade(cfg, np.float32)
         assert ours.dtype == np.float32
-        np.testing.assert_allclose(ours, np.asarray(gl_rgba), rtol=0, atol=TOL)
+        np.testing.assert_allclose(ours, ref, rtol=0, atol=TOL)
+
+
+def test_every_difference_from_gl_is_a_known_quirk(configs, gl_answers):
+    """Where GL departs from the specification, the quirk model explains it to 1e-5."""
+    cfgs = configs["quirky"] + list(configs["edge"].values())
+    refs = gl_answers["quirky"] + list(gl_answers["edge"].values())
+    deviating = 0
+    for cfg, ref in zip(cfgs, refs, strict=True):
+        spec_diff = float(np.max(np.abs(_shade(cfg) - ref)))
+        if spec_diff <= TOL:
+            continue  # this GL follows the specification here
+        deviating += 1
+        quirk_diff = float(np.max(np.abs(_reference(cfg, mesa=True) - ref)))
+        assert quirk_diff <= TOL, (
+            f"GL differs from the specification by {spec_diff:.3g} and from the known "
+            f"quirks by {quirk_diff:.3g}: {json.dumps({k: cfg[k] for k in ('material', 'lights')})}"
+        )
+    print(f"\n{deviating} of {len(cfgs)} quirk-prone configurations deviate from the specification")
 
 
 @pytest.mark.parametrize(
     "name",
     [
-        "shininess 0, directional",
-        "shininess 0, attenuated positional",
-        "shininess 0, spot",
-        "spot cutoff 90, exponent 0",
-        "directional spot",
-        "homogeneous w = 4",
+        "shininess 0, directional (f_i alone)",
+        "spot cutoff 90, exponent 1",
+        "spot on a directional light",
+        "homogeneous position, w = 4",
         "only quadratic attenuation",
+        "shininess 128, local viewer",
+        "bright light, clamped",
     ],
 )
-def test_special_rules_match_gl(gl_answers, name):
-    cfg, gl_rgba = gl_answers["edge"][name]
-    np.testing.assert_allclose(_shade(cfg), np.asarray(gl_rgba), rtol=0, atol=TOL)
+def test_special_rules_match_gl(configs, gl_answers, name):
+    cfg = configs["edge"][name]
+    assert not _has_quirk(cfg)
+    np.testing.assert_allclose(_shade(cfg), gl_answers["edge"][name], rtol=0, atol=TOL)
 
 
 if __name__ == "__main__" and len(sys.argv) == 3 and sys.argv[1] == "--gl-worker":
