@@ -10,11 +10,12 @@ lights      ambient, directional, point, spot and area lights
 illumination the illumination equation, classic and physical form
 gl          the OpenGL 1.x/2.1 fixed-function lighting equation, exactly
 image       linear float images → sRGB 8-bit PNG
+analysis    BRDF plots as data: polar slices, half/difference-angle views, 3D lobes
 
 Importing this package loads NumPy and nothing heavier.
 """
 
-from . import brdf, fresnel, illumination, lights, microfacet, vec
+from . import analysis, brdf, fresnel, illumination, lights, microfacet, vec
 from .brdf import BlinnPhong, CookTorrance, Lambert, Phong
 from .illumination import Material, shade, shade_terms
 from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
@@ -22,6 +23,7 @@ from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectL
 __version__ = "0.1.0"
 
 __all__ = [
+    "analysis",
     "brdf",
     "fresnel",
     "lights",

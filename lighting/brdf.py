@@ -112,7 +112,9 @@ class Geometry:
 
     @cached_property
     def v_dot_h(self):
-        return self._dot(self.v, self.h)
+        """``v·h = l·h = |l + v| / 2`` for unit ``l``, ``v``: symmetric in ``l`` and ``v`` to the last bit."""
+        s = self.l + self.v
+        return 0.5 * np.sqrt(self._dot(s, s))
 
     @cached_property
     def sin2_h(self):
