@@ -11,11 +11,15 @@ illumination the illumination equation, classic and physical form
 gl          the OpenGL 1.x/2.1 fixed-function lighting equation, exactly
 image       linear float images → sRGB 8-bit PNG
 analysis    BRDF plots as data: polar slices, half/difference-angle views, 3D lobes
+environment environment lighting: constant, lat-long image, function, small bright patch
+sampling    hemisphere and BRDF importance sampling
+integrate   albedo and the rendering equation: quadrature, Monte Carlo, SH irradiance
+audit       the plausibility audit: positive, reciprocal, energy conserving
 
 Importing this package loads NumPy and nothing heavier.
 """
 
-from . import analysis, brdf, fresnel, illumination, lights, microfacet, vec
+from . import analysis, audit, brdf, environment, fresnel, illumination, integrate, lights, microfacet, sampling, vec
 from .brdf import BlinnPhong, CookTorrance, Lambert, Phong
 from .illumination import Material, shade, shade_terms
 from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
@@ -24,7 +28,11 @@ __version__ = "0.1.0"
 
 __all__ = [
     "analysis",
+    "audit",
     "brdf",
+    "environment",
+    "integrate",
+    "sampling",
     "fresnel",
     "lights",
     "microfacet",

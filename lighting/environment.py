@@ -1,0 +1,457 @@
+r"""Environment lighting: the radiance ``L_i(l)`` arriving from every direction.
+
+The rendering equation (CMSC 435 deck) integrates it against the BRDF::
+
+    L_o(v) = ∫_Ω f_r(v, l) L_i(l) (n·l) dω(l).
+
+An environment is a function of direction alone (light from infinitely far
+away), in linear RGB radiance.  Every environment answers
+:meth:`Environment.radiance` for directions of shape ``(..., 3)`` (need not be
+unit length; world frame) with an ``(..., 3)`` array of the same float dtype,
+and can draw directions from a distribution roughly shaped like itself
+(:meth:`Environment.sample`, :meth:`Environment.pdf`, densities per unit solid
+angle on the whole sphere), which :mod:`lighting.integrate` uses for
+environment and multiple-importance sampling.
+
+The two cases of the deck's "Results" slide:
+
+* "integrating full environment" — :class:`ConstantEnvironment`,
+  :class:`LatLongEnvironment` (an image), :class:`FunctionEnvironment`;
+* "light at one point, black elsewhere" — :class:`SmallPatchEnvironment`
+  (alias :data:`PointEnvironment`): a cap of solid angle ``Ω`` and radiance
+  ``L``; as ``Ω → 0`` it acts as a directional light of irradiance ``E = L Ω``.
+
+World frame of the latitude–longitude image (the engine's spherical
+coordinates, the same as the local shading frame and
+:meth:`lighting.lights.DirectionalLight.from_angles`): ``+z`` is "up";
+``θ`` is measured from ``+z``, ``φ`` from ``+x`` toward ``+y``.  Row ``i`` of an
+``H × W`` image holds ``θ ∈ [iπ/H, (i+1)π/H]`` (row 0 the sky at the zenith,
+the last row the ground at the nadir) and column ``j`` holds
+``φ ∈ [2πj/W, 2π(j+1)/W]``.  Seen from inside the sphere with ``+z`` up, ``φ``
+grows to the *left*, so a photographic panorama (which turns right as its
+columns grow) must be flipped left–right, ``image[:, ::-1]``, to appear
+unmirrored.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from ._numeric import check_color, check_finite, working_dtype
+
+__all__ = [
+    "Environment",
+    "ConstantEnvironment",
+    "LatLongEnvironment",
+    "FunctionEnvironment",
+    "SmallPatchEnvironment",
+    "PointEnvironment",
+    "uniform_sphere",
+    "uniform_sphere_pdf",
+    "as_environment",
+]
+
+_INV_4PI = 1.0 / (4.0 * math.pi)
+
+
+def _directions(directions) -> tuple[np.ndarray, type]:
+    """Unit directions in float64 (zero vectors stay zero) and the caller's dtype."""
+    dt = working_dtype(directions)
+    d = np.asarray(directions, dtype=np.float64)
+    if d.shape[-1:] != (3,):
+        raise ValueError(f"directions must have shape (..., 3); got shape {d.shape}")
+    length = np.sqrt(np.sum(d * d, axis=-1, keepdims=True))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = np.where(length > 0, d / np.where(length > 0, length, 1.0), 0.0)
+    return d, dt
+
+
+def uniform_sphere(u) -> tuple[np.ndarray, np.ndarray]:
+    """Map points of the unit square ``(..., 2)`` to uniformly distributed directions.
+
+    ``z = 1 − 2u₀``, ``φ = 2π u₁``; the density is ``1/(4π)`` per steradian.
+
+    Returns
+    -------
+    directions : ndarray, (..., 3)
+    pdf : ndarray, (...)
+
+    Examples
+    --------
+    >>> d, p = uniform_sphere(np.array([0.5, 0.0]))
+    >>> d.round(12).tolist(), round(float(p) * 4 * math.pi, 12)
+    ([1.0, 0.0, 0.0], 1.0)
+    """
+    u = np.asarray(u, dtype=np.float64)
+    z = 1.0 - 2.0 * u[..., 0]
+    r = np.sqrt(np.clip((1.0 - z) * (1.0 + z), 0.0, None))
+    phi = 2.0 * math.pi * u[..., 1]
+    d = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
+    return d, np.full(z.shape, _INV_4PI)
+
+
+def uniform_sphere_pdf(directions) -> np.ndarray:
+    """Density ``1/(4π)`` of :func:`uniform_sphere`, shape ``(...)``."""
+    d = np.asarray(directions, dtype=np.float64)
+    return np.full(d.shape[:-1], _INV_4PI)
+
+
+class Environment:
+    """Base class: radiance arriving from each direction (distant lighting).
+
+    Subclasses implement ``_radiance(d)`` on float64 unit directions ``(..., 3)``.
+    The default sampling strategy is uniform over the sphere.
+    """
+
+    #: A spherical cap outside which the radiance is zero: ``(axis, half_angle)``,
+    #: or None when light may come from anywhere.  Deterministic integration uses
+    #: it to put its nodes where the light is.
+    support: tuple[np.ndarray, float] | None = None
+
+    def radiance(self, directions) -> np.ndarray:
+        """Radiance arriving from ``directions`` ``(..., 3)``: RGB ``(..., 3)``, dtype kept."""
+        d, dt = _directions(directions)
+        return self._radiance(d).astype(dt, copy=False)
+
+    def _radiance(self, d: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def sample(self, u) -> tuple[np.ndarray, np.ndarray]:
+        """Directions (world frame, ``(..., 3)``) and their density per steradian from unit-square points ``u``."""
+        return uniform_sphere(u)
+
+    def pdf(self, directions) -> np.ndarray:
+        """Density of :meth:`sample` at ``directions``, per steradian, shape ``(...)``."""
+        d, _ = _directions(directions)
+        return uniform_sphere_pdf(d)
+
+
+class ConstantEnvironment(Environment):
+    r"""The same radiance ``L`` from every direction (the white furnace when ``L = 1``).
+
+    Reflected radiance is ``L`` times the directional albedo, so a Lambertian
+    surface returns ``k_d L``: the furnace test of energy conservation.
+
+    Parameters
+    ----------
+    radiance : float or RGB triple, >= 0
+
+    Examples
+    --------
+    >>> ConstantEnvironment((1.0, 0.5, 0.25)).radiance(np.array([[0.0, 0.0, 1.0]])).tolist()
+    [[1.0, 0.5, 0.25]]
+    """
+
+    def __init__(self, radiance=1.0):
+        self.value = check_color("radiance", radiance)
+
+    def _radiance(self, d):
+        return np.broadcast_to(self.value, d.shape[:-1] + (3,)).copy()
+
+    def __repr__(self):
+        return f"ConstantEnvironment({self.value.tolist()})"
+
+
+def _pixel_rows(h: int) -> np.ndarray:
+    """``cos θ`` at the ``h + 1`` row boundaries, computed so that the poles are exact."""
+    return np.cos(np.linspace(0.0, math.pi, h + 1))
+
+
+class LatLongEnvironment(Environment):
+    r"""An equirectangular (latitude–longitude) radiance image.
+
+    Pixel ``(i, j)`` of an ``(H, W, 3)`` image is centred on
+    ``θ = (i + ½) π / H`` (from ``+z``) and ``φ = (j + ½) 2π / W`` (from
+    ``+x`` toward ``+y``), i.e. :func:`lighting.vec.spherical_direction`
+    of those angles; see the module notes for the orientation.
+
+    Lookup is bilinear between pixel centres, wrapping around in ``φ`` and
+    clamped to the first and last rows in ``θ`` (so within half a pixel of a pole
+    the value is the edge row's, interpolated in ``φ``).
+
+    :meth:`sample` draws pixels with probability proportional to their mean
+    channel value (taken as the maximum over the 3 × 3 neighbourhood, because
+    bilinear lookup spreads each pixel's radiance into its neighbours — the
+    density is positive wherever the radiance is) times their solid angle, then
+    a uniform direction inside the pixel.
+
+    Parameters
+    ----------
+    image : array_like, (H, W, 3), finite and >= 0
+        Linear RGB radiance.
+
+    Examples
+    --------
+    >>> img = np.zeros((2, 4, 3)); img[0] = 1.0  # bright sky, black ground
+    >>> env = LatLongEnvironment(img)
+    >>> env.radiance(np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]))[:, 0].tolist()
+    [1.0, 0.0]
+    """
+
+    def __init__(self, image):
+        img = check_finite("image", image, shape_hint="a finite (H, W, 3) array of radiances >= 0")
+        if img.ndim != 3 or img.shape[2] != 3 or img.shape[0] < 1 or img.shape[1] < 1:
+            raise ValueError(f"image must be an (H, W, 3) array of radiances >= 0; got shape {img.shape}")
+        if np.any(img < 0):
+            raise ValueError(f"image must hold radiances >= 0; got a minimum of {float(img.min())!r}")
+        self.image = img
+        self._flat = np.ascontiguousarray(img.reshape(-1, 3))
+        h, w = img.shape[:2]
+        self.height, self.width = h, w
+        self._build_sampling()
+
+    def __repr__(self):
+        return f"LatLongEnvironment(image of shape {self.image.shape})"
+
+    @classmethod
+    def from_function(cls, func: Callable[[np.ndarray], np.ndarray], height: int, width: int | None = None):
+        """Sample ``func(directions (H, W, 3)) → (H, W, 3)`` at the pixel centres of an ``H × W`` image."""
+        width = 2 * height if width is None else width
+        for name, value in (("height", height), ("width", width)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+                raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
+        d = cls.pixel_directions(height, width)
+        vals = np.broadcast_to(np.asarray(func(d), dtype=np.float64), (height, width, 3))
+        return cls(vals)
+
+    @staticmethod
+    def pixel_directions(height: int, width: int) -> np.ndarray:
+        """Unit directions of the pixel centres of an ``height × width`` image, ``(H, W, 3)``."""
+        th = (np.arange(height) + 0.5) * (math.pi / height)
+        ph = (np.arange(width) + 0.5) * (2 * math.pi / width)
+        st, ct = np.sin(th)[:, None], np.cos(th)[:, None]
+        return np.stack(np.broadcast_arrays(st * np.cos(ph), st * np.sin(ph), ct), axis=-1)
+
+    def solid_angles(self) -> np.ndarray:
+        """Exact solid angle of each pixel, ``(H, W)``: ``(cos θ_top − cos θ_bottom) 2π / W``; sums to 4π."""
+        c = _pixel_rows(self.height)
+        return np.broadcast_to(((c[:-1] - c[1:]) * (2 * math.pi / self.width))[:, None], (self.height, self.width))
+
+    # -- lookup ----------------------------------------------------------------------
+    def _angles(self, d):
+        theta = np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2])
+        phi = np.mod(np.arctan2(d[..., 1], d[..., 0]), 2 * math.pi)
+        return theta, phi
+
+    def _radiance(self, d):
+        h, w = self.height, self.width
+        theta, phi = self._angles(d)
+        fx = phi * (w / (2 * math.pi)) - 0.5
+        j0 = np.floor(fx)
+        tx = (fx - j0)[..., None]
+        j0 = j0.astype(np.int64) % w
+        j1 = (j0 + 1) % w
+        fy = np.clip(theta * (h / math.pi) - 0.5, 0.0, h - 1)
+        i0 = np.minimum(np.floor(fy).astype(np.int64), max(h - 2, 0))
+        ty = np.clip(fy - i0, 0.0, 1.0)[..., None]
+        i1 = np.minimum(i0 + 1, h - 1)
+        flat = self._flat
+        r0, r1 = i0 * w, i1 * w
+        top = np.take(flat, r0 + j0, axis=0) * (1 - tx) + np.take(flat, r0 + j1, axis=0) * tx
+        bot = np.take(flat, r1 + j0, axis=0) * (1 - tx) + np.take(flat, r1 + j1, axis=0) * tx
+        return top * (1 - ty) + bot * ty
+
+    # -- sampling --------------------------------------------------------------------
+    def _build_sampling(self):
+        lum = self.image.mean(axis=2)
+        # Bilinear lookup reaches one pixel centre in each direction: dilate so the density covers it.
+        padded = np.concatenate([lum[:, -1:], lum, lum[:, :1]], axis=1)
+        padded = np.concatenate([padded[:1], padded, padded[-1:]], axis=0)
+        h, w = lum.shape
+        stack = [padded[a : a + h, b : b + w] for a in range(3) for b in range(3)]
+        weight = np.max(stack, axis=0)
+        mass = weight * self.solid_angles()
+        total = float(mass.sum())
+        if total <= 0:  # black image: any density will do, choose uniform
+            mass = np.array(self.solid_angles())
+            total = float(mass.sum())
+        self._prob = (mass / total).ravel()
+        self._cdf = np.cumsum(self._prob)
+        self._cdf[-1] = 1.0
+        self._density = (self._prob.reshape(h, w) / self.solid_angles()).ravel()
+
+    def sample(self, u):
+        u = np.asarray(u, dtype=np.float64)
+        h, w = self.height, self.width
+        k = np.minimum(np.searchsorted(self._cdf, u[..., 0], side="right"), h * w - 1)
+        prev = np.where(k > 0, self._cdf[np.maximum(k - 1, 0)], 0.0)
+        # Reuse the pixel-choice number for the latitude inside the pixel (remapped to [0, 1)).
+        with np.errstate(divide="ignore", invalid="ignore"):
+            v = np.clip(np.where(self._prob[k] > 0, (u[..., 0] - prev) / self._prob[k], 0.5), 0.0, 1.0)
+        i, j = np.divmod(k, w)
+        c = _pixel_rows(h)
+        z = c[i] + (c[i + 1] - c[i]) * v
+        r = np.sqrt(np.clip((1 - z) * (1 + z), 0.0, None))
+        phi = (j + u[..., 1]) * (2 * math.pi / w)
+        d = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
+        return d, self._density[k]
+
+    def pdf(self, directions):
+        d, _ = _directions(directions)
+        theta, phi = self._angles(d)
+        i = np.clip(np.floor(theta * (self.height / math.pi)).astype(np.int64), 0, self.height - 1)
+        j = np.clip(np.floor(phi * (self.width / (2 * math.pi))).astype(np.int64), 0, self.width - 1)
+        return self._density[i * self.width + j]
+
+
+class FunctionEnvironment(Environment):
+    r"""Radiance given by a Python function of direction.
+
+    Parameters
+    ----------
+    func : callable
+        ``func(directions)`` with unit float64 directions ``(..., 3)`` returning
+        RGB ``(..., 3)`` (or ``(...)``, used for all three channels).  It must
+        return finite values; they are not checked for sign, so a signed test
+        function (a spherical harmonic) may be integrated too.
+
+    Examples
+    --------
+    >>> sky = FunctionEnvironment(lambda d: 1.0 + d[..., 2])  # linear: bright above, dark below
+    >>> sky.radiance(np.array([0.0, 0.0, 1.0])).tolist()
+    [2.0, 2.0, 2.0]
+    """
+
+    def __init__(self, func: Callable[[np.ndarray], np.ndarray]):
+        if not callable(func):
+            raise ValueError(f"func must be a callable direction (..., 3) -> radiance (..., 3); got {func!r}")
+        self.func = func
+
+    def __repr__(self):
+        return f"FunctionEnvironment({self.func!r})"
+
+    def _radiance(self, d):
+        out = np.asarray(self.func(d), dtype=np.float64)
+        if out.shape == d.shape[:-1]:
+            out = out[..., None]
+        try:
+            out = np.broadcast_to(out, d.shape[:-1] + (3,))
+        except ValueError:
+            raise ValueError(
+                f"func must return radiance of shape (..., 3) for directions of shape {d.shape}; got {out.shape}"
+            ) from None
+        if not np.all(np.isfinite(out)):
+            raise ValueError(f"func must return finite radiance; {self.func!r} returned non-finite values")
+        return out.copy()
+
+
+class SmallPatchEnvironment(Environment):
+    r"""Black everywhere but one bright cap: the deck's "light at one point, black elsewhere".
+
+    The cap is centred on ``direction`` with half-angle ``γ``,
+    ``Ω = 2π (1 − cos γ)``.  Radiance is ``L`` inside (``l·c >= cos γ``) and 0
+    outside.  Its irradiance on a surface facing it is ``E = π sin²γ L =
+    L Ω (1 − Ω/(4π))``, and for a surface at angle ``θ`` the reflected radiance
+    tends to the point-light term of the rendering equation,
+
+        L_o(v) → f_r(v, l_c) (n·l_c) E,   E = L Ω,   as Ω → 0,
+
+    with an error of order ``Ω`` for BRDFs smooth across the cap.
+
+    Parameters
+    ----------
+    direction : 3-vector, nonzero
+        Direction toward the patch centre (world frame).
+    solid_angle : float in (0, 4π]
+        ``Ω`` in steradians.
+    radiance : float or RGB triple, >= 0
+        ``L`` inside the patch.
+
+    Examples
+    --------
+    >>> sun = SmallPatchEnvironment((0, 0, 1.0), 1e-4, 100.0)
+    >>> sun.radiance(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]))[:, 0].tolist()
+    [100.0, 0.0]
+    >>> [round(float(x), 12) for x in sun.irradiance_limit]  # E = L Ω
+    [0.01, 0.01, 0.01]
+    """
+
+    def __init__(self, direction=(0.0, 0.0, 1.0), solid_angle=1e-3, radiance=1.0):
+        c = check_finite("direction", direction, shape_hint="a finite nonzero 3-vector")
+        if c.shape != (3,) or not np.any(c != 0):
+            raise ValueError(f"direction must be a finite nonzero 3-vector; got {direction!r}")
+        self.direction = c / np.sqrt(np.sum(c * c))
+        om = check_finite("solid_angle", solid_angle, shape_hint="a finite number in (0, 4π]")
+        if om.ndim != 0 or not (0 < float(om) <= 4 * math.pi):
+            raise ValueError(f"solid_angle must be a finite number in (0, 4π] steradians; got {solid_angle!r}")
+        self.solid_angle = float(om)
+        self.value = check_color("radiance", radiance)
+        # 1 − cos γ = Ω / (2π), kept as given: for tiny caps cos γ itself rounds to 1.
+        self.one_minus_cos = self.solid_angle / (2 * math.pi)
+        self.half_angle = 2.0 * math.asin(min(1.0, math.sqrt(self.one_minus_cos / 2.0)))
+        self.support = (self.direction, self.half_angle)
+
+    def __repr__(self):
+        return (
+            f"SmallPatchEnvironment(direction={self.direction.tolist()}, solid_angle={self.solid_angle!r}, "
+            f"radiance={self.value.tolist()})"
+        )
+
+    @property
+    def irradiance_limit(self) -> np.ndarray:
+        """``E = L Ω``: the directional light the patch becomes as ``Ω → 0`` (RGB)."""
+        return self.value * self.solid_angle
+
+    @property
+    def irradiance_normal(self) -> np.ndarray:
+        """Exact irradiance on a surface facing the patch: ``L π sin²γ = L Ω (1 − Ω/(4π))`` (RGB)."""
+        return self.value * self.solid_angle * (1 - self.solid_angle / (4 * math.pi))
+
+    def _inside(self, d):
+        diff = d - self.direction
+        # 1 − d·c = |d − c|²/2 for unit d: no cancellation for tiny caps.
+        return 0.5 * np.sum(diff * diff, axis=-1) <= self.one_minus_cos
+
+    def _radiance(self, d):
+        inside = self._inside(d) & np.any(d != 0, axis=-1)
+        return np.where(inside[..., None], self.value, 0.0)
+
+    def sample(self, u):
+        """Uniform directions inside the cap (density ``1/Ω``)."""
+        u = np.asarray(u, dtype=np.float64)
+        omc = u[..., 0] * self.one_minus_cos  # 1 − cos ψ, uniform in [0, 1 − cos γ]
+        cos_psi = 1.0 - omc
+        sin_psi = np.sqrt(np.clip(omc * (2.0 - omc), 0.0, None))
+        phi = 2 * math.pi * u[..., 1]
+        t, b = _basis(self.direction)
+        d = (
+            cos_psi[..., None] * self.direction
+            + (sin_psi * np.cos(phi))[..., None] * t
+            + (sin_psi * np.sin(phi))[..., None] * b
+        )
+        return d, np.full(omc.shape, 1.0 / self.solid_angle)
+
+    def pdf(self, directions):
+        d, _ = _directions(directions)
+        return np.where(self._inside(d), 1.0 / self.solid_angle, 0.0)
+
+
+#: The deck's name for the same environment.
+PointEnvironment = SmallPatchEnvironment
+
+
+def _basis(c: np.ndarray):
+    """Two unit tangents completing ``c`` to a right-handed frame (Duff et al. 2017)."""
+    sign = 1.0 if c[2] >= 0 else -1.0
+    a = -1.0 / (sign + c[2])
+    b = c[0] * c[1] * a
+    t = np.array([1.0 + sign * c[0] ** 2 * a, sign * b, -sign * c[0]])
+    bt = np.array([b, sign + c[1] ** 2 * a, -c[1]])
+    return t, bt
+
+
+def as_environment(env) -> Environment:
+    """An :class:`Environment` from an environment, a scalar/RGB radiance, or a callable."""
+    if isinstance(env, Environment):
+        return env
+    if callable(env):
+        return FunctionEnvironment(env)
+    try:
+        return ConstantEnvironment(env)
+    except ValueError:
+        raise ValueError(
+            f"environment must be an Environment, a radiance (scalar or RGB) or a callable; got {env!r}"
+        ) from None

@@ -1,0 +1,128 @@
+"""The plausibility audit: the deck's verdicts on its own models, and the table's renderings."""
+
+import csv
+import io
+import math
+
+import pytest
+
+from lighting.audit import AuditCase, audit, default_cases, direction_pairs
+from lighting.brdf import CookTorrance, Lambert, Phong
+
+
+@pytest.fixture(scope="module")
+def table():
+    return audit()
+
+
+def _normalized_bp_albedo(e):
+    a, b = 2 ** (-(e + 4) / 2), 2 ** (-(e + 2) / 2)
+    return 4 * (e + 2) * (2 / (e + 4) - 1 / (e + 2) - 2 * a / (e + 4) + b / (e + 2))
+
+
+def test_every_model_is_positive(table):
+    assert len(table) == len(default_cases())
+    assert all(r.positive and r.min_value >= 0 for r in table)
+
+
+def test_lambert_is_plausible(table):
+    r = table["Lambert"]
+    assert r.plausible and r.reciprocity == 0
+    assert r.albedo_max == pytest.approx(1.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("e", [0.0, 0.5, 1.0, 10.0, 1000.0])
+def test_slides_phong_fails_reciprocity_and_energy_at_low_exponents(table, e):
+    r = table[f"Phong e={e:g}"]
+    assert not r.reciprocal and r.reciprocity > 0.5  # f/(n·l): the two directions differ by n·v / n·l
+    # Albedo at normal incidence 2/(e+1); the largest over view angles is there too.
+    assert r.albedo_normal == pytest.approx(2 / (e + 1), rel=1e-9)
+    assert r.albedo_max == pytest.approx(2 / (e + 1), rel=1e-9)
+    assert r.energy == (e >= 1)
+
+
+@pytest.mark.parametrize("e, energy", [(0.0, False), (1.0, False), (10.0, True), (100.0, True)])
+def test_raw_blinn_phong_not_reciprocal(table, e, energy):
+    r = table[f"Blinn-Phong e={e:g}"]
+    assert not r.reciprocal
+    assert r.albedo_normal == pytest.approx(8 / (e + 2) * (1 - 2 ** (-(e + 2) / 2)), rel=1e-9)
+    assert r.energy is energy
+
+
+@pytest.mark.parametrize("e", [0.0, 10.0, 100.0, 1000.0])
+def test_normalized_blinn_phong_reciprocal_but_too_bright(table, e):
+    r = table[f"normalized B-P e={e:g}"]
+    assert r.reciprocal and r.reciprocity < 1e-12
+    assert r.albedo_normal == pytest.approx(_normalized_bp_albedo(e), rel=1e-6)
+    assert r.energy is (e == 0)  # ρ(0) = 1 at e = 0, toward 4 for sharp lobes
+
+
+def test_cook_torrance_variants_conserve_energy(table):
+    for label in ("C-T blinn-phong α=0.1", "C-T blinn-phong α=0.5", "Cook-Torrance default"):
+        assert table[label].plausible, label
+        assert table[label].reciprocity < 1e-12
+
+
+@pytest.mark.parametrize("alpha, rho0", [(0.1, 1.000), (0.5, 0.892), (1.0, 0.453)])
+def test_beckmann_vcavity_loses_energy_at_high_roughness(table, alpha, rho0):
+    r = table[f"C-T beckmann α={alpha:g}"]
+    assert r.plausible
+    assert round(r.albedo_normal, 3) == rho0
+    assert r.albedo_max <= 1 + r.albedo_error
+
+
+def test_ggx_smith_alpha_one(table):
+    r = table["C-T ggx/smith α=1"]
+    assert r.plausible
+    assert r.albedo_normal == pytest.approx(1 - math.log(2), rel=1e-9)
+
+
+@pytest.mark.parametrize("alpha", [0.1, 0.5])
+def test_pi_denominator_fails_energy_by_four_over_pi(table, alpha):
+    r = table[f"C-T π-denominator α={alpha:g}"]
+    base = table[f"C-T beckmann α={alpha:g}"]
+    assert r.reciprocal and not r.energy
+    assert r.albedo_normal == pytest.approx(4 / math.pi * base.albedo_normal, rel=1e-9)
+    assert r.albedo_max <= 4 / math.pi + r.albedo_error
+
+
+def test_format_table_is_readable(table):
+    text = table.format_table()
+    lines = text.splitlines()
+    assert len(lines) == len(table) + 3  # header, rule, rows, footnote
+    assert lines[0].split()[:2] == ["model", "parameters"]
+    for r in table:
+        assert any(line.startswith(r.label) for line in lines[2:-1])
+    assert "FAIL" in text and "pass" in text and str(table) == text
+
+
+def test_csv_round_trip(table, tmp_path):
+    path = tmp_path / "audit.csv"
+    text = table.to_csv(path)
+    assert path.read_text(encoding="utf-8") == text
+    rows = list(csv.DictReader(io.StringIO(text)))
+    assert len(rows) == len(table)
+    first = rows[0]
+    assert first["label"] == "Lambert" and first["energy"] == "pass"
+    assert float(first["albedo_max"]) == pytest.approx(table["Lambert"].albedo_max, rel=1e-15)
+    phong0 = next(r for r in rows if r["label"] == "Phong e=0")
+    assert phong0["reciprocal"] == "fail" and phong0["energy"] == "fail"
+
+
+def test_custom_model_list_and_errors():
+    t = audit([Lambert(0.5), ("shiny", Phong(0.2, 50.0)), AuditCase("ct", CookTorrance(), "note")], samples=1024)
+    assert [r.label for r in t] == ["Lambert", "shiny", "ct"]
+    assert t["ct"].note == "note" and t[1].label == "shiny"
+    with pytest.raises(KeyError, match="labels"):
+        t["missing"]
+    with pytest.raises(ValueError, match="models"):
+        audit(["lambert"])
+    with pytest.raises(ValueError, match="view_angles_deg"):
+        audit([Lambert(0.5)], view_angles_deg=[95.0])
+
+
+def test_direction_pairs_include_mirror_configurations():
+    l, v = direction_pairs(5, 4)  # noqa: E741
+    mirror = (abs(l[:, 2] - v[:, 2]) < 1e-15) & (abs(l[:, 0] + v[:, 0]) < 1e-12) & (abs(l[:, 1]) < 1e-12)
+    assert mirror.sum() >= 5
+    assert l.shape[0] == 5 * 5 * 4 + 5 * 4 * 3
