@@ -1,0 +1,389 @@
+"""A pinhole (perspective) or orthographic camera: world → image and per-pixel rays.
+
+World → image, step by step
+---------------------------
+1. Camera frame (right-handed, as OpenGL's ``gluLookAt``): forward
+   ``f = (target − eye)/|…|``, right ``r = (f × up)/|…|``, true up ``u = r × f``.
+2. Camera coordinates: ``x_c = r·(p − eye)``, ``y_c = u·(p − eye)``,
+   ``z_c = −f·(p − eye)`` (the camera looks down its ``−z`` axis).  The
+   view-space *depth* is ``d = −z_c = f·(p − eye)``, the distance along the
+   viewing axis (not the Euclidean distance to the eye).
+3. Image plane, in pixels, ``x`` to the right, ``y`` **down**, origin at the
+   top-left corner of the image:
+
+   * perspective: ``x = W/2 + F x_c / d``, ``y = H/2 − F y_c / d`` with the focal
+     length in pixels ``F = (H/2) / tan(fov_y/2)``;
+   * orthographic: ``x = W/2 + S x_c``, ``y = H/2 − S y_c`` with
+     ``S = H / ortho_height`` pixels per world unit.
+
+   Pixels are square.  Pixel ``(row i, column j)`` covers ``x ∈ [j, j+1]``,
+   ``y ∈ [i, i+1]``; its centre, where it is sampled, is ``(j + ½, i + ½)``.
+   The target projects to ``(W/2, H/2)``, the centre of the image.
+
+:meth:`Camera.rays` inverts step 3 at the pixel centres: one ray per pixel,
+from the eye (perspective) or from the image plane through the eye
+(orthographic, all rays parallel to ``f``).  :meth:`Camera.project` of any point
+on pixel ``(i, j)``'s ray returns ``(j + ½, i + ½)``.
+
+The near and far distances bound the visible depths ``near ≤ d ≤ far``; the
+rasterizer clips against them (:mod:`lighting.raster`).
+
+Examples
+--------
+>>> cam = Camera(eye=(0, 0, 5), target=(0, 0, 0), width=64, height=48)
+>>> xy, depth = cam.project((0, 0, 0))
+>>> xy.tolist(), float(depth)
+([32.0, 24.0], 5.0)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._numeric import as_float, check_choice, check_positive, working_dtype
+from .vec import normalize
+
+__all__ = ["Camera"]
+
+
+def _vec3(name: str, value) -> np.ndarray:
+    try:
+        a = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite 3-vector; got {value!r}") from None
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be a finite 3-vector; got {value!r}")
+    a.setflags(write=False)
+    return a
+
+
+def _size(name: str, value) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ValueError(f"{name} must be an integer >= 1 (pixels); got {value!r}")
+    return int(value)
+
+
+class Camera:
+    """A look-at camera producing a ``width × height`` image.
+
+    Parameters
+    ----------
+    eye, target : 3-vectors
+        Camera position and the point it looks at (must differ).
+    up : 3-vector, default (0, 1, 0)
+        Roughly "up" in the image; must not be parallel to ``target − eye``.
+    projection : {"perspective", "orthographic"}
+    fov_y_deg : float, default 30
+        Vertical field of view of the perspective camera, in (0, 180) degrees.
+    ortho_height : float, default 2.5
+        World height of the orthographic image (the default frames a unit sphere
+        with a small margin).
+    width, height : int, default 512
+        Image size in pixels.
+    near, far : float, optional
+        Visible depth range.  Defaults: ``near = |target − eye| / 1000``,
+        ``far = 1000 |target − eye|``.  ``0 < near < far``.
+
+    Examples
+    --------
+    >>> cam = Camera.look_at((0, 0, 4), fov_y_deg=90, width=4, height=4)
+    >>> round(cam.focal_px, 12)
+    2.0
+    >>> (cam.project((0, 4, 0))[0].round(12) + 0.0).tolist()  # 45° above the axis: the top edge of the image
+    [2.0, 0.0]
+    """
+
+    def __init__(
+        self,
+        eye,
+        target,
+        up=(0.0, 1.0, 0.0),
+        projection: str = "perspective",
+        fov_y_deg: float = 30.0,
+        ortho_height: float = 2.5,
+        width: int = 512,
+        height: int = 512,
+        near: float | None = None,
+        far: float | None = None,
+    ):
+        self.eye = _vec3("eye", eye)
+        self.target = _vec3("target", target)
+        self.up = _vec3("up", up)
+        self.projection = check_choice("projection", projection, ("perspective", "orthographic"))
+        self.fov_y_deg = check_positive("fov_y_deg", fov_y_deg)
+        if not self.fov_y_deg < 180:
+            raise ValueError(f"fov_y_deg must be in (0, 180) degrees; got {fov_y_deg!r}")
+        self.ortho_height = check_positive("ortho_height", ortho_height)
+        self.width = _size("width", width)
+        self.height = _size("height", height)
+
+        d = self.target - self.eye
+        dist = float(np.linalg.norm(d))
+        if not dist > 0:
+            raise ValueError(f"eye and target must differ; got eye={self.eye.tolist()}, target={self.target.tolist()}")
+        f = d / dist
+        up_len = float(np.linalg.norm(self.up))
+        if not up_len > 0:
+            raise ValueError(f"up must be a non-zero vector; got {self.up.tolist()}")
+        s = np.cross(f, self.up / up_len)
+        s_len = float(np.linalg.norm(s))
+        if not s_len > 1e-9:
+            raise ValueError(
+                f"up must not be parallel to the view direction target - eye = {d.tolist()}; got up={self.up.tolist()}"
+            )
+        r = s / s_len
+        u = np.cross(r, f)
+        for a in (f, r, u):
+            a.setflags(write=False)
+        self.forward, self.right, self.true_up = f, r, u
+        self.distance = dist
+
+        self.near = check_positive("near", near) if near is not None else dist / 1000
+        self.far = check_positive("far", far) if far is not None else dist * 1000
+        if not self.far > self.near:
+            raise ValueError(f"far must be > near = {self.near!r}; got far={self.far!r}")
+        self._frozen = True
+
+    def __setattr__(self, name, value):
+        # A camera is a value (its derived frame would go stale): change it with replace().
+        if getattr(self, "_frozen", False):
+            raise AttributeError(f"Camera is immutable; use camera.replace({name}=...) instead")
+        object.__setattr__(self, name, value)
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def look_at(cls, eye, target=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), **options) -> Camera:
+        """A camera at ``eye`` looking at ``target`` (default the origin); options as for :class:`Camera`."""
+        return cls(eye, target, up, **options)
+
+    @classmethod
+    def orbit(
+        cls,
+        target=(0.0, 0.0, 0.0),
+        *,
+        distance: float = 5.0,
+        azimuth_deg: float = 0.0,
+        elevation_deg: float = 0.0,
+        **options,
+    ) -> Camera:
+        """A y-up camera on a sphere around ``target``.
+
+        ``eye = target + distance (cos e sin a, sin e, cos e cos a)``: azimuth
+        ``a = 0``, elevation ``e = 0`` looks from ``+z`` toward ``−z``; azimuth
+        turns toward ``+x``; elevation must stay inside (−90, 90) degrees (the
+        view direction would be parallel to up).
+
+        Examples
+        --------
+        >>> Camera.orbit(distance=2, azimuth_deg=90).eye.round(12).tolist()
+        [2.0, 0.0, 0.0]
+        """
+        dist = check_positive("distance", distance)
+        if not math.isfinite(float(azimuth_deg)):
+            raise ValueError(f"azimuth_deg must be a finite number of degrees; got {azimuth_deg!r}")
+        if not abs(float(elevation_deg)) < 90:
+            raise ValueError(f"elevation_deg must be in (-90, 90); got {elevation_deg!r}")
+        a, e = math.radians(float(azimuth_deg)), math.radians(float(elevation_deg))
+        t = _vec3("target", target)
+        eye = t + dist * np.array([math.cos(e) * math.sin(a), math.sin(e), math.cos(e) * math.cos(a)])
+        return cls(eye, t, options.pop("up", (0.0, 1.0, 0.0)), **options)
+
+    def replace(self, **changes) -> Camera:
+        """A copy with some constructor arguments changed (e.g. ``width=128``).
+
+        Changing ``eye`` or ``target`` without giving ``near``/``far`` resets them
+        to their defaults for the new distance.
+        """
+        args = dict(
+            eye=self.eye,
+            target=self.target,
+            up=self.up,
+            projection=self.projection,
+            fov_y_deg=self.fov_y_deg,
+            ortho_height=self.ortho_height,
+            width=self.width,
+            height=self.height,
+            near=self.near,
+            far=self.far,
+        )
+        unknown = set(changes) - set(args)
+        if unknown:
+            raise ValueError(f"unknown Camera parameter(s) {sorted(unknown)}; allowed: {sorted(args)}")
+        if ("eye" in changes or "target" in changes) and not {"near", "far"} & set(changes):
+            args["near"] = args["far"] = None  # keep the defaults relative to the new distance
+        args.update(changes)
+        return Camera(**args)
+
+    def __repr__(self) -> str:
+        extra = (
+            f"fov_y_deg={self.fov_y_deg}" if self.projection == "perspective" else f"ortho_height={self.ortho_height}"
+        )
+        return (
+            f"Camera(eye={self.eye.tolist()}, target={self.target.tolist()}, up={self.up.tolist()}, "
+            f"projection={self.projection!r}, {extra}, width={self.width}, height={self.height}, "
+            f"near={self.near}, far={self.far})"
+        )
+
+    # ------------------------------------------------------------------ derived numbers
+    @property
+    def is_perspective(self) -> bool:
+        return self.projection == "perspective"
+
+    @property
+    def focal_px(self) -> float:
+        """Perspective focal length in pixels, ``F = (H/2) / tan(fov_y/2)``."""
+        return (self.height / 2) / math.tan(math.radians(self.fov_y_deg) / 2)
+
+    @property
+    def pixels_per_unit(self) -> float:
+        """Orthographic scale ``S = H / ortho_height`` (pixels per world unit)."""
+        return self.height / self.ortho_height
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """Image shape ``(height, width)``."""
+        return (self.height, self.width)
+
+    def view_matrix(self) -> np.ndarray:
+        """4×4 world → camera matrix (column vectors), rows ``r``, ``u``, ``−f``.
+
+        ``[x_c, y_c, z_c, 1]ᵀ = V [p, 1]ᵀ``, exactly the ``gluLookAt`` matrix.
+
+        Examples
+        --------
+        >>> V = Camera((0, 0, 5), (0, 0, 0)).view_matrix()
+        >>> (V @ [0, 0, 0, 1]).tolist()
+        [0.0, 0.0, -5.0, 1.0]
+        """
+        V = np.eye(4)
+        R = np.stack([self.right, self.true_up, -self.forward])
+        V[:3, :3] = R
+        V[:3, 3] = -R @ self.eye
+        return V
+
+    # ------------------------------------------------------------------ mappings
+    def world_to_camera(self, points) -> np.ndarray:
+        """Camera coordinates ``(x_c, y_c, z_c)`` of world points, shape ``(..., 3)``; keeps the dtype."""
+        dt = working_dtype(points)
+        p = as_float(points, dt)
+        if p.shape[-1:] != (3,):
+            raise ValueError(f"points must have shape (..., 3); got shape {p.shape}")
+        R = np.stack([self.right, self.true_up, -self.forward]).astype(dt)
+        return (p - self.eye.astype(dt)) @ R.T
+
+    def camera_to_pixels(self, cam_points):
+        """Step 3 of the module notes on camera coordinates: ``(xy (..., 2), depth (...))``.
+
+        Perspective points with depth ``≤ 0`` (at or behind the eye) have no image:
+        their ``xy`` is returned as 0; check ``depth >= near`` before using it.
+        """
+        c = np.asarray(cam_points)
+        depth = -c[..., 2]
+        cx, cy = self.width / 2, self.height / 2
+        if self.is_perspective:
+            F = self.focal_px
+            ok = depth > 0
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                inv = np.where(ok, F / np.where(ok, depth, 1), 0)
+            x = np.where(ok, cx + c[..., 0] * inv, 0)
+            y = np.where(ok, cy - c[..., 1] * inv, 0)
+        else:
+            S = self.pixels_per_unit
+            x = cx + S * c[..., 0]
+            y = cy - S * c[..., 1]
+        xy = np.stack([x, y], axis=-1).astype(c.dtype, copy=False)
+        return xy, depth
+
+    def project(self, points):
+        """Pixel coordinates and view-space depth of world points.
+
+        Parameters
+        ----------
+        points : array_like, shape (..., 3)
+
+        Returns
+        -------
+        xy : ndarray, shape (..., 2)
+            ``(x, y)`` in pixels, ``x`` right, ``y`` down, pixel ``(i, j)``
+            centred at ``(j + ½, i + ½)``.  Perspective: ``x = W/2 + F x_c/d``,
+            ``y = H/2 − F y_c/d``; orthographic: ``x = W/2 + S x_c``,
+            ``y = H/2 − S y_c``.  Zero for perspective points with ``d ≤ 0``.
+        depth : ndarray, shape (...)
+            ``d = f·(p − eye)``.
+
+        Examples
+        --------
+        >>> cam = Camera((0, 0, 10), (0, 0, 0), projection="orthographic", ortho_height=4, width=8, height=8)
+        >>> cam.project([[1.0, 1.0, 0.0], [1.0, 1.0, 3.0]])[0].tolist()  # orthographic: depth does not matter
+        [[6.0, 2.0], [6.0, 2.0]]
+        """
+        return self.camera_to_pixels(self.world_to_camera(points))
+
+    def pixel_centers(self, dtype=np.float64) -> np.ndarray:
+        """``(H, W, 2)`` pixel-centre coordinates ``(j + ½, i + ½)``."""
+        jj, ii = np.meshgrid(np.arange(self.width, dtype=dtype), np.arange(self.height, dtype=dtype))
+        return np.stack([jj + 0.5, ii + 0.5], axis=-1)
+
+    def rays(self, dtype=np.float64):
+        """One ray per pixel through the pixel centre: ``(origins, directions)``, each ``(H, W, 3)``.
+
+        Perspective: origin ``eye``, direction
+        ``normalize(f + ((x − W/2) r − (y − H/2) u) / F)``.  Orthographic: origin
+        ``eye + ((x − W/2) r − (y − H/2) u) / S`` on the plane through the eye,
+        direction ``f``.  Directions are unit vectors; a point at parameter ``t``
+        has depth ``t (dir·f)``.
+
+        Examples
+        --------
+        >>> o, d = Camera((0, 0, 5), (0, 0, 0), width=3, height=3).rays()
+        >>> d[1, 1].tolist(), o[1, 1].tolist()  # the centre pixel looks straight at the target
+        ([0.0, 0.0, -1.0], [0.0, 0.0, 5.0])
+        """
+        o, d = self.ray_components()
+        shape = (self.height, self.width, 3)
+        origins = np.empty(shape, dtype=dtype)
+        directions = np.empty(shape, dtype=dtype)
+        for c in range(3):
+            origins[..., c] = o[c]
+            directions[..., c] = d[c]
+        return origins, directions
+
+    def ray_components(self):
+        """:meth:`rays` as per-component float64 arrays: ``([ox, oy, oz], [dx, dy, dz])``.
+
+        Each component broadcasts to ``(H, W)``: perspective origins are
+        scalars, orthographic directions too.  Cheaper than :meth:`rays` for
+        code that works component by component.
+        """
+        dx = (np.arange(self.width) + 0.5 - self.width / 2)[None, :]
+        dy = (np.arange(self.height) + 0.5 - self.height / 2)[:, None]
+        f, r, u = self.forward, self.right, self.true_up
+        if self.is_perspective:
+            F = self.focal_px
+            d = [f[c] + (dx * r[c] - dy * u[c]) / F for c in range(3)]
+            inv = 1 / np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            return [np.float64(e) for e in self.eye], [dc * inv for dc in d]
+        S = self.pixels_per_unit
+        o = [self.eye[c] + (dx * r[c] - dy * u[c]) / S for c in range(3)]
+        return o, [np.float64(fc) for fc in f]
+
+    def view_direction(self, points) -> np.ndarray:
+        """The slides' ``v``: unit vectors from ``points`` toward the viewer, ``(..., 3)``.
+
+        Perspective: ``normalize(eye − p)`` (zero at the eye itself);
+        orthographic: the constant ``−f`` (the viewer is at infinity).
+
+        Examples
+        --------
+        >>> Camera((0, 0, 5), (0, 0, 0)).view_direction([[3.0, 0.0, 1.0]]).tolist()
+        [[-0.6, 0.0, 0.8]]
+        """
+        dt = working_dtype(points)
+        p = as_float(points, dt)
+        if p.shape[-1:] != (3,):
+            raise ValueError(f"points must have shape (..., 3); got shape {p.shape}")
+        if self.is_perspective:
+            return normalize(self.eye.astype(dt) - p)
+        return np.broadcast_to((-self.forward).astype(dt), p.shape).copy()

@@ -1,0 +1,746 @@
+"""A vectorized NumPy rasterizer producing a geometry buffer for a separate lighting pass.
+
+:func:`rasterize` turns a :class:`~lighting.mesh.TriangleMesh` seen by a
+:class:`~lighting.camera.Camera` into a :class:`GBuffer`: for every pixel, which
+triangle is visible there, where on it (barycentric coordinates), at what depth,
+and the interpolated position and normals.  Lighting then runs on the buffer
+alone (``shade(gb.position[gb.coverage], gb.normal[gb.coverage], ...)``), so moving
+a light or changing a material re-shades without re-rasterizing; flat, Gouraud
+and Phong interpolation are all reads of the same buffer (:meth:`GBuffer.per_face`,
+:meth:`GBuffer.interpolate`, :attr:`GBuffer.normal`).
+
+:func:`raycast_sphere` fills the same buffer for the exact sphere by ray casting:
+the ground truth tessellated renderings are measured against.
+
+How a pixel is decided
+----------------------
+* Sampling: one sample per pixel, at its centre ``(j + ½, i + ½)`` (see
+  :mod:`lighting.camera` for pixel coordinates).
+* Edge functions (Pineda, "A parallel algorithm for polygon rasterization",
+  SIGGRAPH 1988): for the edge from ``a`` to ``b``,
+  ``E(p) = (b_x − a_x)(p_y − a_y) − (b_y − a_y)(p_x − a_x)``, signed so the
+  triangle's interior is where all three are positive.  Each edge is evaluated
+  from a canonical endpoint (the lexicographically smaller screen point) and
+  then negated as needed, so two triangles sharing an edge compute bit-identical
+  values of opposite sign: no pixel along a shared edge is missed or covered
+  twice, whatever the rounding.
+* Fill rule for samples exactly on an edge (``E = 0``): top-left, as Direct3D
+  specifies and GPUs implement — a sample on a *left* edge (interior to its
+  right) or a *top* edge (horizontal, interior below, ``y`` down) belongs to the
+  triangle, on a right or bottom edge it does not.  An axis-aligned square with
+  corners on pixel centres therefore covers exactly (side)² pixels, and a sample
+  on a vertex shared by a fan of triangles goes to exactly one of them.
+* Back faces: a triangle whose projected vertices run clockwise on screen (with
+  ``y`` up; counter-clockwise in pixel coordinates, ``y`` down) faces away from
+  the camera and is dropped when ``cull_backfaces`` (the default; a closed mesh
+  then draws each visible pixel exactly once).
+* Near and far planes: triangles entirely nearer than ``camera.near`` or entirely
+  farther than ``camera.far`` are dropped; triangles crossing the near plane are
+  **clipped** against it in camera space (one or two sub-triangles that keep the
+  original triangle id and report barycentrics of the original triangle), so a
+  camera close to or inside a mesh shows no holes.  Samples farther than
+  ``camera.far`` are discarded per pixel.
+* Depth test: the smallest view-space depth wins; exact ties go to the
+  triangle that comes first in ``mesh.faces``.
+* Perspective-correct interpolation: with screen-space barycentrics
+  ``λ_i = E_i / Σ E`` and vertex depths ``d_i``, the depth is
+  ``d = 1 / Σ (λ_i / d_i)`` and the barycentrics of the 3-D triangle are
+  ``b_i = (λ_i / d_i) d`` (the screen-linear ``λ`` are exact for an
+  orthographic camera, ``b = λ``, ``d = Σ λ_i d_i``).
+
+Speed: every triangle's bounding box is cut into row spans; a batch of spans
+(about 65,000 candidate pixels, small enough to stay in cache) is expanded into
+all its (triangle, pixel) candidates at once with ``np.repeat``, tested with the
+edge functions, and depth-resolved into a running z-buffer (a pixel hit twice
+within a batch is settled with ``np.lexsort``).  The loop runs over batches
+only, never over pixels or triangles.  A 5,120-triangle sphere filling a
+512×512 view takes about 15–25 ms on one core.
+
+Examples
+--------
+>>> from lighting.camera import Camera
+>>> from lighting.mesh import icosphere
+>>> cam = Camera((0, 0, 5), (0, 0, 0), width=64, height=64)
+>>> gb = rasterize(icosphere(3), cam)
+>>> gb.coverage.shape, bool(gb.coverage[32, 32]), int(gb.overdraw.max())
+((64, 64), True, 1)
+>>> bool(np.allclose(gb.interpolate(icosphere(3).vertices), gb.position))
+True
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from ._numeric import check_positive, working_dtype
+from .camera import Camera
+from .mesh import TriangleMesh
+from .vec import normalize
+
+__all__ = ["GBuffer", "rasterize", "raycast_sphere"]
+
+# Candidate (triangle, pixel) pairs per batch.  Small batches keep the temporaries (~20 arrays of
+# this length) in cache and reuse the allocator's memory; measured fastest among 2^14..2^18.
+_BATCH = 1 << 16
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class GBuffer:
+    """Per-pixel geometry of one view: everything a lighting pass needs.
+
+    All arrays are ``(H, W, ...)``; pixels that no triangle covers hold zeros
+    (``triangle_id`` holds ``-1`` there).  Float arrays have the dtype asked of
+    :func:`rasterize`.
+
+    The rasterizer stores *visibility* (which triangle, where on it) and the
+    attributes are resolved from it on first use and then cached (a
+    "visibility buffer"): :attr:`position`, :attr:`normal`,
+    :attr:`normal_unnormalized` and :attr:`face_normal` cost nothing until read,
+    and a lighting pass that reads them once re-shades for free afterwards.
+
+    Attributes
+    ----------
+    triangle_id : (H, W) int32
+        Index into ``mesh.faces`` of the visible triangle, ``-1`` where empty.
+    barycentric : (H, W, 3)
+        Perspective-correct barycentric coordinates ``b`` of the sample point
+        on that triangle, in the order of its vertices in ``mesh.faces``
+        (``Σ b_i = 1``; the point is ``Σ b_i p_i``).
+    depth : (H, W)
+        View-space depth ``f·(p − eye)`` of the visible point.
+    coverage : (H, W) bool
+        True where a triangle covers the pixel centre.
+    front_facing : (H, W) bool
+        True where the visible triangle faces the camera (always, when back
+        faces are culled).
+    overdraw : (H, W) int32
+        How many triangles passed the coverage test at the pixel before the
+        depth test (1 everywhere on a closed convex mesh with culling).
+    camera : Camera
+    mesh : TriangleMesh or None
+        ``None`` for the analytic sphere of :func:`raycast_sphere`.
+    attributes : dict
+        Per-pixel arrays given directly instead of interpolated from the mesh
+        (``"position"``, ``"normal"``, … for the analytic sphere).
+    """
+
+    triangle_id: np.ndarray
+    barycentric: np.ndarray
+    depth: np.ndarray
+    coverage: np.ndarray
+    front_facing: np.ndarray
+    overdraw: np.ndarray
+    camera: Camera
+    mesh: TriangleMesh | None
+    attributes: dict = field(default_factory=dict, repr=False)
+
+    # ------------------------------------------------------------------ basics
+    def __repr__(self) -> str:
+        H, W = self.shape
+        source = "analytic sphere" if self.mesh is None else repr(self.mesh)
+        return f"GBuffer({W}x{H}, {int(self.coverage.sum())} pixels covered, {self.dtype}, {source})"
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """Image shape ``(H, W)``."""
+        return self.coverage.shape
+
+    @property
+    def dtype(self) -> np.dtype:
+        """Float dtype of the buffer."""
+        return self.depth.dtype
+
+    @cached_property
+    def pixels(self) -> np.ndarray:
+        """Flat (row-major) indices of the covered pixels, increasing."""
+        return np.flatnonzero(self.coverage)
+
+    @cached_property
+    def _compact(self):
+        """At :attr:`pixels`: triangle ids, barycentric columns, and vertex-index columns (contiguous)."""
+        p = self.pixels
+        tid = self.triangle_id.reshape(-1).take(p)
+        flat = self.barycentric.reshape(-1, 3)
+        b = [flat[:, k].take(p) for k in range(3)]
+        if self.mesh is None:
+            return tid, b, None
+        corners = [np.ascontiguousarray(self.mesh.faces[:, k]).take(tid) for k in range(3)]
+        return tid, b, corners
+
+    def _scatter(self, values: np.ndarray) -> np.ndarray:
+        out = np.zeros((self.coverage.size,) + values.shape[1:], dtype=values.dtype)
+        out[self.pixels] = values
+        return out.reshape(self.shape + values.shape[1:])
+
+    def _need_mesh(self, what: str) -> TriangleMesh:
+        if self.mesh is None:
+            raise ValueError(f"{what} needs a mesh; this buffer comes from an analytic sphere (mesh is None)")
+        return self.mesh
+
+    def _interp_compact(self, a: np.ndarray) -> np.ndarray:
+        """``Σ b_i a[f_i]`` at the covered pixels; ``a`` is ``(V,)`` or ``(V, k)``."""
+        self._need_mesh("interpolate")
+        _, b, corners = self._compact
+        b = [bk.astype(a.dtype, copy=False) for bk in b]
+        flat = a.reshape(len(a), int(np.prod(a.shape[1:])))
+        out = np.empty((len(b[0]), flat.shape[1]), dtype=a.dtype)
+        for c in range(flat.shape[1]):
+            # One contiguous column at a time: 1-D gathers are several times faster than row gathers.
+            col = np.ascontiguousarray(flat[:, c])
+            acc = b[0] * col.take(corners[0])
+            acc += b[1] * col.take(corners[1])
+            acc += b[2] * col.take(corners[2])
+            out[:, c] = acc
+        return out.reshape((len(b[0]),) + a.shape[1:])
+
+    # ------------------------------------------------------------------ attribute access
+    def interpolate(self, vertex_values) -> np.ndarray:
+        """Interpolate a per-vertex attribute across the image: ``Σ b_i a[f_i]``.
+
+        Parameters
+        ----------
+        vertex_values : array_like, shape (V,) or (V, k)
+            One value (or row) per mesh vertex, e.g. Gouraud vertex colours.
+
+        Returns
+        -------
+        ndarray, shape (H, W) or (H, W, k)
+            Zero where nothing is covered.  dtype: float64 if either the buffer
+            or the values are float64, else float32.
+
+        Examples
+        --------
+        >>> from lighting.camera import Camera
+        >>> from lighting.mesh import icosphere
+        >>> m = icosphere(1)
+        >>> gb = rasterize(m, Camera((0, 0, 4), (0, 0, 0), width=8, height=8))
+        >>> round(gb.interpolate(np.ones(len(m.vertices)))[4, 4].item(), 12)  # barycentrics sum to 1
+        1.0
+        """
+        mesh = self._need_mesh("interpolate")
+        dt = working_dtype(self.barycentric, vertex_values)
+        a = np.asarray(vertex_values, dtype=dt)
+        if a.ndim == 0 or a.shape[0] != mesh.n_vertices:
+            raise ValueError(
+                f"vertex_values must have one row per vertex ({mesh.n_vertices}); got shape {np.shape(vertex_values)}"
+            )
+        return self._scatter(self._interp_compact(a))
+
+    def per_face(self, face_values) -> np.ndarray:
+        """Look up a per-triangle attribute at each pixel (flat shading): ``a[triangle_id]``.
+
+        Parameters
+        ----------
+        face_values : array_like, shape (F,) or (F, k)
+
+        Returns
+        -------
+        ndarray, shape (H, W) or (H, W, k), zero where nothing is covered.
+        Float values come back as float64 if either the buffer or the values
+        are float64, else float32.
+        """
+        n_faces = self.mesh.n_triangles if self.mesh is not None else 1
+        a = np.asarray(face_values)
+        if a.dtype.kind in "fc":
+            a = a.astype(working_dtype(self.barycentric, face_values), copy=False)
+        if a.ndim == 0 or a.shape[0] != n_faces:
+            raise ValueError(
+                f"face_values must have one row per triangle ({n_faces}); got shape {np.shape(face_values)}"
+            )
+        return self._scatter(a[self._compact[0]])
+
+    @cached_property
+    def _position_compact(self) -> np.ndarray:
+        if "position" in self.attributes:
+            return self.attributes["position"].reshape(-1, 3)[self.pixels]
+        return self._interp_compact(self._need_mesh("position").vertices.astype(self.dtype))
+
+    @cached_property
+    def position(self) -> np.ndarray:
+        """World position ``Σ b_i p_i`` of the visible point, ``(H, W, 3)``."""
+        if "position" in self.attributes:
+            return self.attributes["position"]
+        return self._scatter(self._position_compact)
+
+    @cached_property
+    def _normal_raw_compact(self) -> np.ndarray:
+        return self._interp_compact(self._need_mesh("normal").normals.astype(self.dtype))
+
+    @cached_property
+    def normal_unnormalized(self) -> np.ndarray:
+        """``Σ b_i n_i`` as interpolated, ``(H, W, 3)``.
+
+        Shorter than 1 inside a triangle whose vertex normals differ; its length
+        shows how much they differ.
+        """
+        if "normal_unnormalized" in self.attributes:
+            return self.attributes["normal_unnormalized"]
+        return self._scatter(self._normal_raw_compact)
+
+    @cached_property
+    def normal(self) -> np.ndarray:
+        """**Unit** interpolated vertex normal ``normalize(Σ b_i n_i)``, ``(H, W, 3)``.
+
+        The normal of Phong interpolation, ready for shading.
+        """
+        if "normal" in self.attributes:
+            return self.attributes["normal"]
+        return self._scatter(normalize(self._normal_raw_compact))
+
+    @cached_property
+    def face_normal(self) -> np.ndarray:
+        """Unit geometric normal of the visible triangle (flat shading), ``(H, W, 3)``."""
+        if "face_normal" in self.attributes:
+            return self.attributes["face_normal"]
+        return self.per_face(self._need_mesh("face_normal").face_normals.astype(self.dtype))
+
+    def view_direction(self) -> np.ndarray:
+        """The slides' ``v`` at every covered pixel (unit, toward the eye), ``(H, W, 3)``, zero elsewhere."""
+        return self._scatter(self.camera.view_direction(self._position_compact))
+
+
+# ---------------------------------------------------------------------- rasterizer
+def _check_dtype(dtype) -> np.dtype:
+    try:
+        dt = np.dtype(dtype)
+    except TypeError:
+        raise ValueError(f"dtype must be float32 or float64; got {dtype!r}") from None
+    if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+        raise ValueError(f"dtype must be float32 or float64; got {dtype!r}")
+    return dt
+
+
+def _lex_less(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a < b`` lexicographically over the last axis (rows of 2 or 3 numbers)."""
+    less = a[..., -1] < b[..., -1]
+    for c in range(a.shape[-1] - 2, -1, -1):
+        less = (a[..., c] < b[..., c]) | ((a[..., c] == b[..., c]) & less)
+    return less
+
+
+def _clip_near(cam_tri: np.ndarray, near: float):
+    """Clip triangles (n, 3, 3) in camera space against the plane ``depth = near``.
+
+    Each triangle has one or two vertices nearer than ``near``.  Returns the
+    sub-triangles (m, 3, 3), the index of their source triangle (m,), and their
+    vertices' barycentric weights over the source triangle's vertices (m, 3, 3).
+    The point where an edge crosses the plane is computed from the edge's
+    lexicographically smaller endpoint, so neighbours sharing the edge get
+    identical points (no crack at the near plane).
+    """
+    n = len(cam_tri)
+    depth = -cam_tri[..., 2]
+    behind = depth < near
+    one_front = behind.sum(axis=1) == 2
+    # Rotate (keeping the winding) so slot 0 holds the odd vertex out: the front one of
+    # a triangle with two behind, the behind one of a triangle with one behind.
+    odd = np.where(one_front, np.argmin(behind, axis=1), np.argmax(behind, axis=1))
+    rot = (odd[:, None] + np.arange(3)) % 3
+    rows = np.arange(n)[:, None]
+    P = cam_tri[rows, rot]
+    d = depth[rows, rot]
+    eye3 = np.eye(3)
+    W = eye3[rot]  # weights of the rotated vertices over the source vertices
+
+    def crossing(k):
+        lo_first = _lex_less(P[:, 0], P[:, k])
+        plo = np.where(lo_first[:, None], P[:, 0], P[:, k])
+        phi = np.where(lo_first[:, None], P[:, k], P[:, 0])
+        dlo = np.where(lo_first, d[:, 0], d[:, k])
+        dhi = np.where(lo_first, d[:, k], d[:, 0])
+        t = (near - dlo) / (dhi - dlo)  # one endpoint is in front, the other behind: dhi != dlo
+        pt = plo + t[:, None] * (phi - plo)
+        wlo = np.where(lo_first[:, None], W[:, 0], W[:, k])
+        whi = np.where(lo_first[:, None], W[:, k], W[:, 0])
+        return pt, (1 - t)[:, None] * wlo + t[:, None] * whi
+
+    A, wA = crossing(1)
+    B, wB = crossing(2)
+    f1 = np.flatnonzero(one_front)
+    f2 = np.flatnonzero(~one_front)
+    tris = [
+        np.stack([P[f1, 0], A[f1], B[f1]], axis=1),
+        np.stack([A[f2], P[f2, 1], P[f2, 2]], axis=1),
+        np.stack([A[f2], P[f2, 2], B[f2]], axis=1),
+    ]
+    weights = [
+        np.stack([W[f1, 0], wA[f1], wB[f1]], axis=1),
+        np.stack([wA[f2], W[f2, 1], W[f2, 2]], axis=1),
+        np.stack([wA[f2], W[f2, 2], wB[f2]], axis=1),
+    ]
+    return np.concatenate(tris), np.concatenate([f1, f2, f2]), np.concatenate(weights)
+
+
+class _Setup:
+    """Per raster triangle data, column-wise (contiguous 1-D arrays gather fast).
+
+    ``x[k], y[k], d[k]``: screen position and depth of vertex ``k`` of each triangle.
+    ``coef[k]``: for edge ``k`` (vertex ``k`` → ``k + 1``) the canonical endpoint
+    ``(ax, ay)`` and the signed direction ``(ex, ey)`` of
+    ``E'_k(p) = ex (p_y − a_y) − ey (p_x − a_x)``, positive inside.
+    """
+
+    def __init__(self, x, y, d, area2, source, weights, front, dt):
+        self.n = len(source)
+        self.inv_area = (1 / np.abs(area2)).astype(dt)
+        orient = np.where(area2 < 0, -1, 1).astype(dt)  # sign that makes the interior positive
+        coef = np.empty((3, 4, self.n), dtype=dt)
+        topleft = np.empty((self.n, 3), dtype=bool)
+        for k in range(3):
+            k1 = (k + 1) % 3
+            # Canonical endpoint: the lexicographically smaller (x, y); a neighbour sharing the
+            # edge picks the same one and computes bit-identical values.
+            swap = (x[k1] < x[k]) | ((x[k1] == x[k]) & (y[k1] < y[k]))
+            ax, ay = np.where(swap, x[k1], x[k]), np.where(swap, y[k1], y[k])
+            bx, by = np.where(swap, x[k], x[k1]), np.where(swap, y[k], y[k1])
+            sgn = np.where(swap, -orient, orient)
+            ex = sgn * (bx - ax)
+            ey = sgn * (by - ay)
+            coef[k, 0], coef[k, 1], coef[k, 2], coef[k, 3] = ax, ay, ex, ey
+            # The gradient (-ey, ex) of E' points inward.  Top-left rule: keep E' = 0 when it points
+            # right (a left edge), or straight down (a top edge: y grows downward).
+            topleft[:, k] = (-ey > 0) | ((ey == 0) & (ex > 0))
+        self.coef = coef
+        self.topleft = topleft
+        self.depth = [np.asarray(dk, dtype=dt) for dk in d]
+        self.inv_depth = [(1 / dk).astype(dt) for dk in d]
+        self.source = source
+        self.weights = weights
+        self.clipped = None if weights is None else ~np.all(weights == np.eye(3), axis=(1, 2))
+        self.front = front
+
+
+def _depth_of(setup: _Setup, t, e, perspective: bool):
+    """View depth at samples from their edge functions, and the barycentric weights.
+
+    ``λ_i = E'_{i+1} / |2A|`` (vertex ``i`` is opposite edge ``i + 1``).
+    Perspective: ``w_i = λ_i / d_i``, ``d = 1 / Σ w_i`` and ``b_i = w_i d``;
+    orthographic: ``b_i = λ_i``, ``d = Σ λ_i d_i``.  Returns ``(d, [w_0, w_1, w_2])``
+    (``w = λ`` for orthographic).  The z-test and the final buffer both use this,
+    so the stored depth is the one that won the test.
+    """
+    inv_a = setup.inv_area.take(t)
+    lam = [e[1] * inv_a, e[2] * inv_a, e[0] * inv_a]
+    if perspective:
+        w = [lam[i] * setup.inv_depth[i].take(t) for i in range(3)]
+        return 1 / (w[0] + w[1] + w[2]), w
+    return lam[0] * setup.depth[0].take(t) + lam[1] * setup.depth[1].take(t) + lam[2] * setup.depth[2].take(t), lam
+
+
+def rasterize(mesh: TriangleMesh, camera: Camera, *, cull_backfaces: bool = True, dtype=np.float64) -> GBuffer:
+    """Rasterize ``mesh`` as seen by ``camera`` into a :class:`GBuffer`.
+
+    Parameters
+    ----------
+    mesh : TriangleMesh
+    camera : Camera
+    cull_backfaces : bool, default True
+        Drop triangles facing away from the camera (see the module notes).
+        With False, both sides are drawn; :attr:`GBuffer.front_facing` tells which
+        side is seen (the normals are not flipped).
+    dtype : float32 or float64
+        Float type of the buffer.  Coverage, depth test and barycentrics are
+        computed in float64 either way (the same pixels are covered).
+
+    Returns
+    -------
+    GBuffer
+
+    Examples
+    --------
+    >>> from lighting.camera import Camera
+    >>> from lighting.mesh import TriangleMesh
+    >>> square = TriangleMesh([[-2, -2, 0], [2, -2, 0], [2, 2, 0], [-2, 2, 0]], [[0, 1, 2], [0, 2, 3]])
+    >>> cam = Camera((0, 0, 5), (0, 0, 0), projection="orthographic", ortho_height=8, width=8, height=8)
+    >>> gb = rasterize(square, cam)  # the square spans pixels 2..5 in x and y
+    >>> gb.coverage.astype(int)[1:7, 1:7]
+    array([[0, 0, 0, 0, 0, 0],
+           [0, 1, 1, 1, 1, 0],
+           [0, 1, 1, 1, 1, 0],
+           [0, 1, 1, 1, 1, 0],
+           [0, 1, 1, 1, 1, 0],
+           [0, 0, 0, 0, 0, 0]])
+    """
+    if not isinstance(mesh, TriangleMesh):
+        raise ValueError(f"mesh must be a TriangleMesh; got {type(mesh).__name__}")
+    if not isinstance(camera, Camera):
+        raise ValueError(f"camera must be a Camera; got {type(camera).__name__}")
+    if not isinstance(cull_backfaces, (bool, np.bool_)):
+        raise ValueError(f"cull_backfaces must be True or False; got {cull_backfaces!r}")
+    out_dt = _check_dtype(dtype)
+    # Screen-space arithmetic is float64 whatever the output dtype: coverage is decided identically
+    # for float32 and float64 buffers.  Triangles whose screen quantities overflow are dropped; the
+    # local errstate keeps such extreme (finite) inputs free of warnings.
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        return _rasterize(mesh, camera, cull_backfaces, out_dt)
+
+
+def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt: np.dtype) -> GBuffer:
+    dt = np.dtype(np.float64)
+    H, W = camera.height, camera.width
+    perspective = camera.is_perspective
+
+    # ---- geometry: camera space, near/far culling, near clipping
+    cam_v = camera.world_to_camera(mesh.vertices)  # float64
+    fcol = [np.ascontiguousarray(mesh.faces[:, k]) for k in range(3)]
+    vdepth = -cam_v[:, 2]
+    fd = [vdepth.take(f) for f in fcol]
+    n_behind = sum((dk < camera.near).astype(np.int8) for dk in fd)
+    visible = (n_behind < 3) & (np.minimum(np.minimum(fd[0], fd[1]), fd[2]) <= camera.far)
+    whole = np.flatnonzero(visible & (n_behind == 0))
+    cut = np.flatnonzero(visible & (n_behind > 0))
+    # Project each vertex once: triangles sharing a vertex see bit-identical screen coordinates.
+    xy_v, _ = camera.camera_to_pixels(cam_v)
+    X, Y = xy_v[:, 0].astype(dt), xy_v[:, 1].astype(dt)
+    idx = [f.take(whole) for f in fcol]
+    x = [X.take(i) for i in idx]
+    y = [Y.take(i) for i in idx]
+    d = [dk.take(whole) for dk in fd]
+    source = whole
+    weights = None
+    if len(cut):
+        sub, sub_src, sub_w = _clip_near(cam_v[mesh.faces[cut]], camera.near)
+        sub_xy, sub_d = camera.camera_to_pixels(sub)
+        sub_xy = sub_xy.astype(dt)
+        x = [np.concatenate([x[k], sub_xy[:, k, 0]]) for k in range(3)]
+        y = [np.concatenate([y[k], sub_xy[:, k, 1]]) for k in range(3)]
+        d = [np.concatenate([d[k], sub_d[:, k]]) for k in range(3)]
+        source = np.concatenate([whole, cut[sub_src]])
+        weights = np.concatenate([np.broadcast_to(np.eye(3), (len(whole), 3, 3)), sub_w])
+    area2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])
+    # With y down, a triangle counter-clockwise seen from the camera (y up), i.e. facing it, has area2 < 0.
+    front = area2 < 0
+    keep = (front if cull_backfaces else area2 != 0) & np.isfinite(area2)
+    # Pixel-centre bounding box: columns j with j + ½ in [min x, max x], clipped to the image.
+    j0 = np.maximum(np.ceil(np.minimum(np.minimum(x[0], x[1]), x[2]) - 0.5), 0)
+    j1 = np.minimum(np.floor(np.maximum(np.maximum(x[0], x[1]), x[2]) - 0.5), W - 1)
+    i0 = np.maximum(np.ceil(np.minimum(np.minimum(y[0], y[1]), y[2]) - 0.5), 0)
+    i1 = np.minimum(np.floor(np.maximum(np.maximum(y[0], y[1]), y[2]) - 0.5), H - 1)
+    keep &= (j1 >= j0) & (i1 >= i0)
+    kept = np.flatnonzero(keep)
+    setup = _Setup(
+        [a.take(kept) for a in x],
+        [a.take(kept) for a in y],
+        [a.take(kept) for a in d],
+        area2.take(kept),
+        source.take(kept),
+        None if weights is None else weights[kept],
+        front.take(kept),
+        dt,
+    )
+    j0, j1, i0, i1 = (a.take(kept).astype(np.int64) for a in (j0, j1, i0, i1))
+
+    zbuf = np.full(H * W, np.inf, dtype=dt)
+    idbuf = np.full(H * W, -1, dtype=np.int64)
+    overdraw = np.zeros(H * W, dtype=np.int32)
+    # The winner's barycentric weights (perspective: λ_i / d_i; orthographic: λ_i).
+    wbuf = np.zeros((H * W, 3), dtype=dt)
+    stamp = np.empty(H * W, dtype=np.int64)  # scratch for finding pixels hit twice within a batch
+
+    # ---- candidates: one "span" per (triangle, pixel row of its bounding box); a batch is a run of
+    # spans with about _BATCH candidate pixels, generated at once with np.repeat.
+    half = dt.type(0.5)
+    nx = j1 - j0 + 1
+    ny = i1 - i0 + 1
+    stri = np.repeat(np.arange(setup.n), ny)
+    srow = np.repeat(i0 - (np.cumsum(ny) - ny), ny) + np.arange(len(stri))
+    scount = nx[stri]
+    sj0 = j0[stri]
+    spx0 = sj0.astype(dt) + half
+    spix0 = srow * W + sj0
+    spy = srow.astype(dt) + half
+    # Per edge k: E'_k = ex (py - ay) - ey (px - ax).  The first product is constant along a span.
+    rowterm, sax, sey = [], [], []
+    for k in range(3):
+        ax, ay, ex, ey = (setup.coef[k, c].take(stri) for c in range(4))
+        rowterm.append(ex * (spy - ay))
+        sax.append(ax)
+        sey.append(ey)
+    cum = np.cumsum(scount)
+    total = int(cum[-1]) if len(cum) else 0
+    batch = max(_BATCH, W)
+    bounds = np.unique(np.r_[0, np.searchsorted(cum, np.arange(batch, total, batch), side="right"), len(cum)])
+    longest = int(np.max(cum[bounds[1:] - 1] - np.r_[0, cum[bounds[1:-1] - 1]])) if total else 0
+    k_int = np.arange(longest, dtype=np.int64)
+    k_flt = k_int.astype(dt)
+
+    for s, e in zip(bounds[:-1], bounds[1:], strict=False):
+        if e <= s:
+            continue
+        c = scount[s:e]
+        n = int(c.sum())
+        first = np.cumsum(c) - c
+        # Exact in float: small integers and halves.
+        px = np.repeat(spx0[s:e] - first.astype(dt), c)
+        px += k_flt[:n]
+        edge = []
+        for k in range(3):
+            term = px - np.repeat(sax[k][s:e], c)
+            term *= np.repeat(sey[k][s:e], c)
+            r = np.repeat(rowterm[k][s:e], c)
+            r -= term
+            edge.append(r)
+        e0, e1, e2 = edge
+        sel = np.flatnonzero((e0 >= 0) & (e1 >= 0) & (e2 >= 0))
+        t = np.repeat(stri[s:e], c)[sel]
+        e0, e1, e2 = e0[sel], e1[sel], e2[sel]
+        # Samples exactly on an edge: only top-left edges own them.
+        on = (e0 == 0) | (e1 == 0) | (e2 == 0)
+        if on.any():
+            tl = setup.topleft[t]
+            ok = ~(((e0 == 0) & ~tl[:, 0]) | ((e1 == 0) & ~tl[:, 1]) | ((e2 == 0) & ~tl[:, 2]))
+            sel, e0, e1, e2, t = sel[ok], e0[ok], e1[ok], e2[ok], t[ok]
+        pix = np.repeat(spix0[s:e] - first, c)[sel] + k_int[sel]
+        z, (w0, w1, w2) = _depth_of(setup, t, (e0, e1, e2), perspective)
+        ok = z <= camera.far
+        if not ok.all():
+            pix, z, t, w0, w1, w2 = pix[ok], z[ok], t[ok], w0[ok], w1[ok], w2[ok]
+        # Pixels hit by several fragments of this batch: the nearest wins, then the lowest mesh face index.
+        idx = np.arange(len(pix))
+        stamp[pix] = idx
+        dup = stamp[pix] != idx
+        if dup.any():
+            stamp[pix[dup]] = -1
+            multi = stamp[pix] == -1
+            m = np.flatnonzero(multi)
+            np.add.at(overdraw, pix[m], 1)
+            order = np.lexsort((setup.source.take(t[m]), z[m], pix[m]))
+            pm = pix[m][order]
+            lead = np.r_[True, pm[1:] != pm[:-1]]
+            single = np.flatnonzero(~multi)
+            overdraw[pix[single]] += 1
+            take = np.concatenate([single, m[order[lead]]])
+            pix, z, t, w0, w1, w2 = pix[take], z[take], t[take], w0[take], w1[take], w2[take]
+        else:
+            overdraw[pix] += 1
+        cur = zbuf[pix]
+        better = z < cur
+        tie = np.flatnonzero(z == cur)
+        if len(tie):
+            better[tie] = setup.source.take(t[tie]) < setup.source.take(idbuf[pix[tie]])
+        pb = pix[better]
+        zbuf[pb] = z[better]
+        idbuf[pb] = t[better]
+        wbuf[pb, 0], wbuf[pb, 1], wbuf[pb, 2] = w0[better], w1[better], w2[better]
+
+    return _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_dt)
+
+
+def _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_dt) -> GBuffer:
+    """Images from the z-buffer: whole-image passes, no scatter."""
+    H, W = camera.height, camera.width
+    cov = idbuf >= 0
+    depth = np.where(cov, zbuf, 0).astype(zbuf.dtype, copy=False)
+    bary = wbuf
+    if perspective:
+        bary *= depth[:, None]  # b_i = (λ_i / d_i) d
+    if setup.weights is not None:
+        clipped = np.r_[setup.clipped, False].take(idbuf)
+        p = np.flatnonzero(clipped)
+        # Sub-triangle barycentrics → barycentrics of the source triangle.
+        bary[p] = np.einsum("ni,nij->nj", bary[p], setup.weights[idbuf[p]].astype(bary.dtype))
+    return GBuffer(
+        triangle_id=np.r_[setup.source, -1].astype(np.int32).take(idbuf).reshape(H, W),
+        barycentric=bary.astype(out_dt, copy=False).reshape(H, W, 3),
+        depth=depth.astype(out_dt, copy=False).reshape(H, W),
+        coverage=cov.reshape(H, W),
+        front_facing=np.r_[setup.front, False].take(idbuf).reshape(H, W),
+        overdraw=overdraw.reshape(H, W),
+        camera=camera,
+        mesh=mesh,
+    )
+
+
+# ---------------------------------------------------------------------- analytic sphere
+def raycast_sphere(camera: Camera, center=(0.0, 0.0, 0.0), radius: float = 1.0, dtype=np.float64) -> GBuffer:
+    """Ray-cast the exact sphere ``|p − c| = r`` into a :class:`GBuffer` (the ground truth).
+
+    For the unit-direction ray ``o + t d``, with ``f = o − c``:
+    ``t² + 2 (f·d) t + |f|² − r² = 0``.  Following Haines et al., "Precision
+    Improvements for Ray/Sphere Intersection" (Ray Tracing Gems, 2019), the
+    discriminant is computed as ``r² − |f − (f·d) d|²`` (no cancellation for
+    small spheres far away) and the roots as ``q = −(f·d) − sign(f·d) √disc``,
+    ``t₁ = q``, ``t₀ = (|f|² − r²) / q`` (no cancellation between ``−(f·d)`` and
+    ``√disc``).  The nearest root with depth in ``[near, far]`` is kept.
+
+    Position ``p = o + t d``, normal ``(p − c) / r``; ``triangle_id`` is 0 on the
+    sphere and −1 elsewhere, ``barycentric`` is zero, ``face_normal`` equals
+    ``normal``.  Computed in float64, returned in ``dtype``.
+
+    Examples
+    --------
+    >>> from lighting.camera import Camera
+    >>> cam = Camera((0, 0, 5), (0, 0, 0), projection="orthographic", ortho_height=3, width=5, height=5)
+    >>> gb = raycast_sphere(cam)  # pixel centres at x, y = 0, ±0.6, ±1.2
+    >>> gb.coverage.astype(int)
+    array([[0, 0, 0, 0, 0],
+           [0, 1, 1, 1, 0],
+           [0, 1, 1, 1, 0],
+           [0, 1, 1, 1, 0],
+           [0, 0, 0, 0, 0]])
+    >>> float(gb.depth[2, 2])  # the centre ray hits (0, 0, 1)
+    4.0
+    """
+    if not isinstance(camera, Camera):
+        raise ValueError(f"camera must be a Camera; got {type(camera).__name__}")
+    dt = _check_dtype(dtype)
+    r = check_positive("radius", radius)
+    c = np.asarray(center, dtype=np.float64)
+    if c.shape != (3,) or not np.all(np.isfinite(c)):
+        raise ValueError(f"center must be a finite 3-vector; got {center!r}")
+    H, W = camera.height, camera.width
+    o, d = camera.ray_components()
+    o = [np.broadcast_to(oc, (H, W)) for oc in o]
+    d = [np.broadcast_to(dc, (H, W)) for dc in d]
+    f = [o[k] - c[k] for k in range(3)]
+    b = f[0] * d[0] + f[1] * d[1] + f[2] * d[2]
+    closest2 = sum((f[k] - b * d[k]) ** 2 for k in range(3))
+    disc = r * r - closest2
+    # Everything else only where the line meets the sphere.
+    pix = np.flatnonzero(disc >= 0)
+    b, disc = b.reshape(-1)[pix], disc.reshape(-1)[pix]
+    f = [fk.reshape(-1)[pix] for fk in f]
+    d = [dk.reshape(-1)[pix] for dk in d]
+    o = [ok.reshape(-1)[pix] for ok in o]
+    sq = np.sqrt(disc)
+    q = -(b + np.where(b >= 0, sq, -sq))
+    cc = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r * r
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_other = np.where(q != 0, cc / np.where(q != 0, q, 1), 0)
+    t_near = np.minimum(q, t_other)
+    t_far = np.maximum(q, t_other)
+    fw = camera.forward
+    cosf = d[0] * fw[0] + d[1] * fw[1] + d[2] * fw[2]
+    base = (o[0] - camera.eye[0]) * fw[0] + (o[1] - camera.eye[1]) * fw[1] + (o[2] - camera.eye[2]) * fw[2]
+    dn, df = base + t_near * cosf, base + t_far * cosf
+    ok_n = (dn >= camera.near) & (dn <= camera.far)
+    ok_f = ~ok_n & (df >= camera.near) & (df <= camera.far)
+    keep = np.flatnonzero(ok_n | ok_f)
+    t = np.where(ok_n, t_near, t_far)[keep]
+    pix = pix[keep]
+    p = np.stack([o[k][keep] + t * d[k][keep] for k in range(3)], axis=1)
+    n = (p - c) / r
+    z = (base[keep] + t * cosf[keep]).astype(dt)
+    facing = n[:, 0] * d[0][keep] + n[:, 1] * d[1][keep] + n[:, 2] * d[2][keep] < 0
+
+    def image(values, fill=0):
+        out = np.full((H * W,) + values.shape[1:], fill, dtype=values.dtype)
+        out[pix] = values
+        return out.reshape((H, W) + values.shape[1:])
+
+    p, n = image(p.astype(dt)), image(n.astype(dt))
+    cov = image(np.ones(len(pix), dtype=bool), False)
+    return GBuffer(
+        triangle_id=image(np.zeros(len(pix), dtype=np.int32), -1),
+        barycentric=np.zeros((H, W, 3), dtype=dt),
+        depth=image(z),
+        coverage=cov,
+        front_facing=image(facing, False),
+        overdraw=cov.astype(np.int32),
+        camera=camera,
+        mesh=None,
+        attributes={"position": p, "normal": n, "normal_unnormalized": n, "face_normal": n},
+    )
