@@ -1,52 +1,29 @@
-"""Ray-cast analytic sphere: exact per-pixel positions and normals.
+"""The analytic sphere of the lecture slides, ready to render.
 
-The ground truth that tessellated renderings are measured against.  This first
-version looks down ``-z`` with an orthographic camera; the viewer is at
-``+z`` infinity (``v = (0, 0, 1)``).
+:func:`sphere_camera` frames a sphere of radius 1 at the origin for an
+orthographic view from +z (image right is +x, image up is +y, the viewer at +z
+infinity, so ``v = (0, 0, 1)`` everywhere), and :func:`render_sphere` lights it per
+pixel with exact normals (ray casting, :func:`lighting.raster.raycast_sphere`).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 
-from .illumination import Material, shade
+from .camera import Camera
+from .illumination import Material
+from .render import AnalyticSphere, Renderer
 
-__all__ = ["SphereBuffer", "sphere_buffer", "render_sphere"]
-
-
-class SphereBuffer(NamedTuple):
-    """Per-pixel geometry of a unit sphere seen from +z: positions, normals, coverage."""
-
-    points: np.ndarray  # (H, W, 3), zero outside the sphere
-    normals: np.ndarray  # (H, W, 3), zero outside the sphere
-    mask: np.ndarray  # (H, W) bool
+__all__ = ["sphere_camera", "render_sphere"]
 
 
-def sphere_buffer(size: int = 256, *, margin: float = 1.08, dtype=np.float64) -> SphereBuffer:
-    """Ray-cast a unit sphere centred at the origin into a ``size × size`` image.
-
-    Pixel ``(i, j)`` (row ``i`` from the top) looks at ``x = (j + ½)·s − m``,
-    ``y = m − (i + ½)·s`` with ``s = 2m/size``: image right is +x, image up is +y.
-    """
+def sphere_camera(size: int = 256, *, margin: float = 1.08) -> Camera:
+    """A ``size × size`` camera on +z looking at a unit sphere at the origin, ``margin`` × its radius in view."""
     if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or size < 1:
         raise ValueError(f"size must be an integer >= 1; got {size!r}")
-    s = 2 * margin / size
-    c = (np.arange(size) + 0.5) * s - margin
-    x, y = np.meshgrid(c, -c)
-    r2 = x * x + y * y
-    mask = r2 < 1
-    z = np.sqrt(np.where(mask, 1 - r2, 0))
-    pts = np.stack([x, y, z], -1) * mask[..., None]
-    return SphereBuffer(pts.astype(dtype), pts.astype(dtype), mask)
+    return Camera((0, 0, 10.0), (0, 0, 0), projection="orthographic", ortho_height=2 * margin, width=size, height=size)
 
 
 def render_sphere(material: Material, lights, *, size: int = 256, form: str = "classic", background=0.0):
-    """Linear RGB image ``(size, size, 3)`` of the lit unit sphere (viewer at +z infinity)."""
-    buf = sphere_buffer(size)
-    img = np.empty((size, size, 3))
-    img[...] = background
-    col = shade(buf.points[buf.mask], buf.normals[buf.mask], material, lights, view_dir=(0, 0, 1.0), form=form)
-    img[buf.mask] = col
-    return img
+    """Linear RGB image ``(size, size, 3)`` of the lit unit sphere, per-pixel exact (viewer at +z infinity)."""
+    return Renderer(AnalyticSphere(), sphere_camera(size)).render(material, lights, form=form, background=background)

@@ -5,8 +5,9 @@ import numpy as np
 
 from explorer.cli import main
 from lighting import AmbientLight, DirectionalLight, Lambert, Material
-from lighting.analytic import render_sphere, sphere_buffer
+from lighting.analytic import render_sphere, sphere_camera
 from lighting.image import encode_srgb8, read_png, srgb_to_linear
+from lighting.raster import raycast_sphere
 
 
 def test_import_lighting_loads_nothing_heavy():
@@ -23,10 +24,11 @@ def test_analytic_sphere_lambert_is_kd_max_n_dot_l():
     kd = np.array([0.9, 0.5, 0.1])
     l_dir = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
     img = render_sphere(Material(Lambert(kd)), [DirectionalLight(l_dir)], size=64)
-    buf = sphere_buffer(64)
-    expected = kd * np.maximum(buf.normals @ l_dir, 0)[..., None]
-    np.testing.assert_allclose(img[buf.mask], expected[buf.mask], rtol=1e-14, atol=1e-15)
-    assert np.all(img[~buf.mask] == 0)
+    gb = raycast_sphere(sphere_camera(64))
+    mask = gb.coverage
+    expected = kd * np.maximum(gb.normal @ l_dir, 0)[..., None]
+    np.testing.assert_allclose(img[mask], expected[mask], rtol=1e-14, atol=1e-15)
+    assert np.all(img[~mask] == 0) and 0.6 < mask.mean() < 0.7  # π/4 / 1.08² of the frame
 
 
 def test_srgb_encoding_and_clip_report():

@@ -1,0 +1,154 @@
+import numpy as np
+import pytest
+
+from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material, Phong, PointLight, shade
+from lighting.analytic import sphere_camera
+from lighting.camera import Camera
+from lighting.image import encode_srgb8
+from lighting.machband import edge_jump_metric, luminance, scanline_profile
+from lighting.mesh import TriangleMesh, icosphere, uv_sphere
+from lighting.render import AnalyticSphere, Renderer, render
+
+CAM = Camera((0, 0, 6.0), (0, 0, 0), fov_y_deg=22, width=96, height=96)
+MAT = Material(Lambert((0.7, 0.3, 0.2)) + Phong(0.5, 40.0))
+LIGHTS = [AmbientLight(intensity=0.1), DirectionalLight((-1, 1, 1.5)), PointLight((3, 2, 4.0), intensity=20.0)]
+
+
+def test_analytic_sphere_is_kd_max_n_dot_l_per_pixel():
+    kd = np.array([0.8, 0.6, 0.1])
+    l_dir = np.array([0.2, -0.4, 0.9]) / np.linalg.norm([0.2, -0.4, 0.9])
+    r = Renderer(AnalyticSphere(), CAM)
+    img = r.render(Material(Lambert(kd)), [DirectionalLight(l_dir)])
+    gb = r.gbuffer
+    expected = kd * np.maximum(gb.normal @ l_dir, 0)[..., None]
+    np.testing.assert_allclose(img, np.where(gb.coverage[..., None], expected, 0), rtol=1e-13, atol=1e-15)
+
+
+def _sphere_error(mesh, mode, cam=CAM):
+    ref = Renderer(AnalyticSphere(), cam).render(MAT, LIGHTS)
+    r = Renderer(mesh, cam)
+    img = r.render(MAT, LIGHTS, mode=mode)
+    both = r.gbuffer.coverage & Renderer(AnalyticSphere(), cam).gbuffer.coverage
+    return float(np.sqrt(np.mean((img[both] - ref[both]) ** 2)))
+
+
+def test_phong_interpolation_error_falls_with_tessellation():
+    errors = [_sphere_error(icosphere(level), "phong") for level in (1, 2, 3, 4)]
+    assert all(b < a for a, b in zip(errors, errors[1:], strict=False))
+    assert errors[-1] < errors[0] / 8
+
+
+def test_gouraud_error_falls_with_tessellation_and_stays_above_phong():
+    g = [_sphere_error(icosphere(level), "gouraud") for level in (1, 2, 3)]
+    p = [_sphere_error(icosphere(level), "phong") for level in (1, 2, 3)]
+    assert g[0] > g[1] > g[2]
+    assert all(gi > pi for gi, pi in zip(g, p, strict=True))
+
+
+def test_gouraud_misses_highlight_inside_a_large_triangle_phong_catches_it():
+    # One big triangle facing the viewer, with vertex normals tilted outward (a coarse sphere cap):
+    # the mirror direction lies inside the triangle, so the highlight peaks at no vertex.
+    verts = np.array([[-1.0, -0.8, 0.0], [1.0, -0.8, 0.0], [0.0, 1.0, 0.0]])
+    normals = verts * [0.6, 0.6, 0] + [0, 0, 1.0]
+    mesh = TriangleMesh(verts, [[0, 1, 2]], normals=normals)
+    cam = Camera((0, 0, 4.0), (0, 0, 0), projection="orthographic", ortho_height=2.2, width=80, height=80)
+    mat = Material(Lambert(0.0) + Phong(1.0, 50.0), ambient=0.0)
+    lights = [DirectionalLight((0, 0, 1.0))]
+    r = Renderer(mesh, cam)
+    gouraud = luminance(r.render(mat, lights, mode="gouraud"))
+    phong = luminance(r.render(mat, lights, mode="phong"))
+    # The interpolated normal is (0, 0, 1) at the origin, where l = v = +z gives the full highlight k_s = 1;
+    # the nearest pixel centre is 0.014 away from it (cos^50 of the resulting angle: 0.98).
+    assert phong.max() > 0.95
+    vertex_values = Phong(1.0, 50.0).classic(normals, (0, 0, 1.0), (0, 0, 1.0))[:, 0]
+    assert gouraud.max() <= vertex_values.max() + 1e-12 < 0.05
+
+
+@pytest.mark.parametrize("mesh", [uv_sphere(10, 16), icosphere(2), icosphere(3)], ids=["uv288", "ico320", "ico1280"])
+@pytest.mark.parametrize("specular", [0.0, 0.4])
+def test_mach_band_metric_separates_gouraud_from_phong(mesh, specular):
+    cam = Camera((0, 0, 6.0), (0, 0, 0), fov_y_deg=22, width=200, height=200)
+    mat = Material(Lambert(0.8 - specular) + BlinnPhong(specular, 30.0), ambient=0.0)
+    lights = [DirectionalLight((-0.6, 0.5, 1.0))]
+    r = Renderer(mesh, cam)
+    tid = r.gbuffer.triangle_id
+    gouraud = edge_jump_metric(r.render(mat, lights, mode="gouraud"), tid)
+    phong = edge_jump_metric(r.render(mat, lights, mode="phong"), tid)
+    exact = edge_jump_metric(Renderer(AnalyticSphere(), cam).render(mat, lights), tid)
+    assert gouraud > 2.5 * phong  # measured 3.0–6.3 over these meshes and materials
+    assert exact < phong / 10  # the true sphere has no edges: what remains is the noise floor
+
+
+def test_gouraud_profile_is_piecewise_linear():
+    mesh = uv_sphere(10, 16)
+    cam = Camera((0, 0, 6.0), (0, 0, 0), fov_y_deg=22, width=200, height=200)
+    mat = Material(Lambert(0.8), ambient=0.0)
+    r = Renderer(mesh, cam)
+    tid = r.gbuffer.triangle_id
+    img = r.render(mat, [DirectionalLight((-0.6, 0.5, 1.0))], mode="gouraud")
+    prof = scanline_profile(img, 100, coverage=r.gbuffer.coverage)
+    t = tid[100, prof.x]
+    interior = (t[:-2] == t[1:-1]) & (t[1:-1] == t[2:])
+    assert np.max(np.abs(prof.d2[interior])) < 5e-3 * np.max(np.abs(prof.d1))
+
+
+def test_reshading_cached_buffer_equals_full_render():
+    mesh = icosphere(3)
+    r = Renderer(mesh, CAM)
+    for mode in ("flat", "gouraud", "phong"):
+        r.render(MAT, LIGHTS, mode=mode)
+    moved = [AmbientLight(intensity=0.1), DirectionalLight((1, 0.2, 1.0)), PointLight((-3, 1, 4.0), intensity=15.0)]
+    for mode in ("flat", "gouraud", "phong"):
+        np.testing.assert_array_equal(r.render(MAT, moved, mode=mode), render(mesh, CAM, MAT, moved, mode=mode))
+    assert r.rasterizations == 1
+    r.camera = CAM.replace(width=64)
+    assert r.render(MAT, moved).shape == (96, 64, 3) and r.rasterizations == 2
+
+
+def test_flat_shading_is_one_evaluation_per_triangle_at_its_centroid():
+    mesh = icosphere(1)
+    r = Renderer(mesh, CAM)
+    img = r.render(MAT, LIGHTS, mode="flat")
+    tid = r.gbuffer.triangle_id
+    centroids = mesh.vertices[mesh.faces].mean(axis=1)
+    expected = shade(centroids, mesh.face_normals, MAT, LIGHTS, eye=CAM.eye)
+    covered = tid >= 0
+    np.testing.assert_allclose(img[covered], expected[tid[covered]], rtol=1e-14)
+
+
+def test_gouraud_interpolates_vertex_colours():
+    mesh = icosphere(2)
+    r = Renderer(mesh, CAM)
+    img = r.render(MAT, LIGHTS, mode="gouraud")
+    vcol = shade(mesh.vertices, mesh.normals, MAT, LIGHTS, eye=CAM.eye)
+    np.testing.assert_allclose(img, r.gbuffer.interpolate(vcol), rtol=1e-14, atol=1e-15)
+
+
+def test_terms_add_up_and_float32_close():
+    r = Renderer(icosphere(3), CAM)
+    parts = r.render_terms(MAT, LIGHTS)
+    np.testing.assert_allclose(sum(parts.values()), r.render(MAT, LIGHTS), rtol=1e-15)
+    only_spec = r.render(MAT, LIGHTS, terms=["specular"])
+    np.testing.assert_array_equal(only_spec, parts["specular"])
+    r32 = Renderer(icosphere(3), CAM, dtype=np.float32)
+    img32 = r32.render(MAT, LIGHTS)
+    assert img32.dtype == np.float32
+    np.testing.assert_allclose(img32, r.render(MAT, LIGHTS), atol=2e-5)
+
+
+def test_bad_modes_and_geometry():
+    with pytest.raises(ValueError, match="mode"):
+        Renderer(icosphere(1), CAM).render(MAT, LIGHTS, mode="toon")
+    with pytest.raises(ValueError, match="needs a triangle mesh"):
+        Renderer(AnalyticSphere(), CAM).render(MAT, LIGHTS, mode="gouraud")
+    with pytest.raises(ValueError, match="geometry"):
+        Renderer("sphere", CAM)
+
+
+def test_srgb_png_pipeline_counts_clipping():
+    img = Renderer(AnalyticSphere(), sphere_camera(64)).render(
+        Material(Lambert(0.5) + BlinnPhong(1.0, 20.0)), [DirectionalLight((0, 0, 1.0), intensity=1.5)]
+    )
+    rgb8, rep = encode_srgb8(img)
+    assert rep.clipped_pixels == int(np.count_nonzero(np.any(img > 1, axis=-1))) > 0
+    assert rgb8.dtype == np.uint8 and rgb8.max() == 255
