@@ -45,10 +45,21 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--exposure", type=float, default=0.0, help="exposure in stops")
     s.add_argument("--tonemap", choices=("clamp", "reinhard"), default="clamp")
     s.set_defaults(func=_cmd_sphere)
+
+    sub.add_parser("bench", help="time re-shading, rasterizing and VTK rendering side by side (--json)")
     return p
 
 
+# Sub-commands with options of their own: the rest of the command line goes to the module's main().
+DELEGATES = {"bench": "explorer.bench"}
+
+
 def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] in DELEGATES:
+        import importlib
+
+        return importlib.import_module(DELEGATES[argv[0]]).main(argv[1:])
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)

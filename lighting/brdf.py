@@ -103,8 +103,17 @@ class Geometry:
         return (self.n_dot_l > 0) & (self.n_dot_v > 0)
 
     @cached_property
+    def _l_plus_v(self):
+        """``l + v`` and ``|l + v|²`` (in [0, 4] for unit ``l``, ``v``)."""
+        s = self.l + self.v
+        return s, self._dot(s, s)
+
+    @cached_property
     def h(self):
-        return normalize(self.l + self.v)
+        s, len2 = self._l_plus_v
+        if np.any(len2 < np.finfo(self.dtype).tiny * 1e4):
+            return normalize(s)  # near l = −v: the scaled normalization keeps the digits
+        return s * (1 / np.sqrt(len2))[..., None]
 
     @cached_property
     def n_dot_h(self):
@@ -113,8 +122,7 @@ class Geometry:
     @cached_property
     def v_dot_h(self):
         """``v·h = l·h = |l + v| / 2`` for unit ``l``, ``v``: symmetric in ``l`` and ``v`` to the last bit."""
-        s = self.l + self.v
-        return 0.5 * np.sqrt(self._dot(s, s))
+        return 0.5 * np.sqrt(self._l_plus_v[1])
 
     @cached_property
     def sin2_h(self):

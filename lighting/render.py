@@ -27,9 +27,10 @@ import numpy as np
 
 from ._numeric import check_choice, check_color, check_positive
 from .camera import Camera
-from .illumination import TERMS, Material, shade_terms
+from .illumination import TERMS, Material, shade_prepared, view_vectors
 from .mesh import TriangleMesh
 from .raster import GBuffer, rasterize, raycast_sphere
+from .vec import normalize
 
 __all__ = ["SHADING_MODES", "AnalyticSphere", "Renderer", "render"]
 
@@ -130,37 +131,50 @@ class Renderer:
             self.rasterizations += 1
         return self._gbuffer
 
-    def _view_kwargs(self):
-        cam = self._camera
-        if cam.is_perspective:
-            return {"eye": cam.eye}
-        return {"view_dir": -cam.forward}
-
     def _samples(self, mode: str):
-        """Points and normals where lighting is evaluated, and how to spread the result over pixels."""
+        """Where lighting is evaluated in ``mode``: points, unit normals, view vectors, eye distances.
+
+        Cached until geometry or camera change: moving a light or editing a
+        material reuses all of it.  Arrays are column-major (one contiguous
+        plane per component), the layout the per-component shading arithmetic
+        runs fastest on.
+        """
         if mode in self._cache:
             return self._cache[mode]
         gb = self.gbuffer
         if mode == "phong":
             pts = gb._position_compact
-            nrm = gb.normal.reshape(-1, 3).take(gb.pixels, axis=0) if gb.mesh is None else None
-            if nrm is None:
-                from .vec import normalize
-
+            if gb.mesh is None:
+                nrm = gb.normal.reshape(-1, 3).take(gb.pixels, axis=0)
+            else:
                 nrm = normalize(gb._normal_raw_compact)
-            # Planar (column-contiguous) layout: the per-component arithmetic of shading runs on contiguous memory.
-            data = (np.asfortranarray(pts), np.asfortranarray(nrm))
         else:
             mesh = self._geometry
             if not isinstance(mesh, TriangleMesh):
                 raise ValueError(f"mode {mode!r} needs a triangle mesh; an analytic sphere supports only 'phong'")
             if mode == "gouraud":
-                data = (mesh.vertices.astype(self.dtype), mesh.normals.astype(self.dtype))
+                pts, nrm = mesh.vertices, mesh.normals
             else:  # flat: one sample per triangle, at its centroid, with its geometric normal
-                cen = mesh.vertices[mesh.faces].mean(axis=1)
-                data = (cen.astype(self.dtype), mesh.face_normals.astype(self.dtype))
+                pts, nrm = mesh.vertices[mesh.faces].mean(axis=1), mesh.face_normals
+        pts = np.asfortranarray(pts, dtype=self.dtype)
+        nrm = np.asfortranarray(nrm, dtype=self.dtype)
+        cam = self._camera
+        if cam.is_perspective:
+            v, dist = view_vectors(pts, eye=cam.eye, dtype=self.dtype)
+            v = np.asfortranarray(v)
+        else:
+            v, dist = view_vectors(pts, view_dir=-cam.forward, dtype=self.dtype)
+        data = (pts, nrm, v, dist)
         self._cache[mode] = data
         return data
+
+    def _spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
+        gb = self.gbuffer
+        if mode == "phong":
+            return gb._scatter(np.ascontiguousarray(colours))
+        if mode == "gouraud":
+            return gb.interpolate(colours)
+        return gb.per_face(colours)
 
     # ------------------------------------------------------------------ shading
     def render_terms(
@@ -174,18 +188,11 @@ class Renderer:
     ) -> dict[str, np.ndarray]:
         """Each term of the illumination equation as an ``(H, W, 3)`` image (zero off the object)."""
         mode = check_choice("mode", mode, SHADING_MODES)
-        pts, nrm = self._samples(mode)
-        colours = shade_terms(pts, nrm, material, lights, form=form, terms=terms, **self._view_kwargs())
-        gb = self.gbuffer
-        out = {}
-        for name, c in colours.items():
-            if mode == "phong":
-                out[name] = gb._scatter(np.ascontiguousarray(c))
-            elif mode == "gouraud":
-                out[name] = gb.interpolate(c)
-            else:
-                out[name] = gb.per_face(c)
-        return out
+        pts, nrm, v, dist = self._samples(mode)
+        colours = shade_prepared(
+            pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms, separate=True
+        )
+        return {name: self._spread(mode, c) for name, c in colours.items()}
 
     def render(
         self,
@@ -214,9 +221,10 @@ class Renderer:
             Colour of pixels the geometry does not cover.
         """
         bg = check_color("background", background)
-        parts = self.render_terms(material, lights, mode=mode, form=form, terms=terms)
-        h, w = self.gbuffer.shape
-        img = np.zeros((h, w, 3), dtype=self.dtype) if not parts else sum(parts.values())
+        mode = check_choice("mode", mode, SHADING_MODES)
+        pts, nrm, v, dist = self._samples(mode)
+        colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)
+        img = self._spread(mode, colours)
         if np.any(bg):
             img = np.where(self.gbuffer.coverage[..., None], img, bg.astype(self.dtype))
         return img.astype(self.dtype, copy=False)

@@ -152,3 +152,15 @@ def test_srgb_png_pipeline_counts_clipping():
     rgb8, rep = encode_srgb8(img)
     assert rep.clipped_pixels == int(np.count_nonzero(np.any(img > 1, axis=-1))) > 0
     assert rgb8.dtype == np.uint8 and rgb8.max() == 255
+
+
+def test_parallel_chunks_give_identical_pixels(monkeypatch):
+    import lighting.illumination as il
+
+    r = Renderer(icosphere(3), CAM)
+    monkeypatch.setattr(il, "_MIN_ROWS_PER_THREAD", 10**9)
+    serial = r.render(MAT, LIGHTS)
+    monkeypatch.setattr(il, "_MIN_ROWS_PER_THREAD", 500)
+    monkeypatch.setattr(il, "_threads", lambda: 3)
+    assert len(il._chunks(len(r.gbuffer.pixels))) == 3
+    np.testing.assert_array_equal(r.render(MAT, LIGHTS), serial)

@@ -1,0 +1,157 @@
+"""``lighting-explorer bench``: the engine's image pipeline against VTK, in one run.
+
+Three numbers, each the median of repeated runs on this machine:
+
+* ``reshade_ms`` — lighting a cached 512×512 geometry buffer of a sphere with
+  three lights (Blinn–Phong, Phong interpolation): what a slider move costs;
+* ``raster_shade_ms`` — rasterizing the ~5,000-triangle sphere and shading it;
+* ``vtk_ms`` — PyVista/VTK rendering the same mesh and lights off-screen at
+  512×512, render plus read-back of the pixels;
+
+and the ratios of ours to VTK.  ``--json`` prints one machine-readable line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+
+import numpy as np
+
+from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
+from lighting.camera import Camera
+from lighting.mesh import sphere_for_triangles
+from lighting.render import Renderer
+
+SIZE = 512
+LIGHT_DIRS = [(-1.0, 1.0, 1.5), (1.0, 0.3, 0.8), (0.0, -1.0, 0.6)]
+LIGHT_COLOURS = [(1.0, 0.95, 0.9), (0.3, 0.35, 0.6), (0.25, 0.2, 0.15)]
+
+
+def bench_scene(size=SIZE, triangles=5000):
+    mesh = sphere_for_triangles(triangles)
+    camera = Camera((0, 0, 6.0), (0, 0, 0), fov_y_deg=22.0, width=size, height=size)
+    material = Material(Lambert((0.7, 0.25, 0.2)) + BlinnPhong(0.5, 40.0))
+    lights = [AmbientLight(intensity=0.05)] + [
+        DirectionalLight(d, color=c) for d, c in zip(LIGHT_DIRS, LIGHT_COLOURS, strict=True)
+    ]
+    return mesh, camera, material, lights
+
+
+def _median_ms(fn, repeat: int) -> float:
+    fn()  # warm-up: caches, allocator, first-call imports
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return 1e3 * statistics.median(times)
+
+
+def time_engine(repeat: int = 15, size: int = SIZE) -> dict:
+    mesh, camera, material, lights = bench_scene(size)
+    out = {"triangles": mesh.n_triangles, "size": size}
+    for dt, key in ((np.float64, "reshade_ms"), (np.float32, "reshade_f32_ms")):
+        r = Renderer(mesh, camera, dtype=dt)
+        r.render(material, lights)
+        k = [0]
+
+        def reshade(r=r):
+            # A slider move: the key light turns a little each frame.
+            k[0] += 1
+            a = 0.05 * k[0]
+            moved = [lights[0], DirectionalLight((np.cos(a) - 1.5, 1.0, 1.5))] + lights[2:]
+            r.render(material, moved)
+
+        out[key] = _median_ms(reshade, repeat)
+    out["raster_shade_ms"] = _median_ms(lambda: Renderer(mesh, camera).render(material, lights), repeat)
+    out["raster_shade_f32_ms"] = _median_ms(
+        lambda: Renderer(mesh, camera, dtype=np.float32).render(material, lights), repeat
+    )
+    return out
+
+
+def time_vtk(repeat: int = 15, size: int = SIZE) -> float | None:
+    """Median ms for VTK to render the same scene off-screen and read the pixels back (None without VTK)."""
+    try:
+        import pyvista as pv
+    except ImportError:
+        return None
+    mesh, camera, material, lights = bench_scene(size)
+    faces = np.hstack([np.full((mesh.n_triangles, 1), 3), mesh.faces]).ravel()
+    poly = pv.PolyData(mesh.vertices, faces)
+    poly.point_data["Normals"] = mesh.normals
+    pl = pv.Plotter(off_screen=True, window_size=(size, size), lighting="none")
+    pl.add_mesh(poly, color=(0.7, 0.25, 0.2), smooth_shading=True, specular=0.5, specular_power=40.0, ambient=0.05)
+    for d, c in zip(LIGHT_DIRS, LIGHT_COLOURS, strict=True):
+        pl.add_light(pv.Light(position=d, focal_point=(0, 0, 0), color=c, light_type="scene light", positional=False))
+    pl.camera_position = [tuple(camera.eye), tuple(camera.target), tuple(camera.up)]
+    pl.camera.view_angle = camera.fov_y_deg
+    pl.show(auto_close=False)
+
+    def frame():
+        pl.render()
+        pl.screenshot(return_img=True)
+
+    try:
+        return _median_ms(frame, repeat)
+    finally:
+        pl.close()
+
+
+def run(repeat: int = 15, size: int | None = None) -> dict:
+    """All measurements of one benchmark run (see the module docstring)."""
+    return _run(repeat, SIZE if size is None else size)
+
+
+def _run(repeat: int, size: int) -> dict:
+    result = time_engine(repeat, size)
+    vtk = time_vtk(repeat, size)
+    result["vtk_ms"] = vtk
+    if vtk:
+        result["reshade_over_vtk"] = result["reshade_ms"] / vtk
+        result["reshade_f32_over_vtk"] = result["reshade_f32_ms"] / vtk
+        result["raster_shade_over_vtk"] = result["raster_shade_ms"] / vtk
+    return result
+
+
+def format_report(r: dict) -> str:
+    vtk = r.get("vtk_ms")
+    lines = [
+        f"Sphere of {r['triangles']} triangles, {r['size']}x{r['size']}, three lights, Blinn-Phong (median ms)",
+        "",
+        f"{'what':44s} {'ms':>8s} {'÷ VTK':>7s}  target",
+    ]
+
+    def row(label, key, target=""):
+        ratio = f"{r[key] / vtk:7.2f}" if vtk else "      -"
+        lines.append(f"{label:44s} {r[key]:8.2f} {ratio}  {target}")
+
+    row("re-shade cached buffer (float64)", "reshade_ms", "<= 0.25")
+    row("re-shade cached buffer (float32)", "reshade_f32_ms", "<= 0.25")
+    row("rasterize + shade (float64)", "raster_shade_ms", "<= 1")
+    row("rasterize + shade (float32)", "raster_shade_f32_ms", "<= 1")
+    lines.append(f"{'VTK off-screen render + read-back':44s} {vtk:8.2f}" if vtk else "VTK: not installed")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(
+        prog="lighting-explorer bench",
+        description="Time the engine's re-shading and rasterizing against VTK rendering the same scene, in one run.",
+    )
+    p.add_argument("--json", action="store_true", help="print one JSON line instead of the table")
+    p.add_argument("--repeat", type=int, default=15, help="timed runs per measurement (median reported)")
+    args = p.parse_args(argv)
+    if args.repeat < 1:
+        p.error(f"--repeat must be >= 1; got {args.repeat}")
+    result = run(args.repeat)
+    print(json.dumps(result) if args.json else format_report(result))
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
