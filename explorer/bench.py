@@ -59,7 +59,7 @@ def time_engine(repeat: int = 15, size: int = SIZE) -> dict:
         r.render(material, lights)
         k = [0]
 
-        def reshade(r=r):
+        def reshade(r=r, k=k):
             # A slider move: the key light turns a little each frame.
             k[0] += 1
             a = 0.05 * k[0]
