@@ -77,19 +77,19 @@ class _Planes:
     32 ms for three terms at 512×512 in float32).
     """
 
-    def __init__(self, shape, dt):
-        self.shape, self.dt = shape, dt
+    def __init__(self, shape, dt, prune=True):
+        self.shape, self.dt, self.prune = shape, dt, prune
         self.planes = [None, None, None]
         self.constant = np.zeros(3)
 
     def add(self, field, light_scale, colour):
-        if not np.any(colour):
+        if self.prune and not np.any(colour):
             return
         with np.errstate(over="ignore"):
             f = field * light_scale if np.ndim(light_scale) or light_scale != 1 else field
             for ch in range(3):
                 c = colour[ch]
-                if c == 0:
+                if c == 0 and self.prune:
                     continue
                 term = f * self.dt(c)
                 if self.planes[ch] is None:
@@ -130,16 +130,18 @@ def view_vectors(points, *, eye=None, view_dir=None, dtype=None):
     return normalize(d).astype(dt), dist
 
 
-def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance, wanted, summed, dt):
+def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance, wanted, summed, dt, prune=True):
     """The illumination equation on prepared inputs: unit ``n`` and ``v`` in the working dtype.
 
     Returns ``{term: _Planes}``, or one ``_Planes`` holding the sum when ``summed``.
+    ``prune=False`` evaluates black lights and zero colours too (the reference
+    "nothing skipped" path that :mod:`lighting.plan` is measured against).
     """
     shape = np.broadcast_shapes(p.shape, n.shape)[:-1]
     scale = 1.0 if form == "classic" else 1.0 / math.pi
     lights = list(lights)
-    one = _Planes(shape, dt) if summed else None
-    acc = {t: one or _Planes(shape, dt) for t in wanted}
+    one = _Planes(shape, dt, prune) if summed else None
+    acc = {t: one or _Planes(shape, dt, prune) for t in wanted}
     if "emission" in wanted:
         acc["emission"].add_constant(material.emission * scale)
     if "ambient" in wanted:
@@ -147,13 +149,13 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
         acc["ambient"].add_constant(total * material.ambient * scale)
     want_parts = [t for t in ("diffuse", "specular") if t in wanted]
     parts = {t: [m for m in material.brdf.parts if m.term == t] for t in want_parts}
-    if not any(parts.values()):
+    if prune and not any(parts.values()):
         return one if summed else acc
     if attenuation_distance == "light+viewer" and eye_dist is None:
         raise ValueError("attenuation_distance='light+viewer' needs eye= (a viewer position)")
     extra = eye_dist if attenuation_distance == "light+viewer" else None
     for light in lights:
-        if isinstance(light, AmbientLight) or light.is_black:
+        if isinstance(light, AmbientLight) or (prune and light.is_black):
             continue
         for inc in light.incident(p, dtype=dt, extra_distance=extra):
             g = Geometry(n, inc.direction, v, unit=True, dtype=dt)

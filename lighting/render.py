@@ -131,42 +131,74 @@ class Renderer:
             self.rasterizations += 1
         return self._gbuffer
 
-    def _samples(self, mode: str):
-        """Where lighting is evaluated in ``mode``: points, unit normals, view vectors, eye distances.
+    def _cached(self, key, make):
+        if key not in self._cache:
+            self._cache[key] = make()
+        return self._cache[key]
 
-        Cached until geometry or camera change: moving a light or editing a
-        material reuses all of it.  Arrays are column-major (one contiguous
-        plane per component), the layout the per-component shading arithmetic
-        runs fastest on.
+    def _need_mesh(self, mode):
+        if not isinstance(self._geometry, TriangleMesh):
+            raise ValueError(f"mode {mode!r} needs a triangle mesh; an analytic sphere supports only 'phong'")
+        return self._geometry
+
+    def sample_points(self, mode: str) -> np.ndarray:
+        """Where lighting is evaluated in ``mode``: covered pixels, vertices, or triangle centroids, ``(N, 3)``.
+
+        Like every sample array here it is cached until geometry or camera change,
+        and column-major (one contiguous plane per component), the layout the
+        per-component shading arithmetic runs fastest on.
         """
-        if mode in self._cache:
-            return self._cache[mode]
-        gb = self.gbuffer
-        if mode == "phong":
-            pts = gb._position_compact
-            if gb.mesh is None:
-                nrm = gb.normal.reshape(-1, 3).take(gb.pixels, axis=0)
+
+        def make():
+            if mode == "phong":
+                pts = self.gbuffer._position_compact
+            elif mode == "gouraud":
+                pts = self._need_mesh(mode).vertices
+            else:  # flat: one sample per triangle, at its centroid
+                mesh = self._need_mesh(mode)
+                pts = mesh.vertices[mesh.faces].mean(axis=1)
+            return np.asfortranarray(pts, dtype=self.dtype)
+
+        return self._cached(("points", mode), make)
+
+    def sample_normals(self, mode: str) -> np.ndarray:
+        """Unit normals at :meth:`sample_points`: interpolated (phong), vertex (gouraud) or face (flat)."""
+
+        def make():
+            if mode == "phong":
+                gb = self.gbuffer
+                if gb.mesh is None:
+                    nrm = gb.normal.reshape(-1, 3).take(gb.pixels, axis=0)
+                else:
+                    nrm = normalize(gb._normal_raw_compact)
+            elif mode == "gouraud":
+                nrm = self._need_mesh(mode).normals
             else:
-                nrm = normalize(gb._normal_raw_compact)
-        else:
-            mesh = self._geometry
-            if not isinstance(mesh, TriangleMesh):
-                raise ValueError(f"mode {mode!r} needs a triangle mesh; an analytic sphere supports only 'phong'")
-            if mode == "gouraud":
-                pts, nrm = mesh.vertices, mesh.normals
-            else:  # flat: one sample per triangle, at its centroid, with its geometric normal
-                pts, nrm = mesh.vertices[mesh.faces].mean(axis=1), mesh.face_normals
-        pts = np.asfortranarray(pts, dtype=self.dtype)
-        nrm = np.asfortranarray(nrm, dtype=self.dtype)
-        cam = self._camera
-        if cam.is_perspective:
-            v, dist = view_vectors(pts, eye=cam.eye, dtype=self.dtype)
-            v = np.asfortranarray(v)
-        else:
-            v, dist = view_vectors(pts, view_dir=-cam.forward, dtype=self.dtype)
-        data = (pts, nrm, v, dist)
-        self._cache[mode] = data
-        return data
+                nrm = self._need_mesh(mode).face_normals
+            return np.asfortranarray(nrm, dtype=self.dtype)
+
+        return self._cached(("normals", mode), make)
+
+    def sample_view(self, mode: str):
+        """The slides' ``v`` at :meth:`sample_points` and the eye distances (``None`` for orthographic)."""
+
+        def make():
+            pts = self.sample_points(mode)
+            cam = self._camera
+            if cam.is_perspective:
+                v, dist = view_vectors(pts, eye=cam.eye, dtype=self.dtype)
+                return np.asfortranarray(v), dist
+            return view_vectors(pts, view_dir=-cam.forward, dtype=self.dtype)
+
+        return self._cached(("view", mode), make)
+
+    def _samples(self, mode: str):
+        v, dist = self.sample_view(mode)
+        return self.sample_points(mode), self.sample_normals(mode), v, dist
+
+    def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
+        """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
+        return self._spread(mode, colours)
 
     def _spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
         gb = self.gbuffer
