@@ -159,6 +159,9 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
             continue
         for inc in light.incident(p, dtype=dt, extra_distance=extra):
             g = Geometry(n, inc.direction, v, unit=True, dtype=dt)
+            if not prune:
+                # The textbook loop: every vector of the slides at every sample, whether a model uses it or not.
+                g.h, g.n_dot_h, g.v_dot_h, g.one_minus_n_dot_h, g.one_minus_r_dot_v, g.above  # noqa: B018
             radiant = inc.radiant.astype(np.float64)
             for t in want_parts:
                 for model in parts[t]:

@@ -170,9 +170,19 @@ class GBuffer:
         corners = [np.ascontiguousarray(self.mesh.faces[:, k]).take(tid) for k in range(3)]
         return tid, b, corners
 
+    @cached_property
+    def _pixels3(self) -> np.ndarray:
+        return self.pixels * 3
+
     def _scatter(self, values: np.ndarray) -> np.ndarray:
         out = np.zeros((self.coverage.size,) + values.shape[1:], dtype=values.dtype)
-        out[self.pixels] = values
+        if values.shape[1:] == (3,):
+            # One 1-D scatter per channel into the flat image: several times faster than row assignment.
+            flat = out.reshape(-1)
+            for c in range(3):
+                flat[self._pixels3 + c] = values[:, c]
+        else:
+            out[self.pixels] = values
         return out.reshape(self.shape + values.shape[1:])
 
     def _need_mesh(self, what: str) -> TriangleMesh:

@@ -23,9 +23,7 @@ ORTHO = Camera((0, 0, 6.0), (0, 0, 0), projection="orthographic", ortho_height=2
 
 
 def _check(renderer, material, lights, mode, form="classic", terms=("emission", "ambient", "diffuse", "specular")):
-    plan = compile_plan(
-        material, lights, mode=mode, form=form, terms=terms, bounds=bounding_sphere(renderer.geometry)
-    )
+    plan = compile_plan(material, lights, mode=mode, form=form, terms=terms, bounds=bounding_sphere(renderer.geometry))
     got = plan.execute(renderer)
     ref = evaluate_full(renderer, material, lights, mode=mode, form=form, terms=terms)
     np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12)
