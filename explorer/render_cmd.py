@@ -1,0 +1,135 @@
+"""``lighting-explorer render``: render a scene file to a PNG, headless.
+
+    lighting-explorer render scene.toml -o out.png [--size WxH] [--exposure STOPS]
+                             [--tonemap clamp|reinhard] [--explain]
+    lighting-explorer render --list
+
+``SCENE`` is a scene file (format: ``docs/scenes.md``) or the name of a scene
+shipped with the package (``lighting-explorer render spotlight``).  One summary
+line is printed: the output, the size, how many objects and lights, the time,
+and how many pixels clipped when encoding.  Any problem — a malformed scene, a
+missing mesh, an unwritable output — prints ``lighting-explorer: error: …`` on
+standard error and returns 2; the PNG is written to a temporary file and renamed
+into place only when complete, so a failed run never leaves a partial or
+overwritten file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import sys
+import time
+
+PROG = "lighting-explorer render"
+
+
+class _UsageError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # argparse would print usage and exit; we report like every other error
+        raise _UsageError(message)
+
+
+def _size(text: str):
+    m = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text)
+    if not m or int(m.group(1)) < 1 or int(m.group(2)) < 1:
+        raise argparse.ArgumentTypeError(
+            f"--size must be WIDTHxHEIGHT in pixels, both >= 1 (e.g. 640x480); got {text!r}"
+        )
+    return int(m.group(1)), int(m.group(2))
+
+
+def _finite(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number; got {text!r}") from None
+    if v != v or v in (float("inf"), float("-inf")):
+        raise argparse.ArgumentTypeError(f"expected a finite number; got {text!r}")
+    return v
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog=PROG, description="Render a scene file (TOML, see docs/scenes.md) to a PNG image.")
+    p.add_argument("scene", nargs="?", help="scene file, or the name of a shipped example scene")
+    p.add_argument("-o", "--out", help="output PNG (default: [image].output of the scene, else SCENE-NAME.png)")
+    p.add_argument("--size", type=_size, metavar="WxH", help="image size override, e.g. 640x480")
+    p.add_argument("--exposure", type=_finite, help="exposure override in stops")
+    p.add_argument("--tonemap", choices=("clamp", "reinhard"), help="tone map override")
+    p.add_argument("--explain", action="store_true", help="print the evaluation plan (what the scene needs)")
+    p.add_argument("--list", action="store_true", help="list the example scenes shipped with the package")
+    return p
+
+
+def _resolve_scene(arg: str) -> str:
+    from lighting.scene import example_path, list_examples
+
+    if os.path.exists(arg) or os.sep in arg or "/" in arg:
+        return arg
+    stem = arg[:-5] if arg.endswith(".toml") else arg
+    if stem in list_examples():
+        return example_path(stem)
+    return arg  # load_scene reports the missing file
+
+
+def _run(args) -> int:
+    from lighting.image import write_png
+    from lighting.scene import SceneRenderer, list_examples, load_scene
+
+    if args.list:
+        for name in list_examples():
+            print(name)
+        return 0
+    if not args.scene:
+        raise _UsageError("the following arguments are required: scene (a scene file or an example name)")
+    path = _resolve_scene(args.scene)
+    t0 = time.perf_counter()
+    scene = load_scene(path)
+    if args.size:
+        scene = scene.with_size(*args.size)
+    if args.explain:
+        print("plan: not available")
+    out = args.out or scene.image.output or os.path.splitext(os.path.basename(path))[0] + ".png"
+    folder = os.path.dirname(os.path.abspath(out))
+    if os.path.isdir(out):
+        raise ValueError(f"output {out!r} is a directory; give a file name ending in .png")
+    if not os.path.isdir(folder):
+        raise ValueError(f"cannot write {out!r}: folder {folder!r} does not exist")
+    renderer = SceneRenderer(scene)
+    image, info = renderer.render()
+    rgb8, report = renderer.encode(image, exposure=args.exposure, tonemap=args.tonemap)
+    write_png(out, rgb8)
+    seconds = time.perf_counter() - t0
+    print(
+        f"wrote {out} ({info['width']}x{info['height']}, {info['objects']} objects, {info['lights']} lights, "
+        f"{seconds:.2f} s); {report}"
+    )
+    return 0
+
+
+def main(argv=None) -> int:
+    """Run the command; returns the exit status (0 on success, 2 on any error)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        args = build_parser().parse_args(argv)
+        return _run(args)
+    except SystemExit as e:  # --help
+        return int(e.code or 0) if isinstance(e.code, int) or e.code is None else 2
+    except _UsageError as e:
+        print(f"lighting-explorer: error: {e} (see {PROG} --help)", file=sys.stderr)
+        return 2
+    except (ValueError, OSError) as e:
+        msg = str(e) if not isinstance(e, OSError) or not e.strerror else f"{e.strerror}: {e.filename}"
+        print(f"lighting-explorer: error: {msg}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("lighting-explorer: error: out of memory (try a smaller --size)", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
