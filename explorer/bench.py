@@ -138,6 +138,43 @@ def format_report(r: dict) -> str:
     return "\n".join(lines)
 
 
+def time_plans(repeat: int = 15, size=None) -> list[dict]:
+    """Per example scene: median ms of one frame, planned vs the nothing-skipped evaluation.
+
+    Both re-use the scene's geometry buffers (rasterization is not timed); the
+    planned frame also re-uses its cached samples, exactly as an interactive
+    session does, while the full evaluation prepares every input afresh.
+    """
+    from lighting.scene import SceneRenderer, example_path, list_examples, load_scene
+
+    rows = []
+    for name in list_examples():
+        scene = load_scene(example_path(name))
+        if size:
+            scene = scene.with_size(*size)
+        planned = SceneRenderer(scene, plan=True)
+        full = SceneRenderer(scene, plan="full")
+        row = {"scene": name, "pixels": scene.camera.width * scene.camera.height}
+        row["planned_ms"] = _median_ms(lambda planned=planned: planned.render(), repeat)
+        row["full_ms"] = _median_ms(lambda full=full: full.render(), repeat)
+        row["speedup"] = row["full_ms"] / row["planned_ms"]
+        rows.append(row)
+    return rows
+
+
+def format_plans(rows) -> str:
+    lines = [
+        "One frame per example scene, geometry buffers cached (median ms)",
+        "",
+        f"{'scene':22s} {'pixels':>8s} {'planned':>9s} {'full':>9s} {'speed-up':>9s}",
+    ]
+    for r in rows:
+        lines.append(
+            f"{r['scene']:22s} {r['pixels']:8d} {r['planned_ms']:9.2f} {r['full_ms']:9.2f} {r['speedup']:8.1f}x"
+        )
+    return "\n".join(lines)
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(
         prog="lighting-explorer bench",
@@ -145,9 +182,14 @@ def main(argv=None) -> int:
     )
     p.add_argument("--json", action="store_true", help="print one JSON line instead of the table")
     p.add_argument("--repeat", type=int, default=15, help="timed runs per measurement (median reported)")
+    p.add_argument("--plan", action="store_true", help="planned vs nothing-skipped evaluation of every example scene")
     args = p.parse_args(argv)
     if args.repeat < 1:
         p.error(f"--repeat must be >= 1; got {args.repeat}")
+    if args.plan:
+        rows = time_plans(args.repeat)
+        print(json.dumps(rows) if args.json else format_plans(rows))
+        return 0
     result = run(args.repeat)
     print(json.dumps(result) if args.json else format_report(result))
     return 0

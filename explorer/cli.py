@@ -46,12 +46,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--tonemap", choices=("clamp", "reinhard"), default="clamp")
     s.set_defaults(func=_cmd_sphere)
 
-    sub.add_parser("bench", help="time re-shading, rasterizing and VTK rendering side by side (--json)")
+    sub.add_parser("bench", help="time re-shading, rasterizing and VTK rendering side by side (--json, --plan)")
+    sub.add_parser("render", help="render a scene file (or an example scene) to PNG (--explain shows the plan)")
     return p
 
 
 # Sub-commands with options of their own: the rest of the command line goes to the module's main().
-DELEGATES = {"bench": "explorer.bench"}
+DELEGATES = {"bench": "explorer.bench", "render": "explorer.render_cmd"}
 
 
 def main(argv=None) -> int:

@@ -91,8 +91,6 @@ def _run(args) -> int:
     scene = load_scene(path)
     if args.size:
         scene = scene.with_size(*args.size)
-    if args.explain:
-        print("plan: not available")
     out = args.out or scene.image.output or os.path.splitext(os.path.basename(path))[0] + ".png"
     folder = os.path.dirname(os.path.abspath(out))
     if os.path.isdir(out):
@@ -101,6 +99,8 @@ def _run(args) -> int:
         raise ValueError(f"cannot write {out!r}: folder {folder!r} does not exist")
     renderer = SceneRenderer(scene)
     image, info = renderer.render()
+    if args.explain:
+        print(renderer.explain())
     rgb8, report = renderer.encode(image, exposure=args.exposure, tonemap=args.tonemap)
     write_png(out, rgb8)
     seconds = time.perf_counter() - t0

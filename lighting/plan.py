@@ -137,7 +137,7 @@ class Plan:
         """Colours ``(N, 3)`` at the renderer's samples for this plan's mode."""
         mode, dt = self.mode, renderer.dtype
         if self.strategy == "constant":
-            n = len(renderer.sample_points(mode)) if mode != "phong" else len(renderer.gbuffer.pixels)
+            n = len(renderer.sample_points(mode)) if mode != "phong" else len(renderer._pixels())
             return np.broadcast_to(self.constant.astype(dt), (n, 3)).copy()
         nrm = renderer.sample_normals(mode)
         if self.strategy == "diffuse-directional":

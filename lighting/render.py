@@ -91,6 +91,7 @@ class Renderer:
         self.cull_backfaces = bool(cull_backfaces)
         self._gbuffer: GBuffer | None = None
         self._cache: dict = {}
+        self._subset: np.ndarray | None = None
         #: How many times the geometry was rasterized (or ray-cast) so far.
         self.rasterizations = 0
 
@@ -118,6 +119,23 @@ class Renderer:
     def _invalidate(self):
         self._gbuffer = None
         self._cache = {}
+        self._subset = None
+
+    def restrict(self, subset) -> None:
+        """Light only some covered pixels in ``"phong"`` mode: indices into ``gbuffer.pixels``, or ``None`` for all.
+
+        A scene renderer passes the pixels where this object is not hidden
+        behind another; per-vertex and per-face samples are unaffected.
+        """
+        if subset is not None:
+            subset = np.asarray(subset, dtype=np.int64)
+        same = (subset is None and self._subset is None) or (
+            subset is not None and self._subset is not None and np.array_equal(subset, self._subset)
+        )
+        if not same:
+            self._subset = subset
+            for key in [k for k in self._cache if k[1] == "phong"]:
+                del self._cache[key]
 
     @property
     def gbuffer(self) -> GBuffer:
@@ -151,7 +169,7 @@ class Renderer:
 
         def make():
             if mode == "phong":
-                pts = self.gbuffer._position_compact
+                pts = self._take(self.gbuffer._position_compact)
             elif mode == "gouraud":
                 pts = self._need_mesh(mode).vertices
             else:  # flat: one sample per triangle, at its centroid
@@ -168,9 +186,9 @@ class Renderer:
             if mode == "phong":
                 gb = self.gbuffer
                 if gb.mesh is None:
-                    nrm = gb.normal.reshape(-1, 3).take(gb.pixels, axis=0)
+                    nrm = gb.normal.reshape(-1, 3).take(self._pixels(), axis=0)
                 else:
-                    nrm = normalize(gb._normal_raw_compact)
+                    nrm = normalize(self._take(gb._normal_raw_compact))
             elif mode == "gouraud":
                 nrm = self._need_mesh(mode).normals
             else:
@@ -196,13 +214,37 @@ class Renderer:
         v, dist = self.sample_view(mode)
         return self.sample_points(mode), self.sample_normals(mode), v, dist
 
+    def _take(self, compact: np.ndarray) -> np.ndarray:
+        return compact if self._subset is None else compact[self._subset]
+
+    def _pixels(self) -> np.ndarray:
+        """Flat indices of the pixels lit in ``"phong"`` mode (all covered ones unless restricted)."""
+        gb = self.gbuffer
+        return gb.pixels if self._subset is None else gb.pixels[self._subset]
+
     def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
         """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
         return self._spread(mode, colours)
 
+    def spread_pixels(self, mode: str, colours: np.ndarray):
+        """Colours at :meth:`sample_points` as ``(flat pixel indices, (M, 3) values)``, without a full image."""
+        gb = self.gbuffer
+        if mode == "phong":
+            return self._pixels(), colours
+        if mode == "gouraud":
+            return gb.pixels, gb._interp_compact(np.asarray(colours))
+        return gb.pixels, np.asarray(colours)[gb._compact[0]]
+
     def _spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
         gb = self.gbuffer
         if mode == "phong":
+            if self._subset is not None:
+                img = np.zeros(gb.shape + (3,), dtype=colours.dtype)
+                flat = img.reshape(-1)
+                idx = self._pixels() * 3
+                for c in range(3):
+                    flat[idx + c] = colours[:, c]
+                return img
             return gb._scatter(np.ascontiguousarray(colours))
         if mode == "gouraud":
             return gb.interpolate(colours)

@@ -1080,10 +1080,16 @@ class SceneRenderer:
     (4, 0)
     """
 
-    def __init__(self, scene: Scene, *, dtype=np.float64):
+    def __init__(self, scene: Scene, *, dtype=np.float64, plan=True):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a lighting.scene.Scene; got {type(scene).__name__}")
+        if plan not in (True, False, "full"):
+            raise ValueError(f"plan must be True, False or 'full'; got {plan!r}")
         self.dtype = dtype
+        #: True: evaluate through :mod:`lighting.plan` (leave out what the scene does not need);
+        #: False: the renderer's general path; "full": the nothing-skipped reference
+        #: (:func:`lighting.plan.evaluate_full`), for measuring the plan against.
+        self.plan = plan
         self._scene = scene
         self._renderers: list[Renderer | None] = [None] * len(scene.objects)
         self._keys: list[tuple | None] = [None] * len(scene.objects)
@@ -1161,7 +1167,125 @@ class SceneRenderer:
             return self._shade_gl(index, renderer, material, lights, mode)
         if isinstance(material, gl.Material):
             material = gl_material_to_engine(material)
+        if self.plan is True:
+            return self.object_plan(index).execute(renderer)
+        if self.plan == "full":
+            from .plan import evaluate_full
+
+            return evaluate_full(renderer, material, lights, mode=mode, form=scene.render.form, terms=scene.render.terms)
         return renderer.render(material, lights, mode=mode, form=scene.render.form, terms=scene.render.terms)
+
+    # ------------------------------------------------------------------ plans
+    def object_plan(self, index: int):
+        """The evaluation plan of object ``index`` (engine-lit objects; see :mod:`lighting.plan`)."""
+        from .plan import bounding_sphere, compile_plan
+
+        scene = self._scene
+        ob = scene.objects[index]
+        material = ob.material
+        if isinstance(material, gl.Material):
+            material = gl_material_to_engine(material)
+        return compile_plan(
+            material, scene.object_lights(index), mode=scene.object_mode(index), form=scene.render.form,
+            terms=scene.render.terms, bounds=bounding_sphere(ob.geometry),
+        )  # fmt: skip
+
+    def _groups(self, visible):
+        """Objects to shade, grouped: ``[(indices, plan or None)]``; hidden objects are left out.
+
+        Objects that share one material, one light list and one shading mode are
+        shaded in a single evaluation over all their samples.
+        """
+        scene = self._scene
+        groups: dict = {}
+        order = []
+        for i, ob in enumerate(scene.objects):
+            if visible[i] == 0:
+                continue
+            lights = scene.object_lights(i)
+            if scene.is_opengl_lit(i):
+                order.append(((i,), None))
+                continue
+            key = (id(ob.material), tuple(id(lt) for lt in lights), scene.object_mode(i))
+            if key not in groups:
+                groups[key] = [i]
+                order.append((key, None))
+            else:
+                groups[key].append(i)
+        out = []
+        for key, _ in order:
+            if isinstance(key, tuple) and len(key) == 1 and isinstance(key[0], int):
+                out.append((key, None))
+            else:
+                out.append((tuple(groups[key]), self.object_plan(groups[key][0])))
+        return out
+
+    def _planned_composite(self, image, owner, visible):
+        """Shade every visible object through its plan and write its visible pixels into ``image``.
+
+        Per-pixel (phong) objects are lit only where they are not hidden behind
+        another object; nothing goes through a full-size intermediate image.
+        """
+        flat_image = image.reshape(-1)
+        flat_owner = owner.reshape(-1)
+
+        def write(i, idx, values):
+            keep = flat_owner[idx] == i
+            idx, values = idx[keep], values[keep]
+            for ch in range(3):
+                flat_image[idx * 3 + ch] = values[:, ch]
+
+        for indices, plan in self._groups(visible):
+            if plan is None:  # OpenGL-lit: the fixed-function equation, evaluated as it is
+                i = indices[0]
+                ob = self._scene.objects[i]
+                c = self.shade_object(i, self.renderer(i), ob.material, self._scene.object_lights(i))
+                mine = owner == i
+                image[mine] = c[mine]
+                continue
+            renderers = [self.renderer(i) for i in indices]
+            if plan.strategy == "constant":
+                for i in indices:
+                    idx = np.flatnonzero(flat_owner == i)
+                    for ch in range(3):
+                        flat_image[idx * 3 + ch] = plan.constant[ch]
+                continue
+            if plan.mode == "phong":
+                for i, r in zip(indices, renderers, strict=True):
+                    r.restrict(np.flatnonzero(flat_owner[r.gbuffer.pixels] == i))
+            if len(indices) == 1:
+                parts = [plan.shade_samples(renderers[0])]
+            else:
+                group = _GroupSamples(renderers)
+                colours = plan.shade_samples(group)
+                edges = np.cumsum([0] + group.lengths(plan.mode))
+                parts = [colours[a:b] for a, b in zip(edges[:-1], edges[1:], strict=True)]
+            for i, r, c in zip(indices, renderers, parts, strict=True):
+                write(i, *r.spread_pixels(plan.mode, c))
+
+    def explain(self) -> str:
+        """What the scene needs, in plain words: one plan per group of objects, and what was left out."""
+        scene = self._scene
+        owner = self.visibility()
+        visible = tuple(int(np.count_nonzero(owner == i)) for i in range(len(scene.objects)))
+        lines = [f"{len(scene.objects)} object(s), {scene.light_count} light(s), {scene.camera.width}x"
+                 f"{scene.camera.height} pixels."]  # fmt: skip
+        for i, n in enumerate(visible):
+            if n == 0:
+                lines.append(f"object {i} ({_object_name(scene.objects[i])}): left out — hidden behind other objects")
+        for indices, plan in self._groups(visible):
+            names = ", ".join(f"{i} ({_object_name(scene.objects[i])})" for i in indices)
+            label = "objects" if len(indices) > 1 else "object"
+            if plan is None:
+                lines.append(f"{label} {names}: OpenGL fixed-function lighting (evaluated as specified)")
+                continue
+            extra = " — one material, one evaluation for all" if len(indices) > 1 else ""
+            lines.append(f"{label} {names}{extra}:")
+            lines.extend("  " + ln for ln in plan.describe().splitlines())
+        cached = sum(r is not None and r._gbuffer is not None for r in self._renderers)
+        if cached:
+            lines.append(f"geometry buffers: {cached} cached; re-rendering with new lights or materials re-uses them")
+        return "\n".join(lines)
 
     def _gl_samples(self, index: int, renderer: Renderer, mode: str):
         key = (index, mode)
@@ -1215,11 +1339,14 @@ class SceneRenderer:
         cam = scene.camera
         image = np.empty((cam.height, cam.width, 3), dtype=self.dtype)
         image[...] = np.asarray(scene.image.background, dtype=self.dtype)
-        for i, ob in enumerate(scene.objects):
-            colours = self.shade_object(i, self.renderer(i), ob.material, scene.object_lights(i))
-            mine = owner == i
-            image[mine] = colours[mine]
         visible = tuple(int(np.count_nonzero(owner == i)) for i in range(len(scene.objects)))
+        if self.plan is True:
+            self._planned_composite(image, owner, visible)
+        else:
+            for i, ob in enumerate(scene.objects):
+                colours = self.shade_object(i, self.renderer(i), ob.material, scene.object_lights(i))
+                mine = owner == i
+                image[mine] = colours[mine]
         info = {
             "width": cam.width,
             "height": cam.height,
@@ -1240,6 +1367,37 @@ class SceneRenderer:
             exposure=opts.exposure if exposure is None else exposure,
             tonemap=opts.tonemap if tonemap is None else tonemap,
         )
+
+
+def _object_name(ob) -> str:
+    return ob.spec.get("type", type(ob.geometry).__name__) if isinstance(getattr(ob, "spec", None), dict) else type(
+        ob.geometry
+    ).__name__
+
+
+class _GroupSamples:
+    """Several renderers' samples seen as one (the interface :meth:`lighting.plan.Plan.shade_samples` uses)."""
+
+    def __init__(self, renderers):
+        self.renderers = renderers
+        self.camera = renderers[0].camera
+        self.dtype = renderers[0].dtype
+
+    def sample_points(self, mode):
+        return np.asfortranarray(np.concatenate([r.sample_points(mode) for r in self.renderers]))
+
+    def sample_normals(self, mode):
+        return np.asfortranarray(np.concatenate([r.sample_normals(mode) for r in self.renderers]))
+
+    def sample_view(self, mode):
+        views = [r.sample_view(mode) for r in self.renderers]
+        if views[0][0].ndim == 1:  # a distant viewer: one direction for all
+            return views[0]
+        v = np.asfortranarray(np.concatenate([w[0] for w in views]))
+        return v, np.concatenate([w[1] for w in views])
+
+    def lengths(self, mode):
+        return [len(r.sample_normals(mode)) for r in self.renderers]
 
 
 def render_scene(scene: Scene):

@@ -117,3 +117,98 @@ def test_plans_do_not_rasterize_again():
     for az in range(5):
         compile_plan(mat, [DirectionalLight((np.cos(az), np.sin(az), 1.0))]).execute(r)
     assert r.rasterizations == 1
+
+
+# ------------------------------------------------------------------ scenes
+from lighting.scene import SceneRenderer, example_path, list_examples, load_scene, parse_scene  # noqa: E402
+
+
+@pytest.mark.parametrize("name", list_examples())
+def test_every_example_scene_planned_equals_full(name):
+    scene = load_scene(example_path(name)).with_size(96, 64)
+    planned, _ = SceneRenderer(scene, plan=True).render()
+    full, _ = SceneRenderer(scene, plan="full").render()
+    general, _ = SceneRenderer(scene, plan=False).render()
+    np.testing.assert_allclose(planned, full, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(general, full, rtol=1e-12, atol=1e-12)
+
+
+def _random_scene(rng) -> dict:
+    models = [
+        lambda: {"model": "lambert", "kd": (rng.random(3) * (rng.random() < 0.8)).tolist()},
+        lambda: {"model": "phong", "ks": float(rng.random() * (rng.random() < 0.7)), "shininess": 30.0},
+        lambda: {"model": "blinn-phong", "ks": float(rng.random()), "shininess": 60.0, "normalized": True},
+        lambda: {"model": "cook-torrance", "ks": 1.0, "roughness": 0.3, "f0": 0.5},
+    ]
+    materials = {f"m{k}": {"parts": [models[j]() for j in rng.choice(4, rng.integers(1, 3), replace=False)]}
+                 for k in range(3)}  # fmt: skip
+    objects = []
+    for k in range(rng.integers(1, 5)):
+        kind = ["sphere", "icosphere", "uv_sphere"][rng.integers(0, 3)]
+        ob = {"type": kind, "material": f"m{rng.integers(0, 3)}"}
+        if kind == "sphere":
+            ob.update(center=(rng.normal(size=3) * [1.5, 1.0, 0.5]).tolist(), radius=float(rng.uniform(0.3, 0.9)))
+        else:
+            ob.update(translate=(rng.normal(size=3) * [1.5, 1.0, 0.5]).tolist(), scale=float(rng.uniform(0.3, 0.9)))
+            ob["mode"] = ["flat", "gouraud", "phong"][rng.integers(0, 3)]
+            if kind == "icosphere":
+                ob["level"] = 2
+            else:
+                ob.update(n_lat=8, n_lon=12)
+        objects.append(ob)
+    lights = []
+    for _ in range(rng.integers(0, 4)):
+        colour = (rng.random(3) * (rng.random() < 0.85)).tolist()
+        kind = rng.integers(0, 4)
+        if kind == 0:
+            lights.append({"type": "ambient", "color": colour, "intensity": 0.3})
+        elif kind == 1:
+            lights.append({"type": "directional", "direction": rng.normal(size=3).tolist(), "color": colour})
+        elif kind == 2:
+            lights.append({"type": "point", "position": (rng.normal(size=3) * 3).tolist(), "intensity": 8.0,
+                           "color": colour})  # fmt: skip
+        else:
+            pos = rng.normal(size=3) * 3
+            lights.append({"type": "spot", "position": pos.tolist(), "direction": (rng.normal(size=3) - pos).tolist(),
+                           "cutoff_deg": float(rng.uniform(0, 90)), "intensity": 9.0, "color": colour})  # fmt: skip
+    return {
+        "camera": {"eye": [0.5, 0.3, 7.0], "target": [0, 0, 0], "fov_y_deg": 35.0},
+        "image": {"width": 64, "height": 48},
+        "render": {"form": ["classic", "physical"][rng.integers(0, 2)]},
+        "materials": materials,
+        "objects": objects,
+        "lights": lights,
+    }
+
+
+def test_random_scenes_planned_equals_full():
+    rng = np.random.default_rng(7)
+    for _ in range(25):
+        scene = parse_scene(_random_scene(rng))
+        planned, _ = SceneRenderer(scene, plan=True).render()
+        full, _ = SceneRenderer(scene, plan="full").render()
+        np.testing.assert_allclose(planned, full, rtol=1e-12, atol=1e-12)
+
+
+def test_hidden_objects_and_shared_materials_in_explain():
+    scene = parse_scene(
+        {
+            "camera": {"eye": [0, 0, 6.0], "target": [0, 0, 0]},
+            "image": {"width": 64, "height": 64},
+            "materials": {"red": {"parts": [{"model": "lambert", "kd": [0.8, 0.1, 0.1]}]}},
+            "objects": [
+                {"type": "sphere", "center": [-0.6, 0, 0], "radius": 0.5, "material": "red"},
+                {"type": "sphere", "center": [0.6, 0, 0], "radius": 0.5, "material": "red"},
+                {"type": "sphere", "center": [-0.6, 0, -3.0], "radius": 0.2, "material": "red"},  # behind object 0
+            ],
+            "lights": [{"type": "directional", "direction": [0, 0, 1]}],
+        }
+    )
+    sr = SceneRenderer(scene)
+    planned, info = sr.render()
+    assert info["visible_pixels"][2] == 0
+    text = sr.explain()
+    assert "object 2 (sphere): left out — hidden behind other objects" in text
+    assert "objects 0 (sphere), 1 (sphere) — one material, one evaluation for all" in text
+    full, _ = SceneRenderer(scene, plan="full").render()
+    np.testing.assert_allclose(planned, full, rtol=1e-12, atol=1e-12)

@@ -653,7 +653,9 @@ def test_cli_renders_a_png(tmp_path, capsys):
     assert img.shape == (60, 80, 3)
     assert render_cmd.main([example_path("ambient_only"), "-o", str(tmp_path / "a.png"), "--size", "40x25",
                             "--explain"]) == 0  # fmt: skip
-    assert "plan: not available" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "strategy 'constant'" in text
+    assert "left out: normals, view vectors and the light loop — no light reaches the surface directly" in text
 
 
 def test_cli_error_exits_2_and_leaves_outputs_alone(tmp_path, capsys):
