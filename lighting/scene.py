@@ -1172,7 +1172,8 @@ class SceneRenderer:
         if self.plan == "full":
             from .plan import evaluate_full
 
-            return evaluate_full(renderer, material, lights, mode=mode, form=scene.render.form, terms=scene.render.terms)
+            opts = {"mode": mode, "form": scene.render.form, "terms": scene.render.terms}
+            return evaluate_full(renderer, material, lights, **opts)
         return renderer.render(material, lights, mode=mode, form=scene.render.form, terms=scene.render.terms)
 
     # ------------------------------------------------------------------ plans

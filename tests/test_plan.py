@@ -143,7 +143,7 @@ def _random_scene(rng) -> dict:
     materials = {f"m{k}": {"parts": [models[j]() for j in rng.choice(4, rng.integers(1, 3), replace=False)]}
                  for k in range(3)}  # fmt: skip
     objects = []
-    for k in range(rng.integers(1, 5)):
+    for _ in range(rng.integers(1, 5)):
         kind = ["sphere", "icosphere", "uv_sphere"][rng.integers(0, 3)]
         ob = {"type": kind, "material": f"m{rng.integers(0, 3)}"}
         if kind == "sphere":
