@@ -48,11 +48,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     sub.add_parser("bench", help="time re-shading, rasterizing and VTK rendering side by side (--json, --plan)")
     sub.add_parser("render", help="render a scene file (or an example scene) to PNG (--explain shows the plan)")
+    sub.add_parser("report", help="accuracy reports: 'report accuracy' (error vs run time), 'report stability'")
     return p
 
 
 # Sub-commands with options of their own: the rest of the command line goes to the module's main().
-DELEGATES = {"bench": "explorer.bench", "render": "explorer.render_cmd"}
+DELEGATES = {"bench": "explorer.bench", "render": "explorer.render_cmd", "report": "explorer.report"}
 
 
 def main(argv=None) -> int:

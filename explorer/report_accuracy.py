@@ -1,0 +1,145 @@
+"""``lighting-explorer report accuracy``: error against run time (table, CSV, figure)."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import sys
+import time
+from dataclasses import asdict
+
+from lighting.accuracy import STUDY_NAMES, run_studies, summary
+
+from .progress import Progress
+
+FLOOR = 1e-16  # errors of exactly 0 are drawn here on the log axis
+
+
+def _fmt_s(seconds) -> str:
+    if seconds is None:
+        return "-"
+    return f"{seconds * 1e3:.3g} ms"
+
+
+def format_points(studies) -> str:
+    lines = []
+    for st in studies:
+        lines.append(f"\n{st.description}")
+        cases = list(dict.fromkeys(p.case for p in st.points))
+        for case in cases:
+            pts = [p for p in st.points if p.case == case]
+            lines.append(f"  {case}  (reference: {pts[0].reference})")
+            lines.append(f"    {'method':28s} {'cost':>10s} {'rel. error':>12s} {'± spread':>10s} {'time':>10s}")
+            for p in pts:
+                spread = f"{p.error_spread:.1e}" if p.error_spread else ""
+                lines.append(f"    {p.method:28s} {p.cost:>10d} {p.error:12.2e} {spread:>10s} {_fmt_s(p.seconds):>10s}")
+    return "\n".join(lines)
+
+
+def format_summary(rows) -> str:
+    lines = ["", "Cheapest method that reaches the error (fastest measured point at or below it):"]
+    lines.append(f"  {'case':62s} {'error':>6s}  {'method':28s} {'cost':>14s} {'time':>10s}")
+    for r in rows:
+        thr = f"{100 * r['threshold']:g} %"
+        if r["method"] is None:
+            lines.append(f"  {r['case'][:62]:62s} {thr:>6s}  {'not reached':28s}")
+        else:
+            cost = f"{r['cost']} {r['cost_unit']}"
+            lines.append(f"  {r['case'][:62]:62s} {thr:>6s}  {r['method']:28s} {cost:>14s} {_fmt_s(r['seconds']):>10s}")
+    return "\n".join(lines)
+
+
+def write_csv(path, rows, fields) -> None:
+    tmp = path + ".tmp"
+    with open(tmp, "w", newline="", encoding="utf-8") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        for r in rows:
+            w.writerow(r)
+    os.replace(tmp, path)
+
+
+def make_figure(studies, path) -> None:
+    """One log-log panel per case: relative error against time, one line per method."""
+    import matplotlib
+    import matplotlib.ticker
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    panels = [(st, case) for st in studies for case in dict.fromkeys(p.case for p in st.points)]
+    cols = 4 if len(panels) > 4 else len(panels)
+    rows = (len(panels) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False, constrained_layout=True)
+    methods = list(dict.fromkeys(p.method for st in studies for p in st.points))
+    cmap = plt.get_cmap("tab10")
+    colour = {m: cmap(i % 10) for i, m in enumerate(methods)}
+    for ax, (st, case) in zip(axes.flat, panels, strict=False):
+        pts = [p for p in st.points if p.case == case]
+        for m in dict.fromkeys(p.method for p in pts):
+            mp = sorted((p for p in pts if p.method == m), key=lambda p: p.cost)
+            t = [p.seconds * 1e3 for p in mp]
+            e = [max(p.error, FLOOR) for p in mp]
+            ax.plot(t, e, "o-", ms=3.5, lw=1.4, color=colour[m], label=m)
+            if any(p.error_spread for p in mp):
+                # ± one standard deviation over seeds, kept within a decade below on the log axis
+                lo = [max(p.error - p.error_spread, p.error / 10, FLOOR) for p in mp]
+                hi = [p.error + p.error_spread for p in mp]
+                ax.fill_between(t, lo, hi, color=colour[m], alpha=0.15, lw=0)
+        for thr, style in ((1e-2, "--"), (1e-3, ":")):
+            ax.axhline(thr, color="0.4", ls=style, lw=0.9)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        narrow = len({round(p.seconds, 12) for p in pts}) > 1 and max(p.seconds for p in pts) < 10 * min(
+            p.seconds for p in pts
+        )
+        minor = matplotlib.ticker.FormatStrFormatter("%g") if narrow else matplotlib.ticker.NullFormatter()
+        ax.xaxis.set_minor_formatter(minor)
+        ax.set_title(case, fontsize=10)
+        ax.set_xlabel("time per evaluation (ms)")
+        ax.set_ylabel("relative error")
+        ax.grid(True, which="major", color="0.9", lw=0.6)
+        ax.legend(fontsize=7, loc="best", frameon=False)
+    for ax in list(axes.flat)[len(panels) :]:
+        ax.axis("off")
+    fig.suptitle("Error against run time (dashed: 1 %, dotted: 0.1 %; exact zeros drawn at 1e-16)", fontsize=12)
+    tmp = path + ".tmp.png"
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(
+        prog="lighting-explorer report accuracy",
+        description="Measure error against run time wherever the engine trades accuracy for speed.",
+    )
+    p.add_argument("--quick", action="store_true", help="small sample counts and images (seconds, for tests)")
+    p.add_argument("--out", default=os.path.join("out", "accuracy"), help="output folder (default: out/accuracy)")
+    p.add_argument("--no-figure", action="store_true", help="skip the Matplotlib figure")
+    p.add_argument("--only", nargs="+", choices=STUDY_NAMES, help="run only these studies")
+    args = p.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    t0 = time.perf_counter()
+    studies = run_studies(quick=args.quick, only=args.only, progress_factory=Progress)
+    rows = summary(studies)
+    print(format_points(studies))
+    print(format_summary(rows))
+    points = [asdict(pt) for st in studies for pt in st.points]
+    csv_path = os.path.join(args.out, "accuracy.csv")
+    write_csv(csv_path, points, list(points[0]))
+    sum_path = os.path.join(args.out, "accuracy_summary.csv")
+    write_csv(sum_path, rows, list(rows[0]))
+    written = [csv_path, sum_path]
+    if not args.no_figure:
+        fig_path = os.path.join(args.out, "accuracy.png")
+        make_figure(studies, fig_path)
+        written.append(fig_path)
+    print(f"\nwrote {', '.join(written)} in {time.perf_counter() - t0:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,98 @@
+import csv
+
+import numpy as np
+import pytest
+
+from explorer import report_accuracy
+from lighting.accuracy import run_studies, summary
+
+
+@pytest.fixture(scope="module")
+def studies():
+    return run_studies(quick=True)
+
+
+def _pts(studies, study, case=None, method=None):
+    st = next(s for s in studies if s.name == study)
+    return [p for p in st.points if (case is None or case in p.case) and (method is None or p.method == method)]
+
+
+def test_quadrature_converges_to_the_reference(studies):
+    for case in ("Lambert, glowing sky", "GGX/Smith"):
+        q = sorted(_pts(studies, "integration", case, "quadrature"), key=lambda p: p.cost)
+        assert q[-1].error < 1e-5
+        assert q[-1].error < q[0].error / 100
+
+
+def test_monte_carlo_error_falls_like_one_over_root_n(studies):
+    # 16 → 1024 samples is 64×: an unbiased estimator's error falls about 8× (2.5× allows for seed noise).
+    # Blind (uniform, cosine) sampling of the sharp e=200 lobe is too heavy-tailed for that at two seeds,
+    # so those two are checked on the smooth Lambert case.
+    for case, methods in (
+        ("Lambert, glowing sky", ("uniform", "cosine", "importance", "stratified")),
+        ("Blinn-Phong e=200", ("importance", "stratified")),
+    ):
+        for method in methods:
+            pts = sorted(_pts(studies, "integration", case, method), key=lambda p: p.cost)
+            assert pts[-1].error < pts[0].error / 2.5, (case, method)
+    # Sampling the lobe beats sampling the hemisphere uniformly for a sharp Blinn-Phong lobe.
+    imp = {p.cost: p.error for p in _pts(studies, "integration", "Blinn-Phong e=200", "importance")}
+    uni = {p.cost: p.error for p in _pts(studies, "integration", "Blinn-Phong e=200", "uniform")}
+    assert imp[1024] < uni[1024] / 3
+
+
+def test_closed_form_reference_for_phong(studies):
+    pts = _pts(studies, "integration", "Phong e=1")
+    assert pts and all("closed form" in p.reference for p in pts)
+    q = max(_pts(studies, "integration", "Phong e=1", "quadrature"), key=lambda p: p.cost)
+    assert q.error < 1e-6
+
+
+def test_area_light_error_falls_with_samples(studies):
+    pts = sorted(_pts(studies, "area-light"), key=lambda p: p.cost)
+    errors = [p.error for p in pts]
+    assert errors[-1] < errors[0] / 10
+    assert all(np.isfinite(errors))
+
+
+def test_phong_interpolation_beats_gouraud_at_equal_tessellation(studies):
+    g = {p.cost: p.error for p in _pts(studies, "tessellation", method="gouraud")}
+    ph = {p.cost: p.error for p in _pts(studies, "tessellation", method="phong")}
+    assert set(g) == set(ph) and len(g) >= 3
+    levels = sorted(g)
+    assert all(ph[n] < g[n] for n in levels[1:])
+    assert ph[levels[-1]] < ph[levels[0]] / 5 and g[levels[-1]] < g[levels[0]] / 5
+
+
+def test_float32_costs_about_a_single_precision_rounding(studies):
+    p32 = _pts(studies, "precision", method="float32")[0]
+    p64 = _pts(studies, "precision", method="float64")[0]
+    assert p64.error == 0.0
+    assert 0 < p32.error < 1e-5
+
+
+def test_summary_answers_the_question(studies):
+    rows = summary(studies)
+    cases = {p.case for st in studies for p in st.points}
+    assert {r["case"] for r in rows} == cases
+    for r in rows:
+        if r["method"] is not None:
+            st = next(s for s in studies if s.name == r["study"])
+            candidates = [p for p in st.points if p.case == r["case"] and p.error <= r["threshold"]]
+            assert r["seconds"] == min(p.seconds for p in candidates)
+
+
+def test_cli_writes_csv_and_figure(tmp_path, capsys):
+    out = tmp_path / "acc"
+    assert report_accuracy.main(["--quick", "--only", "precision", "tessellation", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "Cheapest method that reaches the error" in text
+    with open(out / "accuracy.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    assert {"study", "case", "method", "cost", "error", "error_spread", "seconds", "reference"} <= set(rows[0])
+    f32 = next(r for r in rows if r["method"] == "float32")
+    assert 0 < float(f32["error"]) < 1e-5
+    import matplotlib.pyplot as plt
+
+    img = plt.imread(out / "accuracy.png")
+    assert img.ndim == 3 and img.shape[0] > 200 and img.std() > 0.05
