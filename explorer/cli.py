@@ -31,7 +31,10 @@ def _rgb(text: str):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="lighting-explorer", description="Explore local illumination models.")
+    p = argparse.ArgumentParser(
+        prog="lighting-explorer",
+        description="Explore local illumination models. With no sub-command, opens the explorer window.",
+    )
     sub = p.add_subparsers(dest="command", required=True)
     s = sub.add_parser("sphere", help="render one lit sphere with the engine and save it as PNG")
     s.add_argument("-o", "--out", default="sphere.png", help="output PNG path (default: sphere.png)")
@@ -49,15 +52,24 @@ def build_parser() -> argparse.ArgumentParser:
     sub.add_parser("bench", help="time re-shading, rasterizing and VTK rendering side by side (--json, --plan)")
     sub.add_parser("render", help="render a scene file (or an example scene) to PNG (--explain shows the plan)")
     sub.add_parser("report", help="accuracy reports: 'report accuracy' (error vs run time), 'report stability'")
+    sub.add_parser("explore", help="the interactive explorer window (the default with no sub-command)")
     return p
 
 
 # Sub-commands with options of their own: the rest of the command line goes to the module's main().
-DELEGATES = {"bench": "explorer.bench", "render": "explorer.render_cmd", "report": "explorer.report"}
+DELEGATES = {
+    "bench": "explorer.bench",
+    "render": "explorer.render_cmd",
+    "report": "explorer.report",
+    "explore": "explorer.app",
+}
 
 
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or (argv[0].startswith("--") and argv[0] != "--help"):
+        # No sub-command: open the explorer window (its own options, e.g. --off-screen --screenshot x.png).
+        argv = ["explore", *argv]
     if argv and argv[0] in DELEGATES:
         import importlib
 

@@ -63,3 +63,15 @@ def test_cli_reports_bad_values(tmp_path, capsys):
     assert main(["sphere", "-o", str(tmp_path / "x.png"), "--kd", "-1"]) == 2
     assert "kd must be" in capsys.readouterr().err
     assert not (tmp_path / "x.png").exists()
+
+
+def test_cli_routes_sub_commands(capsys, monkeypatch):
+    import explorer.app
+    import explorer.cli as cli
+
+    seen = []
+    monkeypatch.setattr(explorer.app, "main", lambda argv: seen.append(argv) or 0)
+    assert cli.main([]) == 0 and cli.main(["--off-screen", "--screenshot", "x.png"]) == 0
+    assert seen == [[], ["--off-screen", "--screenshot", "x.png"]]
+    assert cli.main(["report"]) == 0
+    assert "accuracy" in capsys.readouterr().out

@@ -1,0 +1,417 @@
+"""The explorer's Matplotlib panels: scan-line profile, polar slice, angle curves and half/difference image.
+
+Each panel is a :class:`BlitFigure`: a small Matplotlib figure whose data
+artists are *animated* — a full draw (axes, ticks, labels: ~30 ms) happens only
+when the layout changes (axis limits, the figure's size); otherwise an update
+restores the saved background and redraws the data artists alone (~1 ms).  Axis
+limits follow the data with hysteresis (they grow at once, shrink only when the
+data fall below a third of the range), so dragging a slider rarely triggers a
+full draw.
+
+The panels only draw what :class:`explorer.app_state.ExplorerModel` computed;
+nothing here touches the engine.  Imports Matplotlib (Agg canvas only, no
+pyplot), not PyVista.
+"""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection
+from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
+
+__all__ = ["BlitFigure", "ProfilePlot", "PolarPlot", "AnglePlots", "nice_ceiling", "hysteresis_limit", "COLOURS"]
+
+COLOURS = {
+    "gouraud": "#ffa94d",
+    "phong": "#4dd4ff",
+    "light": "#ffe066",
+    "mirror": "#ff6b6b",
+    "luminance": "#f1f3f5",
+    "r": "#ff6b6b",
+    "g": "#51cf66",
+    "b": "#5c9dff",
+    "text": "#e9ecef",
+    "muted": "#868e96",
+    "edge": "#adb5bd",
+}
+
+STYLE = {
+    "font.size": 8,
+    "axes.titlesize": 8,
+    "axes.labelsize": 8,
+    "xtick.labelsize": 7,
+    "ytick.labelsize": 7,
+    "legend.fontsize": 7,
+    "text.color": COLOURS["text"],
+    "axes.labelcolor": COLOURS["text"],
+    "axes.edgecolor": COLOURS["muted"],
+    "xtick.color": COLOURS["text"],
+    "ytick.color": COLOURS["text"],
+    "grid.color": "#495057",
+    "grid.linewidth": 0.5,
+    "axes.facecolor": "none",
+    "figure.facecolor": "none",
+    "legend.frameon": False,
+    "lines.linewidth": 1.4,
+}
+
+
+#: Half-range of the profile's relative second-difference axis.
+D2_LIMIT = 2.0
+#: Angles (degrees) beyond which the θ_h / θ_d plots do not set their scale (see AnglePlots.set_data).
+GRAZING_DEG = 80.0
+
+
+def nice_ceiling(x: float) -> float:
+    """The smallest of 1, 2, 5 × 10^k that is ≥ ``x`` (1 for ``x <= 0`` or non-finite).
+
+    Coarse steps on purpose: an axis that changes its limit needs a full redraw.
+
+    Examples
+    --------
+    >>> [nice_ceiling(v) for v in (0.0, 0.23, 1.0, 7.1, 1234.0)]
+    [1.0, 0.5, 1.0, 10.0, 2000.0]
+    """
+    if not (math.isfinite(x) and x > 0):
+        return 1.0
+    e = math.floor(math.log10(x))
+    for k in (e, e + 1):
+        for s in (1.0, 2.0, 5.0, 10.0):
+            v = float(f"{s * 10.0**k:.6g}")  # 0.15, not 0.15000000000000002
+            if v >= x * (1 - 1e-12):
+                return v
+    return 10.0 ** (e + 1)  # pragma: no cover
+
+
+def hysteresis_limit(peak: float, current: float | None, margin: float = 1.05) -> float:
+    """An axis limit for data reaching ``peak``: keep ``current`` while ``current/4 <= peak <= current``.
+
+    Examples
+    --------
+    >>> hysteresis_limit(0.9, 1.0), hysteresis_limit(1.2, 1.0), hysteresis_limit(0.1, 1.0)
+    (1.0, 2.0, 0.2)
+    """
+    if not (math.isfinite(peak) and peak > 0):
+        return current if current else 1.0
+    if current and current / 4.0 <= peak <= current:
+        return current
+    return nice_ceiling(peak * margin)
+
+
+def _finite(a) -> np.ndarray:
+    a = np.asarray(a, dtype=np.float64)
+    return np.where(np.isfinite(a), a, 0.0)
+
+
+class BlitFigure:
+    """A Matplotlib figure redrawn by blitting its animated artists over a saved background.
+
+    Parameters
+    ----------
+    size_px : (int, int)
+        Width and height in pixels (at ``dpi``).  A host (``pyvista.ChartMPL``) may
+        resize the figure; the next update then draws in full.
+
+        captions : bool
+        Draw the texts that change with the data (titles with numbers).  Text is the
+        slow part of a blit (~5 ms a line); a host that can draw text faster shows
+        :attr:`captions` itself and passes False.
+
+    Attributes
+    ----------
+    captions : dict
+        The current caption texts by key (``"title"``, ...).
+    on_image : callable or None
+        Called with the RGBA buffer ``(H, W, 4)`` after every update (the window
+        pushes it into its chart).
+    full_draws, blits : int
+        How many updates drew everything, and how many only the data.
+    """
+
+    def __init__(self, size_px, dpi: int = 100, *, captions: bool = True):
+        self.captions: dict[str, str] = {}
+        self._caption_artists: dict = {}
+        self.show_captions = bool(captions)
+        with matplotlib.rc_context(STYLE):
+            self.fig = Figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
+            FigureCanvasAgg(self.fig)
+            self._build()
+        self.fig.patch.set_alpha(0.0)
+        self._animated: list = []
+        self._bg = None
+        self._bg_size = None
+        self._dirty = True
+        self.on_image = None
+        self.full_draws = 0
+        self.blits = 0
+        self.fig.canvas.mpl_connect("draw_event", self._on_draw)
+        for artist in self._data_artists():
+            self._animate(artist)
+        for artist in self._caption_artists.values():
+            self._animate(artist)
+            artist.set_visible(self.show_captions)
+
+    # subclasses: build axes/artists in _build, list data artists in _data_artists, fill them in set_data
+    def _build(self):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _data_artists(self) -> list:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _caption(self, key, artist):
+        """Register a text that changes with the data (drawn by the figure only if ``show_captions``)."""
+        self._caption_artists[key] = artist
+        return artist
+
+    def _set_caption(self, key, text):
+        self.captions[key] = text
+        self._caption_artists[key].set_text(text)
+
+    def _animate(self, artist):
+        artist.set_animated(True)
+        self._animated.append(artist)
+        return artist
+
+    def invalidate(self):
+        """Draw everything at the next update (axis limits or labels changed)."""
+        self._dirty = True
+
+    def _on_draw(self, event=None):
+        # After any full draw (ours, or the host's after a resize): keep the background, add the data.
+        canvas = self.fig.canvas
+        self._bg = canvas.copy_from_bbox(self.fig.bbox)
+        self._bg_size = canvas.get_width_height()
+        self._draw_animated()
+
+    def _draw_animated(self):
+        for a in self._animated:
+            if a.get_visible():
+                self.fig.draw_artist(a)
+
+    def render(self) -> np.ndarray:
+        """Redraw (blit if possible) and return the RGBA buffer ``(H, W, 4)`` (a view: copy to keep it)."""
+        canvas = self.fig.canvas
+        if self._dirty or self._bg is None or self._bg_size != canvas.get_width_height():
+            with matplotlib.rc_context(STYLE):
+                canvas.draw()  # fires draw_event → _on_draw
+            self._dirty = False
+            self.full_draws += 1
+        else:
+            canvas.restore_region(self._bg)
+            self._draw_animated()
+            self.blits += 1
+        rgba = np.asarray(canvas.buffer_rgba())
+        if self.on_image is not None:
+            self.on_image(rgba)
+        return rgba
+
+    def _ylim(self, ax, peak: float):
+        """Set ``ax``'s y range to ``[0, limit]`` following ``peak`` with hysteresis; returns the limit."""
+        lo, hi = ax.get_ylim()
+        current = hi if getattr(ax, "_explorer_auto", False) else None
+        new = hysteresis_limit(peak, current)
+        if new != current:
+            ax.set_ylim(0.0, new)
+            ax._explorer_auto = True
+            self._dirty = True
+        return new
+
+
+# =============================================================================== panels
+class ProfilePlot(BlitFigure):
+    """Intensity along the scan line (Gouraud against Phong interpolation) and its second difference."""
+
+    def _build(self):
+        fig = self.fig
+        self.ax, self.ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2.2, 1]})
+        fig.subplots_adjust(left=0.15, right=0.97, top=0.88, bottom=0.14, hspace=0.12)
+        ax, ax2 = self.ax, self.ax2
+        (self.g_line,) = ax.plot([], [], color=COLOURS["gouraud"], label="Gouraud (per vertex)")
+        (self.p_line,) = ax.plot([], [], color=COLOURS["phong"], label="Phong (per pixel)")
+        (self.g_d2,) = ax2.plot([], [], color=COLOURS["gouraud"], lw=1.0)
+        (self.p_d2,) = ax2.plot([], [], color=COLOURS["phong"], lw=1.0)
+        self.edges = LineCollection([], colors=COLOURS["edge"], linewidths=0.6, linestyles=":", alpha=0.7)
+        ax.add_collection(self.edges)
+        ax.set_xlim(-1.02, 1.02)
+        ax.set_ylabel("intensity I(x)")
+        ax2.set_ylabel("Δ²I ÷ |ΔI|")
+        ax2.set_ylim(-D2_LIMIT, D2_LIMIT)  # fixed: kinks are ~0.1-1 of the mean slope; larger ones clip
+        ax2.set_xlabel("x along the scan line (sphere radii)   ⋮ triangle edges")
+        ax.legend(loc="upper left", ncol=2, borderaxespad=0.1, handlelength=1.5, columnspacing=0.8)
+        ax.grid(True)
+        ax2.grid(True)
+        ax.tick_params(labelbottom=False)
+        self._caption("title", fig.text(0.5, 0.95, "", ha="center", va="center", fontsize=8.5))
+
+    def _data_artists(self):
+        return [self.g_line, self.p_line, self.g_d2, self.p_d2, self.edges]
+
+    def set_data(self, profile, channel_label: str = "luminance Y"):
+        """Show a :class:`~explorer.app_state.ProfileView`."""
+        x = profile.x
+        g, p = _finite(profile.gouraud), _finite(profile.phong)
+        self.g_line.set_data(x, g)
+        self.p_line.set_data(x, p)
+        xm = x[1:-1] if x.size > 2 else x[:0]
+        # Second differences relative to the row's mean slope (as the metric measures them), so one
+        # fixed axis suits every light and tessellation.
+        scale = profile.slope if profile.slope > 0 else 1.0
+        gd2, pd2 = _finite(profile.gouraud_d2) / scale, _finite(profile.phong_d2) / scale
+        self.g_d2.set_data(xm, gd2)
+        self.p_d2.set_data(xm, pd2)
+        peak = float(max(g.max(initial=0.0), p.max(initial=0.0)))
+        top = self._ylim(self.ax, peak)
+        self.edges.set_segments([[(e, 0.0), (e, top)] for e in profile.edges])
+        self._set_caption(
+            "title",
+            f"Scan line {profile.row} ({channel_label}) — Mach-band metric: "
+            f"Gouraud {profile.metric_gouraud:.2f}, Phong {profile.metric_phong:.2f}",
+        )
+
+
+class PolarPlot(BlitFigure):
+    """The polar slice in the plane of incidence, with the incident and mirror directions."""
+
+    def _build(self):
+        fig = self.fig
+        ax = fig.add_subplot(projection="polar")
+        fig.subplots_adjust(left=0.09, right=0.91, top=0.99, bottom=0.16)
+        ax.set_theta_zero_location("N")
+        ax.set_theta_direction(-1)
+        ax.set_thetamin(-90)
+        ax.set_thetamax(90)
+        ax.set_xticks(np.radians([-90, -60, -30, 0, 30, 60, 90]))
+        ax.set_xticklabels(["−90°", "−60°", "−30°", "n", "30°", "60°", "90°"])
+        ax.grid(True)
+        ax.tick_params(axis="y", labelsize=6.5, colors=COLOURS["muted"])
+        ax.yaxis.set_major_locator(MaxNLocator(4))
+        self.ax = ax
+        (self.light_ray,) = ax.plot([], [], color=COLOURS["light"], lw=1.6, label="light l")
+        (self.mirror_ray,) = ax.plot([], [], color=COLOURS["mirror"], lw=1.2, ls="--", label="mirror R")
+        (self.fixed_light,) = ax.plot([], [], color=COLOURS["luminance"], lw=1.6, label="f(l fixed, v swept)")
+        (self.fixed_view,) = ax.plot(
+            [], [], color=COLOURS["muted"], lw=1.0, ls=(0, (4, 2)), label="f(v fixed, l swept)"
+        )
+        fig.legend(loc="lower center", bbox_to_anchor=(0.5, 0.0), ncol=2, handlelength=1.6, columnspacing=0.8)
+        self._caption("title", fig.text(0.5, 0.955, "", ha="center", va="center", fontsize=8.5))
+        self._caption("note", fig.text(0.5, 0.5, "", ha="center", va="center", fontsize=9, color=COLOURS["mirror"]))
+
+    def _data_artists(self):
+        return [self.light_ray, self.mirror_ray, self.fixed_light, self.fixed_view]
+
+    def set_data(self, polar, *, channel="luminance", label="f_r"):
+        """Show a :class:`~explorer.app_state.PolarView`."""
+        a = _finite(polar.light_fixed)
+        b = _finite(polar.view_fixed)
+        self.fixed_light.set_data(polar.angles, a)
+        self.fixed_view.set_data(polar.view_angles, b)
+        self.fixed_light.set_color(COLOURS.get(channel, COLOURS["luminance"]))
+        # The scale follows the main slice; the swapped one (dashed) may leave the plot where a
+        # non-reciprocal model (Phong's 1/(n·l)) grows toward grazing light.
+        peak = float(a.max(initial=0.0))
+        lo, hi = self.ax.get_ylim()
+        current = hi if getattr(self.ax, "_explorer_auto", False) else None
+        top = hysteresis_limit(peak, current)
+        if top != current:
+            self.ax.set_ylim(0.0, top)
+            self.ax._explorer_auto = True
+            self._dirty = True
+        t = polar.theta_in
+        self.light_ray.set_data([-t, -t], [0.0, top])
+        self.mirror_ray.set_data([t, t], [0.0, top])
+        self._set_caption("title", f"Polar slice, plane of incidence: {label}   θ_l = {math.degrees(t):.0f}°")
+        self._set_caption("note", "light below the horizon: no reflection" if polar.below_horizon else "")
+
+
+class AnglePlots(BlitFigure):
+    """Value against θ_v, θ_h and θ_d, and the image over (θ_h, θ_d) — the usual BRDF-tool views."""
+
+    def _build(self):
+        fig = self.fig
+        axs = fig.subplots(1, 4, gridspec_kw={"width_ratios": [1.25, 1, 1, 1.05]})
+        fig.subplots_adjust(left=0.06, right=0.955, top=0.8, bottom=0.2, wspace=0.42)
+        self.axes = axs
+        titles = ["vs view angle θ_v", "vs half angle θ_h", "vs difference angle θ_d", "over θ_h (→) and θ_d (↑)"]
+        self.curves, self.markers = [], []
+        for ax, title in zip(axs, titles, strict=True):
+            ax.set_title(title, pad=3)
+            ax.grid(True)
+        for ax in axs[:3]:
+            (line,) = ax.plot([], [], color=COLOURS["luminance"])
+            self.curves.append(line)
+        axs[0].set_xlim(-90, 90)
+        axs[0].set_xticks([-90, -45, 0, 45, 90])
+        for ax in axs[1:]:
+            ax.set_xlim(0, 90)
+            ax.set_xticks([0, 30, 60, 90])
+        for ax in axs[:3]:
+            ax.set_xlabel("degrees", labelpad=1)
+        self.markers.append(axs[0].axvline(0, color=COLOURS["light"], lw=1.0))
+        self.markers.append(axs[0].axvline(0, color=COLOURS["mirror"], lw=1.0, ls="--"))
+        self.markers.append(axs[1].axvline(0, color=COLOURS["mirror"], lw=1.0, ls="--"))
+        self.markers.append(axs[2].axvline(0, color=COLOURS["light"], lw=1.0))
+        im_ax = axs[3]
+        self.image = im_ax.imshow(
+            np.zeros((2, 2)), origin="lower", extent=(0, 90, 0, 90), vmin=0.0, vmax=1.0, cmap="viridis",
+            aspect="auto", interpolation="nearest",
+        )  # fmt: skip
+        im_ax.set_yticks([0, 30, 60, 90])
+        im_ax.set_xlabel("θ_h (degrees)", labelpad=1)
+        im_ax.set_ylabel("θ_d", labelpad=1)
+        im_ax.grid(False)
+        (self.im_marker,) = im_ax.plot([], [], marker="o", ms=5, mfc="none", mec=COLOURS["mirror"], ls="none")
+        cbar = fig.colorbar(self.image, ax=im_ax, fraction=0.08, pad=0.04)
+        cbar.set_ticks([0, 0.5, 1])
+        cbar.ax.tick_params(labelsize=6)
+        cbar.set_label("relative", labelpad=1, fontsize=6.5)
+        self._caption("title", fig.text(0.5, 0.94, "", ha="center", va="center", fontsize=8.5))
+        self._caption(
+            "peak",
+            im_ax.text(0.97, 0.03, "", transform=im_ax.transAxes, ha="right", va="bottom", fontsize=6.5, color="white"),
+        )
+
+    def _data_artists(self):
+        return self.curves + self.markers + [self.image, self.im_marker]
+
+    def set_data(self, theta_v, theta_h, theta_d, halfdiff, *, channel="luminance", label="f_r"):
+        """Show three :class:`~explorer.app_state.CurveView` and a :class:`~explorer.app_state.HalfDiffView`."""
+        colour = COLOURS.get(channel, COLOURS["luminance"])
+        tl = math.degrees(theta_v.markers[1])
+        # Models with 1/(n·l) (Phong, unnormalized Blinn-Phong) grow without bound toward grazing: the
+        # θ_h and θ_d axes are scaled to the values up to 80° (or the current incidence, if larger),
+        # and the curve leaves the plot beyond.
+        reach = max(GRAZING_DEG, tl + 2.0)
+        for k, (ax, line, c) in enumerate(zip(self.axes[:3], self.curves, (theta_v, theta_h, theta_d), strict=True)):
+            v = _finite(c.values)
+            deg = np.degrees(c.angles)
+            line.set_data(deg, v)
+            line.set_color(colour)
+            scaled = v if k == 0 else v[deg <= (GRAZING_DEG if k == 1 else reach)]
+            self._ylim(ax, float(scaled.max(initial=0.0)))
+        self.markers[0].set_xdata([-tl, -tl])
+        self.markers[1].set_xdata([tl, tl])
+        self.markers[2].set_xdata([0.0, 0.0])
+        td = math.degrees(theta_d.markers[0])
+        self.markers[3].set_xdata([td, td])
+        vals = _finite(halfdiff.values)
+        peak = float(vals.max(initial=0.0))
+        # The colour scale ends at the largest value away from grazing (θ_h <= 80°, θ_d <= 80° or the
+        # current incidence): a 1/(n·l) spike at grazing would otherwise leave the rest black.
+        th, td = np.degrees(halfdiff.theta_h), np.degrees(halfdiff.theta_d)
+        inner = vals[np.ix_(td <= reach, th <= GRAZING_DEG)]
+        top = float(inner.max(initial=0.0))
+        top = top if top > 0 else (peak if peak > 0 else 1.0)
+        self.image.set_data(np.minimum(vals / top, 1.0))
+        self.im_marker.set_data([math.degrees(halfdiff.marker[0])], [math.degrees(halfdiff.marker[1])])
+        self._set_caption(
+            "peak", f"colour 1 = {top:.3g}" + (f" (peak {peak:.3g} at grazing)" if peak > 1.001 * top else "")
+        )
+        self._set_caption(
+            "title",
+            f"{label} against the Rusinkiewicz angles (θ_h at θ_d = θ_l, θ_d at θ_h = 0, image at φ_d = 90°)",
+        )

@@ -1,0 +1,402 @@
+"""The explorer window, driven headless: handlers as the widgets call them, checked in the engine state and image."""
+
+import math
+
+import numpy as np
+import pytest
+
+from explorer import app as app_mod
+from explorer.app_state import (
+    CHANNELS,
+    MODELS,
+    TERM_NAMES,
+    AppState,
+    ExplorerModel,
+    encode8,
+    state_from_scene,
+)
+from lighting import BlinnPhong, CookTorrance, Lambert, Phong
+from lighting.analysis import polar_slice
+from lighting.illumination import Material, shade
+from lighting.image import encode_srgb8
+from lighting.machband import LUMA, edge_jump_metric
+from lighting.scene import example_path
+
+pv = pytest.importorskip("pyvista")
+SIZE = (1200, 720)  # smaller than the default window: the same layout, faster to render
+
+
+@pytest.fixture(scope="module")
+def app():
+    old = pv.OFF_SCREEN
+    pv.OFF_SCREEN = True
+    a = app_mod.ExplorerApp(window_size=SIZE, off_screen=True)
+    yield a
+    a.close()
+    pv.OFF_SCREEN = old
+
+
+@pytest.fixture
+def fresh(app):
+    """The shared window, reset to the defaults before and after a test."""
+    app.reset()
+    yield app
+    app.reset()
+
+
+def panel_pixels(app, image, panel):
+    x0, y0, x1, y1 = app.panel_viewport(panel)
+    h, w = image.shape[:2]
+    # Viewports start at the bottom; images at the top.  Keep 3 px away from the borders.
+    return image[int((1 - y1) * h) + 3 : int((1 - y0) * h) - 3, int(x0 * w) + 3 : int(x1 * w) - 3]
+
+
+def central(crop, keep=0.7):
+    """The middle of a panel: the sphere without the captions."""
+    h, w = crop.shape[:2]
+    dh, dw = int(h * (1 - keep) / 2), int(w * (1 - keep) / 2)
+    return crop[dh : h - dh, dw : w - dw]
+
+
+def luminance8(rgb):
+    return np.asarray(rgb, dtype=np.float64)[..., :3] @ LUMA
+
+
+# ----------------------------------------------------------------------------- state
+def test_state_validates_every_control_and_names_it():
+    s = AppState()
+    for name, bad, allowed in [
+        ("kd", 2, "[0, 1]"),
+        ("shininess", -1, "[0, 1000000]"),
+        ("roughness", 0.0, "[1e-06, 1]"),
+        ("model", "torrance", "lambert, phong"),
+        ("terms", "ambient,glow", "ambient, diffuse, specular"),
+        ("light_color", (1, 2, 0), "[0, 1]"),
+        ("tessellation", 2.5, "[3, 64]"),
+        ("elevation", float("nan"), "[-90, 90]"),
+    ]:
+        with pytest.raises(ValueError, match=name) as info:
+            setattr(s, name, bad)
+        assert allowed in str(info.value) and repr(bad) in str(info.value)
+    assert s.to_dict() == AppState().to_dict()  # nothing changed
+    with pytest.raises(ValueError, match="kd"):
+        s.update(shininess=100.0, kd=5)
+    assert s.shininess == AppState().shininess  # update is all or nothing
+    s.azimuth = 190.0
+    assert s.azimuth == -170.0
+    s.azimuth = -180.0
+    assert s.azimuth == 180.0
+    s.terms = "specular, ambient"
+    assert s.terms == ("ambient", "specular")
+    s.model = "Cook_Torrance"
+    assert s.model == "cook-torrance"
+
+
+def test_state_from_command_line():
+    args = app_mod.build_parser().parse_args(
+        ["--model", "phong", "--kd", "0.6,0.3,0.15", "--no-log", "--times-cos", "--terms", "diffuse", "--azimuth",
+         "-30", "--size", "900x600", "--light-color", "1,0.5,0"]
+    )  # fmt: skip
+    values = {k: v for k, v in vars(args).items() if k in app_mod.CONTROLS or k in ("kd", "scene")}
+    s = AppState.from_args(values)
+    assert (s.model, s.log, s.times_cos, s.terms, s.azimuth) == ("phong", False, True, ("diffuse",), -30.0)
+    assert s.kd == 0.6 and s.color == (1.0, 0.5, 0.25)
+    np.testing.assert_allclose(s.diffuse_albedo, [0.6, 0.3, 0.15], rtol=1e-15)
+    assert s.light_color == (1.0, 0.5, 0.0)
+    assert args.size == (900, 600)
+
+
+def test_state_from_a_scene_file():
+    s = state_from_scene(example_path("gouraud_vs_phong"))
+    # [materials.shiny]: Lambert kd = [0.7, 0.22, 0.15] + Blinn-Phong ks 0.6, e 120.
+    assert (s.model, s.ks, s.shininess) == ("blinn-phong", 0.6, 120.0)
+    np.testing.assert_allclose(s.diffuse_albedo, [0.7, 0.22, 0.15], rtol=1e-15)
+    # Directional light toward (-0.6, 0.8, 1.5), camera on +z looking at the origin: the view frame is the world's.
+    d = np.array([-0.6, 0.8, 1.5]) / math.sqrt(0.36 + 0.64 + 2.25)
+    np.testing.assert_allclose(s.light_direction(), d, atol=1e-12)
+    assert s.light == "directional" and s.ambient == pytest.approx(0.08, abs=1e-15)
+
+
+def test_encode8_gives_the_engines_srgb_codes():
+    rng = np.random.default_rng(7)
+    for dt in (np.float32, np.float64):
+        img = (rng.random((64, 80, 3)) ** 3 * 1.5).astype(dt)
+        for exposure in (0.0, 1.0, -2.5, 0.3):
+            codes, clipped = encode8(img, exposure=exposure)
+            ref, report = encode_srgb8(img, exposure=exposure)
+            assert np.array_equal(codes, ref)
+            assert clipped == report.clipped_pixels
+
+
+def test_views_recompute_only_what_a_control_affects():
+    m = ExplorerModel(sphere_size=64, mesh_size=64, lobe_resolution=8)
+    m.update()
+    raster = m.rasterizations
+    m.state.elevation = 20.0
+    assert m.update() == {"sphere", "coarse", "profile", "lobe", "polar", "theta_v", "theta_h"}
+    m.state.channel = "g"
+    assert m.update() == {"profile", "lobe", "polar", "theta_v", "theta_h", "theta_d", "halfdiff"}
+    m.state.scanline = 0.7
+    assert m.update() == {"profile"}
+    assert m.rasterizations == raster  # re-shaded, never re-rasterized
+    m.state.tessellation = 12
+    assert m.update() == {"coarse", "profile"}  # the lit sphere is the exact sphere in Phong mode
+    assert m.rasterizations == raster + 1
+
+
+# ----------------------------------------------------------------------------- handlers, state and image
+def test_light_to_the_left_moves_the_brightest_pixel_left(fresh):
+    app = fresh
+    app.on_slider("elevation", 30.0)
+    app.on_slider("azimuth", 0.0)  # light from the right (+x)
+    right = app.model.views["sphere"].brightest
+    win_right = app.image()
+    # From the left, through the slider widget itself (as a drag would).
+    widget = app.sliders["azimuth"]
+    widget.GetRepresentation().SetValue(180.0)
+    widget.InvokeEvent("InteractionEvent")
+    assert app.state.azimuth == 180.0 and app.state.elevation == 30.0
+    assert widget.GetRepresentation().GetTitleText() == "azimuth = 180°"
+    left = app.model.views["sphere"].brightest
+    win_left = app.image()
+    w = app.model.sphere_size
+    assert left[1] < 0.3 * w < 0.7 * w < right[1]
+    assert abs(left[0] - right[0]) <= 2  # same height: the light turned about the view axis
+    # ... and on screen, in the lit sphere's panel.
+    cols = []
+    for img in (win_right, win_left):
+        y = luminance8(panel_pixels(app, img, app_mod.SPHERE))
+        cols.append(np.unravel_index(np.argmax(y), y.shape)[1] / y.shape[1])
+    assert cols[1] < 0.45 < 0.55 < cols[0]
+
+
+def test_gouraud_shows_mach_bands_and_loses_the_highlight(fresh):
+    app = fresh
+    app.set_control("model", "phong")
+    app.on_slider("shininess", math.log10(200.0))
+    app.on_slider("tessellation", 6)
+    c, p = app.model.views["coarse"], app.model.views["profile"]
+    assert c.n_triangles == 2 * 12 * 5
+    # The metric shown is the engine's, and Gouraud's slope kinks at edges are several times Phong's.
+    rows = range(0, c.triangle_id.shape[0], 12)
+    assert p.metric_gouraud == edge_jump_metric(c.gouraud, c.triangle_id, rows=rows)
+    assert p.metric_phong == edge_jump_metric(c.phong, c.triangle_id, rows=rows)
+    assert p.metric_gouraud > 3 * p.metric_phong
+    # The Gouraud panel draws the engine's vertex colours (VTK lighting off) ...
+    s = app.state
+    vertex = shade(c.vertices, app.model.mesh(6).normals, s.material(), s.lights(), view_dir=(0, 0, 1.0))
+    assert np.array_equal(app.gouraud_poly.point_data["rgb"], encode_srgb8(vertex[None])[0][0])
+    # ... so on screen the sharp highlight falls between vertices: Phong's panel is brighter at its peak.
+    img = app.image()
+    g = luminance8(central(panel_pixels(app, img, app_mod.GOURAUD))).max()
+    ph = luminance8(central(panel_pixels(app, img, app_mod.PHONG))).max()
+    assert ph > g + 20
+    # Switching the lit sphere to Gouraud shows the engine's Gouraud image of the coarse sphere.
+    app.on_slider("mode", 1)
+    sv = app.model.views["sphere"]
+    assert (app.state.mode, sv.geometry) == ("gouraud", "120 triangles")
+    ref = app.model.mesh_renderer(6, app.model.sphere_size).render(s.material(), s.lights(), mode="gouraud")
+    assert np.array_equal(sv.image, ref)
+
+
+def test_every_actor_is_unlit(app):
+    """VTK's lighting never colours anything: every colour on screen is the engine's."""
+    for ren in app.plotter.renderers:
+        for actor in ren.actors.values():
+            prop = actor.GetProperty() if hasattr(actor, "GetProperty") else None
+            if prop is not None and hasattr(prop, "GetLighting"):
+                assert not prop.GetLighting(), actor
+
+
+def _half_width(angles, values, centre):
+    """Half-width at half maximum of a lobe around ``centre`` (radians)."""
+    above = values >= 0.5 * values.max()
+    return float(np.max(np.abs(angles[above] - centre)))
+
+
+def test_shininess_narrows_the_lobe(fresh):
+    app = fresh
+    app.set_control("terms", ("specular",))
+    app.on_slider("model", MODELS.index("blinn-phong-normalized"))
+    widths, peaks = [], []
+    for e in (20.0, 200.0):
+        app.on_slider("shininess", math.log10(e))
+        lv, pol = app.model.views["lobe"], app.model.views["polar"]
+        widths.append(_half_width(pol.angles, pol.light_fixed, pol.theta_in))
+        # The 3D lobe: angular half-width about its peak.
+        cosang = np.clip(lv.vertices @ lv.peak_direction / np.maximum(np.linalg.norm(lv.vertices, axis=1), 1e-300),
+                         -1, 1)  # fmt: skip
+        above = lv.values >= 0.5 * lv.peak
+        widths.append(float(np.arccos(cosang[above]).max()))
+        peaks.append(lv.peak)
+    assert widths[2] < 0.45 * widths[0] and widths[3] < 0.45 * widths[1]  # ~1/sqrt(10) narrower
+    assert peaks[1] > 8 * peaks[0]  # normalized: (e + 2)/(2π) grows with e
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_model_switch_shows_that_models_polar_slice(fresh, model):
+    app = fresh
+    app.on_slider("model", MODELS.index(model))
+    app.on_slider("elevation", 35.0)
+    s = app.state
+    kd = s.diffuse_albedo
+    spec = {
+        "lambert": None,
+        "phong": Phong(s.ks, s.shininess),
+        "blinn-phong": BlinnPhong(s.ks, s.shininess),
+        "blinn-phong-normalized": BlinnPhong(s.ks, s.shininess, normalized=True),
+        "cook-torrance": CookTorrance(s.ks, s.roughness, s.f0),
+    }[model]
+    brdf = Lambert(kd) if spec is None else Lambert(kd) + spec
+    ref = polar_slice(brdf, math.radians(55.0), n=361, channel="luminance")
+    pol = app.model.views["polar"]
+    assert pol.theta_in == pytest.approx(math.radians(55.0), abs=1e-12)
+    np.testing.assert_allclose(pol.light_fixed, ref.values, rtol=1e-12, atol=0)
+    assert app.model.views["sphere"].image.max() > 0
+
+
+def test_channel_switch(fresh):
+    app = fresh
+    app.set_control("model", "lambert")
+    lum = app.model.views["polar"].light_fixed.copy()
+    per = {}
+    for ch in ("r", "g", "b"):
+        app.on_slider("channel", CHANNELS.index(ch))
+        per[ch] = app.model.views["polar"].light_fixed.copy()
+    kd = app.state.diffuse_albedo
+    # Lambert: each channel is k_d[c]/π over the upper hemisphere, luminance their Rec. 709 mix.
+    inside = np.abs(app.model.views["polar"].angles) < math.pi / 2
+    for k, ch in enumerate("rgb"):
+        np.testing.assert_allclose(per[ch][inside], kd[k] / math.pi, rtol=1e-12)
+    np.testing.assert_allclose(lum, per["r"] * LUMA[0] + per["g"] * LUMA[1] + per["b"] * LUMA[2], rtol=1e-12)
+
+
+def test_times_cos_multiplies_by_cos_theta_l(fresh):
+    app = fresh
+    app.on_slider("elevation", 25.0)  # θ_l = 65°
+    base = {k: app.model.views[k] for k in ("polar", "theta_v", "lobe")}
+    box = app.checkboxes["times_cos"]  # clicked: the button's state changes, then it tells its observers
+    box.GetRepresentation().SetState(1)
+    box.InvokeEvent("StateChangedEvent")
+    assert app.state.times_cos
+    c = math.cos(math.radians(65.0))
+    np.testing.assert_allclose(app.model.views["polar"].light_fixed, c * base["polar"].light_fixed, rtol=1e-12)
+    np.testing.assert_allclose(app.model.views["theta_v"].values, c * base["theta_v"].values, rtol=1e-12)
+    assert app.model.views["lobe"].peak == pytest.approx(c * base["lobe"].peak, rel=1e-9)
+
+
+def test_extreme_values_keep_every_view_finite(fresh):
+    app = fresh
+    cases = [
+        {"model": "phong", "shininess": 1e6, "elevation": 0.5},
+        {"model": "blinn-phong-normalized", "shininess": 1e6, "elevation": 89.9},
+        {"model": "cook-torrance", "roughness": 1e-6, "elevation": 0.01, "f0": 1.0, "times_cos": True},
+        {"model": "cook-torrance", "roughness": 1e-4, "light": "spot", "cutoff": 0.0, "log": True},
+        {"model": "phong", "shininess": 0.0, "elevation": -60.0, "light": "point", "distance": 1.5},
+        {"model": "blinn-phong", "intensity": 10.0, "exposure": 8.0, "ambient": 2.0, "channel": "b"},
+        {"light": "ambient", "terms": (), "tessellation": 3},
+    ]
+    for case in cases:
+        app.reset()
+        app.state.update(**case)
+        app.refresh(render=False)
+        for name, view in app.model.views.items():
+            for field, arr in vars(view).items():
+                if isinstance(arr, np.ndarray) and arr.dtype.kind == "f":
+                    assert np.all(np.isfinite(arr)), (case, name, field)
+        below = app.state.theta_l >= math.pi / 2
+        assert app.model.views["polar"].below_horizon == below
+    img = app.image()  # the last, dark case still draws every panel's frame and text
+    assert img.shape[:2] == (SIZE[1], SIZE[0])
+
+
+def test_keys(fresh):
+    app = fresh
+    app.on_key("m")
+    assert app.state.model == MODELS[(MODELS.index("blinn-phong") + 1) % len(MODELS)]
+    slider = app.sliders["model"].GetRepresentation()
+    assert slider.GetValue() == MODELS.index(app.state.model)  # the slider follows the key
+    row = app.model.views["profile"].row
+    app.on_key("Down")
+    assert app.model.views["profile"].row > row
+    assert app.scan_g.points[0, 1] == pytest.approx(app.model.views["profile"].y)
+    app.on_key("3")
+    assert "specular" not in app.state.terms and app.checkboxes["specular"].GetRepresentation().GetState() == 0
+    app.on_key("l")
+    assert app.state.log
+    assert not app.help_visible
+    app.on_key("h")
+    assert app.help_visible
+    app.on_key("h")
+    app.on_key("r")
+    assert app.state.to_dict() == AppState().to_dict()
+    assert app.checkboxes["specular"].GetRepresentation().GetState() == 1
+    assert set(TERM_NAMES) == set(app.state.terms)
+
+
+def test_key_events_reach_the_handlers_and_vtk_keys_are_off(fresh):
+    app = fresh
+    iren = app.plotter.iren.interactor
+    iren.SetEventPosition(60, SIZE[1] - 60)  # over the lit sphere: VTK's keys act on the panel under the mouse
+    for sym in ("w", "3"):  # VTK's own: wireframe, stereo
+        iren.SetKeySym(sym)
+        iren.SetKeyCode(sym)
+        iren.InvokeEvent("KeyPressEvent")
+        iren.InvokeEvent("CharEvent")
+    assert app.sphere_plane["actor"].GetProperty().GetRepresentation() == 2  # still a surface, not wireframe
+    assert not app.plotter.ren_win.GetStereoRender()
+    iren.SetKeySym("t")
+    iren.SetKeyCode("t")
+    iren.InvokeEvent("KeyPressEvent")
+    assert app.state.light == "point"
+
+
+def test_window_screenshot_has_no_blank_panel(fresh, tmp_path):
+    from PIL import Image
+
+    app = fresh
+    path = app.screenshot(tmp_path / "window.png")
+    img = np.asarray(Image.open(path).convert("RGB"))
+    assert img.shape == (SIZE[1], SIZE[0], 3)
+    panels = [app_mod.SPHERE, app_mod.GOURAUD, app_mod.PHONG, app_mod.PROFILE, app_mod.LOBE, app_mod.POLAR,
+              app_mod.ANGLES, app_mod.CONTROLS_PANEL]  # fmt: skip
+    for panel in panels:
+        crop = panel_pixels(app, img, panel).astype(np.float64)
+        assert crop.std() > 12.0, panel  # drawn content, not a flat background
+        # more than a few lines of text: at least 3 % of the pixels differ clearly from the background
+        bg = np.asarray(app_mod.BACKGROUND) * 255
+        assert np.mean(np.abs(crop - bg).max(axis=-1) > 40) > 0.03, panel
+
+
+def test_main_without_display_says_so_in_one_line(monkeypatch, capsys):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr(app_mod.sys, "platform", "linux")
+    assert app_mod.main([]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--off-screen --screenshot" in err
+
+
+def test_main_rejects_bad_values(capsys):
+    assert app_mod.main(["--kd", "3", "--off-screen"]) == 2
+    assert "kd must be a number in [0, 1]; got 3" in capsys.readouterr().err
+
+
+def test_main_screenshot_with_state_from_the_command_line(tmp_path, capsys):
+    from PIL import Image
+
+    path = tmp_path / "shot.png"
+    rc = app_mod.main(["--screenshot", str(path), "--size", "800x500", "--model", "cook-torrance", "--elevation", "5"])
+    assert rc == 0 and f"wrote {path}" in capsys.readouterr().out
+    img = np.asarray(Image.open(path).convert("RGB"))
+    assert img.shape == (500, 800, 3) and img.std() > 20
+
+
+def test_material_is_the_engines():
+    s = AppState(model="cook-torrance", kd=0.5, color=(1.0, 0.5, 0.25), ks=0.8, roughness=0.2, f0=0.9)
+    m = s.material()
+    assert isinstance(m, Material)
+    lam, ct = m.brdf.parts
+    np.testing.assert_allclose(lam.kd, [0.5, 0.25, 0.125], rtol=1e-15)
+    assert (ct.roughness, float(ct.f0[0]), float(ct.ks[0])) == (0.2, 0.9, 0.8)
+    np.testing.assert_allclose(m.ambient, lam.kd, rtol=1e-15)  # k_a = k_d
