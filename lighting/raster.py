@@ -70,6 +70,7 @@ True
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -569,6 +570,34 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
         rowterm.append(ex * (spy - ay))
         sax.append(ax)
         sey.append(ey)
+    # The spans of the top and the bottom half of the image touch disjoint pixels, so the two halves
+    # are rasterized by two threads (NumPy releases the GIL in its loops) into the same buffers.
+    halves = [np.flatnonzero(srow < H // 2), np.flatnonzero(srow >= H // 2)]
+    if len(stri) < 2 * _BATCH or _threads() < 2:
+        halves = [np.arange(len(stri))]
+
+    def run(spans):
+        _raster_spans(
+            spans, scount, spx0, sax, sey, rowterm, stri, spix0, setup, perspective, camera, zbuf, idbuf, wbuf,
+            overdraw, stamp, W, dt,
+        )  # fmt: skip
+
+    if len(halves) == 1:
+        run(halves[0])
+    else:
+        list(_pool().map(run, halves))
+
+    return _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_dt)
+
+
+def _raster_spans(spans, scount, spx0, sax, sey, rowterm, stri, spix0, setup, perspective, camera,
+                  zbuf, idbuf, wbuf, overdraw, stamp, W, dt):  # fmt: skip
+    """Rasterize the spans ``spans`` (indices) in batches of about ``_BATCH`` candidate pixels."""
+    scount = scount[spans]
+    spx0, stri, spix0 = spx0[spans], stri[spans], spix0[spans]
+    sax = [a[spans] for a in sax]
+    sey = [a[spans] for a in sey]
+    rowterm = [a[spans] for a in rowterm]
     cum = np.cumsum(scount)
     total = int(cum[-1]) if len(cum) else 0
     batch = max(_BATCH, W)
@@ -636,7 +665,21 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
         idbuf[pb] = t[better]
         wbuf[pb, 0], wbuf[pb, 1], wbuf[pb, 2] = w0[better], w1[better], w2[better]
 
-    return _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_dt)
+
+def _threads() -> int:
+    return max(1, min(os.cpu_count() or 1, 2))
+
+
+_POOL = None
+
+
+def _pool():
+    global _POOL
+    if _POOL is None:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _POOL = ThreadPoolExecutor(max_workers=2, thread_name_prefix="lighting-raster")
+    return _POOL
 
 
 def _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_dt) -> GBuffer:

@@ -164,3 +164,15 @@ def test_parallel_chunks_give_identical_pixels(monkeypatch):
     monkeypatch.setattr(il, "_threads", lambda: 3)
     assert len(il._chunks(len(r.gbuffer.pixels))) == 3
     np.testing.assert_array_equal(r.render(MAT, LIGHTS), serial)
+
+
+def test_two_thread_rasterization_is_bitwise_identical(monkeypatch):
+    import lighting.raster as raster
+
+    mesh = icosphere(4)
+    cam = Camera((0.2, 0.1, 5.0), (0, 0, 0), fov_y_deg=30, width=400, height=400)
+    threaded = raster.rasterize(mesh, cam)
+    monkeypatch.setattr(raster, "_threads", lambda: 1)
+    single = raster.rasterize(mesh, cam)
+    for name in ("triangle_id", "barycentric", "depth", "overdraw", "coverage"):
+        np.testing.assert_array_equal(getattr(threaded, name), getattr(single, name))
