@@ -104,16 +104,34 @@ class Geometry:
 
     @cached_property
     def _l_plus_v(self):
-        """``l + v`` and ``|l + v|²`` (in [0, 4] for unit ``l``, ``v``)."""
+        """``l + v`` and ``|l + v|²`` (in [0, 4] for unit ``l``, ``v``).
+
+        Where ``l·v < −1/2`` the sum cancels, and the few-ulp rounding in the lengths of
+        the normalized ``l`` and ``v`` would turn ``h`` by up to ``u·tan ψ`` (``2ψ`` the
+        angle between them) — e.g. light and viewer grazing from opposite sides, where
+        the highlight lives.  Those rows are rebuilt from the tangential parts
+        (:func:`_unit_sum`), which depends on the directions only.
+        """
         s = self.l + self.v
-        return s, self._dot(s, s)
+        len2 = self._dot(s, s)
+        far = len2 < 1
+        if np.any(far):
+            s = _unit_sum(self.l, self.v, s, far)
+            len2 = self._dot(s, s)
+        return s, len2
 
     @cached_property
     def h(self):
         s, len2 = self._l_plus_v
-        if np.any(len2 < np.finfo(self.dtype).tiny * 1e4):
-            return normalize(s)  # near l = −v: the scaled normalization keeps the digits
-        return s * (1 / np.sqrt(len2))[..., None]
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            h = s * (1 / np.sqrt(len2))[..., None]
+        tiny = len2 < np.finfo(self.dtype).tiny * 1e4
+        if np.any(tiny):
+            # Near l = −v the scaled normalization keeps the digits; only those rows take it,
+            # so a row's h does not depend on what else is in the batch.
+            h = np.array(np.broadcast_to(h, s.shape))
+            h[tiny] = normalize(s[tiny])
+        return h
 
     @cached_property
     def n_dot_h(self):
@@ -145,6 +163,55 @@ class Geometry:
         r = 2 * self.n * self.n_dot_l[..., None] - self.l
         d = r - self.v
         return np.clip(0.5 * self._dot(d, d), 0, 2)
+
+
+def _unit_sum(l: np.ndarray, v: np.ndarray, s: np.ndarray, rows: np.ndarray) -> np.ndarray:  # noqa: E741
+    """``s = l + v`` with the ``rows`` recomputed as ``l/|l| + v/|v|`` without cancellation.
+
+    ``l`` and ``v`` are unit vectors up to rounding.  A component with ``l_i v_i < 0`` is
+    rewritten with ``a + b = (a² − b²)/(a − b)``::
+
+        l_i/|l| + v_i/|v| = (l_i²|v|² − v_i²|l|²) / (|l||v| (l_i|v| − v_i|l|)),
+        l_i²|v|² − v_i²|l|² = Σ_{j≠i} (l_i v_j − v_i l_j)(l_i v_j + v_i l_j),
+
+    in which the ``l_i² v_i²`` terms have cancelled exactly: the result depends on the
+    directions of ``l`` and ``v`` alone (their lengths only divide, where nothing
+    cancels), so it is as accurate as the direction components themselves.
+    """
+    shape = np.broadcast_shapes(l.shape, v.shape)
+    s = np.array(np.broadcast_to(s, shape))
+    rows = np.broadcast_to(rows, shape[:-1])
+    L = np.broadcast_to(l, shape)[rows]
+    V = np.broadcast_to(v, shape)[rows]
+    nl = np.sqrt(L[:, 0] * L[:, 0] + L[:, 1] * L[:, 1] + L[:, 2] * L[:, 2])
+    nv = np.sqrt(V[:, 0] * V[:, 0] + V[:, 1] * V[:, 1] + V[:, 2] * V[:, 2])
+    out = L + V
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        li, vi = L[:, i], V[:, i]
+        num = (li * V[:, j] - vi * L[:, j]) * (li * V[:, j] + vi * L[:, j]) + (li * V[:, k] - vi * L[:, k]) * (
+            li * V[:, k] + vi * L[:, k]
+        )
+        den = nl * nv * (li * nv - vi * nl)
+        opposite = li * vi < 0  # then li·nv and −vi·nl have one sign: den is never 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out[:, i] = np.where(opposite, num / np.where(opposite, den, 1), out[:, i])
+    s[rows] = out
+    return s
+
+
+def _lobe_over_cos(g, lobe64: np.ndarray, log_lobe64: np.ndarray, coeff: np.ndarray) -> np.ndarray:
+    """``coeff · lobe / (π n·l)`` in the dtype of ``g``, from a float64 lobe and its logarithm.
+
+    Dividing in float64 keeps a lobe that is subnormal in float32 (1e-42) from losing
+    its digits before the division by a grazing ``n·l`` (1e-4) brings it back into range;
+    where the lobe is subnormal even in float64 the quotient is ``exp(ln lobe − ln(π n·l))``.
+    """
+    nl = g.n_dot_l.astype(np.float64)
+    den = math.pi * np.where(nl > 0, nl, 1.0)
+    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
+        q = np.where(lobe64 >= np.finfo(np.float64).tiny, lobe64 / den, np.exp(log_lobe64 - np.log(den)))
+    q = np.where(g.above, q, 0.0)
+    return _clip_to(g.dtype, _rgb(q, coeff))
 
 
 def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
@@ -341,6 +408,12 @@ class Phong(BRDF):
         lobe = cos_power(g.one_minus_r_dot_v, self.shininess)
         return np.where(g.above, lobe, 0).astype(g.dtype, copy=False)
 
+    def _f(self, g):
+        d = np.minimum(g.one_minus_r_dot_v.astype(np.float64), 1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            log_lobe = self.shininess * np.log1p(-d) if self.shininess else np.zeros_like(d)
+        return _lobe_over_cos(g, cos_power(d, self.shininess), log_lobe, self.ks)
+
     def separable_cos(self, g):
         return [(self._lobe(g) / g.dtype(math.pi), self.ks)]
 
@@ -396,16 +469,31 @@ class BlinnPhong(BRDF):
     def _params(self):
         return {"ks": self.ks, "shininess": self.shininess, "normalized": self.normalized}
 
-    def _lobe(self, g):
-        lobe = cos_power(g.one_minus_n_dot_h, self.shininess)
-        return np.where(g.above, lobe, 0).astype(g.dtype, copy=False)
+    def _lobe(self, g, dtype=None):
+        dt = dtype or g.dtype
+        lobe = cos_power(g.one_minus_n_dot_h.astype(dt, copy=False), self.shininess)
+        if self.shininess != 0:
+            # Far from the peak (n·h < 1/2) n·h itself is the accurate input: 1 − n·h has
+            # lost the digits of a small n·h (at n·h = 1e-8 all of them).
+            c = g.n_dot_h.astype(dt, copy=False)
+            with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
+                far = np.power(np.where(c > 0, c, 0), dt(self.shininess))
+            lobe = np.where(c < 0.5, far, lobe)
+        return np.where(g.above, lobe, 0).astype(dt, copy=False)
 
     def _norm(self):
         return (self.shininess + 2) / (2 * math.pi)
 
     def _f(self, g):
         if not self.normalized:
-            return super()._f(g)
+            lobe = self._lobe(g, np.float64)
+            if self.shininess == 0:
+                return _lobe_over_cos(g, lobe, np.zeros_like(lobe), self.ks)
+            c = g.n_dot_h.astype(np.float64)
+            d = np.minimum(g.one_minus_n_dot_h.astype(np.float64), 1.0)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                log_lobe = self.shininess * np.where(c < 0.5, np.log(np.where(c > 0, c, 0)), np.log1p(-d))
+            return _lobe_over_cos(g, lobe, log_lobe, self.ks)
         return _rgb(self._lobe(g) * g.dtype(self._norm()), self.ks)
 
     def separable_cos(self, g):
@@ -503,11 +591,15 @@ class CookTorrance(BRDF):
     # The three factors, public so that figures can show each one.
     def D(self, g: Geometry):
         """Normal distribution at ``h`` (1/sr)."""
+        return self._D(g, g.dtype)
+
+    def _D(self, g: Geometry, dtype):
+        c, s2 = g.n_dot_h.astype(dtype, copy=False), g.sin2_h.astype(dtype, copy=False)
         if self.ndf == "blinn-phong":
             e = _mf.blinn_phong_exponent(self.roughness)
-            return _mf.blinn_phong_ndf(g.n_dot_h, e, sin2_theta_h=g.sin2_h)
+            return _mf.blinn_phong_ndf(c, e, sin2_theta_h=s2)
         f = _mf.beckmann_ndf if self.ndf == "beckmann" else _mf.ggx_ndf
-        return f(g.n_dot_h, self.roughness, sin2_theta_h=g.sin2_h)
+        return f(c, self.roughness, sin2_theta_h=s2)
 
     def G(self, g: Geometry):
         """Shadowing–masking in [0, 1]."""
@@ -526,26 +618,57 @@ class CookTorrance(BRDF):
             return np.ones(c.shape + (3,), dtype=g.dtype)
         if self.fresnel == "schlick":
             return _fresnel.schlick(c, self.f0)
-        return _fresnel.dielectric(c, _fresnel.eta_from_f0(self.f0))
+        # The exact dielectric formula with η = (1 + √f0)/(1 − √f0), written in √f0 itself.
+        return _fresnel._dielectric_from_f0(c, self.f0).astype(g.dtype)
 
     def _den_const(self):
         return 4.0 if self.denominator == "4" else math.pi
 
+    def _visibility(self, g: Geometry, with_n_dot_l: bool) -> np.ndarray:
+        """``G / ((n·v)(n·l))`` (or ``G / (n·v)``) in float64, without multiplying the cosines in and out.
+
+        At grazing ``G`` is itself proportional to the cosines it is divided by (Smith
+        ``G1(v) ≈ 2 a √π`` with ``a ∝ n·v``), so ``f_r`` stays moderate while ``G`` and
+        ``(n·v)(n·l)`` both vanish; forming each ratio directly saves the roundings of the
+        product and the quotient.  Smith: ``G1(θ) = 2 cos θ / d(θ)`` with ``d`` from
+        :func:`lighting.microfacet._smith_g1_den_beckmann` (or ``_ggx``).  V-cavity:
+        ``G/((n·v)(n·l)) = min(1/((n·v)(n·l)), (2 n·h / v·h) / max(n·v, n·l))``.
+        """
+        nv = g.n_dot_v.astype(np.float64)
+        nl = g.n_dot_l.astype(np.float64)
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            if self.geometry == "smith":
+                den = _mf._smith_g1_den_ggx if self.ndf == "ggx" else _mf._smith_g1_den_beckmann
+                s2v = np.clip(Geometry._cross2(g.n, g.v).astype(np.float64), 0, 1)
+                s2l = np.clip(Geometry._cross2(g.n, g.l).astype(np.float64), 0, 1)
+                # G1 = 2 cos θ / d:  G1(v) G1(l) / ((n·v)(n·l)) = 4 / (d_v d_l),
+                # and G1(v) G1(l) / (n·v) = 4 (n·l) / (d_v d_l).
+                dd = den(nv, self.roughness, s2v) * den(nl, self.roughness, s2l)
+                vis = 4 / dd if with_n_dot_l else 4 * nl / dd
+                return np.where((nv > 0) & (nl > 0), vis, 0.0)
+            nh = g.n_dot_h.astype(np.float64)
+            vh = g.v_dot_h.astype(np.float64)
+            k = 2 * nh / np.where(vh > 0, vh, 1)
+            if with_n_dot_l:
+                return np.minimum(1 / (nv * nl), k / np.maximum(nv, nl))
+            return np.minimum(1 / nv, k * np.minimum(1, nl / nv))
+
     def _separable(self, g, with_n_dot_l: bool):
         """``k_s D G F / (c (n·v) [(n·l)])`` split into scalar lobes × RGB colours (float64)."""
-        dg = self.D(g).astype(np.float64) * self.G(g).astype(np.float64)
-        dg = np.where(g.above, dg, 0.0)
-        den = self._den_const() * g.n_dot_v.astype(np.float64)
-        if with_n_dot_l:
-            den = den * g.n_dot_l.astype(np.float64)
-        s = _saturating_div(dg, den)
+        # D in float64 even for float32 inputs: its tail may be subnormal in float32 where
+        # D / ((n·v)(n·l)) is not (grazing light and view).
+        with np.errstate(over="ignore", invalid="ignore"):
+            dv = self._D(g, np.float64) * self._visibility(g, with_n_dot_l)
+        # 0·∞ (a D that underflowed times a visibility that overflowed) is 0, as is everything below the horizon.
+        dv = np.where(g.above & ~np.isnan(dv), dv, 0.0)
+        s = np.minimum(dv / self._den_const(), np.finfo(np.float64).max)
         if self.fresnel == "none":
             return [(s, self.ks)]
         if self.fresnel == "schlick":
             # F = f0 + (1 − f0)(1 − v·h)^5: two lobes with colours k_s f0 and k_s (1 − f0).
             m = (1.0 - np.clip(g.v_dot_h.astype(np.float64), 0.0, 1.0)) ** 5
             return [(s, self.ks * self.f0), (s * m, self.ks * (1.0 - self.f0))]
-        fr = self.F(g).astype(np.float64)
+        fr = _fresnel._dielectric_from_f0(g.v_dot_h, self.f0)  # float64, not rounded to the dtype first
         return [(s * fr[..., i], self.ks * _UNIT_RGB[i]) for i in range(3)]
 
     def _f(self, g):

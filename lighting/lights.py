@@ -97,6 +97,13 @@ def check_cutoff(value, name: str = "cutoff_deg") -> float:
     return c
 
 
+def _one_minus_cos_deg(deg: float) -> float:
+    """``1 − cos(deg°) = 2 sin²(deg°/2)``, exact at 0 and 90 degrees."""
+    if deg == 90:
+        return 1.0
+    return 2.0 * math.sin(math.radians(deg) / 2) ** 2
+
+
 def _cos_deg(deg: float) -> float:
     # cos(radians(90)) is 6e-17, not 0: keep the exact values the GL spec relies on.
     if deg == 90:
@@ -324,8 +331,24 @@ class SpotLight(PointLight):
         return np.where(inside, p, 0.0)
 
     def _spot(self, l):  # noqa: E741
-        cos_a = -(l[..., 0] * self.direction[0] + l[..., 1] * self.direction[1] + l[..., 2] * self.direction[2])
-        return self.spot_factor(cos_a)
+        if self.cutoff_deg == 180:
+            return np.ones(l.shape[:-1])
+        s = self.direction
+        cos_a = -(l[..., 0] * s[0] + l[..., 1] * s[1] + l[..., 2] * s[2])
+        # 1 − cos ψ = |l + ŝ|² / 2 keeps its digits near the axis, where cos ψ rounds to 1:
+        # the cone test against 1 − cos(cutoff) = 2 sin²(cutoff/2) then resolves a cutoff of
+        # 1e-8 degrees, and (cos ψ)^e = exp(e log1p(−(1 − cos ψ))) stays accurate for e = 1e4.
+        w = l + s
+        one_minus = 0.5 * (w[..., 0] * w[..., 0] + w[..., 1] * w[..., 1] + w[..., 2] * w[..., 2])
+        inside = one_minus <= _one_minus_cos_deg(self.cutoff_deg)
+        if self.exponent == 0:
+            p = np.ones_like(cos_a)
+        else:
+            with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
+                near = np.exp(self.exponent * np.log1p(-np.minimum(one_minus, 0.5)))
+                far = np.power(np.maximum(cos_a, 0.0), self.exponent)
+            p = np.where(one_minus < 0.5, near, far)
+        return np.where(inside, p, 0.0)
 
 
 def _r2_sequence(n: int, seed: int | None) -> np.ndarray:

@@ -157,8 +157,10 @@ def blinn_phong_ndf(cos_theta_h, exponent, sin2_theta_h=None) -> np.ndarray:
     c, s2 = _cos_sin2(cos_theta_h, sin2_theta_h)
     cp = np.maximum(c, 0.0)
     one_minus = np.where(c > 0, s2 / (1.0 + cp), 1.0)
-    with np.errstate(divide="ignore", under="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
         p = np.exp(e * np.log1p(-np.minimum(one_minus, 1.0)))
+        # Far from the peak the cosine itself is the accurate input (1 − cos loses its digits).
+        p = np.where(cp < 0.5, np.power(cp, e), p)
     p = np.where(one_minus < 1, p, np.where(e == 0, 1.0, 0.0))
     d = np.where(c > 0, (e + 2) / (2 * math.pi) * p, 0.0)
     return _finish(d, dt)
@@ -219,6 +221,34 @@ def smith_g1_ggx(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
         g = np.where(den > 0, 2 * cp / np.where(den > 0, den, 1.0), 0.0)
     g = np.where(c > 0, g, 0.0)
     return _finish(g, dt)
+
+
+_INV_SQRT_PI = 0.5641895835477563  # 1/√π, correctly rounded
+
+
+def _smith_g1_den_beckmann(cos_theta, alpha, sin2_theta) -> np.ndarray:
+    """``d`` with ``G1 = 2 cos θ / d`` for Beckmann (float64): ``d = cos θ (1 + erf a) + (α sin θ/√π) exp(−a²)``.
+
+    ``a = cos θ / (α sin θ)``.  ``G1 / cos θ = 2 / d`` is then free of the division of
+    a small ``G1`` by a small cosine at grazing (where it tends to ``2√π/α``), and
+    ``d → 2 cos θ`` at the normal.  ``d`` is 1 (a placeholder) where ``cos θ <= 0``.
+    """
+    al = float(check_alpha(alpha))
+    c, s2 = _cos_sin2(cos_theta, sin2_theta)
+    s = np.sqrt(s2)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+        a = np.clip(np.where(al * s > 0, c / (al * s), np.inf), 0.0, 1e8)
+        d = c * (1 + _erf(a)) + (al * _INV_SQRT_PI) * s * np.exp(-a * a)
+    return np.where((c > 0) & (d > 0), d, 1.0)
+
+
+def _smith_g1_den_ggx(cos_theta, alpha, sin2_theta) -> np.ndarray:
+    """``d`` with ``G1 = 2 cos θ / d`` for GGX (float64): ``d = cos θ + sqrt(cos²θ + α² sin²θ)``."""
+    al = float(check_alpha(alpha))
+    c, s2 = _cos_sin2(cos_theta, sin2_theta)
+    cp = np.maximum(c, 0.0)
+    d = cp + np.hypot(cp, al * np.sqrt(s2))
+    return np.where((c > 0) & (d > 0), d, 1.0)
 
 
 def vcavity_g(n_dot_h, n_dot_v, n_dot_l, v_dot_h) -> np.ndarray:

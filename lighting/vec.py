@@ -103,13 +103,19 @@ def normalize(a) -> np.ndarray:
         len2 = a[..., 0] * a[..., 0] + a[..., 1] * a[..., 1] + a[..., 2] * a[..., 2]
     # Fast path: squared length comfortably inside the normal range.
     lo, hi = float(fi.tiny) * 1e4, float(fi.max) * 1e-4
-    if np.all((len2 > lo) & (len2 < hi)):
+    fast = (len2 > lo) & (len2 < hi)
+    if np.all(fast):
         return a / np.sqrt(len2)[..., None]
-    s, _ = _scaled(a)
+    # The path is chosen per vector, never per batch: a vector's unit vector (and so the
+    # bit-exact symmetry of a mirror pair l, R_l) must not depend on its neighbours.
+    flat, ok = a.reshape(-1, 3), fast.reshape(-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = flat / np.sqrt(np.where(ok, len2.reshape(-1), 1))[:, None]
+    s, _ = _scaled(flat[~ok])
     len_s = np.sqrt(s[..., 0] * s[..., 0] + s[..., 1] * s[..., 1] + s[..., 2] * s[..., 2])
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.where(len_s[..., None] > 0, s / np.where(len_s > 0, len_s, 1)[..., None], 0)
-    return out.astype(a.dtype, copy=False)
+        out[~ok] = np.where(len_s[..., None] > 0, s / np.where(len_s > 0, len_s, 1)[..., None], 0)
+    return out.astype(a.dtype, copy=False).reshape(a.shape)
 
 
 def reflect(d, n) -> np.ndarray:
