@@ -471,15 +471,22 @@ class BlinnPhong(BRDF):
 
     def _lobe(self, g, dtype=None):
         dt = dtype or g.dtype
-        lobe = cos_power(g.one_minus_n_dot_h.astype(dt, copy=False), self.shininess)
-        if self.shininess != 0:
-            # Far from the peak (n·h < 1/2) n·h itself is the accurate input: 1 − n·h has
-            # lost the digits of a small n·h (at n·h = 1e-8 all of them).
-            c = g.n_dot_h.astype(dt, copy=False)
-            with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-                far = np.power(np.where(c > 0, c, 0), dt(self.shininess))
-            lobe = np.where(c < 0.5, far, lobe)
-        return np.where(g.above, lobe, 0).astype(dt, copy=False)
+        d = g.one_minus_n_dot_h.astype(dt, copy=False)
+        if self.shininess == 0:
+            return np.where(g.above, 1, 0).astype(dt)
+        c = g.n_dot_h.astype(dt, copy=False)
+        # (n·h)^e = exp(e · log(n·h)), the logarithm taken from the accurate input: near the
+        # peak 1 − n·h (log1p), far from it (n·h < 1/2) n·h itself — 1 − n·h has lost the
+        # digits of a small n·h there (at n·h = 1e-8 all of them).  One log and one exp per
+        # sample: the masked ufuncs evaluate each branch only where it is taken.
+        far = c < 0.5
+        t = np.empty_like(d)
+        with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
+            np.log1p(-np.minimum(d, 1), out=t, where=~far)
+            np.log(np.maximum(c, 0), out=t, where=far)
+            t *= dt(self.shininess)
+            np.exp(t, out=t)
+        return np.where(g.above, t, 0).astype(dt, copy=False)
 
     def _norm(self):
         return (self.shininess + 2) / (2 * math.pi)
