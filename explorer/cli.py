@@ -53,6 +53,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub.add_parser("render", help="render a scene file (or an example scene) to PNG (--explain shows the plan)")
     sub.add_parser("report", help="accuracy reports: 'report accuracy' (error vs run time), 'report stability'")
     sub.add_parser("explore", help="the interactive explorer window (the default with no sub-command)")
+    sub.add_parser("figures", help="write the lecture-note figure set (--out DIR, --format, --only, --dpi, --quick)")
     return p
 
 
@@ -62,6 +63,7 @@ DELEGATES = {
     "render": "explorer.render_cmd",
     "report": "explorer.report",
     "explore": "explorer.app",
+    "figures": "explorer.figures",
 }
 
 

@@ -1,0 +1,190 @@
+"""The lecture-note figure set: every figure is written, valid, not blank, reproducible; the command's errors.
+
+The whole set is drawn once in quick mode (module fixture, ~20 s) and the deterministic part a second
+time; the numbers each figure measured while drawing are checked against the laws they illustrate.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+
+PIL = pytest.importorskip("PIL.Image")
+pytest.importorskip("matplotlib")
+
+from explorer import figures  # noqa: E402
+
+
+def _run(argv, capsys=None):
+    rc = figures.main(argv)
+    out = capsys.readouterr() if capsys is not None else None
+    return rc, out
+
+
+@pytest.fixture(scope="module")
+def quick_set(tmp_path_factory):
+    out = tmp_path_factory.mktemp("figures")
+    records = figures.generate(out, formats=("png",), quick=True)
+    manifest = json.loads((out / "figures.json").read_text(encoding="utf-8"))
+    return out, records, manifest
+
+
+def _pixels(path):
+    with PIL.open(path) as im:
+        im.load()
+        return np.asarray(im.convert("RGB"))
+
+
+def test_manifest_lists_every_registered_figure_in_order(quick_set):
+    out, records, manifest = quick_set
+    names = figures.figure_names()
+    assert [r["name"] for r in manifest["figures"]] == names
+    assert manifest["quick"] is True and manifest["formats"] == ["png"]
+    assert len(names) == len(set(names)) >= 20
+    for rec in manifest["figures"]:
+        assert rec["caption"] and "{" not in rec["caption"], rec["name"]  # every measured field filled in
+        assert rec["title"] and rec["slides"]
+        assert isinstance(rec["parameters"], dict)
+        sidecar = json.loads((out / f"{rec['name']}.json").read_text(encoding="utf-8"))
+        assert sidecar == rec
+
+
+def test_every_file_is_a_valid_image_of_the_stated_size_and_not_blank(quick_set):
+    out, _, manifest = quick_set
+    for rec in manifest["figures"]:
+        path = out / rec["files"]["png"]
+        with PIL.open(path) as im:
+            im.verify()  # a well-formed PNG
+        px = _pixels(path)
+        w, h = rec["size_px"]
+        assert px.shape == (h, w, 3), rec["name"]
+        # The stated size is the figure's size in inches times the dpi.
+        assert (w, h) == tuple(round(x * rec["quality"]["dpi"]) for x in rec["size_in"]), rec["name"]
+        assert float(px.std()) > 8.0, f"{rec['name']} looks blank (pixel std {px.std():.2f})"
+        packed = px.reshape(-1, 3).astype(np.int32) @ np.array([65536, 256, 1], dtype=np.int32)
+        assert np.unique(packed).size > 16, rec["name"]
+
+
+def test_two_runs_give_identical_pixels(quick_set, tmp_path):
+    out, _, manifest = quick_set
+    again = [r["name"] for r in manifest["figures"] if r["deterministic"]]
+    figures.generate(tmp_path, formats=("png",), quick=True, only=again)
+    for name in again:
+        a, b = out / f"{name}.png", tmp_path / f"{name}.png"
+        assert np.array_equal(_pixels(a), _pixels(b)), name
+        assert a.read_bytes() == b.read_bytes(), name  # no date or version stamp either
+
+
+def test_only_the_timed_figure_is_nondeterministic(quick_set):
+    _, _, manifest = quick_set
+    nondet = {r["name"]: r["nondeterministic_reason"] for r in manifest["figures"] if not r["deterministic"]}
+    assert list(nondet) == ["accuracy"]
+    assert "wall-clock" in nondet["accuracy"]
+
+
+def test_measured_values_follow_the_laws_the_figures_show(quick_set):
+    _, _, manifest = quick_set
+    m = {r["name"]: r["measured"] for r in manifest["figures"]}
+    # Lambert: the engine's k_d (n·l) is max(cos θ, 0).
+    assert m["lambert_cosine_law"]["max_abs_difference_from_cos"] < 1e-15
+    # In the plane of incidence the Phong angle is twice the Blinn-Phong one: φ = 2 θ_h.
+    g = m["reflection_geometry"]
+    assert math.isclose(g["phi_deg"], 2 * g["theta_h_deg"], rel_tol=1e-5)
+    # Light is linear, and the illumination terms add up to the full render.
+    assert m["light_is_linear"]["max_difference"] < 1e-12
+    assert m["illumination_terms"]["max_difference"] < 1e-12
+    # Reciprocity: exact for normalized Blinn-Phong, broken by exactly (n·v)/(n·l) for Phong.
+    r = m["reciprocity"]
+    assert r["bp_difference"] < 1e-12
+    assert r["phong_difference"] > 0.1
+    assert r["phong_ratio_error"] < 1e-6
+    # A small bright patch acts as a point light: difference of order Ω (here 2e-3 sr).
+    assert m["rendering_equation"]["point_difference"] < 0.02
+    # Gouraud's slope jumps at edges are much larger than Phong interpolation's.
+    gp = m["gouraud_vs_phong"]
+    assert gp["metric_gouraud"] > 5 * gp["metric_phong"]
+    # The audit fails exactly the models the decks call implausible.
+    fails = m["plausibility_table"]["failures"]
+    assert any(f.startswith("Phong") for f in fails) and "Lambert" not in fails
+    assert all(not f.startswith("C-T beckmann") for f in fails)
+
+
+def test_accuracy_figure_from_a_csv_is_reproducible(tmp_path):
+    rows = []
+    for method, scale in (("quadrature", 1e-3), ("uniform", 1e-1)):
+        for k, cost in enumerate((16, 64, 256)):
+            rows.append({"study": "integration", "case": "a case", "method": method, "cost": cost,
+                         "cost_unit": "samples", "error": scale / 4**k, "error_spread": 0.0,
+                         "seconds": 1e-4 * 2**k, "reference": "closed form"})  # fmt: skip
+    path = tmp_path / "accuracy.csv"
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    outs = []
+    for run in ("a", "b"):
+        d = tmp_path / run
+        assert figures.main(["--out", str(d), "--only", "accuracy", "--quick", "--accuracy-csv", str(path)]) == 0
+        outs.append(d)
+        rec = json.loads((d / "accuracy.json").read_text(encoding="utf-8"))
+        assert rec["deterministic"] is True and rec["measured"]["points"] == 6
+    assert (outs[0] / "accuracy.png").read_bytes() == (outs[1] / "accuracy.png").read_bytes()
+
+
+def test_cli_only_and_vector_formats(tmp_path, capsys):
+    for run in ("a", "b"):
+        rc, out = _run(["--out", str(tmp_path / run), "--only", "light_colour", "reflection_geometry",
+                        "--format", "svg,pdf,png", "--quick"], capsys)  # fmt: skip
+        assert rc == 0, out.err
+        assert "wrote 2 figures (6 files" in out.out
+    a, b = tmp_path / "a", tmp_path / "b"
+    assert sorted(p.name for p in a.iterdir()) == sorted(
+        [f"{n}.{e}" for n in ("light_colour", "reflection_geometry") for e in ("svg", "pdf", "png", "json")]
+        + ["figures.json"]
+    )
+    svg = (a / "light_colour.svg").read_text(encoding="utf-8")
+    assert svg.lstrip().startswith("<?xml") and "<dc:date>" not in svg
+    assert (a / "light_colour.pdf").read_bytes().startswith(b"%PDF")
+    for name in ("light_colour.svg", "light_colour.pdf", "reflection_geometry.svg", "reflection_geometry.pdf"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    manifest = json.loads((a / "figures.json").read_text(encoding="utf-8"))
+    assert [r["name"] for r in manifest["figures"]] == ["reflection_geometry", "light_colour"]  # lecture order
+
+
+def test_dpi_sets_the_pixel_size(tmp_path):
+    assert figures.main(["--out", str(tmp_path), "--only", "light_is_linear", "--dpi", "40", "--quick"]) == 0
+    rec = json.loads((tmp_path / "light_is_linear.json").read_text(encoding="utf-8"))
+    w, h = rec["size_px"]
+    assert (w, h) == (round(rec["size_in"][0] * 40), round(rec["size_in"][1] * 40))
+    assert _pixels(tmp_path / "light_is_linear.png").shape == (h, w, 3)
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--only", "lambert_cosine"], "unknown figure 'lambert_cosine'; did you mean 'lambert_cosine_law'?"),
+        (["--only", "nothing_like_it"], "unknown figure 'nothing_like_it'; available: lambert_cosine_law"),
+        (["--format", "png,gif"], "unknown format 'gif'; allowed: png, svg, pdf"),
+        (["--dpi", "3"], "dpi must be an integer >= 10; got 3"),
+        (["--dpi", "many"], "argument --dpi: invalid int value: 'many'"),
+        (["--accuracy-csv", "/no/such/file.csv"], "--accuracy-csv: no such file: /no/such/file.csv"),
+    ],
+)
+def test_cli_errors_exit_2_with_one_clear_line(tmp_path, capsys, argv, message):
+    rc, out = _run(["--out", str(tmp_path / "x"), "--quick", *argv], capsys)
+    assert rc == 2
+    assert out.err.startswith("lighting-explorer figures: error: ")
+    assert message in out.err
+    assert len(out.err.strip().splitlines()) == 1
+    assert not (tmp_path / "x" / "figures.json").exists()
+
+
+def test_cli_list_names_every_figure(capsys):
+    rc, out = _run(["--list"], capsys)
+    assert rc == 0
+    listed = [line.split()[0] for line in out.out.splitlines()]
+    assert listed == figures.figure_names()
