@@ -8,7 +8,7 @@ Panels (see ``docs/explorer.md``)::
     +--------------+--------------+--------------+------------------+
     | 3D BRDF lobe | polar slice  | angle curves and half/diff image|
     +--------------+--------------+---------------------------------+
-    | controls: light | point/spot | material | shading | plots     |
+    | controls: light | point/spot | material | shading | terms, plots|
     +---------------------------------------------------------------+
 
 How the engine's colours reach the screen, with VTK lighting off everywhere:
@@ -22,10 +22,16 @@ How the engine's colours reach the screen, with VTK lighting off everywhere:
 * the plots are Matplotlib figures embedded with ``pyvista.ChartMPL`` and updated
   by blitting (:mod:`explorer.app_plots`).
 
+A frame must follow a slider within 50 ms with software OpenGL, so while a slider
+is dragged only the engine's images and the light arrow follow each move (the
+scan-line profile, the lobe and the plots wait for the release, or for the slider
+to rest :data:`IDLE_MS`), and VTK redraws only the panels that changed.
+
 :class:`ExplorerApp` builds the window around an :class:`~explorer.app_state.ExplorerModel`;
 its handlers (:meth:`ExplorerApp.set_control`, :meth:`ExplorerApp.on_slider`,
-:meth:`ExplorerApp.on_key`) are what the widgets call, and what the tests call.
-:func:`main` is the ``lighting-explorer`` command (no sub-command, or ``explore``).
+:meth:`ExplorerApp.on_key`, :meth:`ExplorerApp.flush`) are what the widgets call, and
+what the tests call.  :func:`benchmark_handlers` times them.  :func:`main` is the
+``lighting-explorer`` command (no sub-command, or ``explore``).
 """
 
 from __future__ import annotations
@@ -47,6 +53,7 @@ from .app_state import (
     FORMS,
     LIGHT_COLOURS,
     LIGHT_TYPES,
+    LIVE_VIEWS,
     MODEL_LABELS,
     MODELS,
     NDFS,
@@ -55,22 +62,46 @@ from .app_state import (
     ExplorerModel,
 )
 
-__all__ = ["DEFAULT_WINDOW_SIZE", "ExplorerApp", "benchmark_handlers", "build_parser", "has_display", "main"]
+__all__ = [
+    "DEFAULT_WINDOW_SIZE",
+    "IDLE_MS",
+    "ExplorerApp",
+    "benchmark_handlers",
+    "build_parser",
+    "has_display",
+    "main",
+]
 
-DEFAULT_WINDOW_SIZE = (1600, 960)
+DEFAULT_WINDOW_SIZE = (1280, 768)
+#: Window height for which the font sizes below are given; other sizes scale them (and the plots' dpi).
+DESIGN_HEIGHT = 768
 BACKGROUND = (0.105, 0.11, 0.125)
 TEXT = (0.91, 0.925, 0.94)
 MUTED = (0.55, 0.57, 0.6)
 ACCENT = (1.0, 0.88, 0.4)
 SCANLINE = (1.0, 0.42, 0.42)
 HALF = 1.08  # half-width of the engine images in sphere units (lighting.analytic.sphere_camera's margin)
-SPHERE_SCALE = 1.36  # half-height of the lit sphere panel's view, sphere units (room for the light arrow)
+SPHERE_SCALE = 1.45  # half-height of the lit sphere panel's view, sphere units (room for the light arrow)
 COARSE_SCALE = 1.16
 LOBE_SCALE = 1.0
+#: While a slider is dragged only the lit sphere and the coarse spheres follow; the profile, the lobe
+#: and the plots follow on release, or once the slider has rested this long (milliseconds).
+IDLE_MS = 150
 
 # Panels: (row, column) of the subplot grid.
 SPHERE, GOURAUD, PHONG, PROFILE = (0, 0), (0, 1), (0, 2), (0, 3)
 LOBE, POLAR, ANGLES, CONTROLS_PANEL = (1, 0), (1, 1), (1, 2), (2, 0)
+#: The views each panel shows.  During a drag VTK redraws only the panels whose views changed (and
+#: the controls); the others keep last frame's pixels, which are still right.
+PANEL_VIEWS = {
+    SPHERE: frozenset({"sphere"}),
+    GOURAUD: frozenset({"coarse", "profile"}),  # the red scan line follows the profile
+    PHONG: frozenset({"coarse", "profile"}),
+    PROFILE: frozenset({"profile"}),
+    LOBE: frozenset({"lobe"}),
+    POLAR: frozenset({"polar"}),
+    ANGLES: frozenset({"theta_v", "theta_h", "theta_d", "halfdiff"}),
+}
 
 NO_DISPLAY_MESSAGE = (
     "lighting-explorer: no display (DISPLAY/WAYLAND_DISPLAY unset), so no window can open; for images instead run "
@@ -231,7 +262,7 @@ SLIDER_COLUMNS = (
             SliderSpec("exposure", "exposure", -4, 4, fmt="{:+.1f}", unit=" stops"),
         ),
     ),
-    ("Plots", (SliderSpec("channel", "channel", choices=CHANNELS),)),
+    ("Terms and plots", (SliderSpec("channel", "plot channel", choices=CHANNELS),)),
 )
 SLIDERS = {spec.name: spec for _, column in SLIDER_COLUMNS for spec in column}
 #: Check boxes of the "Plots" column: (key, label).
@@ -239,8 +270,8 @@ CHECKBOXES = (
     ("ambient", "ambient term"),
     ("diffuse", "diffuse term"),
     ("specular", "specular term"),
-    ("log", "log10(1 + x) plots"),
-    ("times_cos", "× n·l plots"),
+    ("log", "log10(1 + x)"),
+    ("times_cos", "× n·l"),
 )
 
 
@@ -279,7 +310,7 @@ class ExplorerApp:
     ----------
     state : AppState, optional
     window_size : (int, int)
-        Window width and height in pixels (default 1600 × 960).
+        Window width and height in pixels (default 1280 × 768).
     off_screen : bool
         Render without a window (screenshots, tests); needs no display.
     sphere_size, mesh_size : int, optional
@@ -304,6 +335,8 @@ class ExplorerApp:
             # 0.8 texel per pixel: the coarse images are drawn slightly magnified, to keep a slider move fast.
             mesh_size = int(min(max(round(0.8 * row0 * HALF / COARSE_SCALE / 8) * 8, 96), 1024))
         self.model = ExplorerModel(state, sphere_size=sphere_size, mesh_size=mesh_size, lobe_resolution=lobe_resolution)
+        #: Text and plot scale: 1 at the default height, so every window size has the same layout.
+        self.ui_scale = h / DESIGN_HEIGHT
         self.off_screen = bool(off_screen)
         self.font = _font_file()
         self.show_edges = True
@@ -312,6 +345,9 @@ class ExplorerApp:
         self._shown = False
         self._screenshot_count = 0
         self.last_screenshot = None
+        self._idle_timer = None
+        self._last_drag = 0.0
+        self._changed_panels = set(PANEL_VIEWS)  # panels changed since the last frame
         with _quiet_vtk(self.off_screen and not has_display()):
             pl = self._make_plotter(row_w, col_w)
         pl.set_background(BACKGROUND)
@@ -328,6 +364,8 @@ class ExplorerApp:
         self._build_controls()
         self._build_help()
         self._bind_keys()
+        self._panel_renderers = {panel: self._renderer(panel) for panel in PANEL_VIEWS}
+        pl.ren_win.AddObserver("EndEvent", self._after_render)
         self.refresh(render=False, force=True)
         self._building = False
         if self.off_screen:
@@ -364,7 +402,7 @@ class ExplorerApp:
         actor = vtk.vtkTextActor()
         actor.SetInput(text)
         prop = actor.GetTextProperty()
-        prop.SetFontSize(size)
+        prop.SetFontSize(self._font_px(size))
         prop.SetColor(*color)
         prop.SetBold(bold)
         if self.font:
@@ -378,6 +416,9 @@ class ExplorerApp:
         ren.AddViewProp(actor)
         self.captions[key] = actor
         return actor
+
+    def _font_px(self, size) -> int:
+        return max(7, round(size * self.ui_scale))
 
     def _set_text(self, key, text):
         actor = self.captions[key]
@@ -401,6 +442,10 @@ class ExplorerApp:
         texture.interpolate = True
         plane = pv.Plane(center=(0.0, 0.0, z), direction=(0.0, 0.0, 1.0), i_size=2 * HALF, j_size=2 * HALF)
         actor = self.plotter.add_mesh(plane, texture=texture, lighting=False, show_scalar_bar=False)
+        # Drawn with the opaque geometry: an RGBA texture would make VTK composite the panel in a
+        # translucent pass (several extra full-panel buffers, slow with software OpenGL).  The
+        # transparent texels still blend with what was drawn before (see _build_sphere_panel).
+        actor.ForceOpaqueOn()
         image = texture.to_image()
         pixels = image.point_data.active_scalars
         return {"texture": texture, "image": image, "pixels": pixels, "actor": actor, "size": size}
@@ -409,10 +454,11 @@ class ExplorerApp:
     def _upload(plane, rgb8, coverage):
         """Put an engine image (rows top-down) into a plane's texture; uncovered pixels are transparent."""
         h, w = coverage.shape
-        rgba = np.empty((h, w, 4), dtype=np.uint8)
+        rgba = np.asarray(plane["pixels"]).reshape(h, w, 4)[::-1]  # VTK images start at the bottom row
         rgba[..., :3] = rgb8
-        rgba[..., 3] = np.where(coverage, 255, 0)
-        plane["pixels"][:] = rgba[::-1].reshape(-1, 4)  # VTK images start at the bottom row
+        if plane.get("alpha_of") is not coverage:  # a renderer's coverage stays the same array
+            np.multiply(coverage, np.uint8(255), out=rgba[..., 3], casting="unsafe")
+            plane["alpha_of"] = coverage
         plane["image"].Modified()
         plane["texture"].Modified()
 
@@ -420,15 +466,17 @@ class ExplorerApp:
     def _build_sphere_panel(self):
         pv = self.pv
         self._renderer(SPHERE)
-        self.sphere_plane = self._image_plane(self.model.sphere_size)
+        # The arrow first: the image plane (drawn in the same opaque pass, in order) then hides the
+        # part of the arrow behind the sphere, while its transparent corners let the rest show.
         arrow = pv.Arrow(start=(0, 0, 0), direction=(1, 0, 0), tip_length=0.35, tip_radius=0.16, shaft_radius=0.06)
         self.light_arrow = self.plotter.add_mesh(arrow, color=ACCENT, lighting=False)
         bulb = pv.Sphere(radius=0.07, theta_resolution=24, phi_resolution=12)
         self.light_bulb = self.plotter.add_mesh(bulb, color=ACCENT, lighting=False)
+        self.sphere_plane = self._image_plane(self.model.sphere_size)
         self._ortho_camera(SPHERE_SCALE)
-        self._text(SPHERE, "sphere_title", "", 0.02, 0.98, size=12, bold=True)
-        self._text(SPHERE, "sphere_legend", "yellow arrow: light direction", 0.02, 0.915, size=10, color=MUTED)
-        self._text(SPHERE, "sphere_info", "", 0.02, 0.02, size=10, color=MUTED, valign="bottom")
+        self._text(SPHERE, "sphere_title", "", 0.025, 0.98, size=11.5, bold=True)
+        self._text(SPHERE, "sphere_legend", "", 0.025, 0.91, size=9.5, color=MUTED)
+        self._text(SPHERE, "sphere_info", "", 0.025, 0.02, size=9.5, color=MUTED, valign="bottom")
 
     def _build_coarse_panels(self):
         pv = self.pv
@@ -440,29 +488,33 @@ class ExplorerApp:
         )
         # The edges sit a hair outside the surface so the depth test never hides them.
         self.edges_poly = self._edges_poly(c)
-        self.gouraud_edges = self.plotter.add_mesh(
-            self.edges_poly, style="wireframe", color=(0.0, 0.0, 0.0), opacity=0.35, lighting=False, line_width=1.0,
-            show_scalar_bar=False, scalars=None,
-        )  # fmt: skip
+        self.gouraud_edges = self._add_edges()
         self.scan_g = pv.Line((-1.12, 0.0, 1.5), (1.12, 0.0, 1.5))
         self.plotter.add_mesh(self.scan_g, color=SCANLINE, line_width=2.0, lighting=False)
         self._ortho_camera(COARSE_SCALE)
-        self._text(GOURAUD, "gouraud_title", "", 0.02, 0.98, size=12, bold=True)
-        self._text(GOURAUD, "gouraud_info", "", 0.02, 0.02, size=10, color=MUTED, valign="bottom")
+        self._text(GOURAUD, "gouraud_title", "", 0.025, 0.98, size=11.5, bold=True)
+        self._text(GOURAUD, "gouraud_info", "", 0.025, 0.02, size=9.5, color=MUTED, valign="bottom")
 
         self._renderer(PHONG)
         self.phong_plane = self._image_plane(self.model.mesh_size, z=-0.01)
-        self.phong_edges = self.plotter.add_mesh(
-            self.edges_poly, style="wireframe", color=(0.0, 0.0, 0.0), opacity=0.35, lighting=False, line_width=1.0,
-            show_scalar_bar=False, scalars=None,
-        )  # fmt: skip
+        self.phong_edges = self._add_edges()
         self.scan_p = pv.Line((-1.12, 0.0, 1.5), (1.12, 0.0, 1.5))
         self.plotter.add_mesh(self.scan_p, color=SCANLINE, line_width=2.0, lighting=False)
         self._ortho_camera(COARSE_SCALE)
-        self._text(PHONG, "phong_title", "Phong interpolation: engine lights every pixel", 0.02, 0.98, size=12,
-                   bold=True)  # fmt: skip
-        self._text(PHONG, "phong_info", "normals interpolated, red line: scan line", 0.02, 0.02, size=10,
-                   color=MUTED, valign="bottom")  # fmt: skip
+        self._text(PHONG, "phong_title", "Phong interpolation: lit per pixel", 0.025, 0.98, size=11.5, bold=True)
+        self._text(PHONG, "phong_info", "normals interpolated, engine lights each pixel\nred line: the scan line",
+                   0.025, 0.02, size=9.5, color=MUTED, valign="bottom")  # fmt: skip
+
+    def _add_edges(self):
+        # 35 % black over the surface.  Drawn in the opaque pass after the surface (blending still
+        # on): the same colours as a translucent actor, without VTK's costly translucent pass; the
+        # depth test hides the edges of the far side.
+        actor = self.plotter.add_mesh(
+            self.edges_poly, style="wireframe", color=(0.0, 0.0, 0.0), opacity=0.35, lighting=False, line_width=1.0,
+            show_scalar_bar=False, scalars=None,
+        )  # fmt: skip
+        actor.ForceOpaqueOn()
+        return actor
 
     def _edges_poly(self, poly):
         edges = self.pv.PolyData(np.asarray(poly.points) * 1.004, poly.faces)
@@ -505,17 +557,18 @@ class ExplorerApp:
         cam.SetParallelScale(LOBE_SCALE)
         cam.SetClippingRange(0.5, 30.0)
         self._lobe_camera = (cam.GetPosition(), cam.GetFocalPoint(), cam.GetViewUp(), cam.GetParallelScale())
-        self._text(LOBE, "lobe_title", "", 0.02, 0.98, size=12, bold=True)
-        self._text(LOBE, "lobe_info", "", 0.02, 0.02, size=10, color=MUTED, valign="bottom")
+        self._text(LOBE, "lobe_title", "", 0.025, 0.98, size=11.5, bold=True)
+        self._text(LOBE, "lobe_info", "", 0.025, 0.905, size=9.5, color=MUTED)
 
     def _build_charts(self):
         from .app_plots import AnglePlots, PolarPlot, ProfilePlot
 
         pv = self.pv
         w, h = self.window_size
-        self.profile_plot = ProfilePlot(self._panel_px(PROFILE, 0.92), captions=False)
-        self.polar_plot = PolarPlot(self._panel_px(POLAR, 0.92), captions=False)
-        self.angle_plots = AnglePlots(self._panel_px(ANGLES, 0.92, cols=2), captions=False)
+        dpi = 100 * self.ui_scale  # the same layout at every window size
+        self.profile_plot = ProfilePlot(self._panel_px(PROFILE, 0.92), dpi=dpi, captions=False)
+        self.polar_plot = PolarPlot(self._panel_px(POLAR, 0.92), dpi=dpi, captions=False)
+        self.angle_plots = AnglePlots(self._panel_px(ANGLES, 0.92, cols=2), dpi=dpi, captions=False)
         self.charts = {}
         for panel, plot, key in (
             (PROFILE, self.profile_plot, "profile"),
@@ -528,11 +581,11 @@ class ExplorerApp:
             self.plotter.add_chart(chart)
             plot.on_image = self._chart_pusher(chart)
             self.charts[key] = chart
-            self._text(panel, f"{key}_title", "", 0.02, 0.98, size=12, bold=True)
-        self._text(PROFILE, "profile_metric", "", 0.02, 0.915, size=10, color=MUTED)
-        self._text(POLAR, "polar_quantity", "", 0.02, 0.915, size=10, color=MUTED)
-        self._text(POLAR, "polar_note", "", 0.5, 0.45, size=12, color=SCANLINE, align="center", valign="center")
-        self._text(ANGLES, "angles_peak", "", 0.985, 0.06, size=9, color=MUTED, align="right", valign="bottom")
+            self._text(panel, f"{key}_title", "", 0.025 if panel != ANGLES else 0.012, 0.98, size=11.5, bold=True)
+        self._text(PROFILE, "profile_metric", "", 0.025, 0.905, size=9.5, color=MUTED)
+        self._text(POLAR, "polar_quantity", "", 0.025, 0.905, size=9.5, color=MUTED)
+        self._text(POLAR, "polar_note", "", 0.5, 0.45, size=11, color=SCANLINE, align="center", valign="center")
+        self._text(ANGLES, "angles_peak", "", 0.988, 0.015, size=9, color=MUTED, align="right", valign="bottom")
 
     def _panel_px(self, panel, height_frac=1.0, cols=1):
         w, h = self.window_size
@@ -567,35 +620,35 @@ class ExplorerApp:
         style = self.pv.global_theme.slider_styles.modern
         for c, (header, specs) in enumerate(SLIDER_COLUMNS):
             x0 = c * width
-            self._text(CONTROLS_PANEL, f"header{c}", header, x0 + 0.012, 0.97, size=11, color=ACCENT, bold=True)
+            self._text(CONTROLS_PANEL, f"header{c}", header, x0 + 0.012, 0.97, size=10.5, color=ACCENT, bold=True)
             for r, spec in enumerate(specs):
                 y = top - r * step
                 self._add_slider(spec, (x0 + 0.018, y), (x0 + width - 0.02, y), style)
-        self._text(CONTROLS_PANEL, "hint", "keys: h help · s screenshot · r reset", 1 - 0.006, 0.03, size=10,
+        self._text(CONTROLS_PANEL, "hint", "keys: h help · s screenshot · r reset", 1 - 0.006, 0.03, size=9,
                    color=MUTED, align="right", valign="bottom")  # fmt: skip
         # Check boxes under the channel slider, in the last column: terms left, plot options right.
         w, h = self.window_size
         vp_w = w
         vp_h = self._row_frac[2] * h
-        box = max(12, int(vp_h * 0.07))
+        box = max(10, round(13 * self.ui_scale))
         for k, (key, label) in enumerate(CHECKBOXES):
             sub, row = (0, k) if k < 3 else (1, k - 3)
-            x_px = int(((ncol - 1) * width + 0.016 + sub * 0.5 * width) * vp_w)
+            x_px = int(((ncol - 1) * width + 0.016 + sub * 0.52 * width) * vp_w)
             y_px = int((0.56 - row * 0.17) * vp_h)
             widget = self.plotter.add_checkbox_button_widget(
                 self._checkbox_callback(key), value=self._checkbox_value(key), position=(x_px, y_px), size=box,
                 border_size=2, color_on=ACCENT, color_off=(0.25, 0.26, 0.3), background_color=MUTED,
             )  # fmt: skip
             self.checkboxes[key] = widget
-            self._text(CONTROLS_PANEL, f"check_{key}", label, (x_px + box + 8) / vp_w, (y_px + box / 2) / vp_h,
-                       size=10, valign="center")  # fmt: skip
+            self._text(CONTROLS_PANEL, f"check_{key}", label, (x_px + box + 6) / vp_w, (y_px + box / 2) / vp_h,
+                       size=9.5, valign="center")  # fmt: skip
 
     def _add_slider(self, spec, a, b, style):
         value = self._state_value(spec.name)
         widget = self.plotter.add_slider_widget(
             self._slider_callback(spec.name), [spec.lo, spec.hi], value=spec.to_slider(value),
             title=spec.title(value), pointa=a, pointb=b, interaction_event="always", style="modern",
-            title_height=0.042, title_color=TEXT, color=TEXT, slider_width=0.028, tube_width=0.006,
+            title_height=0.05, title_color=TEXT, color=TEXT, slider_width=0.028, tube_width=0.006,
         )  # fmt: skip
         rep = widget.GetRepresentation()
         rep.ShowSliderLabelOff()
@@ -614,6 +667,7 @@ class ExplorerApp:
             tp.SetFontFile(self.font)
         if spec.choices is not None:
             widget.AddObserver("EndInteractionEvent", self._snap_callback(spec.name))
+        widget.AddObserver("EndInteractionEvent", self._release_callback(spec.name))
         self.sliders[spec.name] = widget
 
     def _build_help(self):
@@ -628,7 +682,7 @@ class ExplorerApp:
         actor = vtk.vtkTextActor()
         actor.SetInput(HELP_TEXT)
         prop = actor.GetTextProperty()
-        prop.SetFontSize(16)
+        prop.SetFontSize(self._font_px(15))
         prop.SetColor(*TEXT)
         prop.SetLineSpacing(1.2)
         prop.SetBackgroundColor(0.05, 0.055, 0.065)
@@ -672,9 +726,17 @@ class ExplorerApp:
     def _slider_callback(self, name):
         def callback(value):
             if not self._building:
-                self.on_slider(name, value)
+                self.on_slider(name, value, live=True)
 
         return callback
+
+    def _release_callback(self, name):
+        def release(widget, event):
+            # The widget renders after this event: bring the views the drag left behind up to date.
+            if not self._building:
+                self.flush(render=False)
+
+        return release
 
     def _snap_callback(self, name):
         def snap(widget, event):
@@ -718,11 +780,12 @@ class ExplorerApp:
                 rep.SetState(want)
 
     # ------------------------------------------------------------------ handlers
-    def on_slider(self, name: str, raw: float, *, render=False) -> set[str]:
+    def on_slider(self, name: str, raw: float, *, render=False, live=False) -> set[str]:
         """What a slider calls: ``raw`` in slider units (log10 for log sliders, an index for choices).
 
         The slider widget renders the window itself after calling back, so by default
-        this only updates the scene (``render=True`` renders too).
+        this only updates the scene (``render=True`` renders too).  ``live=True`` is a
+        drag in progress (what the widget passes): see :meth:`set_control`.
         """
         spec = SLIDERS[name]
         value = spec.from_slider(raw)
@@ -730,20 +793,27 @@ class ExplorerApp:
             if value == "custom":
                 return set()
             value = LIGHT_COLOURS[value]
-        views = self.set_control(name, value, sync=False, render=render)
+        views = self.set_control(name, value, sync=False, render=render, live=live)
         self.sliders[name].GetRepresentation().SetTitleText(spec.title(self._state_value(name)))
         return views
 
-    def set_control(self, name: str, value, *, sync=True, render=True) -> set[str]:
-        """Change one control (validated), recompute the affected views and show them; returns their names."""
+    def set_control(self, name: str, value, *, sync=True, render=True, live=False) -> set[str]:
+        """Change one control (validated), recompute the affected views and show them; returns their names.
+
+        ``live=True`` (a slider being dragged) updates only the views of
+        :data:`~explorer.app_state.LIVE_VIEWS` (the lit sphere and the coarse spheres)
+        when the change affects one of them, and leaves the others in
+        :attr:`stale_views` for :meth:`flush` (the slider's release, or :data:`IDLE_MS`
+        without a move).  Otherwise every affected view is updated at once.
+        """
         changed = self.state.update(**{name: value})
         if not changed:
             return set()
-        views = self.refresh(render=False)
+        views = self.refresh(render=False, live=live)
         if sync:
             self._sync_widgets()
         if render:
-            self._render()
+            self._render(all_panels=not live)
         return views
 
     def on_key(self, key: str) -> set[str]:
@@ -830,6 +900,9 @@ class ExplorerApp:
         style = getattr(pl.iren, "style", None) if pl.iren is not None else None
         if style is not None:
             style.AddObserver("CharEvent", self._on_char)
+        iren = self._interactor()
+        if iren is not None:
+            iren.AddObserver("TimerEvent", self._on_timer)
 
     @staticmethod
     def _on_char(style, event):
@@ -839,21 +912,88 @@ class ExplorerApp:
 
     def _key_callback(self, key):
         def callback():
-            self.on_key(key)
-            self._render()
+            self.on_key(key)  # renders when something changed
 
         return callback
 
     # ------------------------------------------------------------------ showing the views
-    def refresh(self, *, render=True, force=False) -> set[str]:
-        """Recompute the changed views (all with ``force``) and update the window; returns their names."""
-        views = self.model.refresh() if force else self.model.update()
+    def refresh(self, *, render=True, force=False, live=False) -> set[str]:
+        """Recompute the changed views (all with ``force``) and update the window; returns their names.
+
+        With ``live`` only the live views are recomputed if any of them is stale (see
+        :meth:`set_control`); the rest wait in :attr:`stale_views`.
+        """
+        model = self.model
+        if force:
+            views = model.refresh()
+        elif live and (model.stale_views() | model.pending) & LIVE_VIEWS:
+            views = model.update(only=LIVE_VIEWS)
+        else:
+            views = model.update()
         self._display(views)
+        self._changed_panels |= {panel for panel, shown in PANEL_VIEWS.items() if shown & views}
+        if live:
+            self._skip_unchanged_panels()
+        else:
+            self._draw_all_panels()
+        if model.pending:
+            self._last_drag = time.perf_counter()
+            self._start_idle_timer()
         if render:
-            self._render()
+            self._render(all_panels=not live)
         return views
 
-    def _render(self):
+    def _skip_unchanged_panels(self):
+        """Let the next frame redraw only the panels changed since the last one (see PANEL_VIEWS)."""
+        for panel, ren in self._panel_renderers.items():
+            ren.SetDraw(panel in self._changed_panels)
+
+    def _draw_all_panels(self):
+        for ren in self._panel_renderers.values():
+            ren.SetDraw(True)
+
+    def _after_render(self, window=None, event=None):
+        # A frame is on screen: whatever renders next (an expose, a hover, a key) draws every panel.
+        self._changed_panels.clear()
+        self._draw_all_panels()
+
+    @property
+    def stale_views(self) -> set[str]:
+        """Views a drag has left behind the controls (empty after :meth:`flush`)."""
+        return set(self.model.pending)
+
+    def flush(self, *, render=True) -> set[str]:
+        """Bring the views a drag left behind up to date; returns their names (empty if none were).
+
+        Called when a slider is released and when it has rested :data:`IDLE_MS`; the
+        views then hold the same data as if every view had been updated at each move.
+        """
+        if not self.model.pending:
+            return set()
+        return self.refresh(render=render)
+
+    def _start_idle_timer(self):
+        """Ask the interactor for a timer event :data:`IDLE_MS` from now (a window only)."""
+        iren = self._interactor()
+        if iren is None or not self._shown:
+            return
+        if self._idle_timer is not None:
+            iren.DestroyTimer(self._idle_timer)
+        self._idle_timer = iren.CreateOneShotTimer(IDLE_MS)
+
+    def _on_timer(self, iren=None, event=None):
+        """A timer went off: after :data:`IDLE_MS` without a move, update the views left behind."""
+        self._idle_timer = None
+        if self.model.pending and time.perf_counter() - self._last_drag >= 0.9e-3 * IDLE_MS:
+            self.flush(render=True)
+
+    def _interactor(self):
+        iren = getattr(self.plotter, "iren", None)
+        return getattr(iren, "interactor", None) if iren is not None else None
+
+    def _render(self, *, all_panels=True):
+        if all_panels:
+            self._draw_all_panels()
         if self._shown or self.off_screen:
             self.plotter.render()
 
@@ -865,11 +1005,12 @@ class ExplorerApp:
             sv = m["sphere"]
             self._upload(self.sphere_plane, sv.rgb8, sv.coverage)
             where = "per pixel, exact sphere" if sv.mode == "phong" else f"{sv.mode}, {sv.geometry}"
-            self._set_text("sphere_title", f"Lit sphere (engine): {MODEL_LABELS[s.model]}, {where}")
+            self._set_text("sphere_title", f"Lit sphere (engine): {MODEL_LABELS[s.model]}")
             share = 100 * sv.clipped / max(int(sv.coverage.sum()), 1)
-            clipped = f" · {share:.0f}% of the sphere above 1 (clipped)" if sv.clipped else ""
-            self._set_text("sphere_legend", "yellow arrow: light direction" + clipped)
-            self._set_text("sphere_info", self._light_summary())
+            share = f"{share:.0f}%" if share >= 0.5 else "under 1%"
+            clipped = f"{share} of the sphere above 1: clipped (lower the exposure)\n" if sv.clipped else ""
+            self._set_text("sphere_legend", f"{where} · arrow: the light")
+            self._set_text("sphere_info", clipped + self._light_summary())
         if views & {"sphere", "lobe"} or not self._glyphs_placed:
             self._update_light_glyphs()
         if "coarse" in views:
@@ -879,10 +1020,11 @@ class ExplorerApp:
             self.gouraud_poly.point_data["rgb"][:] = cv.vertex_rgb8
             self.gouraud_poly.Modified()
             self._upload(self.phong_plane, cv.phong_rgb8, cv.coverage)
-            self._set_text("gouraud_title", "Gouraud: engine colours at the vertices")
+            self._set_text("gouraud_title", "Gouraud: lit at the vertices")
             self._set_text(
                 "gouraud_info",
-                f"{cv.n_triangles} triangles, {len(cv.vertices)} vertices · VTK interpolates the colours, lighting off",
+                f"{cv.n_triangles} triangles, {len(cv.vertices)} vertices: engine colours\n"
+                "interpolated across each triangle (VTK lighting off)",
             )
         if "profile" in views:
             pv_ = m["profile"]
@@ -892,28 +1034,27 @@ class ExplorerApp:
                 line.points = pts
             self.profile_plot.set_data(pv_, CHANNEL_LABELS[s.channel])
             self.profile_plot.render()
-            self._set_text("profile_title", f"Intensity along the scan line ({CHANNEL_LABELS[s.channel]})")
+            self._set_text("profile_title", f"Scan line: intensity ({CHANNEL_LABELS[s.channel]})")
             self._set_text(
                 "profile_metric",
-                f"Mach-band metric (slope kinks at edges): Gouraud {pv_.metric_gouraud:.2f}, "
-                f"Phong {pv_.metric_phong:.2f}",
+                f"Mach-band metric (slope kinks): Gouraud {pv_.metric_gouraud:.2f}, Phong {pv_.metric_phong:.2f}",
             )
         if "lobe" in views:
             self._update_lobe(m["lobe"], label)
         if "polar" in views:
             self.polar_plot.set_data(m["polar"], channel=s.channel, label=label)
             self.polar_plot.render()
-            self._set_text("polar_title", f"Polar slice in the plane of incidence, θ_l = "
-                           f"{math.degrees(m['polar'].theta_in):.0f}°")  # fmt: skip
-            self._set_text("polar_note", "light below the horizon: nothing reflected" if m["polar"].below_horizon
+            theta_in = math.degrees(m["polar"].theta_in)
+            self._set_text("polar_title", f"Polar slice, plane of incidence, θ_l = {theta_in:.0f}°")
+            self._set_text("polar_note", "light below the horizon:\nnothing reflected" if m["polar"].below_horizon
                            else "")  # fmt: skip
-            self._set_text("polar_quantity", f"{label}; solid: light fixed, dashed: view fixed")
+            self._set_text("polar_quantity", label)
         if views & {"theta_v", "theta_h", "theta_d", "halfdiff"}:
             self.angle_plots.set_data(
                 m["theta_v"], m["theta_h"], m["theta_d"], m["halfdiff"], channel=s.channel, label=label
             )
             self.angle_plots.render()
-            self._set_text("angles_title", f"{label} against θ_v, θ_h, θ_d (Rusinkiewicz) — {MODEL_LABELS[s.model]}")
+            self._set_text("angles_title", f"{MODEL_LABELS[s.model]}: {label} against θ_v, θ_h, θ_d (Rusinkiewicz)")
             self._set_text("angles_peak", self.angle_plots.captions.get("peak", ""))
 
     def _light_summary(self) -> str:
@@ -924,8 +1065,9 @@ class ExplorerApp:
             light = f"{s.light}, elevation {s.elevation:.0f}°, azimuth {s.azimuth:.0f}°"
             if s.light in ("point", "spot"):
                 light += f", distance {s.distance:.1f}"
-        terms = "+".join(s.terms) or "no terms"
-        return f"{light} · {s.form} · {terms}"
+        terms = " + ".join(s.terms) or "no terms"
+        form = "classic I" if s.form == "classic" else "physical I/π"
+        return f"{light}\n{form} · {terms}"
 
     def _update_light_glyphs(self):
         self._glyphs_placed = True
@@ -975,20 +1117,23 @@ class ExplorerApp:
         extra = " · light below the horizon" if lv.below_horizon else ""
         self._set_text(
             "lobe_info",
-            f"light at θ_l = {theta:.0f}° (yellow), mirror direction (red) · peak {lv.peak:.3g} · "
-            f"radius scaled to fit{extra}",
+            f"light l at θ_l = {theta:.0f}° (yellow), mirror direction (red)\n"
+            f"peak {lv.peak:.3g}, radius scaled to fit{extra}",
         )
 
     # ------------------------------------------------------------------ output
     def screenshot(self, path) -> str:
         """Render the whole window to a PNG at ``path``; returns the path."""
         path = os.fspath(path)
+        self._draw_all_panels()
+        self.plotter.render()
         self.plotter.screenshot(path)
         self.last_screenshot = path
         return path
 
     def image(self) -> np.ndarray:
         """The window as an RGB array ``(H, W, 3)`` (renders first)."""
+        self._draw_all_panels()
         self.plotter.render()
         return np.asarray(self.plotter.screenshot(return_img=True))
 
@@ -1015,22 +1160,27 @@ class ExplorerApp:
 
 # =============================================================================== benchmark
 def benchmark_handlers(repeat: int = 15, window_size=DEFAULT_WINDOW_SIZE) -> dict:
-    """Median times (ms) of the slider handlers at ``window_size``, off-screen.
+    """Median times (ms) of the slider handlers and of whole frames at ``window_size``, off-screen.
 
-    Each handler is what a slider move runs: validate and store the value, recompute
-    the affected views with the engine (cached geometry buffers: a light or material
-    change re-shades, never re-rasterizes), and update the window's textures, meshes
-    and plots.  ``light_frame_ms`` adds VTK's render of the whole window (software
-    OpenGL here; a GPU draws it far faster).  Keys:
+    A slider being dragged calls the *drag* handler (:meth:`ExplorerApp.on_slider` with
+    ``live=True``): validate and store the value, re-shade the lit sphere and the coarse
+    spheres from their cached geometry buffers (never re-rasterized), encode and upload
+    them, move the light arrow; the other views wait for the release.  A *frame* adds
+    VTK's render of the whole window (software OpenGL here), which is what the eye waits
+    for.  Keys:
 
-    * ``azimuth_ms`` — turning the light about the view axis (images re-shaded; the
-      BRDF plots depend only on the incident angle and stay);
-    * ``elevation_ms`` — a new incident angle: images and every light-dependent plot;
-    * ``light_frame_ms`` — ``elevation_ms`` plus rendering the window;
-    * ``shininess_ms`` — a material parameter: every view;
-    * ``tessellation_new_ms`` — a coarse sphere not seen before (rasterized);
+    * ``azimuth_ms``, ``elevation_ms`` — the drag handler of the light sliders;
+    * ``azimuth_frame_ms``, ``light_frame_ms`` — the same plus rendering the window:
+      what a drag of the azimuth or elevation slider costs per frame;
+    * ``release_ms`` — the frame at the release of the elevation slider: the scan-line
+      profile, the lobe and the plots brought up to date, and the window rendered;
+    * ``elevation_full_ms``, ``elevation_full_frame_ms`` — one elevation change updating
+      every view at once (a key, or :meth:`ExplorerApp.set_control`), without and with
+      the render;
+    * ``shininess_ms`` — the drag handler of a material slider;
+    * ``tessellation_new_ms`` — a coarse sphere not seen before (rasterized), dragged;
     * ``tessellation_cached_ms`` — back to one already rasterized;
-    * ``render_ms`` — VTK alone, redrawing the window.
+    * ``render_ms`` — VTK alone, redrawing the unchanged window.
     """
     import pyvista as pv
 
@@ -1040,9 +1190,11 @@ def benchmark_handlers(repeat: int = 15, window_size=DEFAULT_WINDOW_SIZE) -> dic
     try:
         out = {"window": list(app.window_size), "sphere_px": app.model.sphere_size, "mesh_px": app.model.mesh_size}
 
-        def timed(action, n, frame=False):
+        def timed(action, n, frame=False, before=None):
             times = []
             for k in range(n):
+                if before is not None:
+                    before(k)
                 t0 = time.perf_counter()
                 action(k)
                 if frame:
@@ -1051,20 +1203,31 @@ def benchmark_handlers(repeat: int = 15, window_size=DEFAULT_WINDOW_SIZE) -> dic
             return statistics.median(times)
 
         def azimuth(k):
-            app.on_slider("azimuth", 135.0 + 40.0 * math.sin(0.2 * (k + 1)))
+            app.on_slider("azimuth", 135.0 + 40.0 * math.sin(0.2 * (k + 1)), live=True)
 
         def elevation(k):
+            app.on_slider("elevation", 45.0 + 20.0 * math.sin(0.3 * (k + 1)), live=True)
+
+        def elevation_full(k):
             app.on_slider("elevation", 45.0 + 20.0 * math.sin(0.3 * (k + 1)))
 
-        timed(elevation, 3)
+        timed(elevation, 3, frame=True)
         out["azimuth_ms"] = timed(azimuth, repeat)
         out["elevation_ms"] = timed(elevation, repeat)
+        out["azimuth_frame_ms"] = timed(azimuth, repeat, frame=True)
         out["light_frame_ms"] = timed(elevation, repeat, frame=True)
-        out["shininess_ms"] = timed(lambda k: app.on_slider("shininess", 1.0 + 0.05 * (k % 20 + 1)), repeat)
+        out["release_ms"] = timed(lambda k: app.flush(render=False), repeat, frame=True, before=elevation)
+        out["elevation_full_ms"] = timed(elevation_full, repeat)
+        out["elevation_full_frame_ms"] = timed(elevation_full, repeat, frame=True)
+        out["shininess_ms"] = timed(lambda k: app.on_slider("shininess", 1.0 + 0.05 * (k % 20 + 1), live=True), repeat)
+        app.flush(render=False)
         seq = [t for t in range(5, 41) if not app.model.is_rasterized(t, app.model.mesh_size)]
         n_new = min(repeat, len(seq), 8)  # within the renderer cache (12), so they stay rasterized
-        out["tessellation_new_ms"] = timed(lambda k: app.on_slider("tessellation", seq[k]), n_new)
-        out["tessellation_cached_ms"] = timed(lambda k: app.on_slider("tessellation", seq[k % n_new]), repeat)
+        out["tessellation_new_ms"] = timed(lambda k: app.on_slider("tessellation", seq[k], live=True), n_new)
+        out["tessellation_cached_ms"] = timed(
+            lambda k: app.on_slider("tessellation", seq[k % n_new], live=True), repeat
+        )
+        app.flush(render=False)
         out["render_ms"] = timed(lambda k: None, repeat, frame=True)
         return out
     finally:
@@ -1077,7 +1240,7 @@ def _window_size(text: str):
     try:
         w, h = (int(x) for x in text.lower().replace("×", "x").split("x"))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT in pixels, e.g. 1600x960; got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT in pixels, e.g. 1280x768; got {text!r}") from None
     if not (640 <= w <= 8192 and 400 <= h <= 8192):
         raise argparse.ArgumentTypeError(f"window size must be at least 640x400 and at most 8192x8192; got {text!r}")
     return (w, h)

@@ -1,12 +1,13 @@
 """The explorer's Matplotlib panels: scan-line profile, polar slice, angle curves and half/difference image.
 
 Each panel is a :class:`BlitFigure`: a small Matplotlib figure whose data
-artists are *animated* — a full draw (axes, ticks, labels: ~30 ms) happens only
-when the layout changes (axis limits, the figure's size); otherwise an update
-restores the saved background and redraws the data artists alone (~1 ms).  Axis
-limits follow the data with hysteresis (they grow at once, shrink only when the
-data fall below a third of the range), so dragging a slider rarely triggers a
-full draw.
+artists are *animated* — a full draw (axes, ticks, labels: 40–100 ms) happens
+only when the layout changes (axis limits, the figure's size); otherwise an
+update restores the saved background and redraws the data artists alone
+(1–2 ms).  Axis limits follow the data with hysteresis (they grow at once,
+shrink only when the data fall below a quarter of the range), so updates rarely
+need a full draw.  The window updates the panels when a slider is released,
+not during the drag.
 
 The panels only draw what :class:`explorer.app_state.ExplorerModel` computed;
 nothing here touches the engine.  Imports Matplotlib (Agg canvas only, no
@@ -116,8 +117,10 @@ class BlitFigure:
     size_px : (int, int)
         Width and height in pixels (at ``dpi``).  A host (``pyvista.ChartMPL``) may
         resize the figure; the next update then draws in full.
-
-        captions : bool
+    dpi : float
+        Pixels per inch: font sizes are in points, so a larger ``dpi`` scales the
+        whole layout (the window passes ``100 × height / 768``).
+    captions : bool
         Draw the texts that change with the data (titles with numbers).  Text is the
         slow part of a blit (~5 ms a line); a host that can draw text faster shows
         :attr:`captions` itself and passes False.
@@ -133,7 +136,7 @@ class BlitFigure:
         How many updates drew everything, and how many only the data.
     """
 
-    def __init__(self, size_px, dpi: int = 100, *, captions: bool = True):
+    def __init__(self, size_px, dpi: float = 100, *, captions: bool = True):
         self.captions: dict[str, str] = {}
         self._caption_artists: dict = {}
         self.show_captions = bool(captions)
@@ -229,10 +232,10 @@ class ProfilePlot(BlitFigure):
     def _build(self):
         fig = self.fig
         self.ax, self.ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2.2, 1]})
-        fig.subplots_adjust(left=0.15, right=0.97, top=0.88, bottom=0.14, hspace=0.12)
+        fig.subplots_adjust(left=0.16, right=0.965, top=0.88, bottom=0.145, hspace=0.12)
         ax, ax2 = self.ax, self.ax2
-        (self.g_line,) = ax.plot([], [], color=COLOURS["gouraud"], label="Gouraud (per vertex)")
-        (self.p_line,) = ax.plot([], [], color=COLOURS["phong"], label="Phong (per pixel)")
+        (self.g_line,) = ax.plot([], [], color=COLOURS["gouraud"], label="Gouraud")
+        (self.p_line,) = ax.plot([], [], color=COLOURS["phong"], label="Phong")
         (self.g_d2,) = ax2.plot([], [], color=COLOURS["gouraud"], lw=1.0)
         (self.p_d2,) = ax2.plot([], [], color=COLOURS["phong"], lw=1.0)
         self.edges = LineCollection([], colors=COLOURS["edge"], linewidths=0.6, linestyles=":", alpha=0.7)
@@ -241,7 +244,7 @@ class ProfilePlot(BlitFigure):
         ax.set_ylabel("intensity I(x)")
         ax2.set_ylabel("Δ²I ÷ |ΔI|")
         ax2.set_ylim(-D2_LIMIT, D2_LIMIT)  # fixed: kinks are ~0.1-1 of the mean slope; larger ones clip
-        ax2.set_xlabel("x along the scan line (sphere radii)   ⋮ triangle edges")
+        ax2.set_xlabel("x (sphere radii)    ⋮ triangle edges", labelpad=1)
         ax.legend(loc="upper left", ncol=2, borderaxespad=0.1, handlelength=1.5, columnspacing=0.8)
         ax.grid(True)
         ax2.grid(True)
@@ -334,9 +337,9 @@ class AnglePlots(BlitFigure):
     def _build(self):
         fig = self.fig
         axs = fig.subplots(1, 4, gridspec_kw={"width_ratios": [1.25, 1, 1, 1.05]})
-        fig.subplots_adjust(left=0.06, right=0.955, top=0.8, bottom=0.2, wspace=0.42)
+        fig.subplots_adjust(left=0.065, right=0.95, top=0.8, bottom=0.2, wspace=0.45)
         self.axes = axs
-        titles = ["vs view angle θ_v", "vs half angle θ_h", "vs difference angle θ_d", "over θ_h (→) and θ_d (↑)"]
+        titles = ["vs θ_v (view)", "vs θ_h (half)", "vs θ_d (difference)", "θ_h →, θ_d ↑"]
         self.curves, self.markers = [], []
         for ax, title in zip(axs, titles, strict=True):
             ax.set_title(title, pad=3)
@@ -361,14 +364,13 @@ class AnglePlots(BlitFigure):
             aspect="auto", interpolation="nearest",
         )  # fmt: skip
         im_ax.set_yticks([0, 30, 60, 90])
-        im_ax.set_xlabel("θ_h (degrees)", labelpad=1)
+        im_ax.set_xlabel("degrees", labelpad=1)
         im_ax.set_ylabel("θ_d", labelpad=1)
         im_ax.grid(False)
         (self.im_marker,) = im_ax.plot([], [], marker="o", ms=5, mfc="none", mec=COLOURS["mirror"], ls="none")
         cbar = fig.colorbar(self.image, ax=im_ax, fraction=0.08, pad=0.04)
         cbar.set_ticks([0, 0.5, 1])
-        cbar.ax.tick_params(labelsize=6)
-        cbar.set_label("relative", labelpad=1, fontsize=6.5)
+        cbar.ax.tick_params(labelsize=6, pad=1)
         self._caption("title", fig.text(0.5, 0.94, "", ha="center", va="center", fontsize=8.5))
         self._caption(
             "peak",

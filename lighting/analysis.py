@@ -367,8 +367,14 @@ def _plane_dirs(t, phi, plane):
 
 
 def _sph(theta, phi):
+    """Unit direction at polar angle ``theta``; ``theta >= π/2`` lies exactly on the horizon (z = 0).
+
+    ``cos(π/2)`` is 6e-17 in floating point, which would put a "horizontal" light a hair
+    above the surface, where the slides' Phong BRDF divides by it.
+    """
     st = math.sin(theta)
-    return np.array([st * math.cos(phi), st * math.sin(phi), math.cos(theta)])
+    ct = 0.0 if theta >= _HALF_PI else math.cos(theta)
+    return np.array([st * math.cos(phi), st * math.sin(phi), ct])
 
 
 # --------------------------------------------------------------------------- polar slices

@@ -642,3 +642,15 @@ def test_mirror_like_lobe_is_resolved_in_float64():
     assert m.values.max() == pytest.approx(top, rel=1e-9)
     assert np.sum(m.values >= 0.5 * top) >= 100
     mesh_is_valid(m)
+
+
+def test_light_exactly_on_the_horizon_reflects_nothing():
+    # cos(π/2) is 6e-17 in floating point; the slides' Phong BRDF divides by n·l and would show ~1e15.
+    import math
+
+    from lighting import BlinnPhong, Phong
+    from lighting.analysis import polar_slice, theta_v_curve
+
+    for model in (Phong(1.0, 20.0), BlinnPhong(1.0, 20.0)):
+        assert np.all(theta_v_curve(model, math.pi / 2).values == 0)
+        assert np.all(polar_slice(model, math.pi / 2).values == 0)

@@ -6,12 +6,16 @@ import numpy as np
 import pytest
 
 from explorer import app as app_mod
+from explorer.app_plots import COLOURS
 from explorer.app_state import (
     CHANNELS,
+    LIVE_VIEWS,
     MODELS,
     TERM_NAMES,
+    VIEWS,
     AppState,
     ExplorerModel,
+    _srgb_thresholds,
     encode8,
     state_from_scene,
 )
@@ -128,6 +132,31 @@ def test_encode8_gives_the_engines_srgb_codes():
             assert clipped == report.clipped_pixels
 
 
+def test_encode8_float32_tables_are_exact_at_every_code_step():
+    """The two-step look-up gives the engine's codes on both sides of every step and bucket edge."""
+    rng = np.random.default_rng(11)
+    # Buckets are the top 16 bits of a float32: their first and last values, from 1e-9 to 1e3.
+    keys = np.arange(0x3000, 0x4480, dtype=np.uint32)  # 3.5e-10 ... 1024
+    edges = np.concatenate([(keys << 16), (keys << 16) | 0xFFFF]).view(np.float32)
+    for exposure in (0.0, 1.0, -2.5, 0.3, 8.0, -8.0):
+        t = _srgb_thresholds(exposure, "float32")
+        f32 = np.float32
+        x = np.concatenate(
+            [t, np.nextafter(t, f32(-1)), np.nextafter(t, f32(1e9)), edges, f32([0.0, -0.0, -1.0, -1e-30]),
+             (10.0 ** rng.uniform(-9, 3, 30000)).astype(f32)]
+        )  # fmt: skip
+        x = x[: x.size // 3 * 3].reshape(-1, 1, 3)
+        codes, clipped = encode8(x, exposure=exposure)
+        ref, report = encode_srgb8(x, exposure=exposure)
+        assert np.array_equal(codes, ref), exposure
+        assert clipped == report.clipped_pixels
+        # Coverage: uncovered pixels are black and not counted as clipped.
+        cov = rng.random(x.shape[:2]) < 0.5
+        codes, clipped = encode8(x, cov, exposure=exposure)
+        ref, report = encode_srgb8(np.where(cov[..., None], x, 0), exposure=exposure)
+        assert np.array_equal(codes, ref) and clipped == report.clipped_pixels
+
+
 def test_views_recompute_only_what_a_control_affects():
     m = ExplorerModel(sphere_size=64, mesh_size=64, lobe_resolution=8)
     m.update()
@@ -142,6 +171,51 @@ def test_views_recompute_only_what_a_control_affects():
     m.state.tessellation = 12
     assert m.update() == {"coarse", "profile"}  # the lit sphere is the exact sphere in Phong mode
     assert m.rasterizations == raster + 1
+
+
+def _assert_views_equal(a: ExplorerModel, b: ExplorerModel):
+    assert set(a.views) == set(b.views) == set(VIEWS)
+    for name in VIEWS:
+        va, vb = a.views[name], b.views[name]
+        for field, value in vars(vb).items():
+            if isinstance(value, np.ndarray):
+                assert np.array_equal(getattr(va, field), value), (name, field)
+            elif not callable(value):
+                assert getattr(va, field) == value, (name, field)
+    assert np.array_equal(a.views["coarse"].gouraud, b.views["coarse"].gouraud)
+
+
+def test_drag_updates_the_images_and_leaves_the_rest_for_the_release():
+    dragged = ExplorerModel(sphere_size=48, mesh_size=48, lobe_resolution=8)
+    full = ExplorerModel(dragged.state.copy(), sphere_size=48, mesh_size=48, lobe_resolution=8)
+    dragged.update(), full.update()
+    assert LIVE_VIEWS == {"sphere", "coarse"}
+    # What each control changes (test_views_recompute_only_what_a_control_affects), less the images.
+    waits = {
+        "elevation": {"profile", "lobe", "polar", "theta_v", "theta_h"},
+        "shininess": set(VIEWS) - LIVE_VIEWS,
+        "azimuth": {"profile"},
+    }
+    for name, values in (("elevation", (40.0, 20.0, -10.0)), ("shininess", (80.0, 300.0)), ("azimuth", (10.0,))):
+        before = dict(dragged.views)
+        for v in values:
+            setattr(dragged.state, name, v)
+            assert dragged.update(only=LIVE_VIEWS) == {"sphere", "coarse"}  # the images follow every move
+        # The other views keep their old data until the release, and say so.
+        assert dragged.pending == waits[name]
+        assert all(dragged.views[k] is before[k] for k in waits[name])
+        assert dragged.update() == waits[name] and dragged.pending == set()
+        setattr(full.state, name, values[-1])
+        full.update()
+        _assert_views_equal(dragged, full)  # the release ends where updating every view at each move ends
+    # The profile is read off the coarse sphere: asking for it brings the coarse sphere up to date too.
+    dragged.state.kd = 0.5
+    assert dragged.update(only={"profile"}) == {"profile", "coarse"}
+    assert dragged.pending == set(VIEWS) - {"profile", "coarse"}
+    full.state.kd = 0.5
+    full.update()
+    dragged.update()
+    _assert_views_equal(dragged, full)
 
 
 # ----------------------------------------------------------------------------- handlers, state and image
@@ -168,6 +242,75 @@ def test_light_to_the_left_moves_the_brightest_pixel_left(fresh):
         y = luminance8(panel_pixels(app, img, app_mod.SPHERE))
         cols.append(np.unravel_index(np.argmax(y), y.shape)[1] / y.shape[1])
     assert cols[1] < 0.45 < 0.55 < cols[0]
+
+
+def _drag(widget, values):
+    """Move a slider widget as a mouse drag does: each step sets the value and reports an interaction."""
+    for v in values:
+        widget.GetRepresentation().SetValue(v)
+        widget.InvokeEvent("InteractionEvent")
+
+
+def test_slider_drag_shows_the_images_at_once_and_the_plots_on_release(fresh):
+    app = fresh
+    # The same final state through set_control, which updates every view at once: the reference picture.
+    app.set_control("elevation", 10.0)
+    assert app.stale_views == set()
+    reference = app.image()
+    full_views = dict(app.model.views)
+    app.reset()
+    before = dict(app.model.views)
+    widget = app.sliders["elevation"]
+    _drag(widget, (40.0, 30.0, 20.0, 10.0))
+    assert app.state.elevation == 10.0
+    # The engine's images follow every move; the profile, the lobe and the plots wait, marked stale.
+    assert app.stale_views == {"profile", "lobe", "polar", "theta_v", "theta_h"}
+    assert np.array_equal(app.model.views["sphere"].rgb8, full_views["sphere"].rgb8)
+    assert np.array_equal(app.model.views["coarse"].phong_rgb8, full_views["coarse"].phong_rgb8)
+    assert all(app.model.views[k] is before[k] for k in app.stale_views)
+    # The frame drawn during the drag redraws only the panels that changed (and the controls) ...
+    drawn = {panel for panel, ren in app._panel_renderers.items() if ren.GetDraw()}
+    assert drawn == {app_mod.SPHERE, app_mod.GOURAUD, app_mod.PHONG}
+    app.plotter.render()  # what the widget does after calling back
+    frame = np.asarray(app.plotter.screenshot(return_img=True)).copy()
+    assert all(ren.GetDraw() for ren in app._panel_renderers.values())  # the next frame draws everything
+    # ... and the panels it skipped still show last frame's pixels: the same picture as a full redraw.
+    assert np.array_equal(frame, app.image())
+    lobe_before = panel_pixels(app, frame, app_mod.LOBE)
+    # The release brings every view up to date: the same data and the same picture as set_control.
+    widget.InvokeEvent("EndInteractionEvent")
+    assert app.stale_views == set()
+    for name in VIEWS:
+        for field, value in vars(full_views[name]).items():
+            if isinstance(value, np.ndarray):
+                assert np.array_equal(getattr(app.model.views[name], field), value), (name, field)
+    after = app.image()
+    assert np.array_equal(after, reference)
+    assert not np.array_equal(panel_pixels(app, after, app_mod.LOBE), lobe_before)  # the lobe did wait
+
+
+def test_a_resting_slider_brings_the_plots_up_to_date(fresh):
+    app = fresh
+    _drag(app.sliders["shininess"], (2.0,))
+    assert app.stale_views == set(VIEWS) - LIVE_VIEWS
+    iren = app.plotter.iren.interactor
+    iren.InvokeEvent("TimerEvent")  # too soon after the move: nothing yet
+    assert app.stale_views == set(VIEWS) - LIVE_VIEWS
+    app._last_drag -= 2e-3 * app_mod.IDLE_MS  # ... IDLE_MS later, the timer set by the drag goes off
+    iren.InvokeEvent("TimerEvent")
+    assert app.stale_views == set() and app.state.shininess == 100.0
+    ref = polar_slice(app.state.plot_brdf(), app.state.theta_l, n=361, channel="luminance")
+    np.testing.assert_allclose(app.model.views["polar"].light_fixed, ref.values, rtol=1e-12, atol=0)
+    assert np.array_equal(app.polar_plot.fixed_light.get_ydata(), ref.values)  # and the plot shows it
+
+
+def test_a_drag_that_changes_no_image_updates_the_plots_at_once(fresh):
+    app = fresh
+    _drag(app.sliders["channel"], (float(CHANNELS.index("g")),))
+    assert app.state.channel == "g" and app.stale_views == set()
+    ref = polar_slice(app.state.plot_brdf(), app.state.theta_l, n=361, channel="g")
+    np.testing.assert_allclose(app.model.views["polar"].light_fixed, ref.values, rtol=1e-12, atol=0)
+    assert app.polar_plot.fixed_light.get_color() == COLOURS["g"]  # drawn in the channel's colour
 
 
 def test_gouraud_shows_mach_bands_and_loses_the_highlight(fresh):
