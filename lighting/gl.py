@@ -76,7 +76,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numeric import check_finite, working_dtype
+from ._numeric import _fmt, check_finite, working_dtype
 
 __all__ = ["Material", "Light", "shade_vertices", "GL_MAX_SHININESS", "GL_MAX_SPOT_EXPONENT"]
 
@@ -88,16 +88,6 @@ _BIG = float(np.finfo(np.float64).max)
 
 
 # --------------------------------------------------------------------------- validation
-def _fmt(value) -> str:
-    try:
-        arr = np.asarray(value)
-        if arr.ndim == 0:
-            return repr(arr.item())
-        return np.array2string(arr, separator=", ", threshold=8)
-    except Exception:  # pragma: no cover - repr of exotic objects
-        return repr(value)
-
-
 def _rgba(name: str, value) -> tuple[float, float, float, float]:
     """An RGBA colour from an RGB triple (alpha 1) or an RGBA 4-tuple.
 
