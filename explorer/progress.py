@@ -49,6 +49,8 @@ class Progress:
     width : int
         Characters in the bar.
 
+    Notes
+    -----
     Use it as a context manager, or call :meth:`close` at the end.
     """
 

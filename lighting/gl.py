@@ -140,6 +140,8 @@ class Material:
     shininess : float
         Specular exponent ``s_rm``, in ``[0, 128]`` as in OpenGL.
 
+    Notes
+    -----
     Defaults are OpenGL's initial material state.
 
     Example
@@ -188,6 +190,8 @@ class Light:
     constant_attenuation, linear_attenuation, quadratic_attenuation : float
         ``k_0, k_1, k_2 >= 0``, not all zero.  Used only when ``w != 0``.
 
+    Notes
+    -----
     Defaults are those of ``GL_LIGHT0``; :meth:`gl_default` gives the other
     lights' (black diffuse and specular).
 

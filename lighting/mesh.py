@@ -90,6 +90,8 @@ class TriangleMesh:
         replaced by computed ones).  When omitted they are computed on first use
         with :meth:`vertex_normals` (angle-weighted).
 
+    Notes
+    -----
     The arrays are read-only: a mesh is a value, derived quantities are cached.
 
     Examples
