@@ -184,6 +184,9 @@ def main(argv=None) -> int:
     p.add_argument("--repeat", type=int, default=15, help="timed runs per measurement (median reported)")
     p.add_argument("--plan", action="store_true", help="planned vs nothing-skipped evaluation of every example scene")
     args = p.parse_args(argv)
+    from ._allocator import tune_allocator
+
+    tune_allocator()
     if args.repeat < 1:
         p.error(f"--repeat must be >= 1; got {args.repeat}")
     if args.plan:

@@ -68,6 +68,9 @@ DELEGATES = {
 
 
 def main(argv=None) -> int:
+    from ._allocator import tune_allocator
+
+    tune_allocator()  # see explorer/_allocator.py: the image pipeline's temporaries stop page-faulting
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or (argv[0].startswith("--") and argv[0] != "--help"):
         # No sub-command: open the explorer window (its own options, e.g. --off-screen --screenshot x.png).

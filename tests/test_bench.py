@@ -22,3 +22,38 @@ def test_bench_json_line_is_consistent(capsys, monkeypatch):
         assert r[key] > 0
     assert np.isclose(r["reshade_over_vtk"], r["reshade_ms"] / r["vtk_ms"])
     assert r["size"] == 64
+
+
+_FAULTS = """
+import resource, sys
+if sys.argv[1] == "tune":
+    from explorer._allocator import tune_allocator
+    assert tune_allocator()
+from explorer.bench import bench_scene
+from lighting.render import Renderer
+mesh, camera, material, lights = bench_scene(size=192)
+for _ in range(3):
+    Renderer(mesh, camera).render(material, lights)
+before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+for _ in range(4):
+    Renderer(mesh, camera).render(material, lights)
+print((resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before) / 4)
+"""
+
+
+def test_tuned_allocator_stops_page_faults_per_frame():
+    import subprocess
+    import sys
+
+    if not sys.platform.startswith("linux"):
+        import pytest
+
+        pytest.skip("glibc allocator tuning is Linux-only")
+
+    def faults(mode):
+        out = subprocess.run([sys.executable, "-c", _FAULTS, mode], capture_output=True, text=True, check=True)
+        return float(out.stdout.strip().splitlines()[-1])
+
+    default, tuned = faults("default"), faults("tune")
+    # Every frame's temporaries page-fault anew with glibc's defaults; with the thresholds raised, none do.
+    assert tuned < 50 < default
