@@ -22,7 +22,7 @@ __all__ = [
     "working_dtype",
     "as_float",
     "safe_div",
-    "saturate",
+    "saturate_to",
     "check_color",
     "check_positive",
     "check_nonnegative",
@@ -58,10 +58,9 @@ def as_float(x, dtype) -> np.ndarray:
     return np.asarray(x, dtype=dtype)
 
 
-def saturate(x: np.ndarray) -> np.ndarray:
-    """Clamp ``x`` to the finite range of its dtype (``inf`` → largest finite)."""
-    big = np.finfo(x.dtype).max
-    return np.clip(x, -big, big)
+def saturate_to(x, dtype) -> np.ndarray:
+    """``x`` cast to ``dtype``, values above its largest finite number clamped to it (no overflow warning)."""
+    return np.minimum(x, float(np.finfo(dtype).max)).astype(dtype)
 
 
 def safe_div(num, den, *, zero_where_den_le0: bool = True) -> np.ndarray:

@@ -30,7 +30,7 @@ import numpy as np
 
 from . import fresnel as _fresnel
 from . import microfacet as _mf
-from ._numeric import as_float, check_choice, check_color, check_nonnegative, working_dtype
+from ._numeric import as_float, check_choice, check_color, check_nonnegative, safe_div, saturate_to, working_dtype
 from .vec import normalize
 
 __all__ = [
@@ -211,7 +211,7 @@ def _lobe_over_cos(g, lobe64: np.ndarray, log_lobe64: np.ndarray, coeff: np.ndar
     with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
         q = np.where(lobe64 >= np.finfo(np.float64).tiny, lobe64 / den, np.exp(log_lobe64 - np.log(den)))
     q = np.where(g.above, q, 0.0)
-    return _clip_to(g.dtype, _rgb(q, coeff))
+    return saturate_to(_rgb(q, coeff), g.dtype)
 
 
 def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
@@ -228,13 +228,6 @@ def _combine(terms, dt) -> np.ndarray:
     with np.errstate(over="ignore"):
         out = sum(_rgb(np.asarray(s, dtype=dt), c) for s, c in terms)
     return np.minimum(out, big)
-
-
-def _saturating_div(num: np.ndarray, den: np.ndarray) -> np.ndarray:
-    big = np.finfo(num.dtype).max
-    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-        q = np.where(den > 0, num / np.where(den > 0, den, 1), 0)
-    return np.minimum(q, big).astype(num.dtype, copy=False)
 
 
 class BRDF:
@@ -271,7 +264,7 @@ class BRDF:
 
     def _f(self, g: Geometry):
         nl = g.n_dot_l
-        return _saturating_div(self._f_cos(g), nl[..., None])
+        return safe_div(self._f_cos(g), nl[..., None])
 
     def _f_cos(self, g: Geometry):
         return _combine(self.separable_cos(g), g.dtype)
@@ -291,7 +284,7 @@ class BRDF:
         """The classic term ``π f_r (n·l)`` in the separable form of :meth:`separable_cos`."""
         pi = g.dtype(math.pi)
         with np.errstate(over="ignore"):
-            return [(_clip_to(g.dtype, s * pi), c) for s, c in self.separable_cos(g)]
+            return [(saturate_to(s * pi, g.dtype), c) for s, c in self.separable_cos(g)]
 
     # -- structure ------------------------------------------------------------------
     @property
@@ -679,17 +672,13 @@ class CookTorrance(BRDF):
         return [(s * fr[..., i], self.ks * _UNIT_RGB[i]) for i in range(3)]
 
     def _f(self, g):
-        return _clip_to(g.dtype, _combine(self._separable(g, True), np.float64))
+        return saturate_to(_combine(self._separable(g, True), np.float64), g.dtype)
 
     def separable_cos(self, g):
-        return [(_clip_to(g.dtype, s), c) for s, c in self._separable(g, False)]
+        return [(saturate_to(s, g.dtype), c) for s, c in self._separable(g, False)]
 
     def separable_classic(self, g):
-        return [(_clip_to(g.dtype, s * math.pi), c) for s, c in self._separable(g, False)]
-
-
-def _clip_to(dt, x):
-    return np.minimum(x, float(np.finfo(dt).max)).astype(dt)
+        return [(saturate_to(s * math.pi, g.dtype), c) for s, c in self._separable(g, False)]
 
 
 class BRDFSum(BRDF):

@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._numeric import as_float, check_color, check_finite, check_nonnegative, working_dtype
+from ._numeric import as_float, check_color, check_finite, check_nonnegative, saturate_to, working_dtype
 from .vec import normalize, orthonormal_basis
 
 __all__ = [
@@ -217,11 +217,6 @@ def _falloff(dist: np.ndarray, att: tuple[float, float, float]) -> np.ndarray:
     return f
 
 
-def _to_dtype(x: np.ndarray, dt) -> np.ndarray:
-    big = float(np.finfo(dt).max)
-    return np.minimum(x, big).astype(dt)
-
-
 def _directions_and_distances(position: np.ndarray, points: np.ndarray):
     d = position.astype(np.float64) - points.astype(np.float64)
     dist = np.sqrt(d[..., 0] ** 2 + d[..., 1] ** 2 + d[..., 2] ** 2)
@@ -278,7 +273,7 @@ class PointLight(Light):
         spot = self._spot(l)
         if spot is not None:
             scale = scale * spot
-        yield Incidence(l.astype(dt), _to_dtype(scale, dt), self.radiant.astype(dt))
+        yield Incidence(l.astype(dt), saturate_to(scale, dt), self.radiant.astype(dt))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -416,7 +411,7 @@ class AreaLight(Light):
             cos_e = np.abs(cos_e) if self.two_sided else np.maximum(cos_e, 0.0)
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
                 g = np.where(dist > 0, cos_e * weight / np.where(dist > 0, dist * dist, 1.0), 0.0)
-            yield Incidence(l.astype(dt), _to_dtype(g, dt), self.radiant.astype(dt))
+            yield Incidence(l.astype(dt), saturate_to(g, dt), self.radiant.astype(dt))
 
 
 @dataclass(frozen=True)
