@@ -217,18 +217,20 @@ def shade_terms(
     dict
         One ``(..., 3)`` array per requested term, in the working dtype.
     """
-    form, attenuation_distance, wanted = _check_options(form, attenuation_distance, terms)
+    p, n, v, eye_dist = _prepare(points, normals, material, eye, view_dir)
+    return shade_prepared(p, n, v, material, lights, eye_distance=eye_dist, form=form,
+                          attenuation_distance=attenuation_distance, terms=terms, separate=True)  # fmt: skip
+
+
+def _prepare(points, normals, material, eye, view_dir):
+    """Points, unit normals, view vectors and eye distances in the working dtype."""
     if not isinstance(material, Material):
         raise ValueError(f"material must be a lighting.Material; got {type(material).__name__}")
     dt = working_dtype(points, normals)
     p = as_float(points, dt)
     n = normalize(as_float(normals, dt))
     v, eye_dist = view_vectors(p, eye=eye, view_dir=view_dir, dtype=dt)
-    acc = _evaluate(
-        p, n, v, eye_dist, material, lights, form=form, attenuation_distance=attenuation_distance,
-        wanted=wanted, summed=False, dt=dt,
-    )  # fmt: skip
-    return {t: acc[t].total() for t in wanted}
+    return p, n, v, eye_dist
 
 
 def shade(
@@ -258,15 +260,9 @@ def shade(
     ...       [DirectionalLight((0, 0, 1.0), color=(1, 0, 0))], view_dir=(0, 0, 1.0)).tolist()
     [0.0, 0.0, 0.0]
     """
-    form, attenuation_distance, wanted = _check_options(form, attenuation_distance, terms)
-    if not isinstance(material, Material):
-        raise ValueError(f"material must be a lighting.Material; got {type(material).__name__}")
-    dt = working_dtype(points, normals)
-    p = as_float(points, dt)
-    n = normalize(as_float(normals, dt))
-    v, eye_dist = view_vectors(p, eye=eye, view_dir=view_dir, dtype=dt)
+    p, n, v, eye_dist = _prepare(points, normals, material, eye, view_dir)
     return shade_prepared(p, n, v, material, lights, eye_distance=eye_dist, form=form,
-                          attenuation_distance=attenuation_distance, terms=wanted)  # fmt: skip
+                          attenuation_distance=attenuation_distance, terms=terms)  # fmt: skip
 
 
 def shade_prepared(

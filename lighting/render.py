@@ -222,10 +222,6 @@ class Renderer:
         gb = self.gbuffer
         return gb.pixels if self._subset is None else gb.pixels[self._subset]
 
-    def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
-        """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
-        return self._spread(mode, colours)
-
     def spread_pixels(self, mode: str, colours: np.ndarray):
         """Colours at :meth:`sample_points` as ``(flat pixel indices, (M, 3) values)``, without a full image."""
         gb = self.gbuffer
@@ -235,7 +231,8 @@ class Renderer:
             return gb.pixels, gb._interp_compact(np.asarray(colours))
         return gb.pixels, np.asarray(colours)[gb._compact[0]]
 
-    def _spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
+    def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
+        """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
         gb = self.gbuffer
         if mode == "phong":
             if self._subset is not None:
@@ -266,7 +263,7 @@ class Renderer:
         colours = shade_prepared(
             pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms, separate=True
         )
-        return {name: self._spread(mode, c) for name, c in colours.items()}
+        return {name: self.spread(mode, c) for name, c in colours.items()}
 
     def render(
         self,
@@ -298,7 +295,7 @@ class Renderer:
         mode = check_choice("mode", mode, SHADING_MODES)
         pts, nrm, v, dist = self._samples(mode)
         colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)
-        img = self._spread(mode, colours)
+        img = self.spread(mode, colours)
         if np.any(bg):
             img = np.where(self.gbuffer.coverage[..., None], img, bg.astype(self.dtype))
         return img.astype(self.dtype, copy=False)

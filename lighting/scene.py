@@ -1371,9 +1371,7 @@ class SceneRenderer:
 
 
 def _object_name(ob) -> str:
-    return ob.spec.get("type", type(ob.geometry).__name__) if isinstance(getattr(ob, "spec", None), dict) else type(
-        ob.geometry
-    ).__name__
+    return ob.spec.get("type", type(ob.geometry).__name__)
 
 
 class _GroupSamples:
