@@ -24,17 +24,26 @@ Models add: ``Lambert(0.6) + Phong(0.3, 20)`` is a :class:`BRDFSum` whose
 from __future__ import annotations
 
 import math
-from functools import cached_property
 
 import numpy as np
 
 from . import fresnel as _fresnel
 from . import microfacet as _mf
-from ._numeric import as_float, check_choice, check_color, check_nonnegative, safe_div, saturate_to, working_dtype
+from ._numeric import (
+    as_float,
+    check_choice,
+    check_color,
+    check_nonnegative,
+    log1p,
+    safe_div,
+    saturate_to,
+    working_dtype,
+)
 from .vec import normalize
 
 __all__ = [
     "Geometry",
+    "StackedGeometry",
     "BRDF",
     "Lambert",
     "Phong",
@@ -43,6 +52,33 @@ __all__ = [
     "BRDFSum",
     "cos_power",
 ]
+
+
+class _cached:
+    """``functools.cached_property`` without its lock.
+
+    Python 3.11's ``cached_property`` holds one lock per property *for all
+    instances* while computing, so two threads shading two halves of an image
+    took turns on every derived quantity (measured: two halves in parallel 10.1
+    ms against 5.4 ms for one).  Each :class:`Geometry` is used by one thread, so
+    no lock is needed: the value is computed and stored in the instance dict,
+    which shadows this non-data descriptor from then on.
+    """
+
+    def __init__(self, fn):
+        self.fn = fn
+        self.name = fn.__name__
+        self.__doc__ = fn.__doc__
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def __get__(self, obj, cls=None):
+        if obj is None:
+            return self
+        value = self.fn(obj)
+        obj.__dict__[self.name] = value
+        return value
 
 
 def cos_power(one_minus_cos: np.ndarray, exponent: float) -> np.ndarray:
@@ -56,7 +92,7 @@ def cos_power(one_minus_cos: np.ndarray, exponent: float) -> np.ndarray:
     if exponent == 0:
         return np.ones_like(d)
     with np.errstate(divide="ignore", under="ignore", invalid="ignore"):
-        out = np.exp(exponent * np.log1p(-np.minimum(d, 1)))
+        out = np.exp(exponent * log1p(-np.minimum(d, 1)))
     return np.where(d < 1, out, 0).astype(d.dtype, copy=False)
 
 
@@ -89,20 +125,20 @@ class Geometry:
         z = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
         return x * x + y * y + z * z
 
-    @cached_property
+    @_cached
     def n_dot_l(self):
         return self._dot(self.n, self.l)
 
-    @cached_property
+    @_cached
     def n_dot_v(self):
         return self._dot(self.n, self.v)
 
-    @cached_property
+    @_cached
     def above(self):
         """Both directions strictly above the surface: where any BRDF may be nonzero."""
         return (self.n_dot_l > 0) & (self.n_dot_v > 0)
 
-    @cached_property
+    @_cached
     def _l_plus_v(self):
         """``l + v`` and ``|l + v|²`` (in [0, 4] for unit ``l``, ``v``).
 
@@ -120,7 +156,7 @@ class Geometry:
             len2 = self._dot(s, s)
         return s, len2
 
-    @cached_property
+    @_cached
     def h(self):
         s, len2 = self._l_plus_v
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
@@ -133,31 +169,41 @@ class Geometry:
             h[tiny] = normalize(s[tiny])
         return h
 
-    @cached_property
+    @_cached
     def n_dot_h(self):
         return self._dot(self.n, self.h)
 
-    @cached_property
+    @_cached
     def v_dot_h(self):
         """``v·h = l·h = |l + v| / 2`` for unit ``l``, ``v``: symmetric in ``l`` and ``v`` to the last bit."""
         return 0.5 * np.sqrt(self._l_plus_v[1])
 
-    @cached_property
+    @_cached
     def sin2_h(self):
         """``sin²θ_h = |n × h|²``: exact at the lobe peak, unlike ``1 − (n·h)²``."""
         return np.clip(self._cross2(self.n, self.h), 0, 1)
 
-    @cached_property
+    @_cached
     def one_minus_n_dot_h(self):
         """``1 − n·h = sin²θ_h / (1 + n·h)`` without cancellation."""
         return self.sin2_h / (1 + np.maximum(self.n_dot_h, 0))
 
-    @cached_property
+    @_cached
+    def sin2_v(self):
+        """``sin²θ_v = |n × v|²``."""
+        return np.clip(self._cross2(self.n, self.v), 0, 1)
+
+    @_cached
+    def sin2_l(self):
+        """``sin²θ_l = |n × l|²``."""
+        return np.clip(self._cross2(self.n, self.l), 0, 1)
+
+    @_cached
     def r_dot_v(self):
         """``R_l·v = 2 (n·l)(n·v) − l·v`` (equal to ``R_v·l``)."""
         return 2 * self.n_dot_l * self.n_dot_v - self._dot(self.l, self.v)
 
-    @cached_property
+    @_cached
     def one_minus_r_dot_v(self):
         """``1 − R_l·v = |R_l − v|² / 2`` (accurate near the mirror direction)."""
         r = 2 * self.n * self.n_dot_l[..., None] - self.l
@@ -197,6 +243,200 @@ def _unit_sum(l: np.ndarray, v: np.ndarray, s: np.ndarray, rows: np.ndarray) -> 
             out[:, i] = np.where(opposite, num / np.where(opposite, den, 1), out[:, i])
     s[rows] = out
     return s
+
+
+def _product(rows: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """``rows @ vectors.T``: ``(K, 3)`` maps applied to ``(N, 3)`` vectors → ``(K, N)``.
+
+    Through ``einsum``'s own loops rather than BLAS: as fast for an inner
+    dimension of 3, and it starts no BLAS threads inside the shading threads.
+    """
+    return np.einsum("kc,nc->kn", rows, vectors)
+
+
+class StackedGeometry:
+    """:class:`Geometry` of ``K`` distant lights over ``N`` points at once, as ``(K, N)`` planes.
+
+    A directional light has one direction ``l`` for every point, so its products
+    with the per-point vectors are linear maps: ``n·l``, ``l·v`` and the three
+    components of ``n × l`` for all ``K`` lights come from one matrix product each
+    (``(K, 3) @ (3, N)``), and every quantity below is an array of shape
+    ``(K, N)`` (or broadcastable to it) that the models consume unchanged — the
+    same property names, the same accurate formulations, one NumPy pass per
+    operation for all lights instead of one per light:
+
+    * ``|l + v|² = 2 (1 + l·v)``; where ``l·v < −1/2`` the sum cancels and
+      ``1 + cos ψ = sin²ψ / (1 − cos ψ)`` with ``sin²ψ = |l × v|² / (|l|²|v|²)``
+      (directions only, as :func:`_unit_sum` does for :class:`Geometry`);
+    * ``n·h = (n·l + n·v) / |l + v|``, ``v·h = |l + v| / 2``;
+    * ``sin²θ_h = |n × l + n × v|² / |l + v|²`` (exact at the lobe peak, like
+      ``|n × h|²``), ``1 − n·h = sin²θ_h / (1 + n·h)``;
+    * ``1 − R_l·v = |2 n (n·l) − l − v|² / 2``.
+
+    Parameters
+    ----------
+    n : (N, 3) unit normals
+    l : (K, 3) unit light directions
+    v : (N, 3) unit view vectors, or one (3,) direction toward a distant viewer
+    dtype : float32 or float64
+
+    Examples
+    --------
+    >>> n = np.array([[0, 0, 1.0], [0, 0.6, 0.8]])
+    >>> g = StackedGeometry(n, np.array([[0, 0, 1.0], [0.6, 0, 0.8]]), np.array([0, 0, 1.0]))
+    >>> g.n_dot_l.round(6).tolist()
+    [[1.0, 0.8], [0.8, 0.64]]
+    >>> bool(np.allclose(g.n_dot_h[1], Geometry(n, [0.6, 0, 0.8], [0, 0, 1.0]).n_dot_h))  # light 1
+    True
+    """
+
+    def __init__(self, n, l, v, *, dtype=None, view_cache=None):  # noqa: E741
+        dt = dtype or working_dtype(n, l, v)
+        self.dtype = dt
+        self.n = as_float(n, dt)
+        self.l = as_float(l, dt)
+        self.v = as_float(v, dt)
+        self._distant = self.v.ndim == 1
+        # Quantities of n and v alone (n·v, n × v) do not change when lights move: a caller
+        # that keeps n and v fixed (a renderer) passes a dict to keep them between calls.
+        self._view = {} if view_cache is None else view_cache
+
+    def _per_view(self, key, make):
+        if key not in self._view:
+            self._view[key] = make()
+        return self._view[key]
+
+    def _planes(self, a):
+        return [a[..., k] for k in range(3)]
+
+    @_cached
+    def n_dot_l(self):
+        return _product(self.l, self.n)
+
+    @_cached
+    def n_dot_v(self):
+        return self._per_view("n_dot_v", lambda: self.n @ self.v if self._distant else Geometry._dot(self.n, self.v))
+
+    @_cached
+    def above(self):
+        facing = self._per_view("facing", lambda: self.n_dot_v > 0)
+        above = self.n_dot_l > 0
+        above &= facing
+        return above
+
+    @_cached
+    def _l_dot_v(self):
+        return self.l @ self.v if self._distant else _product(self.l, self.v)
+
+    @_cached
+    def _len2(self):
+        """``|l + v|²`` ``(K, N)`` (``(K, 1)`` for a distant viewer)."""
+        lv = self._l_dot_v
+        if self._distant:
+            lv = lv[:, None]
+        one = self.dtype(1)
+        len2 = (lv + one) * self.dtype(2)
+        far = lv < -0.5
+        if np.any(far):
+            k, i = np.nonzero(far)
+            L = self.l[k]
+            V = self.v[None, :].repeat(len(k), axis=0) if self._distant else self.v[i]
+            s2 = Geometry._cross2(L, V) / (Geometry._dot(L, L) * Geometry._dot(V, V))
+            cos = lv[k, i] / np.sqrt(Geometry._dot(L, L) * Geometry._dot(V, V))
+            len2[k, i] = 2 * np.clip(s2, 0, 1) / (one - cos)
+        return len2
+
+    @_cached
+    def _len(self):
+        return np.sqrt(self._len2)
+
+    @_cached
+    def _inv_len(self):
+        length = self._len
+        with np.errstate(divide="ignore"):
+            inv = 1 / length
+        zero = length == 0
+        if np.any(zero):
+            # l = −v: no half vector; every quantity of it is then 0 (the sample is below someone's horizon).
+            inv[zero] = 0
+        return inv
+
+    @_cached
+    def n_dot_h(self):
+        return (self.n_dot_l + self.n_dot_v) * self._inv_len
+
+    @_cached
+    def v_dot_h(self):
+        return self._len * self.dtype(0.5)
+
+    @_cached
+    def _n_cross_v(self):
+        def make():
+            n, v = self._planes(self.n), self._planes(self.v)
+            return [n[1] * v[2] - n[2] * v[1], n[2] * v[0] - n[0] * v[2], n[0] * v[1] - n[1] * v[0]]
+
+        return self._per_view("n_cross_v", make)
+
+    @_cached
+    def _n_cross_l(self):
+        """``n × l`` as three ``(K, N)`` planes: ``(n × l)_x = n_y l_z − n_z l_y`` and so on."""
+        lx, ly, lz = self._planes(self.l)
+        zero = np.zeros_like(lx)
+        # Rows of the map n ↦ n × l, stacked for all lights: (3K, 3) @ (3, N).
+        m = np.concatenate([
+            np.stack([zero, lz, -ly], axis=1),
+            np.stack([-lz, zero, lx], axis=1),
+            np.stack([ly, -lx, zero], axis=1),
+        ])  # fmt: skip
+        c = _product(m, self.n)
+        K = len(self.l)
+        return [c[:K], c[K : 2 * K], c[2 * K :]]
+
+    @_cached
+    def sin2_h(self):
+        nl, nv = self._n_cross_l, self._n_cross_v
+        x = nl[0] + nv[0]
+        q = x * x
+        for k in (1, 2):
+            np.add(nl[k], nv[k], out=x)
+            x *= x
+            q += x
+        q *= self._inv_len
+        q *= self._inv_len
+        return np.clip(q, 0, 1, out=q)
+
+    @_cached
+    def one_minus_n_dot_h(self):
+        return self.sin2_h / (1 + np.maximum(self.n_dot_h, 0))
+
+    @_cached
+    def sin2_v(self):
+        c = self._n_cross_v
+        return self._per_view("sin2_v", lambda: np.clip(c[0] * c[0] + c[1] * c[1] + c[2] * c[2], 0, 1))
+
+    @_cached
+    def sin2_l(self):
+        c = self._n_cross_l
+        return np.clip(c[0] * c[0] + c[1] * c[1] + c[2] * c[2], 0, 1)
+
+    @_cached
+    def r_dot_v(self):
+        lv = self._l_dot_v[:, None] if self._distant else self._l_dot_v
+        return 2 * self.n_dot_l * self.n_dot_v - lv
+
+    @_cached
+    def one_minus_r_dot_v(self):
+        two_nl = 2 * self.n_dot_l
+        n, v = self._planes(self.n), self._planes(self.v)
+        q = None
+        for k in range(3):
+            d = two_nl * n[k]
+            d -= self.l[:, k, None]
+            d -= v[k]
+            d *= d
+            q = d if q is None else q.__iadd__(d)
+        q *= self.dtype(0.5)
+        return np.clip(q, 0, 2, out=q)
 
 
 def _lobe_over_cos(g, lobe64: np.ndarray, log_lobe64: np.ndarray, coeff: np.ndarray) -> np.ndarray:
@@ -239,6 +479,9 @@ class BRDF:
 
     #: Which term of the slides' decomposition this model is ("diffuse" or "specular").
     term = "specular"
+    #: Whether the separable forms accept a :class:`StackedGeometry` (all lights at once);
+    #: a model that reads the vectors ``g.n``, ``g.l``, ``g.v`` themselves leaves it False.
+    stackable = False
 
     # -- evaluation -----------------------------------------------------------------
     def eval(self, n, l, v):  # noqa: E741
@@ -340,6 +583,8 @@ class Lambert(BRDF):
 
     term = "diffuse"
 
+    stackable = True
+
     def __init__(self, kd=0.8):
         self.kd = check_color("kd", kd)
 
@@ -357,7 +602,7 @@ class Lambert(BRDF):
         return [(np.where(g.above, g.n_dot_l / g.dtype(math.pi), 0).astype(g.dtype), self.kd)]
 
     def separable_classic(self, g):
-        return [(np.where(g.above, g.n_dot_l, 0).astype(g.dtype), self.kd)]
+        return [((g.n_dot_l * g.above).astype(g.dtype, copy=False), self.kd)]
 
 
 class Phong(BRDF):
@@ -389,6 +634,8 @@ class Phong(BRDF):
     >>> Phong(1.0, 10).classic((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0)).tolist()
     [1.0, 1.0, 1.0]
     """
+
+    stackable = True
 
     def __init__(self, ks=0.5, shininess=32.0):
         self.ks = check_color("ks", ks)
@@ -452,6 +699,8 @@ class BlinnPhong(BRDF):
     [1.0, 1.0, 1.0]
     """
 
+    stackable = True
+
     def __init__(self, ks=0.5, shininess=32.0, normalized=False):
         self.ks = check_color("ks", ks)
         self.shininess = check_nonnegative("shininess", shininess)
@@ -470,16 +719,29 @@ class BlinnPhong(BRDF):
         c = g.n_dot_h.astype(dt, copy=False)
         # (n·h)^e = exp(e · log(n·h)), the logarithm taken from the accurate input: near the
         # peak 1 − n·h (log1p), far from it (n·h < 1/2) n·h itself — 1 − n·h has lost the
-        # digits of a small n·h there (at n·h = 1e-8 all of them).  One log and one exp per
-        # sample: the masked ufuncs evaluate each branch only where it is taken.
+        # digits of a small n·h there (at n·h = 1e-8 all of them).  Both are one vectorized
+        # log: y = n·h (far) or fl(1 − d) (near), then Goldberg's correction x / (y − 1)
+        # with x = −d restores log1p's accuracy near the peak (see _numeric.log1p).
+        # The branches are blended arithmetically (all operands finite): np.where on a
+        # data-dependent mask costs several times more (measured 2.3 against 0.4 ms here).
         far = c < 0.5
-        t = np.empty_like(d)
+        near = ~far
+        y = np.maximum(c, 0) * far
+        y += (1 - np.minimum(d, 1)) * near
+        z = y - 1
+        zero = z == 0
+        x = z * far
+        x -= d * near
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-            np.log1p(-np.minimum(d, 1), out=t, where=~far)
-            np.log(np.maximum(c, 0), out=t, where=far)
+            t = np.log(y)
+            # Where y == 1 the log is exactly 0, and log1p(x) = x.
+            z += zero
+            t *= x / z
+            t += x * zero
             t *= dt(self.shininess)
-            np.exp(t, out=t)
-        return np.where(g.above, t, 0).astype(dt, copy=False)
+            t = np.exp(t)
+        t *= g.above
+        return t.astype(dt, copy=False)
 
     def _norm(self):
         return (self.shininess + 2) / (2 * math.pi)
@@ -554,6 +816,8 @@ class CookTorrance(BRDF):
     FRESNELS = ("schlick", "dielectric", "none")
     DENOMINATORS = ("4", "pi")
 
+    stackable = True
+
     def __init__(
         self,
         ks=1.0,
@@ -607,9 +871,7 @@ class CookTorrance(BRDF):
             return _mf.vcavity_g(g.n_dot_h, g.n_dot_v, g.n_dot_l, g.v_dot_h)
         # Blinn–Phong lobes use the Beckmann G1 of the equivalent α (Walter et al. 2007).
         g1 = _mf.smith_g1_ggx if self.ndf == "ggx" else _mf.smith_g1_beckmann
-        s2v = np.clip(Geometry._cross2(g.n, g.v), 0, 1)
-        s2l = np.clip(Geometry._cross2(g.n, g.l), 0, 1)
-        return g1(g.n_dot_v, self.roughness, s2v) * g1(g.n_dot_l, self.roughness, s2l)
+        return g1(g.n_dot_v, self.roughness, g.sin2_v) * g1(g.n_dot_l, self.roughness, g.sin2_l)
 
     def F(self, g: Geometry):
         """Fresnel reflectance per channel, shape ``(..., 3)``."""
@@ -639,8 +901,8 @@ class CookTorrance(BRDF):
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             if self.geometry == "smith":
                 den = _mf._smith_g1_den_ggx if self.ndf == "ggx" else _mf._smith_g1_den_beckmann
-                s2v = np.clip(Geometry._cross2(g.n, g.v).astype(np.float64), 0, 1)
-                s2l = np.clip(Geometry._cross2(g.n, g.l).astype(np.float64), 0, 1)
+                s2v = g.sin2_v.astype(np.float64)
+                s2l = g.sin2_l.astype(np.float64)
                 # G1 = 2 cos θ / d:  G1(v) G1(l) / ((n·v)(n·l)) = 4 / (d_v d_l),
                 # and G1(v) G1(l) / (n·v) = 4 (n·l) / (d_v d_l).
                 dd = den(nv, self.roughness, s2v) * den(nl, self.roughness, s2l)

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._numeric import as_float, check_choice, check_color, working_dtype
-from .brdf import BRDF, Geometry
+from .brdf import BRDF, Geometry, StackedGeometry
 from .lights import AmbientLight, Light
 from .vec import normalize
 
@@ -80,6 +80,7 @@ class _Planes:
     def __init__(self, shape, dt, prune=True):
         self.shape, self.dt, self.prune = shape, dt, prune
         self.planes = [None, None, None]
+        self.block = None  # (3, ...) sums of stacked lights
         self.constant = np.zeros(3)
 
     def add(self, field, light_scale, colour):
@@ -97,20 +98,44 @@ class _Planes:
                 else:
                     self.planes[ch] += term
 
+    def add_stacked(self, field, weights):
+        """Add ``Σ_k field[k] · weights[k]``: a ``(K, N)`` field of ``K`` lights, their RGB weights ``(K, 3)``."""
+        field = np.broadcast_to(field, (len(weights),) + self.shape)
+        if self.prune and not np.any(weights):
+            return
+        with np.errstate(over="ignore", invalid="ignore"):
+            # One matrix product for all channels and lights: (3, K) @ (K, N).
+            term = np.einsum("kc,kn->cn", weights.astype(self.dt), field.reshape(len(weights), -1))
+            if self.block is None:
+                self.block = term
+            else:
+                self.block += term
+
+    def channels(self):
+        """The three channel planes ``(3, ...)`` (the constant included), saturated at the dtype's maximum."""
+        big = np.finfo(self.dt).max
+        out = np.empty((3, int(np.prod(self.shape))), dtype=self.dt)
+        with np.errstate(over="ignore"):
+            for ch in range(3):
+                plane = self.planes[ch]
+                acc = self.block[ch] if self.block is not None else None
+                if plane is not None:
+                    acc = plane.reshape(-1) if acc is None else np.add(acc, plane.reshape(-1), out=out[ch])
+                c = self.dt(self.constant[ch])
+                if acc is None:
+                    out[ch] = c
+                    continue
+                if c:
+                    np.add(acc, c, out=out[ch])
+                    acc = out[ch]
+                np.minimum(acc, big, out=out[ch])
+        return out.reshape((3,) + self.shape)
+
     def add_constant(self, rgb):
         self.constant = self.constant + rgb
 
     def total(self):
-        big = np.finfo(self.dt).max
-        out = np.empty(self.shape + (3,), dtype=self.dt)
-        for ch, plane in enumerate(self.planes):
-            c = self.dt(self.constant[ch])
-            if plane is None:
-                out[..., ch] = c
-            else:
-                with np.errstate(over="ignore"):
-                    out[..., ch] = np.minimum(plane + c if c else plane, big)
-        return out
+        return np.moveaxis(self.channels(), 0, -1).copy()
 
 
 def view_vectors(points, *, eye=None, view_dir=None, dtype=None):
@@ -130,7 +155,8 @@ def view_vectors(points, *, eye=None, view_dir=None, dtype=None):
     return normalize(d).astype(dt), dist
 
 
-def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance, wanted, summed, dt, prune=True):
+def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance, wanted, summed, dt, prune=True,
+              view_cache=None):  # fmt: skip
     """The illumination equation on prepared inputs: unit ``n`` and ``v`` in the working dtype.
 
     Returns ``{term: _Planes}``, or one ``_Planes`` holding the sum when ``summed``.
@@ -154,10 +180,23 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
     if attenuation_distance == "light+viewer" and eye_dist is None:
         raise ValueError("attenuation_distance='light+viewer' needs eye= (a viewer position)")
     extra = eye_dist if attenuation_distance == "light+viewer" else None
+    # Lights that arrive from one direction with one strength at every sample (directional lights)
+    # are lit together through a StackedGeometry when every model accepts one.
+    stack = (
+        prune
+        and n.ndim == 2
+        and n.shape[0] == shape[0]
+        and v.shape in ((3,), n.shape)
+        and all(m.stackable for t in want_parts for m in parts[t])
+    )
+    uniform = []
     for light in lights:
         if isinstance(light, AmbientLight) or (prune and light.is_black):
             continue
         for inc in light.incident(p, dtype=dt, extra_distance=extra):
+            if stack and np.ndim(inc.direction) == 1 and np.ndim(inc.scale) == 0:
+                uniform.append(inc)
+                continue
             g = Geometry(n, inc.direction, v, unit=True, dtype=dt)
             if not prune:
                 # The textbook loop: every vector of the slides at every sample, whether a model uses it or not.
@@ -168,6 +207,14 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
                     fields = model.separable_classic(g) if form == "classic" else model.separable_cos(g)
                     for field, colour in fields:
                         acc[t].add(field, inc.scale, colour * radiant)
+    if uniform:
+        g = StackedGeometry(n, np.stack([inc.direction for inc in uniform]), v, dtype=dt, view_cache=view_cache)
+        radiant = np.stack([inc.radiant.astype(np.float64) * float(inc.scale) for inc in uniform])
+        for t in want_parts:
+            for model in parts[t]:
+                fields = model.separable_classic(g) if form == "classic" else model.separable_cos(g)
+                for field, colour in fields:
+                    acc[t].add_stacked(field, colour * radiant)
     return one if summed else acc
 
 
@@ -267,7 +314,7 @@ def shade(
 
 def shade_prepared(
     points, unit_normals, view, material, lights, *, eye_distance=None, form="classic",
-    attenuation_distance="light", terms=TERMS, separate=False,
+    attenuation_distance="light", terms=TERMS, separate=False, view_cache=None, channels=False,
 ):  # fmt: skip
     """:func:`shade` on inputs a caller has prepared once and reuses for many lights.
 
@@ -276,6 +323,12 @@ def shade_prepared(
     copied here.  This is the path of :class:`lighting.render.Renderer`, whose
     geometry and viewer stay fixed while lights and materials change.  With
     ``separate=True`` returns ``{term: (..., 3)}`` like :func:`shade_terms`.
+
+    ``view_cache`` (a dict the caller keeps, empty at first) holds quantities of
+    the normals and view vectors alone (``n·v``, ``n × v``) between calls; it is
+    valid only while ``unit_normals`` and ``view`` stay the same.  With
+    ``channels=True`` the colours come back as channel planes ``(3, ...)``
+    instead of ``(..., 3)`` (what an image scatter reads fastest).
     """
     form, attenuation_distance, wanted = _check_options(form, attenuation_distance, terms)
     dt = working_dtype(points, unit_normals)
@@ -286,11 +339,14 @@ def shade_prepared(
             return x if x is None or np.ndim(x) < ndim or x.shape[0] != n_rows else x[sl]
 
         dist = part(eye_distance, ndim=1)
+        cache = None if view_cache is None else view_cache.setdefault((sl.start, sl.stop), {})
         acc = _evaluate(
             part(points), part(unit_normals), part(view), dist, material, lights, form=form,
             attenuation_distance=attenuation_distance, wanted=wanted, summed=not separate, dt=dt,
+            view_cache=cache,
         )  # fmt: skip
-        return {t: acc[t].total() for t in wanted} if separate else acc.total()
+        out = (lambda a: a.channels()) if channels else (lambda a: a.total())
+        return {t: out(acc[t]) for t in wanted} if separate else out(acc)
 
     n_rows = np.shape(points)[0] if np.ndim(points) == 2 else 0
     chunks = _chunks(n_rows)
@@ -298,9 +354,10 @@ def shade_prepared(
         return run(slice(None))
     # NumPy releases the GIL inside its loops, so the chunks shade in parallel on separate cores.
     results = list(_pool().map(run, chunks))
+    axis = -1 if channels else 0
     if separate:
-        return {t: np.concatenate([r[t] for r in results]) for t in wanted}
-    return np.concatenate(results)
+        return {t: np.concatenate([r[t] for r in results], axis=axis) for t in wanted}
+    return np.concatenate(results, axis=axis)
 
 
 _MIN_ROWS_PER_THREAD = 32768

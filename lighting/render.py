@@ -231,6 +231,16 @@ class Renderer:
             return gb.pixels, gb._interp_compact(np.asarray(colours))
         return gb.pixels, np.asarray(colours)[gb._compact[0]]
 
+    def _scatter_planes(self, planes: np.ndarray) -> np.ndarray:
+        """Channel planes ``(3, M)`` at the lit pixels → ``(H, W, 3)`` image, zero elsewhere."""
+        gb = self.gbuffer
+        img = np.zeros(gb.shape + (3,), dtype=planes.dtype)
+        flat = img.reshape(-1)
+        idx = gb._pixels3 if self._subset is None else self._pixels() * 3
+        for c in range(3):
+            flat[idx + c] = planes[c]
+        return img
+
     def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
         """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
         gb = self.gbuffer
@@ -294,8 +304,15 @@ class Renderer:
         bg = check_color("background", background)
         mode = check_choice("mode", mode, SHADING_MODES)
         pts, nrm, v, dist = self._samples(mode)
-        colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)
-        img = self.spread(mode, colours)
+        if mode == "phong":
+            planes = shade_prepared(
+                pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
+                view_cache=self._cached(("view terms", mode), dict), channels=True,
+            )  # fmt: skip
+            img = self._scatter_planes(planes)
+        else:
+            colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)
+            img = self.spread(mode, colours)
         if np.any(bg):
             img = np.where(self.gbuffer.coverage[..., None], img, bg.astype(self.dtype))
         return img.astype(self.dtype, copy=False)
