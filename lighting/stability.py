@@ -1056,6 +1056,40 @@ def _engine_brdf(specs, cols, n, l, v):  # noqa: E741
     return vals, swapped, len(caught)
 
 
+def _engine_brdf_stacked(specs, cols, n, l, v, eng):  # noqa: E741
+    """The image path's values: ``separable_cos`` / ``separable_classic`` on a :class:`~lighting.brdf.StackedGeometry`.
+
+    A renderer lights all directional lights of a frame at once through a
+    ``StackedGeometry``; here the ``m`` light directions of the cases are stacked
+    over the ``m`` points (an ``(m, m)`` geometry) and the diagonal, case ``i``'s
+    own light at its own point, is compared.  Columns the image path does not
+    take (``eval``, ``D``, models that do not stack) keep the values of ``eng``.
+    Returns the values and the number of warnings.
+    """
+    import warnings
+
+    from .brdf import StackedGeometry
+    from .vec import normalize
+
+    out = eng.copy()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        g = StackedGeometry(normalize(n), normalize(l), normalize(v))
+        idx = np.arange(n.shape[0])
+        for c, (si, form) in enumerate(cols):
+            model = specs[si].model
+            if form not in ("eval_cos", "classic") or not all(p.stackable for p in model.parts):
+                continue
+            fields = model.separable_cos(g) if form == "eval_cos" else model.separable_classic(g)
+            with np.errstate(over="ignore"):
+                vals = sum(
+                    np.broadcast_to(f, (len(idx), len(idx)))[idx, idx].astype(np.float64)[:, None] * col
+                    for f, col in fields
+                )
+            out[:, c, :] = np.minimum(vals, float(np.finfo(n.dtype).max))
+    return out, len(caught)
+
+
 def _engine_light(specs, cases, dt):
     import warnings
 
@@ -1742,6 +1776,16 @@ def run(
         eng, swapped, nwarn = _engine_brdf(specs, cols, n, l, v)
         edge = np.any((ref["pred"][:, None, :] * (BOUND_FACTOR * u) >= 1) & pred_sel[None], axis=-1)
         cls, err, ratio, ok = _classify(ref["hi"], ref["lo"], ref["nz"], ref["kappa"], ref["logref"], edge, eng, dt)
+        # The image path (all directional lights at once) is held to the same bound: each
+        # point reports the worse of the two paths.
+        eng_s, nwarn_s = _engine_brdf_stacked(specs, cols, n, l, v, eng)
+        _, err_s, ratio_s, ok_s = _classify(
+            ref["hi"], ref["lo"], ref["nz"], ref["kappa"], ref["logref"], edge, eng_s, dt
+        )
+        ok &= ok_s
+        err, ratio = np.fmax(err, err_s), np.fmax(ratio, ratio_s)
+        nwarn += nwarn_s
+        eng = np.where(np.isfinite(eng_s) & (eng_s >= 0), eng, eng_s)  # a bad stacked value is counted too
         refv = ref["hi"] + ref["lo"]
         k1 = np.maximum(np.nan_to_num(ref["kappa"], nan=1.0), 1.0)
         recip = {}
