@@ -374,16 +374,16 @@ class StackedGeometry:
         :class:`Geometry` does, and ``n·h``, ``|n × h|²``, ``|l + v|²`` from it.
         For a distant viewer ``i`` is ``None``: the whole row ``k`` has one ``s``.
         """
-        lv = self._l_dot_v
+        opposite = self._l_dot_v < -0.5
+        if not np.any(opposite):
+            return None
         if self._distant:
-            k = np.flatnonzero(lv < -0.5)
+            k = np.flatnonzero(opposite)
             i = None
             V = np.broadcast_to(self.v, (len(k), 3))
         else:
-            k, i = np.nonzero(lv < -0.5)
+            k, i = np.nonzero(opposite)
             V = self.v[i]
-        if not len(k):
-            return None
         L = self.l[k]
         s = _unit_sum(L, V, L + V, np.ones(len(k), dtype=bool))
         return k, i, s, normalize(s)

@@ -197,7 +197,7 @@ class GBuffer:
         _, b, corners = self._compact
         b = [bk.astype(a.dtype, copy=False) for bk in b]
         flat = a.reshape(len(a), int(np.prod(a.shape[1:])))
-        out = np.empty((len(b[0]), flat.shape[1]), dtype=a.dtype)
+        out = np.empty((len(b[0]), flat.shape[1]), dtype=a.dtype, order="F")  # columns contiguous
         for c in range(flat.shape[1]):
             # One contiguous column at a time: 1-D gathers are several times faster than row gathers.
             col = np.ascontiguousarray(flat[:, c])
