@@ -282,12 +282,12 @@ class StackedGeometry:
     the same property names, the same accurate formulations, one NumPy pass per
     operation for all lights instead of one per light:
 
-    * ``|l + v|² = 2 (1 + l·v)``; where ``l·v < −1/2`` the sum cancels and
-      ``1 + cos ψ = sin²ψ / (1 − cos ψ)`` with ``sin²ψ = |l × v|² / (|l|²|v|²)``
-      (directions only, as :func:`_unit_sum` does for :class:`Geometry`);
-    * ``n·h = (n·l + n·v) / |l + v|``, ``v·h = |l + v| / 2``;
-    * ``sin²θ_h = |n × l + n × v|² / |l + v|²`` (exact at the lobe peak, like
-      ``|n × h|²``), ``1 − n·h = sin²θ_h / (1 + n·h)``;
+    * ``s = l + v`` per point, rebuilt from the tangential parts by
+      :func:`_unit_sum` where ``|s|² < 1`` (light and viewer nearly opposite);
+    * ``h = s / |s|``, ``n·h``, ``sin²θ_h = |n × h|²`` (exact at the lobe peak),
+      ``1 − n·h = sin²θ_h / (1 + n·h)`` and ``v·h = |s| / 2`` — formed from the
+      unit ``h`` as :class:`Geometry` forms them, so that ``(n·h)² + sin²θ_h = 1``
+      to rounding (the GGX NDF at α = 1 depends on exactly that);
     * ``1 − R_l·v = |2 n (n·l) − l − v|² / 2``.
 
     Parameters
@@ -366,78 +366,61 @@ class StackedGeometry:
         return self.l @ self.v if self._distant else _rows_times(self.l, self._v_planes, self.dtype)
 
     @_cached
-    def _opposite(self):
-        """Where ``l·v < −1/2``: indices ``(k, i)``, the accurate sum ``s = l + v`` and ``ĥ = s/|s|``.
+    def _sum(self):
+        """``s = l + v`` as three ``(K, N)`` planes (``(K, 1)`` for a distant viewer) and ``|s|²``.
 
-        There ``l + v`` cancels, and so does ``n × l + n × v``: such rows take the
-        half vector from :func:`_unit_sum` (directions only) exactly as
-        :class:`Geometry` does, and ``n·h``, ``|n × h|²``, ``|l + v|²`` from it.
-        For a distant viewer ``i`` is ``None``: the whole row ``k`` has one ``s``.
+        Where ``|s|² < 1`` (``l·v < −1/2``) the sum cancels and those rows are rebuilt
+        from the tangential parts by :func:`_unit_sum`, exactly as :class:`Geometry`
+        does.
         """
-        opposite = self._l_dot_v < -0.5
-        if not np.any(opposite):
-            return None
+        s = [self.l[:, k, None] + vk for k, vk in enumerate(self._v_planes)]
         if self._distant:
-            k = np.flatnonzero(opposite)
-            i = None
-            V = np.broadcast_to(self.v, (len(k), 3))
-        else:
-            k, i = np.nonzero(opposite)
-            V = self.v[i]
-        L = self.l[k]
-        s = _unit_sum(L, V, L + V, np.ones(len(k), dtype=bool))
-        return k, i, s, normalize(s)
+            s = [np.reshape(sk, (-1, 1)) for sk in s]
+        len2 = s[0] * s[0]
+        len2 += s[1] * s[1]
+        len2 += s[2] * s[2]
+        far = len2 < 1
+        if np.any(far):
+            k, i = np.nonzero(far)
+            L = self.l[k]
+            V = np.broadcast_to(self.v, (len(k), 3)) if self._distant else self.v[i]
+            fixed = _unit_sum(L, V, L + V, np.ones(len(k), dtype=bool))
+            for c in range(3):
+                s[c][k, i] = fixed[:, c]
+            len2[k, i] = Geometry._dot(fixed, fixed)
+        return s, len2
 
-    def _fix_opposite(self, values, of_h):
-        """Overwrite the :attr:`_opposite` rows of ``values`` with ``of_h(n, ĥ)``."""
-        opp = self._opposite
-        if opp is not None:
-            k, i, _, h = opp
-            if i is None:
-                for row, hk in zip(k, h, strict=True):
-                    values[row] = of_h(self.n, hk)
-            else:
-                values[k, i] = of_h(self.n[i], h)
-        return values
+    @_cached
+    def _h(self):
+        """Unit half vector planes ``s / |s|`` (zero where ``l = −v``; tiny sums normalized with scaling)."""
+        s, len2 = self._sum
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            inv = 1 / np.sqrt(len2)
+            h = [sk * inv for sk in s]
+        tiny = len2 < np.finfo(self.dtype).tiny * 1e4
+        if np.any(tiny):
+            k, i = np.nonzero(tiny)
+            hk = normalize(np.stack([sk[k, i] for sk in s], axis=-1))
+            for c in range(3):
+                h[c][k, i] = hk[:, c]
+        return h
 
     @_cached
     def _len2(self):
-        """``|l + v|²`` ``(K, N)`` (``(K, 1)`` for a distant viewer)."""
-        lv = self._l_dot_v
-        if self._distant:
-            lv = lv[:, None]
-        len2 = lv + self.dtype(1)
-        len2 *= self.dtype(2)
-        opp = self._opposite
-        if opp is not None:
-            k, i, s, _ = opp
-            len2[k, 0 if i is None else i] = Geometry._dot(s, s)
-        return len2
-
-    @_cached
-    def _len(self):
-        return np.sqrt(self._len2)
-
-    @_cached
-    def _inv_len(self):
-        length = self._len
-        with np.errstate(divide="ignore"):
-            inv = 1 / length
-        zero = length == 0
-        if np.any(zero):
-            # l = −v: no half vector; every quantity of it is then 0 (the sample is below someone's horizon).
-            inv[zero] = 0
-        return inv
+        return self._sum[1]
 
     @_cached
     def n_dot_h(self):
-        nh = self.n_dot_l + self.n_dot_v
-        nh *= self._inv_len
-        return self._fix_opposite(nh, Geometry._dot)
+        (nx, ny, nz), (hx, hy, hz) = self._n_planes, self._h
+        nh = nx * hx
+        nh += ny * hy
+        nh += nz * hz
+        return nh
 
     @_cached
     def v_dot_h(self):
-        return self._len * self.dtype(0.5)
+        """``|l + v| / 2``, as in :class:`Geometry`."""
+        return np.sqrt(self._len2) * self.dtype(0.5)
 
     @_cached
     def _n_cross_v(self):
@@ -456,25 +439,19 @@ class StackedGeometry:
 
     @_cached
     def sin2_h(self):
-        # n × (l + v) from the sum's components (as n × h is formed in Geometry): the
-        # cross products n × l and n × v are large where the highlight sits between a
-        # grazing light and viewer, and adding them would cancel (measured 10× the error).
-        (nx, ny, nz), (vx, vy, vz) = self._n_planes, self._v_planes
-        sx, sy, sz = (self.l[:, k, None] + vk for k, vk in enumerate((vx, vy, vz)))
-        q = ny * sz
-        q -= nz * sy
+        """``|n × h|²`` from the unit half vector, as :class:`Geometry` forms it."""
+        (nx, ny, nz), (hx, hy, hz) = self._n_planes, self._h
+        q = ny * hz
+        q -= nz * hy
         q *= q
-        t = nz * sx
-        t -= nx * sz
+        t = nz * hx
+        t -= nx * hz
         t *= t
         q += t
-        np.multiply(nx, sy, out=t)
-        t -= ny * sx
+        np.multiply(nx, hy, out=t)
+        t -= ny * hx
         t *= t
         q += t
-        q *= self._inv_len
-        q *= self._inv_len
-        q = self._fix_opposite(q, Geometry._cross2)
         return np.clip(q, 0, 1, out=q)
 
     @_cached
