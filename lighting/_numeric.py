@@ -76,13 +76,27 @@ def log1p(x) -> np.ndarray:
     relative error stays below 6 ulp (NumPy's: 1.3).
     """
     x = np.asarray(x)
-    y = 1 + x
+    return log_corrected(1 + x, x)
+
+
+def log_corrected(y, x) -> np.ndarray:
+    """``log(y)`` with Goldberg's correction: ``log1p(x)`` where ``y`` is ``fl(1 + x)``.
+
+    Returns ``log(y) · x / (y − 1)``, and ``x`` where ``y == 1``.  Where ``x`` is
+    exactly ``y − 1`` the ratio is 1 and the result is plain ``log(y)``, so a
+    caller may mix rows of both kinds (the Blinn–Phong lobe takes ``log(n·h)``
+    far from its peak, ``log1p(−(1 − n·h))`` near it, in one pass).
+    """
+    shape = np.broadcast_shapes(np.shape(y), np.shape(x))
+    y = np.atleast_1d(y)  # the in-place passes below need an array
     z = y - 1
     zero = z == 0
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.log(y)
-        r *= x / np.where(zero, 1, z)
-    return np.where(zero, x, r).astype(y.dtype, copy=False)
+        z += zero
+        r *= x / z
+    r += x * zero
+    return r.reshape(shape)
 
 
 def safe_div(num, den, *, zero_where_den_le0: bool = True) -> np.ndarray:
