@@ -117,18 +117,19 @@ class _Planes:
         out = np.empty((3, int(np.prod(self.shape))), dtype=self.dt)
         with np.errstate(over="ignore"):
             for ch in range(3):
-                plane = self.planes[ch]
-                acc = self.block[ch] if self.block is not None else None
-                if plane is not None:
-                    acc = plane.reshape(-1) if acc is None else np.add(acc, plane.reshape(-1), out=out[ch])
+                o = out[ch]
+                parts = [p.reshape(-1) for p in (None if self.block is None else self.block[ch], self.planes[ch])
+                         if p is not None]  # fmt: skip
                 c = self.dt(self.constant[ch])
-                if acc is None:
-                    out[ch] = c
+                if not parts:
+                    o[...] = c
                     continue
+                np.copyto(o, parts[0])
+                for p in parts[1:]:
+                    o += p
                 if c:
-                    np.add(acc, c, out=out[ch])
-                    acc = out[ch]
-                np.minimum(acc, big, out=out[ch])
+                    o += c
+                np.minimum(o, big, out=o)
         return out.reshape((3,) + self.shape)
 
     def add_constant(self, rgb):
