@@ -144,6 +144,7 @@ class Camera:
         self.far = check_positive("far", far) if far is not None else dist * 1000
         if not self.far > self.near:
             raise ValueError(f"far must be > near = {self.near!r}; got far={self.far!r}")
+        self._memo = {}  # quantities derived from the (immutable) camera alone, made on first use
         self._frozen = True
 
     def __setattr__(self, name, value):
@@ -368,6 +369,66 @@ class Camera:
         S = self.pixels_per_unit
         o = [self.eye[c] + (dx * r[c] - dy * u[c]) / S for c in range(3)]
         return o, [np.float64(fc) for fc in f]
+
+    def pixel_view_vectors(self, pixels, depth=None, *, dtype=np.float64):
+        """The slides' ``v`` at the surface points seen through ``pixels``, and their eye distances.
+
+        Perspective: the point seen at pixel ``(i, j)`` lies on that pixel's ray
+        (:meth:`rays`), so ``v = −normalize(f + ((x − W/2) r − (y − H/2) u) / F)``
+        at ``x = j + ½``, ``y = i + ½`` exactly, whatever surface is there: no
+        position is needed.  The unnormalized ray has component 1 along ``f``,
+        so a point at view depth ``d`` is ``d |f + …|`` from the eye.
+        Orthographic: ``v = −f`` everywhere and there are no eye distances.
+
+        Parameters
+        ----------
+        pixels : (M,) int
+            Flat row-major pixel indices ``i W + j``.
+        depth : (M,) float, optional
+            View-space depths of the points (for the eye distances).
+        dtype : float32 or float64
+            Of ``v`` (computed in float64 and rounded once).
+
+        Returns
+        -------
+        v : (M, 3) column-major array, or (3,) for an orthographic camera
+        dist : (M,) float64, or None (orthographic, or no ``depth``)
+
+        Examples
+        --------
+        >>> cam = Camera((0, 0, 5), (0, 0, 0), width=3, height=3)
+        >>> v, dist = cam.pixel_view_vectors([4], depth=[5.0])  # the centre pixel
+        >>> v.tolist(), dist.tolist()
+        ([[0.0, 0.0, 1.0]], [5.0])
+        """
+        dt = np.dtype(dtype).type
+        if not self.is_perspective:
+            return (-self.forward).astype(dt), None
+        p = np.asarray(pixels, dtype=np.int64)
+        planes, length = self._pixel_view_planes(dt)
+        v = np.empty((len(p), 3), dtype=dt, order="F")
+        for c in range(3):
+            planes[c].take(p, out=v[:, c])
+        dist = None if depth is None else np.asarray(depth, dtype=np.float64) * length.take(p)
+        return v, dist
+
+    def _pixel_view_planes(self, dt):
+        """``−ray`` direction per pixel as three flat ``(H W,)`` planes in ``dt``, and the unnormalized ray lengths.
+
+        Computed once per camera and dtype (a camera is immutable): the image's
+        rays are a property of the camera alone, like its matrices.
+        """
+        key = ("view planes", np.dtype(dt).str)
+        if key not in self._memo:
+            o, d = self.ray_components()
+            shape = (self.height, self.width)
+            planes = [np.ascontiguousarray(np.broadcast_to(-dc, shape), dtype=dt).reshape(-1) for dc in d]
+            x = (np.arange(self.width) + 0.5 - self.width / 2)[None, :] / self.focal_px
+            y = (np.arange(self.height) + 0.5 - self.height / 2)[:, None] / self.focal_px
+            # f, r, u are orthonormal: |f + x r − y u|² = 1 + x² + y².
+            length = np.sqrt(1 + (x * x + y * y)).reshape(-1)
+            self._memo[key] = (planes, length)
+        return self._memo[key]
 
     def view_direction(self, points) -> np.ndarray:
         """The slides' ``v``: unit vectors from ``points`` toward the viewer, ``(..., 3)``.

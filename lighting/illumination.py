@@ -32,7 +32,7 @@ import numpy as np
 
 from ._numeric import as_float, check_choice, check_color, working_dtype
 from .brdf import BRDF, Geometry, StackedGeometry
-from .lights import AmbientLight, Light
+from .lights import AmbientLight, DirectionalLight, Light
 from .vec import normalize
 
 __all__ = ["Material", "shade", "shade_terms", "shade_prepared", "view_vectors", "TERMS", "FORMS"]
@@ -179,7 +179,7 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
     ``prune=False`` evaluates black lights and zero colours too (the reference
     "nothing skipped" path that :mod:`lighting.plan` is measured against).
     """
-    shape = np.broadcast_shapes(p.shape, n.shape)[:-1]
+    shape = n.shape[:-1] if p is None else np.broadcast_shapes(p.shape, n.shape)[:-1]
     scale = 1.0 if form == "classic" else 1.0 / math.pi
     lights = list(lights)
     one = _Planes(shape, dt, prune) if summed else None
@@ -340,6 +340,9 @@ def shade_prepared(
     geometry and viewer stay fixed while lights and materials change.  With
     ``separate=True`` returns ``{term: (..., 3)}`` like :func:`shade_terms`.
 
+    ``points`` may be ``None`` when every light is ambient or directional (they
+    are the same at every point; a renderer then skips interpolating positions).
+
     ``view_cache`` (a dict the caller keeps, empty at first) holds quantities of
     the normals and view vectors alone (``n·v``, ``n × v``) between calls; it is
     valid only while ``unit_normals`` and ``view`` stay the same.  With
@@ -347,8 +350,12 @@ def shade_prepared(
     instead of ``(..., 3)`` (what an image scatter reads fastest).
     """
     form, attenuation_distance, wanted = _check_options(form, attenuation_distance, terms)
-    dt = working_dtype(points, unit_normals)
+    dt = working_dtype(unit_normals) if points is None else working_dtype(points, unit_normals)
     lights = list(lights)
+    if points is None:
+        positional = [lt for lt in lights if not isinstance(lt, (AmbientLight, DirectionalLight))]
+        if positional:
+            raise ValueError(f"points=None is allowed only for ambient and directional lights; got {positional[0]!r}")
 
     def run(sl):
         def part(x, ndim=2):
@@ -364,7 +371,8 @@ def shade_prepared(
         out = (lambda a: a.channels()) if channels else (lambda a: a.total())
         return {t: out(acc[t]) for t in wanted} if separate else out(acc)
 
-    n_rows = np.shape(points)[0] if np.ndim(points) == 2 else 0
+    rows = unit_normals if points is None else points
+    n_rows = np.shape(rows)[0] if np.ndim(rows) == 2 else 0
     chunks = _chunks(n_rows)
     if len(chunks) == 1:
         return run(slice(None))

@@ -164,8 +164,7 @@ class GBuffer:
         """At :attr:`pixels`: triangle ids, barycentric columns, and vertex-index columns (contiguous)."""
         p = self.pixels
         tid = self.triangle_id.reshape(-1).take(p)
-        flat = self.barycentric.reshape(-1, 3)
-        b = [flat[:, k].take(p) for k in range(3)]
+        b = [self.barycentric[..., k].take(p) for k in range(3)]
         if self.mesh is None:
             return tid, b, None
         corners = [np.ascontiguousarray(self.mesh.faces[:, k]).take(tid) for k in range(3)]
@@ -545,11 +544,12 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     j0, j1, i0, i1 = (a.take(kept).astype(np.int64) for a in (j0, j1, i0, i1))
 
     zbuf = np.full(H * W, np.inf, dtype=dt)
-    idbuf = np.full(H * W, -1, dtype=np.int64)
-    overdraw = np.zeros(H * W, dtype=np.int32)
-    # The winner's barycentric weights (perspective: λ_i / d_i; orthographic: λ_i).
-    wbuf = np.zeros((H * W, 3), dtype=dt)
-    stamp = np.empty(H * W, dtype=np.int64)  # scratch for finding pixels hit twice within a batch
+    # int32 indices halve the memory traffic of the scatters (fewer than 2^31 triangles and pixels).
+    idbuf = np.full(H * W, -1, dtype=np.int32)
+    # The winner's barycentric weights (perspective: λ_i / d_i; orthographic: λ_i), one plane per
+    # vertex: 1-D scatters are several times faster than scattering rows of three.
+    wbuf = np.zeros((3, H * W), dtype=dt)
+    stamp = np.empty(H * W, dtype=np.int32)  # scratch for finding pixels hit twice within a batch
 
     # ---- candidates: one "span" per (triangle, pixel row of its bounding box); a batch is a run of
     # spans with about _BATCH candidate pixels, generated at once with np.repeat.
@@ -558,10 +558,6 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     ny = i1 - i0 + 1
     stri = np.repeat(np.arange(setup.n), ny)
     srow = np.repeat(i0 - (np.cumsum(ny) - ny), ny) + np.arange(len(stri))
-    scount = nx[stri]
-    sj0 = j0[stri]
-    spx0 = sj0.astype(dt) + half
-    spix0 = srow * W + sj0
     spy = srow.astype(dt) + half
     # Per edge k: E'_k = ex (py - ay) - ey (px - ax).  The first product is constant along a span.
     rowterm, sax, sey = [], [], []
@@ -570,6 +566,16 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
         rowterm.append(ex * (spy - ay))
         sax.append(ax)
         sey.append(ey)
+    # Tighten each span to the columns its row can cover, widened by one pixel each way.  The
+    # coverage test below stays the exact edge-function test, so any superset of the covered
+    # columns gives the same image; the bounds only spare candidates (2.5x fewer on a sphere).
+    sj0, sj1 = _span_columns(j0[stri], j1[stri], rowterm, sax, sey, dt)
+    live = np.flatnonzero(sj1 >= sj0)
+    stri, srow, sj0, sj1 = stri[live], srow[live], sj0[live], sj1[live]
+    rowterm, sax, sey = ([a[live] for a in arrs] for arrs in (rowterm, sax, sey))
+    scount = sj1 - sj0 + 1
+    spx0 = sj0.astype(dt) + half
+    spix0 = srow * W + sj0
     # The spans of the top and the bottom half of the image touch disjoint pixels, so the two halves
     # are rasterized by two threads (NumPy releases the GIL in its loops) into the same buffers.
     halves = [np.flatnonzero(srow < H // 2), np.flatnonzero(srow >= H // 2)]
@@ -577,22 +583,49 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
         halves = [np.arange(len(stri))]
 
     def run(spans):
-        _raster_spans(
+        return _raster_spans(
             spans, scount, spx0, sax, sey, rowterm, stri, spix0, setup, perspective, camera, zbuf, idbuf, wbuf,
-            overdraw, stamp, W, dt,
+            stamp, W, dt,
         )  # fmt: skip
 
-    if len(halves) == 1:
-        run(halves[0])
-    else:
-        list(_pool().map(run, halves))
-
+    covered = run(halves[0]) if len(halves) == 1 else sum(_pool().map(run, halves), [])
+    # Overdraw: every sample that passed the coverage test, counted once at the end.
+    overdraw = np.bincount(np.concatenate(covered), minlength=H * W).astype(np.int32) if covered else None
+    if overdraw is None:
+        overdraw = np.zeros(H * W, dtype=np.int32)
     return _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_dt)
 
 
+def _span_columns(j0, j1, rowterm, sax, sey, dt):
+    """First and last candidate column of each span: where its row can lie inside all three edges.
+
+    ``E'_k(p_x) = rowterm_k − e_y (p_x − a_x) ≥ 0`` bounds ``p_x`` from above where
+    ``e_y > 0`` and from below where ``e_y < 0`` at ``a_x + rowterm_k / e_y``; an edge
+    with ``e_y = 0`` covers the whole row or none of it.  Each bound is widened by
+    one column (rounding of the quotient) and clipped to the bounding box ``[j0, j1]``;
+    a span nobody covers comes back with ``j1 < j0``.
+    """
+    lo, hi = j0.astype(dt), j1.astype(dt)
+    empty = np.zeros(len(j0), dtype=bool)
+    for r, ax, ey in zip(rowterm, sax, sey, strict=True):
+        x = r / np.where(ey == 0, 1, ey)
+        x += ax
+        # fmin / fmax ignore a NaN bound (no constraint); the box clips infinite ones.
+        hi = np.where(ey > 0, np.fmin(hi, np.floor(x - 0.5) + 1), hi)
+        lo = np.where(ey < 0, np.fmax(lo, np.ceil(x - 0.5) - 1), lo)
+        empty |= (ey == 0) & (r < 0)
+    lo = np.minimum(lo, j1 + 1)  # finite and in the box before the integer conversion
+    hi = np.where(empty, lo - 1, np.maximum(hi, lo - 1))
+    return lo.astype(np.int64), hi.astype(np.int64)
+
+
 def _raster_spans(spans, scount, spx0, sax, sey, rowterm, stri, spix0, setup, perspective, camera,
-                  zbuf, idbuf, wbuf, overdraw, stamp, W, dt):  # fmt: skip
-    """Rasterize the spans ``spans`` (indices) in batches of about ``_BATCH`` candidate pixels."""
+                  zbuf, idbuf, wbuf, stamp, W, dt):  # fmt: skip
+    """Rasterize the spans ``spans`` (indices) in batches of about ``_BATCH`` candidate pixels.
+
+    Returns the list of the covered samples' pixel indices, one array per batch (for the overdraw count).
+    """
+    covered = []
     scount = scount[spans]
     spx0, stri, spix0 = spx0[spans], stri[spans], spix0[spans]
     sax = [a[spans] for a in sax]
@@ -637,33 +670,32 @@ def _raster_spans(spans, scount, spx0, sax, sey, rowterm, stri, spix0, setup, pe
         ok = z <= camera.far
         if not ok.all():
             pix, z, t, w0, w1, w2 = pix[ok], z[ok], t[ok], w0[ok], w1[ok], w2[ok]
+        covered.append(pix)
         # Pixels hit by several fragments of this batch: the nearest wins, then the lowest mesh face index.
-        idx = np.arange(len(pix))
+        idx = np.arange(len(pix), dtype=np.int32)
         stamp[pix] = idx
         dup = stamp[pix] != idx
         if dup.any():
             stamp[pix[dup]] = -1
             multi = stamp[pix] == -1
             m = np.flatnonzero(multi)
-            np.add.at(overdraw, pix[m], 1)
             order = np.lexsort((setup.source.take(t[m]), z[m], pix[m]))
             pm = pix[m][order]
             lead = np.r_[True, pm[1:] != pm[:-1]]
             single = np.flatnonzero(~multi)
-            overdraw[pix[single]] += 1
             take = np.concatenate([single, m[order[lead]]])
             pix, z, t, w0, w1, w2 = pix[take], z[take], t[take], w0[take], w1[take], w2[take]
-        else:
-            overdraw[pix] += 1
         cur = zbuf[pix]
         better = z < cur
         tie = np.flatnonzero(z == cur)
         if len(tie):
             better[tie] = setup.source.take(t[tie]) < setup.source.take(idbuf[pix[tie]])
-        pb = pix[better]
-        zbuf[pb] = z[better]
-        idbuf[pb] = t[better]
-        wbuf[pb, 0], wbuf[pb, 1], wbuf[pb, 2] = w0[better], w1[better], w2[better]
+        if not better.all():  # (the common case, a fresh pixel, skips five copies)
+            pix, z, t, w0, w1, w2 = pix[better], z[better], t[better], w0[better], w1[better], w2[better]
+        zbuf[pix] = z
+        idbuf[pix] = t
+        wbuf[0][pix], wbuf[1][pix], wbuf[2][pix] = w0, w1, w2
+    return covered
 
 
 def _threads() -> int:
@@ -687,17 +719,21 @@ def _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_d
     H, W = camera.height, camera.width
     cov = idbuf >= 0
     depth = np.where(cov, zbuf, 0).astype(zbuf.dtype, copy=False)
-    bary = wbuf
-    if perspective:
-        bary *= depth[:, None]  # b_i = (λ_i / d_i) d
+    bary = wbuf  # (3, H W) planes
+    if perspective and setup.weights is None:
+        # b_i = (λ_i / d_i) d, rounded once to the output dtype.
+        bary = np.multiply(wbuf, depth, out=np.empty(wbuf.shape, dtype=out_dt), casting="same_kind")
+    elif perspective:
+        bary *= depth
     if setup.weights is not None:
         clipped = np.r_[setup.clipped, False].take(idbuf)
         p = np.flatnonzero(clipped)
         # Sub-triangle barycentrics → barycentrics of the source triangle.
-        bary[p] = np.einsum("ni,nij->nj", bary[p], setup.weights[idbuf[p]].astype(bary.dtype))
+        bary[:, p] = np.einsum("in,nij->jn", bary[:, p], setup.weights[idbuf[p]].astype(bary.dtype))
     return GBuffer(
         triangle_id=np.r_[setup.source, -1].astype(np.int32).take(idbuf).reshape(H, W),
-        barycentric=bary.astype(out_dt, copy=False).reshape(H, W, 3),
+        # (H, W, 3) view of the planes: each barycentric coordinate stays one contiguous image.
+        barycentric=bary.astype(out_dt, copy=False).reshape(3, H, W).transpose(1, 2, 0),
         depth=depth.astype(out_dt, copy=False).reshape(H, W),
         coverage=cov.reshape(H, W),
         front_facing=np.r_[setup.front, False].take(idbuf).reshape(H, W),

@@ -28,6 +28,7 @@ import numpy as np
 from ._numeric import check_choice, check_color, check_positive
 from .camera import Camera
 from .illumination import TERMS, Material, shade_prepared, view_vectors
+from .lights import AmbientLight, DirectionalLight
 from .mesh import TriangleMesh
 from .raster import GBuffer, rasterize, raycast_sphere
 from .vec import normalize
@@ -201,8 +202,13 @@ class Renderer:
         """The slides' ``v`` at :meth:`sample_points` and the eye distances (``None`` for orthographic)."""
 
         def make():
-            pts = self.sample_points(mode)
             cam = self._camera
+            if mode == "phong":
+                # The point seen at a pixel lies on that pixel's ray: v needs no interpolated position.
+                pix = self._pixels()
+                v, dist = cam.pixel_view_vectors(pix, self.gbuffer.depth.reshape(-1).take(pix), dtype=self.dtype)
+                return v, dist
+            pts = self.sample_points(mode)
             if cam.is_perspective:
                 v, dist = view_vectors(pts, eye=cam.eye, dtype=self.dtype)
                 return np.asfortranarray(v), dist
@@ -210,9 +216,11 @@ class Renderer:
 
         return self._cached(("view", mode), make)
 
-    def _samples(self, mode: str):
+    def _samples(self, mode: str, lights=None):
+        """Points, normals, view vectors and eye distances; points are ``None`` when ``lights`` need none."""
         v, dist = self.sample_view(mode)
-        return self.sample_points(mode), self.sample_normals(mode), v, dist
+        pts = self.sample_points(mode) if lights is None or _needs_points(lights) else None
+        return pts, self.sample_normals(mode), v, dist
 
     def _take(self, compact: np.ndarray) -> np.ndarray:
         return compact if self._subset is None else compact[self._subset]
@@ -269,7 +277,8 @@ class Renderer:
     ) -> dict[str, np.ndarray]:
         """Each term of the illumination equation as an ``(H, W, 3)`` image (zero off the object)."""
         mode = check_choice("mode", mode, SHADING_MODES)
-        pts, nrm, v, dist = self._samples(mode)
+        lights = list(lights)
+        pts, nrm, v, dist = self._samples(mode, lights)
         colours = shade_prepared(
             pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms, separate=True
         )
@@ -303,7 +312,8 @@ class Renderer:
         """
         bg = check_color("background", background)
         mode = check_choice("mode", mode, SHADING_MODES)
-        pts, nrm, v, dist = self._samples(mode)
+        lights = list(lights)
+        pts, nrm, v, dist = self._samples(mode, lights)
         if mode == "phong":
             planes = shade_prepared(
                 pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
@@ -316,6 +326,11 @@ class Renderer:
         if np.any(bg):
             img = np.where(self.gbuffer.coverage[..., None], img, bg.astype(self.dtype))
         return img.astype(self.dtype, copy=False)
+
+
+def _needs_points(lights) -> bool:
+    """Whether any light depends on where the surface point is (not ambient, not directional)."""
+    return not all(isinstance(lt, (AmbientLight, DirectionalLight)) for lt in lights)
 
 
 def render(geometry, camera: Camera, material: Material, lights, **kwargs) -> np.ndarray:
