@@ -137,6 +137,7 @@ class TriangleMesh:
         else:
             self._normals = None
         self._normals_given = normals is not None
+        self._face_columns = None
 
     # ------------------------------------------------------------------ data
     @property
@@ -155,6 +156,13 @@ class TriangleMesh:
         if self._normals is None:
             self._normals = self.vertex_normals("angle")
         return self._normals
+
+    @property
+    def face_columns(self) -> list[np.ndarray]:
+        """``faces[:, k]`` for ``k = 0, 1, 2``, each contiguous (what per-corner lookups gather with fastest)."""
+        if self._face_columns is None:
+            self._face_columns = [_readonly(np.ascontiguousarray(self._faces[:, k])) for k in range(3)]
+        return self._face_columns
 
     @property
     def has_given_normals(self) -> bool:

@@ -161,18 +161,20 @@ class GBuffer:
 
     @cached_property
     def _compact(self):
-        """At :attr:`pixels`: triangle ids, barycentric columns, and vertex-index columns (contiguous)."""
+        """At :attr:`pixels`: the triangle ids and the three barycentric columns (contiguous)."""
         p = self.pixels
         tid = self.triangle_id.reshape(-1).take(p)
         b = [self.barycentric[..., k].take(p) for k in range(3)]
-        if self.mesh is None:
-            return tid, b, None
-        corners = [np.ascontiguousarray(self.mesh.faces[:, k]).take(tid) for k in range(3)]
-        return tid, b, corners
+        return tid, b
 
     @cached_property
     def _pixels3(self) -> np.ndarray:
         return self.pixels * 3
+
+    @cached_property
+    def _channel_index(self) -> list[np.ndarray]:
+        """Flat indices of channel ``c`` of the covered pixels in an ``(H, W, 3)`` image, per ``c``."""
+        return [self._pixels3 + c for c in range(3)]
 
     def _scatter(self, values: np.ndarray) -> np.ndarray:
         out = np.zeros((self.coverage.size,) + values.shape[1:], dtype=values.dtype)
@@ -180,7 +182,7 @@ class GBuffer:
             # One 1-D scatter per channel into the flat image: several times faster than row assignment.
             flat = out.reshape(-1)
             for c in range(3):
-                flat[self._pixels3 + c] = values[:, c]
+                flat[self._channel_index[c]] = values[:, c]
         else:
             out[self.pixels] = values
         return out.reshape(self.shape + values.shape[1:])
@@ -192,19 +194,21 @@ class GBuffer:
 
     def _interp_compact(self, a: np.ndarray) -> np.ndarray:
         """``Σ b_i a[f_i]`` at the covered pixels; ``a`` is ``(V,)`` or ``(V, k)``."""
-        self._need_mesh("interpolate")
-        _, b, corners = self._compact
+        mesh = self._need_mesh("interpolate")
+        tid, b = self._compact
         b = [bk.astype(a.dtype, copy=False) for bk in b]
         flat = a.reshape(len(a), int(np.prod(a.shape[1:])))
-        out = np.empty((len(b[0]), flat.shape[1]), dtype=a.dtype, order="F")  # columns contiguous
+        out = np.empty((len(tid), flat.shape[1]), dtype=a.dtype, order="F")  # columns contiguous
         for c in range(flat.shape[1]):
-            # One contiguous column at a time: 1-D gathers are several times faster than row gathers.
+            # One contiguous column at a time (1-D gathers are several times faster than row gathers),
+            # looked up per triangle corner first: a[f_i] = (a[faces[:, i]])[triangle id], exactly.
             col = np.ascontiguousarray(flat[:, c])
-            acc = b[0] * col.take(corners[0])
-            acc += b[1] * col.take(corners[1])
-            acc += b[2] * col.take(corners[2])
+            corner = [col.take(f) for f in mesh.face_columns]
+            acc = b[0] * corner[0].take(tid)
+            acc += b[1] * corner[1].take(tid)
+            acc += b[2] * corner[2].take(tid)
             out[:, c] = acc
-        return out.reshape((len(b[0]),) + a.shape[1:])
+        return out.reshape((len(tid),) + a.shape[1:])
 
     # ------------------------------------------------------------------ attribute access
     def interpolate(self, vertex_values) -> np.ndarray:

@@ -244,9 +244,13 @@ class Renderer:
         gb = self.gbuffer
         img = np.zeros(gb.shape + (3,), dtype=planes.dtype)
         flat = img.reshape(-1)
-        idx = gb._pixels3 if self._subset is None else self._pixels() * 3
+        if self._subset is None:
+            index = gb._channel_index
+        else:
+            idx = self._pixels() * 3
+            index = [idx + c for c in range(3)]
         for c in range(3):
-            flat[idx + c] = planes[c]
+            flat[index[c]] = planes[c]
         return img
 
     def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
