@@ -4,7 +4,9 @@ Three numbers, each the median of repeated runs on this machine:
 
 * ``reshade_ms`` — lighting a cached 512×512 geometry buffer of a sphere with
   three lights (Blinn–Phong, Phong interpolation): what a slider move costs;
-* ``raster_shade_ms`` — rasterizing the ~5,000-triangle sphere and shading it;
+* ``raster_ms`` — rasterizing the ~5,000-triangle sphere into a geometry buffer;
+* ``raster_shade_ms`` — a whole frame from nothing: rasterizing, interpolating
+  the normals and shading;
 * ``vtk_ms`` — PyVista/VTK rendering the same mesh and lights off-screen at
   512×512, render plus read-back of the pixels;
 
@@ -24,6 +26,7 @@ import numpy as np
 from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
 from lighting.camera import Camera
 from lighting.mesh import sphere_for_triangles
+from lighting.raster import rasterize
 from lighting.render import Renderer
 
 SIZE = 512
@@ -67,6 +70,7 @@ def time_engine(repeat: int = 15, size: int = SIZE) -> dict:
             r.render(material, moved)
 
         out[key] = _median_ms(reshade, repeat)
+    out["raster_ms"] = _median_ms(lambda: rasterize(mesh, camera, dtype=np.float32), repeat)
     out["raster_shade_ms"] = _median_ms(lambda: Renderer(mesh, camera).render(material, lights), repeat)
     out["raster_shade_f32_ms"] = _median_ms(
         lambda: Renderer(mesh, camera, dtype=np.float32).render(material, lights), repeat
@@ -132,6 +136,7 @@ def format_report(r: dict) -> str:
 
     row("re-shade cached buffer (float64)", "reshade_ms", "<= 0.25")
     row("re-shade cached buffer (float32)", "reshade_f32_ms", "<= 0.25")
+    row("rasterize only (geometry buffer)", "raster_ms")
     row("rasterize + shade (float64)", "raster_shade_ms", "<= 1")
     row("rasterize + shade (float32)", "raster_shade_f32_ms", "<= 1")
     lines.append(f"{'VTK off-screen render + read-back':44s} {vtk:8.2f}" if vtk else "VTK: not installed")

@@ -710,7 +710,8 @@ def _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_d
         barycentric=bary.astype(out_dt, copy=False).reshape(3, H, W).transpose(1, 2, 0),
         depth=depth.astype(out_dt, copy=False).reshape(H, W),
         coverage=cov.reshape(H, W),
-        front_facing=np.r_[setup.front, False].take(idbuf).reshape(H, W),
+        # With back faces culled every drawn triangle faces the camera.
+        front_facing=(cov if setup.front.all() else np.r_[setup.front, False].take(idbuf)).reshape(H, W),
         overdraw=overdraw.reshape(H, W),
         camera=camera,
         mesh=mesh,

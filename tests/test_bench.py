@@ -18,7 +18,7 @@ def test_bench_json_line_is_consistent(capsys, monkeypatch):
     assert bench.main(["--json", "--repeat", "1"]) == 0
     line = capsys.readouterr().out.strip().splitlines()[-1]
     r = json.loads(line)
-    for key in ("reshade_ms", "raster_shade_ms", "vtk_ms", "reshade_f32_ms"):
+    for key in ("reshade_ms", "raster_ms", "raster_shade_ms", "vtk_ms", "reshade_f32_ms"):
         assert r[key] > 0
     assert np.isclose(r["reshade_over_vtk"], r["reshade_ms"] / r["vtk_ms"])
     assert r["size"] == 64
