@@ -422,7 +422,7 @@ class _Setup:
         self.coef = coef
         self.topleft = topleft
         self.depth = [np.asarray(dk, dtype=dt) for dk in d]
-        self.inv_depth = [(1 / dk).astype(dt) for dk in d]
+        self.inv_area_depth = [(self.inv_area / dk).astype(dt) for dk in d]
         self.source = source
         self.weights = weights
         self.clipped = None if weights is None else ~np.all(weights == np.eye(3), axis=(1, 2))
@@ -438,11 +438,12 @@ def _depth_of(setup: _Setup, t, e, perspective: bool):
     (``w = λ`` for orthographic).  The z-test and the final buffer both use this,
     so the stored depth is the one that won the test.
     """
+    if perspective:
+        # w_i = E'_{i+1} / (|2A| d_i), with 1 / (|2A| d_i) formed once per triangle.
+        w = [e[(i + 1) % 3] * setup.inv_area_depth[i].take(t) for i in range(3)]
+        return 1 / (w[0] + w[1] + w[2]), w
     inv_a = setup.inv_area.take(t)
     lam = [e[1] * inv_a, e[2] * inv_a, e[0] * inv_a]
-    if perspective:
-        w = [lam[i] * setup.inv_depth[i].take(t) for i in range(3)]
-        return 1 / (w[0] + w[1] + w[2]), w
     return lam[0] * setup.depth[0].take(t) + lam[1] * setup.depth[1].take(t) + lam[2] * setup.depth[2].take(t), lam
 
 
