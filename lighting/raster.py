@@ -602,12 +602,14 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     # int32 triangle indices halve the memory traffic of the scatter (fewer than 2^31 triangles).
     idbuf = np.full(H * W, -1, dtype=np.int32)
     idbuf[pix] = t
-    # The winner's barycentric weights (perspective: λ_i / d_i; orthographic: λ_i), one plane per
-    # vertex: 1-D scatters are several times faster than scattering rows of three.
-    wbuf = np.zeros((3, H * W), dtype=dt)
+    # The winners' barycentrics b_i = w_i d (perspective; orthographic b_i = λ_i = w_i), one plane per
+    # vertex: 1-D scatters are several times faster than scattering rows of three.  Rounded once to
+    # the output dtype unless clipped sub-triangles still need their float64 conversion.
+    bdt = dt if setup.weights is not None else out_dt
+    bary = np.zeros((3, H * W), dtype=bdt)
     for k in range(3):
-        wbuf[k][pix] = w[k]
-    return _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_dt)
+        bary[k][pix] = w[k] * z if perspective else w[k]
+    return _finish(mesh, camera, setup, zbuf, idbuf, bary, overdraw, out_dt)
 
 
 def _span_columns(j0, j1, rowterm, sax, sey, dt):
@@ -689,17 +691,11 @@ def _raster_spans(scount, spx0, sax, sey, rowterm, stri, spix0, setup, perspecti
             [cat([o[3][k] for o in out]) for k in range(3)])  # fmt: skip
 
 
-def _finish(mesh, camera, setup, zbuf, idbuf, wbuf, overdraw, perspective, out_dt) -> GBuffer:
-    """Images from the z-buffer: whole-image passes, no scatter."""
+def _finish(mesh, camera, setup, zbuf, idbuf, bary, overdraw, out_dt) -> GBuffer:
+    """Images from the z-buffer and the barycentric planes ``(3, H W)``: whole-image passes."""
     H, W = camera.height, camera.width
     cov = idbuf >= 0
     depth = np.where(cov, zbuf, 0).astype(zbuf.dtype, copy=False)
-    bary = wbuf  # (3, H W) planes
-    if perspective and setup.weights is None:
-        # b_i = (λ_i / d_i) d, rounded once to the output dtype.
-        bary = np.multiply(wbuf, depth, out=np.empty(wbuf.shape, dtype=out_dt), casting="same_kind")
-    elif perspective:
-        bary *= depth
     if setup.weights is not None:
         clipped = np.r_[setup.clipped, False].take(idbuf)
         p = np.flatnonzero(clipped)
