@@ -10,7 +10,9 @@ Three numbers, each the median of repeated runs on this machine:
 * ``vtk_ms`` — PyVista/VTK rendering the same mesh and lights off-screen at
   512×512, render plus read-back of the pixels;
 
-and the ratios of ours to VTK.  ``--json`` prints one machine-readable line.
+and the ratios of ours to VTK.  The measurements are interleaved: each round
+times every item once, so all of them see the same machine conditions.
+``--json`` prints one machine-readable line.
 """
 
 from __future__ import annotations
@@ -45,18 +47,31 @@ def bench_scene(size=SIZE, triangles=5000):
 
 
 def _median_ms(fn, repeat: int) -> float:
-    fn()  # warm-up: caches, allocator, first-call imports
-    times = []
+    return _interleaved_ms({"x": fn}, repeat)["x"]
+
+
+def _interleaved_ms(fns: dict, repeat: int) -> dict:
+    """Median ms of each callable, timed in rounds that run every callable once.
+
+    Interleaving puts every measurement under the same machine conditions: on
+    a shared machine the speed drifts by 10–30 % over seconds, and timing one
+    item after another would fold that drift into their ratios.
+    """
+    for fn in fns.values():
+        fn()  # warm-up: caches, allocator, first-call imports
+    times = {key: [] for key in fns}
     for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return 1e3 * statistics.median(times)
+        for key, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            times[key].append(time.perf_counter() - t0)
+    return {key: 1e3 * statistics.median(t) for key, t in times.items()}
 
 
-def time_engine(repeat: int = 15, size: int = SIZE) -> dict:
+def engine_frames(size: int = SIZE) -> dict:
+    """The engine's timed callables: ``{result key: callable}``."""
     mesh, camera, material, lights = bench_scene(size)
-    out = {"triangles": mesh.n_triangles, "size": size}
+    fns = {}
     for dt, key in ((np.float64, "reshade_ms"), (np.float32, "reshade_f32_ms")):
         r = Renderer(mesh, camera, dtype=dt)
         r.render(material, lights)
@@ -69,17 +84,15 @@ def time_engine(repeat: int = 15, size: int = SIZE) -> dict:
             moved = [lights[0], DirectionalLight((np.cos(a) - 1.5, 1.0, 1.5))] + lights[2:]
             r.render(material, moved)
 
-        out[key] = _median_ms(reshade, repeat)
-    out["raster_ms"] = _median_ms(lambda: rasterize(mesh, camera, dtype=np.float32), repeat)
-    out["raster_shade_ms"] = _median_ms(lambda: Renderer(mesh, camera).render(material, lights), repeat)
-    out["raster_shade_f32_ms"] = _median_ms(
-        lambda: Renderer(mesh, camera, dtype=np.float32).render(material, lights), repeat
-    )
-    return out
+        fns[key] = reshade
+    fns["raster_ms"] = lambda: rasterize(mesh, camera, dtype=np.float32)
+    fns["raster_shade_ms"] = lambda: Renderer(mesh, camera).render(material, lights)
+    fns["raster_shade_f32_ms"] = lambda: Renderer(mesh, camera, dtype=np.float32).render(material, lights)
+    return fns
 
 
-def time_vtk(repeat: int = 15, size: int = SIZE) -> float | None:
-    """Median ms for VTK to render the same scene off-screen and read the pixels back (None without VTK)."""
+def vtk_frame(size: int = SIZE):
+    """``(frame, close)``: one VTK render plus read-back of the same scene, and the clean-up (None without VTK)."""
     try:
         import pyvista as pv
     except ImportError:
@@ -100,10 +113,7 @@ def time_vtk(repeat: int = 15, size: int = SIZE) -> float | None:
         pl.render()
         pl.screenshot(return_img=True)
 
-    try:
-        return _median_ms(frame, repeat)
-    finally:
-        pl.close()
+    return frame, pl.close
 
 
 def run(repeat: int = 15, size: int | None = None) -> dict:
@@ -112,13 +122,21 @@ def run(repeat: int = 15, size: int | None = None) -> dict:
 
 
 def _run(repeat: int, size: int) -> dict:
-    result = time_engine(repeat, size)
-    vtk = time_vtk(repeat, size)
-    result["vtk_ms"] = vtk
+    fns = engine_frames(size)
+    made = vtk_frame(size)
+    if made is not None:
+        fns["vtk_ms"] = made[0]
+    try:
+        result = {"triangles": bench_scene(size)[0].n_triangles, "size": size, **_interleaved_ms(fns, repeat)}
+    finally:
+        if made is not None:
+            made[1]()
+    vtk = result.setdefault("vtk_ms", None)
     if vtk:
         result["reshade_over_vtk"] = result["reshade_ms"] / vtk
         result["reshade_f32_over_vtk"] = result["reshade_f32_ms"] / vtk
         result["raster_shade_over_vtk"] = result["raster_shade_ms"] / vtk
+        result["raster_shade_f32_over_vtk"] = result["raster_shade_f32_ms"] / vtk
     return result
 
 
