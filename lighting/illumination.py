@@ -340,7 +340,7 @@ def shade(
 
 def shade_prepared(
     points, unit_normals, view, material, lights, *, eye_distance=None, form="classic",
-    attenuation_distance="light", terms=TERMS, separate=False, view_cache=None, channels=False,
+    attenuation_distance="light", terms=TERMS, separate=False, view_cache=None, channels=False, sink=None,
 ):  # fmt: skip
     """:func:`shade` on inputs a caller has prepared once and reuses for many lights.
 
@@ -357,8 +357,14 @@ def shade_prepared(
     the normals and view vectors alone (``n·v``, ``n × v``) between calls; it is
     valid only while ``unit_normals`` and ``view`` stay the same.  With
     ``channels=True`` the colours come back as channel planes ``(3, ...)``
-    instead of ``(..., 3)`` (what an image scatter reads fastest).
+    instead of ``(..., 3)`` (what an image scatter reads fastest).  With a
+    ``sink`` (and ``channels=True``, ``separate=False``) each chunk of rows is
+    handed over as ``sink(row_slice, planes)`` by the thread that shaded it, and
+    nothing is returned: an image can take its pixels while the other chunk is
+    still shading.
     """
+    if sink is not None and (separate or not channels):
+        raise ValueError("sink needs channels=True and separate=False")
     form, attenuation_distance, wanted = _check_options(form, attenuation_distance, terms)
     dt = working_dtype(unit_normals) if points is None else working_dtype(points, unit_normals)
     lights = list(lights)
@@ -379,6 +385,8 @@ def shade_prepared(
             view_cache=cache,
         )  # fmt: skip
         out = (lambda a: a.channels()) if channels else (lambda a: a.total())
+        if sink is not None:
+            return sink(sl, out(acc))
         return {t: out(acc[t]) for t in wanted} if separate else out(acc)
 
     rows = unit_normals if points is None else points
@@ -386,6 +394,10 @@ def shade_prepared(
     chunks = _chunks(n_rows)
     if len(chunks) == 1:
         return run(slice(None))
+    if sink is not None:
+        for _ in _pool().map(run, chunks):
+            pass
+        return None
     # NumPy releases the GIL inside its loops, so the chunks shade in parallel on separate cores.
     results = list(_pool().map(run, chunks))
     axis = -1 if channels else 0

@@ -239,19 +239,23 @@ class Renderer:
             return gb.pixels, gb._interp_compact(np.asarray(colours))
         return gb.pixels, np.asarray(colours)[gb._compact[0]]
 
-    def _scatter_planes(self, planes: np.ndarray) -> np.ndarray:
-        """Channel planes ``(3, M)`` at the lit pixels → ``(H, W, 3)`` image, zero elsewhere."""
+    def _image_sink(self):
+        """A zero ``(H, W, 3)`` image and ``put(row_slice, planes)`` that writes channel planes ``(3, m)``
+        of the lit pixels ``row_slice`` into it (disjoint slices may be put from different threads)."""
         gb = self.gbuffer
-        img = np.zeros(gb.shape + (3,), dtype=planes.dtype)
+        img = np.zeros(gb.shape + (3,), dtype=self.dtype)
         flat = img.reshape(-1)
         if self._subset is None:
             index = gb._channel_index
         else:
             idx = self._pixels() * 3
             index = [idx + c for c in range(3)]
-        for c in range(3):
-            flat[index[c]] = planes[c]
-        return img
+
+        def put(rows, planes):
+            for c in range(3):
+                flat[index[c][rows]] = planes[c]
+
+        return img, put
 
     def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
         """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
@@ -319,11 +323,11 @@ class Renderer:
         lights = list(lights)
         pts, nrm, v, dist = self._samples(mode, lights)
         if mode == "phong":
-            planes = shade_prepared(
+            img, put = self._image_sink()
+            shade_prepared(
                 pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
-                view_cache=self._cached(("view terms", mode), dict), channels=True,
+                view_cache=self._cached(("view terms", mode), dict), channels=True, sink=put,
             )  # fmt: skip
-            img = self._scatter_planes(planes)
         else:
             colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)
             img = self.spread(mode, colours)
