@@ -737,12 +737,14 @@ class BlinnPhong(BRDF):
         # log_corrected(y, x) is log(n·h) far from the peak and log1p(−d) near it.
         # The branches are blended arithmetically (all operands finite): np.where on a
         # data-dependent mask costs several times more (measured 2.3 against 0.4 ms here).
+        # |n·h| (not max(n·h, 0): a plain pass, where NumPy's max is a slow NaN-aware one) is n·h
+        # wherever the lobe is kept: n·l > 0 and n·v > 0 make n·h > 0.  1 − d needs no clamp: the
+        # near branch has d <= 1/2, and elsewhere the (finite) value is multiplied by 0.
         farf = (c < 0.5).astype(dt)
         nearf = 1 - farf
-        y = np.maximum(c, 0)
+        y = np.abs(c)
         y *= farf
-        y0 = np.minimum(d, 1)
-        np.subtract(1, y0, out=y0)
+        y0 = np.subtract(1, d)
         y0 *= nearf
         y += y0
         x = y - 1
