@@ -51,17 +51,19 @@ def _median_ms(fn, repeat: int) -> float:
 
 
 def _interleaved_ms(fns: dict, repeat: int) -> dict:
-    """Median ms of each callable, timed in rounds that run every callable once.
+    """Median ms of each callable, timed in rounds that run every callable in turn.
 
     Interleaving puts every measurement under the same machine conditions: on
     a shared machine the speed drifts by 10–30 % over seconds, and timing one
-    item after another would fold that drift into their ratios.
+    item after another would fold that drift into their ratios.  Within a round
+    each callable runs once untimed and then once timed, so it is measured as
+    in use (a slider's re-shades follow each other), not with the caches the
+    previous item left.
     """
-    for fn in fns.values():
-        fn()  # warm-up: caches, allocator, first-call imports
     times = {key: [] for key in fns}
     for _ in range(repeat):
         for key, fn in fns.items():
+            fn()
             t0 = time.perf_counter()
             fn()
             times[key].append(time.perf_counter() - t0)
