@@ -244,16 +244,12 @@ class Renderer:
         of the lit pixels ``row_slice`` into it (disjoint slices may be put from different threads)."""
         gb = self.gbuffer
         img = np.zeros(gb.shape + (3,), dtype=self.dtype)
-        flat = img.reshape(-1)
-        if self._subset is None:
-            index = gb._channel_index
-        else:
-            idx = self._pixels() * 3
-            index = [idx + c for c in range(3)]
+        columns = img.reshape(-1, 3)
+        pixels = self._pixels()
 
         def put(rows, planes):
             for c in range(3):
-                flat[index[c][rows]] = planes[c]
+                columns[:, c][pixels[rows]] = planes[c]
 
         return img, put
 
@@ -263,10 +259,9 @@ class Renderer:
         if mode == "phong":
             if self._subset is not None:
                 img = np.zeros(gb.shape + (3,), dtype=colours.dtype)
-                flat = img.reshape(-1)
-                idx = self._pixels() * 3
+                columns = img.reshape(-1, 3)
                 for c in range(3):
-                    flat[idx + c] = colours[:, c]
+                    columns[:, c][self._pixels()] = colours[:, c]
                 return img
             return gb._scatter(np.ascontiguousarray(colours))
         if mode == "gouraud":
