@@ -186,3 +186,44 @@ def test_tight_span_columns_change_nothing_but_the_work(monkeypatch):
             assert tight.coverage.sum() > 1000
             for name in ("triangle_id", "barycentric", "depth", "overdraw", "coverage", "front_facing"):
                 np.testing.assert_array_equal(getattr(tight, name), getattr(whole, name), err_msg=name)
+
+
+def test_view_vectors_at_pixels_are_the_pixel_rays():
+    """The point seen at a pixel lies on its ray: v from the ray equals normalize(eye − p) of the buffer."""
+    cam = Camera((0.7, 0.4, 3.0), (0, 0.1, 0), fov_y_deg=50, width=90, height=70)
+    gb = Renderer(icosphere(3), cam).gbuffer
+    cov = gb.coverage
+    v, dist = cam.pixel_view_vectors(gb.pixels, gb.depth[cov])
+    to_eye = cam.eye - gb.position[cov]
+    length = np.linalg.norm(to_eye, axis=1)
+    np.testing.assert_allclose(v, to_eye / length[:, None], rtol=0, atol=2e-14)
+    np.testing.assert_allclose(dist, length, rtol=1e-14)
+    _, directions = cam.rays()
+    np.testing.assert_array_equal(v, -directions.reshape(-1, 3)[gb.pixels])
+    v32, _ = cam.pixel_view_vectors(gb.pixels, dtype=np.float32)
+    assert v32.dtype == np.float32 and np.array_equal(v32, v.astype(np.float32))
+    ortho = cam.replace(projection="orthographic")
+    v_o, dist_o = ortho.pixel_view_vectors(gb.pixels, gb.depth[cov])
+    assert dist_o is None and v_o.tolist() == (-ortho.forward).tolist()
+
+
+def test_directional_lights_need_no_interpolated_positions():
+    from lighting.illumination import shade_prepared
+
+    r = Renderer(icosphere(3), CAM)
+    directional = [AmbientLight(intensity=0.1), DirectionalLight((1, 0.2, 1.0)), DirectionalLight((-1, 1, 0.5))]
+    img = r.render(MAT, directional)
+    assert ("points", "phong") not in r._cache  # the lights never asked where the points are
+    gb = r.gbuffer
+    cov = gb.coverage
+    expected = shade(gb.position[cov], gb.normal[cov], MAT, directional, eye=CAM.eye)
+    np.testing.assert_allclose(img[cov], expected, rtol=1e-12, atol=1e-14)
+    positional = directional + [PointLight((-3, 1, 4.0), intensity=15.0)]
+    img = r.render(MAT, positional)
+    assert ("points", "phong") in r._cache
+    expected = shade(gb.position[cov], gb.normal[cov], MAT, positional, eye=CAM.eye)
+    np.testing.assert_allclose(img[cov], expected, rtol=1e-12, atol=1e-14)
+    # points=None is refused, naming the light, when a light depends on the point.
+    _, nrm, v, dist = r._samples("phong")
+    with pytest.raises(ValueError, match="points=None.*PointLight"):
+        shade_prepared(None, nrm, v, MAT, positional, eye_distance=dist)
