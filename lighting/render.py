@@ -62,7 +62,7 @@ class Renderer:
     camera : Camera
     dtype : {numpy.float64, numpy.float32}
         Working precision of the geometry buffer and of shading.  float32
-        shading costs a relative error of about 2.3e-7 (measured in the accuracy
+        shading costs a relative error of about 2.6e-7 (measured in the accuracy
         report) and is faster.
     cull_backfaces : bool
 
