@@ -544,7 +544,6 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     # ---- candidates: one "span" per (triangle, pixel row of its bounding box); a batch is a run of
     # spans with about _BATCH candidate pixels, generated at once with np.repeat.
     half = dt.type(0.5)
-    nx = j1 - j0 + 1
     ny = i1 - i0 + 1
     stri = np.repeat(np.arange(setup.n), ny)
     srow = np.repeat(i0 - (np.cumsum(ny) - ny), ny) + np.arange(len(stri))
