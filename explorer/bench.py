@@ -1,6 +1,6 @@
 """``lighting-explorer bench``: the engine's image pipeline against VTK, in one run.
 
-Three numbers, each the median of repeated runs on this machine:
+These numbers, each the median of repeated runs on this machine:
 
 * ``reshade_ms`` — lighting a cached 512×512 geometry buffer of a sphere with
   three lights (Blinn–Phong, Phong interpolation): what a slider move costs;
@@ -11,7 +11,8 @@ Three numbers, each the median of repeated runs on this machine:
   512×512, render plus read-back of the pixels;
 
 and the ratios of ours to VTK.  The measurements are interleaved: each round
-times every item once, so all of them see the same machine conditions.
+runs every item once untimed and once timed, so all of them see the same
+machine conditions.
 ``--json`` prints one machine-readable line.
 """
 
