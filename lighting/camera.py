@@ -398,7 +398,7 @@ class Camera:
         --------
         >>> cam = Camera((0, 0, 5), (0, 0, 0), width=3, height=3)
         >>> v, dist = cam.pixel_view_vectors([4], depth=[5.0])  # the centre pixel
-        >>> v.tolist(), dist.tolist()
+        >>> (v + 0.0).tolist(), dist.tolist()  # (+ 0.0 turns the -0.0 components into 0.0)
         ([[0.0, 0.0, 1.0]], [5.0])
         """
         dt = np.dtype(dtype).type
