@@ -239,11 +239,11 @@ class Renderer:
             return gb.pixels, gb._interp_compact(np.asarray(colours))
         return gb.pixels, np.asarray(colours)[gb._compact[0]]
 
-    def _image_sink(self):
+    def _image_sink(self, dtype=None):
         """A zero ``(H, W, 3)`` image and ``put(row_slice, planes)`` that writes channel planes ``(3, m)``
         of the lit pixels ``row_slice`` into it (disjoint slices may be put from different threads)."""
         gb = self.gbuffer
-        img = np.zeros(gb.shape + (3,), dtype=self.dtype)
+        img = np.zeros(gb.shape + (3,), dtype=self.dtype if dtype is None else dtype)
         columns = img.reshape(-1, 3)
         pixels = self._pixels()
 
@@ -257,13 +257,10 @@ class Renderer:
         """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
         gb = self.gbuffer
         if mode == "phong":
-            if self._subset is not None:
-                img = np.zeros(gb.shape + (3,), dtype=colours.dtype)
-                columns = img.reshape(-1, 3)
-                for c in range(3):
-                    columns[:, c][self._pixels()] = colours[:, c]
-                return img
-            return gb._scatter(np.ascontiguousarray(colours))
+            colours = np.asarray(colours)
+            img, put = self._image_sink(colours.dtype)
+            put(slice(None), colours.T)
+            return img
         if mode == "gouraud":
             return gb.interpolate(colours)
         return gb.per_face(colours)
