@@ -231,6 +231,14 @@ def generate(
     bar = progress(len(names), "figures") if progress else None
     records = {}
     tasks = [(n, str(out_dir), formats, quick, dpi, options) for n in names]
+
+    def done(rec, sec):
+        records[rec["name"]] = rec
+        if log:
+            log(rec["name"], sec)
+        if bar:
+            bar.update()
+
     try:
         if jobs > 1 and len(names) > 1:
             import multiprocessing
@@ -240,12 +248,7 @@ def generate(
             timed = [t for t in tasks if REGISTRY[t[0]].nondeterministic and not options.get("csv")]
             tasks = [t for t in tasks if t not in timed]
             for t in timed:
-                rec, sec = _run_job(t)
-                records[rec["name"]] = rec
-                if log:
-                    log(rec["name"], sec)
-                if bar:
-                    bar.update()
+                done(*_run_job(t))
 
             ctx = multiprocessing.get_context("spawn")  # no fork of a process that may hold engine threads
             with ProcessPoolExecutor(
@@ -254,20 +257,10 @@ def generate(
             ) as pool:  # fmt: skip
                 futures = {pool.submit(_run_job, t): t[0] for t in _heaviest_first(tasks)}
                 for fut in as_completed(futures):
-                    rec, sec = fut.result()
-                    records[rec["name"]] = rec
-                    if log:
-                        log(rec["name"], sec)
-                    if bar:
-                        bar.update()
+                    done(*fut.result())
         else:
             for t in tasks:
-                rec, sec = _run_job(t)
-                records[rec["name"]] = rec
-                if log:
-                    log(rec["name"], sec)
-                if bar:
-                    bar.update()
+                done(*_run_job(t))
     finally:
         if bar:
             bar.close()
