@@ -239,32 +239,35 @@ class Sampler:
         return f"{type(self).__name__}()"
 
 
-class UniformSampler(Sampler):
+class _ViewIndependentSampler(Sampler):
+    """A fixed density over the hemisphere, ``_warp(u)`` with density ``_density(l)``; ``v`` only broadcasts."""
+
+    _warp = None
+    _density = None
+
+    def sample(self, u, v):
+        s = type(self)._warp(u)
+        shape = np.broadcast_shapes(s.pdf.shape, _local_v(v).shape[:-1])
+        return Samples(np.broadcast_to(s.directions, shape + (3,)), np.broadcast_to(s.pdf, shape))
+
+    def pdf(self, l, v):  # noqa: E741
+        return np.broadcast_to(type(self)._density(l), np.broadcast_shapes(np.shape(l)[:-1], np.shape(v)[:-1]))
+
+
+class UniformSampler(_ViewIndependentSampler):
     """Uniform over the hemisphere (ignores ``v``)."""
 
     name = "uniform"
-
-    def sample(self, u, v):
-        s = square_to_uniform_hemisphere(u)
-        shape = np.broadcast_shapes(s.pdf.shape, _local_v(v).shape[:-1])
-        return Samples(np.broadcast_to(s.directions, shape + (3,)), np.broadcast_to(s.pdf, shape))
-
-    def pdf(self, l, v):  # noqa: E741
-        return np.broadcast_to(uniform_hemisphere_pdf(l), np.broadcast_shapes(np.shape(l)[:-1], np.shape(v)[:-1]))
+    _warp = staticmethod(square_to_uniform_hemisphere)
+    _density = staticmethod(uniform_hemisphere_pdf)
 
 
-class CosineSampler(Sampler):
+class CosineSampler(_ViewIndependentSampler):
     """Cosine-weighted over the hemisphere (ignores ``v``): exact importance sampling for Lambert."""
 
     name = "cosine"
-
-    def sample(self, u, v):
-        s = square_to_cosine_hemisphere(u)
-        shape = np.broadcast_shapes(s.pdf.shape, _local_v(v).shape[:-1])
-        return Samples(np.broadcast_to(s.directions, shape + (3,)), np.broadcast_to(s.pdf, shape))
-
-    def pdf(self, l, v):  # noqa: E741
-        return np.broadcast_to(cosine_hemisphere_pdf(l), np.broadcast_shapes(np.shape(l)[:-1], np.shape(v)[:-1]))
+    _warp = staticmethod(square_to_cosine_hemisphere)
+    _density = staticmethod(cosine_hemisphere_pdf)
 
 
 def _one_minus_cos_power(u0: np.ndarray, k: float) -> np.ndarray:
