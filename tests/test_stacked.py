@@ -44,8 +44,10 @@ def _configurations(rng, dt):
 
 @pytest.mark.parametrize("distant", [False, True])
 def test_stacked_geometry_is_as_accurate_as_one_geometry_per_light(distant):
-    # float32 against the truth of the same rounded inputs in float64.  The stacked path
-    # may round differently from the per-light one, but not worse than it by more than a
+    # float32 against the truth of the same rounded inputs in float64: the directions they
+    # stand for, normalized in float64 (rounded to float32 they are unit only to rounding, and
+    # with e = 1e4 a length 1 + 3e-8 changes (n·h)^e where the two paths differ).  The stacked
+    # path may round differently from the per-light one, but not worse than it by more than a
     # few ulp of the brightest value.  (Both paths, in both dtypes, are also held to
     # 8 kappa u point by point against 80-digit references in the stability sweep.)
     dtype = np.float32
@@ -59,7 +61,7 @@ def test_stacked_geometry_is_as_accurate_as_one_geometry_per_light(distant):
         for form in ("classic", "cos"):
             fields = model.separable_classic(g) if form == "classic" else model.separable_cos(g)
             for k in range(len(lights)):
-                g64 = Geometry(n.astype(np.float64), lights[k].astype(np.float64), v.astype(np.float64), unit=True)
+                g64 = Geometry(n.astype(np.float64), lights[k].astype(np.float64), v.astype(np.float64))
                 g1 = Geometry(n, lights[k], v, unit=True, dtype=dtype)
                 method = "classic_geometry" if form == "classic" else "eval_cos_geometry"
                 truth = getattr(model, method)(g64)
@@ -88,7 +90,32 @@ def test_stacked_geometry_quantities_match_the_definitions():
         r = 2 * n * (n @ l[k])[:, None] - l[k]
         np.testing.assert_allclose(g.one_minus_r_dot_v[k], 1 - np.sum(r * v, axis=1), rtol=1e-12)
         np.testing.assert_allclose(g.sin2_l[k], np.sum(np.cross(n, l[k]) ** 2, axis=1), rtol=1e-13)
+        lit = g.above[k]
+        tan2 = np.sum(np.cross(n, h) ** 2, axis=1) / np.sum(n * h, axis=1) ** 2
+        np.testing.assert_allclose(g.tan2_h[k][lit], tan2[lit], rtol=1e-13)
     np.testing.assert_array_equal(g.above, (g.n_dot_l > 0) & (np.sum(n * v, axis=1) > 0))
+    assert g.delicate is None
+
+
+@pytest.mark.parametrize("shininess", [0.5, 40.0])
+def test_delicate_entries_take_the_half_vector_form(shininess):
+    # Lit pairs where tan²θ_h = |n × s|²/(n·s)² is not used: light and viewer more than 120°
+    # apart (|l + v| < 1), and a half vector 1e-21 rad above the horizon, where (n·s)² is
+    # subnormal in float32 and the quotient would overflow.  Their lobes come from the n·h
+    # form, and every lit value matches float64 evaluated on the same float32 vectors.
+    n = np.array([[0, 0, 1.0]] * 3, dtype=np.float32)
+    v = np.array([_unit(np.array([1, 0, 0.05])), [1, 0, 1e-21], _unit(np.array([0.3, 0.2, 1.0]))], dtype=np.float32)
+    lights = np.array([_unit(np.array([-1, 0, 0.3])), [0, 1, 1e-21]], dtype=np.float32)
+    g = StackedGeometry(n, lights, v)
+    assert sorted(zip(*g.delicate, strict=True)) == [(0, 0), (0, 1), (1, 1)]  # (light, point)
+    model = BlinnPhong(1.0, shininess)
+    (field, _), = model.separable_classic(g)
+    assert field.dtype == np.float32 and np.all(np.isfinite(field))
+    for k in range(2):
+        truth = model.classic(n.astype(np.float64), lights[k].astype(np.float64), v.astype(np.float64))[:, 0]
+        np.testing.assert_allclose(field[k], truth, rtol=1e-5, atol=1e-38)
+    if shininess < 1:
+        assert field[1, 1] > 1e-11  # (n·h)^0.5 = 3.8e-11 at 1e-21 rad above the horizon
 
 
 def test_light_exactly_opposite_the_viewer_gives_zero_not_nan():
