@@ -73,7 +73,6 @@ True
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -90,7 +89,6 @@ __all__ = ["GBuffer", "rasterize", "raycast_sphere"]
 _BATCH = 1 << 16
 
 
-@dataclass(frozen=True, eq=False, repr=False)
 class GBuffer:
     """Per-pixel geometry of one view: everything a lighting pass needs.
 
@@ -103,6 +101,10 @@ class GBuffer:
     "visibility buffer"): :attr:`position`, :attr:`normal`,
     :attr:`normal_unnormalized` and :attr:`face_normal` cost nothing until read,
     and a lighting pass that reads them once re-shades for free afterwards.
+    The images themselves are laid out the same way: :func:`rasterize` keeps
+    the visible fragments as one row per covered pixel, and each ``(H, W)``
+    image below is scattered from them on first read (a renderer that reads
+    only the covered pixels never builds them).  A buffer is read-only.
 
     Attributes
     ----------
@@ -128,33 +130,77 @@ class GBuffer:
     attributes : dict
         Per-pixel arrays given directly instead of interpolated from the mesh
         (``"position"``, ``"normal"``, … for the analytic sphere).
+    shape : (int, int)
+        Image shape ``(H, W)``.
+    dtype : numpy.dtype
+        Float dtype of the buffer.
     """
 
-    triangle_id: np.ndarray
-    barycentric: np.ndarray
-    depth: np.ndarray
-    coverage: np.ndarray
-    front_facing: np.ndarray
-    overdraw: np.ndarray
-    camera: Camera
-    mesh: TriangleMesh | None
-    attributes: dict = field(default_factory=dict, repr=False)
+    def __init__(
+        self, triangle_id, barycentric, depth, coverage, front_facing, overdraw, camera, mesh, attributes=None
+    ):
+        d = self.__dict__
+        d.update(triangle_id=triangle_id, barycentric=barycentric, depth=depth, coverage=coverage,
+                 front_facing=front_facing, overdraw=overdraw)  # fmt: skip
+        d.update(camera=camera, mesh=mesh, attributes={} if attributes is None else attributes)
+        d.update(shape=coverage.shape, dtype=depth.dtype)
+
+    @classmethod
+    def _from_fragments(cls, shape, pixels, triangle_id, barycentric, depth, front, overdraw, camera, mesh):
+        """A buffer held as its covered pixels: flat indices (increasing) and, per pixel, the mesh face id,
+        the barycentric planes ``(3, n)``, the depth, whether the face is front-facing (``None``: all
+        are) and the overdraw counts of the whole image (flat)."""
+        gb = cls.__new__(cls)
+        gb.__dict__.update(
+            shape=shape, dtype=depth.dtype, camera=camera, mesh=mesh, attributes={}, pixels=pixels,
+            _compact=(triangle_id, list(barycentric)), _depth_compact=depth, _front_compact=front,
+            _overdraw_flat=overdraw,
+        )  # fmt: skip
+        return gb
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"GBuffer is read-only (cannot set {name!r})")
+
+    # ------------------------------------------------------------------ images, from the covered pixels
+    def _image(self, values, fill, dtype=None):
+        out = np.full(self.shape[0] * self.shape[1], fill, dtype=dtype or values.dtype)
+        out[self.pixels] = values
+        return out.reshape(self.shape)
+
+    @cached_property
+    def triangle_id(self) -> np.ndarray:
+        return self._image(self._compact[0], -1, np.int32)
+
+    @cached_property
+    def barycentric(self) -> np.ndarray:
+        planes = np.zeros((3, self.shape[0] * self.shape[1]), dtype=self.dtype)
+        for k in range(3):
+            planes[k][self.pixels] = self._compact[1][k]
+        # (H, W, 3) view of the planes: each barycentric coordinate stays one contiguous image.
+        return planes.reshape((3,) + self.shape).transpose(1, 2, 0)
+
+    @cached_property
+    def depth(self) -> np.ndarray:
+        return self._image(self._depth_compact, 0)
+
+    @cached_property
+    def coverage(self) -> np.ndarray:
+        return self._image(True, False, bool)
+
+    @cached_property
+    def front_facing(self) -> np.ndarray:
+        front = self._front_compact
+        return self.coverage if front is None else self._image(front, False, bool)
+
+    @cached_property
+    def overdraw(self) -> np.ndarray:
+        return self._overdraw_flat.astype(np.int32).reshape(self.shape)
 
     # ------------------------------------------------------------------ basics
     def __repr__(self) -> str:
         H, W = self.shape
         source = "analytic sphere" if self.mesh is None else repr(self.mesh)
-        return f"GBuffer({W}x{H}, {int(self.coverage.sum())} pixels covered, {self.dtype}, {source})"
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        """Image shape ``(H, W)``."""
-        return self.coverage.shape
-
-    @property
-    def dtype(self) -> np.dtype:
-        """Float dtype of the buffer."""
-        return self.depth.dtype
+        return f"GBuffer({W}x{H}, {len(self.pixels)} pixels covered, {self.dtype}, {source})"
 
     @cached_property
     def pixels(self) -> np.ndarray:
@@ -169,8 +215,12 @@ class GBuffer:
         b = [self.barycentric[..., k].take(p) for k in range(3)]
         return tid, b
 
+    @cached_property
+    def _depth_compact(self):
+        return self.depth.reshape(-1).take(self.pixels)
+
     def _scatter(self, values: np.ndarray) -> np.ndarray:
-        out = np.zeros((self.coverage.size,) + values.shape[1:], dtype=values.dtype)
+        out = np.zeros((self.shape[0] * self.shape[1],) + values.shape[1:], dtype=values.dtype)
         if values.shape[1:] == (3,):
             # One 1-D scatter per channel (a strided column of the image): several times faster
             # than assigning rows of three.
@@ -571,7 +621,6 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     # test; a pixel with one fragment keeps it, and among several the nearest wins, then the lowest
     # mesh face index (two running minima, no sort).
     counts = np.bincount(pix, minlength=H * W)
-    overdraw = counts.astype(np.int32)
     multi = counts.take(pix) > 1
     if multi.any():
         m = np.flatnonzero(multi)
@@ -587,19 +636,33 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
         win = np.concatenate([np.flatnonzero(~multi), m[once]])
         pix, z, t, w = pix[win], z[win], t[win], [wk[win] for wk in w]
 
-    zbuf = np.full(H * W, np.inf, dtype=dt)
-    zbuf[pix] = z
-    # int32 triangle indices halve the memory traffic of the scatter (fewer than 2^31 triangles).
-    idbuf = np.full(H * W, -1, dtype=np.int32)
-    idbuf[pix] = t
-    # The winners' barycentrics b_i = w_i d (perspective; orthographic b_i = λ_i = w_i), one plane per
-    # vertex: 1-D scatters are several times faster than scattering rows of three.  Rounded once to
-    # the output dtype unless clipped sub-triangles still need their float64 conversion.
-    bdt = dt if setup.weights is not None else out_dt
-    bary = np.zeros((3, H * W), dtype=bdt)
+    # Per winner, in fragment order: the barycentrics b_i = w_i d (perspective; orthographic
+    # b_i = λ_i = w_i), clipped sub-triangles' converted to their source triangle's, rounded once
+    # to the output dtype; the mesh face id; the depth.
+    bary = np.empty((3, len(pix)), dtype=dt)
     for k in range(3):
-        bary[k][pix] = w[k] * z if perspective else w[k]
-    return _finish(mesh, camera, setup, zbuf, idbuf, bary, overdraw, out_dt)
+        if perspective:
+            np.multiply(w[k], z, out=bary[k])
+        else:
+            bary[k] = w[k]
+    if setup.weights is not None:
+        p = np.flatnonzero(setup.clipped.take(t))
+        bary[:, p] = np.einsum("in,nij->jn", bary[:, p], setup.weights[t.take(p)])
+    rows = [bary[k].astype(out_dt, copy=False) for k in range(3)]
+    rows += [setup.source.take(t).astype(np.int32), z.astype(out_dt)]
+    if not setup.front.all():  # with back faces culled, all are
+        rows.append(setup.front.take(t))
+    # Then in pixel order, as the buffer keeps them (its images are scattered from these only when
+    # read): one int32 scatter of the winners' indices, and gathers in the output dtype (float32
+    # gathers cost a fraction of float64 ones here, the arrays then fit in cache).
+    slot = np.full(H * W, -1, dtype=np.int32)
+    slot[pix] = np.arange(len(pix), dtype=np.int32)
+    pixels = np.flatnonzero(slot >= 0)  # (a boolean scan: several times faster than one over counts)
+    order = slot.take(pixels)
+    rows = [r.take(order) for r in rows]
+    return GBuffer._from_fragments(
+        (H, W), pixels, rows[3], rows[:3], rows[4], rows[5] if len(rows) > 5 else None, counts, camera, mesh,
+    )  # fmt: skip
 
 
 def _span_columns(j0, j1, rowterm, sax, sey, dt):
@@ -679,30 +742,6 @@ def _raster_spans(scount, spx0, sax, sey, rowterm, stri, spix0, setup, perspecti
     cat = np.concatenate
     return (cat([o[0] for o in out]), cat([o[1] for o in out]), cat([o[2] for o in out]),
             [cat([o[3][k] for o in out]) for k in range(3)])  # fmt: skip
-
-
-def _finish(mesh, camera, setup, zbuf, idbuf, bary, overdraw, out_dt) -> GBuffer:
-    """Images from the z-buffer and the barycentric planes ``(3, H W)``: whole-image passes."""
-    H, W = camera.height, camera.width
-    cov = idbuf >= 0
-    depth = np.where(cov, zbuf, 0).astype(zbuf.dtype, copy=False)
-    if setup.weights is not None:
-        clipped = np.r_[setup.clipped, False].take(idbuf)
-        p = np.flatnonzero(clipped)
-        # Sub-triangle barycentrics → barycentrics of the source triangle.
-        bary[:, p] = np.einsum("in,nij->jn", bary[:, p], setup.weights[idbuf[p]].astype(bary.dtype))
-    return GBuffer(
-        triangle_id=np.r_[setup.source, -1].astype(np.int32).take(idbuf).reshape(H, W),
-        # (H, W, 3) view of the planes: each barycentric coordinate stays one contiguous image.
-        barycentric=bary.astype(out_dt, copy=False).reshape(3, H, W).transpose(1, 2, 0),
-        depth=depth.astype(out_dt, copy=False).reshape(H, W),
-        coverage=cov.reshape(H, W),
-        # With back faces culled every drawn triangle faces the camera.
-        front_facing=(cov if setup.front.all() else np.r_[setup.front, False].take(idbuf)).reshape(H, W),
-        overdraw=overdraw.reshape(H, W),
-        camera=camera,
-        mesh=mesh,
-    )
 
 
 # ---------------------------------------------------------------------- analytic sphere

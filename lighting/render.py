@@ -205,9 +205,8 @@ class Renderer:
             cam = self._camera
             if mode == "phong":
                 # The point seen at a pixel lies on that pixel's ray: v needs no interpolated position.
-                pix = self._pixels()
-                v, dist = cam.pixel_view_vectors(pix, self.gbuffer.depth.reshape(-1).take(pix), dtype=self.dtype)
-                return v, dist
+                depth = self._take(self.gbuffer._depth_compact)
+                return cam.pixel_view_vectors(self._pixels(), depth, dtype=self.dtype)
             pts = self.sample_points(mode)
             if cam.is_perspective:
                 v, dist = view_vectors(pts, eye=cam.eye, dtype=self.dtype)

@@ -532,6 +532,28 @@ def test_gbuffer_attribute_access():
         gb.per_face(np.zeros(3))
 
 
+@pytest.mark.parametrize(("eye_z", "cull"), [(4.0, True), (0.2, False)])  # outside, culled; inside, not
+def test_gbuffer_images_and_covered_pixels_agree(eye_z, cull):
+    # The rasterizer keeps one row per covered pixel and scatters the images from them on first
+    # read; both views must describe the same buffer, and the buffer cannot be changed.
+    cam = Camera((0.0, 0.0, eye_z), (0.0, 0.0, -1.0), fov_y_deg=60, width=40, height=30)
+    gb = rasterize(icosphere(3), cam, cull_backfaces=cull)
+    assert gb.shape == (30, 40) and gb.dtype == np.float64
+    cov = gb.coverage
+    assert 0 < cov.sum() < cov.size if cull else cov.all()
+    np.testing.assert_array_equal(gb.pixels, np.flatnonzero(cov))
+    np.testing.assert_array_equal(gb.triangle_id >= 0, cov)
+    tid, b = gb._compact
+    np.testing.assert_array_equal(gb.triangle_id[cov], tid)
+    np.testing.assert_array_equal(gb.barycentric[cov], np.stack(b, axis=1))
+    np.testing.assert_array_equal(gb.depth[cov], gb._depth_compact)
+    assert np.all(gb.depth[~cov] == 0) and np.all(gb.barycentric[~cov] == 0) and not gb.front_facing[~cov].any()
+    assert np.all(gb.overdraw[~cov] == 0) and np.all(gb.overdraw[cov] >= 1)
+    np.testing.assert_array_equal(gb.front_facing, cov if cull else False)  # from inside: back faces only
+    with pytest.raises(AttributeError, match="read-only"):
+        gb.depth = np.zeros((30, 40))
+
+
 def test_gbuffer_supports_a_separate_lighting_pass():
     # Lambert under two lights from one buffer: the buffer is computed once, lights move freely.
     gb = rasterize(icosphere(4), Camera((0, 0, 5), (0, 0, 0), width=64, height=64))
