@@ -422,6 +422,16 @@ def _chunks(n_rows: int) -> list[slice]:
     return [slice(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
+def _each_chunk(n_rows: int, fn) -> None:
+    """``fn(row_slice)`` for the :func:`_chunks` of ``n_rows``, on the shading threads when there are several."""
+    chunks = _chunks(n_rows)
+    if len(chunks) == 1:
+        fn(chunks[0])
+        return
+    for _ in _pool().map(fn, chunks):
+        pass
+
+
 def _pool():
     global _POOL
     if _POOL is None:

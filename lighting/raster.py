@@ -235,10 +235,15 @@ class GBuffer:
             raise ValueError(f"{what} needs a mesh; this buffer comes from an analytic sphere (mesh is None)")
         return self.mesh
 
-    def _interp_compact(self, a: np.ndarray) -> np.ndarray:
-        """``Σ b_i a[f_i]`` at the covered pixels; ``a`` is ``(V,)`` or ``(V, k)``."""
+    def _interp_compact(self, a: np.ndarray, rows=None) -> np.ndarray:
+        """``Σ b_i a[f_i]`` at the covered pixels (or at ``rows`` of them: a slice or indices).
+
+        ``a`` is ``(V,)`` or ``(V, k)``.
+        """
         mesh = self._need_mesh("interpolate")
         tid, b = self._compact
+        if rows is not None:
+            tid, b = tid[rows], [bk[rows] for bk in b]
         b = [bk.astype(a.dtype, copy=False) for bk in b]
         flat = a.reshape(len(a), int(np.prod(a.shape[1:])))
         out = np.empty((len(tid), flat.shape[1]), dtype=a.dtype, order="F")  # columns contiguous

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import illumination as _illumination
 from ._numeric import check_choice, check_color, check_positive
 from .camera import Camera
 from .illumination import TERMS, Material, shade_prepared, view_vectors
@@ -182,14 +183,12 @@ class Renderer:
 
     def sample_normals(self, mode: str) -> np.ndarray:
         """Unit normals at :meth:`sample_points`: interpolated (phong), vertex (gouraud) or face (flat)."""
+        if mode == "phong" and self.gbuffer.mesh is not None:
+            return self._pixel_samples()[0]
 
         def make():
             if mode == "phong":
-                gb = self.gbuffer
-                if gb.mesh is None:
-                    nrm = gb.normal.reshape(-1, 3).take(self._pixels(), axis=0)
-                else:
-                    nrm = normalize(self._take(gb._normal_raw_compact))
+                nrm = self.gbuffer.normal.reshape(-1, 3).take(self._pixels(), axis=0)
             elif mode == "gouraud":
                 nrm = self._need_mesh(mode).normals
             else:
@@ -201,12 +200,11 @@ class Renderer:
     def sample_view(self, mode: str):
         """The slides' ``v`` at :meth:`sample_points` and the eye distances (``None`` for orthographic)."""
 
+        if mode == "phong":
+            return self._pixel_samples()[1]
+
         def make():
             cam = self._camera
-            if mode == "phong":
-                # The point seen at a pixel lies on that pixel's ray: v needs no interpolated position.
-                depth = self._take(self.gbuffer._depth_compact)
-                return cam.pixel_view_vectors(self._pixels(), depth, dtype=self.dtype)
             pts = self.sample_points(mode)
             if cam.is_perspective:
                 v, dist = view_vectors(pts, eye=cam.eye, dtype=self.dtype)
@@ -214,6 +212,42 @@ class Renderer:
             return view_vectors(pts, view_dir=-cam.forward, dtype=self.dtype)
 
         return self._cached(("view", mode), make)
+
+    def _pixel_samples(self):
+        """``(unit normals or None, (v, eye distances))`` at the lit pixels, built by the shading threads.
+
+        Each thread fills its own rows (those it will later shade) of arrays made
+        here: interpolating and normalizing the normals and looking up the pixel
+        rays are per-pixel work like shading itself.  The normals are ``None``
+        for an analytic sphere (it has them exactly; see :meth:`sample_normals`).
+        """
+
+        def make():
+            gb, cam, dt = self.gbuffer, self._camera, self.dtype
+            pixels = self._pixels()
+            rows = self._subset
+            depth = self._take(gb._depth_compact)
+            n = len(pixels)
+            normals = None
+            if gb.mesh is not None:
+                vertex_normals = gb.mesh.normals.astype(dt)
+                normals = np.empty((n, 3), dtype=dt, order="F")
+            if cam.is_perspective:
+                v, dist = np.empty((n, 3), dtype=dt, order="F"), np.empty(n)
+            else:
+                v, dist = cam.pixel_view_vectors(pixels, dtype=dt)
+
+            def fill(sl):
+                if normals is not None:
+                    normals[sl] = normalize(gb._interp_compact(vertex_normals, sl if rows is None else rows[sl]))
+                if cam.is_perspective:
+                    # The point seen at a pixel lies on that pixel's ray: v needs no interpolated position.
+                    v[sl], dist[sl] = cam.pixel_view_vectors(pixels[sl], depth[sl], dtype=dt)
+
+            _illumination._each_chunk(n, fill)
+            return normals, (v, dist)
+
+        return self._cached(("pixel samples", "phong"), make)
 
     def _samples(self, mode: str, lights=None):
         """Points, normals, view vectors and eye distances; points are ``None`` when ``lights`` need none."""

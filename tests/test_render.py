@@ -157,13 +157,20 @@ def test_srgb_png_pipeline_counts_clipping():
 def test_parallel_chunks_give_identical_pixels(monkeypatch):
     import lighting.illumination as il
 
-    r = Renderer(icosphere(3), CAM)
+    def frames():
+        # Fresh renderers: their per-pixel samples (normals, view vectors) are built in chunks too.
+        whole, part = Renderer(icosphere(3), CAM), Renderer(icosphere(3), CAM)
+        part.restrict(np.arange(0, len(part.gbuffer.pixels), 3))
+        return whole.render(MAT, LIGHTS), part.render(MAT, LIGHTS)
+
     monkeypatch.setattr(il, "_MIN_ROWS_PER_THREAD", 10**9)
-    serial = r.render(MAT, LIGHTS)
+    serial = frames()
     monkeypatch.setattr(il, "_MIN_ROWS_PER_THREAD", 500)
     monkeypatch.setattr(il, "_threads", lambda: 3)
-    assert len(il._chunks(len(r.gbuffer.pixels))) == 3
-    np.testing.assert_array_equal(r.render(MAT, LIGHTS), serial)
+    assert len(il._chunks(len(Renderer(icosphere(3), CAM).gbuffer.pixels) // 3)) == 3
+    for parallel, one in zip(frames(), serial, strict=True):
+        np.testing.assert_array_equal(parallel, one)
+    assert serial[1].any() and np.count_nonzero(serial[1].any(axis=-1)) < np.count_nonzero(serial[0].any(axis=-1))
 
 
 def test_tight_span_columns_change_nothing_but_the_work(monkeypatch):
