@@ -63,8 +63,9 @@ class Renderer:
     camera : Camera
     dtype : {numpy.float64, numpy.float32}
         Working precision of the geometry buffer and of shading.  float32
-        shading costs a relative error of about 2.6e-7 (measured in the accuracy
-        report) and is faster.
+        shading costs a relative error of 2.3e-7 to 2.6e-7 of the brightest
+        pixel (measured in the accuracy report and on the benchmark scene) and
+        is about twice as fast.
     cull_backfaces : bool
 
     Examples
