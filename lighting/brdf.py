@@ -259,6 +259,11 @@ def _dot_planes(a, b):
     return out
 
 
+def _cross_planes(a, b):
+    """``a × b`` of vectors given as component planes, as three planes (broadcasting like :func:`_dot_planes`)."""
+    return [a[j] * b[k] - a[k] * b[j] for j, k in ((1, 2), (2, 0), (0, 1))]
+
+
 def _cross2_planes(a, b):
     """``|a × b|²`` of vectors given as component planes, in the order of :meth:`Geometry._cross2`."""
     q = a[1] * b[2]
@@ -445,23 +450,15 @@ class StackedGeometry:
     @_cached
     def _n_cross_v(self):
         """``n × v`` as three planes, kept per view (it depends on the normals and the viewer alone)."""
-
-        def make():
-            n, v = self._n3, (self.v if self._distant else self._v3)
-            return [n[b] * v[c] - n[c] * v[b] for b, c in ((1, 2), (2, 0), (0, 1))]
-
-        return self._per_view("n x v", make)
+        return self._per_view("n x v", lambda: _cross_planes(self._n3, self.v if self._distant else self._v3))
 
     @_cached
     def _tangent_form(self):
         """``(tan²θ_h, delicate)``: see :attr:`tan2_h` and :attr:`delicate`."""
         dt = self.dtype
-        n, l = self._n3, self._l_planes  # noqa: E741
         tangential = None  # |n × s|² = |n × l + n × v|², s = l + v
-        for a, (b, c) in enumerate(((1, 2), (2, 0), (0, 1))):
-            d = n[b] * l[c]
-            d -= n[c] * l[b]
-            d += self._n_cross_v[a]
+        for d, d_view in zip(_cross_planes(self._n3, self._l_planes), self._n_cross_v, strict=True):
+            d += d_view
             d *= d
             tangential = d if tangential is None else tangential.__iadd__(d)
         normal2 = self.n_dot_l + self.n_dot_v  # n·s: a sum of positives wherever the lobe is lit

@@ -391,13 +391,12 @@ def shade_prepared(
 
     rows = unit_normals if points is None else points
     n_rows = np.shape(rows)[0] if np.ndim(rows) == 2 else 0
+    if sink is not None:
+        _each_chunk(n_rows, run)
+        return None
     chunks = _chunks(n_rows)
     if len(chunks) == 1:
         return run(slice(None))
-    if sink is not None:
-        for _ in _pool().map(run, chunks):
-            pass
-        return None
     # NumPy releases the GIL inside its loops, so the chunks shade in parallel on separate cores.
     results = list(_pool().map(run, chunks))
     axis = -1 if channels else 0

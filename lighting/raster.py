@@ -164,14 +164,9 @@ class GBuffer:
         raise AttributeError(f"GBuffer is read-only (cannot set {name!r})")
 
     # ------------------------------------------------------------------ images, from the covered pixels
-    def _image(self, values, fill, dtype=None):
-        out = np.full(self.shape[0] * self.shape[1], fill, dtype=dtype or values.dtype)
-        out[self.pixels] = values
-        return out.reshape(self.shape)
-
     @cached_property
     def triangle_id(self) -> np.ndarray:
-        return self._image(self._compact[0], -1, np.int32)
+        return self._scatter(self._compact[0], -1, np.int32)
 
     @cached_property
     def barycentric(self) -> np.ndarray:
@@ -183,16 +178,16 @@ class GBuffer:
 
     @cached_property
     def depth(self) -> np.ndarray:
-        return self._image(self._depth_compact, 0)
+        return self._scatter(self._depth_compact)
 
     @cached_property
     def coverage(self) -> np.ndarray:
-        return self._image(True, False, bool)
+        return self._scatter(True, False, bool)
 
     @cached_property
     def front_facing(self) -> np.ndarray:
         front = self._front_compact
-        return self.coverage if front is None else self._image(front, False, bool)
+        return self.coverage if front is None else self._scatter(front, False, bool)
 
     @cached_property
     def overdraw(self) -> np.ndarray:
@@ -221,8 +216,10 @@ class GBuffer:
     def _depth_compact(self):
         return self.depth.reshape(-1).take(self.pixels)
 
-    def _scatter(self, values: np.ndarray) -> np.ndarray:
-        out = np.zeros((self.shape[0] * self.shape[1],) + values.shape[1:], dtype=values.dtype)
+    def _scatter(self, values, fill=0, dtype=None) -> np.ndarray:
+        """An image holding ``values`` (one row per covered pixel, or one value for all) and ``fill`` elsewhere."""
+        values = np.asarray(values)
+        out = np.full((self.shape[0] * self.shape[1],) + values.shape[1:], fill, dtype=dtype or values.dtype)
         if values.shape[1:] == (3,):
             # One 1-D scatter per channel (a strided column of the image): several times faster
             # than assigning rows of three.
@@ -643,9 +640,19 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
         win = np.concatenate([np.flatnonzero(~multi), m[once]])
         pix, z, t, w = pix[win], z[win], t[win], [wk[win] for wk in w]
 
-    # Per winner, in fragment order: the barycentrics b_i = w_i d (perspective; orthographic
-    # b_i = λ_i = w_i), clipped sub-triangles' converted to their source triangle's, rounded once
-    # to the output dtype; the mesh face id; the depth.
+    # The buffer keeps the winners in pixel order (its images are scattered from them only when
+    # read): one int32 scatter of the winners' indices, then gathers in the output dtype (float32
+    # gathers cost a fraction of float64 ones here, the arrays then fit in cache).
+    slot = np.full(H * W, -1, dtype=np.int32)
+    slot[pix] = np.arange(len(pix), dtype=np.int32)
+    pixels = np.flatnonzero(slot >= 0)  # (a boolean scan: several times faster than one over counts)
+    order = slot.take(pixels)
+
+    def in_pixel_order(a):
+        return a.take(order)
+
+    # The barycentrics b_i = w_i d (perspective; orthographic b_i = λ_i = w_i), clipped
+    # sub-triangles' converted to their source triangle's, rounded once to the output dtype.
     bary = np.empty((3, len(pix)), dtype=dt)
     for k in range(3):
         if perspective:
@@ -655,21 +662,17 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     if setup.weights is not None:
         p = np.flatnonzero(setup.clipped.take(t))
         bary[:, p] = np.einsum("in,nij->jn", bary[:, p], setup.weights[t.take(p)])
-    rows = [bary[k].astype(out_dt, copy=False) for k in range(3)]
-    rows += [setup.source.take(t).astype(np.int32), z.astype(out_dt)]
-    if not setup.front.all():  # with back faces culled, all are
-        rows.append(setup.front.take(t))
-    # Then in pixel order, as the buffer keeps them (its images are scattered from these only when
-    # read): one int32 scatter of the winners' indices, and gathers in the output dtype (float32
-    # gathers cost a fraction of float64 ones here, the arrays then fit in cache).
-    slot = np.full(H * W, -1, dtype=np.int32)
-    slot[pix] = np.arange(len(pix), dtype=np.int32)
-    pixels = np.flatnonzero(slot >= 0)  # (a boolean scan: several times faster than one over counts)
-    order = slot.take(pixels)
-    rows = [r.take(order) for r in rows]
     return GBuffer._from_fragments(
-        (H, W), pixels, rows[3], rows[:3], rows[4], rows[5] if len(rows) > 5 else None, counts, camera, mesh,
-    )  # fmt: skip
+        (H, W),
+        pixels,
+        in_pixel_order(setup.source.take(t).astype(np.int32)),
+        [in_pixel_order(bary[k].astype(out_dt, copy=False)) for k in range(3)],
+        in_pixel_order(z.astype(out_dt)),
+        None if setup.front.all() else in_pixel_order(setup.front.take(t)),  # with back faces culled, all are
+        counts,
+        camera,
+        mesh,
+    )
 
 
 def _span_columns(j0, j1, rowterm, sax, sey, dt):
