@@ -28,6 +28,17 @@ __all__ = [
     "check_nonnegative",
     "check_finite",
     "check_choice",
+    "check_vectors",
+    "check_count",
+    "check_bool",
+    "check_range",
+    "real_array",
+    "abbreviate",
+    "check_budget",
+    "memory_budget",
+    "set_memory_budget",
+    "BudgetError",
+    "ArgumentTypeError",
 ]
 
 
@@ -120,22 +131,183 @@ def safe_div(num, den, *, zero_where_den_le0: bool = True) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- validation
+# Every public function checks its arguments once, at the boundary, through these helpers, so that
+# every illegal argument gets the same kind of answer: ValueError (TypeError for a wrong type) whose
+# message names the parameter, the value given (abbreviated) and what is allowed.
+
+#: Longest rendering of a user's value inside an error message.
+MAX_VALUE_CHARS = 80
+
+
+def abbreviate(text: str, limit: int = MAX_VALUE_CHARS) -> str:
+    """``text`` cut to ``limit`` characters, with the number of characters left out.
+
+    >>> abbreviate("x" * 200, 20)
+    'xxxxxxxxxx…(+190 chars)'
+    """
+    text = str(text)
+    if len(text) <= limit:
+        return text
+    keep = max(limit // 2, 1)
+    return f"{text[:keep]}…(+{len(text) - keep} chars)"
+
+
 def _fmt(value) -> str:
+    """A short rendering of a user's value for an error message (never more than ``MAX_VALUE_CHARS``)."""
+    try:
+        if isinstance(value, (str, bytes)):
+            return abbreviate(repr(value))
+        arr = np.asarray(value)
+        if arr.dtype.kind in "fiucb" and arr.ndim > 0:
+            text = np.array2string(arr, separator=", ", threshold=8, edgeitems=2)
+        elif arr.dtype.kind in "fiucb":
+            text = repr(arr.item())
+        else:
+            text = repr(value)
+    except Exception:  # repr of exotic objects
+        try:
+            text = repr(value)
+        except Exception:
+            text = f"<{type(value).__name__}>"
+    return abbreviate(text)
+
+
+class ArgumentTypeError(TypeError, ValueError):
+    """A wrong type for an argument: a TypeError, and a ValueError too, so that callers that catch bad
+    input as ValueError (the command line, scene loading) catch it as well."""
+
+
+def _is_text(value) -> bool:
+    """Strings and bytes, alone or inside an array: NumPy would parse them as numbers."""
+    if isinstance(value, (str, bytes, bytearray)):
+        return True
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind in "SUO" and any(isinstance(x, (str, bytes)) for x in value.flat)
+    if isinstance(value, (list, tuple)):
+        return any(_is_text(x) for x in value)
+    return False
+
+
+def real_array(name: str, value, *, allowed: str = "finite real numbers", dtype=None) -> np.ndarray:
+    """``value`` as a real float array; TypeError for text, complex, None or objects; ValueError for NaN/inf.
+
+    ``dtype=None`` keeps a NumPy float input's dtype (float64 otherwise), as the dtype policy asks.
+    """
+    if value is None or _is_text(value) or isinstance(value, (dict, set)):
+        raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {_fmt(value)}")
     try:
         arr = np.asarray(value)
-        if arr.ndim == 0:
-            return repr(arr.item())
-        return np.array2string(arr, separator=", ", threshold=8)
-    except Exception:  # pragma: no cover - repr of exotic objects
-        return repr(value)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {_fmt(value)}") from None
+    if arr.dtype.kind == "b" or arr.dtype.kind not in "fiu":
+        raise ArgumentTypeError(f"{name} must be {allowed}; got {arr.dtype} {_fmt(value)}")
+    dt = dtype if dtype is not None else working_dtype(arr)
+    with np.errstate(over="ignore"):
+        out = arr.astype(dt, copy=False)
+    if not np.all(np.isfinite(out)):
+        raise ValueError(f"{name} must be {allowed} (finite in {np.dtype(dt).name}); got {_fmt(value)}")
+    return out
+
+
+def check_vectors(name: str, value, *, dtype=None, nonzero: bool = False) -> np.ndarray:
+    """Directions or points of shape ``(..., 3)``: real, finite, and (``nonzero``) of non-zero length."""
+    allowed = "finite real vectors of shape (..., 3)" + (" and non-zero length" if nonzero else "")
+    arr = real_array(name, value, allowed=allowed, dtype=dtype)
+    if arr.shape[-1:] != (3,):
+        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {_fmt(value)}")
+    if nonzero and arr.size:
+        big = np.max(np.abs(arr), axis=-1)
+        if np.any(big == 0):
+            raise ValueError(f"{name} must be {allowed}; got a zero vector: {_fmt(value)}")
+    return arr
+
+
+def check_count(name: str, value, lo: int = 1, hi: int | None = None) -> int:
+    """An integer in ``[lo, hi]`` (a bool, a float or text is refused with TypeError)."""
+    allowed = f"an integer >= {lo}" if hi is None else f"an integer in [{lo}, {hi}]"
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
+        raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {_fmt(value)}")
+    v = int(value)
+    if v < lo or (hi is not None and v > hi):
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(v)}")
+    return v
+
+
+def check_bool(name: str, value) -> bool:
+    """A real bool (``True``/``False`` or a NumPy bool), not a number or a string."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise ArgumentTypeError(f"{name} must be True or False; got {type(value).__name__} {_fmt(value)}")
+
+
+def check_range(name: str, value, lo: float | None = None, hi: float | None = None, *,
+                lo_open: bool = False, hi_open: bool = False) -> float:
+    """A finite real scalar inside ``[lo, hi]`` (ends open where asked)."""
+    parts = []
+    if lo is not None:
+        parts.append(f"{'>' if lo_open else '>='} {lo:g}")
+    if hi is not None:
+        parts.append(f"{'<' if hi_open else '<='} {hi:g}")
+    allowed = "a finite number" + (" " + " and ".join(parts) if parts else "")
+    v = _scalar(name, value, allowed)
+    if lo is not None and (v < lo or (lo_open and v == lo)):
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(v)}")
+    if hi is not None and (v > hi or (hi_open and v == hi)):
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(v)}")
+    return v
+
+
+# --------------------------------------------------------------------------- work and memory budget
+#: Default budget for one allocation-heavy request (an image, a sample set, a mesh), in bytes.
+DEFAULT_MEMORY_BUDGET = 2 * 1024**3
+_memory_budget = [DEFAULT_MEMORY_BUDGET]
+
+
+def memory_budget() -> int:
+    """The memory budget in force, in bytes (2 GiB unless :func:`set_memory_budget` raised it)."""
+    return _memory_budget[0]
+
+
+def set_memory_budget(nbytes: int) -> int:
+    """Set the memory budget (bytes); returns the previous one.  The command line's ``--memory-budget``."""
+    previous = _memory_budget[0]
+    _memory_budget[0] = check_count("memory budget", nbytes, 1)
+    return previous
+
+
+def _bytes(n: float) -> str:
+    for unit, size in (("GiB", 1024**3), ("MiB", 1024**2), ("KiB", 1024)):
+        if n >= size:
+            return f"{n / size:.1f} {unit}"
+    return f"{int(n)} bytes"
+
+
+class BudgetError(ValueError):
+    """A request whose estimated memory is over the budget (a ValueError, so callers catch it as bad input)."""
+
+
+def check_budget(name: str, estimate_bytes: float, *, what: str = "", budget: int | None = None) -> None:
+    """Refuse a request whose estimated memory exceeds the budget, naming ``name`` and the estimate.
+
+    Call it *before* allocating, with an estimate of the peak bytes the request needs.
+    """
+    limit = memory_budget() if budget is None else budget
+    if not estimate_bytes <= limit:  # also refuses NaN estimates
+        detail = f" ({what})" if what else ""
+        raise BudgetError(
+            f"{name} needs about {_bytes(float(estimate_bytes))}{detail}, over the memory budget of "
+            f"{_bytes(limit)}; reduce it or raise the budget (--memory-budget)"
+        )
 
 
 def check_finite(name: str, value, *, shape_hint: str = "a finite number") -> np.ndarray:
     """Convert ``value`` to a float64 array and require it to be finite."""
+    if value is None or _is_text(value):
+        raise ArgumentTypeError(f"{name} must be {shape_hint}; got {type(value).__name__} {_fmt(value)}")
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be {shape_hint}; got {value!r}") from None
+        raise ArgumentTypeError(f"{name} must be {shape_hint}; got {type(value).__name__} {_fmt(value)}") from None
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must be {shape_hint} (finite); got {_fmt(value)}")
     return arr
@@ -158,14 +330,17 @@ def check_color(name: str, value, *, allow_negative: bool = False) -> np.ndarray
 
 
 def _scalar(name, value, allowed):
-    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
-        arr = np.asarray(value) if not isinstance(value, str) else None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+        arr = None if value is None or _is_text(value) else np.asarray(value)
         if arr is None or arr.ndim != 0 or arr.dtype.kind not in "fiu":
-            raise ValueError(f"{name} must be {allowed}; got {value!r}")
+            raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {_fmt(value)}")
         value = arr.item()
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:  # a Python int beyond the float range
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}") from None
     if math.isnan(value) or math.isinf(value):
-        raise ValueError(f"{name} must be {allowed}; got {value!r}")
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
     return value
 
 
@@ -194,4 +369,6 @@ def check_choice(name: str, value, choices) -> str:
         for c in choices:
             if key == c:
                 return c
-    raise ValueError(f"{name} must be one of {', '.join(repr(c) for c in choices)}; got {value!r}")
+    if not isinstance(value, str):
+        raise ArgumentTypeError(f"{name} must be one of {', '.join(repr(c) for c in choices)}; got {type(value).__name__} {_fmt(value)}")
+    raise ValueError(f"{name} must be one of {', '.join(repr(c) for c in choices)}; got {_fmt(value)}")
