@@ -39,6 +39,8 @@ __all__ = [
     "set_memory_budget",
     "BudgetError",
     "ArgumentTypeError",
+    "cos_sin",
+    "cos_sin_deg",
 ]
 
 
@@ -369,6 +371,57 @@ def check_choice(name: str, value, choices) -> str:
         for c in choices:
             if key == c:
                 return c
+    allowed = ", ".join(repr(c) for c in choices)
     if not isinstance(value, str):
-        raise ArgumentTypeError(f"{name} must be one of {', '.join(repr(c) for c in choices)}; got {type(value).__name__} {_fmt(value)}")
-    raise ValueError(f"{name} must be one of {', '.join(repr(c) for c in choices)}; got {_fmt(value)}")
+        raise ArgumentTypeError(f"{name} must be one of {allowed}; got {type(value).__name__} {_fmt(value)}")
+    raise ValueError(f"{name} must be one of {allowed}; got {_fmt(value)}")
+
+
+# --------------------------------------------------------------------------- exact angles
+# cos(radians(90)) is 6.1e-17, not 0: a direction built from "90 degrees" would sit a hair above the
+# horizon, and a lobe seen there is lit.  Every direction or cosine the engine builds from an angle goes
+# through these two helpers, which are exact wherever the angle is a multiple of a right angle.
+def cos_sin(theta):
+    """``(cos θ, sin θ)`` for angles in radians, exactly 0 and ±1 at the floats nearest to ``kπ/2``.
+
+    Elsewhere the values are NumPy's.  Keeps the float dtype of ``theta`` (float64 for Python numbers).
+
+    >>> import math
+    >>> cos_sin(math.pi / 2)
+    (array(0.), array(1.))
+    """
+    t = np.asarray(theta)
+    if t.dtype.kind != "f":
+        t = t.astype(np.float64)
+    quarter = t.dtype.type(math.pi / 2)
+    with np.errstate(invalid="ignore", over="ignore"):
+        k = np.rint(t / quarter)
+        exact = (k * quarter == t) & np.isfinite(t)
+    c, s = np.cos(t), np.sin(t)
+    if np.any(exact):
+        km = np.where(exact, k, 0).astype(np.int64) % 4
+        c = np.where(exact, np.array([1, 0, -1, 0], dtype=t.dtype)[km], c).astype(t.dtype, copy=False)
+        s = np.where(exact, np.array([0, 1, 0, -1], dtype=t.dtype)[km], s).astype(t.dtype, copy=False)
+    return c, s
+
+
+def cos_sin_deg(deg):
+    """``(cos, sin)`` of an angle in degrees, exactly 0 and ±1 at multiples of 90°.
+
+    >>> cos_sin_deg(90.0)
+    (array(0.), array(1.))
+    >>> cos_sin_deg(-180.0)
+    (array(-1.), array(0.))
+    """
+    d = np.asarray(deg)
+    if d.dtype.kind != "f":
+        d = d.astype(np.float64)
+    with np.errstate(invalid="ignore"):
+        d = np.fmod(d, 360.0)  # exact, so 450° is exactly 90°
+        exact = np.fmod(d, 90.0) == 0
+    c, s = np.cos(np.radians(d)), np.sin(np.radians(d))
+    if np.any(exact):
+        km = (np.where(exact, d, 0) // 90).astype(np.int64) % 4
+        c = np.where(exact, np.array([1, 0, -1, 0], dtype=d.dtype)[km], c).astype(d.dtype, copy=False)
+        s = np.where(exact, np.array([0, 1, 0, -1], dtype=d.dtype)[km], s).astype(d.dtype, copy=False)
+    return c, s

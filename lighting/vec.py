@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._numeric import as_float, working_dtype
+from ._numeric import as_float, cos_sin, cos_sin_deg, working_dtype
 
 __all__ = [
     "dot",
@@ -24,6 +24,7 @@ __all__ = [
     "halfway",
     "orthonormal_basis",
     "spherical_direction",
+    "direction_from_elevation",
     "to_local",
     "from_local",
 ]
@@ -159,12 +160,33 @@ def orthonormal_basis(n):
 
 
 def spherical_direction(theta, phi, dtype=None) -> np.ndarray:
-    """Unit vector at polar angle ``theta`` (from +z) and azimuth ``phi`` (from +x toward +y)."""
+    """Unit vector at polar angle ``theta`` (from +z) and azimuth ``phi`` (from +x toward +y).
+
+    Built through :func:`lighting._numeric.cos_sin`, so ``theta = π/2`` lies exactly on the horizon
+    (``z = 0``, not ``cos(π/2) = 6.1e-17``) and ``phi = π/2`` exactly on the ``y`` axis: every view that
+    builds a direction from angles agrees on which side of the horizon it is.
+
+    >>> import math
+    >>> spherical_direction(math.pi / 2, 0.0)
+    array([1., 0., 0.])
+    """
     dt = dtype or working_dtype(theta, phi)
-    theta = np.asarray(theta, dtype=dt)
-    phi = np.asarray(phi, dtype=dt)
-    st = np.sin(theta)
-    return np.stack(np.broadcast_arrays(st * np.cos(phi), st * np.sin(phi), np.cos(theta)), axis=-1)
+    ct, st = cos_sin(np.asarray(theta, dtype=dt))
+    cp, sp = cos_sin(np.asarray(phi, dtype=dt))
+    return np.stack(np.broadcast_arrays(st * cp, st * sp, ct), axis=-1)
+
+
+def direction_from_elevation(elevation_deg, azimuth_deg=0.0) -> np.ndarray:
+    """Unit vector ``elevation_deg`` above the xy-plane at ``azimuth_deg`` from +x toward +y (degrees).
+
+    Exact at multiples of 90° (an elevation of 0 is exactly on the horizon, 90 exactly overhead).
+
+    >>> direction_from_elevation(0.0, 90.0)
+    array([0., 1., 0.])
+    """
+    ce, se = cos_sin_deg(elevation_deg)
+    ca, sa = cos_sin_deg(azimuth_deg)
+    return np.stack(np.broadcast_arrays(ce * ca, ce * sa, se), axis=-1)
 
 
 def to_local(d, n) -> np.ndarray:
