@@ -82,18 +82,41 @@ class _cached:
         return value
 
 
+def exponent_in(dtype, exponent: float):
+    """A lobe exponent ``e >= 0`` as a scalar of ``dtype``, kept inside the type's positive range.
+
+    Rounding ``e`` to float32 would turn ``e = 1e-300`` into 0, so ``0^e`` (a half vector on
+    the horizon, ``l = −v``) became ``0^0``: ``exp(0 · log 0) = exp(0 · −∞)`` is NaN.  And
+    ``e = 1e39`` would become ``inf``, which makes ``1^e`` NaN the same way.  So a positive
+    ``e`` is rounded up to the smallest subnormal and down to the largest finite number of
+    the type.  Neither changes a single lobe value: ``x^e`` for every ``x`` in ``(0, 1]`` of
+    the type rounds to 1 for all ``e`` below the first (``|e log x| < 1e-42``), and to 0 or
+    exactly 1 for all ``e`` above the second (``log x <= −6e-8`` for ``x < 1``).
+
+    >>> [float(exponent_in(np.float32, e)) for e in (0.0, 1e-300, 1e300)]
+    [0.0, 1.401298464324817e-45, 3.4028234663852886e+38]
+    """
+    if exponent == 0:
+        return dtype(0)
+    info = np.finfo(dtype)
+    return dtype(min(max(float(exponent), float(info.smallest_subnormal)), float(info.max)))
+
+
 def cos_power(one_minus_cos: np.ndarray, exponent: float) -> np.ndarray:
     """``max(cos φ, 0)^e`` from ``1 − cos φ`` (given accurately), with ``0^0 = 1``.
 
     Written as ``exp(e · log1p(−(1 − cos φ)))``: for a shininess of 1e6 the
     lobe lives where ``1 − cos φ ~ 1e-6``, and forming ``cos φ`` first would
-    throw away the digits that the millionth power then amplifies.
+    throw away the digits that the millionth power then amplifies.  Any
+    exponent from 0 to the largest float works in either dtype (:func:`exponent_in`).
     """
     d = one_minus_cos
     if exponent == 0:
         return np.ones_like(d)
-    with np.errstate(divide="ignore", under="ignore", invalid="ignore"):
-        out = np.exp(exponent * log1p(-np.minimum(d, 1)))
+    e = exponent_in(d.dtype.type, exponent)
+    # e · log(...) may overflow to −∞ (e near the type's largest value): exp gives the 0 it should.
+    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
+        out = np.exp(e * log1p(-np.minimum(d, 1)))
     return np.where(d < 1, out, 0).astype(d.dtype, copy=False)
 
 
@@ -545,8 +568,14 @@ def _lobe_over_cos(g, lobe64: np.ndarray, log_lobe64: np.ndarray, coeff: np.ndar
 
 
 def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
-    """Scalar field ``(...)`` times RGB coefficient ``(3,)`` → ``(..., 3)``."""
-    return values[..., None] * coeff.astype(values.dtype)
+    """Scalar field ``(...)`` times RGB coefficient ``(3,)`` → ``(..., 3)``, in the dtype of ``values``.
+
+    The product is formed in float64 (a coefficient of 1e300 has no float32 value) and
+    saturates at the dtype's largest finite number.
+    """
+    with np.errstate(over="ignore"):
+        out = values[..., None] * np.asarray(coeff, dtype=np.float64)
+    return saturate_to(out, values.dtype)
 
 
 _UNIT_RGB = np.eye(3)
@@ -801,12 +830,19 @@ class BlinnPhong(BRDF):
     def _params(self):
         return {"ks": self.ks, "shininess": self.shininess, "normalized": self.normalized}
 
-    def _lobe(self, g, dtype=None):
+    def _lobe(self, g, dtype=None, log_scale: float = 0.0):
+        """``exp(log_scale) · (n·h)^e`` (0 below the horizon) in ``dtype`` (that of ``g`` by default).
+
+        The constant factor is added to the exponent, ``exp(e log(n·h) + log_scale)``, never
+        multiplied onto the lobe: the normalized lobe's ``(e + 2)/(2π)`` (1.6e6 at ``e = 1e7``)
+        would otherwise scale a subnormal ``(n·h)^e`` whose digits are already lost (7 % at a
+        result of 1.2e-38 in float32).  Values beyond the dtype saturate at its largest one.
+        """
         dt = dtype or g.dtype
         if self.shininess == 0:
-            return np.where(g.above, 1, 0).astype(dt)
+            return np.where(g.above, math.exp(log_scale), 0).astype(dt)
         if isinstance(g, StackedGeometry) and dt == g.dtype:
-            return self._lobe_tangent(g)
+            return self._lobe_tangent(g, log_scale)
         d = g.one_minus_n_dot_h.astype(dt, copy=False)
         c = g.n_dot_h.astype(dt, copy=False)
         shape = np.broadcast_shapes(np.shape(c), np.shape(d))
@@ -833,14 +869,24 @@ class BlinnPhong(BRDF):
         nearf *= d
         x -= nearf
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-            t = log_corrected(y, x)
-            t *= dt(self.shininess)
-            t = np.exp(t)
+            t = log_corrected(y, x)  # in [−∞, 0]: −∞ where n·h = 0 (h on the horizon, l = −v)
+            t *= exponent_in(dt, self.shininess)  # > 0, so −∞ · e is −∞, never NaN
+            t = self._exp_scaled(t, dt, log_scale)
         t *= g.above_mask
         return t.reshape(np.broadcast_shapes(shape, np.shape(g.above))).astype(dt, copy=False)
 
-    def _lobe_tangent(self, g):
-        """``(n·h)^e = exp(−(e/2) log1p(tan²θ_h))`` on a :class:`StackedGeometry` (all lights at once).
+    @staticmethod
+    def _exp_scaled(t, dt, log_scale):
+        """``exp(t + log_scale)`` in place, saturated at the dtype's largest value (``t <= 0``)."""
+        if log_scale:
+            t += dt(log_scale)
+        t = np.exp(t, out=t)
+        if log_scale > math.log(float(np.finfo(dt).max)):  # only then can exp overflow
+            np.minimum(t, np.finfo(dt).max, out=t)
+        return t
+
+    def _lobe_tangent(self, g, log_scale: float = 0.0):
+        """``exp(log_scale) (n·h)^e = exp(−(e/2) log1p(tan²θ_h) + log_scale)`` on a :class:`StackedGeometry`.
 
         Half the passes of the ``n·h`` form below, and as accurate: ``tan²θ_h``
         carries ``sin θ_h`` near the peak and ``n·h`` far from it to the accuracy of
@@ -848,16 +894,20 @@ class BlinnPhong(BRDF):
         serve (:attr:`StackedGeometry.delicate`) take the ``n·h`` form on their own.
         """
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-            t = log1p(g.tan2_h)
-            t *= g.dtype(-0.5 * self.shininess)
-            t = np.exp(t, out=t)
+            t = log1p(g.tan2_h)  # finite and >= 0 everywhere
+            t *= -exponent_in(g.dtype, 0.5 * self.shininess)
+            t = self._exp_scaled(t, g.dtype, log_scale)
         t *= g.above_mask
         if g.delicate is not None:
-            t[g.delicate] = self._lobe(g.entries(*g.delicate))
+            t[g.delicate] = self._lobe(g.entries(*g.delicate), log_scale=log_scale)
         return t
 
     def _norm(self):
         return (self.shininess + 2) / (2 * math.pi)
+
+    def _log_norm(self):
+        """``log((e + 2)/(2π))``, the normalization folded into the lobe's exponent."""
+        return math.log(self._norm())
 
     def _f(self, g):
         if not self.normalized:
@@ -866,16 +916,16 @@ class BlinnPhong(BRDF):
                 return _lobe_over_cos(g, lobe, np.zeros_like(lobe), self.ks)
             c = g.n_dot_h.astype(np.float64)
             d = np.minimum(g.one_minus_n_dot_h.astype(np.float64), 1.0)
-            with np.errstate(divide="ignore", invalid="ignore"):
+            with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
                 log_lobe = self.shininess * np.where(c < 0.5, np.log(np.where(c > 0, c, 0)), np.log1p(-d))
             return _lobe_over_cos(g, lobe, log_lobe, self.ks)
-        return _rgb(self._lobe(g) * g.dtype(self._norm()), self.ks)
+        return _rgb(self._lobe(g, log_scale=self._log_norm()), self.ks)
 
     def separable_cos(self, g):
-        lobe = self._lobe(g)
         if self.normalized:
-            return [(lobe * g.dtype(self._norm()) * np.maximum(g.n_dot_l, 0), self.ks)]
-        return [(lobe / g.dtype(math.pi), self.ks)]
+            # n·l of unit vectors may round to 1 + ulp: clipped, so a saturated lobe stays finite.
+            return [(self._lobe(g, log_scale=self._log_norm()) * np.clip(g.n_dot_l, 0, 1), self.ks)]
+        return [(self._lobe(g) / g.dtype(math.pi), self.ks)]
 
     def separable_classic(self, g):
         if self.normalized:

@@ -199,3 +199,85 @@ def test_bad_parameters_raise_clear_errors(factory, match):
     with pytest.raises(ValueError, match=match) as info:
         factory()
     assert "got" in str(info.value)
+
+
+# --------------------------------------------------------------------------- issue 14, items 7 and 9
+def _stacked_fields(model, n, l, v, form):  # noqa: E741
+    """The image path: ``separable_cos``/``separable_classic`` on a one-light :class:`StackedGeometry`."""
+    from lighting.brdf import StackedGeometry
+
+    unit = [x / np.linalg.norm(x.astype(np.float64)).astype(x.dtype) for x in (n, l, v)]
+    g = StackedGeometry(unit[0][None], unit[1][None], unit[2][None])
+    fields = model.separable_cos(g) if form == "eval_cos" else model.separable_classic(g)
+    return sum(s[..., None] * c.astype(s.dtype) for s, c in fields)[0, 0]
+
+
+# l = −v (the issue's case), the half vector zero; h exactly on the horizon; light at the normal, view opposite.
+_HORIZON_CASES = [
+    ((0, 0, 1.0), (0.6, 0, 0.8), (-0.6, 0, -0.8)),
+    ((0, 0, 1.0), (1.0, 0, 0), (-1.0, 0, 0)),
+    ((0, 0, 1.0), (1.0, 0, 0), (0, 1.0, 0)),
+    ((0, 0, 1.0), (0.8, 0, 0.6), (-0.8, 0, -0.6)),
+]
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("normalized", [False, True])
+@pytest.mark.parametrize("e", [1e-300, 1e-45, 5e-324, 1e-40])
+def test_blinn_phong_subnormal_exponent_with_l_opposite_v_is_zero(e, normalized, dtype):
+    # Item 7: e rounded to 0 in float32, and exp(0 · log 0) = exp(0 · −∞) was NaN.
+    # Below the horizon the lobe is 0; every path (eval, eval_cos, classic, the stacked image path) says so.
+    m = BlinnPhong(1.0, e, normalized=normalized)
+    for n, l, v in _HORIZON_CASES:  # noqa: E741
+        n, l, v = (np.array(x, dtype) for x in (n, l, v))  # noqa: E741
+        for form in ("eval", "eval_cos", "classic"):
+            out = getattr(m, form)(n, l, v)
+            assert out.dtype == dtype
+            assert out.tolist() == [0.0, 0.0, 0.0], (form, l, v)
+        for form in ("eval_cos", "classic"):
+            assert _stacked_fields(m, n, l, v, form).tolist() == [0.0, 0.0, 0.0], (form, l, v)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("e", [1e-300, 1e-40, 1e39, 1e300])
+def test_blinn_phong_exponents_beyond_the_dtype_give_the_limit_lobe(e, dtype):
+    # Item 7's mechanism at the other end: e = 1e39 was inf in float32, and inf · log(1) = NaN at the peak.
+    # The lobe (n·h)^e is 1 for any n·h > 0 when e is tiny, and 1 at the peak, 0 off it when e is huge.
+    n = np.array([0, 0, 1.0], dtype)
+    l = np.array([[0, 0, 1.0], [0.6, 0, 0.8], [math.sin(1.5), 0, math.cos(1.5)]], dtype)  # noqa: E741
+    expected = [1.0, 1.0, 1.0] if e < 1 else [1.0, 0.0, 0.0]
+    m = BlinnPhong(1.0, e)
+    got = m.classic(n, l, n)[:, 0]
+    assert got.dtype == dtype and got.tolist() == expected
+    assert _stacked_fields(m, n, l[0], n, "classic").tolist() == [1.0] * 3
+    p = Phong(1.0, e).classic(n, l, n)[:, 0]
+    assert p.tolist() == (expected if e < 1 else [1.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("target", [1.2e-38, 3e-39, 1e-41, 1e-30])
+def test_normalized_blinn_phong_keeps_its_digits_near_the_bottom_of_the_range(target, dtype):
+    # Item 9: (e+2)/(2π) · (n·h)^e multiplied a subnormal (n·h)^e (digits already lost): 7 % off at
+    # 1.2e-38 in float32 for e = 1e7.  The factor now goes into the exponent.  Reference: mpmath at the
+    # rounded inputs.  The result itself may be subnormal (3e-39, 1e-41): then it is held to its spacing.
+    import mpmath
+
+    e = 1e7
+    th = math.acos(math.exp(math.log(target / ((e + 2) / (2 * math.pi))) / e))  # h at θ_h from n
+    n = np.array([0, 0, 1.0], dtype)
+    l = np.array([math.sin(2 * th), 0, math.cos(2 * th)], dtype)  # noqa: E741
+    m = BlinnPhong(1.0, e, normalized=True)
+    with mpmath.workdps(40):
+        lm = [mpmath.mpf(float(x)) for x in l]
+        s = [lm[0], lm[1], lm[2] + mpmath.sqrt(sum(x * x for x in lm))]  # l/|l| + n, scaled by |l|
+        nh = s[2] / mpmath.sqrt(sum(x * x for x in s))
+        ref = (e + 2) / (2 * mpmath.pi) * nh**e
+        nl = lm[2] / mpmath.sqrt(sum(x * x for x in lm))
+    tiny = float(np.finfo(dtype).smallest_subnormal)
+    for got, want in ((m.eval(n, l, n)[0], ref), (m.eval_cos(n, l, n)[0], ref * nl),
+                      (_stacked_fields(m, n, l, n, "eval_cos")[0], ref * nl)):
+        assert got.dtype == dtype
+        want = float(want)
+        # float32: exp of an argument near −87 carries ~87 ulp of it (1e-5); float64 the same in its own ulp.
+        rel = 2e-5 if dtype is np.float32 else 1e-13
+        assert abs(float(got) - want) <= rel * want + 2 * tiny, (float(got), want)
