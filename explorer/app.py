@@ -1247,7 +1247,9 @@ def _window_size(text: str):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    from .cli import OneLineParser
+
+    p = OneLineParser(
         prog="lighting-explorer",
         description="Open the explorer window: a lit sphere, Gouraud against Phong, BRDF lobe, polar and angle "
         "plots, all computed by the engine. Every option sets the starting value of a control.",
@@ -1288,18 +1290,25 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--scene", help="start from a scene file (TOML): its first object's material and its lights")
     g.add_argument("--size", type=_window_size, default=DEFAULT_WINDOW_SIZE, help="window size WIDTHxHEIGHT")
     g.add_argument("--off-screen", dest="off_screen", action="store_true", help="render without a window")
-    g.add_argument("--screenshot", metavar="PATH", help="render the window to a PNG and exit (implies --off-screen)")
+    g.add_argument("--screenshot", metavar="PATH",
+                   help="render the window to an image (.png; .jpg .tif .webp with Pillow) and exit "
+                        "(implies --off-screen)")  # fmt: skip
     return p
 
 
 def main(argv=None) -> int:
-    """``lighting-explorer [options]``: open the window, or with ``--screenshot`` write it to a PNG."""
-    args = build_parser().parse_args(argv)
-    values = {k: v for k, v in vars(args).items() if k in CONTROLS or k in ("kd", "scene")}
+    """``lighting-explorer [options]``: open the window, or with ``--screenshot`` write it to an image."""
+    from .cli import PROG, error_line
+    from .output import check_output_path, write_image
+
     try:
+        args = build_parser().parse_args(argv)
+        if args.screenshot is not None:  # checked before the window is built: no work for a file we cannot write
+            check_output_path(args.screenshot, flag="--screenshot", kinds=("rgb8",))
+        values = {k: v for k, v in vars(args).items() if k in CONTROLS or k in ("kd", "scene")}
         state = AppState.from_args(values)
     except (ValueError, OSError) as exc:
-        print(f"lighting-explorer: error: {exc}", file=sys.stderr)
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
         return 2
     off_screen = bool(args.off_screen or args.screenshot)
     if not off_screen and not has_display():
@@ -1314,12 +1323,17 @@ def main(argv=None) -> int:
     if off_screen:
         pv.OFF_SCREEN = True
     app = ExplorerApp(state, window_size=args.size, off_screen=off_screen)
-    if args.screenshot:
+    if args.screenshot is not None:
         try:
-            path = app.screenshot(args.screenshot)
+            rgb8 = np.ascontiguousarray(app.image(), dtype=np.uint8)
         finally:
             app.close()
-        print(f"lighting-explorer: wrote {path} ({args.size[0]}x{args.size[1]})")
+        try:
+            write_image(args.screenshot, rgb8=rgb8, flag="--screenshot")
+        except ValueError as exc:
+            print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+            return 2
+        print(f"lighting-explorer: wrote {args.screenshot} ({rgb8.shape[1]}x{rgb8.shape[0]})")
         return 0
     if off_screen:
         app.plotter.render()
