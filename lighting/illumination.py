@@ -30,10 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numeric import as_float, check_choice, check_color, working_dtype
+from ._numeric import ArgumentTypeError, _fmt, as_float, check_choice, check_color, check_vectors, working_dtype
 from .brdf import BRDF, Geometry, StackedGeometry
 from .lights import AmbientLight, DirectionalLight, Light
-from .vec import normalize
+from .vec import length, normalize
 
 __all__ = ["Material", "shade", "shade_terms", "shade_prepared", "view_vectors", "TERMS", "FORMS"]
 
@@ -63,7 +63,10 @@ class Material:
 
     def __post_init__(self):
         if not isinstance(self.brdf, BRDF):
-            raise ValueError(f"brdf must be a lighting.brdf model (Lambert, Phong, ...); got {self.brdf!r}")
+            raise ArgumentTypeError(
+                f"brdf must be a lighting.brdf model (Lambert, Phong, ...); got {type(self.brdf).__name__} "
+                f"{_fmt(self.brdf)}"
+            )
         ka = self.brdf.diffuse_albedo if self.ambient is None else self.ambient
         object.__setattr__(self, "ambient", check_color("ambient", ka))
         object.__setattr__(self, "emission", check_color("emission", self.emission))
@@ -79,17 +82,32 @@ class _Planes:
 
     def __init__(self, shape, dt, prune=True):
         self.shape, self.dt, self.prune = shape, dt, prune
+        self.big = float(np.finfo(dt).max)
         self.planes = [None, None, None]
         self.block = None  # (3, ...) sums of stacked lights
         self.constant = np.zeros(3)
 
     def add(self, field, light_scale, colour):
+        """Add ``field × light_scale × colour``: every factor finite and >= 0, the product saturating.
+
+        A product of finite non-negative numbers is finite or ``+inf``, never NaN; ``inf`` times a
+        later zero factor would be.  So the scalar factors are multiplied first, in float64, and
+        clamped to the dtype's largest value, and an array light scale is clamped after multiplying
+        the field: each multiplication that follows sees finite operands, and a zero factor wins.
+        """
         if self.prune and not np.any(colour):
             return
+        big = self.big
         with np.errstate(over="ignore"):
-            f = field * light_scale if np.ndim(light_scale) or light_scale != 1 else field
+            if np.ndim(light_scale):
+                f = field * light_scale
+                np.minimum(f, big, out=f)
+                k = np.minimum(colour, big)
+            else:
+                f = field
+                k = np.minimum(colour * float(light_scale), big)
             for ch in range(3):
-                c = colour[ch]
+                c = k[ch]
                 if c == 0 and self.prune:
                     continue
                 term = f * self.dt(c)
@@ -104,8 +122,10 @@ class _Planes:
         if self.prune and not np.any(weights):
             return
         with np.errstate(over="ignore", invalid="ignore"):
+            # Weights saturated before the cast (O(K)): an inf weight times a zero field would be NaN.
+            w = np.minimum(weights, self.big).astype(self.dt)
             # One matrix product for all channels and lights: (3, K) @ (K, N).
-            term = np.einsum("kc,kn->cn", weights.astype(self.dt), field.reshape(len(weights), -1))
+            term = np.einsum("kc,kn->cn", w, field.reshape(len(weights), -1))
             if self.block is None:
                 self.block = term
             else:
@@ -143,7 +163,8 @@ class _Planes:
         return out.reshape((3,) + self.shape)
 
     def add_constant(self, rgb):
-        self.constant = self.constant + rgb
+        with np.errstate(over="ignore"):
+            self.constant = np.minimum(self.constant + rgb, self.big)
 
     def total(self):
         return np.moveaxis(self.channels(), 0, -1).copy()
@@ -153,7 +174,9 @@ def view_vectors(points, *, eye=None, view_dir=None, dtype=None):
     """The slides' ``v`` at ``points`` and the eye distances (None for a distant viewer).
 
     Exactly one of ``eye`` (a viewer position) or ``view_dir`` (the direction
-    toward a viewer at infinity) must be given.
+    toward a viewer at infinity) must be given.  The eye distances are float64,
+    saturated at its largest finite value.  The inputs are taken as checked
+    (:func:`shade` checks them); this is also the renderer's path.
     """
     dt = dtype or working_dtype(points)
     if (eye is None) == (view_dir is None):
@@ -166,19 +189,60 @@ def view_vectors(points, *, eye=None, view_dir=None, dtype=None):
         # (several times faster than float64 rows): the positions themselves carry float32
         # rounding, so this adds about one ulp to v's direction.
         p = as_float(points, dt)
-        d = [dt(e[k]) - p[:, k] for k in range(3)]
-        len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
         fi = np.finfo(dt)
-        if np.all((len2 > fi.tiny * 1e4) & (len2 < fi.max * 1e-4)):
+        # Points far from the eye (1e30 in float32) overflow these squares: they take the float64 path below.
+        with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+            d = [dt(e[k]) - p[:, k] for k in range(3)] if np.all(np.abs(e) < fi.max) else None
+            len2 = None if d is None else d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+        if len2 is not None and np.all((len2 > fi.tiny * 1e4) & (len2 < fi.max * 1e-4)):
             dist = np.sqrt(len2)
             inv = 1 / dist
             v = np.empty(p.shape, dtype=dt, order="F")
             for k in range(3):
                 np.multiply(d[k], inv, out=v[:, k])
             return v, dist.astype(np.float64)
-    d = e - as_float(points, np.float64)
-    dist = np.sqrt(np.sum(d * d, axis=-1))
+    p = as_float(points, np.float64)
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = e - p
+    factor = 1.0
+    if not np.all(np.isfinite(d)):
+        # The difference of two finite positions overflowed (1e308 − (−1e308)): halves keep the direction.
+        d, factor = 0.5 * e - 0.5 * p, 2.0
+    with np.errstate(over="ignore"):
+        dist = np.minimum(factor * length(d), np.finfo(np.float64).max)
     return normalize(d).astype(dt), dist
+
+
+def _check_lights(lights, name: str = "lights") -> list:
+    """``lights`` as a list of lights (ambient, directional, point, spot, area); O(number of lights)."""
+    if isinstance(lights, (Light, AmbientLight)):
+        raise ArgumentTypeError(f"{name} must be a sequence of lights; got a single {type(lights).__name__}: "
+                                f"{_fmt(lights)} (wrap it in a list)")  # fmt: skip
+    if isinstance(lights, (str, bytes, dict)) or not hasattr(lights, "__iter__"):
+        raise ArgumentTypeError(f"{name} must be a sequence of lights (AmbientLight, DirectionalLight, ...); "
+                                f"got {type(lights).__name__} {_fmt(lights)}")  # fmt: skip
+    out = list(lights)
+    for i, lt in enumerate(out):
+        if not isinstance(lt, (Light, AmbientLight)):
+            raise ArgumentTypeError(f"{name}[{i}] must be a light (AmbientLight, DirectionalLight, PointLight, "
+                                    f"SpotLight, RectLight, DiskLight); got {type(lt).__name__} "
+                                    f"{_fmt(lt)}")  # fmt: skip
+    return out
+
+
+def _check_material(material) -> None:
+    if not isinstance(material, Material):
+        raise ArgumentTypeError(f"material must be a lighting.Material; got {type(material).__name__} {_fmt(material)}")
+
+
+def _points_needed(light) -> ArgumentTypeError:
+    i = type(light).__name__
+    return ArgumentTypeError(f"points=None is allowed only for ambient and directional lights; {i} needs the "
+                             f"surface positions (points: finite real vectors of shape (..., 3)): {_fmt(light)}")
+
+
+def _positional(lights) -> list:
+    return [lt for lt in lights if not isinstance(lt, (AmbientLight, DirectionalLight))]
 
 
 def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance, wanted, summed, dt, prune=True,
@@ -197,8 +261,10 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
     if "emission" in wanted:
         acc["emission"].add_constant(material.emission * scale)
     if "ambient" in wanted:
-        total = sum((lt.radiant for lt in lights if isinstance(lt, AmbientLight)), np.zeros(3))
-        acc["ambient"].add_constant(total * material.ambient * scale)
+        with np.errstate(over="ignore"):  # finite or +inf, saturated by add_constant()
+            total = sum((lt.radiant for lt in lights if isinstance(lt, AmbientLight)), np.zeros(3))
+            ambient = np.minimum(total, np.finfo(np.float64).max) * material.ambient * scale
+        acc["ambient"].add_constant(ambient)
     want_parts = [t for t in ("diffuse", "specular") if t in wanted]
     parts = {t: [m for m in material.brdf.parts if m.term == t] for t in want_parts}
     if prune and not any(parts.values()):
@@ -219,7 +285,7 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
     for light in lights:
         if isinstance(light, AmbientLight) or (prune and light.is_black):
             continue
-        for inc in light.incident(p, dtype=dt, extra_distance=extra):
+        for inc in light._incident(p, dtype=dt, extra_distance=extra):
             if stack and np.ndim(inc.direction) == 1 and np.ndim(inc.scale) == 0:
                 uniform.append(inc)
                 continue
@@ -232,7 +298,9 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
                 for model in parts[t]:
                     fields = model.separable_classic(g) if form == "classic" else model.separable_cos(g)
                     for field, colour in fields:
-                        acc[t].add(field, inc.scale, colour * radiant)
+                        with np.errstate(over="ignore"):  # saturated in add(): finite or +inf, never NaN
+                            weight = colour * radiant
+                        acc[t].add(field, inc.scale, weight)
     if uniform:
         g = StackedGeometry(n, np.stack([inc.direction for inc in uniform]), v, dtype=dt, view_cache=view_cache)
         radiant = np.stack([inc.radiant.astype(np.float64) * float(inc.scale) for inc in uniform])
@@ -240,15 +308,24 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
             for model in parts[t]:
                 fields = model.separable_classic(g) if form == "classic" else model.separable_cos(g)
                 for field, colour in fields:
-                    acc[t].add_stacked(field, colour * radiant)
+                    with np.errstate(over="ignore"):  # saturated in add_stacked(): finite or +inf, never NaN
+                        weights = colour * radiant
+                    acc[t].add_stacked(field, weights)
     return one if summed else acc
+
+
+def _check_terms(terms) -> list:
+    """``terms`` as a list of term names; a string, a mapping or a set is refused (order and kind matter)."""
+    if isinstance(terms, (str, bytes, dict, set, frozenset)) or not hasattr(terms, "__iter__"):
+        raise ArgumentTypeError(f"terms must be a sequence of names from {TERMS}; got {type(terms).__name__} "
+                                f"{_fmt(terms)}")  # fmt: skip
+    return [check_choice("terms", t, TERMS) for t in terms]
 
 
 def _check_options(form, attenuation_distance, terms):
     form = check_choice("form", form, FORMS)
     attenuation_distance = check_choice("attenuation_distance", attenuation_distance, ("light", "light+viewer"))
-    wanted = [check_choice("terms", t, TERMS) for t in terms]
-    return form, attenuation_distance, wanted
+    return form, attenuation_distance, _check_terms(terms)
 
 
 def shade_terms(
@@ -290,20 +367,56 @@ def shade_terms(
     dict
         One ``(..., 3)`` array per requested term, in the working dtype.
     """
-    p, n, v, eye_dist = _prepare(points, normals, material, eye, view_dir)
+    p, n, v, eye_dist, lights = _prepare(points, normals, material, eye, view_dir, lights)
     return shade_prepared(p, n, v, material, lights, eye_distance=eye_dist, form=form,
                           attenuation_distance=attenuation_distance, terms=terms, separate=True)  # fmt: skip
 
 
-def _prepare(points, normals, material, eye, view_dir):
-    """Points, unit normals, view vectors and eye distances in the working dtype."""
-    if not isinstance(material, Material):
-        raise ValueError(f"material must be a lighting.Material; got {type(material).__name__}")
-    dt = working_dtype(points, normals)
-    p = as_float(points, dt)
-    n = normalize(as_float(normals, dt))
-    v, eye_dist = view_vectors(p, eye=eye, view_dir=view_dir, dtype=dt)
-    return p, n, v, eye_dist
+def _prepare(points, normals, material, eye, view_dir, lights):
+    """Check every argument once; points, unit normals, view vectors and eye distances in the working dtype.
+
+    ``points`` may be ``None`` only when every light is ambient or directional (they do not depend on
+    where the surface is) and the viewer is at infinity (``view_dir``).
+    """
+    _check_material(material)
+    lights = _check_lights(lights)
+    if (eye is None) == (view_dir is None):
+        raise ValueError(
+            "give exactly one of eye (viewer position) or view_dir (direction toward a distant viewer); "
+            f"got eye={_fmt(eye)}, view_dir={_fmt(view_dir)}"
+        )
+    n = check_vectors("normals", normals)
+    if points is None:
+        positional = _positional(lights)
+        if positional:
+            raise _points_needed(positional[0])
+        if eye is not None:
+            raise ArgumentTypeError("points must be finite real vectors of shape (..., 3) when eye= is given "
+                                    "(v depends on the position); got None")  # fmt: skip
+        p = None
+        dt = working_dtype(n)
+    else:
+        p = check_vectors("points", points)
+        dt = working_dtype(p, n)
+    if eye is not None:
+        e = check_vectors("eye", eye, dtype=np.float64)
+        if e.shape != (3,):
+            raise ValueError(f"eye must be one finite 3-vector (the viewer's position); got shape {e.shape}: "
+                             f"{_fmt(eye)}")  # fmt: skip
+    else:
+        vd = check_vectors("view_dir", view_dir, nonzero=True)
+    shapes = {"points": None if p is None else p.shape, "normals": n.shape,
+              "view_dir": None if view_dir is None else vd.shape}  # fmt: skip
+    try:
+        np.broadcast_shapes(*(s for s in shapes.values() if s is not None))
+    except ValueError:
+        given = ", ".join(f"{k} {s}" for k, s in shapes.items() if s is not None)
+        raise ValueError(f"points, normals and view_dir must broadcast together (shapes (..., 3)); "
+                         f"got {given}") from None
+    p = None if p is None else as_float(p, dt)
+    n = normalize(as_float(n, dt))
+    v, eye_dist = view_vectors(p, eye=eye, view_dir=None if view_dir is None else vd, dtype=dt)
+    return p, n, v, eye_dist, lights
 
 
 def shade(
@@ -333,7 +446,7 @@ def shade(
     ...       [DirectionalLight((0, 0, 1.0), color=(1, 0, 0))], view_dir=(0, 0, 1.0)).tolist()
     [0.0, 0.0, 0.0]
     """
-    p, n, v, eye_dist = _prepare(points, normals, material, eye, view_dir)
+    p, n, v, eye_dist, lights = _prepare(points, normals, material, eye, view_dir, lights)
     return shade_prepared(p, n, v, material, lights, eye_distance=eye_dist, form=form,
                           attenuation_distance=attenuation_distance, terms=terms)  # fmt: skip
 
@@ -365,13 +478,15 @@ def shade_prepared(
     """
     if sink is not None and (separate or not channels):
         raise ValueError("sink needs channels=True and separate=False")
+    # O(1) checks only (and O(number of lights)): this is the re-shade path of every frame.
     form, attenuation_distance, wanted = _check_options(form, attenuation_distance, terms)
+    _check_material(material)
     dt = working_dtype(unit_normals) if points is None else working_dtype(points, unit_normals)
-    lights = list(lights)
+    lights = _check_lights(lights)
     if points is None:
-        positional = [lt for lt in lights if not isinstance(lt, (AmbientLight, DirectionalLight))]
+        positional = _positional(lights)
         if positional:
-            raise ValueError(f"points=None is allowed only for ambient and directional lights; got {positional[0]!r}")
+            raise _points_needed(positional[0])
 
     def run(sl):
         def part(x, ndim=2):

@@ -30,8 +30,25 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._numeric import as_float, check_color, check_finite, check_nonnegative, saturate_to, working_dtype
-from .vec import normalize, orthonormal_basis
+from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
+    as_float,
+    check_bool,
+    check_budget,
+    check_color,
+    check_count,
+    check_finite,
+    check_nonnegative,
+    check_positive,
+    check_range,
+    check_vectors,
+    cos_sin_deg,
+    real_array,
+    saturate_to,
+    working_dtype,
+)
+from .vec import direction_from_elevation, normalize, orthonormal_basis
 
 __all__ = [
     "Incidence",
@@ -64,53 +81,87 @@ class Incidence(NamedTuple):
     def irradiance(self) -> np.ndarray:
         """``scale × radiant``: RGB irradiance on a surface facing the light, ``(..., 3)`` or ``(3,)``."""
         with np.errstate(over="ignore"):
+            # Both factors are finite and >= 0, so the product is finite or +inf (never NaN): clamp it.
             e = np.asarray(self.scale)[..., None] * self.radiant
         return np.minimum(e, np.finfo(e.dtype).max)
 
 
 def _vector3(name: str, value, *, nonzero: bool = False) -> np.ndarray:
-    arr = check_finite(name, value, shape_hint="a finite 3-vector")
+    arr = check_vectors(name, value, dtype=np.float64, nonzero=nonzero)
     if arr.shape != (3,):
-        raise ValueError(f"{name} must be a finite 3-vector; got shape {arr.shape}: {value!r}")
-    if nonzero and not np.any(arr != 0):
-        raise ValueError(f"{name} must be a nonzero 3-vector; got {value!r}")
-    return arr.astype(np.float64)
+        raise ValueError(f"{name} must be one finite 3-vector; got shape {arr.shape}: {_fmt(value)}")
+    return arr
 
 
 def check_attenuation(value) -> tuple[float, float, float]:
     """Validate ``(a, b, c)`` of the falloff ``1 / (a r² + b r + c)``."""
-    arr = check_finite("attenuation", value, shape_hint="three finite numbers (a, b, c) >= 0")
-    if arr.shape != (3,) or np.any(arr < 0):
-        raise ValueError(
-            f"attenuation must be three finite numbers (a, b, c) >= 0 for 1/(a r² + b r + c); got {value!r}"
-        )
-    if not np.any(arr > 0):
-        raise ValueError(f"attenuation (a, b, c) must not be all zero (1/0 everywhere); got {value!r}")
+    allowed = "three finite numbers (a, b, c) >= 0, not all zero, for 1/(a r² + b r + c)"
+    arr = check_finite("attenuation", value, shape_hint=allowed)
+    if arr.shape != (3,) or np.any(arr < 0) or not np.any(arr > 0):
+        raise ValueError(f"attenuation must be {allowed}; got {_fmt(value)}")
     return tuple(float(x) for x in arr)
 
 
 def check_cutoff(value, name: str = "cutoff_deg") -> float:
     """A spot cutoff in degrees: within [0, 90], or exactly 180 (no spot), as in OpenGL."""
-    c = check_nonnegative(name, value) if not isinstance(value, (list, tuple)) else None
-    if c is None or not (0 <= c <= 90 or c == 180):
-        raise ValueError(f"{name} must be in [0, 90] degrees or exactly 180 (no cone); got {value!r}")
+    allowed = "a number of degrees in [0, 90], or exactly 180 (no cone)"
+    c = check_range(name, value)
+    if not (0 <= c <= 90 or c == 180):
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
     return c
 
 
 def _one_minus_cos_deg(deg: float) -> float:
-    """``1 − cos(deg°) = 2 sin²(deg°/2)``, exact at 0 and 90 degrees."""
-    if deg == 90:
-        return 1.0
-    return 2.0 * math.sin(math.radians(deg) / 2) ** 2
+    """``1 − cos(deg°)`` without cancellation: ``2 sin²(deg°/2)`` while ``cos > 1/2``, ``1 − cos`` beyond.
+
+    Both branches take their sine and cosine from :func:`lighting._numeric.cos_sin_deg`, exact at
+    multiples of 90° (so 0 at 0° and exactly 1 at 90°); ``1 − cos`` is exact for ``cos <= 1/2``
+    (Sterbenz), ``2 sin²`` keeps the digits of a tiny cutoff (1e-8°) that ``1 − cos`` would lose.
+    """
+    c = float(cos_sin_deg(deg)[0])
+    if c <= 0.5:
+        return 1.0 - c
+    return 2.0 * float(cos_sin_deg(deg / 2)[1]) ** 2
 
 
 def _cos_deg(deg: float) -> float:
-    # cos(radians(90)) is 6e-17, not 0: keep the exact values the GL spec relies on.
-    if deg == 90:
-        return 0.0
-    if deg == 0:
-        return 1.0
-    return math.cos(math.radians(deg))
+    """``cos(deg°)`` from :func:`lighting._numeric.cos_sin_deg` (exact at multiples of 90°)."""
+    return float(cos_sin_deg(deg)[0])
+
+
+def _radiant(color: np.ndarray, intensity: float) -> np.ndarray:
+    """``intensity × color`` in float64, saturated at its largest finite value (1e300 × 1e300 is not inf)."""
+    with np.errstate(over="ignore"):
+        return np.minimum(color * intensity, np.finfo(np.float64).max)
+
+
+_BIG64 = float(np.finfo(np.float64).max)
+
+#: Most sample points an area light may take (each is one incidence, i.e. one shading pass, per point).
+MAX_AREA_SAMPLES = 1 << 16
+
+
+def _check_dtype(dtype) -> type:
+    try:
+        dt = np.dtype(dtype)
+    except TypeError:
+        dt = None
+    if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+        raise ArgumentTypeError(f"dtype must be numpy.float32 or numpy.float64; got {_fmt(dtype)}")
+    return dt.type
+
+
+def real_array_nonneg(name: str, value) -> np.ndarray:
+    """Finite real numbers >= 0 as a float64 array."""
+    arr = real_array(name, value, allowed="finite real numbers >= 0", dtype=np.float64)
+    if np.any(arr < 0):
+        raise ValueError(f"{name} must be finite real numbers >= 0; got {_fmt(value)}")
+    return arr
+
+
+def real_array_any(name: str, value, dtype=None) -> np.ndarray:
+    """Finite real numbers as an array (float64 unless a NumPy float dtype is given)."""
+    return real_array(name, value, dtype=dtype)
 
 
 class Light:
@@ -121,8 +172,8 @@ class Light:
 
     @property
     def radiant(self) -> np.ndarray:
-        """``intensity × color`` (float64 RGB)."""
-        return self.color * self.intensity
+        """``intensity × color`` (float64 RGB, saturated at the largest finite float64)."""
+        return _radiant(self.color, self.intensity)
 
     @property
     def is_black(self) -> bool:
@@ -130,7 +181,26 @@ class Light:
         return not np.any(self.radiant > 0)
 
     def incident(self, points, *, dtype=None, extra_distance=None) -> Iterator[Incidence]:
-        """Yield the :class:`Incidence` records of this light at ``points`` ``(..., 3)``."""
+        """Yield the :class:`Incidence` records of this light at ``points`` ``(..., 3)``.
+
+        Parameters
+        ----------
+        points : array_like, (..., 3)
+            Finite surface positions; their float dtype is kept.
+        dtype : {numpy.float32, numpy.float64}, optional
+            Working dtype of the records (default: that of ``points``).
+        extra_distance : array_like, optional
+            Non-negative distance added to the light's distance in the falloff
+            (the slides' "distance to the light plus distance to the viewer").
+        """
+        points = check_vectors("points", points)
+        dt = _check_dtype(dtype) if dtype is not None else working_dtype(points)
+        if extra_distance is not None:
+            extra_distance = real_array_nonneg("extra_distance", extra_distance)
+        return self._incident(points, dtype=dt, extra_distance=extra_distance)
+
+    def _incident(self, points, *, dtype, extra_distance=None) -> Iterator[Incidence]:
+        """:meth:`incident` on checked inputs (the shading loop's path: no per-call validation)."""
         raise NotImplementedError
 
 
@@ -153,7 +223,8 @@ class AmbientLight:
 
     @property
     def radiant(self) -> np.ndarray:
-        return self.color * self.intensity
+        """``intensity × color`` (float64 RGB, saturated at the largest finite float64)."""
+        return _radiant(self.color, self.intensity)
 
     @property
     def is_black(self) -> bool:
@@ -199,29 +270,60 @@ class DirectionalLight(Light):
         ...with +z as "up"; the slides' "Lambertian sphere from several lighting
         angles" is a sweep of ``elevation_deg`` from 90 (overhead) to 0.
         """
-        el, az = math.radians(elevation_deg), math.radians(azimuth_deg)
-        d = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
-        return cls(direction=d, **kwargs)
+        el = check_range("elevation_deg", elevation_deg)
+        az = check_range("azimuth_deg", azimuth_deg)
+        # Exact at multiples of 90°: an elevation of 0 is on the horizon, not cos(π/2) = 6e-17 above it.
+        return cls(direction=direction_from_elevation(el, az), **kwargs)
 
-    def incident(self, points, *, dtype=None, extra_distance=None):
-        dt = dtype or working_dtype(points)
-        yield Incidence(self.direction.astype(dt), np.ones((), dtype=dt), self.radiant.astype(dt))
+    def _incident(self, points, *, dtype, extra_distance=None):
+        yield Incidence(self.direction.astype(dtype), np.ones((), dtype=dtype), saturate_to(self.radiant, dtype))
 
 
 def _falloff(dist: np.ndarray, att: tuple[float, float, float]) -> np.ndarray:
-    """``1 / (a r² + b r + c)`` in float64, 0 where the denominator is 0, saturating."""
+    """``1 / (a r² + b r + c)`` in float64, 0 where the denominator is 0, saturated at the largest float64.
+
+    Saturated *here*, before any other factor multiplies it: a falloff of 1e310 (``a = 1e-300`` at
+    ``r = 1e-5``) times a spot factor of 0 must be 0, not ``inf · 0 = NaN``.
+    """
     a, b, c = att
-    den = (a * dist + b) * dist + c
+    with np.errstate(over="ignore"):
+        den = (a * dist + b) * dist + c  # dist is finite and a, b, c >= 0: finite or +inf
     with np.errstate(divide="ignore", over="ignore"):
         f = np.where(den > 0, 1.0 / np.where(den > 0, den, 1.0), 0.0)
-    return f
+    return np.minimum(f, _BIG64)
 
 
 def _directions_and_distances(position: np.ndarray, points: np.ndarray):
-    d = position.astype(np.float64) - points.astype(np.float64)
-    dist = np.sqrt(d[..., 0] ** 2 + d[..., 1] ** 2 + d[..., 2] ** 2)
+    """Unit vectors from ``points`` toward ``position`` and the distances, in float64 (finite, saturated).
+
+    The direct ``sqrt(Σ d²)`` is used where ``Σ d²`` is safely inside the float64 range; elsewhere (a
+    light 1e300 away, or 1e-200) the difference is scaled by its largest component first, and where even
+    the difference of two finite positions overflows (1e308 − (−1e308)) it is formed from halves.  A
+    distance beyond the float64 range saturates at its largest value.
+    """
+    p = points.astype(np.float64)
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = position - p
+        len2 = d[..., 0] ** 2 + d[..., 1] ** 2 + d[..., 2] ** 2
+    fast = (len2 > 1e-290) & (len2 < 1e290)
+    if np.all(fast):
+        dist = np.sqrt(len2)
+        return d / dist[..., None], dist
     with np.errstate(divide="ignore", invalid="ignore"):
-        l = np.where(dist[..., None] > 0, d / np.where(dist > 0, dist, 1.0)[..., None], 0.0)  # noqa: E741
+        dist = np.sqrt(np.where(fast, len2, 1.0))
+        l = np.where(fast[..., None], d / dist[..., None], 0.0)  # noqa: E741
+    slow = ~fast
+    ds = d[slow]
+    twice = ~np.all(np.isfinite(ds), axis=-1)
+    if np.any(twice):  # the difference itself overflowed: form it from halves (exact for normal numbers)
+        ds[twice] = 0.5 * position - 0.5 * p[slow][twice]
+    m = np.max(np.abs(ds), axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(m[..., None] > 0, ds / np.where(m > 0, m, 1.0)[..., None], 0.0)
+    len_s = np.sqrt(s[..., 0] ** 2 + s[..., 1] ** 2 + s[..., 2] ** 2)  # in [1, √3] where m > 0
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        l[slow] = np.where(len_s[..., None] > 0, s / np.where(len_s > 0, len_s, 1.0)[..., None], 0.0)
+        dist[slow] = np.minimum(np.where(twice, 2.0, 1.0) * m * len_s, _BIG64)
     return l, dist
 
 
@@ -263,17 +365,21 @@ class PointLight(Light):
     def _spot(self, l: np.ndarray) -> np.ndarray | None:  # noqa: E741
         return None
 
-    def incident(self, points, *, dtype=None, extra_distance=None):
-        dt = dtype or working_dtype(points)
+    def _incident(self, points, *, dtype, extra_distance=None):
+        dt = dtype
         p = as_float(points, dt)
         l, dist = _directions_and_distances(self.position, p)  # noqa: E741
-        att_dist = dist if extra_distance is None else dist + np.asarray(extra_distance, np.float64)
-        scale = _falloff(att_dist, self.attenuation)
+        if extra_distance is None:
+            att_dist = dist
+        else:
+            with np.errstate(over="ignore"):
+                att_dist = np.minimum(dist + np.asarray(extra_distance, np.float64), _BIG64)
+        scale = _falloff(att_dist, self.attenuation)  # finite: at most the largest float64
         scale = np.where(dist > 0, scale, 0.0)
         spot = self._spot(l)
         if spot is not None:
-            scale = scale * spot
-        yield Incidence(l.astype(dt), saturate_to(scale, dt), self.radiant.astype(dt))
+            scale = scale * spot  # a factor in [0, 1] times a finite number: a zero spot factor wins
+        yield Incidence(l.astype(dt), saturate_to(scale, dt), saturate_to(self.radiant, dt))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -314,10 +420,10 @@ class SpotLight(PointLight):
 
     def spot_factor(self, cos_angle: np.ndarray) -> np.ndarray:
         """Spot factor from the cosine between the axis and the light→point direction."""
-        c = np.asarray(cos_angle, dtype=np.float64)
+        c = real_array_any("cos_angle", cos_angle, dtype=np.float64)
         if self.cutoff_deg == 180:
             return np.ones_like(c)
-        inside = c >= _cos_deg(self.cutoff_deg)
+        inside = c >= cos_sin_deg(self.cutoff_deg)[0]
         if self.exponent == 0:
             p = np.ones_like(c)
         else:
@@ -384,10 +490,13 @@ class AreaLight(Light):
     def _check_common(self):
         object.__setattr__(self, "color", check_color("color", self.color))
         object.__setattr__(self, "intensity", check_nonnegative("intensity", self.intensity))
-        if isinstance(self.samples, bool) or not isinstance(self.samples, (int, np.integer)) or self.samples < 1:
-            raise ValueError(f"samples must be an integer >= 1; got {self.samples!r}")
-        if self.seed is not None and (isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer))):
-            raise ValueError(f"seed must be an integer or None; got {self.seed!r}")
+        samples = check_count("samples", self.samples, 1, MAX_AREA_SAMPLES)
+        # The sample points are made at once (3 float64 each, plus the pattern's temporaries).
+        check_budget("samples", samples * 8 * 12, what=f"{samples} area-light sample points")
+        object.__setattr__(self, "samples", samples)
+        if self.seed is not None:
+            object.__setattr__(self, "seed", check_count("seed", self.seed, 0))
+        object.__setattr__(self, "two_sided", check_bool("two_sided", self.two_sided))
 
     # Subclasses provide the geometry.
     def area(self) -> float:
@@ -400,18 +509,22 @@ class AreaLight(Light):
         """``(samples, 3)`` points on the emitter, equal-area distributed."""
         raise NotImplementedError
 
-    def incident(self, points, *, dtype=None, extra_distance=None):
-        dt = dtype or working_dtype(points)
+    def _incident(self, points, *, dtype, extra_distance=None):
+        dt = dtype
         p = as_float(points, dt)
         ne = self.normal()
         weight = self.area() / self.samples
+        radiant = saturate_to(self.radiant, dt)
         for y in self.sample_points():
             l, dist = _directions_and_distances(y, p)  # noqa: E741
             cos_e = -(l @ ne)
             cos_e = np.abs(cos_e) if self.two_sided else np.maximum(cos_e, 0.0)
-            with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-                g = np.where(dist > 0, cos_e * weight / np.where(dist > 0, dist * dist, 1.0), 0.0)
-            yield Incidence(l.astype(dt), saturate_to(g, dt), self.radiant.astype(dt))
+            # The geometric factor A/S / r² saturates before the emitter's cosine (in [0, 1]) multiplies
+            # it, so a sample seen edge-on (cos = 0) from 1e-170 away gives 0, not inf · 0.
+            with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+                inv = np.minimum(weight / np.where(dist > 0, dist, 1.0) / np.where(dist > 0, dist, 1.0), _BIG64)
+            g = np.where(dist > 0, cos_e * inv, 0.0)
+            yield Incidence(l.astype(dt), saturate_to(g, dt), radiant)
 
 
 @dataclass(frozen=True)
@@ -464,10 +577,7 @@ class DiskLight(AreaLight):
         self._check_common()
         object.__setattr__(self, "center", _vector3("center", self.center))
         object.__setattr__(self, "normal_dir", normalize(_vector3("normal_dir", self.normal_dir, nonzero=True)))
-        r = check_nonnegative("radius", self.radius)
-        if r == 0:
-            raise ValueError("radius must be a finite number > 0; got 0.0")
-        object.__setattr__(self, "radius", r)
+        object.__setattr__(self, "radius", check_positive("radius", self.radius))
 
     def area(self):
         return math.pi * self.radius**2

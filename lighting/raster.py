@@ -246,15 +246,20 @@ class GBuffer:
         b = [bk.astype(a.dtype, copy=False) for bk in b]
         flat = a.reshape(len(a), int(np.prod(a.shape[1:])))
         out = np.empty((len(tid), flat.shape[1]), dtype=a.dtype, order="F")  # columns contiguous
+        big = np.finfo(a.dtype).max
         for c in range(flat.shape[1]):
             # One contiguous column at a time (1-D gathers are several times faster than row gathers),
             # looked up per triangle corner first: a[f_i] = (a[faces[:, i]])[triangle id], exactly.
             col = np.ascontiguousarray(flat[:, c])
             corner = [col.take(f) for f in mesh.face_columns]
-            acc = b[0] * corner[0].take(tid)
-            acc += b[1] * corner[1].take(tid)
-            acc += b[2] * corner[2].take(tid)
-            out[:, c] = acc
+            # The weights sum to 1 only up to rounding, so three values at the dtype's largest finite
+            # number (saturated Gouraud colours) can sum past it: the sum saturates instead.  Each
+            # b_i a_i is finite (0 <= b_i <= 1 up to rounding), so the sum is finite or ±inf, never NaN.
+            with np.errstate(over="ignore"):
+                acc = b[0] * corner[0].take(tid)
+                acc += b[1] * corner[1].take(tid)
+                acc += b[2] * corner[2].take(tid)
+            np.clip(acc, -big, big, out=out[:, c])
         return out.reshape((len(tid),) + a.shape[1:])
 
     # ------------------------------------------------------------------ attribute access

@@ -245,3 +245,96 @@ def test_shade_errors():
         shade(ORIGIN, UP, Material(Lambert(1.0)), [], view_dir=UP, form="pbr")
     with pytest.raises(ValueError, match="brdf"):
         Material("lambert")
+
+
+# ------------------------------------------------------------------ issue 14, item 8: finite in, finite out
+BIG = {np.float32: float(np.finfo(np.float32).max), np.float64: float(np.finfo(np.float64).max)}
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_overflowing_falloff_times_zero_spot_factor_is_zero(dtype):
+    # 1 / (1e-300 r²) at r = 1e-5 is 1e310: beyond float64.  Outside the cone the spot factor is 0, and
+    # the light must deliver exactly 0 there (it was inf · 0 = NaN); on the axis it saturates.
+    away = SpotLight((0, 0, 1e-5), direction=(0, 0, 1.0), cutoff_deg=30, attenuation=(1e-300, 0, 0))
+    toward = SpotLight((0, 0, 1e-5), direction=(0, 0, -1.0), cutoff_deg=30, attenuation=(1e-300, 0, 0))
+    pts = np.zeros((1, 3), dtype)
+    assert next(away.incident(pts)).irradiance.tolist() == [[0.0, 0.0, 0.0]]
+    assert next(toward.incident(pts)).irradiance.tolist() == [[BIG[dtype]] * 3]
+    n = np.array([0, 0, 1.0], dtype)
+    got = shade(pts, n, Material(Lambert(1.0) + Phong(1.0, 10)), [away, toward], view_dir=UP)
+    assert got.dtype == dtype and got.tolist() == [[BIG[dtype]] * 3]
+    assert shade(pts, n, Material(Lambert(1.0)), [away], view_dir=UP).tolist() == [[0.0, 0.0, 0.0]]
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_point_light_beyond_the_float_range_is_exact_and_quiet(dtype):
+    # 1e300 away: r² overflows float64, the falloff is 0 (it raised an overflow warning).
+    far = PointLight((0, 0, 1e300))
+    inc = next(far.incident(np.zeros((1, 3), dtype)))
+    assert inc.direction.tolist() == [[0.0, 0.0, 1.0]] and inc.irradiance.tolist() == [[0.0, 0.0, 0.0]]
+    # Without falloff the light still arrives, with the right direction, however far it is; even the
+    # difference of the two positions overflows here (1e308 − (−1e308)).
+    flat = PointLight((0, 0, 1e308), attenuation=(0, 0, 1))
+    inc = next(flat.incident(np.array([[0, 0, -1e308]], dtype=np.float64)))
+    assert inc.direction.tolist() == [[0.0, 0.0, 1.0]] and inc.irradiance.tolist() == [[1.0, 1.0, 1.0]]
+    # Linear falloff 1/(b r) at r = 2e308 (beyond float64; the distance saturates at 1.8e308): tiny, not NaN.
+    lin = PointLight((0, 0, 1e308), attenuation=(0, 1, 0))
+    assert irradiance(lin, [[0, 0, -1e308]]).tolist() == [[1 / BIG[np.float64]] * 3]
+    out = shade(np.zeros((1, 3), dtype), np.array(UP, dtype), Material(Lambert(1.0)), [far, flat], view_dir=UP)
+    assert out.dtype == dtype and out.tolist() == [[1.0, 1.0, 1.0]]
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_far_points_with_an_eye_give_unit_view_vectors(dtype):
+    # float32 points near 1e30 with eye=: the squared distance overflows float32 (it warned).
+    pts = np.array([[1e30, 0, 0], [0, 3e30, -4e30], [1.0, 2.0, 3.0]], dtype)
+    n = np.array([[-1.0, 0, 0], [0, -0.6, 0.8], [0, 0, 1.0]], dtype)
+    got = shade(pts, n, Material(Phong(1.0, 1.0)), [DirectionalLight((1, 0, 1.0))], eye=(0, 0, 0.0))
+    assert got.dtype == dtype and np.all(np.isfinite(got))
+    # Phong with e = 1 seen along the mirror direction: (R_l·v) = the cosine, computed from exact unit v.
+    v = -pts[:2].astype(np.float64) / np.linalg.norm(pts[:2].astype(np.float64), axis=1)[:, None]
+    l = vec.normalize(np.array([1, 0, 1.0]))  # noqa: E741
+    nn = n[:2].astype(np.float64)
+    r = 2 * nn * (nn @ l)[:, None] - l
+    expected = np.maximum(np.sum(r * v, axis=1), 0) * ((nn @ l) > 0)
+    np.testing.assert_allclose(got[:2, 0], expected, rtol=1e-6 if dtype == np.float32 else 1e-14, atol=1e-7)
+    # Eye and point 2e308 apart (their difference overflows float64): v is still exact.
+    far = shade([[0, 0, -1e308]], UP, Material(Phong(1.0, 1.0)), [DirectionalLight(UP)], eye=(0, 0, 1e308))
+    assert far.tolist() == [[1.0, 1.0, 1.0]]
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_saturated_lights_and_coefficients_never_give_nan(dtype):
+    # intensity × colour = 1e308 × 1e308 and k_d = 1e308: every product saturates, and a zero factor
+    # (a normal facing away, a black channel) still gives exactly 0.
+    hot = DirectionalLight(UP, color=(1e308, 0.0, 1e308), intensity=1e308)
+    assert hot.radiant.tolist() == [BIG[np.float64], 0.0, BIG[np.float64]]
+    n = np.array([[0, 0, 1.0], [0, 0, -1.0], [1, 0, 1e-30]], dtype)
+    pts = np.zeros((3, 3), dtype)
+    for brdf in (Lambert(1e308), Lambert(1.0) + Phong(1e308, 1e6)):
+        got = shade(pts, n, Material(brdf, ambient=0.0), [hot, hot], view_dir=(1, 0, 1.0))
+        assert got.dtype == dtype and np.all(np.isfinite(got)) and np.all(got >= 0)
+        assert got[0].tolist() == [BIG[dtype], 0.0, BIG[dtype]]
+        assert got[1].tolist() == [0.0, 0.0, 0.0]
+    amb = shade(pts, n, Material(Lambert(1e308)), [AmbientLight(1e308, 1e308)] * 2, view_dir=UP)
+    assert amb.tolist() == [[BIG[dtype]] * 3] * 3
+    # Many saturated ambient lights on a surface reflecting none of it: 0, not inf · 0.
+    dark = shade(pts, n, Material(Lambert(1.0), ambient=0.0), [AmbientLight(1e308, 1e308)] * 3, view_dir=UP,
+                 terms=["ambient"])  # fmt: skip
+    assert dark.tolist() == [[0.0, 0.0, 0.0]] * 3
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_area_light_sample_very_close_saturates_or_gives_zero(dtype):
+    # A point 1e-170 from a sample (float64; 1e-30 in float32), in the emitter's plane: cos θ_e = 0 and
+    # A/S / r² overflows, so the irradiance is 0; facing it, it saturates (r² underflowed to 0, and the
+    # point was taken to sit on the sample, receiving nothing).
+    tiny = 1e-170 if dtype == np.float64 else 1e-30
+    from lighting.lights import _r2_sequence
+
+    u0, u1 = _r2_sequence(1, None)[0] - 0.5
+    rect = RectLight(center=(-u0, u1, 0.0), edge_u=(1.0, 0, 0), edge_v=(0, -1.0, 0), samples=1)
+    y = rect.sample_points()[0]
+    assert y.tolist() == [0.0, 0.0, 0.0]
+    assert next(rect.incident(np.array([[tiny, 0, 0]], dtype))).irradiance.tolist() == [[0.0, 0.0, 0.0]]
+    assert next(rect.incident(np.array([[0, 0, -tiny]], dtype))).irradiance.tolist() == [[BIG[dtype]] * 3]

@@ -234,3 +234,23 @@ def test_directional_lights_need_no_interpolated_positions():
     _, nrm, v, dist = r._samples("phong")
     with pytest.raises(ValueError, match="points=None.*PointLight"):
         shade_prepared(None, nrm, v, MAT, positional, eye_distance=dist)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_gouraud_interpolating_saturated_vertex_colours_stays_finite(dtype):
+    # Vertex colours at the dtype's largest value: barycentrics sum to 1 only up to rounding, so
+    # Σ b_i c_i overflowed to inf (with a warning).  The interpolated image saturates instead.
+    big = np.finfo(dtype).max
+    hot = [DirectionalLight((0, 0, 1.0), intensity=1e308)] * 2
+    r = Renderer(icosphere(2), Camera((0, 0, 5.0), (0, 0, 0), width=64, height=64), dtype=dtype)
+    img = r.render(Material(Lambert(1.0)), hot, mode="gouraud")
+    assert img.dtype == dtype and np.all(np.isfinite(img))
+    assert img.max() == big and np.count_nonzero(img == big) > 100
+    # GBuffer.interpolate of values at ± the largest float: within [-max, max], to rounding of Σ b_i = 1.
+    gb = r.gbuffer
+    vals = np.full((len(icosphere(2).vertices), 2), big, dtype=dtype)
+    vals[:, 1] = -big
+    out = gb.interpolate(vals)[gb.coverage]
+    eps = np.finfo(dtype).eps
+    assert out.dtype == dtype and np.all(np.isfinite(out))
+    assert out[:, 0].min() >= big * (1 - 4 * eps) and out[:, 1].max() <= -big * (1 - 4 * eps)
