@@ -34,12 +34,13 @@ with, per colour channel (products of colours are componentwise):
   ``-z`` from infinitely far away);
 - ``att_i = 1 / (k_0 + k_1 d + k_2 d²)`` with ``d`` the vertex-light
   distance, for positional lights; ``att_i = 1`` for directional ones;
-- ``spot_i = (P_{pli}V ⊙ ŝ_i)^{s_{rli}}`` when the spot cutoff ``c_{rli}`` is
-  not 180° and that clamped cosine is at least ``cos(c_{rli})``; ``0`` when it
-  is smaller; ``1`` when ``c_{rli} = 180°``.  ``P_{pli}V = -VP_i`` is the
-  direction from the light to the vertex and ``ŝ_i`` the normalized spot
-  direction.  The specification applies the spot factor to every light,
-  directional ones included;
+- ``spot_i = max(-VP_i · ŝ_i, 0)^{s_{rli}}`` when the spot cutoff
+  ``c_{rli}`` is not 180° and the *raw* cosine ``-VP_i · ŝ_i`` is at least
+  ``cos(c_{rli})``; ``0`` when it is smaller; ``1`` when ``c_{rli} = 180°``.
+  ``P_{pli}V = -VP_i`` is the direction from the light to the vertex and
+  ``ŝ_i`` the normalized spot direction.  The specification applies the spot
+  factor to every light, directional ones included (see "The spot cone test"
+  below for why the raw cosine);
 - the specification defines ``0^0 = 1`` (so a shininess of 0 gives a
   highlight of exactly ``s_cm s_cli`` wherever ``f_i = 1``, and a spot
   exponent of 0 gives ``spot_i = 1`` everywhere inside the cone).
@@ -48,13 +49,39 @@ The result is clamped to ``[0, 1]``; its alpha is the material's diffuse
 alpha.  The per-light ambient term is attenuated and spot-masked like the
 rest: a spot light's ambient contribution stops at the edge of its cone.
 
+The spot cone test: the implementations' reading
+------------------------------------------------
+The OpenGL 2.1 specification (§2.14.1, the definition of ``spot_i``) reads
+
+    spot_i = (P_pli V ⊙ ŝ_dli)^{s_rli},  c_rli ≠ 180.0,  P_pli V ⊙ ŝ_dli ≥ cos(c_rli),
+             0.0,                      c_rli ≠ 180.0,  P_pli V ⊙ ŝ_dli < cos(c_rli),
+             1.0,                      c_rli = 180.0,
+
+with ``⊙`` the *clamped* dot product.  Taken to the letter this is degenerate
+for the largest finite cutoff, 90°: the clamped cosine is never below
+``cos 90° = 0``, so a 90° "cone" lights the whole sphere around the light,
+behind its plane included (with ``0^0 = 1`` there for a spot exponent of 0).
+Implementations test the *raw* cosine instead, and a 90° cutoff lights the
+half-space in front of the spot's plane: Mesa's fixed-function vertex
+program compares ``-VP·ŝ`` with ``max(cos(c_rli), 0)`` before taking the
+absolute value for the power, and its classic T&L path skips a light when
+``-VP·ŝ < cos(c_rli)``.  This module follows the implementations (as
+conventions.md asks): a vertex is inside when ``-VP·ŝ >= cos(c_rli)``, and
+the spot factor is ``max(-VP·ŝ, 0)^{s_rli}`` there.  For every cutoff below
+90° the two readings agree (the raw cosine is positive wherever it passes).
+Exactly on the spot's plane at 90° (``-VP·ŝ = 0``) this module, like the
+specification and Mesa's classic path, counts the vertex as inside; Mesa's
+vertex-program path uses a strict ``>`` there.  ``cos(c_rli)`` is exact at
+0° and 90° (:func:`lighting._numeric.cos_sin_deg`), so ``cos 90°`` is 0,
+not 6.1e-17.
+
 Degenerate cases (the specification leaves them undefined)
 ----------------------------------------------------------
 This module keeps "finite in, finite out" and defines them as follows:
 
 - a vertex exactly at a positional light: ``d = 0`` and ``VP_i`` is the zero
   vector, so there is no diffuse or specular term (``f_i = 0``) and the
-  light-to-vertex cosine used by the spot test is 0;
+  light-to-vertex cosine used by the spot test is 0 (inside a 90° cone only);
 - an attenuation denominator of 0 (``k_0 = 0`` at ``d = 0``) saturates
   ``att_i`` at the largest finite double; the colour is then clamped;
 - a zero half vector (``VP_i + VP_e = 0``) stays the zero vector, so
@@ -76,7 +103,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numeric import _fmt, check_finite, working_dtype
+from ._numeric import _fmt, check_finite, cos_sin_deg, working_dtype
 
 __all__ = ["Material", "Light", "shade_vertices", "GL_MAX_SHININESS", "GL_MAX_SPOT_EXPONENT"]
 
@@ -479,12 +506,10 @@ def shade_vertices(
 
             if light.is_spot:
                 s_hat, _ = _unit(np.array(light.spot_direction))
-                cos_s = np.maximum(-_dot(vp, s_hat), 0.0)
-                # cos(90°) must be exactly 0: the clamped cosine is >= 0, so a
-                # 90° cone then contains every vertex (and 0^0 = 1 behind it).
-                cutoff = light.spot_cutoff
-                cos_cut = 0.0 if cutoff == 90.0 else math.cos(math.radians(cutoff))
-                spot = np.where(cos_s >= cos_cut, np.power(cos_s, light.spot_exponent), 0.0)
+                cos_s = -_dot(vp, s_hat)
+                # The raw cosine decides (see the module docstring), so a 90° cone is a half-space.
+                inside = cos_s >= float(cos_sin_deg(light.spot_cutoff)[0])
+                spot = np.where(inside, np.power(np.maximum(cos_s, 0.0), light.spot_exponent), 0.0)
                 att = att * spot
 
             # Only un-normalized normals can push these past the float range;

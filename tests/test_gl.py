@@ -189,15 +189,37 @@ def test_spot_exponent():
     np.testing.assert_allclose(c[:3], math.cos(a) ** 3, rtol=1e-14)
 
 
-def test_spot_cutoff_90_follows_the_clamped_cosine():
-    # Behind the spot's plane the clamped cosine is 0 >= cos 90° = 0: inside,
-    # so spot = 0^0 = 1 with exponent 0 and 0^e = 0 with exponent e > 0.
+def test_spot_cutoff_90_lights_a_hemisphere():
+    # Item 12 of issue 14: the raw cosine -VP·ŝ decides, as Mesa does (conventions.md).  A 90° cone
+    # is the half-space in front of the spot's plane: behind it nothing, whatever the exponent
+    # (the specification's clamped cosine lit the whole sphere, with 0^0 = 1 behind the plane).
     m = Material(ambient=(0.5, 0.5, 0.5), diffuse=BLACK)
-    behind = (0.0, 0.0, 1.0)
-    c0 = shade(behind, UP, m, spot(90.0, 0.0, ambient=(1, 1, 1)))
-    c1 = shade(behind, UP, m, spot(90.0, 1.0, ambient=(1, 1, 1)))
-    np.testing.assert_allclose(c0[:3], 0.5, rtol=0, atol=1e-15)
-    np.testing.assert_array_equal(c1[:3], 0.0)
+    behind = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 1e-9], [0.0, -3.0, 1e-300]])
+    front = np.array([[0.0, 0.0, -1.0], [1.0, 0.0, -1e-9], [0.0, 2.0, -1e-300]])
+    for exponent in (0.0, 1.0, 128.0):
+        light = spot(90.0, exponent, ambient=(1, 1, 1))
+        np.testing.assert_array_equal(shade(behind, UP, m, light)[:, :3], 0.0)
+        c = shade(front, UP, m, light)[:, :3]
+        cos_s = -front[:, 2] / np.linalg.norm(front, axis=-1)  # -VP·ŝ with ŝ = (0, 0, -1)
+        np.testing.assert_allclose(c, np.broadcast_to(0.5 * (cos_s**exponent)[:, None], c.shape), rtol=1e-14, atol=0)
+    # On the plane itself the cosine is exactly 0 >= cos 90° = 0: inside, 0^0 = 1, 0^e = 0.
+    on_plane = (1.0, 0.0, 0.0)
+    np.testing.assert_allclose(shade(on_plane, UP, m, spot(90.0, 0.0, ambient=(1, 1, 1)))[:3], 0.5, atol=0)
+    np.testing.assert_array_equal(shade(on_plane, UP, m, spot(90.0, 2.0, ambient=(1, 1, 1)))[:3], 0.0)
+
+
+@pytest.mark.parametrize("cutoff", [89.0, 89.999999, 90.0])
+def test_spot_cone_edge_near_90_uses_the_exact_cosine(cutoff):
+    # cos 90° is exactly 0 (cos_sin_deg), not 6.1e-17: a vertex 1e-20 rad in front of the plane is
+    # inside a 90° cone; for cutoffs below 90° the edge sits at the angle itself on either side.
+    m = Material(ambient=(0.5, 0.5, 0.5), diffuse=BLACK)
+    light = spot(cutoff, 0.0, ambient=(1, 1, 1))
+    edge = math.radians(cutoff)
+    for delta, lit in ((-1e-9, True), (1e-9, False)) if cutoff < 90 else ((-1e-20, True), (1e-20, False)):
+        # At 90° the offset is put into the z component directly (π/2 + 1e-20 rounds to π/2).
+        p = (math.sin(edge + delta), 0.0, -math.cos(edge + delta)) if cutoff < 90 else (1.0, 0.0, delta)
+        got = shade(p, UP, m, light)[:3]
+        np.testing.assert_array_equal(got, 0.5 if lit else 0.0)
 
 
 def test_spot_applies_to_directional_lights():

@@ -26,11 +26,13 @@ the ``f_i`` switch flips) are redrawn: there a 1-ulp difference in a cosine
 legitimately flips a term on or off.
 
 Mesa departs from the letter of §2.14.1 in two places (zero shininess with an
-attenuated or spot light; a 90° spot with exponent 0), described at
-``_reference`` below.  Configurations that can hit them are compared through
-an independent transcription of the equation with those departures switched
-on, so that every difference from the engine is accounted for exactly; all
-other configurations are compared with the engine directly.
+attenuated or spot light; the spot cone test on the raw cosine), described at
+``_reference`` below.  The engine follows Mesa in the second (conventions.md:
+a 90° cutoff lights a hemisphere), so only the first remains a quirk.
+Configurations that can hit it are compared through an independent
+transcription of the equation with that departure switched on, so that every
+difference from the engine is accounted for exactly; all other configurations
+are compared with the engine directly.
 """
 
 from __future__ import annotations
@@ -276,11 +278,12 @@ def _unit(v):
 
 # --------------------------------------------------------------------------- reference model
 # A second, deliberately plain transcription of §2.14.1 (no care for
-# degenerate cases, which the configurations avoid), with switches for the two
-# places where Mesa's fixed-function vertex program departs from the letter of
-# the specification.  With the switches off it must equal shade_vertices; with
-# them on it must equal Mesa.  Together that proves every difference between
-# shade_vertices and Mesa is one of these two, and nothing else.
+# degenerate cases, which the configurations avoid), with a switch for the
+# place where Mesa's fixed-function vertex program departs from the letter of
+# the specification and the engine does not follow it.  With the switch off it
+# must equal shade_vertices; with it on it must equal Mesa.  Together that
+# proves every difference between shade_vertices and Mesa is that one, and
+# nothing else.
 #
 # 1. Zero shininess with an attenuated or spot light.  Mesa builds the
 #    specular factor with the LIT instruction, whose exponent channel should
@@ -290,8 +293,11 @@ def _unit(v):
 #    another path (f_i directly) and are right.
 # 2. The cone test.  The specification tests the *clamped* cosine,
 #    max(-VP·ŝ, 0) >= cos(cutoff); Mesa tests the raw cosine, -VP·ŝ >
-#    max(cos(cutoff), 0).  They differ only for a 90° cutoff with exponent 0
-#    behind the spot's plane: the specification gives 0^0 = 1 there, Mesa 0.
+#    max(cos(cutoff), 0).  They differ only for a 90° cutoff behind the spot's
+#    plane (the letter lights the whole sphere, with 0^0 = 1 there for exponent
+#    0; Mesa a hemisphere).  The engine follows Mesa (conventions.md), with >=
+#    (equality, a vertex exactly on the plane, is kept away from by
+#    _near_discontinuity), so this transcription does too, switch or not.
 
 
 def _lit_specular_quirk(cfg, light):
@@ -305,12 +311,8 @@ def _lit_specular_quirk(cfg, light):
     return attenuated or light["spot_cutoff"] != 180.0
 
 
-def _cone_quirk(light):
-    return light["spot_cutoff"] == 90.0 and light["spot_exponent"] == 0.0
-
-
 def _has_quirk(cfg):
-    return any(_lit_specular_quirk(cfg, L) or _cone_quirk(L) for L in cfg["lights"])
+    return any(_lit_specular_quirk(cfg, L) for L in cfg["lights"])
 
 
 def _reference(cfg, mesa=False):
@@ -331,12 +333,9 @@ def _reference(cfg, mesa=False):
             att = 1.0 / (L["constant_attenuation"] + L["linear_attenuation"] * d + L["quadratic_attenuation"] * d * d)
         if L["spot_cutoff"] != 180.0:
             cos_s = -(vp @ _unit(np.array(L["spot_direction"])))
-            if mesa:
-                cos_cut = max(float(np.float32(math.cos(math.radians(L["spot_cutoff"])))), 0.0)
-                inside = cos_s > cos_cut
-            else:
-                cos_cut = 0.0 if L["spot_cutoff"] == 90.0 else math.cos(math.radians(L["spot_cutoff"]))
-                inside = np.maximum(cos_s, 0.0) >= cos_cut
+            # The raw cosine against cos(cutoff), 0 at 90° exactly (as Mesa's max(cosf(cutoff), 0)).
+            cos_cut = 0.0 if L["spot_cutoff"] == 90.0 else math.cos(math.radians(L["spot_cutoff"]))
+            inside = cos_s >= cos_cut
             att = att * np.where(inside, np.maximum(cos_s, 0.0) ** L["spot_exponent"], 0.0)
         v_e = _unit(-p) if cfg["local_viewer"] else np.array([0.0, 0.0, 1.0])
         h = _unit(vp + v_e)
@@ -452,7 +451,7 @@ def _random_config(rng):
 
 
 def _random_configs():
-    """N_CLEAN configurations free of Mesa's two quirks, N_QUIRKY with one."""
+    """N_CLEAN configurations free of Mesa's quirk, N_QUIRKY with it."""
     rng = np.random.default_rng(SEED)
     clean, quirky = [], []
     while len(clean) < N_CLEAN or len(quirky) < N_QUIRKY:
@@ -506,6 +505,15 @@ def _edge_configs():
         "shininess 0, spot": cfg({"position": [0.0, 0.0, 2.0, 1.0], "spot_cutoff": 30.0, "spot_exponent": 2.0}),
         "spot cutoff 90, exponent 0": cfg(
             {"position": [0.0, 0.0, 0.0, 1.0], "spot_direction": [0.0, 1.0, 0.0], "spot_cutoff": 90.0},
+            {"shininess": 10.0},
+        ),
+        "spot cutoff 90, exponent 0, directional light": cfg(
+            # -VP·ŝ = -0.96 < 0: every vertex is behind the spot's plane.
+            {"position": [0.3, 0.2, 1.0, 0.0], "spot_direction": [0.0, 0.0, 1.0], "spot_cutoff": 90.0},
+            {"shininess": 10.0},
+        ),
+        "spot cutoff 89.9, exponent 0": cfg(
+            {"position": [0.0, 0.0, 0.0, 1.0], "spot_direction": [0.0, 1.0, 0.0], "spot_cutoff": 89.9},
             {"shininess": 10.0},
         ),
         "spot cutoff 90, exponent 1": cfg(
@@ -630,6 +638,9 @@ def test_every_difference_from_gl_is_a_known_quirk(configs, gl_answers):
     "name",
     [
         "shininess 0, directional (f_i alone)",
+        "spot cutoff 90, exponent 0",
+        "spot cutoff 90, exponent 0, directional light",
+        "spot cutoff 89.9, exponent 0",
         "spot cutoff 90, exponent 1",
         "spot on a directional light",
         "homogeneous position, w = 4",
@@ -642,6 +653,30 @@ def test_special_rules_match_gl(configs, gl_answers, name):
     cfg = configs["edge"][name]
     assert not _has_quirk(cfg)
     np.testing.assert_allclose(_shade(cfg), gl_answers["edge"][name], rtol=0, atol=TOL)
+
+
+@pytest.mark.parametrize("name", ["spot cutoff 90, exponent 0", "spot cutoff 90, exponent 0, directional light"])
+def test_spot_cutoff_90_lights_a_hemisphere_as_gl_does(configs, gl_answers, name):
+    """Issue 14, item 12: behind a 90° spot's plane GL leaves the vertices dark, and so does the engine.
+
+    The specification's letter (the clamped cosine) would light them with 0^0 = 1: that reading must
+    differ from GL there, or this comparison would prove nothing.
+    """
+    cfg = configs["edge"][name]
+    L = cfg["lights"][0]
+    p = np.asarray(cfg["positions"])
+    x, y, z, w = L["position"]
+    vp = _unit(np.array([x, y, z]) - (p if w else 0.0)) * np.ones_like(p)
+    behind = -(vp @ _unit(np.array(L["spot_direction"]))) < 0
+    assert np.count_nonzero(behind) >= 3
+    if w:
+        assert np.count_nonzero(~behind) >= 3  # both sides of the plane
+    gl = gl_answers["edge"][name]
+    np.testing.assert_allclose(_shade(cfg), gl, rtol=0, atol=TOL)
+    np.testing.assert_allclose(_shade(cfg, np.float32), gl, rtol=0, atol=TOL)
+    letter = _shade({**cfg, "lights": [{**L, "spot_cutoff": 180.0}]})  # clamped cosine: spot_i = 0^0 = 1
+    # There the letter adds at least the light's ambient term, a_cm a_cl = 0.2 · 0.1.
+    assert np.min(np.max(np.abs(letter[behind] - gl[behind]), axis=-1)) >= 0.02 - TOL
 
 
 if __name__ == "__main__" and len(sys.argv) == 3 and sys.argv[1] == "--gl-worker":
