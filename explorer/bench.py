@@ -18,7 +18,6 @@ machine conditions.
 
 from __future__ import annotations
 
-import argparse
 import json
 import statistics
 import sys
@@ -201,20 +200,32 @@ def format_plans(rows) -> str:
     return "\n".join(lines)
 
 
+#: Most timed runs per measurement: more only takes longer.
+MAX_REPEAT = 10000
+
+
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(
+    """``lighting-explorer bench``: 0 when done, 2 for a bad option (one line on standard error)."""
+    from ._allocator import tune_allocator
+    from .cli import PROG, OneLineParser, error_line
+
+    p = OneLineParser(
         prog="lighting-explorer bench",
         description="Time the engine's re-shading and rasterizing against VTK rendering the same scene, in one run.",
     )
     p.add_argument("--json", action="store_true", help="print one JSON line instead of the table")
-    p.add_argument("--repeat", type=int, default=15, help="timed runs per measurement (median reported)")
+    p.add_argument("--repeat", type=int, default=15,
+                   help=f"timed runs per measurement, 1 to {MAX_REPEAT} (median reported)")  # fmt: skip
     p.add_argument("--plan", action="store_true", help="planned vs nothing-skipped evaluation of every example scene")
-    args = p.parse_args(argv)
-    from ._allocator import tune_allocator
+    try:
+        args = p.parse_args(argv)
+        from lighting._numeric import check_count
 
+        check_count("--repeat", args.repeat, 1, MAX_REPEAT)
+    except ValueError as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
     tune_allocator()
-    if args.repeat < 1:
-        p.error(f"--repeat must be >= 1; got {args.repeat}")
     if args.plan:
         rows = time_plans(args.repeat)
         print(json.dumps(rows) if args.json else format_plans(rows))

@@ -33,12 +33,16 @@ from __future__ import annotations
 import argparse
 import difflib
 import json
+import math
 import os
 import sys
 import time
 import warnings
 
+from lighting._numeric import check_budget, check_count, memory_budget, set_memory_budget
+
 from .figures_base import REGISTRY, FigureSpec, Quality
+from .output import OutputError, Terminated, atomic_write, atomic_write_many, check_output_dir
 
 __all__ = ["REGISTRY", "FORMATS", "figure_names", "generate", "make_figure", "main"]
 
@@ -112,17 +116,8 @@ def _jsonable(x):
     return x
 
 
-def _png_size(path: str) -> tuple[int, int]:
-    with open(path, "rb") as f:
-        head = f.read(24)
-    return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
-
-
-def _atomic_write(path: str, data: bytes) -> None:
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "wb") as f:
-        f.write(data)
-    os.replace(tmp, path)
+def _png_size(data: bytes) -> tuple[int, int]:
+    return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
 
 
 def make_figure(name: str, *, quick: bool = False, dpi: int | None = None, options: dict | None = None):
@@ -152,17 +147,17 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
     from .figures_base import STYLE
 
     fig, spec, params, q, measured = make_figure(name, quick=quick, dpi=dpi, options=options)
-    files = {}
+    w_in, h_in = (float(x) for x in fig.get_size_inches())
+    _check_raster(name, w_in, h_in, q.dpi)
+    files, contents = {}, []
     with matplotlib.rc_context(STYLE):
         for fmt in formats:
             buf = io.BytesIO()
             fig.savefig(buf, format=fmt, dpi=q.dpi, metadata=_SAVE_METADATA[fmt])
-            path = os.path.join(out_dir, f"{name}.{fmt}")
-            _atomic_write(path, buf.getvalue())
-            files[fmt] = os.path.basename(path)
-    w_in, h_in = (float(x) for x in fig.get_size_inches())
+            files[fmt] = f"{name}.{fmt}"
+            contents.append((os.path.join(out_dir, files[fmt]), buf.getvalue()))
     if "png" in files:
-        size = list(_png_size(os.path.join(out_dir, files["png"])))
+        size = list(_png_size(contents[list(files).index("png")][1]))
     else:
         size = [int(round(w_in * q.dpi)), int(round(h_in * q.dpi))]
     fig.clf()
@@ -183,13 +178,153 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
         "deterministic": nondet is None,
         "nondeterministic_reason": nondet,
     }
-    _atomic_write(
-        os.path.join(out_dir, f"{name}.json"), (json.dumps(record, indent=2, ensure_ascii=False) + "\n").encode()
-    )
+    sidecar = (json.dumps(record, indent=2, ensure_ascii=False) + "\n").encode()
+    # The figure's files and its sidecar are renamed into place together, signals held: an interrupt
+    # leaves the old set or the new one, never a figure without its sidecar.
+    atomic_write_many([*contents, (os.path.join(out_dir, f"{name}.json"), sidecar)], flag="--out")
     return record
 
 
-def _worker_init(filters):
+# --------------------------------------------------------------------------- checks before the work
+#: The largest figure of the set, in inches (the accuracy panels and the plausibility table grow with their data).
+LARGEST_FIGURE_IN = (19.0, 12.0)
+#: Peak bytes per raster pixel while saving: Agg's RGBA buffer plus the PNG encoder's copy.
+BYTES_PER_PIXEL = 8
+#: Agg cannot draw an image wider or taller than this many pixels.
+AGG_MAX_PIXELS = 2**16 - 1
+#: Memory one worker process takes (the interpreter, NumPy, Matplotlib and one figure), for the budget.
+WORKER_BYTES = 256 * 1024**2
+#: More workers than this only cost memory.
+MAX_JOBS = 64
+
+
+def _check_raster(what: str, w_in: float, h_in: float, dpi: int) -> None:
+    """Refuse a raster over Agg's limit or the memory budget, before Matplotlib allocates it."""
+    w, h = math.ceil(w_in * dpi), math.ceil(h_in * dpi)
+    if max(w, h) > AGG_MAX_PIXELS:
+        raise FigureError(
+            f"--dpi {dpi} makes {what} {w}x{h} pixels; Matplotlib draws at most {AGG_MAX_PIXELS} pixels a side"
+        )
+    try:
+        check_budget(f"--dpi {dpi}", BYTES_PER_PIXEL * w * h, what=f"{what} at {w}x{h} pixels")
+    except ValueError as exc:
+        raise FigureError(str(exc)) from None
+
+
+def _check_dpi(dpi) -> int | None:
+    if dpi is None:
+        return None
+    try:
+        dpi = check_count("--dpi", dpi, 10)
+    except ValueError as exc:
+        raise FigureError(str(exc)) from None
+    _check_raster("the largest figure", *LARGEST_FIGURE_IN, dpi)
+    return dpi
+
+
+def _check_jobs(jobs) -> int:
+    jobs = check_count("--jobs", jobs, 1, MAX_JOBS)
+    if jobs > 1:
+        check_budget(f"--jobs {jobs}", WORKER_BYTES * jobs, what=f"{jobs} worker processes")
+    return jobs
+
+
+#: The columns of ``accuracy.csv`` (``lighting-explorer report accuracy``) the figure reads, and their types.
+ACCURACY_COLUMNS = {"study": str, "case": str, "method": str, "cost": int, "cost_unit": str, "error": float,
+                    "error_spread": float, "seconds": float, "reference": str}  # fmt: skip
+
+
+def check_accuracy_csv(path) -> str:
+    """Check that ``path`` is an ``accuracy.csv`` the ``accuracy`` figure can draw; returns its absolute path.
+
+    Raises :class:`FigureError` naming the file, the line and the column for a missing file, a file
+    that is not UTF-8 CSV, a missing column, a value of the wrong type or a negative or non-finite
+    number, or a file without data rows.
+    """
+    import csv
+
+    from lighting._numeric import abbreviate
+
+    shown = abbreviate(repr(os.fspath(path)))
+    if not os.path.isfile(path):
+        raise FigureError(f"--accuracy-csv: no such file: {os.fspath(path)}")
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            reader = csv.DictReader(f)
+            missing = [c for c in ACCURACY_COLUMNS if c not in (reader.fieldnames or [])]
+            if missing:
+                raise FigureError(
+                    f"--accuracy-csv: {shown} is not an accuracy.csv of 'lighting-explorer report accuracy': "
+                    f"missing column(s) {', '.join(missing)}"
+                )
+            rows = 0
+            for row in reader:
+                rows += 1
+                for col, kind in ACCURACY_COLUMNS.items():
+                    text = row.get(col)
+                    if text is None:
+                        raise FigureError(f"--accuracy-csv: {shown} line {reader.line_num}: no value for {col!r}")
+                    if kind is str:
+                        continue
+                    try:
+                        value = kind(text or 0) if col == "error_spread" else kind(text)
+                    except ValueError:
+                        raise FigureError(
+                            f"--accuracy-csv: {shown} line {reader.line_num}: {col} must be "
+                            f"{'an integer' if kind is int else 'a number'}; got {abbreviate(repr(text))}"
+                        ) from None
+                    if not (math.isfinite(value) and value >= 0):
+                        raise FigureError(
+                            f"--accuracy-csv: {shown} line {reader.line_num}: {col} must be finite and >= 0; "
+                            f"got {abbreviate(repr(text))}"
+                        )
+    except UnicodeDecodeError:
+        raise FigureError(f"--accuracy-csv: {shown} is not a UTF-8 text file") from None
+    except csv.Error as exc:
+        raise FigureError(f"--accuracy-csv: {shown} is not a CSV file ({exc})") from None
+    except OSError as exc:
+        raise FigureError(f"--accuracy-csv: cannot read {shown}: {exc.strerror or exc}") from None
+    if rows == 0:
+        raise FigureError(f"--accuracy-csv: {shown} has no data rows")
+    return os.path.abspath(path)
+
+
+# --------------------------------------------------------------------------- worker processes
+def _die_with_parent(parent: int) -> None:
+    """Ask Linux to send this process SIGTERM when its parent dies (prctl PR_SET_PDEATHSIG)."""
+    import signal
+
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, int(signal.SIGTERM), 0, 0, 0)  # 1 = PR_SET_PDEATHSIG
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:  # the parent died before the request was in place
+        os._exit(143)
+
+
+# [inside a figure, this is a worker process]
+_in_job = [False, False]
+
+
+def _worker_signal(signum, frame):
+    # Inside a figure, unwind (the writer removes its temporary files); between figures, just go.
+    if _in_job[0]:
+        raise Terminated(signum)
+    os._exit(128 + signum)
+
+
+def _worker_init(filters, parent, budget):
+    import signal
+
+    _die_with_parent(parent)
+    _in_job[1] = True
+    signal.signal(signal.SIGTERM, _worker_signal)
+    signal.signal(signal.SIGINT, _worker_signal)
+    set_memory_budget(budget)
     warnings.filters[:] = filters
     import matplotlib
 
@@ -198,8 +333,48 @@ def _worker_init(filters):
 
 def _run_job(args):
     t0 = time.perf_counter()
-    rec = _render_one(*args)
+    _in_job[0] = True
+    try:
+        rec = _render_one(*args)
+    except Terminated:
+        if _in_job[1]:
+            os._exit(143)  # a worker: this figure's files are cleaned up, and the parent is going away
+        raise
+    finally:
+        _in_job[0] = False
     return rec, time.perf_counter() - t0
+
+
+def _stop_workers(pool) -> None:
+    """Cancel what has not started and end the workers now (SIGTERM, then SIGKILL after 5 s)."""
+    procs = list(getattr(pool, "_processes", {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
+    deadline = time.monotonic() + 5.0
+    for p in procs:
+        p.join(max(0.0, deadline - time.monotonic()))
+        if p.is_alive():
+            p.kill()
+            p.join(1.0)
+
+
+def _merge_records(out_dir: str, new: list[dict]) -> list[dict]:
+    """``new`` merged into the manifest already in ``out_dir``: same-name entries replaced, lecture order."""
+    path = os.path.join(out_dir, MANIFEST)
+    old = []
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+        if isinstance(data, dict) and isinstance(data.get("figures"), list):
+            old = [r for r in data["figures"] if isinstance(r, dict) and isinstance(r.get("name"), str)]
+    except (OSError, ValueError):
+        old = []  # no manifest yet, or not one of ours: start a new one
+    records = {r["name"]: r for r in old}
+    records.update({r["name"]: r for r in new})
+    order = {n: i for i, n in enumerate(figure_names())}
+    return sorted(records.values(), key=lambda r: (order.get(r["name"], len(order)), r["name"]))
 
 
 def generate(
@@ -219,15 +394,30 @@ def generate(
     ``progress`` is a callable ``(total, label)`` returning an object with ``update()`` and
     ``close()`` (e.g. :class:`explorer.progress.Progress`); ``log(name, seconds)`` is called as
     each figure is done.  ``jobs > 1`` draws figures in that many worker processes (the
-    files are the same either way).  Raises :class:`FigureError` for unknown names or
-    formats or a dpi below 10.
+    files are the same either way).  With ``only``, the figures drawn replace their entries in an
+    existing ``figures.json`` and the others are kept; without it the manifest lists the whole set.
+
+    Everything is checked before anything is drawn: unknown names or formats, a dpi below 10 or
+    one whose largest figure is over Matplotlib's limit or the memory budget, ``jobs`` outside
+    ``[1, 64]`` or over the budget, an ``out_dir`` that is a file or not writable, a malformed
+    ``options["csv"]``: :class:`FigureError` (a ValueError) naming the option.
+
+    Files are written atomically, each figure together with its sidecar; an interrupt (Ctrl-C,
+    ``SIGTERM`` through :func:`explorer.output.signals_as_exceptions`) stops the worker processes and
+    leaves no temporary file.  Workers also end when this process dies (Linux).
     """
     names = _check_names(only)
     formats = _check_formats(formats)
-    if dpi is not None and (isinstance(dpi, bool) or not isinstance(dpi, int) or dpi < 10):
-        raise FigureError(f"dpi must be an integer >= 10; got {dpi!r}")
-    os.makedirs(out_dir, exist_ok=True)
+    dpi = _check_dpi(dpi)
+    try:
+        jobs = _check_jobs(jobs)
+        out_dir = check_output_dir(os.fspath(out_dir), flag="--out")
+    except (OutputError, ValueError) as exc:
+        raise FigureError(str(exc)) from None
     options = dict(options or {})
+    if options.get("csv"):
+        options["csv"] = check_accuracy_csv(options["csv"])
+    os.makedirs(out_dir, exist_ok=True)
     bar = progress(len(names), "figures") if progress else None
     records = {}
     tasks = [(n, str(out_dir), formats, quick, dpi, options) for n in names]
@@ -251,13 +441,18 @@ def generate(
                 done(*_run_job(t))
 
             ctx = multiprocessing.get_context("spawn")  # no fork of a process that may hold engine threads
-            with ProcessPoolExecutor(
+            pool = ProcessPoolExecutor(
                 max_workers=min(jobs, len(names)), mp_context=ctx, initializer=_worker_init,
-                initargs=(list(warnings.filters),),
-            ) as pool:  # fmt: skip
+                initargs=(list(warnings.filters), os.getpid(), memory_budget()),
+            )  # fmt: skip
+            try:
                 futures = {pool.submit(_run_job, t): t[0] for t in _heaviest_first(tasks)}
                 for fut in as_completed(futures):
                     done(*fut.result())
+            except BaseException:
+                _stop_workers(pool)  # an error, Ctrl-C or SIGTERM: no worker goes on writing
+                raise
+            pool.shutdown(wait=True)
         else:
             for t in tasks:
                 done(*_run_job(t))
@@ -265,13 +460,15 @@ def generate(
         if bar:
             bar.close()
     ordered = [records[n] for n in names]
+    listed = _merge_records(out_dir, ordered) if only else ordered
     manifest = {
         "generator": PROG,
-        "quick": quick,
-        "formats": list(formats),
-        "figures": ordered,
+        "quick": all(r.get("quality", {}).get("quick", False) for r in listed),
+        "formats": [f for f in FORMATS if any(f in r.get("files", {}) for r in listed)],
+        "figures": listed,
     }
-    _atomic_write(os.path.join(out_dir, MANIFEST), (json.dumps(manifest, indent=2, ensure_ascii=False) + "\n").encode())
+    atomic_write(os.path.join(out_dir, MANIFEST), (json.dumps(manifest, indent=2, ensure_ascii=False) + "\n").encode(),
+                 flag="--out")  # fmt: skip
     return ordered
 
 
@@ -297,10 +494,12 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog=PROG, description="Write the lecture-note figures (PNG/SVG/PDF, each with a JSON sidecar).")
     p.add_argument("--out", "-o", default=os.path.join("out", "figures"), help="output folder (default: out/figures)")
     p.add_argument("--format", default="png", help="comma-separated formats among png, svg, pdf (default: png)")
-    p.add_argument("--only", nargs="+", metavar="NAME", help="draw only these figures (see --list)")
+    p.add_argument("--only", nargs="+", metavar="NAME",
+                   help="draw only these figures (see --list); figures.json keeps the other entries")  # fmt: skip
     p.add_argument("--dpi", type=int, help="raster resolution (default 150; 50 with --quick)")
     p.add_argument("--quick", action="store_true", help="low resolution and sample counts: the whole set in seconds")
-    p.add_argument("--jobs", "-j", type=int, default=None, help="worker processes (default: up to 4, one per core)")
+    p.add_argument("--jobs", "-j", type=int, default=None,
+                   help=f"worker processes, 1 to {MAX_JOBS} (default: up to 4, one per core)")  # fmt: skip
     p.add_argument("--accuracy-csv", metavar="FILE",
                    help="draw the 'accuracy' figure from this accuracy.csv (lighting-explorer report accuracy) "
                         "instead of measuring now")  # fmt: skip
@@ -309,7 +508,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of ``lighting-explorer figures``; returns the exit status (2 for a bad request)."""
+    """Entry point of ``lighting-explorer figures``; returns the exit status (2 for a bad request).
+
+    Every option is checked before anything is drawn (see :func:`generate`).
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
         args = build_parser().parse_args(argv)
@@ -321,14 +523,10 @@ def main(argv=None) -> int:
         names = _check_names(args.only)
         # Worker processes pay for their start-up: only worth it for more than a handful of figures.
         jobs = args.jobs if args.jobs is not None else max(1, min(4, os.cpu_count() or 1, len(names) // 4))
-        if jobs < 1:
-            raise FigureError(f"--jobs must be >= 1; got {jobs}")
         options = {}
-        if args.accuracy_csv:
-            if not os.path.isfile(args.accuracy_csv):
-                raise FigureError(f"--accuracy-csv: no such file: {args.accuracy_csv}")
-            options["csv"] = os.path.abspath(args.accuracy_csv)
-    except (_UsageError, FigureError) as exc:
+        if args.accuracy_csv is not None:
+            options["csv"] = check_accuracy_csv(args.accuracy_csv)
+    except (_UsageError, ValueError) as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
     from .progress import Progress
@@ -339,11 +537,11 @@ def main(argv=None) -> int:
             args.out, formats=formats, only=args.only, quick=args.quick, dpi=args.dpi, jobs=jobs,
             options=options, progress=Progress,
         )  # fmt: skip
-    except FigureError as exc:
-        print(f"{PROG}: error: {exc}", file=sys.stderr)
+    except ValueError as exc:
+        print(f"{PROG}: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     except OSError as exc:
-        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        print(f"{PROG}: error: {exc.strerror or exc}: {exc.filename or args.out}", file=sys.stderr)
         return 1
     n_files = sum(len(r["files"]) for r in records)
     print(

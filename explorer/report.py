@@ -17,9 +17,10 @@ def main(argv=None) -> int:
         lines = ["usage: lighting-explorer report {accuracy,stability} [--quick] [--out DIR] ...", ""]
         lines += [f"  {name:10s} {text}" for name, (_, text) in REPORTS.items()]
         if argv and argv[0] not in ("-h", "--help"):
-            print(f"lighting-explorer report: error: unknown report {argv[0]!r}; choose accuracy or stability",
+            from lighting._numeric import _fmt
+
+            print(f"lighting-explorer: error: unknown report {_fmt(argv[0])}; choose accuracy or stability",
                   file=sys.stderr)  # fmt: skip
-            print("\n".join(lines), file=sys.stderr)
             return 2
         print("\n".join(lines))
         return 0

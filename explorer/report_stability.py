@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import math
 import sys
 import time
@@ -31,6 +32,7 @@ import numpy as np
 
 from lighting import stability as st
 
+from .output import atomic_write
 from .progress import Progress
 
 __all__ = ["main", "build_parser", "format_table", "write_csv", "make_figure", "CSV_COLUMNS"]
@@ -170,27 +172,29 @@ def format_table(result: st.StabilityResult) -> str:
 
 
 def write_csv(result: st.StabilityResult, path: Path) -> None:
-    """Every summary row (see :data:`CSV_COLUMNS`)."""
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(CSV_COLUMNS)
-        for r in result.rows:
-            vals = [getattr(r, name) for name in CSV_COLUMNS[:-3]]
-            u = st.unit_roundoff(np.dtype(r.dtype))
-            w.writerow([repr(v) if isinstance(v, float) else v for v in vals] + [r.passed, repr(u), st.BOUND_FACTOR])
+    """Every summary row (see :data:`CSV_COLUMNS`), written atomically."""
+    fh = io.StringIO(newline="")
+    w = csv.writer(fh)
+    w.writerow(CSV_COLUMNS)
+    for r in result.rows:
+        vals = [getattr(r, name) for name in CSV_COLUMNS[:-3]]
+        u = st.unit_roundoff(np.dtype(r.dtype))
+        w.writerow([repr(v) if isinstance(v, float) else v for v in vals] + [r.passed, repr(u), st.BOUND_FACTOR])
+    atomic_write(path, fh.getvalue().encode("utf-8"), flag="--out")
 
 
 def write_rearrangements(result: st.StabilityResult, path: Path) -> None:
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(["rearrangement", "where", "before", "after", "dtype", "ratio_before", "failing_before",
-                    "ratio_after", "failing_after"])  # fmt: skip
-        for rr in result.rearrangements:
-            for dt in result.dtypes:
-                if dt in rr.before:
-                    b, a = rr.before[dt], rr.after[dt]
-                    w.writerow([rr.name, rr.where, rr.formula_before, rr.formula_after, dt, repr(b[0]), b[1],
-                                repr(a[0]), a[1]])  # fmt: skip
+    fh = io.StringIO(newline="")
+    w = csv.writer(fh)
+    w.writerow(["rearrangement", "where", "before", "after", "dtype", "ratio_before", "failing_before",
+                "ratio_after", "failing_after"])  # fmt: skip
+    for rr in result.rearrangements:
+        for dt in result.dtypes:
+            if dt in rr.before:
+                b, a = rr.before[dt], rr.after[dt]
+                w.writerow([rr.name, rr.where, rr.formula_before, rr.formula_after, dt, repr(b[0]), b[1],
+                            repr(a[0]), a[1]])  # fmt: skip
+    atomic_write(path, fh.getvalue().encode("utf-8"), flag="--out")
 
 
 def make_figure(result: st.StabilityResult, path: Path) -> None:
@@ -260,12 +264,22 @@ def make_figure(result: st.StabilityResult, path: Path) -> None:
         fontsize=12,
     )
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
     plt.close(fig)
+    atomic_write(path, buf.getvalue(), flag="--out")
+
+
+#: Memory one mpmath reference worker takes (interpreter, NumPy, mpmath, its share of the cases).
+WORKER_BYTES = 128 * 1024**2
+#: More workers than this only cost memory.
+MAX_WORKERS = 64
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    from .cli import OneLineParser
+
+    p = OneLineParser(
         prog="lighting-explorer report stability",
         description="Check numerical stability of every model and light on stiff and extreme cases, "
         "in float32 and float64, against an 80-digit mpmath reference.",
@@ -274,12 +288,35 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="out/stability", help="output directory (default: out/stability)")
     p.add_argument("--no-figure", action="store_true", help="skip the Matplotlib figure")
     p.add_argument("--dtype", choices=("float32", "float64", "both"), default="both", help="which float types")
-    p.add_argument("--workers", type=int, default=None, help="processes for the mpmath reference (default: 2)")
+    p.add_argument("--workers", type=int, default=None,
+                   help=f"processes for the mpmath reference, 1 to {MAX_WORKERS} (default: 2)")  # fmt: skip
     return p
 
 
+def check_args(args) -> None:
+    """Refuse bad options before the long computation: ``--workers`` out of range or over the memory
+    budget, ``--out`` that is a file or not writable."""
+    from lighting._numeric import check_budget, check_count
+
+    from .output import check_output_dir
+
+    if args.workers is not None:
+        args.workers = check_count("--workers", args.workers, 1, MAX_WORKERS)
+        check_budget(f"--workers {args.workers}", WORKER_BYTES * args.workers,
+                     what=f"{args.workers} reference processes")  # fmt: skip
+    check_output_dir(args.out, flag="--out")
+
+
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
+    """``lighting-explorer report stability``: 0 when every check holds, 1 when one fails, 2 for a bad request."""
+    from .cli import PROG, error_line
+
+    try:
+        args = build_parser().parse_args(argv)
+        check_args(args)
+    except ValueError as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
     dtypes = (np.float32, np.float64) if args.dtype == "both" else (np.dtype(args.dtype).type,)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -301,7 +338,7 @@ def main(argv=None) -> int:
     print(table)
     write_csv(result, out / "stability.csv")
     write_rearrangements(result, out / "rearrangements.csv")
-    (out / "stability.txt").write_text(table + "\n", encoding="utf-8")
+    atomic_write(out / "stability.txt", (table + "\n").encode("utf-8"), flag="--out")
     written = [out / "stability.csv", out / "rearrangements.csv", out / "stability.txt"]
     if not args.no_figure:
         make_figure(result, out / "stability.png")

@@ -16,6 +16,7 @@ file behind.
 from __future__ import annotations
 
 import os
+import stat
 import struct
 import tempfile
 import zlib
@@ -23,9 +24,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numeric import check_choice, check_finite
+from ._numeric import check_choice, check_range
 
-__all__ = ["EncodeReport", "linear_to_srgb", "srgb_to_linear", "encode_srgb8", "write_png", "read_png"]
+#: Largest exposure, in stops, either way (2**100 is about 1e30): beyond it nothing is left to see.
+MAX_EXPOSURE = 100.0
+
+__all__ = ["EncodeReport", "linear_to_srgb", "srgb_to_linear", "encode_srgb8", "write_png", "read_png", "file_mode"]
 
 
 def linear_to_srgb(x):
@@ -67,7 +71,7 @@ def encode_srgb8(image, *, exposure: float = 0.0, tonemap: str = "clamp"):
     image : array_like, (H, W, 3)
         Linear RGB, any float dtype.  NaN is an error (the engine never makes it).
     exposure : float
-        Stops: values are multiplied by ``2**exposure`` first.
+        Stops, in ``[-100, 100]``: values are multiplied by ``2**exposure`` first.
     tonemap : {"clamp", "reinhard"}
         ``clamp`` clips at 1 (clipped pixels are counted in the report);
         ``reinhard`` maps ``x → x / (1 + x)``.
@@ -79,13 +83,14 @@ def encode_srgb8(image, *, exposure: float = 0.0, tonemap: str = "clamp"):
     ([[[0, 188, 255]]], 1)
     """
     tonemap = check_choice("tonemap", tonemap, ("clamp", "reinhard"))
-    exposure = float(check_finite("exposure", exposure))
+    exposure = check_range("exposure", exposure, -MAX_EXPOSURE, MAX_EXPOSURE)
     x = np.asarray(image, dtype=np.float64)
     if x.ndim != 3 or x.shape[-1] != 3:
         raise ValueError(f"image must have shape (H, W, 3); got {x.shape}")
     if np.isnan(x).any():
         raise ValueError("image contains NaN")
-    x = np.maximum(x, 0) * 2.0**exposure
+    with np.errstate(over="ignore"):  # a value near the float64 limit, brightened: saturate, never inf
+        x = np.minimum(np.maximum(x, 0) * 2.0**exposure, np.finfo(np.float64).max)
     peak = float(x.max()) if x.size else 0.0
     clipped = int(np.count_nonzero(np.any(x > 1, axis=-1)))
     if tonemap == "reinhard":
@@ -107,21 +112,54 @@ def _png_bytes(rgb8: np.ndarray) -> bytes:
     return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
 
 
+def _umask() -> int:
+    try:  # Linux >= 4.7 reports it without changing it (os.umask would, for every thread, for a moment)
+        with open("/proc/self/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    old = os.umask(0o022)
+    os.umask(old)
+    return old
+
+
+def file_mode(target) -> int:
+    """Permission bits for a file written to ``target``: the replaced file's, else ``0o666`` minus the umask.
+
+    What ``open(target, "w")`` would give; ``tempfile.mkstemp`` alone gives ``0o600``.
+    """
+    try:
+        st = os.stat(target)
+    except OSError:
+        return 0o666 & ~_umask()
+    return stat.S_IMODE(st.st_mode)
+
+
 def write_png(path, rgb8) -> None:
-    """Write an ``(H, W, 3)`` or ``(H, W, 4)`` ``uint8`` array as PNG, atomically."""
+    """Write an ``(H, W, 3)`` or ``(H, W, 4)`` ``uint8`` array as PNG, atomically.
+
+    The file keeps the user's umask (or the mode of the file it replaces).  The command line writes
+    through ``explorer.output.write_image``, which adds other formats and interrupt safety.
+    """
     a = np.asarray(rgb8)
     if a.dtype != np.uint8 or a.ndim != 3 or a.shape[-1] not in (3, 4):
         raise ValueError(f"write_png needs a uint8 array of shape (H, W, 3|4); got {a.dtype} {a.shape}")
     data = _png_bytes(np.ascontiguousarray(a))
     path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".png", dir=folder)
+    target = os.path.realpath(path) if os.path.islink(path) else os.path.abspath(path)
+    mode = file_mode(target)
+    tmp = None
     try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", suffix=".part",
+                                   dir=os.path.dirname(target))  # fmt: skip
         with os.fdopen(fd, "wb") as f:
+            os.fchmod(f.fileno(), mode)
             f.write(data)
-        os.replace(tmp, path)
+        os.replace(tmp, target)
     except BaseException:
-        if os.path.exists(tmp):
+        if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
         raise
 

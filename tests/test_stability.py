@@ -305,9 +305,42 @@ def test_cli_writes_table_csv_and_figure_with_the_computed_values(result, tmp_pa
 
 
 def test_cli_rejects_an_unknown_dtype(capsys):
-    with pytest.raises(SystemExit):
-        report_stability.main(["--dtype", "float16"])
-    assert "float16" in capsys.readouterr().err
+    assert report_stability.main(["--dtype", "float16"]) == 2
+    err = capsys.readouterr().err
+    assert "float16" in err and err.startswith("lighting-explorer: error: argument --dtype")
+    assert len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--workers", "0"], "--workers must be an integer in [1, 64]; got 0"),
+        (["--workers", "-1"], "--workers must be an integer in [1, 64]; got -1"),
+        (["--workers", "65"], "--workers must be an integer in [1, 64]; got 65"),
+        (["--workers", "40", "--memory-budget", "1G"], "--workers 40 needs about 5.0 GiB (40 reference processes)"),
+        (["--workers", "two"], "argument --workers: invalid int value: 'two'"),
+    ],
+)
+def test_cli_refuses_bad_worker_counts_before_any_work(tmp_path, monkeypatch, capsys, argv, message):
+    from explorer import cli
+
+    monkeypatch.setattr(st, "run", lambda **kw: pytest.fail("ran with a bad option"))
+    out = tmp_path / "stab"
+    assert cli.main(["report", "stability", "--quick", "--out", str(out), *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("lighting-explorer: error: ") and message in err, err
+    assert len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_cli_refuses_an_out_that_is_a_file(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(st, "run", lambda **kw: pytest.fail("ran with a bad option"))
+    f = tmp_path / "taken"
+    f.write_text("keep me", encoding="utf-8")
+    assert report_stability.main(["--quick", "--out", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert "--out: " in err and "exists and is not a folder" in err and len(err.strip().splitlines()) == 1
+    assert f.read_text(encoding="utf-8") == "keep me"
 
 
 # ----------------------------------------------------------------------------- the progress bar

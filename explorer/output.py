@@ -1,0 +1,421 @@
+"""Every file the command line writes goes through here: checked first, written atomically, format by extension.
+
+One writer for ``render``, ``sphere``, ``explore --screenshot``, the figures and the reports:
+
+* **Checked before the work.**  :func:`check_output_path` refuses, in one line naming the flag and the
+  user's path, an empty path, an unknown extension (with the list of formats), a directory, a missing or
+  read-only folder — before anything is rendered.
+* **Atomic.**  The bytes go to a temporary file in the target folder, which is renamed over the target
+  only when complete: a reader sees the old file or the whole new one, never half of one.  The temporary
+  file is removed on any exception, on Ctrl-C (``KeyboardInterrupt``) and on ``SIGTERM`` (see
+  :func:`signals_as_exceptions`); error messages name the user's path, never the temporary one.
+* **Permissions.**  A new file gets ``0o666`` minus the user's umask, as ``open()`` would give it; a
+  replaced file keeps its mode.  (``tempfile.mkstemp`` alone would leave ``0o600``.)
+* **Format from the extension** (:data:`IMAGE_FORMATS`): ``.png`` (always), ``.jpg``/``.jpeg``,
+  ``.tif``/``.tiff`` and ``.webp`` through Pillow when it is installed, and the *linear* float image as
+  ``.npy`` (NumPy), ``.pfm`` (portable float map) and ``.exr`` (when the ``OpenEXR`` module is installed).
+  Linear formats store the engine's radiance as computed, without exposure or tone map.
+
+Examples
+--------
+>>> import tempfile, numpy as np
+>>> d = tempfile.mkdtemp()
+>>> write_image(os.path.join(d, "a.npy"), rgb8=None, linear=np.ones((2, 3, 3)))
+'npy'
+>>> np.load(os.path.join(d, "a.npy")).shape, sorted(os.listdir(d))
+((2, 3, 3), ['a.npy'])
+>>> check_output_path(os.path.join(d, "a.svg"))
+Traceback (most recent call last):
+...
+explorer.output.OutputError: -o: cannot write '....svg': unknown image format '.svg'; formats: ...
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import signal
+import tempfile
+import threading
+
+import numpy as np
+
+from lighting.image import file_mode
+
+__all__ = [
+    "OutputError",
+    "Terminated",
+    "IMAGE_FORMATS",
+    "available_formats",
+    "check_output_path",
+    "check_output_dir",
+    "atomic_write",
+    "atomic_write_many",
+    "write_image",
+    "encode_image",
+    "file_mode",
+    "signals_as_exceptions",
+    "deferred_signals",
+]
+
+
+class OutputError(ValueError):
+    """An output that cannot be written (a ValueError: the command exits with status 2)."""
+
+
+class Terminated(BaseException):
+    """Raised in the main thread when ``SIGTERM`` arrives (see :func:`signals_as_exceptions`).
+
+    A ``BaseException``, like ``KeyboardInterrupt``, so that ``except Exception`` does not swallow it
+    and every ``finally`` on the way out runs (the writer's clean-up of its temporary file among them).
+    """
+
+    def __init__(self, signum: int = signal.SIGTERM):
+        super().__init__(f"terminated by signal {signum}")
+        self.signum = signum
+
+
+# extension -> (format name, kind): kind "rgb8" takes the encoded 8-bit picture, "linear" the float image.
+_EXTENSIONS = {
+    ".png": ("png", "rgb8"),
+    ".jpg": ("jpeg", "rgb8"),
+    ".jpeg": ("jpeg", "rgb8"),
+    ".tif": ("tiff", "rgb8"),
+    ".tiff": ("tiff", "rgb8"),
+    ".webp": ("webp", "rgb8"),
+    ".npy": ("npy", "linear"),
+    ".pfm": ("pfm", "linear"),
+    ".exr": ("exr", "linear"),
+}
+#: Every image format the writer knows, by extension (some need an optional package: see available_formats).
+IMAGE_FORMATS = tuple(_EXTENSIONS)
+
+
+def _has_module(name: str) -> bool:
+    import importlib.util
+
+    try:
+        return importlib.util.find_spec(name) is not None
+    except (ImportError, ValueError):
+        return False
+
+
+def available_formats(kinds=("rgb8", "linear")) -> tuple[str, ...]:
+    """The extensions that can be written here (Pillow's and OpenEXR's only when installed)."""
+    pil = _has_module("PIL")
+    exr = _has_module("OpenEXR")
+    out = []
+    for ext, (fmt, kind) in _EXTENSIONS.items():
+        if kind not in kinds:
+            continue
+        if fmt in ("jpeg", "tiff", "webp") and not pil:
+            continue
+        if fmt == "exr" and not exr:
+            continue
+        out.append(ext)
+    return tuple(out)
+
+
+def _show(path) -> str:
+    from lighting._numeric import abbreviate
+
+    return abbreviate(repr(os.fspath(path)))
+
+
+def _writable_folder(flag: str, path: str, folder: str) -> None:
+    what = f"{flag}: cannot write {_show(path)}"
+    if not os.path.exists(folder):
+        raise OutputError(f"{what}: folder {_show(folder)} does not exist")
+    if not os.path.isdir(folder):
+        raise OutputError(f"{what}: {_show(folder)} is not a folder")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise OutputError(f"{what}: folder {_show(folder)} is not writable")
+
+
+def check_output_path(path, *, flag: str = "-o", kinds=("rgb8", "linear")) -> str:
+    """Check that an image can be written to ``path``; return its format name (``"png"``, ``"npy"``, …).
+
+    Call it before the work.  Raises :class:`OutputError` (one line naming ``flag`` and the path) for an
+    empty path, an extension that is not one of the formats available here (the message lists them), a
+    directory, a missing folder, a folder the user cannot write, or an existing target that is not a
+    regular file.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise OutputError(f"{flag} must be a file path; got {type(path).__name__}")
+    path = os.fspath(path)
+    if not path.strip():
+        raise OutputError(f"{flag}: the output path is empty; give a file name such as out.png")
+    if "\0" in path:
+        raise OutputError(f"{flag}: cannot write {_show(path)}: the path contains a NUL character")
+    allowed = available_formats(kinds)
+    ext = os.path.splitext(path)[1].lower()
+    if os.path.isdir(path):
+        raise OutputError(f"{flag}: {_show(path)} is a folder; give a file name ending in {', '.join(allowed)}")
+    if ext not in allowed:
+        if ext in _EXTENSIONS and _EXTENSIONS[ext][1] not in kinds:
+            why = f"{ext} holds a linear float image, which {flag} does not make"
+        elif ext in _EXTENSIONS:
+            why = f"writing {ext} needs {'OpenEXR' if ext == '.exr' else 'Pillow'}, which is not installed"
+        else:
+            why = f"unknown image format {ext!r}" if ext else "no extension"
+        raise OutputError(f"{flag}: cannot write {_show(path)}: {why}; formats: {', '.join(allowed)}")
+    target = os.path.realpath(path)
+    if os.path.exists(target) and not os.path.isfile(target):
+        raise OutputError(f"{flag}: cannot write {_show(path)}: it exists and is not a regular file")
+    _writable_folder(flag, path, os.path.dirname(target))
+    return _EXTENSIONS[ext][0]
+
+
+def check_output_dir(path, *, flag: str = "--out") -> str:
+    """Check that ``path`` is, or can be made, a writable folder (a missing one is created later).
+
+    Raises :class:`OutputError` when it names an existing file, is empty, or its nearest existing
+    ancestor is not a writable folder.  Returns the path.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise OutputError(f"{flag} must be a folder path; got {type(path).__name__}")
+    path = os.fspath(path)
+    if not path.strip():
+        raise OutputError(f"{flag}: the output folder is empty; give a folder name")
+    if "\0" in path:
+        raise OutputError(f"{flag}: cannot use {_show(path)}: the path contains a NUL character")
+    if os.path.exists(path):
+        if not os.path.isdir(path):
+            raise OutputError(f"{flag}: {_show(path)} exists and is not a folder; give a folder for the output")
+        if not os.access(path, os.W_OK | os.X_OK):
+            raise OutputError(f"{flag}: folder {_show(path)} is not writable")
+        return path
+    parent = os.path.dirname(os.path.abspath(path))
+    while not os.path.exists(parent):
+        up = os.path.dirname(parent)
+        if up == parent:
+            break
+        parent = up
+    if not os.path.isdir(parent):
+        raise OutputError(f"{flag}: cannot create {_show(path)}: {_show(parent)} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise OutputError(f"{flag}: cannot create {_show(path)}: folder {_show(parent)} is not writable")
+    return path
+
+
+# --------------------------------------------------------------------------- signals
+_SIGNALS = tuple(s for s in (getattr(signal, "SIGINT", None), getattr(signal, "SIGTERM", None)) if s is not None)
+
+
+@contextlib.contextmanager
+def deferred_signals():
+    """Hold ``SIGINT`` and ``SIGTERM`` until the block is done (a few renames that must happen together).
+
+    Where the platform cannot block signals, or off the main thread, this does nothing.
+    """
+    mask = getattr(signal, "pthread_sigmask", None)
+    if mask is None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = mask(signal.SIG_BLOCK, _SIGNALS)
+    try:
+        yield
+    finally:
+        mask(signal.SIG_SETMASK, old)
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated(signum)
+
+
+@contextlib.contextmanager
+def signals_as_exceptions():
+    """Within the block, ``SIGTERM`` raises :class:`Terminated` (``SIGINT`` raises ``KeyboardInterrupt``).
+
+    Python's default for ``SIGTERM`` ends the process at once, skipping every ``finally``: a temporary
+    file being written would stay behind.  Off the main thread this does nothing (only the main thread
+    may set handlers).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old_term = signal.signal(signal.SIGTERM, _raise_terminated)
+    old_int = signal.getsignal(signal.SIGINT)
+    if old_int in (signal.SIG_DFL, None):
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old_term)
+        if old_int in (signal.SIG_DFL, None):
+            signal.signal(signal.SIGINT, old_int if old_int is not None else signal.SIG_DFL)
+
+
+# --------------------------------------------------------------------------- atomic writing
+def _target(path: str) -> str:
+    # Writing through a symbolic link updates the file it points to and keeps the link.
+    return os.path.realpath(path) if os.path.islink(path) else os.path.abspath(path)
+
+
+def _temp_for(target: str, flag: str, path: str):
+    folder = os.path.dirname(target)
+    base = os.path.basename(target)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{base}.", suffix=".part", dir=folder)
+    except OSError as exc:
+        raise OutputError(f"{flag}: cannot write {_show(path)}: {exc.strerror or exc}") from None
+    return fd, tmp
+
+
+def _remove(tmp: str) -> None:
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
+
+
+def _prepare(path, data, flag):
+    """Write ``data`` (bytes, or a callable taking a file path) to a temporary file beside ``path``."""
+    path = os.fspath(path)
+    target = _target(path)
+    mode = file_mode(target)
+    fd, tmp = -1, None
+    try:
+        # Created with the signals held, so that an interrupt cannot land between the creation and the
+        # assignment: a signal held meanwhile is delivered inside this try, whose handler removes the file.
+        with deferred_signals():
+            fd, tmp = _temp_for(target, flag, path)
+        os.fchmod(fd, mode)
+        if callable(data):
+            os.close(fd)
+            fd = -1
+            data(tmp)
+        else:
+            with os.fdopen(fd, "wb") as f:
+                fd = -1
+                f.write(data)
+    except BaseException as exc:
+        if fd >= 0:
+            os.close(fd)
+        if tmp is not None:
+            _remove(tmp)
+        if isinstance(exc, OSError):
+            raise OutputError(f"{flag}: cannot write {_show(path)}: {exc.strerror or exc}") from None
+        raise
+    return tmp, target
+
+
+def atomic_write(path, data, *, flag: str = "-o") -> None:
+    """Write ``data`` to ``path`` atomically (temporary file in the same folder, renamed into place).
+
+    ``data`` is bytes, or a callable that writes the file at the path it is given (for libraries that
+    write files themselves).  The file gets the replaced file's mode, else ``0o666`` minus the umask.  On
+    any exception, ``KeyboardInterrupt`` or :class:`Terminated` the temporary file is removed and the
+    target is left as it was.  ``OSError`` becomes :class:`OutputError` naming ``flag`` and ``path``.
+    """
+    atomic_write_many([(path, data)], flag=flag)
+
+
+def atomic_write_many(items, *, flag: str = "-o") -> None:
+    """Write several files as a unit: all are written to temporary files first, then renamed together.
+
+    The renames happen with ``SIGINT``/``SIGTERM`` held, so an interrupt leaves all of the new files or
+    none of them (a figure never without its sidecar).  ``items`` is a list of ``(path, data)``.
+    """
+    done = []
+    try:
+        for path, data in items:
+            done.append((*_prepare(path, data, flag), os.fspath(path)))
+        with deferred_signals():
+            for i, (tmp, target, path) in enumerate(done):
+                try:
+                    os.replace(tmp, target)
+                except OSError as exc:
+                    for t, _, _ in done[i:]:
+                        _remove(t)
+                    done.clear()
+                    raise OutputError(f"{flag}: cannot write {_show(path)}: {exc.strerror or exc}") from None
+            done.clear()
+    finally:
+        for tmp, _, _ in done:
+            _remove(tmp)
+
+
+# --------------------------------------------------------------------------- image formats
+def _pfm_bytes(linear: np.ndarray) -> bytes:
+    # Portable float map: "PF", width height, scale (negative: little-endian), rows bottom to top.
+    h, w, _ = linear.shape
+    body = np.ascontiguousarray(linear[::-1], dtype="<f4").tobytes()
+    return f"PF\n{w} {h}\n-1.0\n".encode("ascii") + body
+
+
+def _exr_writer(linear: np.ndarray):
+    def write(tmp: str) -> None:
+        import Imath
+        import OpenEXR
+
+        h, w, _ = linear.shape
+        header = OpenEXR.Header(w, h)
+        ch = Imath.Channel(Imath.PixelType(Imath.PixelType.FLOAT))
+        header["channels"] = {"R": ch, "G": ch, "B": ch}
+        out = OpenEXR.OutputFile(tmp, header)
+        try:
+            a = np.ascontiguousarray(linear, dtype=np.float32)
+            out.writePixels({c: a[..., i].tobytes() for i, c in enumerate("RGB")})
+        finally:
+            out.close()
+
+    return write
+
+
+def encode_image(fmt: str, *, rgb8=None, linear=None):
+    """The file contents for ``fmt``: bytes, or a callable writing the file (OpenEXR writes its own)."""
+    if _kind(fmt) == "linear":
+        if linear is None:
+            raise OutputError(f"the {fmt} format stores the linear float image, which this command does not have")
+        a = np.asarray(linear)
+        if a.ndim != 3 or a.shape[-1] != 3 or a.dtype.kind != "f":
+            raise OutputError(f"a linear image must be a float array of shape (H, W, 3); got {a.dtype} {a.shape}")
+        if fmt == "npy":
+            buf = io.BytesIO()
+            np.save(buf, a, allow_pickle=False)
+            return buf.getvalue()
+        if fmt == "pfm":
+            return _pfm_bytes(a)
+        return _exr_writer(a)
+    from lighting.image import _png_bytes
+
+    a = np.asarray(rgb8)
+    if a.dtype != np.uint8 or a.ndim != 3 or a.shape[-1] not in (3, 4):
+        raise OutputError(f"an 8-bit image must be uint8 of shape (H, W, 3|4); got {a.dtype} {a.shape}")
+    if fmt == "png":
+        return _png_bytes(np.ascontiguousarray(a))
+    from PIL import Image
+
+    im = Image.fromarray(np.ascontiguousarray(a))
+    if fmt == "jpeg" and im.mode == "RGBA":
+        im = im.convert("RGB")
+    buf = io.BytesIO()
+    options = {"jpeg": {"quality": 95, "subsampling": 0}, "webp": {"lossless": True}, "tiff": {"compression": "tiff_deflate"}}[fmt]
+    im.save(buf, format=fmt.upper(), **options)
+    return buf.getvalue()
+
+
+def _kind(fmt: str) -> str:
+    return next(kind for f, kind in _EXTENSIONS.values() if f == fmt)
+
+
+def write_image(path, *, rgb8=None, linear=None, flag: str = "-o") -> str:
+    """Write an image to ``path`` in the format its extension names; returns the format name.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The output; its extension chooses the format (:func:`available_formats`).
+    rgb8 : array_like, (H, W, 3|4) uint8, optional
+        The encoded picture, for PNG, JPEG, TIFF and WebP.
+    linear : array_like, (H, W, 3) float, optional
+        The linear image, for ``.npy`` (dtype kept), ``.pfm`` and ``.exr`` (float32).
+    flag : str
+        The command-line flag that named ``path``, for messages.
+
+    The path is checked (:func:`check_output_path`) and the file written atomically
+    (:func:`atomic_write`); errors are :class:`OutputError` naming ``flag`` and ``path``.
+    """
+    fmt = check_output_path(path, flag=flag)
+    atomic_write(path, encode_image(fmt, rgb8=rgb8, linear=linear), flag=flag)
+    return fmt
