@@ -40,7 +40,18 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ._numeric import check_color, check_finite, working_dtype
+from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
+    check_budget,
+    check_color,
+    check_count,
+    check_finite,
+    check_range,
+    check_vectors,
+    real_array,
+    working_dtype,
+)
 
 __all__ = [
     "Environment",
@@ -58,15 +69,32 @@ _INV_4PI = 1.0 / (4.0 * math.pi)
 
 
 def _directions(directions) -> tuple[np.ndarray, type]:
-    """Unit directions in float64 (zero vectors stay zero) and the caller's dtype."""
+    """Unit directions in float64 (zero vectors stay zero) and the caller's dtype.
+
+    Text, complex, NaN or inf, or a shape other than ``(..., 3)`` is refused, naming ``directions``.
+    """
     dt = working_dtype(directions)
-    d = np.asarray(directions, dtype=np.float64)
-    if d.shape[-1:] != (3,):
-        raise ValueError(f"directions must have shape (..., 3); got shape {d.shape}")
+    d = check_vectors("directions", directions, dtype=np.float64)
     length = np.sqrt(np.sum(d * d, axis=-1, keepdims=True))
     with np.errstate(divide="ignore", invalid="ignore"):
         d = np.where(length > 0, d / np.where(length > 0, length, 1.0), 0.0)
     return d, dt
+
+
+#: Peak bytes per direction of an environment lookup or sample (for the estimate made before allocating).
+BYTES_PER_DIRECTION = 256
+
+
+def _unit_square(u) -> np.ndarray:
+    """Points of the unit square ``(..., 2)``: finite reals in ``[0, 1]``, float64, within the memory budget."""
+    allowed = "points of the unit square [0, 1]², shape (..., 2)"
+    arr = real_array("u", u, allowed=allowed, dtype=np.float64)
+    if arr.shape[-1:] != (2,):
+        raise ValueError(f"u must be {allowed}; got shape {arr.shape}: {_fmt(u)}")
+    if arr.size and (np.min(arr) < 0 or np.max(arr) > 1):
+        raise ValueError(f"u must be {allowed}; got values in [{np.min(arr):.6g}, {np.max(arr):.6g}]")
+    check_budget("u", arr.size // 2 * BYTES_PER_DIRECTION, what=f"{arr.size // 2} directions")
+    return arr
 
 
 def uniform_sphere(u) -> tuple[np.ndarray, np.ndarray]:
@@ -85,7 +113,7 @@ def uniform_sphere(u) -> tuple[np.ndarray, np.ndarray]:
     >>> d.round(12).tolist(), round(float(p) * 4 * math.pi, 12)
     ([1.0, 0.0, 0.0], 1.0)
     """
-    u = np.asarray(u, dtype=np.float64)
+    u = _unit_square(u)
     z = 1.0 - 2.0 * u[..., 0]
     r = np.sqrt(np.clip((1.0 - z) * (1.0 + z), 0.0, None))
     phi = 2.0 * math.pi * u[..., 1]
@@ -95,7 +123,7 @@ def uniform_sphere(u) -> tuple[np.ndarray, np.ndarray]:
 
 def uniform_sphere_pdf(directions) -> np.ndarray:
     """Density ``1/(4π)`` of :func:`uniform_sphere`, shape ``(...)``."""
-    d = np.asarray(directions, dtype=np.float64)
+    d, _ = _directions(directions)
     return np.full(d.shape[:-1], _INV_4PI)
 
 
@@ -120,13 +148,23 @@ class Environment:
         raise NotImplementedError
 
     def sample(self, u) -> tuple[np.ndarray, np.ndarray]:
-        """Directions (world frame, ``(..., 3)``) and their density per steradian from unit-square points ``u``."""
-        return uniform_sphere(u)
+        """Directions (world frame, ``(..., 3)``) and their density per steradian from unit-square points ``u``.
+
+        ``u`` ``(..., 2)`` must hold finite reals in ``[0, 1]`` (ValueError naming ``u`` otherwise).
+        """
+        return self._sample(_unit_square(u))
 
     def pdf(self, directions) -> np.ndarray:
         """Density of :meth:`sample` at ``directions``, per steradian, shape ``(...)``."""
         d, _ = _directions(directions)
-        return uniform_sphere_pdf(d)
+        return self._pdf(d)
+
+    # The integrators call these three on checked float64 unit directions and unit-square points.
+    def _sample(self, u):
+        return uniform_sphere(u)
+
+    def _pdf(self, d):
+        return np.full(d.shape[:-1], _INV_4PI)
 
 
 class ConstantEnvironment(Environment):
@@ -153,6 +191,14 @@ class ConstantEnvironment(Environment):
 
     def __repr__(self):
         return f"ConstantEnvironment({self.value.tolist()})"
+
+
+def _image_size(height, width):
+    """``(height, width)`` of an environment image (width defaults to ``2 height``), within the memory budget."""
+    height = check_count("height", height, 1)
+    width = 2 * height if width is None else check_count("width", width, 1)
+    check_budget("height", height * width * 8 * 3 * 8, what=f"a {height}x{width} RGB float64 image and its tables")
+    return height, width
 
 
 def _pixel_rows(h: int) -> np.ndarray:
@@ -197,6 +243,7 @@ class LatLongEnvironment(Environment):
             raise ValueError(f"image must be an (H, W, 3) array of radiances >= 0; got shape {img.shape}")
         if np.any(img < 0):
             raise ValueError(f"image must hold radiances >= 0; got a minimum of {float(img.min())!r}")
+        check_budget("image", img.size * 8 * 8, what=f"sampling tables of a {img.shape[0]}x{img.shape[1]} image")
         self.image = img
         self._flat = np.ascontiguousarray(img.reshape(-1, 3))
         h, w = img.shape[:2]
@@ -209,10 +256,9 @@ class LatLongEnvironment(Environment):
     @classmethod
     def from_function(cls, func: Callable[[np.ndarray], np.ndarray], height: int, width: int | None = None):
         """Sample ``func(directions (H, W, 3)) → (H, W, 3)`` at the pixel centres of an ``H × W`` image."""
-        width = 2 * height if width is None else width
-        for name, value in (("height", height), ("width", width)):
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-                raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
+        if not callable(func):
+            raise ArgumentTypeError(f"func must be a callable directions (H, W, 3) -> radiance; got {_fmt(func)}")
+        height, width = _image_size(height, width)
         d = cls.pixel_directions(height, width)
         vals = np.broadcast_to(np.asarray(func(d), dtype=np.float64), (height, width, 3))
         return cls(vals)
@@ -220,6 +266,7 @@ class LatLongEnvironment(Environment):
     @staticmethod
     def pixel_directions(height: int, width: int) -> np.ndarray:
         """Unit directions of the pixel centres of an ``height × width`` image, ``(H, W, 3)``."""
+        height, width = _image_size(height, width)
         th = (np.arange(height) + 0.5) * (math.pi / height)
         ph = (np.arange(width) + 0.5) * (2 * math.pi / width)
         st, ct = np.sin(th)[:, None], np.cos(th)[:, None]
@@ -273,8 +320,7 @@ class LatLongEnvironment(Environment):
         self._cdf[-1] = 1.0
         self._density = (self._prob.reshape(h, w) / self.solid_angles()).ravel()
 
-    def sample(self, u):
-        u = np.asarray(u, dtype=np.float64)
+    def _sample(self, u):
         h, w = self.height, self.width
         k = np.minimum(np.searchsorted(self._cdf, u[..., 0], side="right"), h * w - 1)
         prev = np.where(k > 0, self._cdf[np.maximum(k - 1, 0)], 0.0)
@@ -289,8 +335,7 @@ class LatLongEnvironment(Environment):
         d = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
         return d, self._density[k]
 
-    def pdf(self, directions):
-        d, _ = _directions(directions)
+    def _pdf(self, d):
         theta, phi = self._angles(d)
         i = np.clip(np.floor(theta * (self.height / math.pi)).astype(np.int64), 0, self.height - 1)
         j = np.clip(np.floor(phi * (self.width / (2 * math.pi))).astype(np.int64), 0, self.width - 1)
@@ -317,7 +362,10 @@ class FunctionEnvironment(Environment):
 
     def __init__(self, func: Callable[[np.ndarray], np.ndarray]):
         if not callable(func):
-            raise ValueError(f"func must be a callable direction (..., 3) -> radiance (..., 3); got {func!r}")
+            raise ArgumentTypeError(
+                f"func must be a callable directions (..., 3) -> radiance (..., 3); "
+                f"got {type(func).__name__} {_fmt(func)}"
+            )
         self.func = func
 
     def __repr__(self):
@@ -370,14 +418,12 @@ class SmallPatchEnvironment(Environment):
     """
 
     def __init__(self, direction=(0.0, 0.0, 1.0), solid_angle=1e-3, radiance=1.0):
-        c = check_finite("direction", direction, shape_hint="a finite nonzero 3-vector")
-        if c.shape != (3,) or not np.any(c != 0):
-            raise ValueError(f"direction must be a finite nonzero 3-vector; got {direction!r}")
+        c = check_vectors("direction", direction, dtype=np.float64, nonzero=True)
+        if c.shape != (3,):
+            raise ValueError(f"direction must be a finite nonzero 3-vector; got shape {c.shape}: {_fmt(direction)}")
+        c = c / np.max(np.abs(c))  # no overflow in the length for huge components
         self.direction = c / np.sqrt(np.sum(c * c))
-        om = check_finite("solid_angle", solid_angle, shape_hint="a finite number in (0, 4π]")
-        if om.ndim != 0 or not (0 < float(om) <= 4 * math.pi):
-            raise ValueError(f"solid_angle must be a finite number in (0, 4π] steradians; got {solid_angle!r}")
-        self.solid_angle = float(om)
+        self.solid_angle = check_range("solid_angle", solid_angle, 0.0, 4 * math.pi, lo_open=True)
         self.value = check_color("radiance", radiance)
         # 1 − cos γ = Ω / (2π), kept as given: for tiny caps cos γ itself rounds to 1.
         self.one_minus_cos = self.solid_angle / (2 * math.pi)
@@ -409,9 +455,8 @@ class SmallPatchEnvironment(Environment):
         inside = self._inside(d) & np.any(d != 0, axis=-1)
         return np.where(inside[..., None], self.value, 0.0)
 
-    def sample(self, u):
+    def _sample(self, u):
         """Uniform directions inside the cap (density ``1/Ω``)."""
-        u = np.asarray(u, dtype=np.float64)
         omc = u[..., 0] * self.one_minus_cos  # 1 − cos ψ, uniform in [0, 1 − cos γ]
         cos_psi = 1.0 - omc
         sin_psi = np.sqrt(np.clip(omc * (2.0 - omc), 0.0, None))
@@ -424,8 +469,7 @@ class SmallPatchEnvironment(Environment):
         )
         return d, np.full(omc.shape, 1.0 / self.solid_angle)
 
-    def pdf(self, directions):
-        d, _ = _directions(directions)
+    def _pdf(self, d):
         return np.where(self._inside(d), 1.0 / self.solid_angle, 0.0)
 
 
@@ -449,9 +493,10 @@ def as_environment(env) -> Environment:
         return env
     if callable(env):
         return FunctionEnvironment(env)
+    allowed = "an Environment, a radiance (finite scalar or RGB triple >= 0) or a callable"
     try:
         return ConstantEnvironment(env)
+    except ArgumentTypeError:
+        raise ArgumentTypeError(f"environment must be {allowed}; got {type(env).__name__} {_fmt(env)}") from None
     except ValueError:
-        raise ValueError(
-            f"environment must be an Environment, a radiance (scalar or RGB) or a callable; got {env!r}"
-        ) from None
+        raise ValueError(f"environment must be {allowed}; got {_fmt(env)}") from None

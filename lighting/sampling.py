@@ -41,7 +41,18 @@ from typing import NamedTuple
 import numpy as np
 
 from . import microfacet as _mf
-from ._numeric import check_nonnegative
+from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
+    check_bool,
+    check_budget,
+    check_choice,
+    check_count,
+    check_nonnegative,
+    check_positive,
+    check_vectors,
+    real_array,
+)
 from .brdf import BRDF, BlinnPhong, CookTorrance, Geometry, Lambert, Phong, cos_power
 from .vec import orthonormal_basis
 
@@ -83,15 +94,57 @@ def as_generator(seed=None) -> np.random.Generator:
     """A :class:`numpy.random.Generator` from a seed (int or None) or a generator (returned as is)."""
     if isinstance(seed, np.random.Generator):
         return seed
-    if seed is None or (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0):
-        return np.random.default_rng(seed)
-    raise ValueError(f"seed must be None, an integer >= 0 or a numpy.random.Generator; got {seed!r}")
+    allowed = "None, an integer >= 0 or a numpy.random.Generator"
+    if seed is None:
+        return np.random.default_rng()
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
+        raise ArgumentTypeError(f"seed must be {allowed}; got {type(seed).__name__} {_fmt(seed)}")
+    if seed < 0:
+        raise ValueError(f"seed must be {allowed}; got {_fmt(seed)}")
+    return np.random.default_rng(int(seed))
+
+
+#: Peak bytes per drawn direction in the samplers and estimators (directions, densities, weights and
+#: their temporaries, in float64), for the memory estimate made before allocating.
+BYTES_PER_SAMPLE = 256
 
 
 def _count(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
-    return int(value)
+    """A sample count >= 1 whose arrays fit the memory budget."""
+    n = check_count(name, value, 1)
+    check_budget(name, n * BYTES_PER_SAMPLE, what=f"{n} directions")
+    return n
+
+
+def _check_size(name: str, *shapes) -> None:
+    """Refuse a broadcast of ``shapes`` whose sample arrays exceed the memory budget."""
+    try:
+        size = math.prod(np.broadcast_shapes(*shapes))
+    except ValueError:
+        return  # reported by _broadcast
+    check_budget(name, size * BYTES_PER_SAMPLE, what=f"{size} directions")
+
+
+def _broadcast(a: str, sa: tuple, b: str, sb: tuple) -> None:
+    try:
+        np.broadcast_shapes(sa, sb)
+    except ValueError:
+        raise ValueError(f"{a} and {b} must broadcast together; got leading shapes {sa} and {sb}") from None
+
+
+def _unit_square(name: str, u) -> np.ndarray:
+    """Points of the unit square ``(..., 2)``: finite reals in ``[0, 1]``, float64."""
+    allowed = "points of the unit square [0, 1]², shape (..., 2)"
+    arr = real_array(name, u, allowed=allowed, dtype=np.float64)
+    if arr.shape[-1:] != (2,):
+        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {_fmt(u)}")
+    if arr.size and (np.min(arr) < 0 or np.max(arr) > 1):
+        raise ValueError(f"{name} must be {allowed}; got values in [{np.min(arr):.6g}, {np.max(arr):.6g}]")
+    return arr
+
+
+def _directions(name: str, d) -> np.ndarray:
+    return check_vectors(name, d, dtype=np.float64)
 
 
 def jittered(count: int, seed=None) -> np.ndarray:
@@ -116,6 +169,9 @@ def jittered(count: int, seed=None) -> np.ndarray:
 def jittered_batch(batch: tuple, count: int, seed=None) -> np.ndarray:
     """Independent jittered grids (see :func:`jittered`) for every index of ``batch``: ``batch + (k_x k_y, 2)``."""
     count = _count("count", count)
+    if not isinstance(batch, tuple) or not all(isinstance(k, (int, np.integer)) and k >= 0 for k in batch):
+        raise ArgumentTypeError(f"batch must be a tuple of integers >= 0; got {_fmt(batch)}")
+    _check_size("count", tuple(int(k) for k in batch) + (count,))
     rng = as_generator(seed)
     kx = math.isqrt(count)
     ky = count // kx
@@ -134,7 +190,7 @@ def square_to_uniform_hemisphere(u) -> Samples:
     >>> s.directions.tolist(), round(float(s.pdf) * 2 * math.pi, 12)
     ([0.0, 0.0, 1.0], 1.0)
     """
-    u = np.asarray(u, dtype=np.float64)
+    u = _unit_square("u", u)
     z = u[..., 0]
     r = np.sqrt(np.clip((1 - z) * (1 + z), 0.0, None))
     phi = _TWO_PI * u[..., 1]
@@ -144,7 +200,7 @@ def square_to_uniform_hemisphere(u) -> Samples:
 
 def uniform_hemisphere_pdf(d) -> np.ndarray:
     """``1/(2π)`` above the horizon (``z > 0``), 0 below."""
-    d = np.asarray(d, dtype=np.float64)
+    d = _directions("d", d)
     return np.where(d[..., 2] > 0, 1.0 / _TWO_PI, 0.0)
 
 
@@ -173,7 +229,7 @@ def square_to_cosine_hemisphere(u) -> Samples:
     >>> s.directions.tolist(), round(float(s.pdf) * math.pi, 12)
     ([0.0, 0.0, 1.0], 1.0)
     """
-    u = np.asarray(u, dtype=np.float64)
+    u = _unit_square("u", u)
     x, y = _concentric_disk(u)
     z = np.sqrt(np.clip(1 - x * x - y * y, 0.0, None))
     return Samples(np.stack([x, y, z], axis=-1), z / math.pi)
@@ -181,7 +237,7 @@ def square_to_cosine_hemisphere(u) -> Samples:
 
 def cosine_hemisphere_pdf(d) -> np.ndarray:
     """``max(cos θ, 0) / π``."""
-    d = np.asarray(d, dtype=np.float64)
+    d = _directions("d", d)
     return np.maximum(d[..., 2], 0.0) / math.pi
 
 
@@ -199,12 +255,11 @@ def sample_cosine(count: int, seed=None) -> Samples:
 
 def sample_stratified(count: int, seed=None, warp: str = "cosine") -> Samples:
     """A jittered grid (:func:`jittered`) mapped to the hemisphere by ``warp`` ("cosine" or "uniform")."""
+    warp = check_choice("warp", warp, ("cosine", "uniform"))
     u = jittered(count, seed)
     if warp == "cosine":
         return square_to_cosine_hemisphere(u)
-    if warp == "uniform":
-        return square_to_uniform_hemisphere(u)
-    raise ValueError(f"warp must be one of 'cosine', 'uniform'; got {warp!r}")
+    return square_to_uniform_hemisphere(u)
 
 
 # --------------------------------------------------------------------------- view-dependent samplers
@@ -222,17 +277,37 @@ def _dot(a, b):
 class Sampler:
     """Base class: draws ``l`` for a viewer ``v`` (local frame) and evaluates the density.
 
-    ``sample(u, v)`` takes unit-square points ``u`` ``(..., 2)`` and view
-    directions ``v`` broadcastable to ``(..., 3)``; ``pdf(l, v)`` is the density
-    per steradian of the directions it produces, on the whole sphere.
+    ``sample(u, v)`` takes unit-square points ``u`` ``(..., 2)`` (finite, in
+    ``[0, 1]``) and view directions ``v`` broadcastable to ``(..., 3)`` (finite
+    real vectors); ``pdf(l, v)`` is the density per steradian of the
+    directions it produces, on the whole sphere.  Both check their arguments
+    (ValueError naming the parameter; :class:`~lighting._numeric.ArgumentTypeError`
+    for text, complex or objects) and then call ``_sample`` / ``_pdf``, which
+    subclasses implement and the integrators call directly on checked data.
     """
 
     name = "sampler"
 
     def sample(self, u, v) -> Samples:
-        raise NotImplementedError
+        """Directions and densities for unit-square points ``u`` ``(..., 2)`` and viewers ``v`` ``(..., 3)``."""
+        u = _unit_square("u", u)
+        v = check_vectors("v", v, dtype=np.float64)
+        _broadcast("u", u.shape[:-1], "v", v.shape[:-1])
+        _check_size("u", u.shape[:-1], v.shape[:-1])
+        return self._sample(u, v)
 
     def pdf(self, l, v) -> np.ndarray:  # noqa: E741
+        """Density per steradian of :meth:`sample`'s directions at ``l`` ``(..., 3)`` for viewers ``v``."""
+        l = check_vectors("l", l, dtype=np.float64)  # noqa: E741
+        v = check_vectors("v", v, dtype=np.float64)
+        _broadcast("l", l.shape[:-1], "v", v.shape[:-1])
+        _check_size("l", l.shape[:-1], v.shape[:-1])
+        return self._pdf(l, v)
+
+    def _sample(self, u, v) -> Samples:
+        raise NotImplementedError
+
+    def _pdf(self, l, v) -> np.ndarray:  # noqa: E741
         raise NotImplementedError
 
     def __repr__(self):
@@ -245,12 +320,12 @@ class _ViewIndependentSampler(Sampler):
     _warp = None
     _density = None
 
-    def sample(self, u, v):
+    def _sample(self, u, v):
         s = type(self)._warp(u)
         shape = np.broadcast_shapes(s.pdf.shape, _local_v(v).shape[:-1])
         return Samples(np.broadcast_to(s.directions, shape + (3,)), np.broadcast_to(s.pdf, shape))
 
-    def pdf(self, l, v):  # noqa: E741
+    def _pdf(self, l, v):  # noqa: E741
         return np.broadcast_to(type(self)._density(l), np.broadcast_shapes(np.shape(l)[:-1], np.shape(v)[:-1]))
 
 
@@ -313,7 +388,7 @@ class PhongSampler(Sampler):
     def _mirror(v):
         return v * np.array([-1.0, -1.0, 1.0])
 
-    def sample(self, u, v):
+    def _sample(self, u, v):
         u = np.asarray(u, dtype=np.float64)
         v = _local_v(v)
         e = self.exponent
@@ -325,7 +400,7 @@ class PhongSampler(Sampler):
             pdf = (e + 1) / _TWO_PI * np.exp(e / (e + 1) * np.log1p(-np.minimum(u[..., 0], 1.0)))
         return Samples(l, np.broadcast_to(pdf, shape))
 
-    def pdf(self, l, v):  # noqa: E741
+    def _pdf(self, l, v):  # noqa: E741
         l, v = np.asarray(l, dtype=np.float64), _local_v(v)  # noqa: E741
         d = l - self._mirror(v)
         lobe = cos_power(np.clip(0.5 * _dot(d, d), 0.0, 2.0), self.exponent)
@@ -365,8 +440,7 @@ class MicrofacetSampler(Sampler):
     name = "microfacet"
 
     def __init__(self, ndf: str, alpha: float | None = None, *, exponent: float | None = None):
-        if ndf not in ("beckmann", "ggx", "blinn-phong"):
-            raise ValueError(f"ndf must be one of 'beckmann', 'ggx', 'blinn-phong'; got {ndf!r}")
+        ndf = check_choice("ndf", ndf, ("beckmann", "ggx", "blinn-phong"))
         self.ndf = ndf
         if ndf == "blinn-phong" and exponent is not None:
             self.alpha = None
@@ -374,7 +448,7 @@ class MicrofacetSampler(Sampler):
         else:
             if alpha is None:
                 raise ValueError(f"alpha (roughness > 0) is required for ndf={ndf!r}; got None")
-            self.alpha = float(_mf.check_alpha(alpha))
+            self.alpha = check_positive("alpha", alpha)
             self.exponent = float(_mf.blinn_phong_exponent(self.alpha)) if ndf == "blinn-phong" else None
 
     def __repr__(self):
@@ -383,8 +457,10 @@ class MicrofacetSampler(Sampler):
 
     # -- normals ------------------------------------------------------------------
     def normal_pdf(self, h) -> np.ndarray:
-        """``D(h) (n·h)`` for unit ``h`` (0 below the horizon)."""
-        h = np.asarray(h, dtype=np.float64)
+        """``D(h) (n·h)`` for unit ``h`` ``(..., 3)`` (0 below the horizon)."""
+        return self._normal_pdf(_directions("h", h))
+
+    def _normal_pdf(self, h) -> np.ndarray:
         c = h[..., 2]
         s2 = np.clip(h[..., 0] ** 2 + h[..., 1] ** 2, 0.0, 1.0)
         if self.ndf == "blinn-phong":
@@ -396,8 +472,12 @@ class MicrofacetSampler(Sampler):
         return d * np.maximum(c, 0.0)
 
     def sample_normals(self, u) -> Samples:
-        """Microfacet normals ``h`` with density ``D(h)(n·h)`` (upper hemisphere)."""
-        u = np.asarray(u, dtype=np.float64)
+        """Microfacet normals ``h`` with density ``D(h)(n·h)`` (upper hemisphere) from points ``u`` ``(..., 2)``."""
+        u = _unit_square("u", u)
+        _check_size("u", u.shape[:-1])
+        return self._sample_normals(u)
+
+    def _sample_normals(self, u) -> Samples:
         u0 = np.minimum(u[..., 0], 1.0)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             if self.ndf == "blinn-phong":
@@ -414,12 +494,12 @@ class MicrofacetSampler(Sampler):
                 sin_t = np.where(np.isfinite(tan2), np.sqrt(tan2) * cos_t, 1.0)
         phi = _TWO_PI * u[..., 1]
         h = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
-        return Samples(h, self.normal_pdf(h))
+        return Samples(h, self._normal_pdf(h))
 
     # -- directions ---------------------------------------------------------------
-    def sample(self, u, v):
+    def _sample(self, u, v):
         v = _local_v(v)
-        hs = self.sample_normals(u)
+        hs = self._sample_normals(u)
         shape = np.broadcast_shapes(hs.pdf.shape, v.shape[:-1])
         h = np.broadcast_to(hs.directions, shape + (3,))
         vh = _dot(v, h)
@@ -433,7 +513,7 @@ class MicrofacetSampler(Sampler):
             p = np.where(den > 0, pdf_h / np.where(den > 0, den, 1.0), 0.0)
         return np.nan_to_num(p, nan=0.0, posinf=np.finfo(np.float64).max)
 
-    def pdf(self, l, v):  # noqa: E741
+    def _pdf(self, l, v):  # noqa: E741
         l, v = np.asarray(l, dtype=np.float64), _local_v(v)  # noqa: E741
         s = l + v
         length = np.sqrt(_dot(s, s))
@@ -441,7 +521,7 @@ class MicrofacetSampler(Sampler):
             h = np.where(length[..., None] > 0, s / np.where(length > 0, length, 1.0)[..., None], 0.0)
         # The sampled h lies in the upper hemisphere; l + v may point either way along it.
         h = np.where(h[..., 2:3] < 0, -h, h)
-        return np.where(length > 0, self._to_l(self.normal_pdf(h), _dot(v, h)), 0.0)
+        return np.where(length > 0, self._to_l(self._normal_pdf(h), _dot(v, h)), 0.0)
 
 
 class MixtureSampler(Sampler):
@@ -463,17 +543,21 @@ class MixtureSampler(Sampler):
     name = "mixture"
 
     def __init__(self, samplers, weights):
+        allowed = "a nonempty sequence of Sampler"
+        if isinstance(samplers, (str, bytes, Sampler)) or not hasattr(samplers, "__iter__"):
+            raise ArgumentTypeError(f"samplers must be {allowed}; got {type(samplers).__name__} {_fmt(samplers)}")
         self.samplers = tuple(samplers)
-        if not self.samplers or not all(isinstance(s, Sampler) for s in self.samplers):
-            raise ValueError(f"samplers must be a nonempty sequence of Sampler; got {samplers!r}")
+        if not self.samplers:
+            raise ValueError(f"samplers must be {allowed}; got an empty sequence")
+        if not all(isinstance(s, Sampler) for s in self.samplers):
+            raise ArgumentTypeError(f"samplers must be {allowed}; got {_fmt(samplers)}")
         if callable(weights):
             self._weights = weights
         else:
-            w = np.asarray(weights, dtype=np.float64)
-            if w.shape != (len(self.samplers),) or not np.all(np.isfinite(w)) or np.any(w < 0) or w.sum() <= 0:
-                raise ValueError(
-                    f"weights must be {len(self.samplers)} finite numbers >= 0, not all 0; got {weights!r}"
-                )
+            allowed = f"{len(self.samplers)} finite numbers >= 0, not all 0, or a callable"
+            w = real_array("weights", weights, allowed=allowed, dtype=np.float64)
+            if w.shape != (len(self.samplers),) or np.any(w < 0) or w.sum() <= 0:
+                raise ValueError(f"weights must be {allowed}; got {_fmt(weights)}")
             w = w / w.sum()
             self._weights = lambda v: np.broadcast_to(w, np.shape(v)[:-1] + w.shape)
 
@@ -481,14 +565,17 @@ class MixtureSampler(Sampler):
         return f"MixtureSampler({list(self.samplers)!r})"
 
     def weights(self, v) -> np.ndarray:
-        """Normalized component probabilities for viewer ``v``: ``(..., K)``."""
-        w = np.asarray(self._weights(_local_v(v)), dtype=np.float64)
+        """Normalized component probabilities for viewer ``v`` ``(..., 3)``: ``(..., K)``."""
+        return self._weights_of(_directions("v", v))
+
+    def _weights_of(self, v) -> np.ndarray:
+        w = np.asarray(self._weights(v), dtype=np.float64)
         return w / np.sum(w, axis=-1, keepdims=True)
 
-    def sample(self, u, v):
+    def _sample(self, u, v):
         u = np.asarray(u, dtype=np.float64)
         v = _local_v(v)
-        w = self.weights(v)
+        w = self._weights_of(v)
         cdf = np.cumsum(w, axis=-1)
         shape = np.broadcast_shapes(u.shape[:-1], v.shape[:-1])
         cdf = np.broadcast_to(cdf, shape + cdf.shape[-1:])
@@ -504,25 +591,41 @@ class MixtureSampler(Sampler):
         ur = np.stack([u0r, np.broadcast_to(u[..., 1], shape)], axis=-1)
         l = np.zeros(shape + (3,))  # noqa: E741
         for i, s in enumerate(self.samplers):
-            cand = s.sample(ur, v).directions
+            cand = s._sample(ur, v).directions
             l = np.where((k == i)[..., None], cand, l)  # noqa: E741
-        return Samples(l, self.pdf(l, v))
+        return Samples(l, self._pdf(l, v))
 
-    def pdf(self, l, v):  # noqa: E741
+    def _pdf(self, l, v):  # noqa: E741
         v = _local_v(v)
-        w = self.weights(v)
+        w = self._weights_of(v)
         l = np.asarray(l, dtype=np.float64)  # noqa: E741
         total = 0.0
         for i, s in enumerate(self.samplers):
-            total = total + w[..., i] * s.pdf(l, v)
+            total = total + w[..., i] * s._pdf(l, v)
         return total
 
 
 # --------------------------------------------------------------------------- BRDF dispatch
+def _check_brdf(brdf) -> BRDF:
+    if not isinstance(brdf, BRDF):
+        raise ArgumentTypeError(
+            f"brdf must be a lighting.brdf model (Lambert, Phong, ...); got {type(brdf).__name__} {_fmt(brdf)}"
+        )
+    return brdf
+
+
 def f_cos_local(brdf: BRDF, l, v) -> np.ndarray:
-    """``f_r (n·l)`` in the local frame (``n = +z``), float64, ``(..., 3)``."""
-    l = np.asarray(l, dtype=np.float64)  # noqa: E741
-    v = np.asarray(v, dtype=np.float64)
+    """``f_r (n·l)`` in the local frame (``n = +z``), float64, ``(..., 3)``, for unit ``l`` and ``v`` ``(..., 3)``."""
+    _check_brdf(brdf)
+    l = _directions("l", l)  # noqa: E741
+    v = _directions("v", v)
+    _broadcast("l", l.shape[:-1], "v", v.shape[:-1])
+    _check_size("l", l.shape[:-1], v.shape[:-1])
+    return _f_cos(brdf, l, v)
+
+
+def _f_cos(brdf: BRDF, l, v) -> np.ndarray:  # noqa: E741
+    """:func:`f_cos_local` on checked float64 arrays (the integrators' hot path)."""
     shape = np.broadcast_shapes(l.shape, v.shape)
     g = Geometry(np.broadcast_to(_N, shape), np.broadcast_to(l, shape), np.broadcast_to(v, shape), unit=True)
     return np.asarray(brdf.eval_cos_geometry(g), dtype=np.float64)
@@ -552,8 +655,8 @@ def _rough_albedo_table(part: BRDF, sampler: Sampler) -> np.ndarray:
     u = np.stack(np.meshgrid(g, g, indexing="ij"), axis=-1).reshape(-1, 2)
     mu = np.maximum(_TABLE_MU, 1e-3)
     v = np.stack([np.sqrt((1 - mu) * (1 + mu)), np.zeros_like(mu), mu], axis=-1)[:, None, :]
-    s = sampler.sample(u, v)
-    f = f_cos_local(part, s.directions, np.broadcast_to(v, s.directions.shape)).mean(axis=-1)
+    s = sampler._sample(u, v)
+    f = _f_cos(part, s.directions, np.broadcast_to(v, s.directions.shape)).mean(axis=-1)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         w = np.where(s.pdf > 0, f / np.where(s.pdf > 0, s.pdf, 1.0), 0.0)
     return np.nan_to_num(w, nan=0.0, posinf=0.0).mean(axis=-1)
@@ -577,9 +680,7 @@ def importance_sampler(brdf: BRDF) -> Sampler:
     >>> importance_sampler(Lambert(0.5) + Phong(0.5, 20))
     MixtureSampler([CosineSampler(), PhongSampler(20.0)])
     """
-    if not isinstance(brdf, BRDF):
-        raise ValueError(f"brdf must be a lighting.brdf model; got {brdf!r}")
-    parts = brdf.parts
+    parts = _check_brdf(brdf).parts
     if len(parts) == 1:
         return _part_sampler(parts[0])
     samplers = [_part_sampler(p) for p in parts]
@@ -612,7 +713,10 @@ def sample_brdf(brdf: BRDF, v, count: int, seed=None, *, stratified: bool = Fals
     ((1000, 3), True)
     """
     sampler = importance_sampler(brdf)
+    count = _count("count", count)
+    stratified = check_bool("stratified", stratified)
+    v = _directions("v", v)
+    _check_size("count", v.shape[:-1] + (count,))
     rng = as_generator(seed)
-    u = jittered(count, rng) if stratified else rng.random((_count("count", count), 2))
-    v = _local_v(v)
-    return sampler.sample(u, v[..., None, :])
+    u = jittered(count, rng) if stratified else rng.random((count, 2))
+    return sampler._sample(u, v[..., None, :])
