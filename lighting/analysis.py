@@ -45,9 +45,19 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._numeric import check_choice, check_finite, working_dtype
+from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
+    check_bool,
+    check_choice,
+    check_count,
+    check_vectors,
+    cos_sin,
+    real_array,
+    working_dtype,
+)
 from .brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong
-from .vec import normalize
+from .vec import _one_line, normalize, spherical_direction
 
 __all__ = [
     "LUMINANCE",
@@ -73,10 +83,12 @@ __all__ = [
 LUMINANCE = (0.2126, 0.7152, 0.0722)
 
 _HALF_PI = 0.5 * math.pi
-#: Half/difference-angle samples with ``|z|`` below this are on the horizon: it absorbs the
-#: rounding of ``cos(π/2) ≈ 6e-17`` and of the rotations, which would otherwise leave a
-#: sample a hair above the horizon where the slides' Phong BRDF (``1/(n·l)``) is ~1e16.
-_HORIZON_TOL = 1e-12
+#: Half/difference-angle samples with ``|z|`` below this are on the horizon.  Directions built
+#: from angles are exact there (:func:`lighting._numeric.cos_sin`), but the two rotations of
+#: :func:`half_diff_to_dirs` round each component by a few ulp: at ``φ_d = 0`` a pair with
+#: ``θ_h + θ_d = π/2`` would otherwise land a rounding error above the horizon, where the
+#: slides' Phong BRDF (``1/(n·l)``) is ~1e16.  Eight ulp of 1 bound that rounding.
+_HORIZON_TOL = 8 * float(np.finfo(np.float64).eps)
 #: Elevation (rad) of the rim of a lobe mesh: the rim shows the grazing limit of the BRDF, not its zero on the horizon.
 _RIM_ELEVATION = 1e-6
 #: Lobes at least this wide (rad) are meshed on a plain hemisphere grid about the normal.
@@ -248,77 +260,90 @@ class LobePeak(NamedTuple):
 
 
 # --------------------------------------------------------------------------- validation
+# Every public function checks its arguments here, once: a wrong type raises ArgumentTypeError (a
+# TypeError and a ValueError), a bad value ValueError, each naming the parameter, the value given
+# (abbreviated) and what is allowed.
 def _check_brdf(brdf):
     if not (callable(getattr(brdf, "eval", None)) and callable(getattr(brdf, "eval_cos", None))):
-        raise ValueError(
-            f"brdf must be a reflectance model with eval and eval_cos (e.g. lighting.Lambert); got {brdf!r}"
+        raise ArgumentTypeError(
+            f"brdf must be a reflectance model with eval and eval_cos (e.g. lighting.Lambert); "
+            f"got {type(brdf).__name__} {_fmt(brdf)}"
         )
     return brdf
 
 
+_COSINE_ALLOWED = "False, True, 'light' or 'view'"
+
+
 def _check_cosine(cosine):
-    if cosine is None or cosine is False:
+    if cosine is None or cosine is False or (isinstance(cosine, np.bool_) and not cosine):
         return None
-    if cosine is True:
+    if cosine is True or isinstance(cosine, np.bool_):
         return "light"
     if isinstance(cosine, str):
-        return check_choice("cosine", cosine, ("light", "view"))
-    raise ValueError(f"cosine must be False, True, 'light' or 'view'; got {cosine!r}")
+        key = cosine.strip().lower()
+        if key in ("light", "view"):
+            return key
+        raise ValueError(f"cosine must be {_COSINE_ALLOWED}; got {_fmt(cosine)}")
+    raise ArgumentTypeError(f"cosine must be {_COSINE_ALLOWED}; got {type(cosine).__name__} {_fmt(cosine)}")
 
 
 _CHANNEL_NAMES = {"r": 0, "red": 0, "g": 1, "green": 1, "b": 2, "blue": 2, "luminance": "luminance", "y": "luminance"}
+_CHANNEL_ALLOWED = "None, 0, 1, 2, 'r', 'g', 'b' or 'luminance'"
 
 
 def _check_channel(channel, default):
     if channel is None:
         return default
-    if isinstance(channel, (int, np.integer)) and not isinstance(channel, bool) and 0 <= int(channel) <= 2:
-        return int(channel)
-    if isinstance(channel, str) and channel.strip().lower() in _CHANNEL_NAMES:
-        return _CHANNEL_NAMES[channel.strip().lower()]
-    raise ValueError(f"channel must be None, 0, 1, 2, 'r', 'g', 'b' or 'luminance'; got {channel!r}")
+    if isinstance(channel, (int, np.integer)) and not isinstance(channel, (bool, np.bool_)):
+        if 0 <= int(channel) <= 2:
+            return int(channel)
+        raise ValueError(f"channel must be {_CHANNEL_ALLOWED}; got {_fmt(channel)}")
+    if isinstance(channel, str):
+        if channel.strip().lower() in _CHANNEL_NAMES:
+            return _CHANNEL_NAMES[channel.strip().lower()]
+        raise ValueError(f"channel must be {_CHANNEL_ALLOWED}; got {_fmt(channel)}")
+    raise ArgumentTypeError(f"channel must be {_CHANNEL_ALLOWED}; got {type(channel).__name__} {_fmt(channel)}")
 
 
 def _check_bool(name, value):
-    if not isinstance(value, (bool, np.bool_)):
-        raise ValueError(f"{name} must be True or False; got {value!r}")
-    return bool(value)
+    return check_bool(name, value)
 
 
 def _check_count(name, value, lo, hi):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= int(value) <= hi:
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}]; got {value!r}")
-    return int(value)
+    return check_count(name, value, lo, hi)
+
+
+def _scalar_angle(name, value, allowed):
+    with _one_line():
+        arr = real_array(name, value, allowed=allowed, dtype=np.float64)
+        if arr.ndim != 0:
+            raise ValueError(f"{name} must be {allowed}, a scalar; got shape {arr.shape}: {_fmt(value)}")
+    return float(arr)
 
 
 def _check_angle(name, value, lo, hi):
     """A finite scalar angle in ``[lo, hi]``; float32 roundings of the ends (1e-6 rad) are clamped."""
-    if isinstance(value, str):
-        raise ValueError(f"{name} must be a finite angle in radians in [{lo:g}, {hi:g}]; got {value!r}")
-    arr = check_finite(name, value, shape_hint=f"a finite angle in radians in [{lo:g}, {hi:g}]")
-    if arr.ndim != 0:
-        raise ValueError(f"{name} must be a scalar angle in radians; got shape {arr.shape}")
-    x = float(arr)
+    allowed = f"a finite angle in radians in [{lo:g}, {hi:g}]"
+    x = _scalar_angle(name, value, allowed)
     if not lo - 1e-6 <= x <= hi + 1e-6:
-        raise ValueError(f"{name} must be an angle in radians in [{lo:g}, {hi:g}]; got {x!r}")
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
     return min(max(x, lo), hi)
 
 
 def _check_phi(name, value):
-    if isinstance(value, str):
-        raise ValueError(f"{name} must be a finite angle in radians; got {value!r}")
-    arr = check_finite(name, value, shape_hint="a finite angle in radians")
-    if arr.ndim != 0:
-        raise ValueError(f"{name} must be a scalar angle in radians; got shape {arr.shape}")
-    return float(arr)
+    return _scalar_angle(name, value, "a finite angle in radians")
 
 
 def _out_dtype(dtype, *inputs):
     if dtype is None:
         return working_dtype(*inputs)
-    dt = np.dtype(dtype)
+    try:
+        dt = np.dtype(dtype)
+    except TypeError:
+        raise ArgumentTypeError(f"dtype must be float32 or float64; got {type(dtype).__name__} {_fmt(dtype)}") from None
     if dt not in (np.float32, np.float64):
-        raise ValueError(f"dtype must be float32 or float64; got {dtype!r}")
+        raise ValueError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
     return dt.type
 
 
@@ -354,27 +379,25 @@ def _log_scale(x, log):
 def _plane_dirs(t, phi, plane):
     """Unit directions (float64) at signed angle ``t`` across a plane through ``n``.
 
+    Built through :func:`lighting._numeric.cos_sin`, like every direction of this module, so
     ``|t| = π/2`` lands exactly on the horizon (z = 0), where every BRDF is 0.
     """
-    t = np.asarray(t, dtype=np.float64)
-    s = np.sin(t)
-    c = np.where(np.abs(t) >= _HALF_PI, 0.0, np.cos(t))
+    c, s = cos_sin(np.asarray(t, dtype=np.float64))
+    cp, sp = cos_sin(float(phi))
     if plane == "incidence":
-        ax, ay = -math.cos(phi), -math.sin(phi)  # positive t: away from the fixed direction's azimuth
+        ax, ay = -cp, -sp  # positive t: away from the fixed direction's azimuth
     else:
-        ax, ay = -math.sin(phi), math.cos(phi)  # positive t: toward azimuth phi + π/2
-    return np.stack([s * ax, s * ay, c], axis=-1) + 0.0  # + 0.0: no signed zeros
+        ax, ay = -sp, cp  # positive t: toward azimuth phi + π/2
+    return np.stack(np.broadcast_arrays(s * ax, s * ay, c), axis=-1) + 0.0  # + 0.0: no signed zeros
 
 
 def _sph(theta, phi):
-    """Unit direction at polar angle ``theta``; ``theta >= π/2`` lies exactly on the horizon (z = 0).
+    """Unit direction (float64) at polar angle ``theta``: :func:`lighting.vec.spherical_direction`.
 
-    ``cos(π/2)`` is 6e-17 in floating point, which would put a "horizontal" light a hair
-    above the surface, where the slides' Phong BRDF divides by it.
+    ``theta = π/2`` lies exactly on the horizon (z = 0), not at ``cos(π/2) = 6e-17`` above it,
+    where the slides' Phong BRDF divides by it.
     """
-    st = math.sin(theta)
-    ct = 0.0 if theta >= _HALF_PI else math.cos(theta)
-    return np.array([st * math.cos(phi), st * math.sin(phi), ct])
+    return spherical_direction(float(theta), float(phi), dtype=np.float64)
 
 
 # --------------------------------------------------------------------------- polar slices
@@ -460,12 +483,7 @@ def polar_slice(
     dt = _out_dtype(dtype, theta_in)
     in_plane = plane == "incidence"
 
-    t = np.linspace(-_HALF_PI, _HALF_PI, count)
-    if refine:
-        w = lobe_width(brdf, theta)
-        if w < 4 * math.pi / (count - 1):  # False for inf and nan
-            extra = (theta if in_plane else 0.0) + w * np.linspace(-8.0, 8.0, 129)
-            t = np.union1d(t, extra[np.abs(extra) < _HALF_PI])
+    t = _slice_angles(brdf, theta, phi, count, plane, refine, cos_mode, ch)
     sweep = _plane_dirs(t, phi, plane)
     d_fixed = _sph(theta, phi)
     mirror = np.array([-d_fixed[0], -d_fixed[1], d_fixed[2]])
@@ -506,7 +524,7 @@ def reciprocity_pair(brdf, theta_in, **kwargs) -> tuple[PolarSlice, PolarSlice]:
     True
     """
     if "fixed" in kwargs:
-        raise ValueError("reciprocity_pair makes both slices; do not pass fixed")
+        raise ValueError(f"fixed must not be given: reciprocity_pair makes both slices; got {_fmt(kwargs['fixed'])}")
     return polar_slice(brdf, theta_in, fixed="light", **kwargs), polar_slice(brdf, theta_in, fixed="view", **kwargs)
 
 
@@ -551,12 +569,21 @@ def half_diff_to_dirs(theta_h, phi_h, theta_d, phi_d):
     >>> l.round(4).tolist(), v.round(4).tolist()
     ([0.4794, 0.0, 0.8776], [-0.4794, -0.0, 0.8776])
     """
-    dt = working_dtype(theta_h, phi_h, theta_d, phi_d)
-    th, ph, td, pd = np.broadcast_arrays(*(np.asarray(a, dtype=np.float64) for a in (theta_h, phi_h, theta_d, phi_d)))
-    st, ct = np.sin(td), np.cos(td)
-    dx, dy, dz = st * np.cos(pd), st * np.sin(pd), ct
-    ch, sh = np.cos(th), np.sin(th)
-    cp, sp = np.cos(ph), np.sin(ph)
+    names = ("theta_h", "phi_h", "theta_d", "phi_d")
+    with _one_line():
+        given = [real_array(k, a, allowed="finite angles in radians")
+                 for k, a in zip(names, (theta_h, phi_h, theta_d, phi_d), strict=True)]  # fmt: skip
+    dt = working_dtype(theta_h, phi_h, theta_d, phi_d)  # Python numbers are weak: the arrays decide
+    try:
+        th, ph, td, pd = np.broadcast_arrays(*(a.astype(np.float64) for a in given))
+    except ValueError:
+        shapes = ", ".join(f"{k} {a.shape}" for k, a in zip(names, given, strict=True))
+        raise ValueError(f"theta_h, phi_h, theta_d and phi_d must broadcast together; got shapes {shapes}") from None
+    ct, st = cos_sin(td)  # exact at right angles: θ_d = π/2 with φ_d = π/2 is exactly on the horizon
+    cpd, spd = cos_sin(pd)
+    dx, dy, dz = st * cpd, st * spd, ct
+    ch, sh = cos_sin(th)
+    cp, sp = cos_sin(ph)
     out = []
     for x, y in ((dx, dy), (-dx, -dy)):
         a = _rot_z(*_rot_y(x, y, dz, ch, sh), cp, sp)
@@ -589,14 +616,18 @@ def dirs_to_half_diff(l, v):  # noqa: E741
     >>> [round(float(a), 6) for a in dirs_to_half_diff((0.6, 0.0, 0.8), (-0.6, 0.0, 0.8))]
     [0.0, 0.0, 0.643501, 0.0]
     """
+    allowed = "finite real vectors of shape (..., 3)"
     dt = working_dtype(l, v)
-    a = np.asarray(l, dtype=np.float64)
-    b = np.asarray(v, dtype=np.float64)
-    if a.shape[-1:] != (3,) or b.shape[-1:] != (3,):
-        raise ValueError(f"l and v must have shape (..., 3); got {a.shape} and {b.shape}")
-    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
-        raise ValueError("l and v must be finite")
-    a, b = normalize(a), normalize(b)
+    with _one_line():
+        l, v = real_array("l", l, allowed=allowed), real_array("v", v, allowed=allowed)  # noqa: E741
+        if l.shape[-1:] != (3,) or v.shape[-1:] != (3,):
+            raise ValueError(f"l and v must be {allowed}; got shapes {l.shape} and {v.shape}")
+        l, v = check_vectors("l", l, nonzero=True), check_vectors("v", v, nonzero=True)  # noqa: E741
+    try:
+        np.broadcast_shapes(l.shape, v.shape)
+    except ValueError:
+        raise ValueError(f"l and v must broadcast together; got shapes {l.shape} and {v.shape}") from None
+    a, b = normalize(l.astype(np.float64)), normalize(v.astype(np.float64))
     a, b = np.broadcast_arrays(a, b)
     h = normalize(a + b)
     theta_h = np.arctan2(np.hypot(h[..., 0], h[..., 1]), h[..., 2])
@@ -707,6 +738,7 @@ def theta_v_curve(
     cosine=False,
     log=False,
     channel=None,
+    refine=True,
     dtype=None,
 ) -> AngleCurve:
     """The BRDF against the view angle in the incidence plane, for a fixed light.
@@ -714,21 +746,29 @@ def theta_v_curve(
     The abscissa is the signed view angle ``θ_v ∈ [−π/2, π/2]`` of
     :func:`polar_slice` (``fixed="light"``): the light is at ``−theta_l`` and the
     mirror direction at ``+theta_l``; the ends are on the horizon (value 0).  This is
-    the same data as the polar slice (``refine=False``), drawn on Cartesian axes.
+    the same data as the polar slice with the same ``n`` and ``refine``, drawn on
+    Cartesian axes: with ``refine=True`` (default) the samples are the ``n`` uniform
+    ones plus those where the lobe is, its peak included, so a highlight narrower than
+    the grid or a hair above the horizon shows at the height :func:`lobe_peak` finds.
 
     Examples
     --------
     >>> from lighting import Phong
     >>> c = theta_v_curve(Phong(1.0, 10), 0.3, n=181, channel=0)
-    >>> round(float(c.angles[c.values.argmax()]), 4)
+    >>> float(c.angles[c.values.argmax()])  # the mirror direction, off the 1° grid, is a sample
+    0.3
+    >>> c = theta_v_curve(Phong(1.0, 10), 0.3, n=181, channel=0, refine=False)
+    >>> round(float(c.angles[c.values.argmax()]), 4)  # the grid alone: the nearest degree
     0.2967
     """
     _check_brdf(brdf)
     theta = _check_angle("theta_l", theta_l, 0.0, _HALF_PI)
     phi = _check_phi("phi_l", phi_l)
     count = _check_count("n", n, 2, 100001)
+    refine = _check_bool("refine", refine)
+    cos_mode = _check_cosine(cosine)
     dt = _out_dtype(dtype, theta_l)
-    t = np.linspace(-_HALF_PI, _HALF_PI, count)
+    t = _slice_angles(brdf, theta, phi, count, "incidence", refine, cos_mode, _check_channel(channel, "rgb"))
     v = _plane_dirs(t, phi, "incidence")
     l = np.broadcast_to(_sph(theta, phi), v.shape)  # noqa: E741
     return _curve(brdf, "theta_v", t, l, v, cosine, log, channel, dt, {"theta_l": theta, "phi_l": phi})
@@ -827,8 +867,7 @@ def _lobe_widths(brdf, theta_l) -> tuple[float, float]:
 
 def _numeric_width(brdf, l64, cosine, channel) -> float:
     """Half-width at half maximum of the in-plane slice, divided by 1.18 (a Gaussian's σ)."""
-    theta = math.atan2(math.hypot(l64[0], l64[1]), l64[2])
-    phi = math.atan2(l64[1], l64[0])
+    theta, phi = _light_angles(l64)
     t = np.linspace(-_HALF_PI, _HALF_PI, 2881)[1:-1]
     v = _plane_dirs(t, phi, "incidence")
     f = _reduce(_quantity_rgb(brdf, np.broadcast_to(_sph(theta, phi), v.shape), v, cosine, np.float64), channel)
@@ -876,33 +915,34 @@ def _polar(d) -> float:
 
 
 def _unit_light(l):  # noqa: E741
-    arr = check_finite("l", l, shape_hint="a finite direction (3 components)")
-    if arr.shape != (3,):
-        raise ValueError(f"l must be one direction of shape (3,); got shape {arr.shape}")
+    with _one_line():
+        arr = check_vectors("l", l, dtype=np.float64, nonzero=True)
+        if arr.shape != (3,):
+            raise ValueError(f"l must be one direction of shape (3,); got shape {arr.shape}: {_fmt(l)}")
     m = np.max(np.abs(arr))
-    if not m > 0:
-        raise ValueError(f"l must be a nonzero direction; got {l!r}")
     s = arr / m
     return s / math.sqrt(float(s @ s))
 
 
-def _peak64(brdf, l64, cosine, channel, width):
-    """Search the incidence plane for the largest value; returns (direction, value) in float64.
+def _peak_t(brdf, theta, phi, cosine, channel, width, fixed="light", d_fixed=None):
+    """Search the incidence plane for the largest value; returns ``(t, value)``, ``t`` the signed angle.
 
-    Isotropic models are mirror-symmetric about the plane of incidence, and every
-    model here peaks in it (at ``R_l``, or off-specular toward grazing for rough
-    Cook–Torrance).  Candidates: the mirror direction first (so that a flat lobe
-    such as Lambert's reports ``R_l``), a fine grid of ±8 widths around it, a
-    quarter-degree grid across the plane; then five zooms around the best.
+    The fixed direction (``l`` for ``fixed="light"``, else ``v``) is at polar angle ``theta``,
+    azimuth ``phi``; the other is swept as in :func:`polar_slice`, so the mirror direction
+    is at ``t = theta``.  Isotropic models are mirror-symmetric about the plane of incidence,
+    and every model here peaks in it (at ``R_l``, or off-specular toward grazing for rough
+    Cook–Torrance).  Candidates: the mirror direction first (so that a flat lobe such as
+    Lambert's reports ``R_l``), a fine grid of ±8 widths around it, a quarter-degree grid
+    across the plane; then five zooms around the best.
     """
-    theta = math.atan2(math.hypot(l64[0], l64[1]), l64[2])
-    phi = math.atan2(l64[1], l64[0])
     lim = _HALF_PI - 1e-9
+    d_fixed = _sph(theta, phi) if d_fixed is None else d_fixed
 
     def value(t):
-        v = _plane_dirs(t, phi, "incidence")
-        lb = np.broadcast_to(l64, v.shape)
-        return _reduce(_quantity_rgb(brdf, lb, v, cosine, np.float64), channel)
+        sweep = _plane_dirs(t, phi, "incidence")
+        fixed_b = np.broadcast_to(d_fixed, sweep.shape)
+        l, v = (fixed_b, sweep) if fixed == "light" else (sweep, fixed_b)  # noqa: E741
+        return _reduce(_quantity_rgb(brdf, l, v, cosine, np.float64), channel)
 
     coarse = np.linspace(-lim, lim, 721)
     coarse_step = coarse[1] - coarse[0]
@@ -924,7 +964,50 @@ def _peak64(brdf, l64, cosine, channel, width):
         if fz[k] > best_f:
             best_t, best_f = float(tz[k]), float(fz[k])
         step /= 10
-    return _plane_dirs(best_t, phi, "incidence"), best_f
+    return best_t, best_f
+
+
+def _light_angles(l64):
+    """Polar angle and azimuth of a unit light direction (float64)."""
+    return math.atan2(math.hypot(l64[0], l64[1]), l64[2]), math.atan2(l64[1], l64[0])
+
+
+def _peak64(brdf, l64, cosine, channel, width):
+    """The in-plane peak for the light ``l64``: ``(direction, value)`` in float64 (see :func:`_peak_t`)."""
+    theta, phi = _light_angles(l64)
+    t, f = _peak_t(brdf, theta, phi, cosine, channel, width, d_fixed=l64)
+    return _plane_dirs(t, phi, "incidence"), f
+
+
+def _slice_angles(brdf, theta, phi, count, plane, refine, cosine, channel):
+    """Signed sample angles of a slice: the uniform grid, plus where the lobe is.
+
+    With ``refine``: a lobe narrower than four grid spacings gets 129 samples at spacing
+    ``w/8`` across ``±8 w`` about the mirror angle (the normal in the perpendicular plane);
+    in the plane of incidence the peak of the lobe (:func:`_peak_t`, with the light fixed
+    and with the view fixed, so that both slices of :func:`reciprocity_pair` share their
+    angles) is a sample too.  A narrow highlight off the grid, or one a hair above the
+    horizon (rough Cook–Torrance lit at grazing), is then drawn at its true height, the
+    height :func:`lobe_peak` reports and :func:`lobe_mesh` draws.  Without a lobe
+    (Lambert alone: width ``inf``) the grid's maximum is already the peak.
+    """
+    t = np.linspace(-_HALF_PI, _HALF_PI, count)
+    if not refine:
+        return t
+    in_plane = plane == "incidence"
+    scalar = "luminance" if channel == "rgb" else channel
+    w = _lobe_widths(brdf, theta)[0]
+    if math.isnan(w):
+        w = _numeric_width(brdf, _sph(theta, phi), cosine, scalar)
+    extra = []
+    if w < 4 * math.pi / (count - 1):  # False for inf
+        extra.append((theta if in_plane else 0.0) + w * np.linspace(-8.0, 8.0, 129))
+    if in_plane and theta < _HALF_PI and math.isfinite(w):
+        extra.append([_peak_t(brdf, theta, phi, cosine, scalar, w, fixed)[0] for fixed in ("light", "view")])
+    if extra:
+        extra = np.concatenate([np.asarray(e, dtype=np.float64) for e in extra])
+        t = np.union1d(t, extra[np.abs(extra) < _HALF_PI])
+    return t
 
 
 def lobe_peak(brdf, l, *, cosine=False, channel=None) -> LobePeak:
@@ -1115,10 +1198,17 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
         peak, _ = _peak64(brdf, l64, cos_mode, ch, width)
     narrow = adaptive and width < _BROAD
     theta_c, phi_c, stretch = 0.0, 0.0, 1.0
+    rim_elevation = _RIM_ELEVATION
+    # The adaptive grid holds the peak as a vertex (see below), so the lobe drawn reaches the
+    # value lobe_peak reports and the slices show: its azimuth is the grid's χ = π ray, and a
+    # peak closer to the horizon than the rim (rough Cook–Torrance lit at grazing) lowers the rim.
+    snap = adaptive and lit
+    if snap:
+        phi_c = math.atan2(peak[1], peak[0])
+        rim_elevation = min(rim_elevation, math.atan2(peak[2], math.hypot(peak[0], peak[1])))
     if narrow:
         gap = max(0.5 * width, 1e-4)
         theta_c = min(_polar(peak), _HALF_PI - gap)
-        phi_c = math.atan2(peak[1], peak[0])
         stretch = max(along / width, 1.0)
     c = _sph(theta_c, phi_c)
     a, s = math.cos(theta_c), math.sin(theta_c)
@@ -1133,17 +1223,31 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
     cchi, schi = ex / e, ey / e  # cos χ', sin χ'
     # Along χ', z(ψ) = a cos ψ + s cos χ' sin ψ = R cos(ψ − δ); the rim is where z = sin(rim elevation).
     R = np.hypot(a, s * cchi)
-    psi_max = np.arctan2(s * cchi, a) + np.arccos(np.minimum(math.sin(_RIM_ELEVATION) / R, 1.0))
+    psi_max = np.arctan2(s * cchi, a) + np.arccos(np.minimum(math.sin(rim_elevation) / R, 1.0))
     rho_max = psi_max / e
     ulp_floor = 256 * float(np.finfo(dt).eps)
     delta0 = max(_CORE_STEP * width, ulp_floor) if narrow else math.inf
     rho = _ring_profile(float(rho_max.max()), K, delta0)
     psi = _fit_to_rim(rho, rho_max)[1:] * e  # (K, S)
+    peak_vertex = None
+    if snap:
+        # The peak lies on the ray χ = π from c (away from the normal, at the peak's azimuth), at
+        # ψ_p = θ_peak − θ_c.  The nearest vertex on that ray moves to it: it stays between its
+        # ring neighbours on the ray, so no face flips.
+        col = S // 2
+        psi_p = max(_polar(peak) - theta_c, 0.0)
+        along_ray = np.concatenate([[0.0], psi[:, col]])
+        k_p = int(np.argmin(np.abs(along_ray - psi_p)))
+        if k_p > 0:
+            psi[k_p - 1, col] = psi_p
+        peak_vertex = 0 if k_p == 0 else 1 + (k_p - 1) * S + col
     sp, cp = np.sin(psi), np.cos(psi)
     radial = cchi[:, None] * t1 + schi[:, None] * t2  # (S, 3)
     dirs = cp[..., None] * c + sp[..., None] * radial[None, :, :]
     dirs = np.concatenate([c[None, :], dirs.reshape(-1, 3)])
     dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    if peak_vertex is not None:
+        dirs[peak_vertex] = peak  # the same rounding as lobe_peak's direction, not a rebuilt one
 
     j = np.arange(S)
     jn = (j + 1) % S

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._numeric import as_float, cos_sin, cos_sin_deg, working_dtype
+from ._numeric import ArgumentTypeError, _fmt, check_vectors, cos_sin, cos_sin_deg, real_array, working_dtype
 
 __all__ = [
     "dot",
@@ -30,12 +30,50 @@ __all__ = [
 ]
 
 
-def _vec(x, dtype=None) -> np.ndarray:
+_ALLOWED = "finite real vectors of shape (..., 3)"
+
+
+class _one_line:
+    """Re-raise a validation error with its message on one line.
+
+    :func:`lighting._numeric._fmt` prints a multi-dimensional value the way NumPy does, over
+    several lines; an error message must be one line.
+    """
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if exc is None or not isinstance(exc, (TypeError, ValueError)):
+            return False
+        text = " ".join(str(exc).split())
+        if text == str(exc):
+            return False
+        raise type(exc)(text) from None
+
+
+def _vec(x, dtype=None, name="a", *, finite=True) -> np.ndarray:
+    """``x`` as vectors of shape ``(..., 3)`` in ``dtype``, checked at the public boundary.
+
+    Text, complex numbers, objects and NaN/inf are refused with an error naming ``name``: a
+    NaN vector would otherwise come back as a silent 0 (``normalize``) or spread NaN.  With
+    ``finite=False`` a float array's finiteness is left to the caller (``normalize`` tests it
+    only where its fast path fails, so the engine's hot loops pay nothing for the check).
+    """
     dt = working_dtype(x) if dtype is None else dtype
-    a = as_float(x, dt)
-    if a.shape[-1:] != (3,):
-        raise ValueError(f"expected vectors of shape (..., 3); got shape {a.shape}")
-    return a
+    with _one_line():
+        if finite or not (isinstance(x, np.ndarray) and x.dtype.kind == "f"):
+            return check_vectors(name, x, dtype=dt)
+        a = x.astype(dt, copy=False)
+        if a.shape[-1:] != (3,):
+            raise ValueError(f"{name} must be {_ALLOWED}; got shape {a.shape}: {_fmt(x)}")
+        return a
+
+
+def _refuse_nonfinite(name, a) -> None:
+    if not np.all(np.isfinite(a)):
+        with _one_line():
+            raise ValueError(f"{name} must be {_ALLOWED} (finite in {a.dtype.name}); got {_fmt(a)}")
 
 
 def dot(a, b) -> np.ndarray:
@@ -47,14 +85,14 @@ def dot(a, b) -> np.ndarray:
     32.0
     """
     dt = working_dtype(a, b)
-    a, b = _vec(a, dt), _vec(b, dt)
+    a, b = _vec(a, dt, "a"), _vec(b, dt, "b")
     return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
 
 
 def cross(a, b) -> np.ndarray:
     """Cross product ``a × b``, shape ``(..., 3)``."""
     dt = working_dtype(a, b)
-    a, b = _vec(a, dt), _vec(b, dt)
+    a, b = _vec(a, dt, "a"), _vec(b, dt, "b")
     return np.stack(
         [
             a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
@@ -79,7 +117,7 @@ def _scaled(a: np.ndarray):
 
 def length(a) -> np.ndarray:
     """Euclidean length over the last axis, computed without overflow or underflow."""
-    a = _vec(a)
+    a = _vec(a, name="a")
     s, m = _scaled(a)
     return m[..., 0] * np.sqrt(dot(s, s))
 
@@ -98,7 +136,11 @@ def normalize(a) -> np.ndarray:
     >>> normalize((0.0, 0.0, 0.0)).tolist()
     [0.0, 0.0, 0.0]
     """
-    a = _vec(a)
+    return _normalize(a, "a")
+
+
+def _normalize(a, name):
+    a = _vec(a, name=name, finite=False)
     fi = np.finfo(a.dtype)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         len2 = a[..., 0] * a[..., 0] + a[..., 1] * a[..., 1] + a[..., 2] * a[..., 2]
@@ -107,6 +149,7 @@ def normalize(a) -> np.ndarray:
     fast = (len2 > lo) & (len2 < hi)
     if np.all(fast):
         return a / np.sqrt(len2)[..., None]
+    _refuse_nonfinite(name, a)  # NaN and inf never take the fast path: checked here, at no cost above
     # The path is chosen per vector, never per batch: a vector's unit vector (and so the
     # bit-exact symmetry of a mirror pair l, R_l) must not depend on its neighbours.
     flat, ok = a.reshape(-1, 3), fast.reshape(-1)
@@ -122,7 +165,7 @@ def normalize(a) -> np.ndarray:
 def reflect(d, n) -> np.ndarray:
     """Mirror ``d`` about ``n``: ``2 n (n·d) - d`` (the slides' ``R_l`` for ``d = l``)."""
     dt = working_dtype(d, n)
-    d, n = _vec(d, dt), _vec(n, dt)
+    d, n = _vec(d, dt, "d"), _vec(n, dt, "n")
     return 2 * n * dot(n, d)[..., None] - d
 
 
@@ -141,7 +184,7 @@ def halfway(l, v) -> np.ndarray:  # noqa: E741 - the slides' name
     [0.0, 0.0, 0.0]
     """
     dt = working_dtype(l, v)
-    return normalize(_vec(l, dt) + _vec(v, dt))
+    return normalize(_vec(l, dt, "l") + _vec(v, dt, "v"))
 
 
 def orthonormal_basis(n):
@@ -150,7 +193,7 @@ def orthonormal_basis(n):
     Branch-free construction of Duff et al., "Building an Orthonormal Basis,
     Revisited" (JCGT 2017); continuous except across ``n_z = 0`` sign flips.
     """
-    n = normalize(n)
+    n = _normalize(n, "n")
     sign = np.where(n[..., 2] >= 0, 1.0, -1.0).astype(n.dtype)
     a = -1.0 / (sign + n[..., 2])
     b = n[..., 0] * n[..., 1] * a
@@ -170,9 +213,10 @@ def spherical_direction(theta, phi, dtype=None) -> np.ndarray:
     >>> spherical_direction(math.pi / 2, 0.0)
     array([1., 0., 0.])
     """
-    dt = dtype or working_dtype(theta, phi)
-    ct, st = cos_sin(np.asarray(theta, dtype=dt))
-    cp, sp = cos_sin(np.asarray(phi, dtype=dt))
+    dt = _check_dtype(dtype) or working_dtype(theta, phi)
+    theta, phi = _angles(theta=theta, phi=phi)
+    ct, st = cos_sin(theta.astype(dt))
+    cp, sp = cos_sin(phi.astype(dt))
     return np.stack(np.broadcast_arrays(st * cp, st * sp, ct), axis=-1)
 
 
@@ -184,19 +228,46 @@ def direction_from_elevation(elevation_deg, azimuth_deg=0.0) -> np.ndarray:
     >>> direction_from_elevation(0.0, 90.0)
     array([0., 1., 0.])
     """
-    ce, se = cos_sin_deg(elevation_deg)
-    ca, sa = cos_sin_deg(azimuth_deg)
+    elevation, azimuth = _angles(elevation_deg=elevation_deg, azimuth_deg=azimuth_deg)
+    ce, se = cos_sin_deg(elevation.astype(working_dtype(elevation_deg, azimuth_deg)))
+    ca, sa = cos_sin_deg(azimuth.astype(working_dtype(elevation_deg, azimuth_deg)))
     return np.stack(np.broadcast_arrays(ce * ca, ce * sa, se), axis=-1)
+
+
+def _check_dtype(dtype):
+    if dtype is None:
+        return None
+    try:
+        dt = np.dtype(dtype)
+    except TypeError:
+        raise ArgumentTypeError(f"dtype must be float32 or float64; got {type(dtype).__name__} {_fmt(dtype)}") from None
+    if dt not in (np.float32, np.float64):
+        raise ValueError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
+    return dt.type
+
+
+def _angles(**angles):
+    """Each named angle as a finite real array (text, complex, NaN and inf refused, naming it), broadcast together."""
+    with _one_line():
+        arrays = [real_array(name, value, allowed="finite real angles") for name, value in angles.items()]
+    try:
+        np.broadcast_shapes(*(a.shape for a in arrays))
+    except ValueError:
+        shapes = " and ".join(f"{name} {a.shape}" for name, a in zip(angles, arrays, strict=True))
+        raise ValueError(f"{' and '.join(angles)} must broadcast together; got shapes {shapes}") from None
+    return arrays
 
 
 def to_local(d, n) -> np.ndarray:
     """Express world direction ``d`` in the shading frame whose ``z`` is ``n``."""
+    d = _vec(d, working_dtype(d, n), "d")
     t, b = orthonormal_basis(n)
     return np.stack([dot(d, t), dot(d, b), dot(d, normalize(n))], axis=-1)
 
 
 def from_local(d_local, n) -> np.ndarray:
     """Inverse of :func:`to_local`."""
-    t, b = orthonormal_basis(n)
-    d_local = np.asarray(d_local, dtype=t.dtype)
+    dt = working_dtype(d_local, n)
+    d_local = _vec(d_local, dt, "d_local")
+    t, b = orthonormal_basis(np.asarray(_vec(n, dt, "n")))
     return d_local[..., 0:1] * t + d_local[..., 1:2] * b + d_local[..., 2:3] * normalize(n)

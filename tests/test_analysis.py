@@ -189,7 +189,7 @@ def test_channel_luminance_and_log():
 
 
 def test_slice_xy_is_the_polar_curve():
-    s = polar_slice(Phong(1.0, 50), 0.5, n=181)
+    s = polar_slice(Phong(1.0, 50), 0.5, n=181, refine=False)  # the uniform grid (refine adds the peak)
     xy = s.xy
     assert xy.shape == (181, 3, 2)
     np.testing.assert_allclose(xy[..., 0], s.values * np.sin(s.angles)[:, None], rtol=1e-15)
@@ -338,10 +338,11 @@ def test_theta_d_curve_valid_mask_in_the_incidence_plane():
     np.testing.assert_allclose(c.values, np.where(c.valid, 1 / math.pi, 0.0), rtol=1e-15)
 
 
-def test_theta_v_curve_is_the_light_slice():
+@pytest.mark.parametrize("refine", [False, True])
+def test_theta_v_curve_is_the_light_slice(refine):
     model = Lambert(0.3) + CookTorrance(1.0, 0.1, 0.5)
-    c = theta_v_curve(model, 0.6, phi_l=0.2, n=181, cosine=True, log=True)
-    s = polar_slice(model, 0.6, phi_in=0.2, n=181, cosine=True, log=True, refine=False)
+    c = theta_v_curve(model, 0.6, phi_l=0.2, n=181, cosine=True, log=True, refine=refine)
+    s = polar_slice(model, 0.6, phi_in=0.2, n=181, cosine=True, log=True, refine=refine)
     np.testing.assert_array_equal(c.angles, s.angles)
     np.testing.assert_array_equal(c.values, s.values)
     np.testing.assert_array_equal(c.v, s.directions)
@@ -654,3 +655,141 @@ def test_light_exactly_on_the_horizon_reflects_nothing():
     for model in (Phong(1.0, 20.0), BlinnPhong(1.0, 20.0)):
         assert np.all(theta_v_curve(model, math.pi / 2).values == 0)
         assert np.all(polar_slice(model, math.pi / 2).values == 0)
+
+
+# --------------------------------------------------------------------------- issue 14: one function, one peak
+def _views_of_one_slice(model, theta, cosine=False, log=False, dtype=np.float64):
+    """The peak each view reports for a light at polar angle ``theta``, as the explorer draws them."""
+    l = vec.spherical_direction(theta, math.pi)  # noqa: E741 - the explorer's lobe: light on the −x side
+    opts = {"cosine": cosine, "channel": "luminance"}
+    peak = lobe_peak(model, l, **opts).value
+    a, b = reciprocity_pair(model, dtype(theta), log=log, **opts)
+    curve = theta_v_curve(model, dtype(theta), log=log, **opts)
+    mesh = lobe_mesh(model, l.astype(dtype), resolution=40, **opts)
+    lobe = float(mesh.values.max())
+    if log:
+        peak, lobe = math.log1p(peak) / math.log(10), math.log1p(lobe) / math.log(10)
+    return peak, float(a.values.max()), float(curve.values.max()), lobe
+
+
+KD = 0.8 * np.array([1.0, 0.42, 0.3])
+ONE_PEAK_MODELS = [
+    Lambert(KD),
+    Lambert(KD) + Phong(0.5, 40.0),
+    Lambert(KD) + Phong(0.5, 1e6),
+    Lambert(KD) + BlinnPhong(0.5, 40.0),
+    Lambert(KD) + BlinnPhong(0.5, 1e6, normalized=True),
+    Lambert(KD) + CookTorrance(0.5, 0.25, 0.5),
+    Lambert(KD) + CookTorrance(0.5, 1e-6, 0.5),
+    CookTorrance(1.0, 1.0, 0.04, ndf="ggx", geometry="smith"),
+]
+
+
+@pytest.mark.parametrize("model", ONE_PEAK_MODELS, ids=repr)
+@pytest.mark.parametrize("elevation_deg", [90.0, 40.3, 10.0, 1e-3, 1e-6])
+@pytest.mark.parametrize(("cosine", "log"), [(False, False), (True, True)])
+def test_the_views_of_one_slice_report_the_same_peak(model, elevation_deg, cosine, log):
+    # Before: Cook–Torrance lit 1e-6° above the horizon showed lobe 2.5e12, polar 3.3e4, θ_v curve 8.2e3;
+    # Phong e = 1e6 at 40.3° showed a θ_v maximum of 2.7e-7 against 0.246 in the polar slice.  Every
+    # view now samples the peak lobe_peak finds, so all four agree to rounding (bound: 1e-9 relative).
+    theta = math.radians(90.0 - elevation_deg)
+    peak, polar, curve, lobe = _views_of_one_slice(model, theta, cosine, log)
+    assert peak > 0
+    for name, got in (("polar", polar), ("theta_v", curve), ("lobe", lobe)):
+        assert got == pytest.approx(peak, rel=1e-9), name
+
+
+def test_the_issues_cases_agree_in_float32_too():
+    # float32 angles: the slices are computed in float32, the peak in float64; they agree to float32 rounding.
+    # (Not at 1e-6° elevation: float32 cannot hold π/2 − 1.7e-8, so that light is another light in float32.)
+    for model, elevation in ((Lambert(KD) + CookTorrance(0.5, 0.25, 0.5), 10.0), (Lambert(KD) + Phong(0.5, 1e6), 40.3)):
+        theta = math.radians(90.0 - elevation)
+        peak, polar, curve, lobe = _views_of_one_slice(model, theta, dtype=np.float32)
+        for got in (polar, curve, lobe):
+            assert got == pytest.approx(peak, rel=1e-3)
+
+
+@pytest.mark.parametrize("model", ONE_PEAK_MODELS, ids=repr)
+def test_light_on_the_horizon_is_dark_in_every_view(model):
+    # θ = π/2 built through the exact helpers: z is exactly 0, every view reflects nothing.
+    theta = math.pi / 2
+    l = vec.spherical_direction(theta, math.pi)  # noqa: E741
+    assert l[2] == 0.0
+    assert lobe_peak(model, l).value == 0.0
+    assert np.all(lobe_mesh(model, l, resolution=16).values == 0)
+    for s in reciprocity_pair(model, theta):
+        assert np.all(s.values == 0)
+    assert np.all(theta_v_curve(model, theta).values == 0)
+    assert np.all(theta_h_curve(model, theta_d=theta).values == 0)
+    l_h, v_h = half_diff_to_dirs(0.0, 0.0, theta, math.pi / 2)
+    assert l_h[2] == 0.0 and v_h[2] == 0.0  # exact, not 6e-17
+
+
+def test_lobe_mesh_holds_the_grazing_peak_as_a_vertex():
+    # The peak of Cook–Torrance lit at grazing is 1e-9 rad above the horizon, below the usual rim (1e-6):
+    # the rim comes down to it and the vertex on the peak's ray is the peak.
+    model = CookTorrance(0.5, 0.25, 0.5)
+    l = vec.direction_from_elevation(1e-6, 180.0)  # noqa: E741
+    peak = lobe_peak(model, l)
+    m = lobe_mesh(model, l)
+    k = int(np.argmax(m.values))
+    np.testing.assert_array_equal(m.directions[k], peak.direction)
+    assert m.values[k] == peak.value and 0 < peak.direction[2] < 1e-8
+    mesh_is_valid(m)
+
+
+# --------------------------------------------------------------------------- issue 14: illegal input, named
+ILLEGAL_ANALYSIS = [
+    # (call, parameter the message must name, exception type)
+    (lambda: polar_slice(Lambert(1.0), b"1"), "theta_in", TypeError),
+    (lambda: polar_slice(Lambert(1.0), "0.5"), "theta_in", TypeError),
+    (lambda: polar_slice(Lambert(1.0), 0.5j), "theta_in", TypeError),
+    (lambda: polar_slice(Lambert(1.0), None), "theta_in", TypeError),
+    (lambda: polar_slice(Lambert(1.0), np.array([0.1, 0.2])), "theta_in", ValueError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, phi_in=np.nan), "phi_in", ValueError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, n=True), "n", TypeError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, n=10**9), "n", ValueError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, cosine=1), "cosine", TypeError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, channel=1.0), "channel", TypeError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, channel=True), "channel", TypeError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, log=1), "log", TypeError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, refine="no"), "refine", TypeError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, fixed=None), "fixed", TypeError),
+    (lambda: polar_slice(Lambert(1.0), 0.5, dtype="bogus"), "dtype", TypeError),
+    (lambda: polar_slice(object(), 0.5), "brdf", TypeError),
+    (lambda: reciprocity_pair(Lambert(1.0), 0.5, fixed="light"), "fixed", ValueError),
+    (lambda: theta_v_curve(Lambert(1.0), 2.0), "theta_l", ValueError),
+    (lambda: theta_v_curve(Lambert(1.0), 0.5, refine=None), "refine", TypeError),
+    (lambda: theta_h_curve(Lambert(1.0), theta_d=-1.0), "theta_d", ValueError),
+    (lambda: theta_h_curve(Lambert(1.0), phi_h=np.inf), "phi_h", ValueError),
+    (lambda: theta_d_curve(Lambert(1.0), theta_h=b"0"), "theta_h", TypeError),
+    (lambda: half_diff_image(Lambert(1.0), n_h=1), "n_h", ValueError),
+    (lambda: half_diff_image(Lambert(1.0), n_d=2.0), "n_d", TypeError),
+    (lambda: half_diff_image(Lambert(1.0), theta_h_spacing="log"), "theta_h_spacing", ValueError),
+    (lambda: half_diff_to_dirs(np.nan, 0.0, 0.0, 0.0), "theta_h", ValueError),
+    (lambda: half_diff_to_dirs(0.0, 0.0, "1", 0.0), "theta_d", TypeError),
+    (lambda: half_diff_to_dirs(np.zeros(2), 0.0, np.zeros(3), 0.0), "theta_h, phi_h", ValueError),
+    (lambda: dirs_to_half_diff((np.nan, 0.0, 1.0), (0.0, 0.0, 1.0)), "l", ValueError),
+    (lambda: dirs_to_half_diff((0.0, 0.0, 1.0), (0.0, 0.0, 1j)), "v", TypeError),
+    (lambda: dirs_to_half_diff((0.0, 0.0, 1.0), np.zeros((2, 3))), "v", ValueError),
+    (lambda: lobe_peak(Lambert(1.0), (np.inf, 0.0, 1.0)), "l", ValueError),
+    (lambda: lobe_peak(Lambert(1.0), np.full((2, 3), np.nan)), "l", ValueError),
+    (lambda: lobe_peak(Lambert(1.0), b"001"), "l", TypeError),
+    (lambda: lobe_peak(Lambert(1.0), (0.0, 0.0, 1.0), channel="alpha"), "channel", ValueError),
+    (lambda: lobe_mesh(Lambert(1.0), (0.0, 0.0, 1.0), resolution=40.0), "resolution", TypeError),
+    (lambda: lobe_mesh(Lambert(1.0), (0.0, 0.0, 1.0), cosine="normal"), "cosine", ValueError),
+    (lambda: lobe_mesh(Lambert(1.0), (0.0, 0.0, 1.0), adaptive="yes"), "adaptive", TypeError),
+    (lambda: lobe_mesh(Lambert(1.0), None), "l", TypeError),
+    (lambda: lobe_width(Lambert(1.0), float("inf")), "theta_l", ValueError),
+    (lambda: lobe_width("phong"), "brdf", TypeError),
+]
+
+
+@pytest.mark.parametrize(("call", "name", "kind"), ILLEGAL_ANALYSIS, ids=[c[1] for c in ILLEGAL_ANALYSIS])
+def test_every_illegal_argument_raises_a_named_error(call, name, kind):
+    with pytest.raises(kind) as info:
+        call()
+    msg = str(info.value)
+    assert isinstance(info.value, ValueError)  # wrong types raise ArgumentTypeError: a ValueError too
+    assert msg.startswith(name) and " must " in msg and "\n" not in msg and len(msg) < 300, msg
+    assert "got" in msg  # the value given is quoted

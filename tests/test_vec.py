@@ -89,3 +89,90 @@ def test_normalize_unit_or_zero(v):
         assert abs(norm - 1) < 1e-14
     else:
         assert norm == 0
+
+
+# ----------------------------------------------------------------------------- illegal input (issue 14, item 10)
+NAN3 = (float("nan"), 0.0, 1.0)
+INF3 = np.array([0.0, np.inf, 1.0])
+ILLEGAL_VEC = [
+    # (call, parameter named in the message)
+    (lambda x: vec.normalize(x), "a"),
+    (lambda x: vec.length(x), "a"),
+    (lambda x: vec.dot(x, (0.0, 0.0, 1.0)), "a"),
+    (lambda x: vec.dot((0.0, 0.0, 1.0), x), "b"),
+    (lambda x: vec.cross(x, (0.0, 0.0, 1.0)), "a"),
+    (lambda x: vec.reflect(x, (0.0, 0.0, 1.0)), "d"),
+    (lambda x: vec.reflect((0.0, 0.0, 1.0), x), "n"),
+    (lambda x: vec.halfway(x, (0.0, 0.0, 1.0)), "l"),
+    (lambda x: vec.halfway((0.0, 0.0, 1.0), x), "v"),
+    (lambda x: vec.orthonormal_basis(x), "n"),
+    (lambda x: vec.to_local(x, (0.0, 0.0, 1.0)), "d"),
+    (lambda x: vec.to_local((1.0, 0.0, 0.0), x), "n"),
+    (lambda x: vec.from_local(x, (0.0, 0.0, 1.0)), "d_local"),
+    (lambda x: vec.from_local((1.0, 0.0, 0.0), x), "n"),
+]
+BAD_VECTORS = [
+    (NAN3, ValueError),
+    (INF3, ValueError),
+    (np.array([[0.0, 0.0, 1.0], [np.nan, 0.0, 0.0]], np.float32), ValueError),  # one bad vector in a batch
+    (np.full(3, np.inf, np.float32), ValueError),
+    ((1j, 0.0, 1.0), TypeError),
+    (np.array([0.0, 0.0, 1.0 + 0j]), TypeError),
+    (b"1", TypeError),
+    ("0,0,1", TypeError),
+    (("0", 0.0, 1.0), TypeError),
+    (None, TypeError),
+    ({"x": 1.0}, TypeError),
+    ((True, False, True), TypeError),
+    ((1.0, 0.0), ValueError),  # shape
+]
+
+
+@pytest.mark.parametrize(("bad", "kind"), BAD_VECTORS, ids=lambda x: repr(x)[:30])
+@pytest.mark.parametrize(("call", "name"), ILLEGAL_VEC, ids=lambda x: x if isinstance(x, str) else "")
+def test_illegal_vectors_raise_a_named_error(call, name, bad, kind):
+    # NaN, inf, complex, text and objects were taken silently before: normalize returned 0 for a NaN vector.
+    with pytest.raises(kind) as info:
+        call(bad)
+    msg = str(info.value)
+    assert msg.startswith(f"{name} must be ") and "\n" not in msg and len(msg) < 300, msg
+    assert isinstance(info.value, ValueError)  # wrong types are ArgumentTypeError: a ValueError too
+
+
+@pytest.mark.parametrize(
+    ("call", "name", "kind"),
+    [
+        (lambda: vec.spherical_direction(float("nan"), 0.0), "theta", ValueError),
+        (lambda: vec.spherical_direction(0.5, "1"), "phi", TypeError),
+        (lambda: vec.spherical_direction(b"1", 0.0), "theta", TypeError),
+        (lambda: vec.spherical_direction(1j, 0.0), "theta", TypeError),
+        (lambda: vec.spherical_direction(np.zeros(2), np.zeros(3)), "theta and phi", ValueError),
+        (lambda: vec.spherical_direction(0.5, 0.0, dtype=np.int32), "dtype", ValueError),
+        (lambda: vec.spherical_direction(0.5, 0.0, dtype="bogus"), "dtype", TypeError),
+        (lambda: vec.direction_from_elevation(np.inf), "elevation_deg", ValueError),
+        (lambda: vec.direction_from_elevation(10.0, None), "azimuth_deg", TypeError),
+        (lambda: vec.direction_from_elevation("45"), "elevation_deg", TypeError),
+    ],
+)
+def test_illegal_angles_raise_a_named_error(call, name, kind):
+    with pytest.raises(kind) as info:
+        call()
+    assert str(info.value).startswith(f"{name} must ") and isinstance(info.value, ValueError), str(info.value)
+
+
+def test_long_values_are_abbreviated_in_messages():
+    big = np.full((10000, 3), np.nan)
+    with pytest.raises(ValueError) as info:
+        vec.normalize(big)
+    assert len(str(info.value)) < 250
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_checked_inputs_still_keep_dtype_and_values(dtype):
+    a = np.array([[3.0, 0.0, 4.0], [0.0, 0.0, 0.0]], dtype)
+    out = vec.normalize(a)
+    assert out.dtype == dtype and out[1].tolist() == [0.0, 0.0, 0.0]
+    np.testing.assert_allclose(out[0], [0.6, 0.0, 0.8], rtol=4 * np.finfo(dtype).eps)
+    d = vec.spherical_direction(np.array([0.0, np.pi / 2], dtype), dtype(0.0))
+    assert d.dtype == dtype and d[1].tolist() == [1.0, 0.0, 0.0]
+    assert vec.direction_from_elevation(dtype(0.0), 90.0).tolist() == [0.0, 1.0, 0.0]
