@@ -30,12 +30,19 @@ import numpy as np
 from . import fresnel as _fresnel
 from . import microfacet as _mf
 from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
     as_float,
+    check_bool,
+    check_budget,
     check_choice,
     check_color,
     check_nonnegative,
+    check_positive,
+    check_vectors,
     log1p,
     log_corrected,
+    real_array,
     safe_div,
     saturate_to,
     working_dtype,
@@ -589,6 +596,46 @@ def _combine(terms, dt) -> np.ndarray:
     return np.minimum(out, big)
 
 
+def _color(name: str, value, hi: float | None = None) -> np.ndarray:
+    """A reflectance coefficient: a finite scalar or RGB triple, every entry >= 0 (and <= ``hi``).
+
+    :func:`~lighting._numeric.real_array` first, so that complex values, booleans and text are
+    refused as types (``check_color`` alone would drop an imaginary part).
+    """
+    allowed = "a finite scalar or RGB triple with every entry >= 0" + (f" and <= {hi:g}" if hi is not None else "")
+    arr = real_array(name, value, allowed=allowed, dtype=np.float64)
+    if arr.shape not in ((), (3,)):
+        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {_fmt(value)}")
+    if np.any(arr < 0) or (hi is not None and np.any(arr > hi)):
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
+    return check_color(name, arr)
+
+
+#: Peak bytes per shading point of one public ``eval`` call, per byte of the dtype: the normalized
+#: vectors and the cached derived quantities of a :class:`Geometry`, and the RGB results.
+_ITEMS_PER_POINT = 64
+
+
+def _public_geometry(n, l, v) -> Geometry:  # noqa: E741
+    """The arguments of ``eval``/``eval_cos``/``classic``, checked once: a :class:`Geometry`.
+
+    ``n``, ``l``, ``v``: real, finite, shape ``(..., 3)``, broadcasting together, within the
+    memory budget.  Zero vectors are allowed (the contract's directions are unit; a zero one
+    has no direction and gives zero reflectance).  The dtype is decided on the arguments as
+    given (a tuple is weak), then every one is converted to it.
+    """
+    dt = working_dtype(n, l, v)
+    arrays = [check_vectors(name, x, dtype=dt) for name, x in (("n", n), ("l", l), ("v", v))]
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    except ValueError:
+        shapes = ", ".join(str(a.shape) for a in arrays)
+        raise ValueError(f"n, l and v must broadcast together (shapes (..., 3)); got shapes {shapes}") from None
+    points = math.prod(shape[:-1])
+    check_budget("n, l, v", points * _ITEMS_PER_POINT * np.dtype(dt).itemsize, what=f"{points} shading points")
+    return Geometry(*arrays, dtype=dt)
+
+
 class BRDF:
     """Base class: a reflectance model ``f_r(n, l, v)``.
 
@@ -604,16 +651,36 @@ class BRDF:
 
     # -- evaluation -----------------------------------------------------------------
     def eval(self, n, l, v):  # noqa: E741
-        """Physical BRDF ``f_r`` in 1/sr, shape ``(..., 3)``; 0 below the horizon."""
-        return self.eval_geometry(Geometry(n, l, v))
+        """Physical BRDF ``f_r`` in 1/sr, shape ``(..., 3)``; 0 below the horizon.
+
+        Parameters
+        ----------
+        n, l, v : array_like, shape (..., 3)
+            Normal, direction toward the light, direction toward the viewer: finite real
+            vectors that broadcast together, normalized on entry.  A zero vector gives 0.
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            Finite and >= 0, in the float dtype of the vector arguments (saturated at its
+            largest value where the true value is larger).
+
+        Raises
+        ------
+        ValueError
+            Naming ``n``, ``l`` or ``v``: NaN or infinite entries, a last axis other than 3,
+            shapes that do not broadcast, more points than the memory budget allows
+            (``ArgumentTypeError``, also a ``TypeError``, for text, complex, booleans, None).
+        """
+        return self.eval_geometry(_public_geometry(n, l, v))
 
     def eval_cos(self, n, l, v):  # noqa: E741
-        """``f_r (n·l)``, computed without dividing by ``n·l``; shape ``(..., 3)``."""
-        return self.eval_cos_geometry(Geometry(n, l, v))
+        """``f_r (n·l)``, computed without dividing by ``n·l``; shape ``(..., 3)``.  Arguments as :meth:`eval`."""
+        return self.eval_cos_geometry(_public_geometry(n, l, v))
 
     def classic(self, n, l, v):  # noqa: E741
-        """The slides' illumination term ``π f_r (n·l)``; shape ``(..., 3)``."""
-        return self.classic_geometry(Geometry(n, l, v))
+        """The slides' illumination term ``π f_r (n·l)``; shape ``(..., 3)``.  Arguments as :meth:`eval`."""
+        return self.classic_geometry(_public_geometry(n, l, v))
 
     def eval_geometry(self, g: Geometry):
         return self._f(g)
@@ -705,7 +772,7 @@ class Lambert(BRDF):
     stackable = True
 
     def __init__(self, kd=0.8):
-        self.kd = check_color("kd", kd)
+        self.kd = _color("kd", kd)
 
     def _params(self):
         return {"kd": self.kd}
@@ -757,7 +824,7 @@ class Phong(BRDF):
     stackable = True
 
     def __init__(self, ks=0.5, shininess=32.0):
-        self.ks = check_color("ks", ks)
+        self.ks = _color("ks", ks)
         self.shininess = check_nonnegative("shininess", shininess)
 
     def _params(self):
@@ -821,11 +888,9 @@ class BlinnPhong(BRDF):
     stackable = True
 
     def __init__(self, ks=0.5, shininess=32.0, normalized=False):
-        self.ks = check_color("ks", ks)
+        self.ks = _color("ks", ks)
         self.shininess = check_nonnegative("shininess", shininess)
-        if not isinstance(normalized, (bool, np.bool_)):
-            raise ValueError(f"normalized must be True or False; got {normalized!r}")
-        self.normalized = bool(normalized)
+        self.normalized = check_bool("normalized", normalized)
 
     def _params(self):
         return {"ks": self.ks, "shininess": self.shininess, "normalized": self.normalized}
@@ -991,18 +1056,16 @@ class CookTorrance(BRDF):
         fresnel="schlick",
         denominator="4",
     ):
-        self.ks = check_color("ks", ks)
-        try:
-            self.roughness = float(_mf.check_alpha(roughness))
-        except TypeError:
-            raise ValueError(f"roughness must be a finite number > 0; got {roughness!r}") from None
-        self.f0 = check_color("f0", f0)
-        if np.any(self.f0 > 1):
-            raise ValueError(f"f0 must be a scalar or RGB triple in [0, 1]; got {f0!r}")
+        self.ks = _color("ks", ks)
+        self.roughness = check_positive("roughness", roughness)
+        self.f0 = _color("f0", f0, hi=1.0)
         self.ndf = check_choice("ndf", ndf, self.NDFS)
         self.geometry = check_choice("geometry", geometry, self.GEOMETRIES)
         self.fresnel = check_choice("fresnel", fresnel, self.FRESNELS)
-        self.denominator = check_choice("denominator", str(denominator), self.DENOMINATORS)
+        if isinstance(denominator, (int, np.integer)) and not isinstance(denominator, (bool, np.bool_)):
+            denominator = str(denominator)  # 4 means "4"
+        self.denominator = check_choice("denominator", denominator, self.DENOMINATORS)
+        self._exponent = float(_mf.blinn_phong_exponent(self.roughness))
 
     def _params(self):
         return {
@@ -1020,21 +1083,22 @@ class CookTorrance(BRDF):
         """Normal distribution at ``h`` (1/sr)."""
         return self._D(g, g.dtype)
 
+    # The unchecked microfacet functions: the parameters were checked by the constructor, and the
+    # cosines come from a Geometry (the renderer's path must not pay for a check per call).
     def _D(self, g: Geometry, dtype):
         c, s2 = g.n_dot_h.astype(dtype, copy=False), g.sin2_h.astype(dtype, copy=False)
         if self.ndf == "blinn-phong":
-            e = _mf.blinn_phong_exponent(self.roughness)
-            return _mf.blinn_phong_ndf(c, e, sin2_theta_h=s2)
-        f = _mf.beckmann_ndf if self.ndf == "beckmann" else _mf.ggx_ndf
-        return f(c, self.roughness, sin2_theta_h=s2)
+            return _mf._blinn_phong_ndf(c, self._exponent, s2, dtype)
+        f = _mf._beckmann_ndf if self.ndf == "beckmann" else _mf._ggx_ndf
+        return f(c, self.roughness, s2, dtype)
 
     def G(self, g: Geometry):
         """Shadowing–masking in [0, 1]."""
         if self.geometry == "v-cavity":
-            return _mf.vcavity_g(g.n_dot_h, g.n_dot_v, g.n_dot_l, g.v_dot_h)
+            return _mf._vcavity_g(g.n_dot_h, g.n_dot_v, g.n_dot_l, g.v_dot_h)
         # Blinn–Phong lobes use the Beckmann G1 of the equivalent α (Walter et al. 2007).
-        g1 = _mf.smith_g1_ggx if self.ndf == "ggx" else _mf.smith_g1_beckmann
-        return g1(g.n_dot_v, self.roughness, g.sin2_v) * g1(g.n_dot_l, self.roughness, g.sin2_l)
+        g1 = _mf._smith_g1_ggx if self.ndf == "ggx" else _mf._smith_g1_beckmann
+        return g1(g.n_dot_v, self.roughness, g.sin2_v, g.dtype) * g1(g.n_dot_l, self.roughness, g.sin2_l, g.dtype)
 
     def F(self, g: Geometry):
         """Fresnel reflectance per channel, shape ``(..., 3)``."""
@@ -1120,8 +1184,11 @@ class BRDFSum(BRDF):
     """
 
     def __init__(self, *parts: BRDF):
-        if not parts or not all(isinstance(p, BRDF) for p in parts):
-            raise ValueError(f"BRDFSum needs one or more BRDF models; got {parts!r}")
+        if not parts:
+            raise ValueError("parts must be one or more BRDF models; got none")
+        for i, p in enumerate(parts):
+            if not isinstance(p, BRDF):
+                raise ArgumentTypeError(f"parts[{i}] must be a BRDF model; got {type(p).__name__} {_fmt(p)}")
         flat = []
         for p in parts:
             flat.extend(p.parts)

@@ -103,7 +103,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numeric import _fmt, check_finite, cos_sin_deg, working_dtype
+from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
+    check_bool,
+    check_budget,
+    check_count,
+    check_vectors,
+    cos_sin_deg,
+    real_array,
+    working_dtype,
+)
 
 __all__ = ["Material", "Light", "shade_vertices", "GL_MAX_SHININESS", "GL_MAX_SPOT_EXPONENT"]
 
@@ -122,7 +132,7 @@ def _rgba(name: str, value) -> tuple[float, float, float, float]:
     the range (-inf, +inf) (a negative light colour darkens).
     """
     allowed = "an RGB triple or RGBA 4-tuple of finite numbers"
-    arr = check_finite(name, value, shape_hint=allowed)
+    arr = real_array(name, value, allowed=allowed, dtype=np.float64)
     if arr.shape not in ((3,), (4,)):
         raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
     if arr.shape == (3,):
@@ -131,9 +141,15 @@ def _rgba(name: str, value) -> tuple[float, float, float, float]:
 
 
 def _real(name: str, value, allowed: str) -> float:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.number)):
-        raise ValueError(f"{name} must be {allowed}; got {value!r}")
-    v = float(value)
+    """A finite real scalar (a Python or NumPy number, or a 0-d real array); bools, text and complex are types."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "fiu":
+        value = value.item()
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.integer, np.floating)):
+        raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {_fmt(value)}")
+    try:
+        v = float(value)
+    except OverflowError:  # a Python int beyond the float range
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}") from None
     if not math.isfinite(v):
         raise ValueError(f"{name} must be {allowed}; got {v!r}")
     return v
@@ -145,12 +161,6 @@ def _in_range(name: str, value, lo: float, hi: float) -> float:
     if not lo <= v <= hi:
         raise ValueError(f"{name} must be {allowed}; got {v!r}")
     return v
-
-
-def _flag(name: str, value) -> bool:
-    if not isinstance(value, (bool, np.bool_)):
-        raise ValueError(f"{name} must be True or False; got {value!r}")
-    return bool(value)
 
 
 # --------------------------------------------------------------------------- parameters
@@ -244,7 +254,7 @@ class Light:
             object.__setattr__(self, name, _rgba(name, getattr(self, name)))
 
         allowed = "(x, y, z, w) (or (x, y, z), w = 1) of finite numbers"
-        pos = check_finite("position", self.position, shape_hint=allowed)
+        pos = real_array("position", self.position, allowed=allowed, dtype=np.float64)
         if pos.shape == (3,):
             pos = np.append(pos, 1.0)
         if pos.shape != (4,):
@@ -257,7 +267,7 @@ class Light:
         object.__setattr__(self, "position", tuple(float(c) for c in pos))
 
         allowed = "a nonzero (x, y, z) of finite numbers"
-        sd = check_finite("spot_direction", self.spot_direction, shape_hint=allowed)
+        sd = real_array("spot_direction", self.spot_direction, allowed=allowed, dtype=np.float64)
         if sd.shape != (3,) or not np.any(sd):
             raise ValueError(f"spot_direction must be {allowed}; got {_fmt(self.spot_direction)}")
         object.__setattr__(self, "spot_direction", tuple(float(c) for c in sd))
@@ -299,10 +309,7 @@ class Light:
         >>> Light.gl_default(1).diffuse
         (0.0, 0.0, 0.0, 1.0)
         """
-        if isinstance(index, (bool, np.bool_)) or not isinstance(index, (numbers.Integral,)):
-            raise ValueError(f"index must be an integer >= 0; got {index!r}")
-        if index < 0:
-            raise ValueError(f"index must be an integer >= 0; got {index!r}")
+        index = check_count("index", index, 0)
         if index > 0:
             overrides.setdefault("diffuse", (0.0, 0.0, 0.0, 1.0))
             overrides.setdefault("specular", (0.0, 0.0, 0.0, 1.0))
@@ -344,29 +351,27 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
 
 
-def _vectors(name: str, value) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of shape (..., 3); got {value!r}") from None
-    if arr.shape[-1:] != (3,):
-        raise ValueError(f"{name} must be an array of shape (..., 3); got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite; got non-finite entries in {_fmt(arr)}")
-    return arr
-
-
 def _light_list(lights) -> list[Light]:
     if isinstance(lights, Light):
         return [lights]
+    if isinstance(lights, (str, bytes, bytearray, dict)):
+        raise ArgumentTypeError(
+            f"lights must be a Light or a sequence of Light; got {type(lights).__name__} {_fmt(lights)}"
+        )
     try:
         out = list(lights)
     except TypeError:
-        raise ValueError(f"lights must be a Light or a sequence of Light; got {lights!r}") from None
+        raise ArgumentTypeError(
+            f"lights must be a Light or a sequence of Light; got {type(lights).__name__} {_fmt(lights)}"
+        ) from None
     for i, light in enumerate(out):
         if not isinstance(light, Light):
-            raise ValueError(f"lights[{i}] must be a Light; got {light!r}")
+            raise ArgumentTypeError(f"lights[{i}] must be a Light; got {type(light).__name__} {_fmt(light)}")
     return out
+
+
+#: Peak bytes per vertex of :func:`shade_vertices` (float64 temporaries of one light), for the memory budget.
+_BYTES_PER_VERTEX = 48 * 8
 
 
 # --------------------------------------------------------------------------- shading
@@ -427,8 +432,15 @@ def shade_vertices(
     Raises
     ------
     ValueError
-        Non-finite or wrongly shaped positions/normals, a non-Material
-        ``material``, a non-Light entry in ``lights``, a bad ``scene_ambient``.
+        Naming the argument: non-finite or wrongly shaped positions/normals,
+        shapes that do not broadcast, more vertices than the memory budget
+        allows (:func:`lighting._numeric.memory_budget`), a bad
+        ``scene_ambient``.  Wrong types (text, complex, booleans as numbers,
+        ``None``, a non-Material ``material``, a non-Light entry in
+        ``lights``, a non-bool flag) raise ``ArgumentTypeError``, which is both
+        a ``TypeError`` and a ``ValueError``.  A zero normal is legal (see
+        ``normalize``); positions may be anywhere, the eye and the lights
+        included.
 
     Example
     -------
@@ -440,19 +452,21 @@ def shade_vertices(
     [0.0, 0.0, 0.0, 1.0]
     """
     if not isinstance(material, Material):
-        raise ValueError(f"material must be a Material; got {material!r}")
+        raise ArgumentTypeError(f"material must be a Material; got {type(material).__name__} {_fmt(material)}")
     lights = _light_list(lights)
     a_cs = np.array(_rgba("scene_ambient", scene_ambient)[:3])
-    local_viewer = _flag("local_viewer", local_viewer)
-    normalize = _flag("normalize", normalize)
+    local_viewer = check_bool("local_viewer", local_viewer)
+    normalize = check_bool("normalize", normalize)
 
     out_dtype = working_dtype(positions, normals)
-    p = _vectors("positions", positions)
-    n = _vectors("normals", normals)
+    p = check_vectors("positions", positions, dtype=np.float64)
+    n = check_vectors("normals", normals, dtype=np.float64)
     try:
         shape = np.broadcast_shapes(p.shape, n.shape)
     except ValueError:
         raise ValueError(f"positions and normals must broadcast together; got shapes {p.shape} and {n.shape}") from None
+    vertices = math.prod(shape[:-1])
+    check_budget("positions, normals", vertices * _BYTES_PER_VERTEX, what=f"{vertices} vertices")
     p = np.broadcast_to(p, shape)
     n = np.broadcast_to(n, shape)
 

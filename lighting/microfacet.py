@@ -19,6 +19,15 @@ this engine must stay finite down to α = 1e-6 and at exact grazing):
   saturating at the type's largest finite value (a Beckmann lobe of α = 1e-6
   peaks at ``1/(π α²) ≈ 3.2e11``, which float32 holds).
 
+Arguments: the public functions check theirs once, at the boundary — real,
+finite, cosines in [−1, 1] and squared sines in [0, 1] (rounding up to
+:data:`COS_SLACK` beyond is clamped), α > 0, exponents >= 0, shapes that
+broadcast, a result within the memory budget — and raise ``ValueError``
+(``ArgumentTypeError``, also a ``TypeError``, for a wrong type) naming the
+argument.  The reflectance models call the unchecked ``_`` variants
+(:func:`_beckmann_ndf` …) on values they have already checked, so the
+renderer's inner loop does not pay for it.
+
 References: Beckmann & Spizzichino (1963); Cook & Torrance (1982); Walter,
 Marschner, Li & Torrance, "Microfacet Models for Refraction through Rough
 Surfaces" (EGSR 2007), eqs. 27 and 33 for Smith G1.
@@ -30,7 +39,7 @@ import math
 
 import numpy as np
 
-from ._numeric import working_dtype
+from ._numeric import _fmt, check_budget, real_array, working_dtype
 
 __all__ = [
     "beckmann_ndf",
@@ -46,12 +55,58 @@ __all__ = [
 _EXP_CUTOFF = 745.0  # exp(-745) is the last nonzero float64
 
 
-def check_alpha(alpha) -> np.ndarray:
-    """Validate a roughness α (scalar or array): finite and > 0."""
-    a = np.asarray(alpha, dtype=np.float64) if not isinstance(alpha, str) else None
-    if a is None or a.dtype.kind != "f" or not np.all(np.isfinite(a)) or np.any(a <= 0):
-        raise ValueError(f"roughness (alpha) must be a finite number > 0; got {alpha!r}")
+def check_alpha(alpha, name: str = "alpha") -> np.ndarray:
+    """Validate a roughness α (scalar or array): real, finite and > 0; returns it as float64.
+
+    Raises ``ArgumentTypeError`` (a ``TypeError`` and ``ValueError``) for text, complex, booleans
+    or ``None``, and ``ValueError`` for NaN, infinities or values <= 0, naming ``name``.
+    """
+    allowed = "a finite number > 0 (the roughness α), or an array of them"
+    a = real_array(name, alpha, allowed=allowed, dtype=np.float64)
+    if np.any(a <= 0):
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(alpha)}")
     return a
+
+
+#: How far beyond [−1, 1] a cosine (and beyond [0, 1] a squared sine) may stray by rounding; such
+#: values are clamped into the range, anything further is refused.
+COS_SLACK = 1e-6
+
+#: Peak bytes per output element of one public call (float64 temporaries), for the memory budget.
+_BYTES_PER_ELEMENT = 16 * 8
+
+
+def _public(name_values: dict, *, ranges: dict, scalars: tuple = ()) -> tuple[type, list[np.ndarray]]:
+    """Check the arguments of a public function once, at the boundary: ``(dtype, float64 arrays)``.
+
+    ``name_values`` maps each parameter's name to its value (None for an omitted optional one);
+    ``ranges[name] = (lo, hi)`` gives a closed range that rounding may overstep by
+    :data:`COS_SLACK` (clamped), and ``scalars`` the parameters that are validated elsewhere
+    (roughness, exponent) but broadcast with the rest.  The dtype is the working dtype of the
+    values in ``ranges`` (the directions' cosines), as the dtype policy asks.
+    """
+    dt = working_dtype(*(v for k, v in name_values.items() if k in ranges and v is not None))
+    out = []
+    for name, value in name_values.items():
+        if value is None or name in scalars:
+            out.append(value)
+            continue
+        lo, hi = ranges[name]
+        allowed = f"finite real numbers in [{lo:g}, {hi:g}]"
+        arr = real_array(name, value, allowed=allowed, dtype=np.float64)
+        if arr.size and (np.min(arr) < lo - COS_SLACK or np.max(arr) > hi + COS_SLACK):
+            bad = arr[(arr < lo - COS_SLACK) | (arr > hi + COS_SLACK)]
+            raise ValueError(f"{name} must be {allowed}; got {_fmt(bad.flat[0])} in {_fmt(value)}")
+        out.append(np.clip(arr, lo, hi))
+    shapes = [np.shape(x) for x in out if x is not None]
+    try:
+        shape = np.broadcast_shapes(*shapes)
+    except ValueError:
+        names = ", ".join(k for k, v in name_values.items() if v is not None)
+        raise ValueError(f"{names} must broadcast together; got shapes {', '.join(map(str, shapes))}") from None
+    check_budget(", ".join(k for k in name_values if k not in scalars), math.prod(shape) * _BYTES_PER_ELEMENT,
+                 what=f"{math.prod(shape)} values")
+    return dt, out
 
 
 def _cos_sin2(cos_theta, sin2_theta):
@@ -70,6 +125,10 @@ def _finish(x: np.ndarray, dt) -> np.ndarray:
     return np.minimum(x, big).astype(dt)
 
 
+_COS = (-1.0, 1.0)
+_SIN2 = (0.0, 1.0)
+
+
 def beckmann_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
     """Beckmann distribution of microfacet normals (Gaussian slopes).
 
@@ -78,24 +137,35 @@ def beckmann_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
     Parameters
     ----------
     cos_theta_h : array_like
-        ``n·h``.
+        ``n·h``, in [−1, 1] (rounding up to :data:`COS_SLACK` beyond is clamped).
     alpha : float or array_like
         RMS slope α > 0 (the ``roughness`` of :class:`lighting.brdf.CookTorrance`).
     sin2_theta_h : array_like, optional
-        ``|n × h|²``; pass it when available for full accuracy near the peak.
+        ``|n × h|²`` in [0, 1]; pass it when available for full accuracy near the peak.
 
     Returns
     -------
     ndarray
-        ``D`` in 1/sr, dtype of ``cos_theta_h``.
+        ``D`` in 1/sr, dtype of ``cos_theta_h``, finite (saturated at the dtype's largest value).
+
+    Raises
+    ------
+    ValueError
+        (``ArgumentTypeError`` for a wrong type) naming the argument that is not allowed.
 
     Examples
     --------
     >>> round(float(beckmann_ndf(1.0, 0.5)), 6)  # peak value 1/(π α²)
     1.27324
     """
-    dt = working_dtype(cos_theta_h)
     a = check_alpha(alpha)
+    dt, (c, s2, _) = _public({"cos_theta_h": cos_theta_h, "sin2_theta_h": sin2_theta_h, "alpha": a},
+                             ranges={"cos_theta_h": _COS, "sin2_theta_h": _SIN2}, scalars=("alpha",))
+    return _beckmann_ndf(c, a, s2, dt)
+
+
+def _beckmann_ndf(cos_theta_h, a, sin2_theta_h, dt) -> np.ndarray:
+    """:func:`beckmann_ndf` on checked arguments (``a`` a float64 α > 0): the renderer's path."""
     c, s2 = _cos_sin2(cos_theta_h, sin2_theta_h)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
         # x = tan²θ / α² = sin²θ / (α cos θ)²; inf where the cosine is tiny.
@@ -114,13 +184,21 @@ def ggx_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
         D(h) = α² / (π (sin²θ_h + α² cos²θ_h)²)
              = 1 / (π α² cos⁴θ_h (1 + tan²θ_h / α²)²),   0 for cos θ_h <= 0.
 
+    Arguments, result and errors as :func:`beckmann_ndf`.
+
     Examples
     --------
     >>> round(float(ggx_ndf(1.0, 0.5)), 6)  # peak value 1/(π α²)
     1.27324
     """
-    dt = working_dtype(cos_theta_h)
     a = check_alpha(alpha)
+    dt, (c, s2, _) = _public({"cos_theta_h": cos_theta_h, "sin2_theta_h": sin2_theta_h, "alpha": a},
+                             ranges={"cos_theta_h": _COS, "sin2_theta_h": _SIN2}, scalars=("alpha",))
+    return _ggx_ndf(c, a, s2, dt)
+
+
+def _ggx_ndf(cos_theta_h, a, sin2_theta_h, dt) -> np.ndarray:
+    """:func:`ggx_ndf` on checked arguments."""
     c, s2 = _cos_sin2(cos_theta_h, sin2_theta_h)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
         den = s2 + (a * c) ** 2
@@ -132,10 +210,16 @@ def ggx_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
 def blinn_phong_exponent(alpha) -> np.ndarray:
     """Blinn–Phong exponent equivalent to a Beckmann α: ``e = 2/α² − 2`` (Walter et al. 2007, eq. 30).
 
-    Clamped at 0 for α >= 1 (the flattest Blinn–Phong lobe is ``e = 0``).
+    Clamped at 0 for α >= 1 (the flattest Blinn–Phong lobe is ``e = 0``), and at the largest
+    float64 for α below 1e-154 (where ``2/α²`` overflows).
+
+    >>> float(blinn_phong_exponent(0.5))
+    6.0
     """
     a = check_alpha(alpha)
-    return np.maximum(2.0 / (a * a) - 2.0, 0.0)
+    with np.errstate(over="ignore"):
+        e = 2.0 / (a * a) - 2.0
+    return np.clip(e, 0.0, np.finfo(np.float64).max)
 
 
 def blinn_phong_ndf(cos_theta_h, exponent, sin2_theta_h=None) -> np.ndarray:
@@ -143,17 +227,26 @@ def blinn_phong_ndf(cos_theta_h, exponent, sin2_theta_h=None) -> np.ndarray:
 
     ``(n·h)^e`` is evaluated as ``exp(e·log1p(−(1 − n·h)))`` with
     ``1 − n·h = sin²θ_h / (1 + cos θ_h)``, accurate for exponents up to 1e6 and
-    beyond; ``0^0 = 1``.
+    beyond; ``0^0 = 1``.  ``exponent`` is a finite number >= 0 (or an array of
+    them); the other arguments, the result and the errors are as for
+    :func:`beckmann_ndf`.
 
     Examples
     --------
     >>> round(float(blinn_phong_ndf(1.0, 10.0)), 6)  # (e+2)/(2π)
     1.909859
     """
-    dt = working_dtype(cos_theta_h)
-    e = np.asarray(exponent, dtype=np.float64)
-    if not np.all(np.isfinite(e)) or np.any(e < 0):
-        raise ValueError(f"exponent (shininess) must be a finite number >= 0; got {exponent!r}")
+    allowed = "a finite number >= 0 (the Blinn–Phong exponent), or an array of them"
+    e = real_array("exponent", exponent, allowed=allowed, dtype=np.float64)
+    if np.any(e < 0):
+        raise ValueError(f"exponent must be {allowed}; got {_fmt(exponent)}")
+    dt, (c, s2, _) = _public({"cos_theta_h": cos_theta_h, "sin2_theta_h": sin2_theta_h, "exponent": e},
+                             ranges={"cos_theta_h": _COS, "sin2_theta_h": _SIN2}, scalars=("exponent",))
+    return _blinn_phong_ndf(c, e, s2, dt)
+
+
+def _blinn_phong_ndf(cos_theta_h, e, sin2_theta_h, dt) -> np.ndarray:
+    """:func:`blinn_phong_ndf` on checked arguments (``e`` float64 >= 0)."""
     c, s2 = _cos_sin2(cos_theta_h, sin2_theta_h)
     cp = np.maximum(c, 0.0)
     one_minus = np.where(c > 0, s2 / (1.0 + cp), 1.0)
@@ -161,8 +254,8 @@ def blinn_phong_ndf(cos_theta_h, exponent, sin2_theta_h=None) -> np.ndarray:
         p = np.exp(e * np.log1p(-np.minimum(one_minus, 1.0)))
         # Far from the peak the cosine itself is the accurate input (1 − cos loses its digits).
         p = np.where(cp < 0.5, np.power(cp, e), p)
-    p = np.where(one_minus < 1, p, np.where(e == 0, 1.0, 0.0))
-    d = np.where(c > 0, (e + 2) / (2 * math.pi) * p, 0.0)
+        p = np.where(one_minus < 1, p, np.where(e == 0, 1.0, 0.0))
+        d = np.where(c > 0, (e + 2) / (2 * math.pi) * p, 0.0)
     return _finish(d, dt)
 
 
@@ -180,14 +273,22 @@ def smith_g1_beckmann(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
 
     Evaluated as ``2a√π / (a√π (1 + erf a) + exp(−a²))``, which has no division by
     ``a`` and tends to 0 at grazing (``a → 0``) and to 1 at the normal.
+    ``cos_theta`` in [−1, 1], ``sin2_theta`` (optional, ``|n × ω|²``) in [0, 1];
+    errors as :func:`beckmann_ndf`.
 
     Examples
     --------
     >>> float(smith_g1_beckmann(1.0, 0.3))
     1.0
     """
-    dt = working_dtype(cos_theta)
     al = check_alpha(alpha)
+    dt, (c, s2, _) = _public({"cos_theta": cos_theta, "sin2_theta": sin2_theta, "alpha": al},
+                             ranges={"cos_theta": _COS, "sin2_theta": _SIN2}, scalars=("alpha",))
+    return _smith_g1_beckmann(c, al, s2, dt)
+
+
+def _smith_g1_beckmann(cos_theta, al, sin2_theta, dt) -> np.ndarray:
+    """:func:`smith_g1_beckmann` on checked arguments."""
     c, s2 = _cos_sin2(cos_theta, sin2_theta)
     s = np.sqrt(s2)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
@@ -204,19 +305,26 @@ def smith_g1_ggx(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
     """Smith masking for GGX: ``G1 = 2 / (1 + sqrt(1 + α² tan²θ))``.
 
     Evaluated as ``2 cos θ / (cos θ + hypot(cos θ, α sin θ))`` (no ``tan``, no
-    overflow at grazing).
+    overflow at grazing).  Arguments and errors as :func:`smith_g1_beckmann`.
 
     Examples
     --------
     >>> float(smith_g1_ggx(1.0, 0.3))
     1.0
     """
-    dt = working_dtype(cos_theta)
     al = check_alpha(alpha)
+    dt, (c, s2, _) = _public({"cos_theta": cos_theta, "sin2_theta": sin2_theta, "alpha": al},
+                             ranges={"cos_theta": _COS, "sin2_theta": _SIN2}, scalars=("alpha",))
+    return _smith_g1_ggx(c, al, s2, dt)
+
+
+def _smith_g1_ggx(cos_theta, al, sin2_theta, dt) -> np.ndarray:
+    """:func:`smith_g1_ggx` on checked arguments."""
     c, s2 = _cos_sin2(cos_theta, sin2_theta)
     s = np.sqrt(s2)
     cp = np.maximum(c, 0.0)
-    den = cp + np.hypot(cp, al * s)
+    with np.errstate(over="ignore", under="ignore"):
+        den = cp + np.hypot(cp, al * s)
     with np.errstate(divide="ignore", invalid="ignore"):
         g = np.where(den > 0, 2 * cp / np.where(den > 0, den, 1.0), 0.0)
     g = np.where(c > 0, g, 0.0)
@@ -233,7 +341,7 @@ def _smith_g1_den_beckmann(cos_theta, alpha, sin2_theta) -> np.ndarray:
     a small ``G1`` by a small cosine at grazing (where it tends to ``2√π/α``), and
     ``d → 2 cos θ`` at the normal.  ``d`` is 1 (a placeholder) where ``cos θ <= 0``.
     """
-    al = float(check_alpha(alpha))
+    al = float(alpha)  # internal: the model checked it once
     c, s2 = _cos_sin2(cos_theta, sin2_theta)
     s = np.sqrt(s2)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
@@ -244,7 +352,7 @@ def _smith_g1_den_beckmann(cos_theta, alpha, sin2_theta) -> np.ndarray:
 
 def _smith_g1_den_ggx(cos_theta, alpha, sin2_theta) -> np.ndarray:
     """``d`` with ``G1 = 2 cos θ / d`` for GGX (float64): ``d = cos θ + sqrt(cos²θ + α² sin²θ)``."""
-    al = float(check_alpha(alpha))
+    al = float(alpha)  # internal: the model checked it once
     c, s2 = _cos_sin2(cos_theta, sin2_theta)
     cp = np.maximum(c, 0.0)
     d = cp + np.hypot(cp, al * np.sqrt(s2))
@@ -256,17 +364,25 @@ def vcavity_g(n_dot_h, n_dot_v, n_dot_l, v_dot_h) -> np.ndarray:
 
         G = min(1, 2 (n·h)(n·v) / (v·h), 2 (n·h)(n·l) / (v·h)),
 
-    0 where any cosine is <= 0 (``v·h = l·h`` by construction of ``h``).
+    0 where any cosine is <= 0 (``v·h = l·h`` by construction of ``h``).  Every
+    argument is a cosine in [−1, 1]; errors as :func:`beckmann_ndf`.
 
     Examples
     --------
     >>> float(vcavity_g(1.0, 1.0, 1.0, 1.0))
     1.0
     """
-    dt = working_dtype(n_dot_h, n_dot_v, n_dot_l, v_dot_h)
+    names = {"n_dot_h": n_dot_h, "n_dot_v": n_dot_v, "n_dot_l": n_dot_l, "v_dot_h": v_dot_h}
+    dt, arrays = _public(names, ranges=dict.fromkeys(names, _COS))
+    return _vcavity_g(*arrays, dt=dt)
+
+
+def _vcavity_g(n_dot_h, n_dot_v, n_dot_l, v_dot_h, dt=None) -> np.ndarray:
+    """:func:`vcavity_g` on checked arguments (the dtype of the cosines unless ``dt`` is given)."""
+    dt = dt or working_dtype(n_dot_h, n_dot_v, n_dot_l, v_dot_h)
     nh, nv, nl, vh = (np.asarray(x, dtype=np.float64) for x in (n_dot_h, n_dot_v, n_dot_l, v_dot_h))
     m = np.minimum(nv, nl)
-    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
         g = np.where(vh > 0, 2 * nh * m / np.where(vh > 0, vh, 1.0), 0.0)
     g = np.where((nh > 0) & (nv > 0) & (nl > 0), np.clip(g, 0.0, 1.0), 0.0)
     return _finish(g, dt)

@@ -445,15 +445,15 @@ def test_bad_parameters(make, match):
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(positions=np.zeros((3, 2))), r"positions must be an array of shape \(\.\.\., 3\)"),
+        (dict(positions=np.zeros((3, 2))), r"positions must be finite real vectors of shape \(\.\.\., 3\)"),
         (dict(normals=(0, 0, float("nan"))), r"normals must be finite"),
         (dict(positions=np.zeros((2, 3)), normals=np.ones((3, 3))), r"positions and normals must broadcast"),
-        (dict(material="plastic"), r"material must be a Material; got 'plastic'"),
-        (dict(lights=[Light(), "sun"]), r"lights\[1\] must be a Light; got 'sun'"),
+        (dict(material="plastic"), r"material must be a Material; got str 'plastic'"),
+        (dict(lights=[Light(), "sun"]), r"lights\[1\] must be a Light; got str 'sun'"),
         (dict(lights=3), r"lights must be a Light or a sequence of Light"),
         (dict(scene_ambient=(0.2, 0.2)), r"scene_ambient must be an RGB triple or RGBA 4-tuple"),
-        (dict(local_viewer="yes"), r"local_viewer must be True or False; got 'yes'"),
-        (dict(normalize=None), r"normalize must be True or False; got None"),
+        (dict(local_viewer="yes"), r"local_viewer must be True or False; got str 'yes'"),
+        (dict(normalize=None), r"normalize must be True or False; got NoneType None"),
     ],
 )
 def test_bad_shade_arguments(kwargs, match):
