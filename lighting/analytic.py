@@ -8,9 +8,8 @@ pixel with exact normals (ray casting, :func:`lighting.raster.raycast_sphere`).
 
 from __future__ import annotations
 
-import numpy as np
-
-from .camera import Camera
+from ._numeric import check_count, check_positive
+from .camera import MAX_IMAGE_SIDE, Camera
 from .illumination import Material
 from .render import AnalyticSphere, Renderer
 
@@ -19,11 +18,22 @@ __all__ = ["sphere_camera", "render_sphere"]
 
 def sphere_camera(size: int = 256, *, margin: float = 1.08) -> Camera:
     """A ``size × size`` camera on +z looking at a unit sphere at the origin, ``margin`` × its radius in view."""
-    if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or size < 1:
-        raise ValueError(f"size must be an integer >= 1; got {size!r}")
+    size = check_count("size", size, 1, MAX_IMAGE_SIDE)
+    margin = check_positive("margin", margin)
     return Camera((0, 0, 10.0), (0, 0, 0), projection="orthographic", ortho_height=2 * margin, width=size, height=size)
 
 
 def render_sphere(material: Material, lights, *, size: int = 256, form: str = "classic", background=0.0):
-    """Linear RGB image ``(size, size, 3)`` of the lit unit sphere, per-pixel exact (viewer at +z infinity)."""
+    """Linear RGB image ``(size, size, 3)`` of the lit unit sphere, per-pixel exact (viewer at +z infinity).
+
+    Parameters
+    ----------
+    material : Material
+    lights : sequence of lights
+    size : int in [1, 65536]
+        Image width and height in pixels; refused (``BudgetError``, a ValueError) when the image would
+        need more than the memory budget.
+    form : {"classic", "physical"}
+    background : scalar or RGB >= 0
+    """
     return Renderer(AnalyticSphere(), sphere_camera(size)).render(material, lights, form=form, background=background)

@@ -42,27 +42,56 @@ import math
 
 import numpy as np
 
-from ._numeric import as_float, check_choice, check_positive, working_dtype
-from .vec import normalize
+from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
+    as_float,
+    check_budget,
+    check_choice,
+    check_positive,
+    check_range,
+    check_vectors,
+    cos_sin_deg,
+    real_array,
+    working_dtype,
+)
+from .vec import length, normalize
 
-__all__ = ["Camera"]
+__all__ = ["Camera", "MAX_IMAGE_SIDE"]
+
+#: Largest image width or height in pixels (the memory budget usually refuses far smaller images first).
+MAX_IMAGE_SIDE = 1 << 16
+
+_BIG = float(np.finfo(np.float64).max)
 
 
 def _vec3(name: str, value) -> np.ndarray:
-    try:
-        a = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite 3-vector; got {value!r}") from None
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be a finite 3-vector; got {value!r}")
+    a = real_array(name, value, allowed="a finite 3-vector (x, y, z)", dtype=np.float64)
+    if a.shape != (3,):
+        raise ValueError(f"{name} must be a finite 3-vector (x, y, z); got shape {a.shape}: {_fmt(value)}")
+    a = a.copy()
     a.setflags(write=False)
     return a
 
 
 def _size(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise ValueError(f"{name} must be an integer >= 1 (pixels); got {value!r}")
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise ArgumentTypeError(f"{name} must be an integer >= 1 (pixels); got {type(value).__name__} {_fmt(value)}")
+    if value < 1:
+        raise ValueError(f"{name} must be an integer >= 1 (pixels); got {_fmt(value)}")
+    if value > MAX_IMAGE_SIDE:
+        raise ValueError(f"{name} must be an integer <= {MAX_IMAGE_SIDE} (pixels); got {_fmt(value)}")
     return int(value)
+
+
+def _float_dtype(dtype) -> type:
+    try:
+        dt = np.dtype(dtype)
+    except TypeError:
+        dt = None
+    if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+        raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
+    return dt.type
 
 
 class Camera:
@@ -112,23 +141,29 @@ class Camera:
         self.target = _vec3("target", target)
         self.up = _vec3("up", up)
         self.projection = check_choice("projection", projection, ("perspective", "orthographic"))
-        self.fov_y_deg = check_positive("fov_y_deg", fov_y_deg)
-        if not self.fov_y_deg < 180:
-            raise ValueError(f"fov_y_deg must be in (0, 180) degrees; got {fov_y_deg!r}")
+        self.fov_y_deg = check_range("fov_y_deg", fov_y_deg)
+        if not 0 < self.fov_y_deg < 180:
+            raise ValueError(f"fov_y_deg must be in (0, 180) degrees; got {_fmt(fov_y_deg)}")
         self.ortho_height = check_positive("ortho_height", ortho_height)
         self.width = _size("width", width)
         self.height = _size("height", height)
 
-        d = self.target - self.eye
-        dist = float(np.linalg.norm(d))
+        with np.errstate(over="ignore", invalid="ignore"):
+            d = self.target - self.eye
+        # length() scales before squaring: eye 1e308 from the target is a distance, not an overflow.
+        dist = float(length(d)) if np.all(np.isfinite(d)) else math.inf
+        if not dist <= _BIG:
+            raise ValueError(
+                f"eye and target must be less than {_BIG:.3g} apart (target - eye overflows float64); "
+                f"got eye={self.eye.tolist()}, target={self.target.tolist()}"
+            )
         if not dist > 0:
             raise ValueError(f"eye and target must differ; got eye={self.eye.tolist()}, target={self.target.tolist()}")
-        f = d / dist
-        up_len = float(np.linalg.norm(self.up))
-        if not up_len > 0:
+        f = normalize(d)
+        if not np.any(self.up != 0):
             raise ValueError(f"up must be a non-zero vector; got {self.up.tolist()}")
-        s = np.cross(f, self.up / up_len)
-        s_len = float(np.linalg.norm(s))
+        s = np.cross(f, normalize(self.up))
+        s_len = float(length(s))
         if not s_len > 1e-9:
             raise ValueError(
                 f"up must not be parallel to the view direction target - eye = {d.tolist()}; got up={self.up.tolist()}"
@@ -140,10 +175,11 @@ class Camera:
         self.forward, self.right, self.true_up = f, r, u
         self.distance = dist
 
-        self.near = check_positive("near", near) if near is not None else dist / 1000
-        self.far = check_positive("far", far) if far is not None else dist * 1000
+        # The default depth range spans 1000× either way, within the float64 range.
+        self.near = check_positive("near", near) if near is not None else max(dist / 1000, 5e-324)
+        self.far = check_positive("far", far) if far is not None else min(dist * 1000, _BIG)
         if not self.far > self.near:
-            raise ValueError(f"far must be > near = {self.near!r}; got far={self.far!r}")
+            raise ValueError(f"far must be > near = {self.near!r}; got far={_fmt(self.far)}")
         self._memo = {}  # quantities derived from the (immutable) camera alone, made on first use
         self._frozen = True
 
@@ -182,13 +218,19 @@ class Camera:
         [2.0, 0.0, 0.0]
         """
         dist = check_positive("distance", distance)
-        if not math.isfinite(float(azimuth_deg)):
-            raise ValueError(f"azimuth_deg must be a finite number of degrees; got {azimuth_deg!r}")
-        if not abs(float(elevation_deg)) < 90:
-            raise ValueError(f"elevation_deg must be in (-90, 90); got {elevation_deg!r}")
-        a, e = math.radians(float(azimuth_deg)), math.radians(float(elevation_deg))
+        az = check_range("azimuth_deg", azimuth_deg)
+        el = check_range("elevation_deg", elevation_deg)
+        if not abs(el) < 90:
+            raise ValueError(f"elevation_deg must be in (-90, 90); got {_fmt(elevation_deg)}")
         t = _vec3("target", target)
-        eye = t + dist * np.array([math.cos(e) * math.sin(a), math.sin(e), math.cos(e) * math.cos(a)])
+        # Exact at multiples of 90° (azimuth 90 puts the eye exactly on +x).
+        ca, sa = (float(x) for x in cos_sin_deg(az))
+        ce, se = (float(x) for x in cos_sin_deg(el))
+        with np.errstate(over="ignore"):
+            eye = t + dist * np.array([ce * sa, se, ce * ca])
+        if not np.all(np.isfinite(eye)):
+            raise ValueError(f"distance must keep the eye inside the float64 range around target={_fmt(t)}; "
+                             f"got distance={_fmt(dist)}")  # fmt: skip
         return cls(eye, t, options.pop("up", (0.0, 1.0, 0.0)), **options)
 
     def replace(self, **changes) -> Camera:
@@ -211,7 +253,7 @@ class Camera:
         )
         unknown = set(changes) - set(args)
         if unknown:
-            raise ValueError(f"unknown Camera parameter(s) {sorted(unknown)}; allowed: {sorted(args)}")
+            raise ValueError(f"unknown Camera parameter(s) {_fmt(sorted(unknown))}; allowed: {sorted(args)}")
         if ("eye" in changes or "target" in changes) and not {"near", "far"} & set(changes):
             args["near"] = args["far"] = None  # keep the defaults relative to the new distance
         args.update(changes)
@@ -264,15 +306,29 @@ class Camera:
         V[:3, 3] = -R @ self.eye
         return V
 
+    def _check_image_budget(self, what: str, bytes_per_pixel: float) -> None:
+        """Refuse (BudgetError) work whose per-pixel arrays would exceed the memory budget."""
+        n = self.width * self.height
+        check_budget(f"{what} of a {self.width}x{self.height} camera", n * bytes_per_pixel,
+                     what=f"{n} pixels x {bytes_per_pixel:g} bytes")  # fmt: skip
+
     # ------------------------------------------------------------------ mappings
     def world_to_camera(self, points) -> np.ndarray:
         """Camera coordinates ``(x_c, y_c, z_c)`` of world points, shape ``(..., 3)``; keeps the dtype."""
+        return self._world_to_camera(check_vectors("points", points))
+
+    def _world_to_camera(self, points) -> np.ndarray:
+        """:meth:`world_to_camera` on checked points (the rasterizer's path); saturates instead of overflowing."""
         dt = working_dtype(points)
         p = as_float(points, dt)
-        if p.shape[-1:] != (3,):
-            raise ValueError(f"points must have shape (..., 3); got shape {p.shape}")
         R = np.stack([self.right, self.true_up, -self.forward]).astype(dt)
-        return (p - self.eye.astype(dt)) @ R.T
+        with np.errstate(over="ignore", invalid="ignore"):
+            q = (p - self.eye.astype(dt)) @ R.T
+        big = np.finfo(dt).max
+        if not np.all(np.isfinite(q)):
+            # Points beyond the float range of the eye (1e38 in float32): their coordinates saturate.
+            q = np.clip(np.nan_to_num(q, nan=0.0, posinf=big, neginf=-big), -big, big)
+        return q
 
     def camera_to_pixels(self, cam_points):
         """Step 3 of the module notes on camera coordinates: ``(xy (..., 2), depth (...))``.
@@ -280,7 +336,10 @@ class Camera:
         Perspective points with depth ``≤ 0`` (at or behind the eye) have no image:
         their ``xy`` is returned as 0; check ``depth >= near`` before using it.
         """
-        c = np.asarray(cam_points)
+        c = check_vectors("cam_points", cam_points)
+        return self._camera_to_pixels(c)
+
+    def _camera_to_pixels(self, c):
         depth = -c[..., 2]
         cx, cy = self.width / 2, self.height / 2
         if self.is_perspective:
@@ -292,8 +351,9 @@ class Camera:
             y = np.where(ok, cy - c[..., 1] * inv, 0)
         else:
             S = self.pixels_per_unit
-            x = cx + S * c[..., 0]
-            y = cy - S * c[..., 1]
+            with np.errstate(over="ignore"):
+                x = cx + S * c[..., 0]
+                y = cy - S * c[..., 1]
         xy = np.stack([x, y], axis=-1).astype(c.dtype, copy=False)
         return xy, depth
 
@@ -320,10 +380,12 @@ class Camera:
         >>> cam.project([[1.0, 1.0, 0.0], [1.0, 1.0, 3.0]])[0].tolist()  # orthographic: depth does not matter
         [[6.0, 2.0], [6.0, 2.0]]
         """
-        return self.camera_to_pixels(self.world_to_camera(points))
+        return self._camera_to_pixels(self.world_to_camera(points))
 
     def pixel_centers(self, dtype=np.float64) -> np.ndarray:
         """``(H, W, 2)`` pixel-centre coordinates ``(j + ½, i + ½)``."""
+        dtype = _float_dtype(dtype)
+        self._check_image_budget("pixel_centers", 2 * 3 * np.dtype(dtype).itemsize)
         jj, ii = np.meshgrid(np.arange(self.width, dtype=dtype), np.arange(self.height, dtype=dtype))
         return np.stack([jj + 0.5, ii + 0.5], axis=-1)
 
@@ -342,6 +404,8 @@ class Camera:
         >>> d[1, 1].tolist(), o[1, 1].tolist()  # the centre pixel looks straight at the target
         ([0.0, 0.0, -1.0], [0.0, 0.0, 5.0])
         """
+        dtype = _float_dtype(dtype)
+        self._check_image_budget("rays", 6 * np.dtype(dtype).itemsize + 7 * 8)
         o, d = self.ray_components()
         shape = (self.height, self.width, 3)
         origins = np.empty(shape, dtype=dtype)
@@ -401,6 +465,20 @@ class Camera:
         >>> (v + 0.0).tolist(), dist.tolist()  # (+ 0.0 turns the -0.0 components into 0.0)
         ([[0.0, 0.0, 1.0]], [5.0])
         """
+        dt = _float_dtype(dtype)
+        n_pix = self.width * self.height
+        p = real_array("pixels", pixels, allowed=f"integer pixel indices in [0, {n_pix})")
+        if p.ndim != 1 or not np.all((p >= 0) & (p < n_pix) & (p == np.floor(p))):
+            raise ValueError(f"pixels must be a 1-D array of integer pixel indices in [0, {n_pix}); "
+                             f"got {_fmt(pixels)}")  # fmt: skip
+        if depth is not None:
+            depth = real_array("depth", depth)
+            if depth.shape != p.shape or np.any(depth < 0):
+                raise ValueError(f"depth must be finite depths >= 0, one per pixel ({len(p)}); got {_fmt(depth)}")
+        return self._pixel_view_vectors(np.asarray(pixels).astype(np.int64), depth, dtype=dt)
+
+    def _pixel_view_vectors(self, pixels, depth=None, *, dtype=np.float64):
+        """:meth:`pixel_view_vectors` on checked arguments (the renderer's path)."""
         dt = np.dtype(dtype).type
         if not self.is_perspective:
             return (-self.forward).astype(dt), None
@@ -409,7 +487,10 @@ class Camera:
         v = np.empty((len(p), 3), dtype=dt, order="F")
         for c in range(3):
             planes[c].take(p, out=v[:, c])
-        dist = None if depth is None else np.asarray(depth, dtype=np.float64) * length.take(p)
+        if depth is None:
+            return v, None
+        with np.errstate(over="ignore"):
+            dist = np.minimum(np.asarray(depth, dtype=np.float64) * length.take(p), _BIG)
         return v, dist
 
     def _pixel_view_planes(self, dt):
@@ -441,10 +522,8 @@ class Camera:
         >>> Camera((0, 0, 5), (0, 0, 0)).view_direction([[3.0, 0.0, 1.0]]).tolist()
         [[-0.6, 0.0, 0.8]]
         """
-        dt = working_dtype(points)
-        p = as_float(points, dt)
-        if p.shape[-1:] != (3,):
-            raise ValueError(f"points must have shape (..., 3); got shape {p.shape}")
+        p = check_vectors("points", points)
+        dt = p.dtype.type
         if self.is_perspective:
             return normalize(self.eye.astype(dt) - p)
         return np.broadcast_to((-self.forward).astype(dt), p.shape).copy()

@@ -147,7 +147,7 @@ def _check_dtype(dtype) -> type:
     except TypeError:
         dt = None
     if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
-        raise ArgumentTypeError(f"dtype must be numpy.float32 or numpy.float64; got {_fmt(dtype)}")
+        raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
     return dt.type
 
 

@@ -23,15 +23,28 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._numeric import ArgumentTypeError, _fmt, check_count, real_array
+
 __all__ = ["Profile", "luminance", "scanline_profile", "edge_jump_metric"]
 
 #: Rec. 709 / sRGB luminance weights of linear RGB.
 LUMA = np.array([0.2126, 0.7152, 0.0722])
 
 
+def _image(value, name: str = "image", *, gray_ok: bool = True) -> np.ndarray:
+    allowed = "a finite linear image of shape (H, W, 3)" + (" or (H, W)" if gray_ok else "")
+    img = real_array(name, value, allowed=allowed, dtype=np.float64)
+    if not ((img.ndim == 3 and img.shape[-1] == 3) or (gray_ok and img.ndim == 2)):
+        raise ValueError(f"{name} must be {allowed}; got shape {img.shape}: {_fmt(value)}")
+    return img
+
+
 def luminance(image) -> np.ndarray:
     """Relative luminance ``Y`` of a linear RGB image ``(..., 3)``."""
-    return np.asarray(image, dtype=np.float64) @ LUMA
+    img = real_array("image", image, allowed="finite linear RGB of shape (..., 3)", dtype=np.float64)
+    if img.shape[-1:] != (3,):
+        raise ValueError(f"image must be finite linear RGB of shape (..., 3); got shape {img.shape}: {_fmt(image)}")
+    return img @ LUMA
 
 
 class Profile(NamedTuple):
@@ -44,15 +57,30 @@ class Profile(NamedTuple):
 
 
 def _channel(image, channel) -> np.ndarray:
-    img = np.asarray(image, dtype=np.float64)
+    img = _image(image)
+    allowed = "'luminance', 'r', 'g', 'b' or an integer 0..2"
+    if isinstance(channel, str):
+        idx = {"luminance": None, "r": 0, "g": 1, "b": 2}.get(channel.lower(), -1)
+    elif channel is None:
+        idx = None
+    elif isinstance(channel, (int, np.integer)) and not isinstance(channel, (bool, np.bool_)):
+        idx = int(channel)
+    else:
+        raise ArgumentTypeError(f"channel must be {allowed}; got {type(channel).__name__} {_fmt(channel)}")
+    if idx not in (None, 0, 1, 2):
+        raise ValueError(f"channel must be {allowed}; got {_fmt(channel)}")
     if img.ndim == 2:
         return img
-    if channel in (None, "luminance"):
-        return luminance(img)
-    idx = {"r": 0, "g": 1, "b": 2}.get(str(channel).lower(), channel)
-    if idx not in (0, 1, 2):
-        raise ValueError(f"channel must be 'luminance', 'r', 'g', 'b' or 0..2; got {channel!r}")
-    return img[..., idx]
+    return img @ LUMA if idx is None else img[..., idx]
+
+
+def _mask(name: str, value, shape) -> np.ndarray:
+    arr = np.asarray(value) if isinstance(value, np.ndarray) else None
+    if arr is None or arr.dtype.kind != "b":
+        arr = real_array(name, value, allowed=f"a boolean array of shape {shape}")
+    if arr.shape != shape:
+        raise ValueError(f"{name} must be a boolean array of shape {shape}; got shape {arr.shape}: {_fmt(value)}")
+    return arr.astype(bool)
 
 
 def scanline_profile(image, row: int, *, coverage=None, channel="luminance") -> Profile:
@@ -77,9 +105,8 @@ def scanline_profile(image, row: int, *, coverage=None, channel="luminance") -> 
     """
     y = _channel(image, channel)
     h, w = y.shape
-    if not (isinstance(row, (int, np.integer)) and 0 <= row < h):
-        raise ValueError(f"row must be an integer in [0, {h - 1}]; got {row!r}")
-    cov = np.ones(w, bool) if coverage is None else np.asarray(coverage, bool)[row]
+    row = check_count("row", row, 0, h - 1)
+    cov = np.ones(w, bool) if coverage is None else _mask("coverage", coverage, (h, w))[row]
     x = _longest_run(cov)
     vals = y[row, x]
     d1 = np.diff(vals)
@@ -128,10 +155,24 @@ def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_
         Mach banding (3–6 times on a coarse sphere, see the tests) without
         removing it.
     """
-    tid = np.asarray(triangle_id)
     y = _channel(image, channel)
+    tid = np.asarray(triangle_id) if isinstance(triangle_id, np.ndarray) else None
+    if tid is None or tid.dtype.kind not in "iu":
+        tid = real_array("triangle_id", triangle_id, allowed=f"integer triangle ids (-1 for background) of shape "
+                         f"{y.shape}")  # fmt: skip
+        if np.any(tid != np.floor(tid)):
+            raise ValueError(f"triangle_id must be integer triangle ids (-1 for background); got {_fmt(triangle_id)}")
+        tid = tid.astype(np.int64)
+    if tid.shape != y.shape:
+        raise ValueError(f"triangle_id must have the image's shape {y.shape}; got shape {tid.shape}")
+    min_run = check_count("min_run", min_run, 1)
     cov = tid >= 0
-    rows = range(tid.shape[0]) if rows is None else rows
+    if rows is None:
+        rows = range(tid.shape[0])
+    else:
+        if isinstance(rows, (str, bytes)) or not hasattr(rows, "__iter__"):
+            raise ArgumentTypeError(f"rows must be an iterable of row indices; got {type(rows).__name__} {_fmt(rows)}")
+        rows = [check_count("rows[]", r, 0, tid.shape[0] - 1) for r in rows]
     kinks, slopes = [], []
     for r in rows:
         x = _longest_run(cov[r])

@@ -35,11 +35,44 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._numeric import check_choice
+from ._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
 from .brdf import BRDF, BRDFSum, Lambert
-from .illumination import FORMS, TERMS, Material, _evaluate, shade_prepared
+from .illumination import (
+    FORMS,
+    TERMS,
+    Material,
+    _check_lights,
+    _check_material,
+    _check_terms,
+    _evaluate,
+    shade_prepared,
+)
 from .lights import AmbientLight, DirectionalLight, SpotLight
+from .mesh import TriangleMesh
 from .render import SHADING_MODES, AnalyticSphere, Renderer
+from .vec import length
+
+_BIG64 = float(np.finfo(np.float64).max)
+
+
+def _check_renderer(renderer) -> Renderer:
+    if not isinstance(renderer, Renderer):
+        raise ArgumentTypeError(f"renderer must be a lighting.render.Renderer; got {type(renderer).__name__} "
+                                f"{_fmt(renderer)}")  # fmt: skip
+    return renderer
+
+
+def _check_bounds(bounds):
+    """``None`` or ``(centre 3-vector, radius >= 0)``, as :func:`bounding_sphere` returns."""
+    allowed = "None or (centre, radius): a finite 3-vector and a finite number >= 0"
+    if bounds is None:
+        return None
+    if isinstance(bounds, (str, bytes)) or not isinstance(bounds, (tuple, list)) or len(bounds) != 2:
+        raise ArgumentTypeError(f"bounds must be {allowed}; got {type(bounds).__name__} {_fmt(bounds)}")
+    c = real_array("bounds centre", bounds[0], allowed="a finite 3-vector", dtype=np.float64)
+    if c.shape != (3,):
+        raise ValueError(f"bounds must be {allowed}; got a centre of shape {c.shape}: {_fmt(bounds)}")
+    return c, check_nonnegative("bounds radius", bounds[1])
 
 __all__ = ["Plan", "Skip", "compile_plan", "evaluate_full", "bounding_sphere"]
 
@@ -69,9 +102,15 @@ def bounding_sphere(geometry) -> tuple[np.ndarray, float]:
     """A sphere that contains ``geometry`` (centre of the bounding box, farthest vertex)."""
     if isinstance(geometry, AnalyticSphere):
         return np.asarray(geometry.center, dtype=np.float64), float(geometry.radius)
+    if not isinstance(geometry, TriangleMesh):
+        raise ArgumentTypeError(f"geometry must be a TriangleMesh or an AnalyticSphere; got {type(geometry).__name__} "
+                                f"{_fmt(geometry)}")  # fmt: skip
     v = np.asarray(geometry.vertices, dtype=np.float64)
-    c = 0.5 * (v.min(axis=0) + v.max(axis=0))
-    return c, float(np.sqrt(np.max(np.sum((v - c) ** 2, axis=1))))
+    if len(v) == 0:
+        return np.zeros(3), 0.0
+    c = 0.5 * v.min(axis=0) + 0.5 * v.max(axis=0)  # halves: the sum of two extremes may overflow
+    with np.errstate(over="ignore"):
+        return c, float(min(np.max(length(v - c)), _BIG64))
 
 
 def _spot_misses(light: SpotLight, bounds) -> bool:
@@ -86,9 +125,12 @@ def _spot_misses(light: SpotLight, bounds) -> bool:
     if light.cutoff_deg == 180 or bounds is None:
         return False
     c, r = bounds
-    d = c - light.position
-    dist = float(np.linalg.norm(d))
-    if dist <= r:
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = c - light.position
+    if not np.all(np.isfinite(d)):
+        return False  # too far apart to decide in float64: keep the light (the plan stays exact)
+    dist = float(length(d))
+    if not dist > r:
         return False
     cos_axis = float(np.dot(d / dist, light.direction))
     angle = math.acos(max(-1.0, min(1.0, cos_axis)))
@@ -134,11 +176,15 @@ class Plan:
 
     # ------------------------------------------------------------------ execution
     def shade_samples(self, renderer: Renderer) -> np.ndarray:
-        """Colours ``(N, 3)`` at the renderer's samples for this plan's mode."""
+        """Colours ``(N, 3)`` at the renderer's samples for this plan's mode.
+
+        ``renderer`` is a :class:`~lighting.render.Renderer` or any object with its sample methods
+        (a scene's group of renderers sharing one plan).
+        """
         mode, dt = self.mode, renderer.dtype
         if self.strategy == "constant":
             n = len(renderer.sample_points(mode)) if mode != "phong" else len(renderer._pixels())
-            return np.broadcast_to(self.constant.astype(dt), (n, 3)).copy()
+            return np.broadcast_to(saturate_to(self.constant, dt), (n, 3)).copy()
         nrm = renderer.sample_normals(mode)
         if self.strategy == "diffuse-directional":
             return self._diffuse_directional(renderer, nrm)
@@ -151,8 +197,9 @@ class Plan:
 
     def _ambient_colour(self):
         # The ambient lights are folded into one with the same total (their sum is all that matters).
-        total = sum((lt.radiant for lt in self.lights if isinstance(lt, AmbientLight)), np.zeros(3))
-        return total
+        with np.errstate(over="ignore"):
+            return np.minimum(sum((lt.radiant for lt in self.lights if isinstance(lt, AmbientLight)), np.zeros(3)),
+                              _BIG64)  # fmt: skip
 
     def _diffuse_directional(self, renderer: Renderer, nrm: np.ndarray) -> np.ndarray:
         dt = renderer.dtype
@@ -169,34 +216,46 @@ class Plan:
             front = (nrm[:, 0] * vd[0] + nrm[:, 1] * vd[1] + nrm[:, 2] * vd[2]) > 0
         scale = 1.0 if self.form == "classic" else 1.0 / math.pi
         planes = [None, None, None]
-        kd = sum((p.kd for p in self.kept_parts), np.zeros(3))
+        big = float(np.finfo(dt).max)
+        with np.errstate(over="ignore"):
+            kd = np.minimum(sum((p.kd for p in self.kept_parts), np.zeros(3)), _BIG64)
         for light in self.kept_lights:
             ld = light.direction.astype(dt)
             nl = nrm[:, 0] * ld[0] + nrm[:, 1] * ld[1] + nrm[:, 2] * ld[2]
             w = np.where(front & (nl > 0), nl, 0).astype(dt, copy=False)
-            colour = kd * light.radiant * scale
+            # The colour saturates at the dtype's largest value before the cast (a weight of 0 must give 0,
+            # not 0 · inf); the sums of non-negative terms are finite or +inf, clamped below.
+            with np.errstate(over="ignore"):
+                colour = np.minimum(kd * light.radiant * scale, big)
             for ch in range(3):
                 if colour[ch] == 0:
                     continue
-                term = w * dt(colour[ch])
-                planes[ch] = term if planes[ch] is None else planes[ch] + term
+                with np.errstate(over="ignore"):
+                    term = w * dt(colour[ch])
+                    planes[ch] = term if planes[ch] is None else planes[ch] + term
         out = np.empty((len(nrm), 3), dtype=dt)
+        constant = saturate_to(self.constant, dt)
         for ch in range(3):
-            c = dt(self.constant[ch])
-            out[:, ch] = c if planes[ch] is None else planes[ch] + c
+            c = constant[ch]
+            with np.errstate(over="ignore"):
+                out[:, ch] = c if planes[ch] is None else planes[ch] + c
+        np.minimum(out, big, out=out)
         return out
 
     def execute(self, renderer: Renderer, background=None) -> np.ndarray:
         """The ``(H, W, 3)`` image of ``renderer``'s geometry under this plan."""
+        _check_renderer(renderer)
+        bg = None if background is None else check_color("background", background)
         if self.strategy == "constant":
             cov = renderer.gbuffer.coverage
             img = np.empty(cov.shape + (3,), dtype=renderer.dtype)
+            constant = saturate_to(self.constant, renderer.dtype)
             for ch in range(3):  # per channel into strided views: 6x faster than broadcasting (H, W, 1) × (3,)
-                np.multiply(cov, renderer.dtype(self.constant[ch]), out=img[..., ch])
+                np.multiply(cov, constant[ch], out=img[..., ch])
         else:
             img = renderer.spread(self.mode, self.shade_samples(renderer))
-        if background is not None and np.any(background):
-            img = np.where(renderer.gbuffer.coverage[..., None], img, np.asarray(background, dtype=img.dtype))
+        if bg is not None and np.any(bg):
+            img = np.where(renderer.gbuffer.coverage[..., None], img, saturate_to(bg, img.dtype))
         return img
 
 
@@ -237,12 +296,12 @@ def compile_plan(
       left out: view vectors and half vectors — a diffuse surface needs only the sign of n·v
       left out: per-sample light vectors and attenuation — every light is directional: one l per light
     """
-    if not isinstance(material, Material):
-        raise ValueError(f"material must be a lighting.Material; got {type(material).__name__}")
+    _check_material(material)
     mode = check_choice("mode", mode, SHADING_MODES)
     form = check_choice("form", form, FORMS)
-    terms = tuple(check_choice("terms", t, TERMS) for t in terms)
-    lights = list(lights)
+    terms = tuple(_check_terms(terms))
+    lights = _check_lights(lights)
+    bounds = _check_bounds(bounds)
     skipped: list[Skip] = []
     scale = 1.0 if form == "classic" else 1.0 / math.pi
 
@@ -252,10 +311,14 @@ def compile_plan(
             constant = constant + material.emission * scale
         else:
             skipped.append(Skip("emission term", "the material emits nothing (k_e = 0)"))
-    ambient = sum((lt.radiant for lt in lights if isinstance(lt, AmbientLight)), np.zeros(3))
+    # Saturating sums and products (finite or +inf, clamped; never inf · 0): light is additive up to the
+    # largest float64, like the general path's.
+    with np.errstate(over="ignore"):
+        ambient = np.minimum(sum((lt.radiant for lt in lights if isinstance(lt, AmbientLight)), np.zeros(3)), _BIG64)
     if "ambient" in terms:
         if np.any(ambient * material.ambient):
-            constant = constant + ambient * material.ambient * scale
+            with np.errstate(over="ignore"):
+                constant = np.minimum(constant + ambient * material.ambient * scale, _BIG64)
         else:
             why = "no ambient light" if not np.any(ambient) else "the material reflects no ambient light (k_a = 0)"
             skipped.append(Skip("ambient term", why))
@@ -304,7 +367,12 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     and zero coefficients are evaluated like any other; the plan must agree with
     this to rounding.
     """
+    _check_renderer(renderer)
+    _check_material(material)
+    lights = _check_lights(lights)
     mode = check_choice("mode", mode, SHADING_MODES)
+    form = check_choice("form", form, FORMS)
+    terms = _check_terms(terms)
     from .illumination import view_vectors
     from .vec import normalize
 

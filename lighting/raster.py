@@ -79,12 +79,17 @@ from functools import cached_property
 
 import numpy as np
 
-from ._numeric import check_positive, working_dtype
+from ._numeric import ArgumentTypeError, _fmt, check_bool, check_budget, check_positive, real_array, working_dtype
 from .camera import Camera
 from .mesh import TriangleMesh
 from .vec import normalize
 
 __all__ = ["GBuffer", "rasterize", "raycast_sphere"]
+
+#: Peak bytes per image pixel (measured with tracemalloc at 1024², rounded up): rasterizing keeps a few
+#: (H, W) index and depth arrays; ray casting about twenty float64 planes.
+RASTER_BYTES_PER_PIXEL = 128
+RAYCAST_BYTES_PER_PIXEL = 224
 
 # Candidate (triangle, pixel) pairs per batch.  Small batches keep the temporaries (~20 arrays of
 # this length) in cache and reuse the allocator's memory; measured fastest among 2^14..2^18.
@@ -287,8 +292,9 @@ class GBuffer:
         1.0
         """
         mesh = self._need_mesh("interpolate")
-        dt = working_dtype(self.barycentric, vertex_values)
-        a = np.asarray(vertex_values, dtype=dt)
+        a = real_array("vertex_values", vertex_values)
+        dt = working_dtype(self.barycentric, a)
+        a = a.astype(dt, copy=False)
         if a.ndim == 0 or a.shape[0] != mesh.n_vertices:
             raise ValueError(
                 f"vertex_values must have one row per vertex ({mesh.n_vertices}); got shape {np.shape(vertex_values)}"
@@ -310,6 +316,8 @@ class GBuffer:
         """
         n_faces = self.mesh.n_triangles if self.mesh is not None else 1
         a = np.asarray(face_values)
+        if a.dtype.kind != "b":
+            real_array("face_values", face_values)  # text, complex, NaN and inf refused; integers stay integers
         if a.dtype.kind in "fc":
             a = a.astype(working_dtype(self.barycentric, face_values), copy=False)
         if a.ndim == 0 or a.shape[0] != n_faces:
@@ -373,10 +381,23 @@ def _check_dtype(dtype) -> np.dtype:
     try:
         dt = np.dtype(dtype)
     except TypeError:
-        raise ValueError(f"dtype must be float32 or float64; got {dtype!r}") from None
+        dt = None
     if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
-        raise ValueError(f"dtype must be float32 or float64; got {dtype!r}")
+        raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
     return dt
+
+
+def _check_camera(camera) -> Camera:
+    if not isinstance(camera, Camera):
+        raise ArgumentTypeError(f"camera must be a Camera; got {type(camera).__name__} {_fmt(camera)}")
+    return camera
+
+
+def check_image_budget(camera: Camera, bytes_per_pixel: float, what: str) -> None:
+    """Refuse (:class:`lighting._numeric.BudgetError`) an image whose per-pixel work exceeds the memory budget."""
+    n = camera.width * camera.height
+    check_budget(f"a {camera.width}x{camera.height} image", n * bytes_per_pixel,
+                 what=f"{what}, about {bytes_per_pixel:g} bytes per pixel")  # fmt: skip
 
 
 def _lex_less(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -532,12 +553,11 @@ def rasterize(mesh: TriangleMesh, camera: Camera, *, cull_backfaces: bool = True
            [0, 0, 0, 0, 0, 0]])
     """
     if not isinstance(mesh, TriangleMesh):
-        raise ValueError(f"mesh must be a TriangleMesh; got {type(mesh).__name__}")
-    if not isinstance(camera, Camera):
-        raise ValueError(f"camera must be a Camera; got {type(camera).__name__}")
-    if not isinstance(cull_backfaces, (bool, np.bool_)):
-        raise ValueError(f"cull_backfaces must be True or False; got {cull_backfaces!r}")
+        raise ArgumentTypeError(f"mesh must be a TriangleMesh; got {type(mesh).__name__} {_fmt(mesh)}")
+    _check_camera(camera)
+    cull_backfaces = check_bool("cull_backfaces", cull_backfaces)
     out_dt = _check_dtype(dtype)
+    check_image_budget(camera, RASTER_BYTES_PER_PIXEL, "rasterizing")
     # Screen-space arithmetic is float64 whatever the output dtype: coverage is decided identically
     # for float32 and float64 buffers.  Triangles whose screen quantities overflow are dropped; the
     # local errstate keeps such extreme (finite) inputs free of warnings.
@@ -551,7 +571,7 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     perspective = camera.is_perspective
 
     # ---- geometry: camera space, near/far culling, near clipping
-    cam_v = camera.world_to_camera(mesh.vertices)  # float64
+    cam_v = camera._world_to_camera(mesh.vertices)  # float64
     fcol = [np.ascontiguousarray(mesh.faces[:, k]) for k in range(3)]
     vdepth = -cam_v[:, 2]
     fd = [vdepth.take(f) for f in fcol]
@@ -560,7 +580,7 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     whole = np.flatnonzero(visible & (n_behind == 0))
     cut = np.flatnonzero(visible & (n_behind > 0))
     # Project each vertex once: triangles sharing a vertex see bit-identical screen coordinates.
-    xy_v, _ = camera.camera_to_pixels(cam_v)
+    xy_v, _ = camera._camera_to_pixels(cam_v)
     X, Y = xy_v[:, 0].astype(dt), xy_v[:, 1].astype(dt)
     idx = [f.take(whole) for f in fcol]
     x = [X.take(i) for i in idx]
@@ -570,7 +590,7 @@ def _rasterize(mesh: TriangleMesh, camera: Camera, cull_backfaces: bool, out_dt:
     weights = None
     if len(cut):
         sub, sub_src, sub_w = _clip_near(cam_v[mesh.faces[cut]], camera.near)
-        sub_xy, sub_d = camera.camera_to_pixels(sub)
+        sub_xy, sub_d = camera._camera_to_pixels(sub)
         sub_xy = sub_xy.astype(dt)
         x = [np.concatenate([x[k], sub_xy[:, k, 0]]) for k in range(3)]
         y = [np.concatenate([y[k], sub_xy[:, k, 1]]) for k in range(3)]
@@ -789,13 +809,20 @@ def raycast_sphere(camera: Camera, center=(0.0, 0.0, 0.0), radius: float = 1.0, 
     >>> float(gb.depth[2, 2])  # the centre ray hits (0, 0, 1)
     4.0
     """
-    if not isinstance(camera, Camera):
-        raise ValueError(f"camera must be a Camera; got {type(camera).__name__}")
+    _check_camera(camera)
     dt = _check_dtype(dtype)
     r = check_positive("radius", radius)
-    c = np.asarray(center, dtype=np.float64)
-    if c.shape != (3,) or not np.all(np.isfinite(c)):
-        raise ValueError(f"center must be a finite 3-vector; got {center!r}")
+    c = real_array("center", center, allowed="one finite 3-vector (x, y, z)", dtype=np.float64)
+    if c.shape != (3,):
+        raise ValueError(f"center must be one finite 3-vector (x, y, z); got shape {c.shape}: {_fmt(center)}")
+    check_image_budget(camera, RAYCAST_BYTES_PER_PIXEL, "ray casting a sphere")
+    # Spheres and cameras near the float range (radius 1e200, an eye 1e308 away) overflow the quadratic's
+    # terms: such pixels are misses (or their hits are dropped below), never NaN in the buffer.
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        return _raycast_sphere(camera, c, r, dt)
+
+
+def _raycast_sphere(camera, c, r, dt):
     H, W = camera.height, camera.width
     o, d = camera.ray_components()
     o = [np.broadcast_to(oc, (H, W)) for oc in o]
@@ -828,6 +855,10 @@ def raycast_sphere(camera: Camera, center=(0.0, 0.0, 0.0), radius: float = 1.0, 
     pix = pix[keep]
     p = np.stack([o[k][keep] + t * d[k][keep] for k in range(3)], axis=1)
     n = (p - c) / r
+    finite = np.all(np.isfinite(p), axis=1) & np.all(np.isfinite(n), axis=1)
+    finite &= np.all(np.abs(p) <= np.finfo(dt).max, axis=1)  # representable in the buffer's dtype
+    if not np.all(finite):
+        keep, t, pix, p, n = keep[finite], t[finite], pix[finite], p[finite], n[finite]
     z = (base[keep] + t * cosf[keep]).astype(dt)
     facing = n[:, 0] * d[0][keep] + n[:, 1] * d[1][keep] + n[:, 2] * d[2][keep] < 0
 

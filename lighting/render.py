@@ -26,17 +26,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import illumination as _illumination
-from ._numeric import check_choice, check_color, check_positive
+from ._numeric import ArgumentTypeError, _fmt, check_bool, check_choice, check_color, check_positive, real_array
 from .camera import Camera
-from .illumination import TERMS, Material, shade_prepared, view_vectors
+from .illumination import TERMS, Material, _check_lights, shade_prepared, view_vectors
 from .lights import AmbientLight, DirectionalLight
 from .mesh import TriangleMesh
-from .raster import GBuffer, rasterize, raycast_sphere
+from .raster import GBuffer, _check_camera, _check_dtype, check_image_budget, rasterize, raycast_sphere
 from .vec import normalize
 
 __all__ = ["SHADING_MODES", "AnalyticSphere", "Renderer", "render"]
 
 SHADING_MODES = ("flat", "gouraud", "phong")
+
+#: Peak bytes per image pixel of a first render (geometry buffer, per-pixel normals and view vectors,
+#: shading temporaries and the image; measured with tracemalloc at 1024², rounded up).
+RENDER_BYTES_PER_PIXEL = 320
 
 
 @dataclass(frozen=True)
@@ -47,9 +51,9 @@ class AnalyticSphere:
     radius: float = 1.0
 
     def __post_init__(self):
-        c = np.asarray(self.center, dtype=np.float64)
-        if c.shape != (3,) or not np.all(np.isfinite(c)):
-            raise ValueError(f"center must be a finite 3-vector; got {self.center!r}")
+        c = real_array("center", self.center, allowed="one finite 3-vector (x, y, z)", dtype=np.float64)
+        if c.shape != (3,):
+            raise ValueError(f"center must be one finite 3-vector (x, y, z); got shape {c.shape}: {_fmt(self.center)}")
         object.__setattr__(self, "center", tuple(float(x) for x in c))
         object.__setattr__(self, "radius", check_positive("radius", self.radius))
 
@@ -83,15 +87,11 @@ class Renderer:
     """
 
     def __init__(self, geometry, camera: Camera, *, dtype=np.float64, cull_backfaces: bool = True):
-        if not isinstance(geometry, (TriangleMesh, AnalyticSphere)):
-            raise ValueError(f"geometry must be a TriangleMesh or an AnalyticSphere; got {type(geometry).__name__}")
-        if not isinstance(camera, Camera):
-            raise ValueError(f"camera must be a lighting.camera.Camera; got {type(camera).__name__}")
-        dt = np.dtype(dtype)
-        if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
-            raise ValueError(f"dtype must be float32 or float64; got {dtype!r}")
+        _check_geometry(geometry)
+        _check_camera(camera)
+        dt = _check_dtype(dtype)
         self._geometry, self._camera, self.dtype = geometry, camera, dt.type
-        self.cull_backfaces = bool(cull_backfaces)
+        self.cull_backfaces = check_bool("cull_backfaces", cull_backfaces)
         self._gbuffer: GBuffer | None = None
         self._cache: dict = {}
         self._subset: np.ndarray | None = None
@@ -105,6 +105,7 @@ class Renderer:
 
     @geometry.setter
     def geometry(self, value):
+        _check_geometry(value)
         if value is not self._geometry:
             self._geometry = value
             self._invalidate()
@@ -115,6 +116,7 @@ class Renderer:
 
     @camera.setter
     def camera(self, value: Camera):
+        _check_camera(value)
         if value is not self._camera:
             self._camera = value
             self._invalidate()
@@ -131,7 +133,14 @@ class Renderer:
         behind another; per-vertex and per-face samples are unaffected.
         """
         if subset is not None:
-            subset = np.asarray(subset, dtype=np.int64)
+            n = len(self.gbuffer.pixels)
+            arr = np.asarray(subset) if isinstance(subset, np.ndarray) else None
+            if arr is None or arr.dtype.kind not in "iu":
+                arr = real_array("subset", subset, allowed=f"indices into gbuffer.pixels (integers in [0, {n}))")
+            if arr.ndim != 1 or (arr.size and (arr.min() < 0 or arr.max() >= n or np.any(arr != np.floor(arr)))):
+                raise ValueError(f"subset must be a 1-D array of indices into gbuffer.pixels (integers in [0, {n})) "
+                                 f"or None; got {_fmt(subset)}")  # fmt: skip
+            subset = arr.astype(np.int64, copy=False)
         same = (subset is None and self._subset is None) or (
             subset is not None and self._subset is not None and np.array_equal(subset, self._subset)
         )
@@ -144,6 +153,7 @@ class Renderer:
     def gbuffer(self) -> GBuffer:
         """The geometry buffer, rasterized on first use and reused until geometry or camera change."""
         if self._gbuffer is None:
+            check_image_budget(self._camera, RENDER_BYTES_PER_PIXEL, "rendering")
             g = self._geometry
             if isinstance(g, AnalyticSphere):
                 self._gbuffer = raycast_sphere(self._camera, g.center, g.radius, dtype=self.dtype)
@@ -169,6 +179,7 @@ class Renderer:
         and column-major (one contiguous plane per component), the layout the
         per-component shading arithmetic runs fastest on.
         """
+        mode = check_choice("mode", mode, SHADING_MODES)
 
         def make():
             if mode == "phong":
@@ -184,6 +195,7 @@ class Renderer:
 
     def sample_normals(self, mode: str) -> np.ndarray:
         """Unit normals at :meth:`sample_points`: interpolated (phong), vertex (gouraud) or face (flat)."""
+        mode = check_choice("mode", mode, SHADING_MODES)
         if mode == "phong" and self.gbuffer.mesh is not None:
             return self._pixel_samples()[0]
 
@@ -200,6 +212,7 @@ class Renderer:
 
     def sample_view(self, mode: str):
         """The slides' ``v`` at :meth:`sample_points` and the eye distances (``None`` for orthographic)."""
+        mode = check_choice("mode", mode, SHADING_MODES)
 
         if mode == "phong":
             return self._pixel_samples()[1]
@@ -236,14 +249,14 @@ class Renderer:
             if cam.is_perspective:
                 v, dist = np.empty((n, 3), dtype=dt, order="F"), np.empty(n)
             else:
-                v, dist = cam.pixel_view_vectors(pixels, dtype=dt)
+                v, dist = cam._pixel_view_vectors(pixels, dtype=dt)
 
             def fill(sl):
                 if normals is not None:
                     normals[sl] = normalize(gb._interp_compact(vertex_normals, sl if rows is None else rows[sl]))
                 if cam.is_perspective:
                     # The point seen at a pixel lies on that pixel's ray: v needs no interpolated position.
-                    v[sl], dist[sl] = cam.pixel_view_vectors(pixels[sl], depth[sl], dtype=dt)
+                    v[sl], dist[sl] = cam._pixel_view_vectors(pixels[sl], depth[sl], dtype=dt)
 
             _illumination._each_chunk(n, fill)
             return normals, (v, dist)
@@ -266,6 +279,7 @@ class Renderer:
 
     def spread_pixels(self, mode: str, colours: np.ndarray):
         """Colours at :meth:`sample_points` as ``(flat pixel indices, (M, 3) values)``, without a full image."""
+        mode = check_choice("mode", mode, SHADING_MODES)
         gb = self.gbuffer
         if mode == "phong":
             return self._pixels(), colours
@@ -289,6 +303,7 @@ class Renderer:
 
     def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
         """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
+        mode = check_choice("mode", mode, SHADING_MODES)
         gb = self.gbuffer
         if mode == "phong":
             colours = np.asarray(colours)
@@ -311,7 +326,7 @@ class Renderer:
     ) -> dict[str, np.ndarray]:
         """Each term of the illumination equation as an ``(H, W, 3)`` image (zero off the object)."""
         mode = check_choice("mode", mode, SHADING_MODES)
-        lights = list(lights)
+        lights = _check_lights(lights)
         pts, nrm, v, dist = self._samples(mode, lights)
         colours = shade_prepared(
             pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms, separate=True
@@ -346,7 +361,7 @@ class Renderer:
         """
         bg = check_color("background", background)
         mode = check_choice("mode", mode, SHADING_MODES)
-        lights = list(lights)
+        lights = _check_lights(lights)
         pts, nrm, v, dist = self._samples(mode, lights)
         if mode == "phong":
             img, put = self._image_sink()
@@ -360,6 +375,12 @@ class Renderer:
         if np.any(bg):
             img = np.where(self.gbuffer.coverage[..., None], img, bg.astype(self.dtype))
         return img.astype(self.dtype, copy=False)
+
+
+def _check_geometry(geometry) -> None:
+    if not isinstance(geometry, (TriangleMesh, AnalyticSphere)):
+        raise ArgumentTypeError(f"geometry must be a TriangleMesh or an AnalyticSphere; got {type(geometry).__name__} "
+                                f"{_fmt(geometry)}")  # fmt: skip
 
 
 def _needs_points(lights) -> bool:
