@@ -4,16 +4,20 @@ from __future__ import annotations
 
 import argparse
 import csv
+import math
 import os
 import sys
 import time
 from dataclasses import asdict
 
 from lighting.accuracy import STUDY_NAMES, run_studies, summary
+from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
 
 from .progress import Progress
 
 FLOOR = 1e-16  # errors of exactly 0 are drawn here on the log axis
+#: Marks an unconverged point (relative error estimate above 2 %) in the printed tables.
+UNCONVERGED_MARK = "unconverged"
 
 
 def _fmt_s(seconds) -> str:
@@ -30,10 +34,23 @@ def format_points(studies) -> str:
         for case in cases:
             pts = [p for p in st.points if p.case == case]
             lines.append(f"  {case}  (reference: {pts[0].reference})")
-            lines.append(f"    {'method':28s} {'cost':>10s} {'rel. error':>12s} {'± spread':>10s} {'time':>10s}")
+            lines.append(
+                f"    {'method':28s} {'cost':>10s} {'rel. error':>12s} {'± spread':>10s} {'time':>10s}"
+                f" {'estimated':>10s} {'2σ covers':>9s}  flag"
+            )
             for p in pts:
                 spread = f"{p.error_spread:.1e}" if p.error_spread else ""
-                lines.append(f"    {p.method:28s} {p.cost:>10d} {p.error:12.2e} {spread:>10s} {_fmt_s(p.seconds):>10s}")
+                own = "" if math.isnan(p.estimated_error) else f"{p.estimated_error:.1e}"
+                cover = "" if math.isnan(p.coverage) else f"{100 * p.coverage:.0f} %"
+                lines.append(
+                    f"    {p.method:28s} {p.cost:>10d} {p.error:12.2e} {spread:>10s} {_fmt_s(p.seconds):>10s}"
+                    f" {own:>10s} {cover:>9s}  {UNCONVERGED_MARK if p.unconverged else ''}".rstrip()
+                )
+    lines.append(
+        f"\n{UNCONVERGED_MARK}: unconverged, the estimated relative error (the method's own, else the measured one) "
+        f"is above {100 * UNCONVERGED_RELATIVE_ERROR:g} %; '2σ covers': share of seeds whose true error is within "
+        "two reported errors"
+    )
     return "\n".join(lines)
 
 
@@ -46,7 +63,10 @@ def format_summary(rows) -> str:
             lines.append(f"  {r['case'][:62]:62s} {thr:>6s}  {'not reached':28s}")
         else:
             cost = f"{r['cost']} {r['cost_unit']}"
-            lines.append(f"  {r['case'][:62]:62s} {thr:>6s}  {r['method']:28s} {cost:>14s} {_fmt_s(r['seconds']):>10s}")
+            mark = f"  {UNCONVERGED_MARK}" if r.get("unconverged") else ""
+            lines.append(
+                f"  {r['case'][:62]:62s} {thr:>6s}  {r['method']:28s} {cost:>14s} {_fmt_s(r['seconds']):>10s}{mark}"
+            )
     return "\n".join(lines)
 
 
@@ -82,6 +102,9 @@ def make_figure(studies, path) -> None:
             t = [p.seconds * 1e3 for p in mp]
             e = [max(p.error, FLOOR) for p in mp]
             ax.plot(t, e, "o-", ms=3.5, lw=1.4, color=colour[m], label=m)
+            flagged = [(ti, ei) for ti, ei, p in zip(t, e, mp, strict=True) if p.unconverged]
+            if flagged:  # unconverged by the method's own estimate: hollow ring around the dot
+                ax.plot(*zip(*flagged, strict=True), "o", ms=7, mfc="none", mec=colour[m], mew=0.9)
             if any(p.error_spread for p in mp):
                 # ± one standard deviation over seeds, kept within a decade below on the log axis
                 lo = [max(p.error - p.error_spread, p.error / 10, FLOOR) for p in mp]
@@ -104,7 +127,11 @@ def make_figure(studies, path) -> None:
         ax.legend(fontsize=7, loc="best", frameon=False)
     for ax in list(axes.flat)[len(panels) :]:
         ax.axis("off")
-    fig.suptitle("Error against run time (dashed: 1 %, dotted: 0.1 %; exact zeros drawn at 1e-16)", fontsize=12)
+    fig.suptitle(
+        "Error against run time (dashed: 1 %, dotted: 0.1 %; exact zeros drawn at 1e-16; "
+        "ringed: unconverged, own estimate > 2 %)",
+        fontsize=12,
+    )
     tmp = path + ".tmp.png"
     fig.savefig(tmp, dpi=110)
     plt.close(fig)

@@ -18,6 +18,17 @@ Times are medians of repeated runs; errors of stochastic methods are averaged
 over seeds and reported with their spread.  The reference of every case is
 stated in its ``reference`` field.  :func:`summary` answers "which is the
 cheapest method that reaches 1 % (0.1 %) error, and how long does it take".
+
+Every integration point also records what the method *says* about itself: its
+own error estimate (:class:`lighting.integrate.Estimate`, relative to the
+value, mean over seeds) in ``estimated_error``; ``coverage``, the fraction of
+seeds whose true error lies within two reported errors (the honesty contract
+of :mod:`lighting.integrate`: at least 90 %); and ``unconverged``, True when
+the estimated relative error is above 2 %
+(:data:`lighting.integrate.UNCONVERGED_RELATIVE_ERROR`).  Studies whose
+methods carry no error estimate (area light, tessellation, precision) leave
+``estimated_error`` and ``coverage`` as NaN and flag ``unconverged`` from the
+measured error against the reference.
 """
 
 from __future__ import annotations
@@ -30,11 +41,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._numeric import ArgumentTypeError, _fmt, check_bool, real_array
 from .brdf import BlinnPhong, CookTorrance, Lambert, Phong
 from .camera import Camera
 from .environment import FunctionEnvironment
 from .illumination import Material
-from .integrate import directional_albedo, outgoing_radiance
+from .integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo, outgoing_radiance
 from .lights import AmbientLight, DirectionalLight, PointLight, RectLight
 from .mesh import icosphere
 from .render import AnalyticSphere, Renderer
@@ -57,6 +69,14 @@ class Point:
     error_spread: float  # standard deviation over seeds (0 for deterministic methods)
     seconds: float  # median wall time of one evaluation
     reference: str
+    estimated_error: float = math.nan  # the method's own relative error estimate (mean over seeds)
+    coverage: float = math.nan  # fraction of seeds whose true error is within two reported errors
+    unconverged: bool = False  # estimated (else measured) relative error above 2 %
+
+    def __post_init__(self):
+        if not self.unconverged:
+            own = self.estimated_error if not math.isnan(self.estimated_error) else self.error
+            self.unconverged = bool(own > UNCONVERGED_RELATIVE_ERROR)
 
 
 @dataclass
@@ -133,11 +153,13 @@ def _integration_points(samples_list, seeds, repeat, progress):
         if extra == "sh":
             methods.append("sh")
 
-        def evaluate(method, samples, seed, kind=kind, model=model):
+        def evaluate(method, samples, seed, kind=kind, model=model, return_error=False):
             if kind == "radiance":
-                return outgoing_radiance(model, env, _NORMAL, _VIEW, method=method, samples=samples, seed=seed)
+                return outgoing_radiance(model, env, _NORMAL, _VIEW, method=method, samples=samples, seed=seed,
+                                         return_error=return_error)  # fmt: skip
             theta = math.radians(60.0) if kind == "albedo" else 0.0
-            return directional_albedo(model, theta, samples=samples, method=method, seed=seed)
+            return directional_albedo(model, theta, samples=samples, method=method, seed=seed,
+                                      return_error=return_error)  # fmt: skip
 
         if kind == "albedo0":
             reference = np.full(3, 1.0)
@@ -147,11 +169,17 @@ def _integration_points(samples_list, seeds, repeat, progress):
             counts = [4096] if method == "sh" else samples_list
             for n in counts:
                 stochastic = method not in ("quadrature", "sh")
-                errs, times = [], []
+                errs, times, own, covered = [], [], [], []
                 for seed in seeds if stochastic else [None]:
                     value, t = _median_time(lambda s=seed, n=n, m=method: evaluate(m, n, s), repeat)
                     errs.append(_rel(value, reference))
                     times.append(t)
+                    # The same draws again (same seed), untimed, with the method's own error estimate.
+                    est = evaluate(method, n, seed, return_error=True)
+                    scale = float(np.max(np.abs(reference)))
+                    own.append(float(np.max(est.error)) / scale)
+                    true = np.abs(np.asarray(est.value, dtype=np.float64) - reference)
+                    covered.append(bool(np.all(true <= 2 * np.asarray(est.error, dtype=np.float64))))
                     progress()
                 points.append(
                     Point(
@@ -164,6 +192,8 @@ def _integration_points(samples_list, seeds, repeat, progress):
                         float(np.std(errs)) if len(errs) > 1 else 0.0,
                         float(statistics.median(times)),
                         ref_text,
+                        float(np.mean(own)),
+                        float(np.mean(covered)),
                     )  # fmt: skip
                 )
     return points
@@ -289,11 +319,26 @@ def run_studies(*, quick: bool = False, only=None, progress_factory=None) -> lis
     ``progress_factory(total, label)`` may return an object with ``update()``
     (a progress bar); it is called once per study.
     """
+    quick = check_bool("quick", quick)
+    if progress_factory is not None and not callable(progress_factory):
+        raise ArgumentTypeError(
+            f"progress_factory must be None or a callable (total, label); got {type(progress_factory).__name__} "
+            f"{_fmt(progress_factory)}"
+        )
     cfg = _settings(quick)
-    names = STUDY_NAMES if only is None else tuple(only)
+    if only is None:
+        names = STUDY_NAMES
+    elif isinstance(only, str):
+        names = (only,)
+    elif hasattr(only, "__iter__") and not isinstance(only, bytes):
+        names = tuple(only)
+    else:
+        raise ArgumentTypeError(f"only must be None or study names; got {type(only).__name__} {_fmt(only)}")
     for n in names:
+        if not isinstance(n, str):
+            raise ArgumentTypeError(f"only must hold study names ({', '.join(STUDY_NAMES)}); got {_fmt(n)}")
         if n not in STUDY_NAMES:
-            raise ValueError(f"study must be one of {', '.join(STUDY_NAMES)}; got {n!r}")
+            raise ValueError(f"study must be one of {', '.join(STUDY_NAMES)}; got {_fmt(n)}")
 
     def bar(total, label):
         if progress_factory is None:
@@ -326,7 +371,20 @@ def summary(studies, thresholds=(1e-2, 1e-3)) -> list[dict]:
 
     Returns rows ``{"study", "case", "threshold", "method", "cost", "cost_unit",
     "error", "seconds"}``; ``method`` is ``None`` where nothing measured reached it.
+    Each row also carries ``unconverged``: the chosen point's flag (its own
+    relative error estimate above 2 %), so a method that reached the threshold
+    without being able to tell is marked.
     """
+    allowed = "error thresholds, finite numbers > 0"
+    thr_arr = real_array("thresholds", thresholds, allowed=allowed, dtype=np.float64)
+    if thr_arr.ndim != 1 or thr_arr.size == 0 or np.any(thr_arr <= 0):
+        raise ValueError(f"thresholds must be {allowed}, a nonempty 1-D list; got {_fmt(thresholds)}")
+    thresholds = thr_arr.tolist()
+    if isinstance(studies, Study) or not hasattr(studies, "__iter__"):
+        raise ArgumentTypeError(f"studies must be a list of Study (from run_studies); got {_fmt(studies)}")
+    studies = list(studies)
+    if not all(isinstance(st, Study) for st in studies):
+        raise ArgumentTypeError(f"studies must be a list of Study (from run_studies); got {_fmt(studies)}")
     rows = []
     for st in studies:
         cases = sorted({p.case for p in st.points}, key=[p.case for p in st.points].index)
@@ -345,6 +403,7 @@ def summary(studies, thresholds=(1e-2, 1e-3)) -> list[dict]:
                         "cost_unit": best.cost_unit if best else pts[0].cost_unit,
                         "error": best.error if best else None,
                         "seconds": best.seconds if best else None,
+                        "unconverged": best.unconverged if best else None,
                     }
                 )
     return rows

@@ -36,6 +36,17 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._numeric import (
+    ArgumentTypeError,
+    check_budget,
+    check_count,
+    check_nonnegative,
+    check_range,
+    real_array,
+)
+from ._numeric import (
+    _fmt as _fmt_value,
+)
 from .brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
 from .integrate import albedo_curve
 
@@ -262,7 +273,16 @@ def direction_pairs(n_theta: int = 16, n_phi: int = 24, max_theta_deg: float = 8
     >>> l, v = direction_pairs(4, 4)
     >>> l.shape == v.shape, bool(np.allclose(np.linalg.norm(l, axis=-1), 1))
     (True, True)
+
+    ``n_theta`` and ``n_phi`` are integers in ``[1, 1000]`` and
+    ``max_theta_deg`` a number in ``[0, 90]`` (ValueError naming the argument
+    otherwise); the pair count is estimated against the memory budget first.
     """
+    n_theta = check_count("n_theta", n_theta, 1, 1000)
+    n_phi = check_count("n_phi", n_phi, 1, 1000)
+    max_theta_deg = check_range("max_theta_deg", max_theta_deg, 0.0, 90.0)
+    pairs = n_theta * n_theta * n_phi + n_theta * 12
+    check_budget("n_theta", pairs * 3 * 8 * 24, what=f"{pairs} direction pairs")
     th = np.radians(np.linspace(0.0, max_theta_deg, n_theta))
     dphi = np.arange(n_phi) * (2 * math.pi / n_phi) + math.pi
     tl, tv, dp = np.meshgrid(th, th, dphi, indexing="ij")
@@ -280,14 +300,32 @@ def direction_pairs(n_theta: int = 16, n_phi: int = 24, max_theta_deg: float = 8
     return d(tl, dp), d(tv, np.zeros_like(tv))
 
 
+_MODELS_ALLOWED = "an iterable of BRDF models, (label, brdf[, note]) tuples or AuditCase"
+
+
 def _as_case(item) -> AuditCase:
-    if isinstance(item, AuditCase):
+    if isinstance(item, AuditCase) and isinstance(item.brdf, BRDF):
         return item
     if isinstance(item, BRDF):
         return AuditCase(type(item).__name__ if len(item.parts) == 1 else "sum", item)
     if isinstance(item, tuple) and 2 <= len(item) <= 3 and isinstance(item[1], BRDF):
-        return AuditCase(str(item[0]), item[1], *(item[2:]))
-    raise ValueError(f"models must hold BRDF models, (label, brdf[, note]) tuples or AuditCase; got {item!r}")
+        return AuditCase(str(item[0]), item[1], *(str(x) for x in item[2:]))
+    raise ArgumentTypeError(f"models must be {_MODELS_ALLOWED}; got an item {type(item).__name__} {_fmt_value(item)}")
+
+
+def _cases(models) -> list[AuditCase]:
+    if models is None:
+        return default_cases()
+    if isinstance(models, (str, bytes, BRDF, AuditCase)) or not hasattr(models, "__iter__"):
+        raise ArgumentTypeError(f"models must be {_MODELS_ALLOWED}; got {type(models).__name__} {_fmt_value(models)}")
+    cases = []
+    for item in models:
+        cases.append(_as_case(item))
+        if len(cases) > 10000:
+            raise ValueError("models must hold at most 10000 models")
+    if not cases:
+        raise ValueError(f"models must be {_MODELS_ALLOWED}, not empty; got {_fmt_value(models)}")
+    return cases
 
 
 def audit(
@@ -322,6 +360,14 @@ def audit(
     -------
     AuditTable
 
+    Raises
+    ------
+    ValueError
+        Naming the argument: counts out of range, negative tolerances, angles
+        outside ``[0, 90]``, an empty model list, a request over the memory
+        budget; a :class:`~lighting._numeric.ArgumentTypeError` (a TypeError)
+        for items that are not models and for text or objects given as numbers.
+
     Examples
     --------
     >>> from lighting.brdf import Lambert, Phong
@@ -330,12 +376,16 @@ def audit(
     [('Lambert', True, True, True, 1.0), ('Phong e=0', True, False, False, 2.0)]
     """
     t0 = time.perf_counter()
-    cases = default_cases() if models is None else [_as_case(m) for m in models]
+    cases = _cases(models)
+    samples = check_count("samples", samples, 4)
+    reciprocity_tol = check_nonnegative("reciprocity_tol", reciprocity_tol)
+    energy_tol = check_nonnegative("energy_tol", energy_tol)
     if view_angles_deg is None:
         view_angles_deg = np.r_[np.arange(0.0, 89.0, 2.0), 89.0, 89.9]
-    deg = np.asarray(view_angles_deg, dtype=np.float64)
-    if deg.ndim != 1 or deg.size == 0 or not np.all(np.isfinite(deg)) or np.any((deg < 0) | (deg > 90)):
-        raise ValueError(f"view_angles_deg must be a nonempty list of angles in [0, 90]; got {view_angles_deg!r}")
+    allowed = "a nonempty 1-D list of at most 10000 angles in [0, 90] degrees"
+    deg = real_array("view_angles_deg", view_angles_deg, allowed=allowed, dtype=np.float64)
+    if deg.ndim != 1 or deg.size == 0 or deg.size > 10000 or np.any((deg < 0) | (deg > 90)):
+        raise ValueError(f"view_angles_deg must be {allowed}; got {_fmt_value(view_angles_deg)}")
     l, v = direction_pairs(n_theta, n_phi)  # noqa: E741
     n = np.array([0.0, 0.0, 1.0])
     rows = []

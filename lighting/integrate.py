@@ -34,9 +34,13 @@ Methods (every one takes ``samples``, its cost: BRDF evaluations per result):
     toward ``φ = ±π/2``, where the horizon cut sweeps past the centre (a
     turn of width ``cot θ`` that is sharp at grazing view); the periodic
     trapezoid rule about the normal.  The reported error is the difference to
-    the same rule with half the nodes each way: conservative (the fine rule
-    is usually far better) once the rule resolves the lobe, indicative only
-    below a few hundred nodes.  ``samples`` counts both rules.
+    the same rule with half the nodes each way; the fine rule has at least two
+    Gauss nodes on every radial panel and the coarse one at most half as many,
+    so the two never coincide on an unresolved lobe (they did once, both with
+    one node a panel, and reported 6.5e-4 for a true error of 0.26).
+    Conservative (the fine rule is usually far better), never below the
+    rounding of the sum.  ``samples`` sets the size; the nodes actually
+    evaluated are reported in :attr:`Estimate.samples`.
 ``"uniform"``, ``"cosine"``
     Monte Carlo with uniform or cosine-weighted hemisphere directions.
 ``"importance"``
@@ -53,13 +57,48 @@ Methods (every one takes ``samples``, its cost: BRDF evaluations per result):
     Nine spherical-harmonic coefficients of the environment and the
     irradiance formula of Ramamoorthi & Hanrahan (2001).
 
-Monte Carlo errors are one standard error (the estimator's standard deviation
-over ``√N``, never below the rounding of the sum); with ``return_error=True``
-every function returns an :class:`Estimate` (value, error, samples, seconds)
-instead of the bare value, so accuracy can be traded against run time.  The
-standard error is itself estimated from the samples: a rare large
-contribution that no sample happened to hit (a small bright patch under BRDF
-sampling, the far tail of a lobe cut by the horizon) is invisible to it.
+Error estimates
+---------------
+With ``return_error=True`` every function returns an :class:`Estimate`
+(value, error, samples, seconds) instead of the bare value, so accuracy can be
+traded against run time.  The contract: **the true error lies within two
+reported errors in at least 90 % of seeds**, also when a rare event was missed
+(the tests measure it over 200 seeds on sharp, grazing, cut and missed lobes).
+
+A Monte Carlo estimate averages weights ``w = g(l)/p(l)``.  Its sample
+standard error (the spread over ``√N``, never below the rounding of the sum)
+is blind to what no sample has seen: a small bright patch under BRDF
+sampling, or the part of a lobe the horizon cuts, where ``w = 0``
+(``Phong(1, 50)`` at 60° with 1,024 importance samples reported ±2.8e-16
+for a true error of 2.7e-6).  So every Monte Carlo error adds, in quadrature,
+a **rule-of-three term**: with ``N`` samples none of which fell in a region,
+the region's probability is below ``3/N`` at 95 %, and its weights differ
+from the mean ``m`` by at most ``D = max(w_max − m, m − w_min)``, so what was
+missed moves the mean by at most ``3 D / N``; half of it is added as a
+standard error (``σ = hypot(se, 1.5 D / N)``).  ``w_min`` and ``w_max``
+bound the weight over everything the sampler can draw: the extremes over the
+drawn samples and over a deterministic probe set that resolves the integrand
+(the lobe-centred quadrature nodes of every part, the environment's own
+sampling map of a 16 × 16 grid, and all of them mirrored below the horizon,
+where samplers may put directions of zero integrand); only directions of
+nonzero density count.  Where the weight is constant wherever the sampler
+can go (cosine sampling of Lambert, Phong lobe sampling at normal incidence)
+``D = 0`` and the estimate stays exact.  For ``"stratified"`` the spread of
+the replicate means takes the place of the standard error; for ``"mis"`` a
+pair's weight lies in ``[2 w_min, 2 w_max]``.  The term is honest, not tight:
+when the cut-off mass is far below ``1/N`` the true error is smaller than
+reported (about 6× for the case above).
+
+:attr:`Estimate.unconverged` flags every value whose relative error
+``error / |value|`` exceeds :data:`UNCONVERGED_RELATIVE_ERROR` (2 %), and
+:attr:`Estimate.converged` is False when any is; the explorer shows the flag
+and the accuracy report marks such points.
+
+Arguments are checked once, at the public boundary: ValueError (or the
+:class:`~lighting._numeric.ArgumentTypeError` TypeError for text, complex or
+objects) naming the parameter, the value and what is allowed; sample counts
+are estimated against the memory budget (:func:`lighting._numeric.check_budget`)
+before anything is allocated.
 
 All integration runs in float64; results are returned in the working dtype of
 the array inputs (float32 in, float32 out).
@@ -699,12 +738,25 @@ def directional_albedo(
         Independent jittered grids for ``"stratified"`` (default
         ``clip(samples // 64, 2, 16)``); their spread is the error estimate.
     return_error : bool
-        Return an :class:`Estimate` (value, error, samples, seconds).
+        Return an :class:`Estimate` (value, error, samples, seconds): an honest
+        error (see "Error estimates" in the module notes) and the public flag
+        ``Estimate.unconverged`` (relative error above 2 %), which the explorer
+        reads.
 
     Returns
     -------
     ndarray, shape ``theta_v.shape + (3,)`` (RGB), or Estimate
         Dtype of ``theta_v`` when it is a float array, else float64.
+
+    Raises
+    ------
+    ValueError
+        ``theta_v`` outside ``[0, π/2]`` or not finite; ``samples`` below 4
+        (quadrature) or 2 (Monte Carlo) or over the memory budget; an unknown
+        ``method``; ``replicates`` outside ``[2, samples]``; a negative ``seed``.
+    TypeError (:class:`~lighting._numeric.ArgumentTypeError`, also a ValueError)
+        ``brdf`` not a model; text, bytes, complex or None where a number is
+        expected; a non-integer count; a non-bool ``return_error``.
 
     Examples
     --------
@@ -1002,8 +1054,10 @@ def outgoing_radiance(
     sh_samples : int
         Quadrature nodes used to project the environment for ``"sh"``.
     return_error : bool
-        Return an :class:`Estimate`; for ``"sh"`` its error is the projection's
-        quadrature estimate, not the order-2 truncation error.
+        Return an :class:`Estimate` (honest error, ``unconverged`` flag: see
+        the module notes); for ``"sh"`` the error is the projection's quadrature
+        estimate plus a bound on what the bands above 2 would add (Cauchy–Schwarz
+        and Parseval on the environment's energy; loose for a single small light).
 
     Returns
     -------
