@@ -47,6 +47,10 @@ class OneLineParser(argparse.ArgumentParser):
     """
 
     def error(self, message):
+        from lighting._numeric import abbreviate
+
+        # argparse quotes the whole value it refused: a 100,000-character one is cut short.
+        message = re.sub(r"'[^']{81,}'", lambda m: abbreviate(m.group(0)), message)
         raise UsageError(f"{message} (see {self.prog} --help)")
 
 

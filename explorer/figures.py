@@ -39,7 +39,7 @@ import sys
 import time
 import warnings
 
-from lighting._numeric import check_budget, check_count, memory_budget, set_memory_budget
+from lighting._numeric import _fmt, check_budget, check_count, memory_budget, set_memory_budget
 
 from .figures_base import REGISTRY, FigureSpec, Quality
 from .output import OutputError, Terminated, atomic_write, atomic_write_many, check_output_dir
@@ -83,7 +83,7 @@ def _check_names(only) -> list[str]:
         bad = unknown[0]
         close = difflib.get_close_matches(bad, names, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
-        raise FigureError(f"unknown figure {bad!r}; {hint}available: {', '.join(names)}")
+        raise FigureError(f"unknown figure {_fmt(bad)}; {hint}available: {', '.join(names)}")
     return [n for n in names if n in set(only)]
 
 
@@ -92,7 +92,7 @@ def _check_formats(formats) -> tuple[str, ...]:
     for f in formats:
         f = f.strip().lower().lstrip(".")
         if f not in FORMATS:
-            raise FigureError(f"unknown format {f!r}; allowed: {', '.join(FORMATS)}")
+            raise FigureError(f"unknown format {_fmt(f)}; allowed: {', '.join(FORMATS)}")
         if f not in out:
             out.append(f)
     if not out:
@@ -486,8 +486,12 @@ class _UsageError(Exception):
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # report like every other error: one line, status 2
-        raise _UsageError(message)
+    def error(self, message):  # report like every other error: one line, status 2, long values cut short
+        import re
+
+        from lighting._numeric import abbreviate
+
+        raise _UsageError(re.sub(r"'[^']{81,}'", lambda m: abbreviate(m.group(0)), message))
 
 
 def build_parser() -> argparse.ArgumentParser:

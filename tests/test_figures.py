@@ -188,3 +188,105 @@ def test_cli_list_names_every_figure(capsys):
     assert rc == 0
     listed = [line.split()[0] for line in out.out.splitlines()]
     assert listed == figures.figure_names()
+
+
+# ----------------------------------------------------------------------------- checked before drawing
+def _no_drawing(monkeypatch):
+    monkeypatch.setattr(figures, "make_figure", lambda *a, **k: pytest.fail("drew a figure for a bad request"))
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--dpi", "100000"], "--dpi 100000 makes the largest figure 1900000x1200000 pixels; Matplotlib draws at most"),
+        (["--dpi", "2000"], "--dpi 2000 needs about 6.8 GiB (the largest figure at 38000x24000 pixels), over the"),
+        (["--dpi", "0"], "dpi must be an integer >= 10; got 0"),
+        (["--jobs", "0"], "--jobs must be an integer in [1, 64]; got 0"),
+        (["--jobs", "-1"], "--jobs must be an integer in [1, 64]; got -1"),
+        (["--jobs", "1000"], "--jobs must be an integer in [1, 64]; got 1000"),
+        (["--jobs", "2", "--only", "light_colour", "light_is_linear"], None),  # the control: accepted
+    ],
+)
+def test_sizes_and_counts_are_refused_before_anything_is_drawn(tmp_path, capsys, monkeypatch, argv, message):
+    if message is None:
+        rc, out = _run(["--out", str(tmp_path / "x"), "--quick", *argv], capsys)
+        assert rc == 0, out.err
+        return
+    _no_drawing(monkeypatch)
+    rc, out = _run(["--out", str(tmp_path / "x"), "--quick", "--only", "light_colour", *argv], capsys)
+    assert rc == 2 and message in out.err, out.err
+    assert len(out.err.strip().splitlines()) == 1 and "Traceback" not in out.err
+    assert not (tmp_path / "x").exists()
+
+
+def test_out_that_is_a_file_is_refused_and_kept(tmp_path, capsys, monkeypatch):
+    _no_drawing(monkeypatch)
+    taken = tmp_path / "figures"
+    taken.write_bytes(b"not a folder")
+    rc, out = _run(["--out", str(taken), "--quick", "--only", "light_colour"], capsys)
+    assert rc == 2
+    assert f"--out: {str(taken)!r} exists and is not a folder" in out.err
+    assert len(out.err.strip().splitlines()) == 1
+    assert taken.read_bytes() == b"not a folder"
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (b"\x89PNG\r\n\x1a\n\x00\x00\xff\xfe", "is not a UTF-8 text file"),
+        (b"a,b\n1,2\n", "is not an accuracy.csv of 'lighting-explorer report accuracy': missing column(s) study, "),
+        (b"study,case,method,cost,cost_unit,error,error_spread,seconds,reference\n", "has no data rows"),
+        (b"study,case,method,cost,cost_unit,error,error_spread,seconds,reference\ns,c,m,lots,n,1,0,1,r\n",
+         "line 2: cost must be an integer; got 'lots'"),
+        (b"study,case,method,cost,cost_unit,error,error_spread,seconds,reference\ns,c,m,4,n,nan,0,1,r\n",
+         "line 2: error must be finite and >= 0; got 'nan'"),
+        (b"study,case,method,cost,cost_unit,error,error_spread,seconds,reference\ns,c,m,4,n,1,0\n",
+         "line 2: no value for 'seconds'"),
+    ],
+)
+def test_accuracy_csv_that_is_not_one_is_named_in_one_line(tmp_path, capsys, monkeypatch, content, message):
+    _no_drawing(monkeypatch)
+    path = tmp_path / "accuracy.csv"
+    path.write_bytes(content)
+    rc, out = _run(["--out", str(tmp_path / "x"), "--quick", "--only", "accuracy", "--accuracy-csv", str(path)],
+                   capsys)  # fmt: skip
+    assert rc == 2
+    assert out.err.startswith(f"lighting-explorer figures: error: --accuracy-csv: {str(path)!r}"), out.err
+    assert message in out.err and len(out.err.strip().splitlines()) == 1
+    assert not (tmp_path / "x").exists()
+
+
+def test_only_merges_into_the_manifest_in_lecture_order(tmp_path):
+    out = tmp_path / "set"
+    names = figures.figure_names()
+    first, second, third = names[2], names[5], names[0]
+    figures.generate(out, only=[second], quick=True, dpi=20)
+    figures.generate(out, only=[first, third], quick=True, dpi=20, formats=("svg",))
+    manifest = json.loads((out / "figures.json").read_text(encoding="utf-8"))
+    assert [r["name"] for r in manifest["figures"]] == [third, first, second]  # lecture order, none dropped
+    assert manifest["formats"] == ["png", "svg"] and manifest["quick"] is True
+    # Drawing one again replaces its entry, the others stay as they were.
+    before = {r["name"]: r for r in manifest["figures"]}
+    figures.generate(out, only=[second], quick=True, dpi=24)
+    after = json.loads((out / "figures.json").read_text(encoding="utf-8"))
+    assert [r["name"] for r in after["figures"]] == [third, first, second]
+    got = {r["name"]: r for r in after["figures"]}
+    assert got[second]["quality"]["dpi"] == 24 and before[second]["quality"]["dpi"] == 20
+    assert got[first] == before[first] and got[third] == before[third]
+    for rec in after["figures"]:  # every entry has its files and its sidecar
+        assert json.loads((out / f"{rec['name']}.json").read_text(encoding="utf-8")) == rec
+        assert all((out / f).is_file() for f in rec["files"].values())
+
+
+def test_files_keep_the_umask_and_no_temporary_file_is_left(tmp_path):
+    import os
+    import stat
+
+    old = os.umask(0o022)
+    try:
+        figures.generate(tmp_path, only=["light_colour"], quick=True, dpi=20, formats=("png", "svg"))
+    finally:
+        os.umask(old)
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == ["figures.json", "light_colour.json", "light_colour.png", "light_colour.svg"]
+    assert {stat.S_IMODE(p.stat().st_mode) for p in tmp_path.iterdir()} == {0o644}
