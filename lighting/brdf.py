@@ -570,7 +570,8 @@ def _lobe_over_cos(g, lobe64: np.ndarray, log_lobe64: np.ndarray, coeff: np.ndar
     den = math.pi * np.where(nl > 0, nl, 1.0)
     with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
         q = np.where(lobe64 >= np.finfo(np.float64).tiny, lobe64 / den, np.exp(log_lobe64 - np.log(den)))
-    q = np.where(g.above, q, 0.0)
+    # Saturated before the colour multiplies it: an overflowed quotient times a zero channel would be NaN.
+    q = np.where(g.above, np.minimum(q, np.finfo(np.float64).max), 0.0)
     return saturate_to(_rgb(q, coeff), g.dtype)
 
 
@@ -586,6 +587,13 @@ def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
 
 
 _UNIT_RGB = np.eye(3)
+
+
+def _saturating_sum(terms, dt) -> np.ndarray:
+    """``Σ terms`` (non-negative, finite) saturated at the dtype's largest finite value, without a warning."""
+    with np.errstate(over="ignore"):
+        out = sum(terms)
+    return np.minimum(out, np.finfo(dt).max).astype(dt, copy=False)
 
 
 def _combine(terms, dt) -> np.ndarray:
@@ -1203,10 +1211,10 @@ class BRDFSum(BRDF):
         return sum((p.diffuse_albedo for p in self._parts), np.zeros(3))
 
     def _f(self, g):
-        return sum(p.eval_geometry(g) for p in self._parts)
+        return _saturating_sum([p.eval_geometry(g) for p in self._parts], g.dtype)
 
     def _f_cos(self, g):
-        return sum(p.eval_cos_geometry(g) for p in self._parts)
+        return _saturating_sum([p.eval_cos_geometry(g) for p in self._parts], g.dtype)
 
     def separable_cos(self, g):
         return [t for p in self._parts for t in p.separable_cos(g)]

@@ -76,10 +76,11 @@ COS_SLACK = 1e-6
 _BYTES_PER_ELEMENT = 16 * 8
 
 
-def _public(name_values: dict, *, ranges: dict, scalars: tuple = ()) -> tuple[type, list[np.ndarray]]:
+def _public(name_values: dict, *, ranges: dict, scalars: tuple = (),
+            optional: tuple = ("sin2_theta_h", "sin2_theta")) -> tuple[type, list[np.ndarray]]:
     """Check the arguments of a public function once, at the boundary: ``(dtype, float64 arrays)``.
 
-    ``name_values`` maps each parameter's name to its value (None for an omitted optional one);
+    ``name_values`` maps each parameter's name to its value (None for an omitted ``optional`` one);
     ``ranges[name] = (lo, hi)`` gives a closed range that rounding may overstep by
     :data:`COS_SLACK` (clamped), and ``scalars`` the parameters that are validated elsewhere
     (roughness, exponent) but broadcast with the rest.  The dtype is the working dtype of the
@@ -88,7 +89,7 @@ def _public(name_values: dict, *, ranges: dict, scalars: tuple = ()) -> tuple[ty
     dt = working_dtype(*(v for k, v in name_values.items() if k in ranges and v is not None))
     out = []
     for name, value in name_values.items():
-        if value is None or name in scalars:
+        if (value is None and name in optional) or name in scalars:
             out.append(value)
             continue
         lo, hi = ranges[name]

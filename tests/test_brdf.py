@@ -281,3 +281,34 @@ def test_normalized_blinn_phong_keeps_its_digits_near_the_bottom_of_the_range(ta
         # float32: exp of an argument near −87 carries ~87 ulp of it (1e-5); float64 the same in its own ulp.
         rel = 2e-5 if dtype is np.float32 else 1e-13
         assert abs(float(got) - want) <= rel * want + 2 * tiny, (float(got), want)
+
+
+# --------------------------------------------------------------------------- issue 14, item 10 (found by the probe)
+def test_public_eval_keeps_the_dtype_of_arrays_with_tuples_weak():
+    # The boundary check converts every vector, but decides the dtype on the arguments as given.
+    n = np.array([0, 0, 1.0], np.float32)
+    for form in ("eval", "eval_cos", "classic"):
+        out = getattr(BlinnPhong(0.5, 10), form)(n, (0.6, 0, 0.8), [0, 0, 1])
+        assert out.dtype == np.float32
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_zero_colour_channel_times_saturated_lobe_is_zero_not_nan(dtype):
+    # Phong's f_r divides by a subnormal n·l: the float64 quotient overflowed to inf, and a zero k_s channel
+    # times inf was NaN.  The quotient saturates first; the zero channel stays 0, the others saturate.
+    n = np.array([0, 0, 1.0], dtype)
+    l = np.array([1.0, 0, 1e-320 if dtype is np.float64 else 1e-45], dtype)  # noqa: E741
+    v = np.array([-1.0, 0, 1e-3], dtype)
+    f = Phong((1e-40, 0.0, 1e-8), 0.5).eval(n, l, v)
+    assert f.dtype == dtype and f[1] == 0 and np.all(np.isfinite(f)) and f[2] > 0
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_sum_of_saturated_models_saturates_without_warning(dtype):
+    # Each term is finite (or saturated alone); their sum overflowed with a warning and gave inf.
+    big = float(np.finfo(dtype).max)
+    n = np.array([0, 0, 1.0], dtype)
+    assert (Lambert(1e308) + Lambert(1e308)).classic(n, n, n).tolist() == [big] * 3
+    l = np.array([1.0, 0, 1e-3], dtype)  # noqa: E741
+    v = np.array([-1.0, 0, 1e-3], dtype)
+    assert (Phong(1e308, 0.0) + Phong(1e308, 0.0)).eval(n, l, v).tolist() == [big] * 3
