@@ -157,14 +157,12 @@ def _check_one(argv, box: Path, monkeypatch) -> list[str]:
 def test_probe_odd_command_lines(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     pytest.importorskip("pyvista")
-    import explorer.figures
     import lighting.stability
 
     # The reports themselves are not under test here, only their option checks: never run them.
     monkeypatch.setattr(lighting.stability, "run", lambda **kw: pytest.fail("report stability ran"))
     monkeypatch.setattr("explorer.bench.run", lambda *a, **k: pytest.fail("bench ran"))
     monkeypatch.setattr("explorer.bench.time_plans", lambda *a, **k: pytest.fail("bench ran"))
-    assert explorer.figures.MAX_JOBS >= 2
     cases = all_cases()
     failures = collections.Counter()
     examples = {}
@@ -224,7 +222,10 @@ def _run_and_signal(argv, folder: Path, sig, delay: float, *, harness=True, watc
     ``(exit code, stderr, children seen, whether the signal was sent, stdout)``."""
     cmd = [sys.executable, "-c", HARNESS, *argv] if harness else [sys.executable, "-m", "explorer.cli", *argv]
     env = dict(os.environ, PROBE_STARTED=str(folder.parent / f".{folder.name}.started"))
-    proc = subprocess.Popen(cmd, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    # Output to files, not pipes: a worker that outlives the command would hold a pipe open.
+    out_path, err_path = folder.parent / f".{folder.name}.out", folder.parent / f".{folder.name}.err"
+    with open(out_path, "wb") as out_f, open(err_path, "wb") as err_f:
+        proc = subprocess.Popen(cmd, cwd=folder, stdout=out_f, stderr=err_f, env=env)
     children: set[int] = set()
     start = time.monotonic()
     armed = watch is None
@@ -241,7 +242,9 @@ def _run_and_signal(argv, folder: Path, sig, delay: float, *, harness=True, watc
         time.sleep(0.001)
     if proc.poll() is None:
         proc.kill()
-    out, err = proc.communicate(timeout=30)
+    proc.wait()
+    out = out_path.read_text(encoding="utf-8", errors="replace")
+    err = err_path.read_text(encoding="utf-8", errors="replace")
     return proc.returncode, err, children, sent, out
 
 
