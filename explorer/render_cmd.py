@@ -77,8 +77,9 @@ def _resolve_scene(arg: str) -> str:
 
 
 def _run(args) -> int:
-    from lighting.image import write_png
     from lighting.scene import SceneRenderer, list_examples, load_scene
+
+    from .output import write_image
 
     if args.list:
         for name in list_examples():
@@ -102,7 +103,7 @@ def _run(args) -> int:
     if args.explain:
         print(renderer.explain())
     rgb8, report = renderer.encode(image, exposure=args.exposure, tonemap=args.tonemap)
-    write_png(out, rgb8)
+    write_image(out, rgb8=rgb8, linear=image, flag="-o" if args.out else "[image].output")
     seconds = time.perf_counter() - t0
     print(
         f"wrote {out} ({info['width']}x{info['height']}, {info['objects']} objects, {info['lights']} lights, "
