@@ -68,8 +68,9 @@ def _figures_dir(log) -> str:
     jobs = 1 if quick else max(1, min(4, os.cpu_count() or 1))
     generate(out, formats=("png",), quick=quick, jobs=jobs,
              log=lambda name, sec: log.info(f"gallery: {name} ({sec:.1f} s)"))  # fmt: skip
-    with open(stamp, "w", encoding="utf-8") as f:
-        f.write(digest + "\n")
+    from explorer.output import atomic_write
+
+    atomic_write(stamp, (digest + "\n").encode("ascii"), flag="gallery")
     return out
 
 

@@ -314,3 +314,36 @@ def test_unknown_report_and_bad_bench_options_are_one_line(capsys):
                        (["--repeat", "x"], "argument --repeat: invalid int value: 'x'")):  # fmt: skip
         assert main(["bench", *argv]) == 2
         assert text in _one_error_line(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize(
+    ("shot", "expected"),
+    [
+        ("", "--screenshot: the output path is empty"),
+        ("missing/w.png", "--screenshot: cannot write 'missing/w.png': folder "),
+        (".", "--screenshot: '.' is a folder; give a file name ending in .png"),
+        ("w.npy", "--screenshot: cannot write 'w.npy': .npy holds a linear float image, which --screenshot does"),
+        ("w.svg", "unknown image format '.svg'"),
+    ],
+)
+def test_explore_screenshot_refuses_paths_before_building_the_window(tmp_path, monkeypatch, capsys, shot, expected):
+    pytest.importorskip("pyvista")
+    import explorer.app
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(explorer.app, "ExplorerApp", lambda *a, **k: pytest.fail("built a window for a bad path"))
+    assert main(["--off-screen", "--screenshot", shot]) == 2
+    captured = capsys.readouterr()
+    assert expected in _one_error_line(captured.err) and "wrote" not in captured.out
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_explore_screenshot_format_follows_the_extension(tmp_path, capsys):
+    pytest.importorskip("pyvista")
+    pil = pytest.importorskip("PIL.Image")
+    path = tmp_path / "window.webp"
+    assert main(["--screenshot", str(path), "--size", "640x400"]) == 0
+    assert f"wrote {path} (640x400)" in capsys.readouterr().out
+    with pil.open(path) as im:
+        assert im.format == "WEBP" and im.size == (640, 400)
+    assert [p.name for p in tmp_path.iterdir()] == ["window.webp"]
