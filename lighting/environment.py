@@ -46,7 +46,6 @@ from ._numeric import (
     check_budget,
     check_color,
     check_count,
-    check_finite,
     check_range,
     check_vectors,
     real_array,
@@ -197,7 +196,7 @@ def _image_size(height, width):
     """``(height, width)`` of an environment image (width defaults to ``2 height``), within the memory budget."""
     height = check_count("height", height, 1)
     width = 2 * height if width is None else check_count("width", width, 1)
-    check_budget("height", height * width * 8 * 3 * 8, what=f"a {height}x{width} RGB float64 image and its tables")
+    check_budget("height/width", height * width * 8 * 3 * 8, what=f"a {height}x{width} RGB image and its tables")
     return height, width
 
 
@@ -238,12 +237,24 @@ class LatLongEnvironment(Environment):
     """
 
     def __init__(self, image):
-        img = check_finite("image", image, shape_hint="a finite (H, W, 3) array of radiances >= 0")
-        if img.ndim != 3 or img.shape[2] != 3 or img.shape[0] < 1 or img.shape[1] < 1:
-            raise ValueError(f"image must be an (H, W, 3) array of radiances >= 0; got shape {img.shape}")
+        allowed = "an (H, W, 3) array of finite radiances >= 0"
+        if image is None or isinstance(image, (str, bytes, bytearray, dict, set)):
+            raise ArgumentTypeError(f"image must be {allowed}; got {type(image).__name__} {_fmt(image)}")
+        try:
+            raw = np.asarray(image)
+        except (TypeError, ValueError):
+            raise ArgumentTypeError(f"image must be {allowed}; got {type(image).__name__}") from None
+        if raw.dtype.kind not in "fiu":
+            raise ArgumentTypeError(f"image must be {allowed}; got an array of dtype {raw.dtype}")
+        if raw.ndim != 3 or raw.shape[2] != 3 or raw.shape[0] < 1 or raw.shape[1] < 1:
+            raise ValueError(f"image must be {allowed}; got shape {raw.shape}")
+        check_budget("image", raw.size * 8 * 8, what=f"sampling tables of a {raw.shape[0]}x{raw.shape[1]} image")
+        img = raw.astype(np.float64)
+        bad = int(np.count_nonzero(~np.isfinite(img)))
+        if bad:
+            raise ValueError(f"image must be {allowed}; got {bad} NaN or infinite values")
         if np.any(img < 0):
             raise ValueError(f"image must hold radiances >= 0; got a minimum of {float(img.min())!r}")
-        check_budget("image", img.size * 8 * 8, what=f"sampling tables of a {img.shape[0]}x{img.shape[1]} image")
         self.image = img
         self._flat = np.ascontiguousarray(img.reshape(-1, 3))
         h, w = img.shape[:2]
@@ -266,7 +277,7 @@ class LatLongEnvironment(Environment):
     @staticmethod
     def pixel_directions(height: int, width: int) -> np.ndarray:
         """Unit directions of the pixel centres of an ``height × width`` image, ``(H, W, 3)``."""
-        height, width = _image_size(height, width)
+        height, width = _image_size(height, check_count("width", width, 1))
         th = (np.arange(height) + 0.5) * (math.pi / height)
         ph = (np.arange(width) + 0.5) * (2 * math.pi / width)
         st, ct = np.sin(th)[:, None], np.cos(th)[:, None]
@@ -420,7 +431,7 @@ class SmallPatchEnvironment(Environment):
     def __init__(self, direction=(0.0, 0.0, 1.0), solid_angle=1e-3, radiance=1.0):
         c = check_vectors("direction", direction, dtype=np.float64, nonzero=True)
         if c.shape != (3,):
-            raise ValueError(f"direction must be a finite nonzero 3-vector; got shape {c.shape}: {_fmt(direction)}")
+            raise ValueError(f"direction must be a finite nonzero 3-vector; got shape {c.shape}")
         c = c / np.max(np.abs(c))  # no overflow in the length for huge components
         self.direction = c / np.sqrt(np.sum(c * c))
         self.solid_angle = check_range("solid_angle", solid_angle, 0.0, 4 * math.pi, lo_open=True)

@@ -337,8 +337,20 @@ def _unseen(m, n: int, lo, hi):
     which fell in it, ``q < 3/n`` at 95 %.  Half of that bound is returned, so
     that two reported errors cover it.
     """
-    d = np.maximum(np.maximum(hi - m, m - lo), 0.0)
-    return (0.5 * _RULE_OF_THREE / n) * d
+    return (0.5 * _RULE_OF_THREE / n) * _spread(m, lo, hi)
+
+
+def _spread(m, lo, hi):
+    """``max(hi − m, m − lo, 0)``, saturated at the largest float (no overflow warning)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = np.maximum(np.maximum(hi - m, m - lo), 0.0)
+    return np.nan_to_num(d, nan=0.0, posinf=np.finfo(np.float64).max)
+
+
+def _terms(m, se, n: int, lo, hi):
+    """Standard error and rule-of-three term; one sample has no spread, so its error is the whole range."""
+    d = _spread(m, lo, hi)
+    return np.where(np.isfinite(se), se, d), (0.5 * _RULE_OF_THREE / n) * d
 
 
 def _weight_range(g, pdf, probes, w_obs):
@@ -677,7 +689,7 @@ def _mc_estimates(brdf, v, method, samples, rng, replicates, want_error=True):
     if not want_error:
         return val, se, np.zeros_like(se), used
     lo, hi = _weight_range(g, lambda l: sampler._pdf(l, vv), _lobe_probes(brdf, v), w)  # noqa: E741
-    return val, se, _unseen(val, used, lo, hi), used
+    return (val, *_terms(val, se, used, lo, hi), used)
 
 
 def _default_replicates(samples: int) -> int:
@@ -727,9 +739,11 @@ def directional_albedo(
     theta_v : float or array_like, radians in [0, π/2]
         The viewer's angle from the normal (isotropic models: the azimuth does
         not matter).  At exactly π/2 the albedo is 0 (``n·v = 0``).
-    samples : int
+    samples : int >= 1
         Cost: BRDF evaluations per angle (quadrature: nodes of the fine and the
-        error-estimating coarse rule together).
+        error-estimating coarse rule together; the smallest rules use a few
+        dozen whatever is asked).  One Monte Carlo sample has no spread: its
+        error is the whole range its weight could take.
     method : {"quadrature", "uniform", "cosine", "importance", "stratified"}
         See the module notes.
     seed : int, Generator or None
@@ -751,9 +765,10 @@ def directional_albedo(
     Raises
     ------
     ValueError
-        ``theta_v`` outside ``[0, π/2]`` or not finite; ``samples`` below 4
-        (quadrature) or 2 (Monte Carlo) or over the memory budget; an unknown
-        ``method``; ``replicates`` outside ``[2, samples]``; a negative ``seed``.
+        ``theta_v`` outside ``[0, π/2]`` or not finite; ``samples`` below 1
+        or over the memory budget (:func:`lighting._numeric.check_budget`); an
+        unknown ``method``; ``replicates`` outside ``[2, samples]``; a negative
+        ``seed``.
     TypeError (:class:`~lighting._numeric.ArgumentTypeError`, also a ValueError)
         ``brdf`` not a model; text, bytes, complex or None where a number is
         expected; a non-integer count; a non-bool ``return_error``.
@@ -773,7 +788,7 @@ def directional_albedo(
     brdf = _check_brdf(brdf)
     method = check_choice("method", method, METHODS)
     theta, dt = _thetas(theta_v)
-    samples = _samples(samples, 4 if method == "quadrature" else 2, method, brdf, theta.size)
+    samples = _samples(samples, 1, method, brdf, theta.size)
     reps = _replicates(replicates, samples)
     return_error = check_bool("return_error", return_error)
     rng = as_generator(seed)
@@ -862,7 +877,7 @@ def hemispherical_albedo(
     brdf = _check_brdf(brdf)
     method = check_choice("method", method, METHODS)
     view_samples = check_count("view_samples", view_samples, 1, 1024)
-    samples = _samples(samples, 4 if method == "quadrature" else 2, method, brdf, view_samples)
+    samples = _samples(samples, 1, method, brdf, view_samples)
     reps = _replicates(replicates, samples)
     return_error = check_bool("return_error", return_error)
     rng = as_generator(seed)
@@ -978,7 +993,7 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
             if not want_error:
                 return val, se, np.zeros_like(se), n_env
             lo, hi = _weight_range(integrand, env_pdf, probes(), w)
-            return val, se, _unseen(val, n_env, lo, hi), n_env
+            return (val, *_terms(val, se, n_env, lo, hi), n_env)
         sampler = importance_sampler(brdf)
         s = sampler._sample(rng.random((bsz, n_env, 2)), vv)
         gb = integrand(s.directions)
@@ -993,7 +1008,7 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
             integrand, lambda l: env_pdf(l) + sampler._pdf(l, vv), probes(), np.concatenate([wa, wb], axis=1)  # noqa: E741
         )
         # A pair's sum z = w(l_e) + w(l_b) lies in [2 lo, 2 hi].
-        return val, se, _unseen(val, n_env, 2 * lo, 2 * hi), 2 * n_env
+        return (val, *_terms(val, se, n_env, 2 * lo, 2 * hi), 2 * n_env)
 
     sampler = {"uniform": UniformSampler(), "cosine": CosineSampler()}.get(method) or importance_sampler(brdf)
     if method == "stratified":
@@ -1012,7 +1027,7 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
     if not want_error:
         return val, se, np.zeros_like(se), used
     lo, hi = _weight_range(integrand, lambda l: sampler._pdf(l, vv), probes(), w)  # noqa: E741
-    return val, se, _unseen(val, used, lo, hi), used
+    return (val, *_terms(val, se, used, lo, hi), used)
 
 
 def outgoing_radiance(
@@ -1079,7 +1094,7 @@ def outgoing_radiance(
     view_dirs = check_vectors("view_dirs", view_dirs)
     dt = working_dtype(normals, view_dirs)
     shape, n, t, b, vl, valid = _frames(normals, view_dirs)
-    samples = _samples(samples, 4 if method == "quadrature" else 2, method, brdf, n.shape[0])
+    samples = _samples(samples, 1, method, brdf, n.shape[0])
     reps = _replicates(replicates, samples)
     sh_samples = check_count("sh_samples", sh_samples, 8)
     check_budget("sh_samples", sh_samples * BYTES_PER_SAMPLE * 4, what=f"{sh_samples} sphere nodes")
@@ -1375,7 +1390,7 @@ def point_light_limit(
     oms = real_array("solid_angles", solid_angles, allowed=allowed, dtype=np.float64)
     if oms.ndim != 1 or oms.size == 0 or oms.size > 64 or np.any(oms <= 0) or np.any(oms > 4 * math.pi):
         raise ValueError(f"solid_angles must be {allowed} (at most 64); got {_fmt(solid_angles)}")
-    samples = _samples(samples, 4, "quadrature", brdf)
+    samples = _samples(samples, 1, "quadrature", brdf)
     rows = []
     for om in oms.tolist():
         env = SmallPatchEnvironment(ld, om, radiance)

@@ -171,7 +171,7 @@ def jittered_batch(batch: tuple, count: int, seed=None) -> np.ndarray:
     count = _count("count", count)
     if not isinstance(batch, tuple) or not all(isinstance(k, (int, np.integer)) and k >= 0 for k in batch):
         raise ArgumentTypeError(f"batch must be a tuple of integers >= 0; got {_fmt(batch)}")
-    _check_size("count", tuple(int(k) for k in batch) + (count,))
+    _check_size("batch", tuple(int(k) for k in batch) + (count,))
     rng = as_generator(seed)
     kx = math.isqrt(count)
     ky = count // kx
@@ -447,7 +447,8 @@ class MicrofacetSampler(Sampler):
             self.exponent = check_nonnegative("exponent", exponent)
         else:
             if alpha is None:
-                raise ValueError(f"alpha (roughness > 0) is required for ndf={ndf!r}; got None")
+                need = "alpha (roughness > 0) or exponent (>= 0)" if ndf == "blinn-phong" else "alpha (roughness > 0)"
+                raise ValueError(f"{need} is required for ndf={ndf!r}; got alpha=None")
             self.alpha = check_positive("alpha", alpha)
             self.exponent = float(_mf.blinn_phong_exponent(self.alpha)) if ndf == "blinn-phong" else None
 
