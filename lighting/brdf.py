@@ -950,12 +950,30 @@ class BlinnPhong(BRDF):
 
     @staticmethod
     def _exp_scaled(t, dt, log_scale):
-        """``exp(t + log_scale)`` in place, saturated at the dtype's largest value (``t <= 0``)."""
-        if log_scale:
+        """``exp(t) · exp(log_scale)`` in place (``t <= 0``), saturated at the dtype's largest value.
+
+        Where ``exp(t)`` is a normal number the factor multiplies it (one rounding, so the
+        peak value ``(e + 2)/(2π)`` is right to the last bit); where ``exp(t)`` alone would be
+        subnormal — its digits lost before the factor could restore them — the factor goes
+        into the exponent, ``exp(t + log_scale)``, whose error ``|t + log_scale| u`` is within
+        the lobe's own conditioning ``~|t| u`` there.  A factor beyond the dtype puts every
+        entry into the exponent and saturates.
+        """
+        if not log_scale:
+            return np.exp(t, out=t)
+        info = np.finfo(dt)
+        if log_scale > math.log(float(info.max)) - 1:
             t += dt(log_scale)
+            t = np.exp(t, out=t)
+            return np.minimum(t, info.max, out=t)
+        # The entries whose scaled value is subnormal or better but exp(t) alone is not normal.
+        low = t < dt(math.log(float(info.tiny)))
+        low &= t > dt(math.log(float(info.smallest_subnormal)) - log_scale - 1)
+        t_low = t[low] + dt(log_scale) if np.any(low) else None
         t = np.exp(t, out=t)
-        if log_scale > math.log(float(np.finfo(dt).max)):  # only then can exp overflow
-            np.minimum(t, np.finfo(dt).max, out=t)
+        t *= dt(math.exp(log_scale))
+        if t_low is not None:
+            t[low] = np.exp(t_low)
         return t
 
     def _lobe_tangent(self, g, log_scale: float = 0.0):

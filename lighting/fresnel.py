@@ -94,25 +94,23 @@ def dielectric(cos_theta_i, eta) -> np.ndarray:
     _budget("cos_theta_i", ci, eta)
     if eta.ndim:
         ci = ci[..., None]
-    # Any finite η > 0 stays finite: 1/η of a subnormal η is inf, a dense medium's limit (F = 1), and
-    # each amplitude is written so that no product with η overflows (below).
+    big = np.finfo(np.float64).max
     with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-        eta = np.where(ci < 0, 1 / eta, eta)
+        # Any finite η > 0 stays finite: 1/η of a subnormal η is clamped to the largest float
+        # (then η c <= η and η c + c_t rounds to η: no overflow), and η² may overflow (sin²θ_t
+        # is then 0, its limit) or underflow (inf: total internal reflection; 0/0 only at
+        # normal incidence, where sin²θ_t is 0).
+        eta = np.minimum(np.where(ci < 0, 1 / eta, eta), big)
         ci = np.abs(ci)
         # sin²θ_t from Snell's law; (1 - c)(1 + c) keeps 1 - cos² accurate near normal incidence.
-        sin2_t = (1 - ci) * (1 + ci) / eta / eta
+        sin2_t = (1 - ci) * (1 + ci) / (eta * eta)
+        sin2_t = np.where(np.isnan(sin2_t), 0.0, sin2_t)
         tir = sin2_t >= 1
         ct = np.sqrt(np.clip((1 - sin2_t), 0, None))
-        # η <= 1: as written.  η > 1: numerator and denominator divided by η, so η c and η c_t
-        # (up to 1e308 · 1) never overflow; the quotient is the same.
-        big = eta > 1
-        inv = np.where(big, 1 / np.where(big, eta, 1), 1.0)
-        e_ = np.where(big, 1.0, eta)
-        a_par, b_par = np.where(big, ci, e_ * ci), np.where(big, ct * inv, ct)
-        a_perp, b_perp = np.where(big, ci * inv, ci), np.where(big, ct, e_ * ct)
-        d_par, d_perp = a_par + b_par, a_perp + b_perp
-        r_par = np.where(d_par > 0, (a_par - b_par) / np.where(d_par > 0, d_par, 1), 0)
-        r_perp = np.where(d_perp > 0, (a_perp - b_perp) / np.where(d_perp > 0, d_perp, 1), 0)
+        d_par = eta * ci + ct
+        d_perp = ci + eta * ct
+        r_par = np.where(d_par > 0, (eta * ci - ct) / np.where(d_par > 0, d_par, 1), 0)
+        r_perp = np.where(d_perp > 0, (ci - eta * ct) / np.where(d_perp > 0, d_perp, 1), 0)
         f = np.where(tir, 1.0, 0.5 * (r_par * r_par + r_perp * r_perp))
     return f.astype(dt, copy=False)
 
