@@ -126,3 +126,25 @@ def test_direction_pairs_include_mirror_configurations():
     mirror = (abs(l[:, 2] - v[:, 2]) < 1e-15) & (abs(l[:, 0] + v[:, 0]) < 1e-12) & (abs(l[:, 1]) < 1e-12)
     assert mirror.sum() >= 5
     assert l.shape[0] == 5 * 5 * 4 + 5 * 4 * 3
+
+
+@pytest.mark.parametrize(
+    "kwargs, exc, name",
+    [
+        (dict(models="lambert"), TypeError, "models"),
+        (dict(models=[]), ValueError, "models"),
+        (dict(models=[3]), TypeError, "models"),
+        (dict(samples=10**9), ValueError, "samples"),
+        (dict(samples="64"), TypeError, "samples"),
+        (dict(n_theta=0), ValueError, "n_theta"),
+        (dict(n_phi=2.5), TypeError, "n_phi"),
+        (dict(energy_tol=float("nan")), ValueError, "energy_tol"),
+        (dict(reciprocity_tol="0"), TypeError, "reciprocity_tol"),
+        (dict(view_angles_deg="10"), TypeError, "view_angles_deg"),
+    ],
+)
+def test_audit_refuses_bad_arguments_by_name(kwargs, exc, name):
+    # Old code: a string of models iterated its characters; samples=10**9 went on to allocate.
+    args = dict(models=[Lambert(0.5)], samples=64, view_angles_deg=[0.0]) | kwargs
+    with pytest.raises(exc, match=f"^{name}"):
+        audit(**args)

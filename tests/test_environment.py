@@ -216,3 +216,42 @@ def test_small_patch_irradiance_quantities():
 def test_small_patch_rejects_bad_parameters(kwargs, match):
     with pytest.raises(ValueError, match=match):
         SmallPatchEnvironment(**kwargs)
+
+
+# ---------------------------------------------------------------- issue 14, item 10: bad input, a named error
+@pytest.mark.parametrize(
+    "directions, exc",
+    [
+        ((float("nan"), 0.0, 1.0), ValueError),
+        ((float("inf"), 0.0, 1.0), ValueError),
+        ((1j, 0.0, 1.0), TypeError),
+        ("0 0 1", TypeError),
+        (b"1", TypeError),
+        ((1.0, 2.0), ValueError),
+    ],
+)
+def test_lookups_refuse_non_finite_complex_and_text_directions(directions, exc):
+    # Old code: NaN directions gave radiance NaN or 0 silently, strings were parsed as numbers.
+    for env in (ConstantEnvironment(1.0), SmallPatchEnvironment((0, 0, 1.0), 1e-3, 1.0)):
+        with pytest.raises(exc, match="^directions must be finite real vectors"):
+            env.radiance(directions)
+        with pytest.raises(exc, match="^directions"):
+            env.pdf(directions)
+
+
+@pytest.mark.parametrize("u", [(1.5, 0.5), (-0.1, 0.5), (float("nan"), 0.5), (0.5, 0.5, 0.5), "0.5 0.5"])
+def test_sample_refuses_points_outside_the_unit_square(u):
+    with pytest.raises(ValueError, match=r"^u must be points of the unit square"):
+        SmallPatchEnvironment((0, 0, 1.0), 1e-3, 1.0).sample(u)
+
+
+def test_image_checks_are_named_and_one_line():
+    bad = np.full((2, 4, 3), np.nan)
+    with pytest.raises(ValueError, match=r"^image must be .*got 24 NaN or infinite values$"):
+        LatLongEnvironment(bad)
+    with pytest.raises(TypeError, match="image .* dtype complex128"):
+        LatLongEnvironment(np.ones((2, 4, 3)) * 1j)
+    with pytest.raises(ValueError, match="height/width needs about .* over the memory budget"):
+        LatLongEnvironment.from_function(np.abs, 2, 10**9)
+    with pytest.raises(TypeError, match="^width must be an integer"):
+        LatLongEnvironment.pixel_directions(2, None)
