@@ -171,3 +171,28 @@ def test_log1p_through_log_is_accurate_to_a_few_ulp():
     assert ulp64.max() < 3
     assert log1p(np.float32(0.0)) == 0 and math.isinf(float(log1p(np.array(-1.0))))
     assert log1p(np.array([1e-30], dtype=np.float32))[0] == np.float32(1e-30)
+
+
+def test_the_renderer_path_does_not_repeat_the_public_argument_checks(monkeypatch):
+    # Issue 14, item 10: arguments are checked once, at the public boundary (eval, eval_cos, classic and the
+    # public microfacet/Fresnel functions); shading and rendering call the unchecked forms.
+    import lighting.brdf as brdf_mod
+    import lighting.fresnel as fresnel_mod
+    import lighting.microfacet as mf_mod
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a public argument check ran on the shading path")
+
+    models = [Lambert(0.6) + BlinnPhong(0.4, 30.0, normalized=True), Phong(0.5, 20.0),
+              CookTorrance(1.0, 0.2, 0.04, geometry="smith", fresnel="dielectric"),
+              CookTorrance(1.0, 0.1, 0.5, ndf="blinn-phong"), CookTorrance(1.0, 0.3, ndf="ggx")]  # fmt: skip
+    cam = Camera((0, 0, 6.0), (0, 0, 0), width=48, height=48)
+    renderer = Renderer(sphere_for_triangles(300), cam, dtype=np.float32)
+    lights = [DirectionalLight((1, 1, 1.0)), DirectionalLight((-1, 0.5, 1.0)), PointLight((0, 3, 3.0))]
+    expected = [renderer.render(Material(m), lights) for m in models]
+    monkeypatch.setattr(brdf_mod, "_public_geometry", forbidden)
+    monkeypatch.setattr(mf_mod, "_public", forbidden)
+    monkeypatch.setattr(mf_mod, "check_alpha", forbidden)
+    monkeypatch.setattr(fresnel_mod, "_cosines", forbidden)
+    for m, want in zip(models, expected, strict=True):
+        np.testing.assert_array_equal(renderer.render(Material(m), lights), want)
