@@ -89,7 +89,7 @@ class _cached:
         return value
 
 
-def exponent_in(dtype, exponent: float):
+def _exponent_in(dtype, exponent: float):
     """A lobe exponent ``e >= 0`` as a scalar of ``dtype``, kept inside the type's positive range.
 
     Rounding ``e`` to float32 would turn ``e = 1e-300`` into 0, so ``0^e`` (a half vector on
@@ -100,7 +100,7 @@ def exponent_in(dtype, exponent: float):
     the type rounds to 1 for all ``e`` below the first (``|e log x| < 1e-42``), and to 0 or
     exactly 1 for all ``e`` above the second (``log x <= −6e-8`` for ``x < 1``).
 
-    >>> [float(exponent_in(np.float32, e)) for e in (0.0, 1e-300, 1e300)]
+    >>> [float(_exponent_in(np.float32, e)) for e in (0.0, 1e-300, 1e300)]
     [0.0, 1.401298464324817e-45, 3.4028234663852886e+38]
     """
     if exponent == 0:
@@ -115,12 +115,14 @@ def cos_power(one_minus_cos: np.ndarray, exponent: float) -> np.ndarray:
     Written as ``exp(e · log1p(−(1 − cos φ)))``: for a shininess of 1e6 the
     lobe lives where ``1 − cos φ ~ 1e-6``, and forming ``cos φ`` first would
     throw away the digits that the millionth power then amplifies.  Any
-    exponent from 0 to the largest float works in either dtype (:func:`exponent_in`).
+    exponent from 0 to the largest float works in either dtype (:func:`_exponent_in`).
+    A building block of the shading path: it does not check its arguments
+    (``one_minus_cos`` an array in [0, 2], ``exponent`` a finite number >= 0).
     """
     d = one_minus_cos
     if exponent == 0:
         return np.ones_like(d)
-    e = exponent_in(d.dtype.type, exponent)
+    e = _exponent_in(d.dtype.type, exponent)
     # e · log(...) may overflow to −∞ (e near the type's largest value): exp gives the 0 it should.
     with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
         out = np.exp(e * log1p(-np.minimum(d, 1)))
@@ -134,6 +136,10 @@ class Geometry:
     they already are).  Derived quantities (``n_dot_l``, ``h``, ``r_dot_v`` …)
     are computed the first time a model asks for them and cached, so a model
     that never needs the half vector never pays for it.
+
+    This is the shading path's object and does not check its arguments (finite
+    ``(..., 3)`` arrays that broadcast); the public ``eval``/``eval_cos``/``classic``
+    check them once and build it.
     """
 
     def __init__(self, n, l, v, *, unit: bool = False, dtype=None):  # noqa: E741
@@ -945,7 +951,7 @@ class BlinnPhong(BRDF):
         x -= nearf
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
             t = log_corrected(y, x)  # in [−∞, 0]: −∞ where n·h = 0 (h on the horizon, l = −v)
-            t *= exponent_in(dt, self.shininess)  # > 0, so −∞ · e is −∞, never NaN
+            t *= _exponent_in(dt, self.shininess)  # > 0, so −∞ · e is −∞, never NaN
             t = self._exp_scaled(t, dt, log_scale)
         t *= g.above_mask
         return t.reshape(np.broadcast_shapes(shape, np.shape(g.above))).astype(dt, copy=False)
@@ -988,7 +994,7 @@ class BlinnPhong(BRDF):
         """
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
             t = log1p(g.tan2_h)  # finite and >= 0 everywhere
-            t *= -exponent_in(g.dtype, 0.5 * self.shininess)
+            t *= -_exponent_in(g.dtype, 0.5 * self.shininess)
             t = self._exp_scaled(t, g.dtype, log_scale)
         t *= g.above_mask
         if g.delicate is not None:
