@@ -42,7 +42,7 @@ import warnings
 from lighting._numeric import _fmt, check_budget, check_count, memory_budget, set_memory_budget
 
 from .figures_base import REGISTRY, FigureSpec, Quality
-from .output import OutputError, Terminated, atomic_write, atomic_write_many, check_output_dir
+from .output import OutputError, Terminated, atomic_write, atomic_write_many, check_output_dir, on_signal
 
 __all__ = ["REGISTRY", "FORMATS", "figure_names", "generate", "make_figure", "main"]
 
@@ -311,9 +311,11 @@ _in_job = [False, False]
 
 
 def _worker_signal(signum, frame):
-    # Inside a figure, unwind (the writer removes its temporary files); between figures, just go.
+    # Inside a figure, unwind (the writer removes its temporary files; a figure and its sidecar being
+    # renamed finish first); between figures, just go.
     if _in_job[0]:
-        raise Terminated(signum)
+        on_signal(signum, frame)
+        return
     os._exit(128 + signum)
 
 
@@ -336,7 +338,7 @@ def _run_job(args):
     _in_job[0] = True
     try:
         rec = _render_one(*args)
-    except Terminated:
+    except (Terminated, KeyboardInterrupt):
         if _in_job[1]:
             os._exit(143)  # a worker: this figure's files are cleaned up, and the parent is going away
         raise

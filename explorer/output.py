@@ -57,6 +57,7 @@ __all__ = [
     "file_mode",
     "signals_as_exceptions",
     "deferred_signals",
+    "on_signal",
 ]
 
 
@@ -203,48 +204,73 @@ def check_output_dir(path, *, flag: str = "--out") -> str:
 _SIGNALS = tuple(s for s in (getattr(signal, "SIGINT", None), getattr(signal, "SIGTERM", None)) if s is not None)
 
 
+# Signals that arrive inside deferred_signals() wait for its end.  Two layers: the signals are blocked in
+# the main thread (pthread_sigmask), and our handlers note a signal instead of raising while a section is
+# open -- the kernel may deliver a process-wide signal to another thread (an engine or executor thread),
+# whose C handler then makes the main thread run the Python handler inside the section all the same.
+_deferral = {"depth": 0, "pending": None}
+
+
+def _raise_for(signum: int):
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
+    raise Terminated(signum)
+
+
+def on_signal(signum, frame=None) -> None:
+    """The handler :func:`signals_as_exceptions` installs: raise now, or at the end of a deferred section."""
+    if _deferral["depth"]:
+        _deferral["pending"] = _deferral["pending"] or signum
+        return
+    _raise_for(signum)
+
+
 @contextlib.contextmanager
 def deferred_signals():
     """Hold ``SIGINT`` and ``SIGTERM`` until the block is done (a few renames that must happen together).
 
-    Where the platform cannot block signals, or off the main thread, this does nothing.
-    """
-    mask = getattr(signal, "pthread_sigmask", None)
-    if mask is None or threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    old = mask(signal.SIG_BLOCK, _SIGNALS)
-    try:
-        yield
-    finally:
-        mask(signal.SIG_SETMASK, old)
-
-
-def _raise_terminated(signum, frame):
-    raise Terminated(signum)
-
-
-@contextlib.contextmanager
-def signals_as_exceptions():
-    """Within the block, ``SIGTERM`` raises :class:`Terminated` (``SIGINT`` raises ``KeyboardInterrupt``).
-
-    Python's default for ``SIGTERM`` ends the process at once, skipping every ``finally``: a temporary
-    file being written would stay behind.  Off the main thread this does nothing (only the main thread
-    may set handlers).
+    A signal that arrived meanwhile is raised at the end of the block.  Off the main thread this does
+    nothing (Python runs signal handlers in the main thread only).
     """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    old_term = signal.signal(signal.SIGTERM, _raise_terminated)
-    old_int = signal.getsignal(signal.SIGINT)
-    if old_int in (signal.SIG_DFL, None):
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+    mask = getattr(signal, "pthread_sigmask", None)
+    old = mask(signal.SIG_BLOCK, _SIGNALS) if mask is not None else None
+    _deferral["depth"] += 1
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, old_term)
-        if old_int in (signal.SIG_DFL, None):
-            signal.signal(signal.SIGINT, old_int if old_int is not None else signal.SIG_DFL)
+        if mask is not None:
+            mask(signal.SIG_SETMASK, old)  # a signal held by the mask is handled here, and noted
+        _deferral["depth"] -= 1
+        pending = _deferral["pending"] if _deferral["depth"] == 0 else None
+        if pending is not None:
+            _deferral["pending"] = None
+            _raise_for(pending)
+
+
+@contextlib.contextmanager
+def signals_as_exceptions():
+    """Within the block, ``SIGTERM`` raises :class:`Terminated` and ``SIGINT`` ``KeyboardInterrupt``.
+
+    Python's default for ``SIGTERM`` ends the process at once, skipping every ``finally``: a temporary
+    file being written would stay behind.  Both handlers respect :func:`deferred_signals`.  A signal
+    that is ignored (``SIG_IGN``, e.g. under ``nohup``) stays ignored.  Off the main thread this does
+    nothing (only the main thread may set handlers).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = {}
+    for sig in _SIGNALS:
+        if signal.getsignal(sig) is not signal.SIG_IGN:
+            old[sig] = signal.signal(sig, on_signal)
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler if handler is not None else signal.SIG_DFL)
 
 
 # --------------------------------------------------------------------------- atomic writing
@@ -390,7 +416,11 @@ def encode_image(fmt: str, *, rgb8=None, linear=None):
     if fmt == "jpeg" and im.mode == "RGBA":
         im = im.convert("RGB")
     buf = io.BytesIO()
-    options = {"jpeg": {"quality": 95, "subsampling": 0}, "webp": {"lossless": True}, "tiff": {"compression": "tiff_deflate"}}[fmt]
+    options = {
+        "jpeg": {"quality": 95, "subsampling": 0},  # full-resolution colour: renders have sharp colour edges
+        "webp": {"lossless": True},
+        "tiff": {"compression": "tiff_deflate"},
+    }[fmt]
     im.save(buf, format=fmt.upper(), **options)
     return buf.getvalue()
 

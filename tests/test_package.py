@@ -347,3 +347,34 @@ def test_explore_screenshot_format_follows_the_extension(tmp_path, capsys):
     with pil.open(path) as im:
         assert im.format == "WEBP" and im.size == (640, 400)
     assert [p.name for p in tmp_path.iterdir()] == ["window.webp"]
+
+
+def test_a_signal_between_the_renames_of_a_pair_waits_until_both_are_in_place(tmp_path, monkeypatch):
+    import threading
+
+    import explorer.output
+    from explorer.output import Terminated, atomic_write_many, signals_as_exceptions
+
+    stop = threading.Event()
+    bystander = threading.Thread(target=stop.wait)  # an engine or executor thread: the kernel may pick it
+    bystander.start()
+    real_replace = os.replace
+    renamed = []
+
+    def replace_then_signal(src, dst):
+        real_replace(src, dst)
+        renamed.append(os.path.basename(dst))
+        if len(renamed) == 1:
+            signal.pthread_kill(bystander.ident, signal.SIGTERM)
+            for _ in range(100_000):  # the main thread runs the Python handler during this loop
+                pass
+
+    monkeypatch.setattr(explorer.output.os, "replace", replace_then_signal)
+    try:
+        with signals_as_exceptions(), pytest.raises(Terminated):
+            atomic_write_many([(tmp_path / "fig.png", b"png"), (tmp_path / "fig.json", b"{}")])
+    finally:
+        stop.set()
+        bystander.join()
+    assert renamed == ["fig.png", "fig.json"]  # the signal was held until the pair was complete
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fig.json", "fig.png"]
