@@ -33,6 +33,14 @@ MODELS = [
     BlinnPhong(1.0, 1e6),
     BlinnPhong(1.0, 0.0, normalized=True),
     BlinnPhong(1.0, 1e6, normalized=True),
+    # Exponents that round to 0 or overflow in float32 (issue 14, item 7), and a huge colour.
+    Phong(1.0, 1e-300),
+    Phong(1.0, 1e300),
+    BlinnPhong(1.0, 1e-300),
+    BlinnPhong(1.0, 1e-300, normalized=True),
+    BlinnPhong(1.0, 1e39),
+    BlinnPhong(1.0, 1e300, normalized=True),
+    BlinnPhong((1e300, 0.0, 1e-300), 1e7, normalized=True),
 ]
 for ndf, geo, fr, den in itertools.product(
     ("beckmann", "ggx", "blinn-phong"), ("v-cavity", "smith"), ("schlick", "dielectric", "none"), ("4", "pi")
