@@ -458,9 +458,12 @@ def generate(
         else:
             for t in tasks:
                 done(*_run_job(t))
-    finally:
+    except BaseException:
         if bar:
-            bar.close()
+            bar.abort()
+        raise
+    if bar:
+        bar.close()
     ordered = [records[n] for n in names]
     listed = _merge_records(out_dir, ordered) if only else ordered
     manifest = {

@@ -93,24 +93,35 @@ class Progress:
                 self.stream.write(self._line(now) + "\n")
                 self.stream.flush()
 
-    def close(self) -> None:
-        """Finish the line (a terminal bar) or write the final plain line."""
+    def close(self, outcome: str = "done") -> None:
+        """Finish the line (a terminal bar) or write the final plain line, ending with ``outcome``.
+
+        :meth:`abort` closes with ``"stopped"``: work cut short is never reported as done.
+        """
         if self._closed:
             return
         self._closed = True
         now = time.perf_counter()
         if self.tty:
             self._draw(now)
+            self.stream.write("" if outcome == "done" else f"  {outcome}")
             self.stream.write("\n")
         else:
-            self.stream.write(self._line(now) + "  done\n")
+            self.stream.write(self._line(now) + f"  {outcome}\n")
         self.stream.flush()
+
+    def abort(self) -> None:
+        """Close the display for work that did not finish (an error, Ctrl-C, ``SIGTERM``)."""
+        self.close("stopped")
 
     def __enter__(self) -> Progress:
         return self
 
-    def __exit__(self, *exc) -> None:
-        self.close()
+    def __exit__(self, exc_type, *exc) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()
 
     # -- formatting ------------------------------------------------------------
     def _fraction(self) -> float:

@@ -331,9 +331,12 @@ def main(argv=None) -> int:
 
     try:
         result = st.run(quick=args.quick, dtypes=dtypes, workers=args.workers, progress=tick, on_start=start)
-    finally:
+    except BaseException:
         if bar:
-            bar[0].close()
+            bar[0].abort()
+        raise
+    if bar:
+        bar[0].close()
     table = format_table(result)
     print(table)
     write_csv(result, out / "stability.csv")

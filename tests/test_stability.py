@@ -368,3 +368,17 @@ def test_progress_bar_on_a_terminal():
     text = out.getvalue()
     assert "\r" in text and text.endswith("\n") and text.count("\n") == 1
     assert "[########]" in text and "4/4" in text and "100%" in text
+
+
+def test_progress_cut_short_is_not_reported_as_done():
+    out = io.StringIO()
+    with pytest.raises(KeyboardInterrupt), Progress(10, "work", stream=out) as bar:
+        bar.update(3)
+        raise KeyboardInterrupt
+    last = out.getvalue().splitlines()[-1]
+    assert last.startswith("work: 3/10 (30%)") and last.endswith("stopped") and "done" not in last
+    out = io.StringIO()
+    bar = Progress(4, "work", stream=out)
+    bar.update(4)  # finished: closes itself as done; a later abort changes nothing
+    bar.abort()
+    assert out.getvalue().splitlines()[-1].endswith("done")
