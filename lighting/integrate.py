@@ -1071,8 +1071,10 @@ def outgoing_radiance(
     return_error : bool
         Return an :class:`Estimate` (honest error, ``unconverged`` flag: see
         the module notes); for ``"sh"`` the error is the projection's quadrature
-        estimate plus a bound on what the bands above 2 would add (Cauchy–Schwarz
-        and Parseval on the environment's energy; loose for a single small light).
+        estimate plus what the bands above 2 add: bands 4, 6 and 8 evaluated
+        exactly, the rest bounded by Cauchy–Schwarz and Parseval on the
+        environment's energy (close for smooth skies, loose for a single small
+        light, which the 2 % flag then marks).
 
     Returns
     -------
@@ -1104,7 +1106,7 @@ def outgoing_radiance(
         kd = _lambertian_albedo(brdf)
         coeffs = sh_coefficients(env, sh_samples, return_error=True)
         e = sh_irradiance(coeffs.value, n)
-        e_err = _sh_error_bound(coeffs.error, n) + _sh_truncation_bound(env, coeffs.value, sh_samples)
+        e_err = _sh_error_bound(coeffs.error, n) + _sh_truncation_error(env, coeffs.value, n, sh_samples)
         val = np.where((valid & (vl[:, 2] > 0))[:, None], kd / math.pi * e, 0.0)
         err = np.where((valid & (vl[:, 2] > 0))[:, None], kd / math.pi * e_err, 0.0)
         used = coeffs.samples
@@ -1313,27 +1315,66 @@ def _a_hat(l: int) -> float:  # noqa: E741
     return 2 * math.pi * (-1) ** (l // 2 - 1) / ((l + 2) * (l - 1)) * math.exp(log_ratio)
 
 
-# sqrt(Σ_{l >= 4 even} Â_l² (2l + 1)/(4π)): the truncation constant of the 9-term irradiance (the terms
-# fall as l^-4; the sum to l = 20000 is converged far below the 1 % margin added).
-_SH_TRUNCATION = 1.01 * math.sqrt(sum(_a_hat(k) ** 2 * (2 * k + 1) / (4 * math.pi) for k in range(4, 20001, 2)))
+_SH_EXACT_BANDS = (4, 6, 8)  # bands the SH error evaluates exactly; beyond them, a bound
 
 
-def _sh_truncation_bound(env: Environment, coeffs: np.ndarray, samples: int) -> np.ndarray:
-    """Bound on the irradiance bands 3 and up drop, per RGB channel ``(3,)``, for any normal.
+def _tail_constant(first: int) -> float:
+    """``sqrt(Σ_{l >= first} Â_l² (2l + 1)/(4π))`` (terms fall as l^-4; summed to l = 20000, +1 % margin)."""
+    return 1.01 * math.sqrt(sum(_a_hat(k) ** 2 * (2 * k + 1) / (4 * math.pi) for k in range(first, 20001)))
 
-    ``E − E₂ = Σ_{l>=4} Â_l Σ_m L_lm Y_lm(n)`` (``Â_3 = 0``).  By Cauchy–Schwarz in ``m``
-    (``Σ_m Y_lm² = (2l+1)/(4π)``) and then in ``l``, ``|E − E₂| <= K sqrt(Σ_{l>=3} Σ_m L_lm²)``
-    with ``K = sqrt(Σ_{l>=4} Â_l² (2l+1)/(4π)) ≈ 0.13``, and by Parseval the energy beyond band 2 is
-    ``∫ L² dω − Σ_{l<=2} L_lm²``.  Loose for a small bright light (whose energy lies in bands the
-    clamped cosine barely passes), close for smooth skies.
+
+_SH_TAIL = _tail_constant(_SH_EXACT_BANDS[-1] + 1)
+
+
+def _band_basis(d: np.ndarray, l: int) -> np.ndarray:  # noqa: E741
+    """Real orthonormal spherical harmonics of band ``l`` at unit ``d`` ``(M, 3)``: ``(M, 2l + 1)``.
+
+    ``Y_l^m ∝ P_l^|m|(z)/sin^|m|θ · Re/Im (x + i y)^|m|``, by the three-term recurrence in ``l``; the
+    sign convention does not matter here, only that the band is orthonormal.
     """
-    vals = []
+    x, y, z = d[:, 0], d[:, 1], d[:, 2]
+    xy = x + 1j * y
+    out = []
+    for m in range(l + 1):
+        q_prev, q = 0.0, np.full_like(z, float(np.prod(np.arange(1, 2 * m, 2))))  # (2m − 1)!!
+        for k in range(m + 1, l + 1):
+            q_prev, q = q, ((2 * k - 1) * z * q - (k + m - 1) * q_prev) / (k - m)
+        norm = math.sqrt((2 * l + 1) / (4 * math.pi) * math.exp(math.lgamma(l - m + 1) - math.lgamma(l + m + 1)))
+        if m == 0:
+            out.append(norm * q)
+        else:
+            c = xy**m
+            out.append(math.sqrt(2) * norm * q * c.real)
+            out.append(math.sqrt(2) * norm * q * c.imag)
+    return np.stack(out, axis=-1)
+
+
+def _sh_truncation_error(env: Environment, coeffs: np.ndarray, n: np.ndarray, samples: int) -> np.ndarray:
+    """What the bands above 2 add to the irradiance at normals ``n`` ``(B, 3)``, per RGB channel ``(B, 3)``.
+
+    ``E − E₂ = Σ_{l >= 4 even} Â_l Σ_m L_lm Y_lm(n)`` (``Â_l = 0`` for odd ``l > 1``).  Bands 4, 6 and 8
+    are projected (same quadrature as the nine coefficients; its coarse/fine difference counted) and
+    evaluated exactly; the rest is bounded by Cauchy–Schwarz in ``m`` (``Σ_m Y_lm² = (2l+1)/(4π)``) and
+    in ``l``: ``|Σ_{l>=10} …| <= K sqrt(Σ_{l>=9} Σ_m L_lm²)``, ``K = sqrt(Σ_{l>=10} Â_l² (2l+1)/(4π))``,
+    with the energy beyond band 8 from Parseval, ``∫ L² dω − Σ_{l<=8} Σ_m L_lm²``.
+    """
+    bands = (3, 4, 5, 6, 7, 8)
+    proj, energy = [], []
     for s in (samples * 4 // 5, max(8, samples // 5)):
         d, w = _sphere_rule(s, env)
-        vals.append(np.einsum("m,mk->k", w, env._radiance(d).astype(np.float64) ** 2))
-    energy = vals[0] + np.abs(vals[0] - vals[1])  # the quadrature's own error counted against us
-    residual = np.maximum(energy - np.sum(coeffs * coeffs, axis=0), 0.0)
-    return _SH_TRUNCATION * np.sqrt(residual)
+        rad = env._radiance(d).astype(np.float64)
+        proj.append([np.einsum("m,mj,mk->jk", w, _band_basis(d, band), rad) for band in bands])
+        energy.append(np.einsum("m,mk->k", w, rad * rad))
+    total = np.zeros((n.shape[0], 3))
+    known = np.sum(coeffs * coeffs, axis=0)
+    for band, c_f, c_c in zip(bands, proj[0], proj[1], strict=True):
+        known = known + np.sum(c_f * c_f, axis=0)
+        if band in _SH_EXACT_BANDS:
+            y = _band_basis(n, band)
+            a = abs(_a_hat(band))
+            total += a * (np.abs(y @ c_f) + np.abs(y) @ np.abs(c_f - c_c))
+    e = energy[0] + np.abs(energy[0] - energy[1])  # the quadrature's own error counted against us
+    return total + _SH_TAIL * np.sqrt(np.maximum(e - known, 0.0))
 
 
 def _sh_error_bound(coeff_err, n):
