@@ -76,8 +76,14 @@ def _resolve_scene(arg: str) -> str:
     return arg  # load_scene reports the missing file
 
 
+def _short(text) -> str:
+    from lighting._numeric import abbreviate
+
+    return abbreviate(repr(text))
+
+
 def _run(args) -> int:
-    from lighting.scene import SceneRenderer, list_examples, load_scene
+    from lighting.scene import SceneRenderer, check_scene_budget, list_examples, load_scene, scene_output_path
 
     from .output import write_image
 
@@ -92,12 +98,19 @@ def _run(args) -> int:
     scene = load_scene(path)
     if args.size:
         scene = scene.with_size(*args.size)
-    out = args.out or scene.image.output or os.path.splitext(os.path.basename(path))[0] + ".png"
+    check_scene_budget(scene, size_flag=f"--size {args.size[0]}x{args.size[1]}" if args.size else None)
+    if args.out:  # the user's own choice: anywhere
+        out = shown = args.out
+    elif scene.image.output is not None:  # the scene file's: only inside its folder or the current one
+        shown = scene.image.output
+        out = scene_output_path(shown, path)
+    else:
+        out = shown = os.path.splitext(os.path.basename(path))[0] + ".png"
     folder = os.path.dirname(os.path.abspath(out))
     if os.path.isdir(out):
-        raise ValueError(f"output {out!r} is a directory; give a file name ending in .png")
+        raise ValueError(f"output {_short(shown)} is a directory; give a file name ending in .png")
     if not os.path.isdir(folder):
-        raise ValueError(f"cannot write {out!r}: folder {folder!r} does not exist")
+        raise ValueError(f"cannot write {_short(shown)}: folder {_short(folder)} does not exist")
     renderer = SceneRenderer(scene)
     image, info = renderer.render()
     if args.explain:
@@ -106,7 +119,7 @@ def _run(args) -> int:
     write_image(out, rgb8=rgb8, linear=image, flag="-o" if args.out else "[image].output")
     seconds = time.perf_counter() - t0
     print(
-        f"wrote {out} ({info['width']}x{info['height']}, {info['objects']} objects, {info['lights']} lights, "
+        f"wrote {shown} ({info['width']}x{info['height']}, {info['objects']} objects, {info['lights']} lights, "
         f"{seconds:.2f} s); {report}"
     )
     return 0

@@ -74,6 +74,7 @@ import math
 import numbers
 import os
 import re
+import stat
 import time
 import tomllib
 from dataclasses import dataclass, field, replace
@@ -81,17 +82,18 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import gl
-from ._numeric import check_color
+from ._numeric import BudgetError, abbreviate, check_budget, check_color
 from .brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
 from .camera import Camera
 from .illumination import FORMS, TERMS, Material
 from .image import encode_srgb8
-from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
+from .lights import AmbientLight, AreaLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
 from .mesh import TriangleMesh, icosphere, load_mesh, uv_sphere
 from .render import SHADING_MODES, AnalyticSphere, Renderer
 
 __all__ = [
     "SceneError",
+    "SceneBudgetError",
     "Scene",
     "SceneObject",
     "RenderOptions",
@@ -106,7 +108,11 @@ __all__ = [
     "gl_material_to_engine",
     "example_path",
     "list_examples",
+    "check_scene_budget",
+    "scene_estimate",
+    "scene_output_path",
     "FORMAT_VERSION",
+    "MAX_NESTING",
 ]
 
 #: The format version this module reads and writes (``version = 1`` in a file).
@@ -130,6 +136,10 @@ class SceneError(ValueError):
     """
 
     def __init__(self, source: str, key: str, detail: str):
+        # One line, of bounded length, whatever the file holds: a 100k-character key or value is cut
+        # (lighting._numeric.abbreviate) and line breaks inside passed-on messages become spaces.
+        source, key, detail = (" ".join(str(x).splitlines()) for x in (source, key, detail))
+        source, key, detail = abbreviate(source, 200), abbreviate(key, 160), abbreviate(detail, 800)
         self.source, self.key, self.detail = source, key, detail
         super().__init__(f"{source}: {key}: {detail}" if key else f"{source}: {detail}")
 
@@ -138,22 +148,38 @@ def _join(path: str, key) -> str:
     if isinstance(key, int):
         return f"{path}[{key}]"
     k = key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
+    k = abbreviate(k, 60)  # a key is the user's text too: a 100k-character one is cut
     return f"{path}.{k}" if path else k
 
 
-def _fmt_value(v) -> str:
+def _fmt_value(v, depth: int = 0) -> str:
+    """A value as TOML-like text for a message: at most a few entries of two levels, abbreviated."""
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, float):
         return "nan" if math.isnan(v) else ("inf" if v == math.inf else ("-inf" if v == -math.inf else repr(v)))
+    if isinstance(v, numbers.Integral):
+        return abbreviate(_int_text(int(v)))
     if isinstance(v, str):
-        return json.dumps(v)
+        return abbreviate(json.dumps(v))
     if isinstance(v, (list, tuple)):
-        inner = ", ".join(_fmt_value(x) for x in list(v)[:6])
-        return "[" + inner + (", ..." if len(v) > 6 else "") + "]"
+        if depth >= 2:
+            return "[...]" if v else "[]"
+        inner = ", ".join(_fmt_value(x, depth + 1) for x in list(v)[:6])
+        return abbreviate("[" + inner + (", ..." if len(v) > 6 else "") + "]")
     if isinstance(v, dict):
-        return "{" + ", ".join(f"{k} = {_fmt_value(x)}" for k, x in list(v.items())[:4]) + "}"
-    return repr(v)
+        if depth >= 2:
+            return "{...}" if v else "{}"
+        items = list(v.items())[:4]
+        return abbreviate("{" + ", ".join(f"{_join('', k)} = {_fmt_value(x, depth + 1)}" for k, x in items) + "}")
+    return abbreviate(repr(v))
+
+
+def _int_text(n: int) -> str:
+    """``str(n)``, or its size for an integer too long to print (Python refuses ints above 4300 digits)."""
+    if abs(n) < 10**60:
+        return str(n)
+    return f"{'-' if n < 0 else ''}<an integer of about {int(abs(n).bit_length() * 0.30103) + 1} digits>"
 
 
 def _describe(v) -> str:
@@ -184,7 +210,7 @@ def _suggest(word: str, candidates) -> str:
     if not close:
         return ""
     original = next(c for c in candidates if _norm_name(c) == close[0])
-    return f"did you mean {original!r}? "
+    return f"did you mean {abbreviate(repr(original))}? "
 
 
 class _Ctx:
@@ -193,6 +219,20 @@ class _Ctx:
     def __init__(self, source: str, base_dir: str):
         self.source, self.base_dir = source, base_dir
         self.meshes: dict[str, TriangleMesh] = {}
+        self.held_bytes = 0  # estimated memory of the geometry built so far (see _charge)
+
+    def charge(self, path: str, nbytes, what: str, *, held: bool = True):
+        """Refuse, naming ``path``, a value whose estimated memory (with what the scene holds) is over the budget.
+
+        Called *before* the value is built; ``held`` adds it to what the scene holds from then on.
+        """
+        total = _clamp(self.held_bytes + nbytes)
+        try:
+            check_budget("this value", total, what=what + ("; with the rest of the scene" if self.held_bytes else ""))
+        except BudgetError as e:
+            raise SceneBudgetError(self.source, path, str(e)) from None
+        if held:
+            self.held_bytes = total
 
     def fail(self, path: str, detail: str):
         raise SceneError(self.source, path, detail)
@@ -212,6 +252,37 @@ class _Ctx:
             hit = next((k for k in names if re.match(rf"{re.escape(k)}\b", msg)), None)
             key = keymap.get(hit, hit) if hit else None
             raise SceneError(self.source, _join(path, key) if key else path, msg) from None
+
+
+class SceneBudgetError(SceneError, BudgetError):
+    """A scene (or one of its values) whose estimated memory or work is over the budget
+    (:func:`lighting._numeric.memory_budget`)."""
+
+
+# =============================================================================== work and memory estimates
+# Measured with tracemalloc on the example scenes and generated spheres (peak bytes of a render):
+#: the renderer's images and buffers, per pixel (270–420 bytes with one to four objects) …
+BYTES_PER_PIXEL = 256
+#: … and per pixel and object (each object keeps its own geometry buffer; 625 bytes with five objects);
+BYTES_PER_PIXEL_PER_OBJECT = 96
+#: a triangle of a mesh held by the scene: the mesh (about 170 bytes) and its rasterization and shading (240–370);
+BYTES_PER_TRIANGLE = 640
+#: reading a mesh file, per byte of the file (trimesh: 5–23 times the file size for OBJ, PLY, STL, OFF, GLB);
+BYTES_PER_MESH_FILE_BYTE = 32
+#: reading a scene file, per byte (tomllib's objects for short numbers: about 20 times the text).
+BYTES_PER_SCENE_FILE_BYTE = 64
+#: Work is counted against the same budget: one light sample at one shading point (about 50 ns here) counts as
+#: 8 bytes, so the 2 GiB default allows 268 million light-sample evaluations (about 15 s on one core).
+BYTES_PER_SAMPLE_EVALUATION = 8
+
+
+def _clamp(n) -> float:
+    """An estimate as a float (a scene's integers can exceed the float range: 4**level, n_lat * n_lon)."""
+    return float(min(n, 10**300))
+
+
+def _charge_file(label: str, size: int) -> None:
+    check_budget(f"the scene file ({size} bytes)", _clamp(size * BYTES_PER_SCENE_FILE_BYTE), what="reading it")
 
 
 # =============================================================================== value checks
@@ -246,7 +317,7 @@ def _integer_check(minimum=None, maximum=None):
         if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
             ctx.fail(path, f"must be {allowed}; got {_describe(v)}")
         if (minimum is not None and v < minimum) or (maximum is not None and v > maximum):
-            ctx.fail(path, f"must be {allowed}; got {v}")
+            ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}")
         return int(v)
 
     return check
@@ -273,7 +344,7 @@ def _choice(choices):
             if _norm_name(v) == _norm_name(c):
                 return c
         hint = _suggest(v, choices).strip()
-        ctx.fail(path, f"must be {allowed}; got {json.dumps(v)}" + (f" ({hint})" if hint else ""))
+        ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}" + (f" ({hint})" if hint else ""))
 
     return check
 
@@ -692,12 +763,20 @@ def load_scene(path) -> Scene:
     """
     label = os.fspath(path)
     try:
-        with open(label, "rb") as f:
-            raw = f.read()
+        # O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer (no effect on regular files)
+        fd = os.open(label, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with open(fd, "rb") as f:
+            st = os.fstat(f.fileno())
+            if not stat.S_ISREG(st.st_mode):  # a FIFO or a device would block or never end
+                raise SceneError(label, "", "is not a regular file (a scene file must be one)")
+            _charge_file(label, st.st_size)
+            raw = f.read(st.st_size + 1)
     except FileNotFoundError:
         raise SceneError(label, "", "scene file does not exist") from None
     except IsADirectoryError:
         raise SceneError(label, "", "is a directory, not a scene file") from None
+    except BudgetError as e:
+        raise SceneError(label, "", str(e)) from None
     except OSError as e:
         raise SceneError(label, "", f"cannot read the scene file: {e.strerror or e}") from None
     return parse_scene(raw, source=label, base_dir=os.path.dirname(os.path.abspath(label)))
@@ -724,13 +803,80 @@ def parse_scene(data, source: str = "<string>", *, base_dir=None) -> Scene:
             line = bytes(data)[: e.start].count(b"\n") + 1
             raise SceneError(source, "", f"invalid TOML: not UTF-8 text (byte {e.start}, line {line})") from None
     if isinstance(data, str):
+        _check_text_nesting(ctx, data)
         try:
             data = tomllib.loads(data)
         except tomllib.TOMLDecodeError as e:
             raise SceneError(source, "", f"invalid TOML: {e}") from None
+        except RecursionError:  # the scan above should have caught it; a last line of defence
+            detail = f"invalid TOML: arrays or tables nested too deep (allowed: {MAX_NESTING})"
+            raise SceneError(source, "", detail) from None
+        except ValueError as e:  # tomllib passes on int()'s own refusals (an integer of more than 4300 digits)
+            raise SceneError(source, "", f"invalid TOML: {e}") from None
     if not isinstance(data, dict):
         raise SceneError(source, "", f"a scene must be TOML text or a dict; got {type(data).__name__}")
+    _check_dict_nesting(ctx, data)
     return _parse(ctx, data)
+
+
+#: Deepest nesting of arrays and tables a scene may use (a scene needs about 7: objects[0].material.parts[0].kd).
+#: tomllib reads nested values recursively, and 500 levels exhaust Python's stack: the text is scanned first.
+MAX_NESTING = 32
+
+# TOML's lexical pieces that matter for nesting: strings (brackets inside them do not count), comments,
+# brackets and braces, line ends; everything else in runs.
+_NEST_TOKENS = re.compile(
+    r'"""(?:\\.|[^\\])*?"""|\'\'\'.*?\'\'\'|"(?:\\.|[^"\\\n])*"|\'[^\'\n]*\'|#[^\n]*|[\[\]{}\n]|[^"\'#\[\]{}\n]+',
+    re.S,
+)
+_HEADER = re.compile(r"(?m)^[ \t]*(\[\[?)[ \t]*([^\[\]\n]+?)[ \t]*\]")
+
+
+def _check_text_nesting(ctx, text: str) -> None:
+    """Refuse TOML text whose arrays or inline tables nest deeper than :data:`MAX_NESTING`, naming the key."""
+    depth, opened = 0, 0
+    for m in _NEST_TOKENS.finditer(text):
+        tok = m.group()
+        if tok in ("[", "{"):
+            if depth == 0:
+                opened = m.start()
+            depth += 1
+            if depth > MAX_NESTING:
+                ctx.fail(_key_at(text, opened), f"arrays or tables nested more than {MAX_NESTING} deep "
+                         f"(line {text.count(chr(10), 0, m.start()) + 1}); a scene needs fewer than 10 levels")
+        elif tok in ("]", "}"):
+            depth = max(depth - 1, 0)
+
+
+def _key_at(text: str, pos: int) -> str:
+    """The key path of the value starting at ``pos``: the last table header before it and the key on its line."""
+    path = ""
+    headers = list(_HEADER.finditer(text, 0, pos))
+    if headers:
+        last = headers[-1]
+        name = ".".join(part.strip().strip("\"'") for part in last.group(2).split("."))
+        if last.group(1) == "[[":
+            index = sum(1 for h in headers if h.group(1) == "[[" and h.group(2) == last.group(2)) - 1
+            name = f"{name}[{index}]"
+        path = name
+    line = text[text.rfind("\n", 0, pos) + 1 : pos]
+    if "=" in line:
+        key = line.split("=", 1)[0].strip().strip("\"'")
+        path = _join(path, key) if key else path
+    return path
+
+
+def _check_dict_nesting(ctx, data: dict) -> None:
+    """The same limit for a scene given as a dict (walked without recursion)."""
+    stack = [("", data, 1)]
+    while stack:
+        path, value, depth = stack.pop()
+        if depth > MAX_NESTING:
+            ctx.fail(path, f"arrays or tables nested more than {MAX_NESTING} deep; a scene needs fewer than 10 levels")
+        items = value.items() if isinstance(value, dict) else enumerate(value)
+        for k, v in items:
+            if isinstance(v, (dict, list, tuple)):
+                stack.append((_join(path, k if isinstance(k, (int, str)) else str(k)), v, depth + 1))
 
 
 def _parse(ctx: _Ctx, data: dict) -> Scene:
@@ -749,6 +895,7 @@ def _parse(ctx: _Ctx, data: dict) -> Scene:
     )
 
     cam = _table(ctx, "camera", top["camera"], CAMERA_KEYS, "the [camera] table")
+    _check_view_distance(ctx, cam)
     camera = ctx.build("camera", Camera, {**cam, "width": image.width, "height": image.height})
 
     r = _table(ctx, "render", top["render"], RENDER_KEYS, "the [render] table")
@@ -790,6 +937,23 @@ def _parse(ctx: _Ctx, data: dict) -> Scene:
         source=ctx.source,
         description=top["description"],
     )
+
+
+def _check_view_distance(ctx, cam):
+    """``target − eye`` and its length must be finite: each key may be finite while their distance is not.
+
+    The camera would then see a zero view direction and blame ``up``; the key at fault is the far point.
+    """
+    eye, target = np.asarray(cam["eye"]), np.asarray(cam["target"])
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = target - eye
+        big = np.max(np.abs(d))
+        length = float(big * np.sqrt(np.sum((d / big) ** 2))) if big > 0 else 0.0
+    # far defaults to 1000 times the distance: keep that finite too
+    if not length < 1e305:
+        key = "camera.eye" if np.max(np.abs(eye)) >= np.max(np.abs(target)) else "camera.target"
+        ctx.fail(key, f"eye and target must be a finite distance apart (below 1e305); got eye = "
+                      f"{_fmt_value(cam['eye'])}, target = {_fmt_value(cam['target'])}")
 
 
 def _rgb(background):
@@ -927,9 +1091,16 @@ def _object(ctx, path, table, materials, scene_lights, render):
         geometry = ctx.build(path, AnalyticSphere, {"center": tuple(center), "radius": base.radius * s})
     else:
         if kind == "uv_sphere":
+            n_lat, n_lon = spec["n_lat"], spec["n_lon"]
+            triangles = 2 * max(n_lon, 0) * max(n_lat - 1, 0)
+            key = "n_lat" if n_lat >= n_lon / 2 else "n_lon"
+            ctx.charge(_join(path, key), triangles * BYTES_PER_TRIANGLE, f"a uv sphere of {triangles} triangles")
             args = {k: spec[k] for k in ("n_lat", "n_lon", "radius", "center")}
             mesh = ctx.build(path, uv_sphere, args)
         elif kind == "icosphere":
+            triangles = 20 * 4 ** min(max(spec["level"], 0), 40)
+            what = f"an icosphere of {triangles} triangles"
+            ctx.charge(_join(path, "level"), triangles * BYTES_PER_TRIANGLE, what)
             args = {k: spec[k] for k in ("level", "radius", "center")}
             mesh = ctx.build(path, icosphere, args)
         else:
@@ -938,10 +1109,18 @@ def _object(ctx, path, table, materials, scene_lights, render):
             cache_key = (p, spec["weld"])
             if cache_key not in ctx.meshes:
                 try:
+                    size = os.stat(p).st_size
+                except (OSError, ValueError):
+                    size = 0  # load_mesh names the problem
+                ctx.charge(_join(path, "path"), size * BYTES_PER_MESH_FILE_BYTE, f"reading a mesh file of {size} bytes",
+                           held=False)  # fmt: skip
+                try:
                     ctx.meshes[cache_key] = load_mesh(p, weld=spec["weld"])
                 except ValueError as e:
                     ctx.fail(_join(path, "path"), str(e))
             mesh = ctx.meshes[cache_key]
+            what = f"a mesh of {mesh.n_triangles} triangles"
+            ctx.charge(_join(path, "path"), mesh.n_triangles * BYTES_PER_TRIANGLE, what)
             try:
                 st = os.stat(p)
                 key_extra = (p, st.st_mtime_ns, st.st_size)
@@ -980,7 +1159,8 @@ def _object(ctx, path, table, materials, scene_lights, render):
         if material_name not in materials:
             hint = _suggest(material_name, list(materials))
             known = ", ".join(map(repr, materials)) or "none"
-            ctx.fail(mpath, f"no material named {material_name!r} in [materials]; {hint}defined: {known}")
+            name = abbreviate(repr(material_name))
+            ctx.fail(mpath, f"no material named {name} in [materials]; {hint}defined: {abbreviate(known)}")
         material = materials[material_name]
     else:
         if not isinstance(spec["material"], dict):
@@ -995,7 +1175,7 @@ def _object(ctx, path, table, materials, scene_lights, render):
             mpath,
             f"this object is lit by OpenGL lights ({lpath}), so its material must have model = 'opengl' "
             "(the fixed-function equation knows only OpenGL materials); got an engine material"
-            + (f" {material_name!r}" if material_name else ""),
+            + (f" {_fmt_value(material_name)}" if material_name else ""),
         )
 
     geo_spec = {k: v for k, v in spec.items() if k not in ("material", "lights", "mode", "cull_backfaces")}
@@ -1085,6 +1265,7 @@ class SceneRenderer:
             raise ValueError(f"scene must be a lighting.scene.Scene; got {type(scene).__name__}")
         if plan not in (True, False, "full"):
             raise ValueError(f"plan must be True, False or 'full'; got {plan!r}")
+        check_scene_budget(scene)  # before any buffer is allocated
         self.dtype = dtype
         #: True: evaluate through :mod:`lighting.plan` (leave out what the scene does not need);
         #: False: the renderer's general path; "full": the nothing-skipped reference
@@ -1105,6 +1286,7 @@ class SceneRenderer:
     def scene(self, new: Scene):
         if not isinstance(new, Scene):
             raise ValueError(f"scene must be a lighting.scene.Scene; got {type(new).__name__}")
+        check_scene_budget(new)
         same_camera = _camera_key(new.camera) == _camera_key(self._scene.camera)
         old = list(zip(self._keys, self._renderers, strict=True))
         self._scene = new
@@ -1402,6 +1584,105 @@ class _GroupSamples:
 def render_scene(scene: Scene):
     """Render a scene once: ``(linear image (H, W, 3), info)`` (see :meth:`SceneRenderer.render`)."""
     return SceneRenderer(scene).render()
+
+
+# =============================================================================== budget and outputs
+def scene_estimate(scene: Scene) -> dict:
+    """Estimated peak memory and work of rendering ``scene``, before anything is allocated.
+
+    Returns a dict: ``bytes`` (memory), ``evaluations`` (light samples times shading points),
+    ``parts`` (``[(key, bytes, what)]``, the memory by cause) and ``work_key`` (the key that
+    drives the work: the area light with the most samples, else ``"lights"``).  The constants
+    (``BYTES_PER_PIXEL`` and the others in this module) were measured on the example scenes.
+    """
+    cam = scene.camera
+    pixels = cam.width * cam.height
+    n = len(scene.objects)
+    parts = [("image.width × image.height", pixels * (BYTES_PER_PIXEL + BYTES_PER_PIXEL_PER_OBJECT * n),
+              f"{cam.width}x{cam.height} pixels, {n} object(s)")]  # fmt: skip
+    phong_samples, evaluations = 0, 0
+    best = (0, "lights")
+    for i, ob in enumerate(scene.objects):
+        geo = ob.geometry
+        if isinstance(geo, TriangleMesh):
+            parts.append((f"objects[{i}]", geo.n_triangles * BYTES_PER_TRIANGLE, f"{geo.n_triangles} triangles"))
+        own = ob.lights is not None
+        samples = 0
+        for j, lt in enumerate(scene.object_lights(i)):
+            k = int(lt.samples) if isinstance(lt, AreaLight) else 1
+            samples += k
+            if k > best[0]:
+                best = (k, f"objects[{i}].lights[{j}].samples" if own else f"lights[{j}].samples")
+        mode = scene.object_mode(i)
+        if mode == "phong" or not isinstance(geo, TriangleMesh):
+            phong_samples = max(phong_samples, samples)  # each pixel is shaded for the one object it shows
+        else:
+            evaluations += samples * (geo.n_vertices if mode == "gouraud" else geo.n_triangles)
+    evaluations += pixels * phong_samples
+    if best[0] <= 1:
+        best = (best[0], "lights")
+    return {"bytes": sum(p[1] for p in parts), "evaluations": evaluations, "parts": parts, "work_key": best[1]}
+
+
+def check_scene_budget(scene: Scene, *, size_flag: str | None = None) -> dict:
+    """Refuse a scene whose estimated memory or work (:func:`scene_estimate`) is over the budget.
+
+    The error (:class:`SceneBudgetError`) names the file and the key that weighs most: the image
+    size, an object's mesh or a light's ``samples``.  ``size_flag`` (e.g. ``"--size 640x480"``) is
+    named instead of the file's image size when the size came from the command line.  Returns the
+    estimate.  :class:`SceneRenderer` calls this before it allocates anything.
+    """
+    est = scene_estimate(scene)
+    key, _, _ = max(est["parts"], key=lambda p: p[1])
+    whats = "; ".join(w for _, b, w in est["parts"] if b)
+    try:
+        check_budget("the scene", _clamp(est["bytes"]), what=whats)
+    except BudgetError as e:
+        if size_flag and key.startswith("image."):
+            raise SceneBudgetError(size_flag, "", str(e)) from None
+        raise SceneBudgetError(scene.source, key, str(e)) from None
+    evaluations = est["evaluations"]
+    try:
+        check_budget("the lighting", _clamp(evaluations * BYTES_PER_SAMPLE_EVALUATION),
+                     what=f"{evaluations:.3g} light-sample evaluations, counted as {BYTES_PER_SAMPLE_EVALUATION} "
+                     "bytes each")  # fmt: skip
+    except BudgetError as e:
+        raise SceneBudgetError(scene.source, est["work_key"], str(e)) from None
+    return est
+
+
+def _within(path: str, folder: str) -> bool:
+    return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
+
+
+def scene_output_path(output, scene_file, *, key: str = "image.output", cwd=None) -> str:
+    """Where a scene-named output may be written: the resolved path, or :class:`SceneError`.
+
+    A scene file is untrusted input (conventions.md): an output path it names stays inside the scene
+    file's folder or the current folder.  Relative paths start from the current folder; the path is
+    resolved with :func:`os.path.realpath` (symbolic links followed, ``..`` applied), and refused when
+    it lands anywhere else, when it is itself a symbolic link (writing would replace the link or its
+    target), or when it is a directory.  The command line's ``-o`` is not checked: the user chose it.
+
+    Returns the resolved path, which is what the caller writes (the place that was checked).
+    """
+    scene_file = os.fspath(scene_file)
+    cwd = os.getcwd() if cwd is None else os.fspath(cwd)
+    folders = [os.path.realpath(os.path.dirname(os.path.abspath(scene_file))), os.path.realpath(cwd)]
+    allowed = f"a path inside the scene's folder {folders[0]} or the current folder {folders[1]} " \
+              "(give -o on the command line to write elsewhere)"  # fmt: skip
+    if not isinstance(output, str) or not output.strip() or "\0" in output:
+        raise SceneError(scene_file, key, f"must be {allowed}; got {_describe(output)}")
+    given = os.path.join(cwd, output)
+    if os.path.islink(given):
+        raise SceneError(scene_file, key, f"{_fmt_value(output)} is a symbolic link; a scene may not write "
+                                          f"through one: it must be {allowed}")  # fmt: skip
+    real = os.path.realpath(given)
+    if not any(_within(real, f) for f in folders):
+        raise SceneError(scene_file, key, f"{_fmt_value(output)} resolves to {abbreviate(real)}; it must be {allowed}")
+    if os.path.isdir(real):
+        raise SceneError(scene_file, key, f"{_fmt_value(output)} is a directory; it must be a file name, {allowed}")
+    return real
 
 
 # =============================================================================== writing back

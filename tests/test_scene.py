@@ -692,3 +692,211 @@ def test_the_full_example_in_the_docs_renders():
     assert [o.name for o in scene.objects] == ["floor", "sphere", "cube"] and len(scene.lights) == 3
     image, info = render_scene(scene.with_size(64, 40))
     assert all(v > 0 for v in info["visible_pixels"]) and np.all(np.isfinite(image))
+
+
+# ------------------------------------------------------------------ untrusted scene files (issue 14)
+SMALL = '[camera]\neye = [0, 0, 5]\n[image]\nwidth = 8\nheight = 8\n[[objects]]\ntype = "sphere"\n'
+
+
+def run_cli(argv, capsys):
+    """``render_cmd.main(argv)``: (status, stdout, stderr) with stderr checked to be at most one line."""
+    status = render_cmd.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err and err.count("\n") <= 1, err
+    return status, out, err
+
+
+@pytest.fixture
+def sandbox(tmp_path, monkeypatch):
+    """A scene folder as the current folder, with a decoy folder beside it holding a file and a link target."""
+    work, decoy = tmp_path / "work", tmp_path / "decoy"
+    work.mkdir()
+    decoy.mkdir()
+    (decoy / "victim.png").write_bytes(b"precious")
+    monkeypatch.chdir(work)
+    return work, decoy
+
+
+@pytest.mark.parametrize(
+    "output",
+    ["{decoy}/victim.png", "../decoy/victim.png", "sub/../../decoy/victim.png", "link_out.png", "link_dir/victim.png",
+     "link_in.png", "/", ".", ""],
+)  # fmt: skip
+def test_a_scene_cannot_write_outside_its_folder_or_the_current_folder(sandbox, capsys, output):
+    work, decoy = sandbox
+    (work / "sub").mkdir()
+    (work / "inside.png").write_bytes(b"mine")
+    os.symlink(decoy / "victim.png", work / "link_out.png")
+    os.symlink(decoy, work / "link_dir")
+    os.symlink(work / "inside.png", work / "link_in.png")  # even a link to a file inside: never write through it
+    scene = work / "s.toml"
+    scene.write_text(SMALL.replace("height = 8\n", f'height = 8\noutput = "{output.format(decoy=decoy)}"\n'))
+    status, out, err = run_cli([scene], capsys)
+    assert status == 2 and out == ""
+    assert err.startswith(f"lighting-explorer: error: {scene}: image.output: "), err
+    assert "current folder" in err and "-o" in err
+    assert (decoy / "victim.png").read_bytes() == b"precious" and os.listdir(decoy) == ["victim.png"]
+    assert (work / "inside.png").read_bytes() == b"mine" and os.path.islink(work / "link_in.png")
+    assert sorted(os.listdir(work)) == ["inside.png", "link_dir", "link_in.png", "link_out.png", "s.toml", "sub"]
+
+
+def test_a_scene_output_inside_the_allowed_folders_is_written_and_minus_o_goes_anywhere(sandbox, tmp_path, capsys):
+    work, decoy = sandbox
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    scene = scenes / "s.toml"
+    # relative to the current folder (work): allowed; absolute into the scene's own folder: allowed
+    for output, where in [("here.png", work / "here.png"), (str(scenes / "there.png"), scenes / "there.png"),
+                          ("../scenes/up.png", scenes / "up.png")]:  # fmt: skip
+        scene.write_text(SMALL.replace("height = 8\n", f'height = 8\noutput = "{output}"\n'))
+        status, out, err = run_cli([scene], capsys)
+        assert status == 0 and err == "" and out.startswith(f"wrote {output} (8x8"), (output, err)
+        assert read_png(where).shape == (8, 8, 3)
+    scene.write_text(SMALL.replace("height = 8\n", f'height = 8\noutput = "{decoy}/victim.png"\n'))
+    status, out, err = run_cli([scene, "-o", decoy / "mine.png"], capsys)  # the user's -o: anywhere
+    assert status == 0 and read_png(decoy / "mine.png").shape == (8, 8, 3)
+    assert (decoy / "victim.png").read_bytes() == b"precious"
+
+
+def test_scene_output_path_resolves_links_and_names_the_key(tmp_path):
+    from lighting.scene import scene_output_path
+
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    os.symlink(tmp_path / "b", tmp_path / "a" / "to_b")
+    scene = tmp_path / "a" / "s.toml"
+    assert scene_output_path("x.png", scene, cwd=tmp_path / "a") == str(tmp_path / "a" / "x.png")
+    assert scene_output_path("../a/y.png", scene, cwd=tmp_path / "b") == str(tmp_path / "a" / "y.png")
+    with pytest.raises(SceneError, match=r"image\.output: \"to_b/x\.png\" resolves to .*/b/x\.png; it must be"):
+        scene_output_path("to_b/x.png", scene, cwd=tmp_path / "a")
+    with pytest.raises(SceneError, match="got an integer 5"):
+        scene_output_path(5, scene)
+
+
+@pytest.mark.parametrize("where", ["eye = {v}", "scale = {v}", "material = {t}", "x = {v}", "name = {t}"])
+def test_arrays_and_tables_nested_500_deep_are_one_line_naming_the_key(tmp_path, capsys, where):
+    deep_array, deep_table = "[" * 500 + "]" * 500, "{a = " * 500 + "1" + "}" * 500
+    line = where.format(v=deep_array, t=deep_table)
+    text = SMALL.replace("eye = [0, 0, 5]", line) if line.startswith("eye") else SMALL + line + "\n"
+    scene = tmp_path / "deep.toml"
+    scene.write_text(text)
+    key = {"eye": "camera.eye", "x": "objects[0].x"}.get(where.split()[0], "objects[0]." + where.split()[0])
+    status, out, err = run_cli([scene, "-o", tmp_path / "o.png"], capsys)
+    assert status == 2 and not (tmp_path / "o.png").exists()
+    assert err.startswith(f"lighting-explorer: error: {scene}: {key}: arrays or tables nested more than 32 deep")
+    # and as a dict (what Scene.to_dict gives): walked without recursion
+    nested = 1
+    for _ in range(5000):
+        nested = [nested]
+    with pytest.raises(SceneError, match=r"^<string>: camera\.eye(\[0\])+: arrays or tables nested more than 32"):
+        parse_scene({"camera": {"eye": nested}, "objects": [{"type": "sphere"}]})
+
+
+def test_nesting_scan_ignores_brackets_in_strings_and_comments():
+    text = "description = '''" + "[" * 100 + "\n'''\n" + SMALL + 'name = "' + "[" * 100 + '"  # ' + "{" * 100 + "\n"
+    scene = parse_scene(text)
+    assert scene.objects[0].name == "[" * 100 and scene.description == "[" * 100 + "\n"
+
+
+def test_overflowing_transforms_and_camera_distances_name_their_key(tmp_path, capsys):
+    ico = SMALL.replace('type = "sphere"', 'type = "icosphere"\nlevel = 1')
+    cases = [
+        (ico + "scale = [1e300, 1, 1]\n", "objects[0].scale", "must be invertible"),  # OverflowError before
+        (ico + "scale = 1e308\ntranslate = [1e308, 0, 0]\n", "objects[0].scale", "beyond the float range"),
+        (SMALL.replace("eye = [0, 0, 5]", "eye = [-1e308, 0, 5]"), "camera.eye", "finite distance apart"),
+        (SMALL.replace("eye = [0, 0, 5]", "eye = [0, 0, 5]\ntarget = [1e308, 0, -1e308]"), "camera.target",
+         "finite distance apart"),
+    ]  # fmt: skip
+    for text, key, what in cases:
+        scene = tmp_path / "s.toml"
+        scene.write_text(text)
+        status, out, err = run_cli([scene, "-o", tmp_path / "o.png"], capsys)
+        assert status == 2 and err.startswith(f"lighting-explorer: error: {scene}: {key}: ") and what in err, err
+        assert not (tmp_path / "o.png").exists()
+
+
+def test_long_values_and_keys_are_abbreviated(tmp_path, capsys):
+    long = "x" * 100_000
+    for text, key in [
+        (SMALL.replace("[camera]", f'[camera]\nprojection = "{long}"'), "camera.projection"),
+        (SMALL.replace("[camera]", f"[camera]\n{long} = 1"), "camera.xxxx"),
+        (SMALL + f'material = "{long}"\n', "objects[0].material"),
+        (SMALL + f'type_ = "{long}"\n', "objects[0].type_"),
+        (SMALL + "n = " + "9" * 5000 + "\n", ""),  # tomllib refuses > 4300 digits with a plain ValueError
+        (SMALL.replace("width = 8", "width = " + "9" * 4000), "image.width"),
+    ]:
+        scene = tmp_path / "s.toml"
+        scene.write_text(text)
+        status, out, err = run_cli([scene], capsys)
+        assert status == 2 and err.startswith(f"lighting-explorer: error: {scene}: {key}") and len(err) < 1000, err
+
+
+def budget_error(text, tmp_path, capsys, *extra):
+    scene = tmp_path / "s.toml"
+    scene.write_text(text)
+    status, out, err = run_cli([scene, "-o", tmp_path / "o.png", *extra], capsys)
+    assert status == 2 and not (tmp_path / "o.png").exists()
+    assert "over the memory budget of 2.0 GiB; reduce it or raise the budget (--memory-budget)" in err, err
+    return err
+
+
+def test_image_size_samples_and_meshes_are_refused_before_allocating(tmp_path, capsys):
+    import tracemalloc
+
+    from lighting._numeric import memory_budget
+
+    assert memory_budget() == 2 * 1024**3
+    tracemalloc.start()
+    try:
+        err = budget_error(SMALL.replace("width = 8", "width = 16384").replace("height = 8", "height = 16384"),
+                           tmp_path, capsys)  # fmt: skip
+        assert ": image.width × image.height: the scene needs about 88.0 GiB (16384x16384 pixels" in err
+        rect = '[[lights]]\ntype = "rect"\ncenter = [0, 2, 2]\nsamples = 65536\n'
+        err = budget_error(SMALL.replace("width = 8", "width = 512").replace("height = 8", "height = 512") + rect,
+                           tmp_path, capsys)  # fmt: skip
+        assert ": lights[0].samples: the lighting needs about 128.0 GiB (1.72e+10 light-sample evaluations" in err
+        err = budget_error(SMALL.replace('"sphere"', '"uv_sphere"\nn_lat = 1000000'), tmp_path, capsys)
+        assert ": objects[0].n_lat: this value needs about 38.1 GiB (a uv sphere of 63999936 triangles)" in err
+        err = budget_error(SMALL.replace('"sphere"', '"icosphere"\nlevel = 9') + '[[objects]]\ntype = "icosphere"\n'
+                           "level = 8\n", tmp_path, capsys)  # fmt: skip
+        assert ": objects[0].level: this value needs about 3.1 GiB (an icosphere of 5242880 triangles)" in err
+        with open(tmp_path / "sparse.obj", "wb") as f:  # 1 GB, no disk used
+            f.truncate(1 << 30)
+        err = budget_error(SMALL.replace('"sphere"', '"mesh"\npath = "sparse.obj"'), tmp_path, capsys)
+        assert ": objects[0].path: this value needs about 32.0 GiB (reading a mesh file of 1073741824 bytes)" in err
+        err = budget_error(SMALL, tmp_path, capsys, "--size", "20000x20000")
+        assert err.startswith("lighting-explorer: error: --size 20000x20000: the scene needs about 131.1 GiB")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 64 * 1024**2  # every refusal came before the allocation
+
+
+def test_the_budget_is_the_shared_one_and_raising_it_lets_a_scene_through(tmp_path):
+    from lighting._numeric import set_memory_budget
+    from lighting.scene import SceneBudgetError, check_scene_budget, scene_estimate
+
+    scene = parse_scene(SMALL.replace("width = 8", "width = 300").replace("height = 8", "height = 200"))
+    est = scene_estimate(scene)
+    assert est["bytes"] == 300 * 200 * (256 + 96) and est["evaluations"] == 0 and est["work_key"] == "lights"
+    previous = set_memory_budget(est["bytes"] - 1)
+    try:
+        with pytest.raises(SceneBudgetError, match=r"^<string>: image\.width × image\.height: the scene needs"):
+            SceneRenderer(scene)
+        set_memory_budget(est["bytes"])
+        assert check_scene_budget(scene) == est
+        SceneRenderer(scene).render()
+    finally:
+        set_memory_budget(previous)
+
+
+def test_inputs_a_scene_names_are_read_only_when_they_are_regular_files(tmp_path, capsys):
+    os.mkfifo(tmp_path / "fifo.obj")  # reading it would block forever
+    os.symlink("/dev/zero", tmp_path / "zero.obj")  # reading it would never end
+    for name, what in [("fifo.obj", "is not a regular file"), ("zero.obj", "is not a regular file"),
+                       (".", "is a directory"), ("none.obj", "does not exist")]:  # fmt: skip
+        msg = error_of(SMALL.replace('"sphere"', f'"mesh"\npath = "{name}"'), tmp_path)
+        assert "objects[0].path: mesh file" in msg and what in msg, msg
+    os.mkfifo(tmp_path / "fifo.toml")
+    status, out, err = run_cli([tmp_path / "fifo.toml"], capsys)
+    assert status == 2 and "fifo.toml: is not a regular file" in err
