@@ -45,6 +45,8 @@ import time
 
 import numpy as np
 
+from lighting._numeric import check_range
+
 from .app_state import (
     ATTENUATIONS,
     CHANNEL_LABELS,
@@ -66,9 +68,12 @@ __all__ = [
     "DEFAULT_WINDOW_SIZE",
     "IDLE_MS",
     "ExplorerApp",
+    "albedo_caption",
     "benchmark_handlers",
     "build_parser",
     "has_display",
+    "display_problem",
+    "no_display_message",
     "main",
 ]
 
@@ -103,11 +108,18 @@ PANEL_VIEWS = {
     ANGLES: frozenset({"theta_v", "theta_h", "theta_d", "halfdiff"}),
 }
 
-NO_DISPLAY_MESSAGE = (
-    "lighting-explorer: no display (DISPLAY/WAYLAND_DISPLAY unset), so no window can open; for images instead run "
-    "`lighting-explorer --off-screen --screenshot out.png` (any control options work too) "
-    "or `lighting-explorer sphere -o sphere.png`"
-)
+def no_display_message(problem: str) -> str:
+    """The one line the command prints when no window can open: why, and how to get images instead."""
+    return (
+        f"lighting-explorer: {problem}, so no window can open; for images instead run "
+        "`lighting-explorer --off-screen --screenshot out.png` (any control options work too) "
+        "or `lighting-explorer sphere -o sphere.png`"
+    )
+
+
+NO_DISPLAY_MESSAGE = no_display_message("no display (DISPLAY/WAYLAND_DISPLAY unset)")
+#: Seconds to wait for an X server to accept a connection before saying that none answers.
+DISPLAY_TIMEOUT = 2.0
 
 HELP_TEXT = """ lighting-explorer: keys and mouse
 
@@ -134,10 +146,80 @@ HELP_TEXT = """ lighting-explorer: keys and mouse
 
 
 def has_display() -> bool:
-    """Whether a window can open: on Linux and BSD an X11 or Wayland display must be set."""
-    if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")):
-        return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
-    return True
+    """Whether a window can open: on Linux and BSD an X server must answer (see :func:`display_problem`)."""
+    return display_problem() is None
+
+
+def display_problem(timeout: float = DISPLAY_TIMEOUT) -> str | None:
+    """Why no window can open, in a few words (``None`` when one can).
+
+    On Linux and BSD the window is an X11 window (VTK's X render window), so ``DISPLAY`` must name
+    an X server that answers: a ``DISPLAY`` where nobody listens made the window fail only after
+    VTK had set everything up (3 s, no message of ours, exit status 0).  The server is asked as
+    Xlib asks it, first its socket (``/tmp/.X11-unix/X<n>`` or TCP port ``6000 + n``, within
+    ``timeout`` seconds), then ``XOpenDisplay`` (which also checks the X authority).  Without
+    ``DISPLAY``, a Wayland session (``WAYLAND_DISPLAY``) is trusted.  Other systems: ``None``.
+    """
+    if not sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")):
+        return None
+    display = os.environ.get("DISPLAY")
+    if not display:
+        return None if os.environ.get("WAYLAND_DISPLAY") else "no display (DISPLAY/WAYLAND_DISPLAY unset)"
+    return _x_server_problem(display, timeout)
+
+
+def _x_server_problem(display: str, timeout: float) -> str | None:
+    import ctypes
+    import socket
+    import threading
+
+    host, sep, rest = display.rpartition(":")
+    number = rest.split(".")[0]
+    if not sep or not number.isdigit():
+        return f"DISPLAY={display!r} is not an X display name (such as :0 or host:0)"
+    n = int(number)
+    try:
+        if host in ("", "unix"):
+            path = f"/tmp/.X11-unix/X{n}"
+            candidates = [path] + (["\0" + path] if sys.platform.startswith("linux") else [])  # Linux: abstract too
+            for k, address in enumerate(candidates):
+                with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as sock:
+                    sock.settimeout(timeout)
+                    try:
+                        sock.connect(address)
+                        break
+                    except OSError:
+                        if k == len(candidates) - 1:
+                            raise
+        else:
+            socket.create_connection((host, 6000 + n), timeout=timeout).close()
+    except OSError:
+        return f"no X server answers at DISPLAY={display}"
+    try:
+        xlib = ctypes.CDLL("libX11.so.6")
+    except OSError:  # the socket answered; without Xlib here the window will tell more
+        return None
+    xlib.XOpenDisplay.restype = ctypes.c_void_p
+    xlib.XOpenDisplay.argtypes = [ctypes.c_char_p]
+    xlib.XCloseDisplay.argtypes = [ctypes.c_void_p]
+    # XOpenDisplay waits as long as the server is silent (a socket that accepts and never replies):
+    # it runs in a daemon thread (ctypes releases the GIL), given ``timeout`` seconds.
+    result = {}
+
+    def opener():
+        handle = xlib.XOpenDisplay(display.encode())
+        result["handle"] = handle
+        if handle:
+            xlib.XCloseDisplay(handle)
+
+    worker = threading.Thread(target=opener, name="lighting-explorer X probe", daemon=True)
+    worker.start()
+    worker.join(timeout)
+    if "handle" not in result:
+        return f"no X server answers at DISPLAY={display} (it accepted the connection, then said nothing)"
+    if not result["handle"]:
+        return f"the X server at DISPLAY={display} refused the connection (check its X authority, xauth)"
+    return None
 
 
 class _quiet_vtk:
@@ -162,6 +244,22 @@ class _quiet_vtk:
         return False
 
 
+def albedo_caption(av) -> str:
+    """The text of the albedo readout of an :class:`~explorer.app_state.AlbedoView`.
+
+    >>> from explorer.app_state import AlbedoView
+    >>> albedo_caption(AlbedoView(0.5, 0.8123, 2e-5, 2.5e-5, False, None, None, "quadrature", 4096))
+    'albedo ρ(θ_v = 29°) = 0.8123 ± 2e-05'
+    >>> albedo_caption(AlbedoView(0.5, 1.2, 0.05, 0.042, True, None, None, "quadrature", 4096))
+    'albedo ρ(θ_v = 29°) = 1.2 ± 0.05  unconverged (4.2 % > 2 %)'
+    """
+    text = f"albedo ρ(θ_v = {math.degrees(av.theta_v):.0f}°) = {av.value:.4g} ± {av.error:.2g}"
+    if av.unconverged:
+        rel = f"{100 * av.relative_error:.2g} %" if math.isfinite(av.relative_error) else "no digit"
+        text += f"  unconverged ({rel} > 2 %)"
+    return text
+
+
 def _font_file(name: str = "DejaVuSans.ttf") -> str | None:
     """A DejaVu font from Matplotlib's data: VTK's built-in fonts have no Greek letters (θ, Δ)."""
     try:
@@ -175,14 +273,23 @@ def _font_file(name: str = "DejaVuSans.ttf") -> str | None:
 
 # =============================================================================== sliders
 class SliderSpec:
-    """One slider: which control, its range in slider units, and how to show the value."""
+    """One slider: which control, its range in slider units, and how to show the value.
+
+    An integer control (``CONTROLS[name].kind == "int"``) spans its control's whole range unless
+    told otherwise, and :meth:`from_slider` snaps the widget's float to the nearest integer.
+    """
 
     def __init__(self, name, label, lo=None, hi=None, *, log=False, choices=None, fmt="{:.2f}", unit=""):
         self.name, self.label = name, label
         self.choices = tuple(choices) if choices is not None else None
         self.log = log
+        control = CONTROLS.get(name)
+        self.integer = control is not None and control.kind == "int"
         if self.choices is not None:
             lo, hi = 0.0, float(len(self.choices) - 1)
+        elif self.integer:
+            lo = control.lo if lo is None else lo
+            hi = control.hi if hi is None else hi
         self.lo, self.hi = float(lo), float(hi)
         self.fmt, self.unit = fmt, unit
 
@@ -194,9 +301,17 @@ class SliderSpec:
         return min(max(float(value), self.lo), self.hi)
 
     def from_slider(self, x: float):
-        x = min(max(float(x), self.lo), self.hi)
+        """The control value at slider position ``x`` (a float, as VTK reports it; clamped to the range).
+
+        Choices and integer controls snap to the nearest allowed value (ties upward): a float from
+        a widget is a position, not a user's error.
+        """
+        x = check_range(f"{self.name} slider position", x)
+        x = min(max(x, self.lo), self.hi)
         if self.choices is not None:
-            return self.choices[int(round(x))]
+            return self.choices[int(math.floor(x + 0.5))]
+        if self.integer:
+            return int(math.floor(x + 0.5))
         if self.log:
             return 10.0**x
         return x
@@ -258,7 +373,7 @@ SLIDER_COLUMNS = (
             SliderSpec("f0", "F0 (Cook-Torrance)", 0, 1),
             SliderSpec("mode", "lit sphere", choices=("flat", "gouraud", "phong")),
             SliderSpec("form", "form", choices=FORMS),
-            SliderSpec("tessellation", "coarse sphere bands", 3, 40, fmt="{:.0f}"),
+            SliderSpec("tessellation", "coarse sphere bands", fmt="{:.0f}"),  # the control's range, 3 … 64
             SliderSpec("exposure", "exposure", -4, 4, fmt="{:+.1f}", unit=" stops"),
         ),
     ),
@@ -585,6 +700,7 @@ class ExplorerApp:
         self._text(PROFILE, "profile_metric", "", 0.025, 0.905, size=9.5, color=MUTED)
         self._text(POLAR, "polar_quantity", "", 0.025, 0.905, size=9.5, color=MUTED)
         self._text(POLAR, "polar_note", "", 0.5, 0.45, size=11, color=SCANLINE, align="center", valign="center")
+        self._text(POLAR, "polar_albedo", "", 0.025, 0.845, size=9.5, color=MUTED)
         self._text(ANGLES, "angles_peak", "", 0.988, 0.015, size=9, color=MUTED, align="right", valign="bottom")
 
     def _panel_px(self, panel, height_frac=1.0, cols=1):
@@ -840,10 +956,13 @@ class ExplorerApp:
         if key == "n":
             return self.set_control("times_cos", not s.times_cos)
         if key in ("Up", "Down"):
+            spec = CONTROLS["scanline"]
             step = -0.02 if key == "Up" else 0.02
-            return self.set_control("scanline", min(max(s.scanline + step, 0.02), 0.98))
+            return self.set_control("scanline", min(max(s.scanline + step, spec.lo), spec.hi))
         if key in ("Left", "Right"):
-            t = min(max(s.tessellation + (1 if key == "Right" else -1), 3), 40)
+            # One step within the control's own range (the slider's too): finer never makes it coarser.
+            spec = CONTROLS["tessellation"]
+            t = min(max(s.tessellation + (1 if key == "Right" else -1), int(spec.lo)), int(spec.hi))
             return self.set_control("tessellation", t)
         if key == "r":
             return self.reset()
@@ -1049,6 +1168,8 @@ class ExplorerApp:
             self._set_text("polar_note", "light below the horizon:\nnothing reflected" if m["polar"].below_horizon
                            else "")  # fmt: skip
             self._set_text("polar_quantity", label)
+        if "albedo" in views:
+            self._show_albedo(m["albedo"])
         if views & {"theta_v", "theta_h", "theta_d", "halfdiff"}:
             self.angle_plots.set_data(
                 m["theta_v"], m["theta_h"], m["theta_d"], m["halfdiff"], channel=s.channel, label=label
@@ -1056,6 +1177,11 @@ class ExplorerApp:
             self.angle_plots.render()
             self._set_text("angles_title", f"{MODEL_LABELS[s.model]}: {label} against θ_v, θ_h, θ_d (Rusinkiewicz)")
             self._set_text("angles_peak", self.angle_plots.captions.get("peak", ""))
+
+    def _show_albedo(self, av):
+        """The albedo readout: ``ρ(θ_v) = value ± error``, flagged "unconverged" above 2 % relative error."""
+        self._set_text("polar_albedo", albedo_caption(av))
+        self.captions["polar_albedo"].GetTextProperty().SetColor(*(SCANLINE if av.unconverged else MUTED))
 
     def _light_summary(self) -> str:
         s = self.state
@@ -1311,8 +1437,9 @@ def main(argv=None) -> int:
         print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
         return 2
     off_screen = bool(args.off_screen or args.screenshot)
-    if not off_screen and not has_display():
-        print(NO_DISPLAY_MESSAGE, file=sys.stderr)
+    problem = None if off_screen else display_problem()
+    if problem:
+        print(no_display_message(problem), file=sys.stderr)
         return 1
     try:
         import pyvista as pv

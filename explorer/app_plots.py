@@ -23,7 +23,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
-from matplotlib.ticker import MaxNLocator
+from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 __all__ = ["BlitFigure", "ProfilePlot", "PolarPlot", "AnglePlots", "nice_ceiling", "hysteresis_limit", "COLOURS"]
 
@@ -277,6 +277,15 @@ class ProfilePlot(BlitFigure):
         )
 
 
+def radial_label(x, pos=None) -> str:
+    """A radial tick label with its magnitude: ``0.25``, ``2.5e+15`` (never a bare mantissa).
+
+    >>> radial_label(0.25), radial_label(7.5e15), radial_label(0.0)
+    ('0.25', '7.5e+15', '0')
+    """
+    return f"{x:.3g}"
+
+
 class PolarPlot(BlitFigure):
     """The polar slice in the plane of incidence, with the incident and mirror directions."""
 
@@ -293,6 +302,8 @@ class PolarPlot(BlitFigure):
         ax.grid(True)
         ax.tick_params(axis="y", labelsize=6.5, colors=COLOURS["muted"])
         ax.yaxis.set_major_locator(MaxNLocator(4))
+        # Polar axes draw no offset text ("1e16"): each radial label carries its own exponent instead.
+        ax.yaxis.set_major_formatter(FuncFormatter(radial_label))
         self.ax = ax
         (self.light_ray,) = ax.plot([], [], color=COLOURS["light"], lw=1.6, label="light l")
         (self.mirror_ray,) = ax.plot([], [], color=COLOURS["mirror"], lw=1.2, ls="--", label="mirror R")

@@ -10,7 +10,8 @@ be driven and checked without a display:
   rasterized once and re-shaded on every change) and computes the data of every
   view: the lit sphere, the coarse sphere lit per vertex and per pixel, the scan
   line profile with its Mach-band metric, the 3D lobe, the polar slice, the
-  angle curves and the half/difference image.  :meth:`ExplorerModel.update`
+  angle curves, the half/difference image and the directional albedo readout
+  (with its error and an "unconverged" flag above 2 %).  :meth:`ExplorerModel.update`
   recomputes only the views whose inputs changed and returns their names; with
   ``only=LIVE_VIEWS`` (a slider being dragged) it recomputes the images and
   keeps the other stale views in ``pending`` for the next full update.
@@ -19,29 +20,33 @@ Frames.  The viewer looks down ``−z`` at a unit sphere at the origin: image
 right is ``+x``, image up ``+y``, and ``+z`` points at the viewer.  The light's
 *elevation* is its angle above the image plane (90° = from the viewer, 0° =
 from the side, negative = from behind) and its *azimuth* turns in the image
-plane from ``+x`` toward ``+y`` (135° = upper left).  This is
-:meth:`lighting.DirectionalLight.from_angles` with ``+z`` as "up", so the slides'
-"Lambertian sphere from several lighting angles" is one drag of the elevation.
-The BRDF views use the local frame of the sphere point that faces the viewer
-(``n = +z``), so their incident direction is the light seen from that point.
+plane from ``+x`` toward ``+y`` (135° = upper left).  The direction is
+:func:`lighting.vec.direction_from_elevation` with ``+z`` as "up" (exact at the
+horizon: elevation 0 is ``z = 0``), so the slides' "Lambertian sphere from
+several lighting angles" is one drag of the elevation.  The BRDF views use the
+local frame of the sphere point that faces the viewer (``n = +z``), so their
+incident direction is the light seen from that point; every one of them builds
+it through :func:`lighting.vec.spherical_direction`, so a light on or below the
+horizon reflects nothing in all of them, and they all sample the lobe's peak
+(:func:`lighting.analysis.lobe_peak`), so they report the same peak.
 
 Example
 -------
 >>> state = AppState(model="phong", shininess=20.0, elevation=60.0)
 >>> model = ExplorerModel(state, sphere_size=48, mesh_size=48, lobe_resolution=8)
 >>> sorted(model.update())
-['coarse', 'halfdiff', 'lobe', 'polar', 'profile', 'sphere', 'theta_d', 'theta_h', 'theta_v']
+['albedo', 'coarse', 'halfdiff', 'lobe', 'polar', 'profile', 'sphere', 'theta_d', 'theta_h', 'theta_v']
 >>> state.azimuth = 10.0  # turning the light about the view axis: the BRDF plots stay
 >>> sorted(model.update())
 ['coarse', 'profile', 'sphere']
 >>> state.elevation = 30.0  # a new incident angle: the plots that depend on it follow
 >>> sorted(model.update())
-['coarse', 'lobe', 'polar', 'profile', 'sphere', 'theta_h', 'theta_v']
+['albedo', 'coarse', 'lobe', 'polar', 'profile', 'sphere', 'theta_h', 'theta_v']
 >>> state.shininess = 80.0  # while a slider is dragged: the images at once, the rest on release
 >>> sorted(model.update(only=LIVE_VIEWS)), sorted(model.pending)
-(['coarse', 'sphere'], ['halfdiff', 'lobe', 'polar', 'profile', 'theta_d', 'theta_h', 'theta_v'])
+(['coarse', 'sphere'], ['albedo', 'halfdiff', 'lobe', 'polar', 'profile', 'theta_d', 'theta_h', 'theta_v'])
 >>> sorted(model.update()), model.pending
-(['halfdiff', 'lobe', 'polar', 'profile', 'theta_d', 'theta_h', 'theta_v'], set())
+(['albedo', 'halfdiff', 'lobe', 'polar', 'profile', 'theta_d', 'theta_h', 'theta_v'], set())
 >>> state.shininess = -1
 Traceback (most recent call last):
 ...
@@ -58,6 +63,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 
 from lighting import AmbientLight, BlinnPhong, CookTorrance, DirectionalLight, Lambert, Material, Phong
+from lighting._numeric import ArgumentTypeError, abbreviate, check_bool, check_count, check_range, real_array
 from lighting.analysis import (
     half_diff_image,
     lobe_mesh,
@@ -69,10 +75,12 @@ from lighting.analysis import (
 from lighting.analytic import sphere_camera
 from lighting.illumination import shade
 from lighting.image import srgb_to_linear
+from lighting.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo
 from lighting.lights import PointLight, SpotLight
 from lighting.machband import LUMA, edge_jump_metric, scanline_profile
 from lighting.mesh import uv_sphere
 from lighting.render import SHADING_MODES, AnalyticSphere, Renderer
+from lighting.vec import direction_from_elevation, spherical_direction
 
 __all__ = [
     "MODELS",
@@ -96,6 +104,8 @@ __all__ = [
     "PolarView",
     "CurveView",
     "HalfDiffView",
+    "AlbedoView",
+    "ALBEDO_SAMPLES",
     "state_from_scene",
     "encode8",
 ]
@@ -111,6 +121,8 @@ MODEL_LABELS = {
 LIGHT_TYPES = ("directional", "point", "spot", "ambient")
 #: ``(a, b, c)`` of the falloff ``1 / (a r² + b r + c)`` (:class:`lighting.PointLight`).
 ATTENUATIONS = {"none": (0.0, 0.0, 1.0), "linear": (0.0, 1.0, 0.0), "inverse-square": (1.0, 0.0, 0.0)}
+#: Cost of the albedo readout (BRDF evaluations of the quadrature, fine and coarse rule together).
+ALBEDO_SAMPLES = 4096
 CHANNELS = ("luminance", "r", "g", "b")
 CHANNEL_LABELS = {"luminance": "luminance Y", "r": "red", "g": "green", "b": "blue"}
 FORMS = ("classic", "physical")
@@ -175,66 +187,88 @@ def _fmt(x: float) -> str:
     return str(int(x)) if float(x).is_integer() and abs(x) < 1e7 else f"{x:g}"
 
 
+def _allowed(spec: Control) -> str:
+    if spec.kind == "rgb":
+        return f"one number or three numbers r,g,b in [{_fmt(spec.lo)}, {_fmt(spec.hi)}]"
+    kind = "an integer" if spec.kind == "int" else "a number"
+    return f"{kind} in [{_fmt(spec.lo)}, {_fmt(spec.hi)}]"
+
+
+def _refuse(name: str, spec: Control, value, exc_type=ValueError):
+    """The one error of a control: names it, what is allowed and the value given (abbreviated)."""
+    given = abbreviate(repr(value))
+    if exc_type is not ValueError:
+        given = f"{type(value).__name__} {given}"
+    return exc_type(f"{name} must be {_allowed(spec)}; got {given}")
+
+
 def _validate(name: str, value):
+    """``value`` checked for the control ``name`` (see :data:`CONTROLS`); a named error if it is not allowed.
+
+    Numbers and colours are numbers: text and bytes are refused (``b'1'`` is not 1; the command
+    line parses its text first, :meth:`AppState.from_args`), and so are bools.  A wrong type
+    raises :class:`~lighting._numeric.ArgumentTypeError` (a TypeError and a ValueError).
+    """
     spec = CONTROLS[name]
     if spec.kind == "bool":
-        if isinstance(value, (bool, np.bool_)):
-            return bool(value)
-        if isinstance(value, str) and value.strip().lower() in ("true", "yes", "on", "1", "false", "no", "off", "0"):
-            return value.strip().lower() in ("true", "yes", "on", "1")
-        raise ValueError(f"{name} must be true or false; got {value!r}")
+        return check_bool(name, value)
     if spec.kind == "choice":
         if isinstance(value, str):
             key = value.strip().lower().replace("_", "-").replace(" ", "-")
             if key in spec.choices:
                 return key
-        raise ValueError(f"{name} must be one of {', '.join(spec.choices)}; got {value!r}")
+            raise ValueError(f"{name} must be one of {', '.join(spec.choices)}; got {abbreviate(repr(value))}")
+        raise ArgumentTypeError(
+            f"{name} must be one of {', '.join(spec.choices)}; got {type(value).__name__} {abbreviate(repr(value))}"
+        )
     if spec.kind == "terms":
+        allowed = f"a list of {', '.join(spec.choices)}"
         items = value.split(",") if isinstance(value, str) else value
-        try:
-            items = [str(t).strip().lower() for t in items if str(t).strip()]
-        except TypeError:
-            raise ValueError(f"{name} must be a list of {', '.join(spec.choices)}; got {value!r}") from None
-        bad = [t for t in items if t not in spec.choices]
-        if bad:
-            raise ValueError(f"{name} must be a list of {', '.join(spec.choices)}; got {value!r}")
+        if not isinstance(items, (list, tuple, set, frozenset)) or not all(isinstance(t, str) for t in items):
+            raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {abbreviate(repr(value))}")
+        items = [t.strip().lower() for t in items if t.strip()]
+        if any(t not in spec.choices for t in items):
+            raise ValueError(f"{name} must be {allowed}; got {abbreviate(repr(value))}")
         return tuple(t for t in spec.choices if t in items)
     if spec.kind == "rgb":
-        if isinstance(value, str):
-            value = value.split(",")
         try:
-            arr = np.array(value, dtype=np.float64).reshape(-1)
-        except (TypeError, ValueError):
-            arr = np.array([np.nan])
+            arr = real_array(name, value, allowed=_allowed(spec)).astype(np.float64).reshape(-1)
+        except ArgumentTypeError:
+            raise _refuse(name, spec, value, ArgumentTypeError) from None
+        except ValueError:  # NaN or inf
+            raise _refuse(name, spec, value) from None
         if arr.size == 1:
             arr = np.repeat(arr, 3)
-        if arr.size != 3 or not np.all(np.isfinite(arr)) or np.any(arr < spec.lo) or np.any(arr > spec.hi):
-            raise ValueError(
-                f"{name} must be one number or three numbers r,g,b in [{_fmt(spec.lo)}, {_fmt(spec.hi)}]; got {value!r}"
-            )
+        if arr.size != 3 or np.any(arr < spec.lo) or np.any(arr > spec.hi):
+            raise _refuse(name, spec, value)
         return tuple(float(x) for x in arr)
     # float / int
-    if isinstance(value, (bool, np.bool_)) or isinstance(value, str):
-        x = _parse_number(name, value, spec)
-    else:
-        try:
-            x = float(value)
-        except (TypeError, ValueError):
-            x = math.nan
-    kind = "an integer" if spec.kind == "int" else "a number"
-    if not (math.isfinite(x) and spec.lo <= x <= spec.hi) or (spec.kind == "int" and x != round(x)):
-        raise ValueError(f"{name} must be {kind} in [{_fmt(spec.lo)}, {_fmt(spec.hi)}]; got {value!r}")
-    return int(round(x)) if spec.kind == "int" else float(x)
+    value_int = value
+    if spec.kind == "int" and isinstance(value, (float, np.floating)):
+        # 8.0 is the integer 8; 8.5 is a number but no integer (a slider snaps before, see app.py)
+        if not (math.isfinite(value) and float(value).is_integer()):
+            raise _refuse(name, spec, value)
+        value_int = int(value)
+    try:
+        if spec.kind == "int":
+            return check_count(name, value_int, int(spec.lo), int(spec.hi))
+        return check_range(name, value, spec.lo, spec.hi)
+    except ArgumentTypeError:
+        raise _refuse(name, spec, value, ArgumentTypeError) from None
+    except ValueError:
+        raise _refuse(name, spec, value) from None
 
 
-def _parse_number(name, value, spec):
-    if isinstance(value, str):
-        try:
-            return float(value)
-        except ValueError:
-            pass
-    kind = "an integer" if spec.kind == "int" else "a number"
-    raise ValueError(f"{name} must be {kind} in [{_fmt(spec.lo)}, {_fmt(spec.hi)}]; got {value!r}")
+def _parse_text(name: str, text: str):
+    """Command-line text for a number or a colour: ``"0.5"`` or ``"1,0.5,0"`` (a named error if it is neither)."""
+    spec = CONTROLS.get(name, CONTROLS["kd"])
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        numbers = [float(p) for p in parts]
+    except ValueError:
+        raise ValueError(f"{name} must be {_allowed(spec) if spec.kind == 'rgb' else 'one number or r,g,b'}; "
+                         f"got {abbreviate(repr(text))}") from None  # fmt: skip
+    return numbers[0] if len(numbers) == 1 else tuple(numbers)
 
 
 # =============================================================================== state
@@ -333,6 +367,10 @@ class AppState:
         values = {k: v for k, v in values.items() if v is not None}
         scene = values.pop("scene", None)
         state = state_from_scene(scene) if scene else cls()
+        # Command-line text is parsed here, once: the controls themselves take numbers, never text.
+        for name in ("kd", "color", "light_color"):
+            if isinstance(values.get(name), str):
+                values[name] = _parse_text(name, values[name])
         kd = values.pop("kd", None)
         if kd is not None:
             values.update(_split_kd(kd))
@@ -379,7 +417,8 @@ class AppState:
 
     def light_direction(self) -> np.ndarray:
         """Unit vector from the sphere centre toward the light (view frame: x right, y up, z to the viewer)."""
-        return np.asarray(DirectionalLight.from_angles(self.elevation, self.azimuth).direction, dtype=np.float64)
+        # Exact at the horizon: elevation 0 gives z = 0, not cos(90°) = 6e-17 (a light a hair above it).
+        return direction_from_elevation(float(self.elevation), float(self.azimuth))
 
     def light_position(self) -> np.ndarray:
         """Where a point or spot light is: ``distance`` along :meth:`light_direction`."""
@@ -438,13 +477,17 @@ class AppState:
 
 
 def _split_kd(kd):
-    arr = np.array(kd.split(",") if isinstance(kd, str) else kd, dtype=np.float64).reshape(-1)
-    if arr.size == 3:
+    """``kd`` as one number, or an RGB triple split into ``kd`` (its largest entry) and ``color``."""
+    if isinstance(kd, (tuple, list, np.ndarray)) and np.size(kd) == 3:
+        try:
+            arr = real_array("kd", kd, allowed="one number or r,g,b").astype(np.float64).reshape(-1)
+        except ValueError:
+            return {"kd": kd}  # refused by the kd control, with its message
         top = float(arr.max())
-        if top > 0 and np.all(np.isfinite(arr)) and np.all(arr >= 0):
+        if top > 0 and np.all(arr >= 0):
             return {"kd": top, "color": tuple(arr / top)}
-        return {"kd": top if np.isfinite(top) else kd}
-    return {"kd": float(arr[0]) if arr.size == 1 else kd}
+        return {"kd": top}
+    return {"kd": kd}
 
 
 # =============================================================================== scenes
@@ -715,6 +758,28 @@ class HalfDiffView:
     marker: tuple
 
 
+@dataclass(frozen=True, eq=False)
+class AlbedoView:
+    """The directional albedo ``ρ(θ_v) = ∫ f_r(v, l) (n·l) dω_l`` of the plotted BRDF, with its error.
+
+    ``theta_v`` is the fixed view of the polar panel's dashed slice (``θ_v = θ_l``, 90° when the
+    light is below the horizon, where ρ is 0).  ``value`` and ``error`` are the plot channel's
+    (luminance: the Rec. 709 weights of the RGB values and errors); ``unconverged`` flags a
+    relative error above 2 % (:attr:`lighting.integrate.Estimate.unconverged`), as the accuracy
+    report does.  ``rgb`` and ``rgb_error`` are the whole estimate.
+    """
+
+    theta_v: float
+    value: float
+    error: float
+    relative_error: float
+    unconverged: bool
+    rgb: np.ndarray
+    rgb_error: np.ndarray
+    method: str
+    samples: int
+
+
 MATERIAL_FIELDS = frozenset({"model", "kd", "color", "ks", "shininess", "roughness", "f0", "ndf"})
 LIGHT_FIELDS = frozenset(
     {"light", "elevation", "azimuth", "intensity", "light_color", "ambient", "distance", "attenuation", "cutoff"}
@@ -738,6 +803,7 @@ VIEW_DEPENDENCIES = {
     "theta_h": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
     "theta_d": MATERIAL_FIELDS | PLOT_FIELDS | {"terms"},
     "halfdiff": MATERIAL_FIELDS | PLOT_FIELDS | {"terms"},
+    "albedo": MATERIAL_FIELDS | INCIDENT_FIELDS | {"terms", "channel"},
 }
 VIEWS = tuple(VIEW_DEPENDENCIES)
 #: The views that follow a slider while it is dragged: the engine's images, cheap and where the eye
@@ -869,7 +935,7 @@ class ExplorerModel:
         ``"sphere"`` :class:`SphereView`, ``"coarse"`` :class:`CoarseView`,
         ``"profile"`` :class:`ProfileView`, ``"lobe"`` :class:`LobeView`, ``"polar"``
         :class:`PolarView`, ``"theta_v"``, ``"theta_h"``, ``"theta_d"``
-        :class:`CurveView`, ``"halfdiff"`` :class:`HalfDiffView`.
+        :class:`CurveView`, ``"halfdiff"`` :class:`HalfDiffView`, ``"albedo"`` :class:`AlbedoView`.
     """
 
     def __init__(self, state=None, *, sphere_size=360, mesh_size=256, lobe_resolution=40, dtype=np.float32):
@@ -993,6 +1059,8 @@ class ExplorerModel:
             elif "halfdiff" in self.views and "theta_v" in views:
                 old = self.views["halfdiff"]
                 self.views["halfdiff"] = HalfDiffView(old.theta_h, old.theta_d, old.values, old.peak, (0.0, theta))
+            if "albedo" in views:
+                self.views["albedo"] = self._albedo_view(brdf, theta)
         self._snapshot = self._inputs()
         return views
 
@@ -1054,7 +1122,7 @@ class ExplorerModel:
 
     def _lobe_view(self, brdf, theta, below, opts) -> LobeView:
         s = self.state
-        l_plot = np.array([-math.sin(theta), 0.0, math.cos(theta)])  # the light on the −x side
+        l_plot = spherical_direction(theta, math.pi)  # the light on the −x side, exactly on the horizon at π/2
         m = lobe_mesh(brdf, l_plot, resolution=self.lobe_resolution, cosine=s.times_cos, channel=s.channel)
         values = m.values.astype(np.float64)
         if s.log:
@@ -1064,6 +1132,22 @@ class ExplorerModel:
         vertices = (values * scale)[:, None] * m.directions.astype(np.float64)
         mirror = np.array([-l_plot[0], 0.0, l_plot[2]])
         return LobeView(vertices, m.faces, values, peak, scale, l_plot, mirror, m.peak.astype(np.float64), below)
+
+    def _albedo_view(self, brdf, theta) -> AlbedoView:
+        # Quadrature on the lobe's nodes: deterministic, a few ms (up to ~30 ms), with an error estimate.
+        # Not a live view: computed when the plots follow, on a slider's release, never during a drag.
+        est = directional_albedo(brdf, theta, samples=ALBEDO_SAMPLES, method="quadrature", return_error=True)
+        rgb = np.asarray(est.value, dtype=np.float64)
+        err = np.abs(np.asarray(est.error, dtype=np.float64))
+        ch = self.state.channel
+        if ch == "luminance":
+            value, error = float(rgb @ LUMA), float(err @ LUMA)  # errors add at worst linearly
+        else:
+            k = "rgb".index(ch)
+            value, error = float(rgb[k]), float(err[k])
+        rel = error / abs(value) if value != 0 else (math.inf if error > 0 else 0.0)
+        return AlbedoView(theta, value, error, rel, bool(rel > UNCONVERGED_RELATIVE_ERROR), rgb, err, est.method,
+                          int(est.samples))  # fmt: skip
 
     def _polar_view(self, brdf, theta, below, opts) -> PolarView:
         a, b = reciprocity_pair(brdf, theta, n=361, **opts)

@@ -967,6 +967,63 @@ def _peak_t(brdf, theta, phi, cosine, channel, width, fixed="light", d_fixed=Non
     return best_t, best_f
 
 
+def _slice_peaks(brdf, theta, phi, channel, width):
+    """Signed angles of the in-plane peaks a slice must sample, whatever its ``fixed`` and ``cosine``.
+
+    The same search as :func:`_peak_t` for four quantities at once: ``f`` and ``f (n·v)`` with the
+    light fixed, ``f`` and ``f (n·l)`` with the view fixed (``f (n·l)`` with the light fixed is ``f``
+    times a constant, and so on).  One BRDF evaluation per round serves all four, so a slice pays
+    about one search for them; and the angles do not depend on the slice's options, so both
+    slices of :func:`reciprocity_pair` and the "× n·l" toggle keep their samples.
+    """
+    lim = _HALF_PI - 1e-9
+    d_fixed = _sph(theta, phi)
+    variants = (("light", None), ("light", "view"), ("view", None), ("view", "light"))
+
+    def values(ts):
+        # ts: one array of angles per variant; returns their values, evaluated in one call.
+        sizes = [len(t) for t in ts]
+        sweep = _plane_dirs(np.concatenate(ts), phi, "incidence")
+        role_light = np.concatenate([np.full(n, r == "light") for n, (r, _) in zip(sizes, variants, strict=True)])
+        fixed_b = np.broadcast_to(d_fixed, sweep.shape)
+        l = np.where(role_light[:, None], fixed_b, sweep)  # noqa: E741
+        v = np.where(role_light[:, None], sweep, fixed_b)
+        f = _reduce(_quantity_rgb(brdf, l, v, None, np.float64), channel)
+        out, start = [], 0
+        for n, (_, mode) in zip(sizes, variants, strict=True):
+            part = f[start : start + n]
+            rows = slice(start, start + n)
+            if mode == "view":
+                part = part * np.maximum(v[rows, 2], 0)
+            elif mode == "light":
+                part = part * np.maximum(l[rows, 2], 0)
+            out.append(part)
+            start += n
+        return out
+
+    coarse = np.linspace(-lim, lim, 721)
+    coarse_step = coarse[1] - coarse[0]
+    fine_step = min(width / 10, coarse_step) if math.isfinite(width) else coarse_step
+    t = [np.array([min(theta, lim)]), coarse]
+    steps = [np.array([fine_step]), np.full(coarse.shape, coarse_step)]
+    if math.isfinite(width):
+        t.insert(1, np.clip(theta + width * np.linspace(-8.0, 8.0, 161), -lim, lim))
+        steps.insert(1, np.full(161, width / 10))
+    t, steps = np.concatenate(t), np.concatenate(steps)
+    best = []
+    for f in values([t] * len(variants)):
+        k = int(np.argmax(f))
+        best.append([float(t[k]), float(f[k]), float(steps[k])])
+    for _ in range(5):
+        grids = [np.concatenate([[b[0]], np.clip(b[0] + b[2] * np.linspace(-2.0, 2.0, 41), -lim, lim)]) for b in best]
+        for b, tz, fz in zip(best, grids, values(grids), strict=True):
+            k = int(np.argmax(fz))
+            if fz[k] > b[1]:
+                b[0], b[1] = float(tz[k]), float(fz[k])
+            b[2] /= 10
+    return [b[0] for b in best]
+
+
 def _light_angles(l64):
     """Polar angle and azimuth of a unit light direction (float64)."""
     return math.atan2(math.hypot(l64[0], l64[1]), l64[2]), math.atan2(l64[1], l64[0])
@@ -984,11 +1041,12 @@ def _slice_angles(brdf, theta, phi, count, plane, refine, cosine, channel):
 
     With ``refine``: a lobe narrower than four grid spacings gets 129 samples at spacing
     ``w/8`` across ``±8 w`` about the mirror angle (the normal in the perpendicular plane);
-    in the plane of incidence the peak of the lobe (:func:`_peak_t`, with the light fixed
-    and with the view fixed, so that both slices of :func:`reciprocity_pair` share their
-    angles) is a sample too.  A narrow highlight off the grid, or one a hair above the
-    horizon (rough Cook–Torrance lit at grazing), is then drawn at its true height, the
-    height :func:`lobe_peak` reports and :func:`lobe_mesh` draws.  Without a lobe
+    in the plane of incidence the peak of the lobe (:func:`_slice_peaks`: with the light
+    fixed and with the view fixed, with and without the cosine factors, so that both slices
+    of :func:`reciprocity_pair` and every ``cosine`` option share their angles) is a sample
+    too.  A narrow highlight off the grid, or one a hair above the horizon (rough
+    Cook–Torrance lit at grazing), is then drawn at its true height, the height
+    :func:`lobe_peak` reports and :func:`lobe_mesh` draws.  Without a lobe
     (Lambert alone: width ``inf``) the grid's maximum is already the peak.
     """
     t = np.linspace(-_HALF_PI, _HALF_PI, count)
@@ -998,12 +1056,12 @@ def _slice_angles(brdf, theta, phi, count, plane, refine, cosine, channel):
     scalar = "luminance" if channel == "rgb" else channel
     w = _lobe_widths(brdf, theta)[0]
     if math.isnan(w):
-        w = _numeric_width(brdf, _sph(theta, phi), cosine, scalar)
+        w = _numeric_width(brdf, _sph(theta, phi), None, scalar)  # the options must not move the samples
     extra = []
     if w < 4 * math.pi / (count - 1):  # False for inf
         extra.append((theta if in_plane else 0.0) + w * np.linspace(-8.0, 8.0, 129))
     if in_plane and theta < _HALF_PI and math.isfinite(w):
-        extra.append([_peak_t(brdf, theta, phi, cosine, scalar, w, fixed)[0] for fixed in ("light", "view")])
+        extra.append(_slice_peaks(brdf, theta, phi, scalar, w))
     if extra:
         extra = np.concatenate([np.asarray(e, dtype=np.float64) for e in extra])
         t = np.union1d(t, extra[np.abs(extra) < _HALF_PI])
