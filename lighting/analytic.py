@@ -8,10 +8,10 @@ pixel with exact normals (ray casting, :func:`lighting.raster.raycast_sphere`).
 
 from __future__ import annotations
 
-from ._numeric import check_count, check_positive
+from ._numeric import check_budget, check_count, check_positive
 from .camera import MAX_IMAGE_SIDE, Camera
 from .illumination import Material
-from .render import AnalyticSphere, Renderer
+from .render import RENDER_BYTES_PER_PIXEL, AnalyticSphere, Renderer
 
 __all__ = ["sphere_camera", "render_sphere"]
 
@@ -36,4 +36,6 @@ def render_sphere(material: Material, lights, *, size: int = 256, form: str = "c
     form : {"classic", "physical"}
     background : scalar or RGB >= 0
     """
+    size = check_count("size", size, 1, MAX_IMAGE_SIDE)
+    check_budget("size", size * size * RENDER_BYTES_PER_PIXEL, what=f"a {size}x{size} image")
     return Renderer(AnalyticSphere(), sphere_camera(size)).render(material, lights, form=form, background=background)

@@ -86,10 +86,11 @@ def _size(name: str, value) -> int:
 
 def _float_dtype(dtype) -> type:
     try:
-        dt = np.dtype(dtype)
-    except TypeError:
+        # (None is NumPy's float64, but not a dtype anyone means here.)
+        dt = None if dtype is None else np.dtype(dtype)
+    except (TypeError, ValueError):
         dt = None
-    if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+    if dt is None or dt not in (np.dtype(np.float32), np.dtype(np.float64)):
         raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
     return dt.type
 

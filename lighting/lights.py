@@ -48,7 +48,7 @@ from ._numeric import (
     saturate_to,
     working_dtype,
 )
-from .vec import direction_from_elevation, normalize, orthonormal_basis
+from .vec import direction_from_elevation, length, normalize, orthonormal_basis
 
 __all__ = [
     "Incidence",
@@ -143,10 +143,11 @@ MAX_AREA_SAMPLES = 1 << 16
 
 def _check_dtype(dtype) -> type:
     try:
-        dt = np.dtype(dtype)
-    except TypeError:
+        # (None is NumPy's float64, but not a dtype anyone means here.)
+        dt = None if dtype is None else np.dtype(dtype)
+    except (TypeError, ValueError):
         dt = None
-    if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+    if dt is None or dt not in (np.dtype(np.float32), np.dtype(np.float64)):
         raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
     return dt.type
 
@@ -548,17 +549,24 @@ class RectLight(AreaLight):
         object.__setattr__(self, "center", _vector3("center", self.center))
         u = _vector3("edge_u", self.edge_u)
         v = _vector3("edge_v", self.edge_v)
-        if not np.linalg.norm(np.cross(u, v)) > 0:
-            raise ValueError(f"edge_u and edge_v must span a rectangle (nonparallel, nonzero); got {u} and {v}")
+        with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+            c = np.cross(u, v)
+            area = float(length(c)) if np.all(np.isfinite(c)) else math.inf
+        if not 0 < area < math.inf:
+            raise ValueError(
+                "edge_u and edge_v must span a rectangle (non-parallel, non-zero, its area |edge_u × edge_v| "
+                f"inside the float64 range); got edge_u={_fmt(u)}, edge_v={_fmt(v)}"
+            )
         object.__setattr__(self, "edge_u", u)
         object.__setattr__(self, "edge_v", v)
+        object.__setattr__(self, "_area", area)
+        object.__setattr__(self, "_normal", normalize(c))
 
     def area(self):
-        return float(np.linalg.norm(np.cross(self.edge_u, self.edge_v)))
+        return self._area
 
     def normal(self):
-        c = np.cross(self.edge_u, self.edge_v)
-        return c / np.linalg.norm(c)
+        return self._normal
 
     def sample_points(self):
         uv = _r2_sequence(self.samples, self.seed) - 0.5
@@ -577,10 +585,15 @@ class DiskLight(AreaLight):
         self._check_common()
         object.__setattr__(self, "center", _vector3("center", self.center))
         object.__setattr__(self, "normal_dir", normalize(_vector3("normal_dir", self.normal_dir, nonzero=True)))
-        object.__setattr__(self, "radius", check_positive("radius", self.radius))
+        r = check_positive("radius", self.radius)
+        area = math.pi * r * r  # floats: 1e200² is inf, not an OverflowError
+        if not 0 < area < math.inf:
+            raise ValueError(f"radius must be a finite number > 0 whose disk area π r² is inside the float64 range "
+                             f"(about 1e-161 to 7e153); got {_fmt(self.radius)}")  # fmt: skip
+        object.__setattr__(self, "radius", r)
 
     def area(self):
-        return math.pi * self.radius**2
+        return math.pi * self.radius * self.radius
 
     def normal(self):
         return self.normal_dir

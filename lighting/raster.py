@@ -379,10 +379,11 @@ class GBuffer:
 # ---------------------------------------------------------------------- rasterizer
 def _check_dtype(dtype) -> np.dtype:
     try:
-        dt = np.dtype(dtype)
-    except TypeError:
+        # (None is NumPy's float64, but not a dtype anyone means here.)
+        dt = None if dtype is None else np.dtype(dtype)
+    except (TypeError, ValueError):
         dt = None
-    if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+    if dt is None or dt not in (np.dtype(np.float32), np.dtype(np.float64)):
         raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
     return dt
 
@@ -396,7 +397,7 @@ def _check_camera(camera) -> Camera:
 def check_image_budget(camera: Camera, bytes_per_pixel: float, what: str) -> None:
     """Refuse (:class:`lighting._numeric.BudgetError`) an image whose per-pixel work exceeds the memory budget."""
     n = camera.width * camera.height
-    check_budget(f"a {camera.width}x{camera.height} image", n * bytes_per_pixel,
+    check_budget(f"camera width x height ({camera.width}x{camera.height} pixels)", n * bytes_per_pixel,
                  what=f"{what}, about {bytes_per_pixel:g} bytes per pixel")  # fmt: skip
 
 

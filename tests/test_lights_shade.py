@@ -1,4 +1,5 @@
 import math
+import re
 
 import numpy as np
 import pytest
@@ -338,3 +339,99 @@ def test_area_light_sample_very_close_saturates_or_gives_zero(dtype):
     assert y.tolist() == [0.0, 0.0, 0.0]
     assert next(rect.incident(np.array([[tiny, 0, 0]], dtype))).irradiance.tolist() == [[0.0, 0.0, 0.0]]
     assert next(rect.incident(np.array([[0, 0, -tiny]], dtype))).irradiance.tolist() == [[BIG[dtype]] * 3]
+
+
+# ------------------------------------------------------------------ issue 14, item 2: exact angles
+def test_directions_from_angles_are_exact_at_right_angles():
+    assert DirectionalLight.from_angles(0.0).direction.tolist() == [1.0, 0.0, 0.0]
+    assert DirectionalLight.from_angles(90.0).direction.tolist() == [0.0, 0.0, 1.0]
+    assert DirectionalLight.from_angles(0.0, 90.0).direction.tolist() == [0.0, 1.0, 0.0]
+    assert DirectionalLight.from_angles(0.0, 180.0).direction.tolist() == [-1.0, 0.0, 0.0]
+    assert DirectionalLight.from_angles(-90.0, 37.0).direction.tolist() == [0.0, 0.0, -1.0]
+    # Overhead light on a wall facing +x: exactly grazing, so exactly nothing (was cos 90° = 6e-17 of it).
+    overhead = [DirectionalLight.from_angles(90.0)]
+    wall = shade(ORIGIN, (1.0, 0, 0), Material(Lambert(1.0)), overhead, view_dir=(1.0, 0, 0))
+    assert wall.tolist() == [[0.0, 0.0, 0.0]]
+    np.testing.assert_allclose(DirectionalLight.from_angles(30.0, 45.0).direction,
+                               [math.cos(math.radians(30)) / math.sqrt(2)] * 2 + [0.5], rtol=1e-15)  # fmt: skip
+
+
+def test_spot_cone_test_exact_at_0_and_90_degrees_and_resolves_tiny_cutoffs():
+    from lighting.lights import _one_minus_cos_deg
+
+    assert (_one_minus_cos_deg(0), _one_minus_cos_deg(90)) == (0.0, 1.0)
+    assert _one_minus_cos_deg(60) == pytest.approx(0.5, rel=2.3e-16)
+    assert _one_minus_cos_deg(1e-8) == pytest.approx(2 * math.sin(math.radians(1e-8) / 2) ** 2, rel=1e-15)
+    half = SpotLight((0, 0, 0.0), direction=(0, 0, -1.0), cutoff_deg=90, attenuation=(0, 0, 1))
+    assert half.spot_factor(np.array([0.0, -1e-300, 1.0])).tolist() == [1.0, 0.0, 1.0]
+    # The cone's edge at 75° and at 1e-6°, within 1e-9 of the angle either way.
+    for cutoff in (75.0, 1e-6):
+        spot = SpotLight((0, 0, 1.0), direction=(0, 0, -1.0), cutoff_deg=cutoff, attenuation=(0, 0, 1))
+        inside, outside = math.radians(cutoff * (1 - 1e-9)), math.radians(cutoff * (1 + 1e-9))
+        pts = [[math.tan(inside), 0, 0], [math.tan(outside), 0, 0]]
+        assert irradiance(spot, pts)[:, 0].tolist() == [1.0, 0.0]
+
+
+# ------------------------------------------------------------------ issue 14, item 10: checked arguments
+P2, N2 = np.zeros((2, 3)), np.array([[0, 0, 1.0], [0, 1.0, 0]])
+MAT2 = Material(Lambert(0.5) + Phong(0.5, 10.0))
+LIGHTS2 = [AmbientLight(), DirectionalLight(), PointLight((1, 2, 3.0))]
+
+
+@pytest.mark.parametrize(
+    "kwargs, param",
+    [
+        (dict(points=[[0, 0, float("nan")]] * 2), "points"),
+        (dict(points=[[0, 0, 1j]] * 2), "points"),
+        (dict(points=[["0", "0", "1"]] * 2), "points"),
+        (dict(normals=[[0, 0, float("inf")]] * 2), "normals"),
+        (dict(normals=b"001"), "normals"),
+        (dict(view_dir=(0, float("nan"), 1.0)), "view_dir"),
+        (dict(view_dir=(0, 0, 0)), "view_dir"),
+        (dict(view_dir="up"), "view_dir"),
+        (dict(view_dir=None, eye=5.0), "eye"),
+        (dict(view_dir=None, eye=(0, 0, 1j)), "eye"),
+        (dict(points=None), "points"),
+        (dict(lights=[DirectionalLight(), "sun"]), "lights[1]"),
+        (dict(lights=DirectionalLight()), "lights"),
+        (dict(material=Lambert(0.5)), "material"),
+        (dict(terms="diffuse"), "terms"),
+        (dict(terms={"diffuse"}), "terms"),
+    ],
+)
+def test_shade_refuses_each_illegal_argument_by_name(kwargs, param):
+    args = dict(points=P2, normals=N2, material=MAT2, lights=LIGHTS2, view_dir=(0, 0, 1.0)) | kwargs
+    options = {k: v for k, v in args.items() if k in ("eye", "view_dir", "terms")}
+    for f in (shade, shade_terms):
+        with pytest.raises(ValueError, match=rf"^{re.escape(param)}") as info:
+            f(args["points"], args["normals"], args["material"], args["lights"], **options)
+        assert "got" in str(info.value) or "PointLight" in str(info.value)
+    if kwargs.get("points", 0) is None:  # the light that needs positions is named, not dropped
+        assert "PointLight" in str(info.value)
+
+
+def test_illegal_light_arguments_are_named_before_any_work():
+    import time
+
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match="^samples must be an integer in"):
+        RectLight(samples=10**9)
+    with pytest.raises(TypeError, match="^samples must be an integer"):
+        DiskLight(samples=16.0)
+    assert time.perf_counter() - t0 < 0.5  # refused, not allocated
+    with pytest.raises(TypeError, match="^intensity must be a finite number >= 0; got str '1'"):
+        PointLight(intensity="1")
+    with pytest.raises(TypeError, match="^color must be"):
+        AmbientLight(color=b"1")
+    with pytest.raises(ValueError, match=r"^attenuation must be three finite numbers"):
+        PointLight(attenuation=(float("nan"), 0, 1))
+    with pytest.raises(TypeError, match="^two_sided must be True or False"):
+        RectLight(two_sided=1)
+    with pytest.raises(ValueError, match="^seed must be an integer >= 0"):
+        DiskLight(seed=-1)
+    with pytest.raises(ValueError, match="^cutoff_deg must be a number of degrees in"):
+        SpotLight(cutoff_deg=120)
+    with pytest.raises(ValueError, match="^elevation_deg must be a finite number"):
+        DirectionalLight.from_angles(float("nan"))
+    with pytest.raises(ValueError, match="^points must be"):
+        next(PointLight().incident([[0, float("nan"), 0]]))
