@@ -854,11 +854,16 @@ def hemispherical_albedo(
 
     the fraction of light from a uniform sky that is reflected at all.  The
     ``μ`` integral is ``view_samples``-point Gauss–Legendre (exact for ``ρ``
-    polynomial of degree < 2·view_samples − 1 in μ); the reported error
-    combines the inner integrals' errors only: quadrature errors and the
-    rule-of-three terms (which can share a sign: every angle may miss the same
-    kind of region) add linearly, Monte Carlo standard errors (independent) in
-    quadrature.  Cost: ``view_samples × samples``.
+    polynomial of degree < 2·view_samples − 1 in μ).  The reported error adds
+    the ``μ`` rule's own error — its difference to the rule with half the
+    nodes (or with two for a single node), plus ``μ₁² max ρ`` for the sliver
+    below the smallest node ``μ₁`` that neither rule sees (a lobe cut by the
+    horizon changes ρ there; the bound assumes ρ there stays below the largest
+    albedo found at the nodes) — to the inner integrals' errors:
+    quadrature errors and the rule-of-three terms (which can share a sign:
+    every angle may miss the same kind of region) add linearly, Monte Carlo
+    standard errors (independent) in quadrature.  Cost: ``view_samples ×
+    samples``, half as much again with ``return_error``.
 
     Parameters
     ----------
@@ -882,17 +887,25 @@ def hemispherical_albedo(
     return_error = check_bool("return_error", return_error)
     rng = as_generator(seed)
     mu, wmu = _gl01(view_samples)
-    theta = np.arccos(mu)
+    # The μ rule's own error: the difference to a rule with half the nodes (two when one is asked).
+    mu_c, wmu_c = _gl01(view_samples // 2 if view_samples > 1 else 2)
+    k = view_samples if return_error else 0
+    theta = np.arccos(np.concatenate([mu, mu_c]) if return_error else mu)
     val, se, rare, used = _albedo(brdf, theta, method, samples, rng, reps, return_error)
     w = (2 * mu * wmu)[:, None]
-    value = np.sum(w * val, axis=0)
+    value = np.sum(w * val[:view_samples], axis=0)
     if not return_error:
         return value
+    outer = np.abs(value - np.sum((2 * mu_c * wmu_c)[:, None] * val[k:], axis=0))
+    # No node of either rule lies below the smallest μ, where a lobe cut by the horizon changes ρ
+    # fastest: that sliver, ∫_0^μ₁ 2μ ρ dμ, is bounded by μ₁² times the largest albedo seen.
+    outer = outer + np.min(mu) ** 2 * np.max(np.abs(val) + se + rare, axis=0)
+    se, rare = se[:k], rare[:k]
     if method == "quadrature":
-        err = np.sum(w * se, axis=0)
+        err = np.sum(w * se, axis=0) + outer
     else:
-        err = np.sqrt(np.sum((w * se) ** 2, axis=0)) + np.sum(w * rare, axis=0)
-    return Estimate(value, err, used * view_samples, time.perf_counter() - t0, method)
+        err = np.sqrt(np.sum((w * se) ** 2, axis=0)) + np.sum(w * rare, axis=0) + outer
+    return Estimate(value, err, used * theta.size, time.perf_counter() - t0, method)
 
 
 # =========================================================================== rendering equation
