@@ -316,9 +316,11 @@ def compile_plan(
     with np.errstate(over="ignore"):
         ambient = np.minimum(sum((lt.radiant for lt in lights if isinstance(lt, AmbientLight)), np.zeros(3)), _BIG64)
     if "ambient" in terms:
-        if np.any(ambient * material.ambient):
+        with np.errstate(over="ignore"):
+            reflected = ambient * material.ambient
+        if np.any(reflected):
             with np.errstate(over="ignore"):
-                constant = np.minimum(constant + ambient * material.ambient * scale, _BIG64)
+                constant = np.minimum(constant + reflected * scale, _BIG64)
         else:
             why = "no ambient light" if not np.any(ambient) else "the material reflects no ambient light (k_a = 0)"
             skipped.append(Skip("ambient term", why))

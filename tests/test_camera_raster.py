@@ -646,3 +646,63 @@ def test_raycast_sphere_perspective_against_high_precision_roots():
 def test_gbuffer_is_the_public_type():
     cam = Camera((0, 0, 5), (0, 0, 0), width=4, height=4)
     assert isinstance(raycast_sphere(cam), GBuffer) and isinstance(rasterize(icosphere(0), cam), GBuffer)
+
+
+# ====================================================================== issue 14: items 10 and 16 (camera)
+def test_an_eye_1e308_away_is_a_distance_not_an_up_problem():
+    # eye[0] = -1e308: |target - eye|² overflows float64, and the camera used to blame `up`.
+    cam = Camera((-1e308, 0.0, 5.0), (0, 0, 0), width=16, height=16)
+    assert cam.distance == 1e308 and cam.forward.tolist() == [1.0, 0.0, -5e-308]
+    assert cam.near == 1e305 and cam.far == np.finfo(np.float64).max  # 1000 × 1e308, saturated
+    xy, depth = cam.project([[0.0, 0.0, 0.0]])
+    assert xy.tolist() == [[8.0, 8.0]] and depth.tolist() == [1e308]
+    # When target - eye itself overflows, the error names eye and target, never up.
+    with pytest.raises(ValueError, match=r"^eye and target must be less than 1.8e\+308 apart") as info:
+        Camera((-1e308, 0, 0), (1e308, 0, 0))
+    assert "up" not in str(info.value)
+    assert Camera.orbit(distance=2, azimuth_deg=90).eye.tolist() == [2.0, 0.0, 0.0]  # exact at right angles
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(eye=5.0), r"^eye must be a finite 3-vector \(x, y, z\); got shape \(\)"),
+        (dict(eye=("0", "0", "5")), "^eye must be a finite 3-vector"),
+        (dict(target=(0, 0, 1j)), "^target must be a finite 3-vector"),
+        (dict(up=b"010"), "^up must be a finite 3-vector"),
+        (dict(width=10**6), r"^width must be an integer <= 65536 \(pixels\); got 1000000"),
+        (dict(width="8"), r"^width must be an integer >= 1 \(pixels\); got str '8'"),
+        (dict(fov_y_deg="30"), "^fov_y_deg must be a finite number; got str '30'"),
+        (dict(near=float("nan")), "^near must be a finite number > 0"),
+    ],
+)
+def test_camera_arguments_are_named(kwargs, message):
+    args = dict(eye=(0, 0, 5.0), target=(0, 0, 0.0)) | kwargs
+    with pytest.raises(ValueError, match=message):
+        Camera(**args)
+
+
+def test_camera_methods_check_their_arguments_and_budget():
+    cam = Camera((0, 0, 5.0), (0, 0, 0), width=4, height=4)
+    with pytest.raises(ValueError, match="^points must be finite"):
+        cam.project([[0, 0, float("nan")]])
+    with pytest.raises(ValueError, match=r"^pixels must be a 1-D array of integer pixel indices in \[0, 16\)"):
+        cam.pixel_view_vectors([16])
+    with pytest.raises(TypeError, match="^dtype must be float32 or float64; got None"):
+        cam.rays(dtype=None)
+    huge = Camera((0, 0, 5.0), (0, 0, 0), width=60000, height=60000)
+    with pytest.raises(ValueError, match="^rays of a 60000x60000 camera needs about"):
+        huge.rays()
+    with pytest.raises(ValueError, match=r"^camera width x height \(60000x60000 pixels\) needs about"):
+        rasterize(icosphere(0), huge)
+    with pytest.raises(ValueError, match=r"^camera width x height \(60000x60000 pixels\) needs about"):
+        raycast_sphere(huge)
+
+
+def test_raycast_sphere_near_the_float_range_is_finite():
+    for radius, distance in ((1e150, 1e151), (1.0, 1e300), (1e-150, 1e-149)):
+        cam = Camera((0, 0, distance), (0, 0, 0), width=9, height=9, fov_y_deg=60)
+        gb = raycast_sphere(cam, radius=radius)
+        assert np.all(np.isfinite(gb.position)) and np.all(np.isfinite(gb.normal)) and np.all(np.isfinite(gb.depth))
+        if radius > distance / 100:  # the sphere fills the view's centre
+            assert gb.coverage[4, 4] and gb.normal[4, 4].tolist() == pytest.approx([0, 0, 1], abs=1e-12)

@@ -212,3 +212,23 @@ def test_hidden_objects_and_shared_materials_in_explain():
     assert "objects 0 (sphere), 1 (sphere) — one material, one evaluation for all" in text
     full, _ = SceneRenderer(scene, plan="full").render()
     np.testing.assert_allclose(planned, full, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_diffuse_directional_plan_saturates_like_the_general_path(dtype):
+    # Issue 14, item 8: a saturated colour times a zero weight (the far side) is 0, the lit side saturates.
+    from lighting.mesh import icosphere
+    from lighting.render import Renderer
+
+    mat = Material(Lambert(1e308))
+    lights = [AmbientLight(1e308, 1e308), DirectionalLight((0, 0, 1.0), intensity=1e308)]
+    r = Renderer(icosphere(2), Camera((0, 0, 5.0), (0, 0, 0), width=24, height=24), dtype=dtype)
+    plan = compile_plan(mat, lights)
+    assert plan.strategy == "diffuse-directional"
+    img = plan.execute(r)
+    assert img.dtype == dtype and np.all(np.isfinite(img)) and img.max() == np.finfo(dtype).max
+    np.testing.assert_array_equal(img, evaluate_full(r, mat, lights))
+    with pytest.raises(ValueError, match=r"^bounds must be None or \(centre, radius\)"):
+        compile_plan(mat, lights, bounds="ball")
+    with pytest.raises(TypeError, match="^renderer must be a lighting.render.Renderer; got NoneType"):
+        plan.execute(None)

@@ -254,3 +254,37 @@ def test_gouraud_interpolating_saturated_vertex_colours_stays_finite(dtype):
     eps = np.finfo(dtype).eps
     assert out.dtype == dtype and np.all(np.isfinite(out))
     assert out[:, 0].min() >= big * (1 - 4 * eps) and out[:, 1].max() <= -big * (1 - 4 * eps)
+
+
+def test_renderer_arguments_and_memory_are_checked_before_work():
+    from lighting._numeric import ArgumentTypeError, BudgetError
+    from lighting.analytic import render_sphere
+
+    with pytest.raises(BudgetError, match=r"^size needs about .* \(a 60000x60000 image\), over the memory budget"):
+        render_sphere(MAT, LIGHTS, size=60000)
+    big = Renderer(icosphere(1), Camera((0, 0, 5.0), (0, 0, 0), width=40000, height=40000))
+    with pytest.raises(BudgetError, match=r"^camera width x height \(40000x40000 pixels\)"):
+        big.render(MAT, LIGHTS)
+    assert big.rasterizations == 0
+    with pytest.raises(ArgumentTypeError, match="^cull_backfaces must be True or False; got int 1"):
+        Renderer(icosphere(1), CAM, cull_backfaces=1)
+    with pytest.raises(ArgumentTypeError, match="^geometry must be a TriangleMesh or an AnalyticSphere; got str"):
+        Renderer("sphere", CAM)
+    r = Renderer(icosphere(1), CAM)
+    with pytest.raises(ArgumentTypeError, match=r"^lights\[1\] must be a light"):
+        r.render(MAT, [DirectionalLight(), None])
+    with pytest.raises(ValueError, match=r"^subset must be a 1-D array of indices into gbuffer.pixels"):
+        r.restrict([len(r.gbuffer.pixels)])
+    with pytest.raises(ValueError, match="^background must be"):
+        r.render(MAT, LIGHTS, background=-1.0)
+    with pytest.raises(ValueError, match="^vertex_values must be finite"):
+        r.gbuffer.interpolate(np.full(len(icosphere(1).vertices), np.nan))
+    img = np.zeros((8, 8, 3))
+    with pytest.raises(ValueError, match=r"^row must be an integer in \[0, 7\]; got 8"):
+        scanline_profile(img, 8)
+    with pytest.raises(TypeError, match="^channel must be 'luminance', 'r', 'g', 'b' or an integer 0..2; got bool"):
+        scanline_profile(img, 0, channel=True)
+    with pytest.raises(ValueError, match=r"^triangle_id must have the image's shape \(8, 8\)"):
+        edge_jump_metric(img, np.zeros((4, 4), int))
+    with pytest.raises(ValueError, match="^image must be finite linear RGB"):
+        luminance(np.full((2, 3), np.nan))
