@@ -220,8 +220,22 @@ def test_probe_shading_legal_extremes():
         tally.check("Renderer(sphere) " + what,
                     lambda: Renderer(AnalyticSphere(radius=distance / 4), cam, dtype=dtype).render(material, lts),
                     dtype=dtype)  # fmt: skip
+        r = Renderer(MESH, cam, dtype=dtype)
+        tally.check("compile_plan.execute " + what,
+                    lambda: compile_plan(material, lts, mode=mode, bounds=bounding_sphere(MESH)).execute(r),
+                    dtype=dtype)  # fmt: skip
+        tally.check("evaluate_full " + what, lambda: evaluate_full(r, material, lts, mode=mode), dtype=dtype)
 
     run_images()
+    # A diffuse surface under directional lights takes the plan's own path (no light loop).
+    for dtype in DTYPES:
+        r = Renderer(MESH, Camera((0, 0, 5.0), (0, 0, 0), width=12, height=12), dtype=dtype)
+        for kd in SCALES:
+            for intensity in SCALES:
+                lts = [AmbientLight(kd, intensity), DirectionalLight((0, 0.6, 0.8), kd, intensity)]
+                tally.check(f"diffuse-directional plan kd={kd} I={intensity} {np.dtype(dtype).name}",
+                            lambda kd=kd, lts=lts, r=r: compile_plan(Material(Lambert(kd)), lts).execute(r),
+                            dtype=dtype)  # fmt: skip
     print(f"\nprobe shading (legal extremes): {tally.summary()}")
     assert tally.cases >= 1500
     assert not tally.failures, tally.examples
