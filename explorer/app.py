@@ -781,7 +781,7 @@ class ExplorerApp:
 
             tp.SetFontFamily(vtk.VTK_FONT_FILE)
             tp.SetFontFile(self.font)
-        if spec.choices is not None:
+        if spec.choices is not None or spec.integer:  # the knob comes to rest on the value chosen
             widget.AddObserver("EndInteractionEvent", self._snap_callback(spec.name))
         widget.AddObserver("EndInteractionEvent", self._release_callback(spec.name))
         self.sliders[spec.name] = widget
