@@ -1682,6 +1682,9 @@ def scene_output_path(output, scene_file, *, key: str = "image.output", cwd=None
         raise SceneError(scene_file, key, f"{_fmt_value(output)} resolves to {abbreviate(real)}; it must be {allowed}")
     if os.path.isdir(real):
         raise SceneError(scene_file, key, f"{_fmt_value(output)} is a directory; it must be a file name, {allowed}")
+    if not os.path.isdir(os.path.dirname(real)):
+        raise SceneError(scene_file, key, f"{_fmt_value(output)}: folder {abbreviate(os.path.dirname(real))} does "
+                                          f"not exist; the output must be {allowed}")  # fmt: skip
     return real
 
 

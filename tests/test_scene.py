@@ -548,7 +548,7 @@ def test_other_malformed_scenes(tmp_path):
         ),
         (
             BASE + '[[lights]]\ntype = "directional"\ndirection = [0, 0, 0]\n',
-            "lights[0].direction: direction must be a nonzero 3-vector",
+            "lights[0].direction: direction must be finite real vectors of shape (..., 3) and non-zero length",
         ),
         (
             BASE + '[[lights]]\ntype = "rect"\ncenter = [0, 0, 1]\nedge_u = [1, 0, 0]\nedge_v = [2, 0, 0]\n',
