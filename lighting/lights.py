@@ -104,10 +104,9 @@ def check_attenuation(value) -> tuple[float, float, float]:
 
 def check_cutoff(value, name: str = "cutoff_deg") -> float:
     """A spot cutoff in degrees: within [0, 90], or exactly 180 (no spot), as in OpenGL."""
-    allowed = "a number of degrees in [0, 90], or exactly 180 (no cone)"
     c = check_range(name, value)
     if not (0 <= c <= 90 or c == 180):
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
+        raise ValueError(f"{name} must be in [0, 90] degrees or exactly 180 (no cone); got {_fmt(value)}")
     return c
 
 
