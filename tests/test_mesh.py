@@ -376,3 +376,50 @@ def test_load_keeps_degenerate_triangles_harmlessly(tmp_path):
     assert np.all(np.isfinite(m.normals))
     np.testing.assert_array_equal(m.normals[3], 0)  # only on the degenerate face
     np.testing.assert_array_equal(m.normals[:3], [[0, 0, 1]] * 3)
+
+
+# ---------------------------------------------------------------------- untrusted sizes and files (issue 14)
+def test_generators_refuse_over_the_budget_before_allocating():
+    import tracemalloc
+
+    from lighting._numeric import BudgetError
+
+    tracemalloc.start()
+    try:
+        with pytest.raises(BudgetError, match=r"^n_lat = 1000000, n_lon = 32 needs about 11\.4 GiB \(63999936 "):
+            uv_sphere(1_000_000, 32)
+        with pytest.raises(BudgetError, match=r"^n_lat = 10{30}, n_lon = 3 needs about"):
+            uv_sphere(10**30, 3)  # beyond the float range as a product: still an estimate, no OverflowError
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 1024**2
+    assert uv_sphere(4, 8).n_triangles == 48  # small ones unaffected
+
+
+def test_transforms_with_huge_scales_are_judged_scale_free():
+    m = icosphere(1)
+    big = m.transformed(np.diag([1e300, 1e300, 1e300, 1.0]))  # scale**3 raised OverflowError before
+    assert np.all(np.isfinite(big.vertices)) and np.allclose(big.normals, m.normals)
+    with pytest.raises(ValueError, match=r"^matrix must be invertible; its 3x3 block, divided by its largest entry"):
+        m.transformed(np.diag([1e300, 1.0, 1.0, 1.0]))
+    M = np.diag([1e308, 1e308, 1e308, 1.0])
+    M[0, 3] = 1e308
+    with pytest.raises(ValueError, match=r"^matrix moves vertices beyond the float range"):
+        m.transformed(M)
+
+
+def test_load_mesh_reads_only_regular_files_and_checks_the_size_first(tmp_path):
+    import os
+
+    from lighting._numeric import BudgetError
+
+    os.mkfifo(tmp_path / "fifo.obj")
+    with pytest.raises(ValueError, match=r"fifo\.obj' is not a regular file"):
+        load_mesh(tmp_path / "fifo.obj")
+    with open(tmp_path / "sparse.obj", "wb") as f:  # 1 GB of zeros, sparse: 2-5 GB to parse before
+        f.truncate(1 << 30)
+    with pytest.raises(BudgetError, match=r"sparse\.obj' needs about 32\.0 GiB \(1073741824 bytes to read\)"):
+        load_mesh(tmp_path / "sparse.obj")
+    with pytest.raises(ValueError, match=r"mesh file 'x{39}…\(\+\d+ chars\) does not exist"):
+        load_mesh("x" * 100_000 + ".obj")

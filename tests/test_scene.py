@@ -900,3 +900,13 @@ def test_inputs_a_scene_names_are_read_only_when_they_are_regular_files(tmp_path
     os.mkfifo(tmp_path / "fifo.toml")
     status, out, err = run_cli([tmp_path / "fifo.toml"], capsys)
     assert status == 2 and "fifo.toml: is not a regular file" in err
+
+
+def test_the_installed_command_answers_a_500_deep_scene_in_one_line(tmp_path):
+    scene = tmp_path / "deep.toml"
+    scene.write_text(SMALL + "scale = " + "[" * 500 + "]" * 500 + "\n")
+    done = subprocess.run([sys.executable, "-m", "explorer.cli", "render", str(scene), "-o", str(tmp_path / "o.png")],
+                          capture_output=True, text=True, timeout=120, cwd=tmp_path)  # fmt: skip
+    assert done.returncode == 2 and done.stdout == "" and not (tmp_path / "o.png").exists()
+    assert done.stderr == (f"lighting-explorer: error: {scene}: objects[0].scale: arrays or tables nested more than 32 "
+                           "deep (line 8); a scene needs fewer than 10 levels\n")  # fmt: skip
