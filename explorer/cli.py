@@ -204,7 +204,7 @@ def main(argv=None) -> int:
     """Run ``lighting-explorer``; returns the exit status (0 done, 1 a check failed, 2 a bad request,
     130 interrupted by Ctrl-C, 143 by ``SIGTERM``)."""
     from ._allocator import tune_allocator
-    from .output import Terminated, signals_as_exceptions
+    from .output import Terminated, raise_if_signalled, signals_as_exceptions
 
     tune_allocator()  # see explorer/_allocator.py: the image pipeline's temporaries stop page-faulting
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -214,7 +214,9 @@ def main(argv=None) -> int:
             argv, budget = _take_memory_budget(argv)
             if budget is not None:
                 set_memory_budget(budget)
-            return _dispatch(argv)
+            status = _dispatch(argv)
+            raise_if_signalled()  # a stop signal whose exception a library swallowed still ends as one
+            return status
         except SystemExit as exc:  # --help, or a sub-command's own argparse
             return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
         except KeyboardInterrupt:

@@ -58,6 +58,8 @@ __all__ = [
     "signals_as_exceptions",
     "deferred_signals",
     "on_signal",
+    "received_signal",
+    "raise_if_signalled",
 ]
 
 
@@ -208,7 +210,21 @@ _SIGNALS = tuple(s for s in (getattr(signal, "SIGINT", None), getattr(signal, "S
 # the main thread (pthread_sigmask), and our handlers note a signal instead of raising while a section is
 # open -- the kernel may deliver a process-wide signal to another thread (an engine or executor thread),
 # whose C handler then makes the main thread run the Python handler inside the section all the same.
-_deferral = {"depth": 0, "pending": None}
+# "received" remembers the last signal even after its exception was raised: some libraries swallow it
+# (trimesh wraps its optional imports in ``except BaseException``), and a command that was asked to stop
+# must not go on to write its output; every write checks it first (_prepare), and so does cli.main.
+_deferral = {"depth": 0, "pending": None, "received": None}
+
+
+def received_signal() -> int | None:
+    """The signal that asked this command to stop (within :func:`signals_as_exceptions`), or ``None``."""
+    return _deferral["received"]
+
+
+def raise_if_signalled() -> None:
+    """Raise ``KeyboardInterrupt`` or :class:`Terminated` again if a stop signal arrived and was swallowed."""
+    if _deferral["received"] is not None and not _deferral["depth"]:
+        _raise_for(_deferral["received"])
 
 
 def _raise_for(signum: int):
@@ -219,6 +235,7 @@ def _raise_for(signum: int):
 
 def on_signal(signum, frame=None) -> None:
     """The handler :func:`signals_as_exceptions` installs: raise now, or at the end of a deferred section."""
+    _deferral["received"] = signum
     if _deferral["depth"]:
         _deferral["pending"] = _deferral["pending"] or signum
         return
@@ -263,6 +280,7 @@ def signals_as_exceptions():
         yield
         return
     old = {}
+    _deferral["received"] = None
     for sig in _SIGNALS:
         if signal.getsignal(sig) is not signal.SIG_IGN:
             old[sig] = signal.signal(sig, on_signal)
@@ -271,6 +289,7 @@ def signals_as_exceptions():
     finally:
         for sig, handler in old.items():
             signal.signal(sig, handler if handler is not None else signal.SIG_DFL)
+        _deferral["received"] = None
 
 
 # --------------------------------------------------------------------------- atomic writing
@@ -299,6 +318,7 @@ def _prepare(path, data, flag):
     path = os.fspath(path)
     target = _target(path)
     mode = file_mode(target)
+    raise_if_signalled()  # asked to stop (and a library swallowed the exception): write nothing
     fd, tmp = -1, None
     try:
         # Created with the signals held, so that an interrupt cannot land between the creation and the

@@ -378,3 +378,26 @@ def test_a_signal_between_the_renames_of_a_pair_waits_until_both_are_in_place(tm
         bystander.join()
     assert renamed == ["fig.png", "fig.json"]  # the signal was held until the pair was complete
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fig.json", "fig.png"]
+
+
+def test_a_stop_signal_swallowed_by_a_library_still_stops_the_command_before_it_writes(tmp_path, monkeypatch, capsys):
+    import lighting.analytic
+
+    real = lighting.analytic.render_sphere
+
+    def render_with_a_greedy_library(*args, **kwargs):
+        try:  # trimesh wraps its optional imports in "except BaseException": Ctrl-C there is lost
+            os.kill(os.getpid(), signal.SIGTERM)
+            for _ in range(100_000):
+                pass
+        except BaseException:
+            pass
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(lighting.analytic, "render_sphere", render_with_a_greedy_library)
+    out = tmp_path / "s.png"
+    assert main(["sphere", "-o", str(out), "--size", "12"]) == 143
+    assert capsys.readouterr().err == "lighting-explorer: terminated\n"
+    assert list(tmp_path.iterdir()) == []
+    monkeypatch.setattr(lighting.analytic, "render_sphere", real)
+    assert main(["sphere", "-o", str(out), "--size", "12"]) == 0  # the next command starts afresh
