@@ -659,7 +659,7 @@ class ExplorerApp:
         self.lobe_actor = self.plotter.add_mesh(
             self.lobe_poly, scalars="value", cmap="viridis", lighting=False, clim=(0.0, 1.0),
             scalar_bar_args={
-                "title": " ", "vertical": True, "position_x": 0.9, "position_y": 0.14, "width": 0.04,
+                "title": " ", "vertical": True, "position_x": 0.82, "position_y": 0.14, "width": 0.04,
                 "height": 0.6, "n_labels": 3, "fmt": "%.3g", "color": TEXT, "title_font_size": 11,
                 "label_font_size": 10,
             },
@@ -1167,7 +1167,8 @@ class ExplorerApp:
             self._set_text("polar_title", f"Polar slice, plane of incidence, θ_l = {theta_in:.0f}°")
             self._set_text("polar_note", "light below the horizon:\nnothing reflected" if m["polar"].below_horizon
                            else "")  # fmt: skip
-            self._set_text("polar_quantity", label)
+            scale = self.polar_plot.captions.get("scale", "")
+            self._set_text("polar_quantity", f"{label} · {scale}" if scale else label)
         if "albedo" in views:
             self._show_albedo(m["albedo"])
         if views & {"theta_v", "theta_h", "theta_d", "halfdiff"}:

@@ -277,13 +277,19 @@ class ProfilePlot(BlitFigure):
         )
 
 
-def radial_label(x, pos=None) -> str:
-    """A radial tick label with its magnitude: ``0.25``, ``2.5e+15`` (never a bare mantissa).
+def radial_scale(top: float) -> tuple[float, str]:
+    """The factor the radial labels of a polar axis up to ``top`` are divided by, and its caption.
 
-    >>> radial_label(0.25), radial_label(7.5e15), radial_label(0.0)
-    ('0.25', '7.5e+15', '0')
+    Polar axes draw no offset text, so a radial axis up to 7.9e15 would read "1.0, 0.75, …" with
+    nothing to say "× 1e16".  Labels are given in units of a power of ten, named by the caption.
+
+    >>> radial_scale(0.8), radial_scale(7.9e15), radial_scale(2e-5)
+    ((1.0, ''), (1000000000000000.0, 'radius × 1e15'), (1e-05, 'radius × 1e-5'))
     """
-    return f"{x:.3g}"
+    if not (math.isfinite(top) and top > 0) or 1e-2 <= top < 1e4:
+        return 1.0, ""
+    exponent = math.floor(math.log10(top))
+    return 10.0**exponent, f"radius × 1e{exponent}"
 
 
 class PolarPlot(BlitFigure):
@@ -302,8 +308,11 @@ class PolarPlot(BlitFigure):
         ax.grid(True)
         ax.tick_params(axis="y", labelsize=6.5, colors=COLOURS["muted"])
         ax.yaxis.set_major_locator(MaxNLocator(4))
-        # Polar axes draw no offset text ("1e16"): each radial label carries its own exponent instead.
-        ax.yaxis.set_major_formatter(FuncFormatter(radial_label))
+        # Polar axes draw no offset text ("1e16"): the labels are in units of radial_scale, named below the axis.
+        self._r_scale = 1.0
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda x, pos: f"{x / self._r_scale:.3g}"))
+        self._caption("scale", ax.text(1.0, 0.2, "", transform=ax.transAxes, ha="right", va="bottom", fontsize=6.5,
+                                       color=COLOURS["muted"]))  # fmt: skip
         self.ax = ax
         (self.light_ray,) = ax.plot([], [], color=COLOURS["light"], lw=1.6, label="light l")
         (self.mirror_ray,) = ax.plot([], [], color=COLOURS["mirror"], lw=1.2, ls="--", label="mirror R")
@@ -334,6 +343,8 @@ class PolarPlot(BlitFigure):
         if top != current:
             self.ax.set_ylim(0.0, top)
             self.ax._explorer_auto = True
+            self._r_scale, caption = radial_scale(top)
+            self._set_caption("scale", caption)
             self._dirty = True
         t = polar.theta_in
         self.light_ray.set_data([-t, -t], [0.0, top])
