@@ -256,7 +256,12 @@ def test_probe_mutated_scene_files(tmp_path, monkeypatch):
                 path.write_bytes(text if isinstance(text, bytes) else text.encode())
                 before_out = snapshot(*outside)
                 before_in = set(os.listdir(work)) | set(os.listdir(scenes))
-                status, out, err, peak = run_case([str(path)])
+                argv = [str(path)]
+                if rng.random() < 0.2:  # the user's own -o (inside the work folder here)
+                    argv += ["-o", rng.choice(["cli.png", str(work / "cli2.png")])]
+                if rng.random() < 0.15:
+                    argv += ["--size", rng.choice(["20000x20000", "16x12", "1x1", "3000x3000"])]
+                status, out, err, peak = run_case(argv)
                 problems = []
                 if status == 0:
                     written = (set(os.listdir(work)) | set(os.listdir(scenes))) - before_in
