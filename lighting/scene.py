@@ -282,7 +282,7 @@ def _clamp(n) -> float:
 
 
 def _charge_file(label: str, size: int) -> None:
-    check_budget(f"the scene file ({size} bytes)", _clamp(size * BYTES_PER_SCENE_FILE_BYTE), what="reading it")
+    check_budget(f"the scene text ({size} bytes)", _clamp(size * BYTES_PER_SCENE_FILE_BYTE), what="reading it")
 
 
 # =============================================================================== value checks
@@ -776,7 +776,7 @@ def load_scene(path) -> Scene:
     except IsADirectoryError:
         raise SceneError(label, "", "is a directory, not a scene file") from None
     except BudgetError as e:
-        raise SceneError(label, "", str(e)) from None
+        raise SceneBudgetError(label, "", str(e)) from None
     except OSError as e:
         raise SceneError(label, "", f"cannot read the scene file: {e.strerror or e}") from None
     return parse_scene(raw, source=label, base_dir=os.path.dirname(os.path.abspath(label)))
@@ -803,6 +803,10 @@ def parse_scene(data, source: str = "<string>", *, base_dir=None) -> Scene:
             line = bytes(data)[: e.start].count(b"\n") + 1
             raise SceneError(source, "", f"invalid TOML: not UTF-8 text (byte {e.start}, line {line})") from None
     if isinstance(data, str):
+        try:  # text given directly (load_scene checked the file's size already)
+            _charge_file(source, len(data))
+        except BudgetError as e:
+            raise SceneBudgetError(source, "", str(e)) from None
         _check_text_nesting(ctx, data)
         try:
             data = tomllib.loads(data)

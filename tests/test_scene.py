@@ -883,6 +883,8 @@ def test_the_budget_is_the_shared_one_and_raising_it_lets_a_scene_through(tmp_pa
     try:
         with pytest.raises(SceneBudgetError, match=r"^<string>: image\.width × image\.height: the scene needs"):
             SceneRenderer(scene)
+        with pytest.raises(SceneBudgetError, match=r"^big: the scene text \(400000 bytes\) needs about 24\.4 MiB"):
+            parse_scene(SMALL + "#" * (400_000 - len(SMALL)), source="big")  # 64 bytes per byte of text
         set_memory_budget(est["bytes"])
         assert check_scene_budget(scene) == est
         SceneRenderer(scene).render()
