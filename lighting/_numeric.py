@@ -161,7 +161,9 @@ def _fmt(value) -> str:
             return abbreviate(repr(value))
         arr = np.asarray(value)
         if arr.dtype.kind in "fiucb" and arr.ndim > 0:
-            text = np.array2string(arr, separator=", ", threshold=8, edgeitems=2)
+            # One line whatever the shape: messages are one line.
+            text = np.array2string(arr, separator=", ", threshold=8, edgeitems=2, max_line_width=10**6)
+            text = " ".join(text.split())
         elif arr.dtype.kind in "fiucb":
             text = repr(arr.item())
         else:
@@ -307,9 +309,14 @@ def check_finite(name: str, value, *, shape_hint: str = "a finite number") -> np
     if value is None or _is_text(value):
         raise ArgumentTypeError(f"{name} must be {shape_hint}; got {type(value).__name__} {_fmt(value)}")
     try:
-        arr = np.asarray(value, dtype=np.float64)
+        raw = np.asarray(value)
     except (TypeError, ValueError):
-        raise ArgumentTypeError(f"{name} must be {shape_hint}; got {type(value).__name__} {_fmt(value)}") from None
+        raw = None
+    # Complex values would lose their imaginary part silently, booleans would count as 0 and 1.
+    if raw is None or raw.dtype.kind not in "fiu":
+        raise ArgumentTypeError(f"{name} must be {shape_hint}; got {type(value).__name__} {_fmt(value)}")
+    with np.errstate(over="ignore"):
+        arr = raw.astype(np.float64)
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must be {shape_hint} (finite); got {_fmt(value)}")
     return arr
