@@ -38,7 +38,7 @@ def _size(text: str):
     m = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text)
     if not m or int(m.group(1)) < 1 or int(m.group(2)) < 1:
         raise argparse.ArgumentTypeError(
-            f"--size must be WIDTHxHEIGHT in pixels, both >= 1 (e.g. 640x480); got {text!r}"
+            f"--size must be WIDTHxHEIGHT in pixels, both >= 1 (e.g. 640x480); got {_short(text)}"
         )
     return int(m.group(1)), int(m.group(2))
 
@@ -47,9 +47,16 @@ def _finite(text: str) -> float:
     try:
         v = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number; got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected a number; got {_short(text)}") from None
     if v != v or v in (float("inf"), float("-inf")):
-        raise argparse.ArgumentTypeError(f"expected a finite number; got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected a finite number; got {_short(text)}")
+    return v
+
+
+def _exposure(text: str) -> float:
+    v = _finite(text)
+    if not -100 <= v <= 100:  # 2**±100 already saturates or blackens every pixel; 2**1e308 overflows
+        raise argparse.ArgumentTypeError(f"must be a number of stops in [-100, 100]; got {_short(text)}")
     return v
 
 
@@ -58,7 +65,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", nargs="?", help="scene file, or the name of a shipped example scene")
     p.add_argument("-o", "--out", help="output PNG (default: [image].output of the scene, else SCENE-NAME.png)")
     p.add_argument("--size", type=_size, metavar="WxH", help="image size override, e.g. 640x480")
-    p.add_argument("--exposure", type=_finite, help="exposure override in stops")
+    p.add_argument("--exposure", type=_exposure, help="exposure override in stops")
     p.add_argument("--tonemap", choices=("clamp", "reinhard"), help="tone map override")
     p.add_argument("--explain", action="store_true", help="print the evaluation plan (what the scene needs)")
     p.add_argument("--list", action="store_true", help="list the example scenes shipped with the package")

@@ -912,3 +912,15 @@ def test_the_installed_command_answers_a_500_deep_scene_in_one_line(tmp_path):
     assert done.returncode == 2 and done.stdout == "" and not (tmp_path / "o.png").exists()
     assert done.stderr == (f"lighting-explorer: error: {scene}: objects[0].scale: arrays or tables nested more than 32 "
                            "deep (line 8); a scene needs fewer than 10 levels\n")  # fmt: skip
+
+
+def test_command_line_values_are_abbreviated_and_exposure_bounded(capsys):
+    for argv, text in [
+        (["spotlight", "--size", "x" * 100_000], "--size must be WIDTHxHEIGHT in pixels, both >= 1 (e.g. 640x480); got "
+                                                 "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx…(+99962 chars)"),
+        (["spotlight", "--exposure", "y" * 100_000], "expected a number; got 'yyyyyyy"),
+        (["spotlight", "--exposure", "1e308"], "argument --exposure: must be a number of stops in [-100, 100]; got "
+                                               "'1e308'"),
+    ]:  # fmt: skip
+        status, out, err = run_cli(argv, capsys)
+        assert status == 2 and text in err and len(err) < 300, err
