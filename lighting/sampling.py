@@ -464,12 +464,14 @@ class MicrofacetSampler(Sampler):
     def _normal_pdf(self, h) -> np.ndarray:
         c = h[..., 2]
         s2 = np.clip(h[..., 0] ** 2 + h[..., 1] ** 2, 0.0, 1.0)
+        # h is checked (or built here): the NDFs' unchecked forms, as the models' own evaluation uses.
+        dt = c.dtype
         if self.ndf == "blinn-phong":
-            d = _mf.blinn_phong_ndf(c, self.exponent, sin2_theta_h=s2)
+            d = _mf._blinn_phong_ndf(c, self.exponent, s2, dt)
         elif self.ndf == "beckmann":
-            d = _mf.beckmann_ndf(c, self.alpha, sin2_theta_h=s2)
+            d = _mf._beckmann_ndf(c, self.alpha, s2, dt)
         else:
-            d = _mf.ggx_ndf(c, self.alpha, sin2_theta_h=s2)
+            d = _mf._ggx_ndf(c, self.alpha, s2, dt)
         return d * np.maximum(c, 0.0)
 
     def sample_normals(self, u) -> Samples:
