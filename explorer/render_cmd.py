@@ -92,7 +92,7 @@ def _short(text) -> str:
 def _run(args) -> int:
     from lighting.scene import SceneRenderer, check_scene_budget, list_examples, load_scene, scene_output_path
 
-    from .output import write_image
+    from .output import check_output_path, write_image
 
     if args.list:
         for name in list_examples():
@@ -106,24 +106,21 @@ def _run(args) -> int:
     if args.size:
         scene = scene.with_size(*args.size)
     check_scene_budget(scene, size_flag=f"--size {args.size[0]}x{args.size[1]}" if args.size else None)
-    if args.out:  # the user's own choice: anywhere
+    flag = "-o" if args.out is not None else "[image].output"
+    if args.out is not None:  # the user's own choice: anywhere (an empty -o is refused below, not replaced)
         out = shown = args.out
     elif scene.image.output is not None:  # the scene file's: only inside its folder or the current one
         shown = scene.image.output
         out = scene_output_path(shown, path)
     else:
         out = shown = os.path.splitext(os.path.basename(path))[0] + ".png"
-    folder = os.path.dirname(os.path.abspath(out))
-    if os.path.isdir(out):
-        raise ValueError(f"output {_short(shown)} is a directory; give a file name ending in .png")
-    if not os.path.isdir(folder):
-        raise ValueError(f"cannot write {_short(shown)}: folder {_short(folder)} does not exist")
+    check_output_path(out, flag=flag)  # format, folder and permissions before any rendering
     renderer = SceneRenderer(scene)
     image, info = renderer.render()
     if args.explain:
         print(renderer.explain())
     rgb8, report = renderer.encode(image, exposure=args.exposure, tonemap=args.tonemap)
-    write_image(out, rgb8=rgb8, linear=image, flag="-o" if args.out else "[image].output")
+    write_image(out, rgb8=rgb8, linear=image, flag=flag)
     seconds = time.perf_counter() - t0
     print(
         f"wrote {shown} ({info['width']}x{info['height']}, {info['objects']} objects, {info['lights']} lights, "
