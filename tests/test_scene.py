@@ -924,3 +924,19 @@ def test_command_line_values_are_abbreviated_and_exposure_bounded(capsys):
     ]:  # fmt: skip
         status, out, err = run_cli(argv, capsys)
         assert status == 2 and text in err and len(err) < 300, err
+
+
+@pytest.mark.parametrize("out", ["", "x.svg", "missing/x.png"])
+def test_render_checks_the_output_before_rendering(out, tmp_path, monkeypatch, capsys):
+    from explorer import render_cmd
+    from lighting import scene as scene_mod
+
+    def no_render(self):
+        raise AssertionError("rendered before the output was checked")
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(scene_mod.SceneRenderer, "render", no_render)
+    assert render_cmd.main(["spotlight", "-o", out]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lighting-explorer: error: -o")
+    assert os.listdir(tmp_path) == []
