@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import argparse
 import csv
+import io
 import math
 import os
 import sys
@@ -71,13 +71,15 @@ def format_summary(rows) -> str:
 
 
 def write_csv(path, rows, fields) -> None:
-    tmp = path + ".tmp"
-    with open(tmp, "w", newline="", encoding="utf-8") as f:
-        w = csv.DictWriter(f, fieldnames=fields)
-        w.writeheader()
-        for r in rows:
-            w.writerow(r)
-    os.replace(tmp, path)
+    """The rows as CSV, written atomically (no temporary file survives an interrupt)."""
+    from .output import atomic_write
+
+    fh = io.StringIO(newline="")
+    w = csv.DictWriter(fh, fieldnames=fields)
+    w.writeheader()
+    for r in rows:
+        w.writerow(r)
+    atomic_write(path, fh.getvalue().encode("utf-8"), flag="--out")
 
 
 def make_figure(studies, path) -> None:
@@ -132,14 +134,20 @@ def make_figure(studies, path) -> None:
         "ringed: unconverged, own estimate > 2 %)",
         fontsize=12,
     )
-    tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    os.replace(tmp, path)
+    from .output import atomic_write
+
+    try:
+        atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"), flag="--out")
+    finally:
+        plt.close(fig)
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(
+    """``lighting-explorer report accuracy``: 0 on success, 2 for a bad request (one line on stderr)."""
+    from .cli import PROG, OneLineParser, error_line
+    from .output import check_output_dir
+
+    p = OneLineParser(
         prog="lighting-explorer report accuracy",
         description="Measure error against run time wherever the engine trades accuracy for speed.",
     )
@@ -147,7 +155,12 @@ def main(argv=None) -> int:
     p.add_argument("--out", default=os.path.join("out", "accuracy"), help="output folder (default: out/accuracy)")
     p.add_argument("--no-figure", action="store_true", help="skip the Matplotlib figure")
     p.add_argument("--only", nargs="+", choices=STUDY_NAMES, help="run only these studies")
-    args = p.parse_args(argv)
+    try:
+        args = p.parse_args(argv)
+        check_output_dir(args.out, flag="--out")
+    except ValueError as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
     os.makedirs(args.out, exist_ok=True)
     t0 = time.perf_counter()
     studies = run_studies(quick=args.quick, only=args.only, progress_factory=Progress)

@@ -169,3 +169,27 @@ def test_run_studies_refuses_bad_arguments_by_name(kwargs, exc, name):
 def test_summary_refuses_bad_arguments_by_name(args, exc, name):
     with pytest.raises(exc, match=name):
         summary(*args)
+
+
+@pytest.mark.parametrize("argv, flag", [(["--out", "FILE"], "--out"), (["--only", "nope"], "--only"), (["--x"], "--x")])
+def test_cli_bad_requests_are_one_line_before_any_work(argv, flag, tmp_path, capsys, monkeypatch):
+    (tmp_path / "FILE").write_text("keep")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(report_accuracy, "run_studies", lambda **kw: pytest.fail("ran before refusing"))
+    assert report_accuracy.main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lighting-explorer: error:") and flag in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["FILE"] and (tmp_path / "FILE").read_text() == "keep"
+
+
+def test_csv_written_atomically_keeps_no_temporary_file_when_interrupted(tmp_path, monkeypatch):
+    path = tmp_path / "a.csv"
+    path.write_text("old\n")
+
+    class Row(dict):
+        def get(self, key, default=None):  # csv.DictWriter reads each field through get
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        report_accuracy.write_csv(str(path), [Row(a=1)], ["a"])
+    assert [p.name for p in tmp_path.iterdir()] == ["a.csv"] and path.read_text() == "old\n"
