@@ -463,6 +463,13 @@ def write_image(path, *, rgb8=None, linear=None, flag: str = "-o") -> str:
     flag : str
         The command-line flag that named ``path``, for messages.
 
+    Returns
+    -------
+    str
+        The format written (``"png"``, ``"npy"``, ...).
+
+    Notes
+    -----
     The path is checked (:func:`check_output_path`) and the file written atomically
     (:func:`atomic_write`); errors are :class:`OutputError` naming ``flag`` and ``path``.
     """

@@ -193,7 +193,10 @@ class Estimate:
     seconds : float
         Wall-clock time of the whole call.
     method : str
+        The method that produced it (``"quadrature"``, ``"uniform"``, ``"cosine"``, ``"importance"``, ...).
 
+    Notes
+    -----
     An Estimate converts to its value: ``np.asarray(est)``.
 
     Honesty: the true error lies within ``2 * error`` in at least 90 % of seeds
