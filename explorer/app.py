@@ -977,7 +977,11 @@ class ExplorerApp:
             return set()
         if key == "s":
             path = self._next_screenshot_path()
-            self.screenshot(path)
+            try:
+                self.screenshot(path)
+            except ValueError as exc:  # a full disk or a read-only folder: say so, keep the window
+                print(f"lighting-explorer: screenshot not saved: {exc}")
+                return set()
             print(f"lighting-explorer: saved {path}")
             return set()
         return set()
@@ -1250,11 +1254,17 @@ class ExplorerApp:
 
     # ------------------------------------------------------------------ output
     def screenshot(self, path) -> str:
-        """Render the whole window to a PNG at ``path``; returns the path."""
+        """Render the whole window to an image file at ``path``; returns the path.
+
+        Written through :func:`explorer.output.write_image`: the format follows the extension (PNG,
+        and JPEG/TIFF/WebP with Pillow), the file appears complete or not at all, and it gets the
+        user's umask.  A bad path raises :class:`explorer.output.OutputError` before anything is drawn.
+        """
+        from .output import check_output_path, write_image
+
         path = os.fspath(path)
-        self._draw_all_panels()
-        self.plotter.render()
-        self.plotter.screenshot(path)
+        check_output_path(path, flag="screenshot", kinds=("rgb8",))
+        write_image(path, rgb8=np.ascontiguousarray(self.image(), dtype=np.uint8), flag="screenshot")
         self.last_screenshot = path
         return path
 

@@ -57,7 +57,7 @@ from ._numeric import (
     working_dtype,
 )
 from .brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong
-from .vec import _one_line, normalize, spherical_direction
+from .vec import normalize, spherical_direction
 
 __all__ = [
     "LUMINANCE",
@@ -315,10 +315,9 @@ def _check_count(name, value, lo, hi):
 
 
 def _scalar_angle(name, value, allowed):
-    with _one_line():
-        arr = real_array(name, value, allowed=allowed, dtype=np.float64)
-        if arr.ndim != 0:
-            raise ValueError(f"{name} must be {allowed}, a scalar; got shape {arr.shape}: {_fmt(value)}")
+    arr = real_array(name, value, allowed=allowed, dtype=np.float64)
+    if arr.ndim != 0:
+        raise ValueError(f"{name} must be {allowed}, a scalar; got shape {arr.shape}: {_fmt(value)}")
     return float(arr)
 
 
@@ -570,9 +569,8 @@ def half_diff_to_dirs(theta_h, phi_h, theta_d, phi_d):
     ([0.4794, 0.0, 0.8776], [-0.4794, -0.0, 0.8776])
     """
     names = ("theta_h", "phi_h", "theta_d", "phi_d")
-    with _one_line():
-        given = [real_array(k, a, allowed="finite angles in radians")
-                 for k, a in zip(names, (theta_h, phi_h, theta_d, phi_d), strict=True)]  # fmt: skip
+    given = [real_array(k, a, allowed="finite angles in radians")
+             for k, a in zip(names, (theta_h, phi_h, theta_d, phi_d), strict=True)]  # fmt: skip
     dt = working_dtype(theta_h, phi_h, theta_d, phi_d)  # Python numbers are weak: the arrays decide
     try:
         th, ph, td, pd = np.broadcast_arrays(*(a.astype(np.float64) for a in given))
@@ -618,11 +616,10 @@ def dirs_to_half_diff(l, v):  # noqa: E741
     """
     allowed = "finite real vectors of shape (..., 3)"
     dt = working_dtype(l, v)
-    with _one_line():
-        l, v = real_array("l", l, allowed=allowed), real_array("v", v, allowed=allowed)  # noqa: E741
-        if l.shape[-1:] != (3,) or v.shape[-1:] != (3,):
-            raise ValueError(f"l and v must be {allowed}; got shapes {l.shape} and {v.shape}")
-        l, v = check_vectors("l", l, nonzero=True), check_vectors("v", v, nonzero=True)  # noqa: E741
+    l, v = real_array("l", l, allowed=allowed), real_array("v", v, allowed=allowed)  # noqa: E741
+    if l.shape[-1:] != (3,) or v.shape[-1:] != (3,):
+        raise ValueError(f"l and v must be {allowed}; got shapes {l.shape} and {v.shape}")
+    l, v = check_vectors("l", l, nonzero=True), check_vectors("v", v, nonzero=True)  # noqa: E741
     try:
         np.broadcast_shapes(l.shape, v.shape)
     except ValueError:
@@ -915,10 +912,9 @@ def _polar(d) -> float:
 
 
 def _unit_light(l):  # noqa: E741
-    with _one_line():
-        arr = check_vectors("l", l, dtype=np.float64, nonzero=True)
-        if arr.shape != (3,):
-            raise ValueError(f"l must be one direction of shape (3,); got shape {arr.shape}: {_fmt(l)}")
+    arr = check_vectors("l", l, dtype=np.float64, nonzero=True)
+    if arr.shape != (3,):
+        raise ValueError(f"l must be one direction of shape (3,); got shape {arr.shape}: {_fmt(l)}")
     m = np.max(np.abs(arr))
     s = arr / m
     return s / math.sqrt(float(s @ s))

@@ -33,25 +33,6 @@ __all__ = [
 _ALLOWED = "finite real vectors of shape (..., 3)"
 
 
-class _one_line:
-    """Re-raise a validation error with its message on one line.
-
-    :func:`lighting._numeric._fmt` prints a multi-dimensional value the way NumPy does, over
-    several lines; an error message must be one line.
-    """
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, kind, exc, tb):
-        if exc is None or not isinstance(exc, (TypeError, ValueError)):
-            return False
-        text = " ".join(str(exc).split())
-        if text == str(exc):
-            return False
-        raise type(exc)(text) from None
-
-
 def _vec(x, dtype=None, name="a", *, finite=True) -> np.ndarray:
     """``x`` as vectors of shape ``(..., 3)`` in ``dtype``, checked at the public boundary.
 
@@ -61,19 +42,17 @@ def _vec(x, dtype=None, name="a", *, finite=True) -> np.ndarray:
     only where its fast path fails, so the engine's hot loops pay nothing for the check).
     """
     dt = working_dtype(x) if dtype is None else dtype
-    with _one_line():
-        if finite or not (isinstance(x, np.ndarray) and x.dtype.kind == "f"):
-            return check_vectors(name, x, dtype=dt)
-        a = x.astype(dt, copy=False)
-        if a.shape[-1:] != (3,):
-            raise ValueError(f"{name} must be {_ALLOWED}; got shape {a.shape}: {_fmt(x)}")
-        return a
+    if finite or not (isinstance(x, np.ndarray) and x.dtype.kind == "f"):
+        return check_vectors(name, x, dtype=dt)
+    a = x.astype(dt, copy=False)
+    if a.shape[-1:] != (3,):
+        raise ValueError(f"{name} must be {_ALLOWED}; got shape {a.shape}: {_fmt(x)}")
+    return a
 
 
 def _refuse_nonfinite(name, a) -> None:
     if not np.all(np.isfinite(a)):
-        with _one_line():
-            raise ValueError(f"{name} must be {_ALLOWED} (finite in {a.dtype.name}); got {_fmt(a)}")
+        raise ValueError(f"{name} must be {_ALLOWED} (finite in {a.dtype.name}); got {_fmt(a)}")
 
 
 def dot(a, b) -> np.ndarray:
@@ -248,8 +227,7 @@ def _check_dtype(dtype):
 
 def _angles(**angles):
     """Each named angle as a finite real array (text, complex, NaN and inf refused, naming it), broadcast together."""
-    with _one_line():
-        arrays = [real_array(name, value, allowed="finite real angles") for name, value in angles.items()]
+    arrays = [real_array(name, value, allowed="finite real angles") for name, value in angles.items()]
     try:
         np.broadcast_shapes(*(a.shape for a in arrays))
     except ValueError:

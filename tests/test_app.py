@@ -1,6 +1,7 @@
 """The explorer window, driven headless: handlers as the widgets call them, checked in the engine state and image."""
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -797,3 +798,24 @@ def test_albedo_readout_with_its_error_and_the_unconverged_flag(fresh):
     app.sliders["elevation"].InvokeEvent("EndInteractionEvent")
     assert app.model.views["albedo"] is not before and app.model.views["albedo"].theta_v == pytest.approx(
         math.radians(80.0), abs=1e-12)  # fmt: skip
+
+
+def test_screenshot_goes_through_the_output_writer(fresh, tmp_path):
+    """The `s` key and ExplorerApp.screenshot: format by extension, refused before drawing, umask kept."""
+    from PIL import Image
+
+    from explorer.output import OutputError
+
+    app = fresh
+    old = os.umask(0o022)
+    try:
+        jpg = app.screenshot(tmp_path / "window.jpg")
+    finally:
+        os.umask(old)
+    with Image.open(jpg) as im:
+        assert im.format == "JPEG" and im.size == (SIZE[0], SIZE[1])
+    assert os.stat(jpg).st_mode & 0o777 == 0o644
+    for bad in (tmp_path / "window.svg", tmp_path / "missing" / "w.png", tmp_path):
+        with pytest.raises(OutputError, match="screenshot"):
+            app.screenshot(bad)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["window.jpg"]
