@@ -182,7 +182,9 @@ def view_vectors(points, *, eye=None, view_dir=None, dtype=None):
     if (eye is None) == (view_dir is None):
         raise ValueError("give exactly one of eye (viewer position) or view_dir (direction toward a distant viewer)")
     if view_dir is not None:
-        return normalize(as_float(view_dir, dt)), None
+        # Normalized in float64 first: a direction beyond float32's range (1e300, -1e300, 1e300) is
+        # still a direction, and only its unit vector is cast.
+        return normalize(as_float(view_dir, np.float64)).astype(dt), None
     e = as_float(eye, np.float64)
     if np.ndim(points) == 2 and np.shape(points)[1] == 3 and e.shape == (3,) and dt == np.float32:
         # A float32 renderer's view vectors, in float32 and one contiguous plane per component

@@ -396,8 +396,12 @@ class PhongSampler(Sampler):
         shape = np.broadcast_shapes(omc.shape, v.shape[:-1])
         r = np.broadcast_to(self._mirror(v), shape + (3,))
         l = _around(r, np.broadcast_to(omc, shape), np.broadcast_to(_TWO_PI * u[..., 1], shape))  # noqa: E741
-        with np.errstate(under="ignore"):
-            pdf = (e + 1) / _TWO_PI * np.exp(e / (e + 1) * np.log1p(-np.minimum(u[..., 0], 1.0)))
+        # pdf = (e+1)/(2π) cos^e α with cos α = (1 − u₀)^{1/(e+1)}; u₀ = 1 is the lobe's rim, where
+        # log1p(−1) = −inf: the density there is 0 (1 when e = 0, never 0·inf).
+        with np.errstate(under="ignore", divide="ignore"):
+            log_c = np.log1p(-np.minimum(u[..., 0], 1.0))
+            scaled = e / (e + 1) * log_c if e > 0 else np.zeros_like(log_c)
+            pdf = (e + 1) / _TWO_PI * np.exp(scaled)
         return Samples(l, np.broadcast_to(pdf, shape))
 
     def _pdf(self, l, v):  # noqa: E741

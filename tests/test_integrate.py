@@ -796,3 +796,13 @@ def test_hemispherical_albedo_error_counts_the_view_angle_rule(model, view_sampl
     est = hemispherical_albedo(model, 1024, view_samples=view_samples, return_error=True)
     assert abs(float(est.value[0] - ref.value[0])) <= 2 * float(est.error[0]) + 2 * float(ref.error[0])
     assert float(est.error[0]) <= 0.2 * float(ref.value[0])  # bounded, not a shrug
+
+
+@pytest.mark.parametrize("e", [0.0, 1.0, 50.0])
+def test_phong_sampler_at_the_rim_of_its_lobe_is_quiet_and_finite(e):
+    """u0 = 1 maps to the lobe's rim: log1p(-1) = -inf must not warn, and e = 0 must not form 0·inf."""
+    s = PhongSampler(e)
+    out = s.sample(np.array([[1.0, 0.3], [0.0, 0.1]]), (0.3, 0.0, math.sqrt(1 - 0.09)))
+    expected_rim = 1 / (2 * math.pi) if e == 0 else 0.0
+    assert out.pdf[0] == pytest.approx(expected_rim, abs=1e-300)
+    assert out.pdf[1] == pytest.approx((e + 1) / (2 * math.pi))

@@ -435,3 +435,12 @@ def test_illegal_light_arguments_are_named_before_any_work():
         DirectionalLight.from_angles(float("nan"))
     with pytest.raises(ValueError, match="^points must be"):
         next(PointLight().incident([[0, float("nan"), 0]]))
+
+
+def test_a_view_dir_beyond_float32_is_still_a_direction():
+    """A finite view_dir whose components overflow float32 is normalized before the cast (no inf, no error)."""
+    kw = dict(normals=np.array([0.0, 0.0, 1.0], np.float32), material=Material(Lambert(0.5) + Phong(0.5, 10)),
+              lights=[DirectionalLight((0.0, 0.0, 1.0))])  # fmt: skip
+    huge = shade(points=np.zeros((1, 3), np.float32), view_dir=(1e300, 0.0, 1e300), **kw)
+    unit = shade(points=np.zeros((1, 3), np.float32), view_dir=(1.0, 0.0, 1.0), **kw)
+    assert huge.dtype == np.float32 and np.array_equal(huge, unit)
