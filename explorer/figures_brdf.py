@@ -213,16 +213,22 @@ def reciprocity(q, *, theta_deg, phong_e, blinn_e):
     for i, (title, brdf) in enumerate(cases):
         a, b = reciprocity_pair(brdf, th, n=q.polar_n, channel=0)
         ax = fig.add_subplot(gs[0, i], projection="polar")
-        rmax = 1.1 * max(float(a.values.max()), float(b.values.max()))
+        # The scale comes from the slices away from the last degree above the horizon: there the Phong
+        # BRDF's 1/(n·l) grows without bound, and the slice (which samples its peak) reaches it; the
+        # dashed curve leaves the plot there instead of shrinking every lobe to a dot.
+        inner = np.abs(a.angles) <= math.radians(89.0)
+        scale = max(float(a.values[inner].max()), float(b.values[inner].max()))
+        rmax = 1.1 * scale
         ax.plot(a.angles, a.values, color=PALETTE[0], label="light fixed, view swept")
         ax.plot(b.angles, b.values, color=PALETTE[1], ls="--", label="view fixed, light swept")
         _incidence_lines(ax, theta_deg, rmax, "0.4")
         polar_half(ax, rmax)
         ax.set_title(title, pad=2)
         big = np.maximum(a.values, b.values)
-        ok = big > 1e-6 * big.max()
+        ok = big > 1e-6 * scale
         rel = float(np.max(np.abs(a.values - b.values)[ok] / big[ok]))
         measured["phong_difference" if i == 0 else "bp_difference"] = rel
+        measured["phong_plot_scale" if i == 0 else "bp_plot_scale"] = scale
         ratios.append((a, b, ok))
         if i == 0:
             fig.legend(loc="outside lower left", ncol=2)
@@ -237,6 +243,7 @@ def reciprocity(q, *, theta_deg, phong_e, blinn_e):
         x = np.degrees(a.angles[keep])[::step]
         y = (a.values[keep] / b.values[keep])[::step]
         ax.plot(x, y, "o", color=c, ms=5, label=lab)
+        measured["phong_ratio_points" if lab == "Phong" else "bp_ratio_points"] = int(len(x))
     ph = ratios[0]
     keep = ph[2] & (ph[1].values > 0)
     dev = np.abs(ph[0].values[keep] / ph[1].values[keep] / formula[keep] - 1)

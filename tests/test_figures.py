@@ -102,6 +102,9 @@ def test_measured_values_follow_the_laws_the_figures_show(quick_set):
     assert r["bp_difference"] < 1e-12
     assert r["phong_difference"] > 0.1
     assert r["phong_ratio_error"] < 1e-6
+    # The plots' scale is the lobes' (the Phong peak at the mirror is ks / (π cos 50°) = 0.495), not the
+    # unbounded 1/(n·l) at the horizon that the view-fixed Phong slice samples; both ratio curves are drawn.
+    assert 0.1 < r["phong_plot_scale"] < 1.0 and r["phong_ratio_points"] >= 20 and r["bp_ratio_points"] >= 20
     # A small bright patch acts as a point light: difference of order Ω (here 2e-3 sr).
     assert m["rendering_equation"]["point_difference"] < 0.02
     # Gouraud's slope jumps at edges are much larger than Phong interpolation's.
