@@ -41,6 +41,7 @@ __all__ = [
     "ArgumentTypeError",
     "cos_sin",
     "cos_sin_deg",
+    "check_float_dtype",
 ]
 
 
@@ -432,3 +433,20 @@ def cos_sin_deg(deg):
         c = np.where(exact, np.array([1, 0, -1, 0], dtype=d.dtype)[km], c).astype(d.dtype, copy=False)
         s = np.where(exact, np.array([0, 1, 0, -1], dtype=d.dtype)[km], s).astype(d.dtype, copy=False)
     return c, s
+
+
+def check_float_dtype(dtype, name: str = "dtype") -> np.dtype:
+    """``dtype`` as ``np.dtype(float32)`` or ``np.dtype(float64)``; anything else (None included) is refused.
+
+    Callers that accept ``None`` ("the inputs decide") test for it before calling.
+
+    >>> check_float_dtype("float32")
+    dtype('float32')
+    """
+    try:
+        dt = None if dtype is None else np.dtype(dtype)  # np.dtype(None) would be float64
+    except (TypeError, ValueError):
+        dt = None
+    if dt is None or dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+        raise ArgumentTypeError(f"{name} must be float32 or float64; got {_fmt(dtype)}")
+    return dt

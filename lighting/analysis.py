@@ -51,6 +51,7 @@ from ._numeric import (
     check_bool,
     check_choice,
     check_count,
+    check_float_dtype,
     check_vectors,
     cos_sin,
     real_array,
@@ -335,16 +336,7 @@ def _check_phi(name, value):
 
 
 def _out_dtype(dtype, *inputs):
-    if dtype is None:
-        return working_dtype(*inputs)
-    try:
-        dt = np.dtype(dtype)
-    except TypeError:
-        raise ArgumentTypeError(f"dtype must be float32 or float64; got {type(dtype).__name__} {_fmt(dtype)}") from None
-    if dt not in (np.float32, np.float64):
-        raise ValueError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
-    return dt.type
-
+    return working_dtype(*inputs) if dtype is None else check_float_dtype(dtype).type
 
 # --------------------------------------------------------------------------- evaluation
 def _quantity_rgb(brdf, l, v, cosine, dt):  # noqa: E741

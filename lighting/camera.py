@@ -48,6 +48,7 @@ from ._numeric import (
     as_float,
     check_budget,
     check_choice,
+    check_float_dtype,
     check_positive,
     check_range,
     check_vectors,
@@ -82,17 +83,6 @@ def _size(name: str, value) -> int:
     if value > MAX_IMAGE_SIDE:
         raise ValueError(f"{name} must be an integer <= {MAX_IMAGE_SIDE} (pixels); got {_fmt(value)}")
     return int(value)
-
-
-def _float_dtype(dtype) -> type:
-    try:
-        # (None is NumPy's float64, but not a dtype anyone means here.)
-        dt = None if dtype is None else np.dtype(dtype)
-    except (TypeError, ValueError):
-        dt = None
-    if dt is None or dt not in (np.dtype(np.float32), np.dtype(np.float64)):
-        raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
-    return dt.type
 
 
 class Camera:
@@ -385,7 +375,7 @@ class Camera:
 
     def pixel_centers(self, dtype=np.float64) -> np.ndarray:
         """``(H, W, 2)`` pixel-centre coordinates ``(j + ½, i + ½)``."""
-        dtype = _float_dtype(dtype)
+        dtype = check_float_dtype(dtype).type
         self._check_image_budget("pixel_centers", 2 * 3 * np.dtype(dtype).itemsize)
         jj, ii = np.meshgrid(np.arange(self.width, dtype=dtype), np.arange(self.height, dtype=dtype))
         return np.stack([jj + 0.5, ii + 0.5], axis=-1)
@@ -405,7 +395,7 @@ class Camera:
         >>> d[1, 1].tolist(), o[1, 1].tolist()  # the centre pixel looks straight at the target
         ([0.0, 0.0, -1.0], [0.0, 0.0, 5.0])
         """
-        dtype = _float_dtype(dtype)
+        dtype = check_float_dtype(dtype).type
         self._check_image_budget("rays", 6 * np.dtype(dtype).itemsize + 7 * 8)
         o, d = self.ray_components()
         shape = (self.height, self.width, 3)
@@ -466,7 +456,7 @@ class Camera:
         >>> (v + 0.0).tolist(), dist.tolist()  # (+ 0.0 turns the -0.0 components into 0.0)
         ([[0.0, 0.0, 1.0]], [5.0])
         """
-        dt = _float_dtype(dtype)
+        dt = check_float_dtype(dtype).type
         n_pix = self.width * self.height
         p = real_array("pixels", pixels, allowed=f"integer pixel indices in [0, {n_pix})")
         if p.ndim != 1 or not np.all((p >= 0) & (p < n_pix) & (p == np.floor(p))):

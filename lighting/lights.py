@@ -31,7 +31,6 @@ from typing import NamedTuple
 import numpy as np
 
 from ._numeric import (
-    ArgumentTypeError,
     _fmt,
     as_float,
     check_bool,
@@ -39,6 +38,7 @@ from ._numeric import (
     check_color,
     check_count,
     check_finite,
+    check_float_dtype,
     check_nonnegative,
     check_positive,
     check_range,
@@ -140,17 +140,6 @@ _BIG64 = float(np.finfo(np.float64).max)
 MAX_AREA_SAMPLES = 1 << 16
 
 
-def _check_dtype(dtype) -> type:
-    try:
-        # (None is NumPy's float64, but not a dtype anyone means here.)
-        dt = None if dtype is None else np.dtype(dtype)
-    except (TypeError, ValueError):
-        dt = None
-    if dt is None or dt not in (np.dtype(np.float32), np.dtype(np.float64)):
-        raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
-    return dt.type
-
-
 def real_array_nonneg(name: str, value) -> np.ndarray:
     """Finite real numbers >= 0 as a float64 array."""
     arr = real_array(name, value, allowed="finite real numbers >= 0", dtype=np.float64)
@@ -194,7 +183,7 @@ class Light:
             (the slides' "distance to the light plus distance to the viewer").
         """
         points = check_vectors("points", points)
-        dt = _check_dtype(dtype) if dtype is not None else working_dtype(points)
+        dt = check_float_dtype(dtype).type if dtype is not None else working_dtype(points)
         if extra_distance is not None:
             extra_distance = real_array_nonneg("extra_distance", extra_distance)
         return self._incident(points, dtype=dt, extra_distance=extra_distance)

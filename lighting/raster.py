@@ -79,7 +79,16 @@ from functools import cached_property
 
 import numpy as np
 
-from ._numeric import ArgumentTypeError, _fmt, check_bool, check_budget, check_positive, real_array, working_dtype
+from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
+    check_bool,
+    check_budget,
+    check_float_dtype,
+    check_positive,
+    real_array,
+    working_dtype,
+)
 from .camera import Camera
 from .mesh import TriangleMesh
 from .vec import normalize
@@ -377,17 +386,6 @@ class GBuffer:
 
 
 # ---------------------------------------------------------------------- rasterizer
-def _check_dtype(dtype) -> np.dtype:
-    try:
-        # (None is NumPy's float64, but not a dtype anyone means here.)
-        dt = None if dtype is None else np.dtype(dtype)
-    except (TypeError, ValueError):
-        dt = None
-    if dt is None or dt not in (np.dtype(np.float32), np.dtype(np.float64)):
-        raise ArgumentTypeError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
-    return dt
-
-
 def _check_camera(camera) -> Camera:
     if not isinstance(camera, Camera):
         raise ArgumentTypeError(f"camera must be a Camera; got {type(camera).__name__} {_fmt(camera)}")
@@ -557,7 +555,7 @@ def rasterize(mesh: TriangleMesh, camera: Camera, *, cull_backfaces: bool = True
         raise ArgumentTypeError(f"mesh must be a TriangleMesh; got {type(mesh).__name__} {_fmt(mesh)}")
     _check_camera(camera)
     cull_backfaces = check_bool("cull_backfaces", cull_backfaces)
-    out_dt = _check_dtype(dtype)
+    out_dt = check_float_dtype(dtype)
     check_image_budget(camera, RASTER_BYTES_PER_PIXEL, "rasterizing")
     # Screen-space arithmetic is float64 whatever the output dtype: coverage is decided identically
     # for float32 and float64 buffers.  Triangles whose screen quantities overflow are dropped; the
@@ -811,7 +809,7 @@ def raycast_sphere(camera: Camera, center=(0.0, 0.0, 0.0), radius: float = 1.0, 
     4.0
     """
     _check_camera(camera)
-    dt = _check_dtype(dtype)
+    dt = check_float_dtype(dtype)
     r = check_positive("radius", radius)
     c = real_array("center", center, allowed="one finite 3-vector (x, y, z)", dtype=np.float64)
     if c.shape != (3,):

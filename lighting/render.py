@@ -26,12 +26,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import illumination as _illumination
-from ._numeric import ArgumentTypeError, _fmt, check_bool, check_choice, check_color, check_positive, real_array
+from ._numeric import (
+    ArgumentTypeError,
+    _fmt,
+    check_bool,
+    check_choice,
+    check_color,
+    check_float_dtype,
+    check_positive,
+    real_array,
+)
 from .camera import Camera
 from .illumination import TERMS, Material, _check_lights, shade_prepared, view_vectors
 from .lights import AmbientLight, DirectionalLight
 from .mesh import TriangleMesh
-from .raster import GBuffer, _check_camera, _check_dtype, check_image_budget, rasterize, raycast_sphere
+from .raster import GBuffer, _check_camera, check_image_budget, rasterize, raycast_sphere
 from .vec import normalize
 
 __all__ = ["SHADING_MODES", "AnalyticSphere", "Renderer", "render"]
@@ -89,7 +98,7 @@ class Renderer:
     def __init__(self, geometry, camera: Camera, *, dtype=np.float64, cull_backfaces: bool = True):
         _check_geometry(geometry)
         _check_camera(camera)
-        dt = _check_dtype(dtype)
+        dt = check_float_dtype(dtype)
         self._geometry, self._camera, self.dtype = geometry, camera, dt.type
         self.cull_backfaces = check_bool("cull_backfaces", cull_backfaces)
         self._gbuffer: GBuffer | None = None

@@ -13,7 +13,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._numeric import ArgumentTypeError, _fmt, check_vectors, cos_sin, cos_sin_deg, real_array, working_dtype
+from ._numeric import (
+    _fmt,
+    check_float_dtype,
+    check_vectors,
+    cos_sin,
+    cos_sin_deg,
+    real_array,
+    working_dtype,
+)
 
 __all__ = [
     "dot",
@@ -192,7 +200,7 @@ def spherical_direction(theta, phi, dtype=None) -> np.ndarray:
     >>> spherical_direction(math.pi / 2, 0.0)
     array([1., 0., 0.])
     """
-    dt = _check_dtype(dtype) or working_dtype(theta, phi)
+    dt = working_dtype(theta, phi) if dtype is None else check_float_dtype(dtype).type
     theta, phi = _angles(theta=theta, phi=phi)
     ct, st = cos_sin(theta.astype(dt))
     cp, sp = cos_sin(phi.astype(dt))
@@ -211,18 +219,6 @@ def direction_from_elevation(elevation_deg, azimuth_deg=0.0) -> np.ndarray:
     ce, se = cos_sin_deg(elevation.astype(working_dtype(elevation_deg, azimuth_deg)))
     ca, sa = cos_sin_deg(azimuth.astype(working_dtype(elevation_deg, azimuth_deg)))
     return np.stack(np.broadcast_arrays(ce * ca, ce * sa, se), axis=-1)
-
-
-def _check_dtype(dtype):
-    if dtype is None:
-        return None
-    try:
-        dt = np.dtype(dtype)
-    except TypeError:
-        raise ArgumentTypeError(f"dtype must be float32 or float64; got {type(dtype).__name__} {_fmt(dtype)}") from None
-    if dt not in (np.float32, np.float64):
-        raise ValueError(f"dtype must be float32 or float64; got {_fmt(dtype)}")
-    return dt.type
 
 
 def _angles(**angles):
