@@ -661,6 +661,26 @@ def _quad_albedo(brdf: BRDF, v: np.ndarray, samples: int):
 
 
 # =========================================================================== Monte Carlo
+def _sampled_mean(sampler, integrand, vv, batch, samples, replicates, rng):
+    """Mean of ``integrand / pdf`` over ``sampler``'s directions for ``batch`` viewers ``vv`` (B, 1, 3).
+
+    ``replicates > 0`` stratifies: that many independent jittered sets, whose means give the standard
+    error; otherwise ``samples`` independent directions.  Returns ``(value, standard error, weights,
+    samples used)``; the weights feed the rule-of-three term.
+    """
+    if replicates:
+        u = jittered_batch((batch, replicates), max(1, samples // replicates), rng)  # (B, R, M, 2)
+        m = u.shape[2]
+        s = sampler._sample(u.reshape(batch, replicates * m, 2), vv)
+        w = _ratio(integrand(s.directions), s.pdf)
+        val, se = _mean_err(_mean_err(w.reshape(batch, replicates, m, 3), axis=2)[0], axis=1)
+        return val, se, w, replicates * m
+    s = sampler._sample(rng.random((batch, samples, 2)), vv)
+    w = _ratio(integrand(s.directions), s.pdf)
+    val, se = _mean_err(w, axis=1)
+    return val, se, w, samples
+
+
 def _mc_estimates(brdf, v, method, samples, rng, replicates, want_error=True):
     """Monte Carlo for viewers ``v`` (B, 3): value, standard error, rule-of-three term, samples used."""
     if method == "uniform":
@@ -675,20 +695,7 @@ def _mc_estimates(brdf, v, method, samples, rng, replicates, want_error=True):
     def g(l):  # noqa: E741
         return _f_cos(brdf, l, np.broadcast_to(vv, l.shape))
 
-    if method == "stratified":
-        reps = replicates
-        per = max(1, samples // reps)
-        u = jittered_batch((b, reps), per, rng)  # (B, R, M, 2)
-        m = u.shape[2]
-        s = sampler._sample(u.reshape(b, reps * m, 2), vv)
-        w = _ratio(g(s.directions), s.pdf)
-        val, se = _mean_err(_mean_err(w.reshape(b, reps, m, 3), axis=2)[0], axis=1)
-        used = reps * m
-    else:
-        s = sampler._sample(rng.random((b, samples, 2)), vv)
-        w = _ratio(g(s.directions), s.pdf)
-        val, se = _mean_err(w, axis=1)
-        used = samples
+    val, se, w, used = _sampled_mean(sampler, g, vv, b, samples, replicates if method == "stratified" else 0, rng)
     if not want_error:
         return val, se, np.zeros_like(se), used
     lo, hi = _weight_range(g, lambda l: sampler._pdf(l, vv), _lobe_probes(brdf, v), w)  # noqa: E741
@@ -1027,19 +1034,7 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
         return (val, *_terms(val, se, n_env, 2 * lo, 2 * hi), 2 * n_env)
 
     sampler = {"uniform": UniformSampler(), "cosine": CosineSampler()}.get(method) or importance_sampler(brdf)
-    if method == "stratified":
-        per = max(1, samples // reps)
-        u = jittered_batch((bsz, reps), per, rng)
-        m = u.shape[2]
-        s = sampler._sample(u.reshape(bsz, reps * m, 2), vv)
-        w = _ratio(integrand(s.directions), s.pdf)
-        val, se = _mean_err(_mean_err(w.reshape(bsz, reps, m, 3), axis=2)[0], axis=1)
-        used = reps * m
-    else:
-        s = sampler._sample(rng.random((bsz, samples, 2)), vv)
-        w = _ratio(integrand(s.directions), s.pdf)
-        val, se = _mean_err(w, axis=1)
-        used = samples
+    val, se, w, used = _sampled_mean(sampler, integrand, vv, bsz, samples, reps if method == "stratified" else 0, rng)
     if not want_error:
         return val, se, np.zeros_like(se), used
     lo, hi = _weight_range(integrand, lambda l: sampler._pdf(l, vv), probes(), w)  # noqa: E741
