@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from probes import IllegalTally
 
 from lighting import accuracy, audit, environment, integrate, sampling
 from lighting.brdf import BlinnPhong, CookTorrance, Lambert, Phong
@@ -346,37 +347,16 @@ def _named(message: str, name: str) -> bool:
 
 
 def test_probe_b_illegal_values_raise_named_errors():
-    calls = named = 0
-    failures = collections.Counter()
-    examples = []
+    tally = IllegalTally()
     for func, legal, bad in CASES:
         fname = getattr(func, "__qualname__", repr(func))
         for param, values in bad.items():
             for value in values:
-                calls += 1
                 kwargs = dict(legal) | {param: value}
-                try:
-                    with warnings.catch_warnings():
-                        warnings.simplefilter("error")
-                        func(**kwargs)
-                except (ValueError, TypeError) as exc:
-                    msg = str(exc)
-                    if _named(msg, param) and "\n" not in msg and len(msg) < 400:
-                        named += 1
-                    else:
-                        failures["unnamed"] += 1
-                        examples.append(f"{fname}({param}={value!r}): {type(exc).__name__}: {msg[:200]}")
-                except Exception as exc:  # noqa: BLE001 - counted by kind
-                    failures[type(exc).__name__] += 1
-                    examples.append(f"{fname}({param}={value!r}): {type(exc).__name__}: {str(exc)[:200]}")
-                else:
-                    failures["accepted"] += 1
-                    examples.append(f"{fname}({param}={value!r}): accepted")
-    share = 100.0 * named / calls
-    print(f"\nprobe integrate (b) illegal: {calls} calls, {named} named errors ({share:.1f} %), "
-          f"failures by kind: {dict(failures) or 0}")  # fmt: skip
-    assert not examples, "\n".join(examples[:40])
-    assert calls >= 400
+                tally.classify(f"{fname}({param}={value!r})", param, lambda f=func, k=kwargs: f(**k), names=_named)
+    print("\n" + tally.summary("integrate"))
+    assert tally.named == tally.calls and tally.failures() == 0, tally.examples
+    assert tally.calls >= 400
 
 
 def test_probe_b_legal_base_calls_work():

@@ -23,9 +23,9 @@ from collections import Counter
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from probes import IllegalTally
 
 from lighting import fresnel, gl, microfacet
-from lighting._numeric import _fmt
 from lighting.brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong, StackedGeometry
 from lighting.vec import normalize
 
@@ -401,42 +401,14 @@ def _illegal_calls():
     return calls
 
 
-def _classify(tally, label, param, call):
-    tally["calls"] += 1
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # a warning instead of an error is a failure too
-        try:
-            call()
-        except (ValueError, TypeError) as exc:
-            msg = str(exc)
-            if param in msg:
-                tally["named"] += 1
-                if len(msg) > 400:
-                    tally["long message"] += 1
-                    tally.setdefault("examples", {}).setdefault("long message", f"{label}: {msg!r}")
-                if "\n" in msg:
-                    tally["multi-line message"] += 1
-                    tally.setdefault("examples", {}).setdefault("multi-line message", f"{label}: {msg!r}")
-            else:
-                tally["unnamed"] += 1
-                tally.setdefault("examples", {}).setdefault("unnamed", f"{label}: {type(exc).__name__}: {msg}")
-            return
-        except Exception as exc:  # noqa: BLE001 - counted
-            tally["other exception"] += 1
-            tally.setdefault("examples", {}).setdefault("other exception", f"{label}: {type(exc).__name__}: {exc}")
-            return
-    tally["accepted"] += 1
-    tally.setdefault("examples", {}).setdefault("accepted", label)
-
-
 def test_probe_models_illegal_values():
     calls = _illegal_calls()
-    tally = Counter()
+    tally = IllegalTally()
 
     # Every fixed illegal value once, then hypothesis-drawn ones: a NaN or inf at a random place of a
     # random-shape vector array, random out-of-range numbers.
     for label, param, call in calls:
-        _classify(tally, label, param, call)
+        tally.classify(label, param, call)
 
     @settings(max_examples=300, **SETTINGS)
     @given(st.integers(0, 2**32 - 1), st.sampled_from(DTYPES), st.sampled_from(["eval", "eval_cos", "classic"]),
@@ -451,26 +423,18 @@ def test_probe_models_illegal_values():
         args = [np.array(V, dtype)] * 3
         args[which] = arr
         model = [Lambert(0.5), Phong(0.5, 10), BlinnPhong(0.5, 10, True), CookTorrance()][seed % 4]
-        _classify(tally, f"{form}({'nlv'[which]}={bad} at random)", "nlv"[which],
+        tally.classify(f"{form}({'nlv'[which]}={bad} at random)", "nlv"[which],
                   lambda: getattr(model, form)(*args))
-        _classify(tally, f"Phong(shininess={negative})", "shininess", lambda: Phong(0.5, negative))
-        _classify(tally, f"CookTorrance(f0={above_one})", "f0", lambda: CookTorrance(1.0, 0.3, above_one))
-        _classify(tally, f"beckmann_ndf(cos={above_one})", "cos_theta_h",
+        tally.classify(f"Phong(shininess={negative})", "shininess", lambda: Phong(0.5, negative))
+        tally.classify(f"CookTorrance(f0={above_one})", "f0", lambda: CookTorrance(1.0, 0.3, above_one))
+        tally.classify(f"beckmann_ndf(cos={above_one})", "cos_theta_h",
                   lambda: microfacet.beckmann_ndf(above_one, 0.3))
-        _classify(tally, f"gl.Light(spot_cutoff={cutoff})", "spot_cutoff", lambda: gl.Light(spot_cutoff=cutoff))
-        _classify(tally, f"gl.Material(shininess={128 * above_one})", "shininess",
+        tally.classify(f"gl.Light(spot_cutoff={cutoff})", "spot_cutoff", lambda: gl.Light(spot_cutoff=cutoff))
+        tally.classify(f"gl.Material(shininess={128 * above_one})", "shininess",
                   lambda: gl.Material(shininess=128 * above_one))
 
     run()
-    examples = tally.pop("examples", {})
-    calls_n, named = tally["calls"], tally["named"]
-    kinds = ", ".join(
-        f"{k} {tally[k]}" for k in ("unnamed", "accepted", "other exception", "long message", "multi-line message")
-    )
-    print(f"\nprobe models (illegal): {calls_n} calls, {named} named errors ({100 * named / calls_n:.0f} %); {kinds}")
-    assert calls_n >= 1500
-    assert named == calls_n and not tally["long message"], examples
-    # One line per message: the values are rendered by lighting._numeric._fmt, which (not owned here) still
-    # prints a 2-D array on several lines; hold the messages to one line as soon as it no longer does.
-    if "\n" not in _fmt(np.zeros((2, 2))):
-        assert not tally["multi-line message"], examples
+    print("\n" + tally.summary("models"))
+    assert tally.calls >= 1500
+    assert tally.named == tally.calls and tally.failures() == 0, tally.examples
+

@@ -25,6 +25,7 @@ from collections import Counter
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from probes import IllegalTally
 
 from lighting import (
     AmbientLight,
@@ -488,35 +489,10 @@ def _illegal_calls():
     return calls
 
 
-def _classify(tally, label, param, call):
-    tally["calls"] += 1
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # a warning instead of an error is a failure too
-        try:
-            call()
-        except (ValueError, TypeError) as exc:
-            msg = str(exc)
-            if param in msg:
-                tally["named"] += 1
-                if "\n" in msg or len(msg) > 400:
-                    tally["long message"] += 1
-                    tally.setdefault("examples", {}).setdefault("long message", f"{label}: {msg!r}")
-            else:
-                tally["unnamed"] += 1
-                tally.setdefault("examples", {}).setdefault("unnamed", f"{label}: {type(exc).__name__}: {msg}")
-            return
-        except Exception as exc:  # noqa: BLE001 - counted
-            tally["other exception"] += 1
-            tally.setdefault("examples", {}).setdefault("other exception", f"{label}: {type(exc).__name__}: {exc}")
-            return
-    tally["accepted"] += 1
-    tally.setdefault("examples", {}).setdefault("accepted", label)
-
-
 def test_probe_shading_illegal_values():
-    tally = Counter()
+    tally = IllegalTally()
     for label, param, call in _illegal_calls():
-        _classify(tally, label, param, call)
+        tally.classify(label, param, call)
 
     # Then hypothesis-drawn ones: a NaN, inf or complex value at a random place of a random-shape array
     # of points, normals or a view direction; random out-of-range numbers for the lights.
@@ -531,27 +507,20 @@ def test_probe_shading_illegal_values():
         arr[tuple(rng.integers(0, s) for s in shape)] = bad
         which = ("points", "normals", "view_dir")[seed % 3]
         args = dict(points=np.zeros(shape, dtype), normals=np.ones(shape, dtype), view_dir=(0, 0, 1.0)) | {which: arr}
-        _classify(tally, f"{fn.__name__}({which}={bad} at random)", which,
+        tally.classify(f"{fn.__name__}({which}={bad} at random)", which,
                   lambda: fn(args["points"], args["normals"], MAT, LIGHTS, view_dir=args["view_dir"]))  # fmt: skip
         rows = arr.reshape(-1, 3)
         eye = rows[~np.all(np.isfinite(rows), axis=-1)][0]  # the row holding the bad value
-        _classify(tally, f"{fn.__name__}(eye={eye})", "eye", lambda: fn(P, N, MAT, LIGHTS, eye=eye))
-        _classify(tally, f"PointLight(intensity={negative})", "intensity", lambda: PointLight(intensity=negative))
-        _classify(tally, f"SpotLight(cutoff_deg={cutoff})", "cutoff_deg", lambda: SpotLight(cutoff_deg=cutoff))
-        _classify(tally, f"SpotLight(exponent={negative})", "exponent", lambda: SpotLight(exponent=negative))
-        _classify(tally, f"RectLight(samples={samples})", "samples", lambda: RectLight(samples=samples))
-        _classify(tally, f"PointLight(attenuation=({negative}, 0, 1))", "attenuation",
+        tally.classify(f"{fn.__name__}(eye={eye})", "eye", lambda: fn(P, N, MAT, LIGHTS, eye=eye))
+        tally.classify(f"PointLight(intensity={negative})", "intensity", lambda: PointLight(intensity=negative))
+        tally.classify(f"SpotLight(cutoff_deg={cutoff})", "cutoff_deg", lambda: SpotLight(cutoff_deg=cutoff))
+        tally.classify(f"SpotLight(exponent={negative})", "exponent", lambda: SpotLight(exponent=negative))
+        tally.classify(f"RectLight(samples={samples})", "samples", lambda: RectLight(samples=samples))
+        tally.classify(f"PointLight(attenuation=({negative}, 0, 1))", "attenuation",
                   lambda: PointLight(attenuation=(negative, 0, 1)))  # fmt: skip
 
     run()
-    examples = tally.pop("examples", {})
-    calls_n, named = tally["calls"], tally["named"]
-    # Multi-line messages come from the shared _numeric._fmt (2-D arrays print one row per line); they
-    # count as failures once that helper renders values on one line.
-    one_line_fmt = "\n" not in _fmt(np.zeros((2, 3)))
-    kinds = ", ".join(f"{k} {tally[k]}" for k in ("unnamed", "accepted", "other exception", "long message"))
-    print(f"\nprobe shading (illegal): {calls_n} calls, {named} named errors ({100 * named / calls_n:.0f} %); {kinds}")
-    assert calls_n >= 1500
-    assert named == calls_n, examples
-    if one_line_fmt:
-        assert not tally["long message"], examples
+    print("\n" + tally.summary("shading"))
+    assert tally.calls >= 1500
+    assert tally.named == tally.calls and tally.failures() == 0, tally.examples
+
