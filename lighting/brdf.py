@@ -911,19 +911,20 @@ class BlinnPhong(BRDF):
     def _params(self):
         return {"ks": self.ks, "shininess": self.shininess, "normalized": self.normalized}
 
-    def _lobe(self, g, dtype=None, log_scale: float = 0.0):
-        """``exp(log_scale) · (n·h)^e`` (0 below the horizon) in ``dtype`` (that of ``g`` by default).
+    def _lobe(self, g, dtype=None, scale: float = 1.0):
+        """``scale · (n·h)^e`` (0 below the horizon) in ``dtype`` (that of ``g`` by default).
 
-        The constant factor is added to the exponent, ``exp(e log(n·h) + log_scale)``, never
-        multiplied onto the lobe: the normalized lobe's ``(e + 2)/(2π)`` (1.6e6 at ``e = 1e7``)
+        Where ``(n·h)^e`` alone would be subnormal the constant factor goes into the exponent,
+        ``exp(e log(n·h) + log scale)``: the normalized lobe's ``(e + 2)/(2π)`` (1.6e6 at ``e = 1e7``)
         would otherwise scale a subnormal ``(n·h)^e`` whose digits are already lost (7 % at a
-        result of 1.2e-38 in float32).  Values beyond the dtype saturate at its largest one.
+        result of 1.2e-38 in float32).  Elsewhere it multiplies (see :meth:`_exp_scaled`).  Values
+        beyond the dtype saturate at its largest one.
         """
         dt = dtype or g.dtype
         if self.shininess == 0:
-            return np.where(g.above, math.exp(log_scale), 0).astype(dt)
+            return saturate_to(np.where(g.above, scale, 0), dt)
         if isinstance(g, StackedGeometry) and dt == g.dtype:
-            return self._lobe_tangent(g, log_scale)
+            return self._lobe_tangent(g, scale)
         d = g.one_minus_n_dot_h.astype(dt, copy=False)
         c = g.n_dot_h.astype(dt, copy=False)
         shape = np.broadcast_shapes(np.shape(c), np.shape(d))
@@ -952,23 +953,24 @@ class BlinnPhong(BRDF):
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
             t = log_corrected(y, x)  # in [−∞, 0]: −∞ where n·h = 0 (h on the horizon, l = −v)
             t *= _exponent_in(dt, self.shininess)  # > 0, so −∞ · e is −∞, never NaN
-            t = self._exp_scaled(t, dt, log_scale)
+            t = self._exp_scaled(t, dt, scale)
         t *= g.above_mask
         return t.reshape(np.broadcast_shapes(shape, np.shape(g.above))).astype(dt, copy=False)
 
     @staticmethod
-    def _exp_scaled(t, dt, log_scale):
-        """``exp(t) · exp(log_scale)`` in place (``t <= 0``), saturated at the dtype's largest value.
+    def _exp_scaled(t, dt, scale):
+        """``exp(t) · scale`` in place (``t <= 0``, ``scale > 0``), saturated at the dtype's largest value.
 
-        Where ``exp(t)`` is a normal number the factor multiplies it (one rounding, so the
-        peak value ``(e + 2)/(2π)`` is right to the last bit); where ``exp(t)`` alone would be
-        subnormal — its digits lost before the factor could restore them — the factor goes
-        into the exponent, ``exp(t + log_scale)``, whose error ``|t + log_scale| u`` is within
-        the lobe's own conditioning ``~|t| u`` there.  A factor beyond the dtype puts every
-        entry into the exponent and saturates.
+        Where ``exp(t)`` is a normal number the factor itself multiplies it (one rounding, so the
+        peak value ``(e + 2)/(2π)`` is right to the last bit; ``exp(log(scale))`` would add
+        ``|log scale| u``); where ``exp(t)`` alone would be subnormal — its digits lost before the
+        factor could restore them — the factor goes into the exponent, ``exp(t + log scale)``,
+        whose error ``|t + log scale| u`` is within the lobe's own conditioning ``~|t| u`` there.
+        A factor beyond the dtype puts every entry into the exponent and saturates.
         """
-        if not log_scale:
+        if scale == 1:
             return np.exp(t, out=t)
+        log_scale = math.log(scale)
         info = np.finfo(dt)
         if log_scale > math.log(float(info.max)) - 1:
             t += dt(log_scale)
@@ -979,13 +981,13 @@ class BlinnPhong(BRDF):
         low &= t > dt(math.log(float(info.smallest_subnormal)) - log_scale - 1)
         t_low = t[low] + dt(log_scale) if np.any(low) else None
         t = np.exp(t, out=t)
-        t *= dt(math.exp(log_scale))
+        t *= dt(scale)
         if t_low is not None:
             t[low] = np.exp(t_low)
         return t
 
-    def _lobe_tangent(self, g, log_scale: float = 0.0):
-        """``exp(log_scale) (n·h)^e = exp(−(e/2) log1p(tan²θ_h) + log_scale)`` on a :class:`StackedGeometry`.
+    def _lobe_tangent(self, g, scale: float = 1.0):
+        """``scale · (n·h)^e = scale · exp(−(e/2) log1p(tan²θ_h))`` on a :class:`StackedGeometry`.
 
         Half the passes of the ``n·h`` form below, and as accurate: ``tan²θ_h``
         carries ``sin θ_h`` near the peak and ``n·h`` far from it to the accuracy of
@@ -995,18 +997,14 @@ class BlinnPhong(BRDF):
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
             t = log1p(g.tan2_h)  # finite and >= 0 everywhere
             t *= -_exponent_in(g.dtype, 0.5 * self.shininess)
-            t = self._exp_scaled(t, g.dtype, log_scale)
+            t = self._exp_scaled(t, g.dtype, scale)
         t *= g.above_mask
         if g.delicate is not None:
-            t[g.delicate] = self._lobe(g.entries(*g.delicate), log_scale=log_scale)
+            t[g.delicate] = self._lobe(g.entries(*g.delicate), scale=scale)
         return t
 
     def _norm(self):
         return (self.shininess + 2) / (2 * math.pi)
-
-    def _log_norm(self):
-        """``log((e + 2)/(2π))``, the normalization folded into the lobe's exponent."""
-        return math.log(self._norm())
 
     def _f(self, g):
         if not self.normalized:
@@ -1018,12 +1016,12 @@ class BlinnPhong(BRDF):
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
                 log_lobe = self.shininess * np.where(c < 0.5, np.log(np.where(c > 0, c, 0)), np.log1p(-d))
             return _lobe_over_cos(g, lobe, log_lobe, self.ks)
-        return _rgb(self._lobe(g, log_scale=self._log_norm()), self.ks)
+        return _rgb(self._lobe(g, scale=self._norm()), self.ks)
 
     def separable_cos(self, g):
         if self.normalized:
             # n·l of unit vectors may round to 1 + ulp: clipped, so a saturated lobe stays finite.
-            return [(self._lobe(g, log_scale=self._log_norm()) * np.clip(g.n_dot_l, 0, 1), self.ks)]
+            return [(self._lobe(g, scale=self._norm()) * np.clip(g.n_dot_l, 0, 1), self.ks)]
         return [(self._lobe(g) / g.dtype(math.pi), self.ks)]
 
     def separable_classic(self, g):

@@ -1233,12 +1233,12 @@ def _legacy_classes():
             return np.clip(1 - self.r_dot_v, 0, 2)
 
     class BPPeakOnly(BlinnPhong):  # (n·h)^e from 1 − n·h everywhere
-        def _lobe(self, g, dtype=None, log_scale=0.0):
+        def _lobe(self, g, dtype=None, scale=1.0):
             dt = dtype or g.dtype
             lobe = cos_power(g.one_minus_n_dot_h.astype(dt), self.shininess)
-            if log_scale:  # the normalization multiplied on, as it was
+            if scale != 1:  # the normalization multiplied on, as it was
                 with np.errstate(over="ignore", under="ignore"):
-                    lobe = saturate_to(lobe * math.exp(log_scale), dt)
+                    lobe = saturate_to(lobe * scale, dt)
             return np.where(g.above, lobe, 0).astype(dt, copy=False)
 
     class PhongDtypeDivision(Phong):  # f_r = (k_s lobe/π) / (n·l) with the lobe rounded to the dtype first

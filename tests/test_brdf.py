@@ -312,3 +312,12 @@ def test_sum_of_saturated_models_saturates_without_warning(dtype):
     l = np.array([1.0, 0, 1e-3], dtype)  # noqa: E741
     v = np.array([-1.0, 0, 1e-3], dtype)
     assert (Phong(1e308, 0.0) + Phong(1e308, 0.0)).eval(n, l, v).tolist() == [big] * 3
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("e", [3.0, 80.0, 1e6, 1e7])
+def test_normalized_blinn_phong_peak_is_its_normalization_to_the_last_bit(e, dtype):
+    """At h = n the lobe is exactly (e + 2)/(2π), rounded once: the factor is multiplied, not exp(log(.))."""
+    n = np.array([0.0, 0.0, 1.0], dtype)
+    peak = BlinnPhong(1.0, e, normalized=True).eval(n, n, n)
+    assert peak.dtype == dtype and np.all(peak == dtype((e + 2) / (2 * math.pi)))
