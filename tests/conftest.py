@@ -1,5 +1,30 @@
 import sys
 from pathlib import Path
 
-# Let tests import the sibling helper module `quadrature`.
+import pytest
+
+# Let tests import the sibling helper modules `quadrature` and `probes`.
 sys.path.insert(0, str(Path(__file__).parent))
+
+#: Test files marked ``slow`` as a whole: the seeded probes, the figure set, the Mesa comparison and the
+#: off-screen explorer window.  ``python -m pytest -m "not slow"`` is the fast loop (under a minute here);
+#: CI and the README's command run everything.
+SLOW_FILES = frozenset(
+    {
+        "test_app.py",
+        "test_figures.py",
+        "test_gl_mesa.py",
+        "test_probe_cli.py",
+        "test_probe_explorer.py",
+        "test_probe_integrate.py",
+        "test_probe_models.py",
+        "test_probe_scenes.py",
+        "test_probe_shading.py",
+    }
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if item.path.name in SLOW_FILES:
+            item.add_marker(pytest.mark.slow)

@@ -630,6 +630,7 @@ def _weight_peak(model, theta, method):
     return float(np.max(np.where(pdf > 0, g / np.where(pdf > 0, pdf, 1.0), 0.0)))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("label, model, theta_deg, method, samples", COVERAGE_CASES, ids=[c[0] for c in COVERAGE_CASES])
 def test_monte_carlo_error_covers_the_true_error_in_90_percent_of_seeds(label, model, theta_deg, method, samples):
     theta = math.radians(theta_deg)
@@ -729,6 +730,7 @@ RADIANCE_CASES = [
 ]  # fmt: skip
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("label, model, env, method, samples", RADIANCE_CASES, ids=[c[0] for c in RADIANCE_CASES])
 def test_radiance_error_covers_the_true_error_in_90_percent_of_seeds(label, model, env, method, samples):
     n, v = np.array([0.0, 0.0, 1.0]), np.array([0.5, 0.0, 0.866])
@@ -785,6 +787,7 @@ def test_unconverged_flag_is_public_and_documented():
     assert curve.unconverged.shape == (2, 3) and curve.unconverged.all()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "model, view_samples",
     [(Phong(1.0, 1e4), 16), (Phong(1.0, 50.0), 4), (Phong(1.0, 1e4), 2), (Lambert(0.5) + Phong(0.5, 200.0), 2)],
