@@ -58,10 +58,24 @@ _SAVE_METADATA = {
 }
 
 
-def _load_registry() -> dict[str, FigureSpec]:
-    # Registering happens on import; the order of imports is the lecture order of the set.
-    from . import figures_models, figures_light, figures_brdf, figures_render  # noqa: F401, I001
+#: The figure modules in lecture order; within a module, figures keep the order they are defined in.
+LECTURE_MODULES = ("figures_models", "figures_light", "figures_brdf", "figures_render")
 
+
+def _load_registry() -> dict[str, FigureSpec]:
+    # Registering happens on import, and any module may be imported first (a doctest run, a notebook):
+    # the lecture order is imposed here, not left to the order of imports.
+    from . import figures_brdf, figures_light, figures_models, figures_render  # noqa: F401
+
+    rank = {f"{__package__}.{name}": i for i, name in enumerate(LECTURE_MODULES)}
+
+    def lecture_position(spec):
+        return rank.get(spec.func.__module__, len(rank)), spec.func.__code__.co_firstlineno
+
+    ordered = sorted(REGISTRY.values(), key=lecture_position)
+    if list(REGISTRY) != [s.name for s in ordered]:
+        REGISTRY.clear()
+        REGISTRY.update((s.name, s) for s in ordered)
     return REGISTRY
 
 

@@ -293,3 +293,15 @@ def test_files_keep_the_umask_and_no_temporary_file_is_left(tmp_path):
     names = sorted(p.name for p in tmp_path.iterdir())
     assert names == ["figures.json", "light_colour.json", "light_colour.png", "light_colour.svg"]
     assert {stat.S_IMODE(p.stat().st_mode) for p in tmp_path.iterdir()} == {0o644}
+
+
+def test_lecture_order_does_not_depend_on_which_module_is_imported_first():
+    """A doctest run or a notebook may import a figure module before explorer.figures: same order."""
+    import subprocess
+    import sys
+
+    code = ("import explorer.figures_render, explorer.figures_brdf, explorer.figures_light\n"
+            "from explorer.figures import figure_names\nprint(','.join(figure_names()))")  # fmt: skip
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out.split(",") == figures.figure_names()
+    assert out.split(",")[0] == "lambert_cosine_law" and out.split(",")[-1] == "accuracy"
