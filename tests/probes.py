@@ -63,3 +63,50 @@ class IllegalTally:
 
     def failures(self) -> int:
         return sum(self.counts[k] for k in FAILURE_KINDS)
+
+
+class LegalTally:
+    """Legal (extreme) calls: every array they return must be finite, in range and of the asked dtype, with
+    no warning.  Failures are counted by kind, with up to three examples of each."""
+
+    def __init__(self):
+        self.cases = 0
+        self.failures = Counter()
+        self.examples: dict[str, list[str]] = {}
+
+    def fail(self, kind, what):
+        self.failures[kind] += 1
+        examples = self.examples.setdefault(kind, [])
+        if len(examples) < 3:
+            examples.append(what)
+
+    def check(self, what, fn, *, dtype, lo=0.0, hi=None):
+        """Run ``fn``; its arrays (one, a list or a dict of them) must be finite, in ``[lo, hi]``, of ``dtype``."""
+        import numpy as np
+
+        self.cases += 1
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                results = fn()
+            except Exception as exc:  # noqa: BLE001 - counted, reported below
+                self.fail("exception", f"{what}: {type(exc).__name__}: {exc}")
+                return
+        if caught:
+            self.fail("warning", f"{what}: {caught[0].category.__name__}: {caught[0].message}")
+        if isinstance(results, dict):
+            results = list(results.values())
+        for r in results if isinstance(results, list) else [results]:
+            r = np.asarray(r)
+            if r.dtype != dtype:
+                self.fail("dtype", f"{what}: {r.dtype} for {np.dtype(dtype)}")
+            if np.any(np.isnan(r)):
+                self.fail("nan", what)
+            elif np.any(np.isinf(r)):
+                self.fail("inf", what)
+            elif np.any(r < lo) or (hi is not None and np.any(r > hi)):
+                self.fail("negative" if np.any(r < lo) else "above range", what)
+
+    def summary(self):
+        kinds = ", ".join(f"{k} {v}" for k, v in sorted(self.failures.items())) or "none"
+        return f"{self.cases} cases, {sum(self.failures.values())} failures ({kinds})"

@@ -17,13 +17,11 @@ summary line (``pytest -s`` shows it) before asserting that there are none.
 from __future__ import annotations
 
 import math
-import warnings
-from collections import Counter
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from probes import IllegalTally
+from probes import IllegalTally, LegalTally
 
 from lighting import fresnel, gl, microfacet
 from lighting.brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong, StackedGeometry
@@ -123,50 +121,8 @@ def _stacked(model, n, l, v, dtype):  # noqa: E741
     return out
 
 
-class Tally:
-    """Cases and failures by kind, with the first example of each kind."""
-
-    def __init__(self):
-        self.cases = 0
-        self.failures = Counter()
-        self.examples = {}
-
-    def fail(self, kind, what):
-        self.failures[kind] += 1
-        self.examples.setdefault(kind, [])
-        if len(self.examples[kind]) < 3:
-            self.examples[kind].append(what)
-
-    def check(self, what, fn, *, dtype, lo=0.0, hi=None):
-        """Run ``fn``; every array it returns must be finite, in ``[lo, hi]`` and of ``dtype``, with no warning."""
-        self.cases += 1
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            try:
-                results = fn()
-            except Exception as exc:  # noqa: BLE001 - counted, reported below
-                self.fail("exception", f"{what}: {type(exc).__name__}: {exc}")
-                return
-        if caught:
-            self.fail("warning", f"{what}: {caught[0].category.__name__}: {caught[0].message}")
-        for r in results if isinstance(results, list) else [results]:
-            r = np.asarray(r)
-            if r.dtype != dtype:
-                self.fail("dtype", f"{what}: {r.dtype} for {np.dtype(dtype)}")
-            if np.any(np.isnan(r)):
-                self.fail("nan", what)
-            elif np.any(np.isinf(r)):
-                self.fail("inf", what)
-            elif np.any(r < lo) or (hi is not None and np.any(r > hi)):
-                self.fail("negative" if np.any(r < lo) else "above range", what)
-
-    def summary(self):
-        kinds = ", ".join(f"{k} {v}" for k, v in sorted(self.failures.items())) or "none"
-        return f"{self.cases} cases, {sum(self.failures.values())} failures ({kinds})"
-
-
 def test_probe_models_legal_extremes():
-    tally = Tally()
+    tally = LegalTally()
 
     @settings(max_examples=500, **SETTINGS)
     @given(models, configurations())
@@ -191,7 +147,7 @@ cosines = st.lists(st.one_of(st.sampled_from(COSINES), st.floats(-1, 1)), min_si
 
 
 def test_probe_microfacet_fresnel_legal_extremes():
-    tally = Tally()
+    tally = LegalTally()
 
     @settings(max_examples=400, **SETTINGS)
     @given(cosines, roughness, exponents, f0s, st.one_of(st.sampled_from([1e-300, 1e-8, 0.5, 1.0, 1.5, 1e8, 1e300]),
@@ -248,7 +204,7 @@ def gl_lights(draw):
 
 
 def test_probe_gl_legal_extremes():
-    tally = Tally()
+    tally = LegalTally()
 
     def arrays(dtype):
         """Vertices at the eye, tiny, huge (a quarter of the dtype's range) and ordinary; normals likewise."""

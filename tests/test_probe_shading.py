@@ -19,13 +19,10 @@ line (``pytest -s`` shows it) before asserting that there are none.
 
 from __future__ import annotations
 
-import warnings
-from collections import Counter
-
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from probes import IllegalTally
+from probes import IllegalTally, LegalTally
 
 from lighting import (
     AmbientLight,
@@ -143,50 +140,8 @@ def surfaces(draw, dtype):
     return pts, nrm, dict(view_dir=draw(directions()))
 
 
-class Tally:
-    """Cases and failures by kind, with the first example of each kind."""
-
-    def __init__(self):
-        self.cases = 0
-        self.failures = Counter()
-        self.examples = {}
-
-    def fail(self, kind, what):
-        self.failures[kind] += 1
-        self.examples.setdefault(kind, what)
-
-    def check(self, what, fn, *, dtype):
-        """Run ``fn``; every array it returns must be finite, >= 0 and of ``dtype``, with no warning."""
-        self.cases += 1
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            try:
-                results = fn()
-            except Exception as exc:  # noqa: BLE001 - counted, reported below
-                self.fail("exception", f"{what}: {type(exc).__name__}: {exc}")
-                return
-        if caught:
-            self.fail("warning", f"{what}: {caught[0].category.__name__}: {caught[0].message}")
-        if isinstance(results, dict):
-            results = list(results.values())
-        for r in results if isinstance(results, list) else [results]:
-            r = np.asarray(r)
-            if r.dtype != dtype:
-                self.fail("dtype", f"{what}: {r.dtype} for {np.dtype(dtype)}")
-            if np.any(np.isnan(r)):
-                self.fail("nan", what)
-            elif np.any(np.isinf(r)):
-                self.fail("inf", what)
-            elif np.any(r < 0):
-                self.fail("negative", what)
-
-    def summary(self):
-        kinds = ", ".join(f"{k} {v}" for k, v in sorted(self.failures.items())) or "none"
-        return f"{self.cases} cases, {sum(self.failures.values())} failures ({kinds})"
-
-
 def test_probe_shading_legal_extremes():
-    tally = Tally()
+    tally = LegalTally()
 
     @settings(max_examples=400, **SETTINGS)
     @given(st.data(), materials, st.lists(lights(), min_size=1, max_size=4), st.sampled_from(DTYPES),
