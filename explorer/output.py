@@ -136,6 +136,18 @@ def _writable_folder(flag: str, path: str, folder: str) -> None:
         raise OutputError(f"{what}: folder {_show(folder)} is not writable")
 
 
+def _path_text(path, flag: str, kind: str, empty: str, verb: str) -> str:
+    """``path`` as text, refusing what no file system takes: a non-path, an empty name, a NUL character."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise OutputError(f"{flag} must be {kind}; got {type(path).__name__}")
+    path = os.fspath(path)
+    if not path.strip():
+        raise OutputError(f"{flag}: {empty}")
+    if "\0" in path:
+        raise OutputError(f"{flag}: {verb} {_show(path)}: the path contains a NUL character")
+    return path
+
+
 def check_output_path(path, *, flag: str = "-o", kinds=("rgb8", "linear")) -> str:
     """Check that an image can be written to ``path``; return its format name (``"png"``, ``"npy"``, …).
 
@@ -144,13 +156,8 @@ def check_output_path(path, *, flag: str = "-o", kinds=("rgb8", "linear")) -> st
     directory, a missing folder, a folder the user cannot write, or an existing target that is not a
     regular file.
     """
-    if not isinstance(path, (str, os.PathLike)):
-        raise OutputError(f"{flag} must be a file path; got {type(path).__name__}")
-    path = os.fspath(path)
-    if not path.strip():
-        raise OutputError(f"{flag}: the output path is empty; give a file name such as out.png")
-    if "\0" in path:
-        raise OutputError(f"{flag}: cannot write {_show(path)}: the path contains a NUL character")
+    path = _path_text(path, flag, "a file path", "the output path is empty; give a file name such as out.png",
+                      "cannot write")  # fmt: skip
     allowed = available_formats(kinds)
     ext = os.path.splitext(path)[1].lower()
     if os.path.isdir(path):
@@ -176,13 +183,7 @@ def check_output_dir(path, *, flag: str = "--out") -> str:
     Raises :class:`OutputError` when it names an existing file, is empty, or its nearest existing
     ancestor is not a writable folder.  Returns the path.
     """
-    if not isinstance(path, (str, os.PathLike)):
-        raise OutputError(f"{flag} must be a folder path; got {type(path).__name__}")
-    path = os.fspath(path)
-    if not path.strip():
-        raise OutputError(f"{flag}: the output folder is empty; give a folder name")
-    if "\0" in path:
-        raise OutputError(f"{flag}: cannot use {_show(path)}: the path contains a NUL character")
+    path = _path_text(path, flag, "a folder path", "the output folder is empty; give a folder name", "cannot use")
     if os.path.exists(path):
         if not os.path.isdir(path):
             raise OutputError(f"{flag}: {_show(path)} exists and is not a folder; give a folder for the output")

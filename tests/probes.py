@@ -11,6 +11,9 @@ import warnings
 from collections import Counter
 
 MAX_MESSAGE = 400
+
+#: Hypothesis settings of the probes: the same examples on every run, no time limit per example.
+PROBE_SETTINGS = dict(derandomize=True, deadline=None, database=None)
 FAILURE_KINDS = ("unnamed", "accepted", "other exception", "long message", "multi-line message")
 
 

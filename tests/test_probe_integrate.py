@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from probes import IllegalTally
+from probes import PROBE_SETTINGS, IllegalTally
 
 from lighting import accuracy, audit, environment, integrate, sampling
 from lighting.brdf import BlinnPhong, CookTorrance, Lambert, Phong
@@ -97,8 +97,7 @@ def _run_legal(kind, call, check):
         LEGAL_EXAMPLES.append(f"{kind}: {bad}")
 
 
-PROBE = settings(max_examples=600, derandomize=True, deadline=None, database=None,
-                 suppress_health_check=list(HealthCheck))  # fmt: skip
+PROBE = settings(max_examples=600, suppress_health_check=list(HealthCheck), **PROBE_SETTINGS)
 
 
 @PROBE

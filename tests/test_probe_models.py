@@ -21,18 +21,13 @@ import math
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from probes import IllegalTally, LegalTally
+from probes import PROBE_SETTINGS, IllegalTally, LegalTally
 
 from lighting import fresnel, gl, microfacet
 from lighting.brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong, StackedGeometry
 from lighting.vec import normalize
 
-SETTINGS = dict(
-    derandomize=True,
-    deadline=None,
-    database=None,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
-)
+SETTINGS = PROBE_SETTINGS | dict(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 DTYPES = (np.float32, np.float64)
 

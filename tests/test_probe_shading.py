@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from probes import IllegalTally, LegalTally
+from probes import PROBE_SETTINGS, IllegalTally, LegalTally
 
 from lighting import (
     AmbientLight,
@@ -48,12 +48,7 @@ from lighting.plan import bounding_sphere, compile_plan, evaluate_full
 from lighting.raster import rasterize, raycast_sphere
 from lighting.render import AnalyticSphere, Renderer, render
 
-SETTINGS = dict(
-    derandomize=True,
-    deadline=None,
-    database=None,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
-)
+SETTINGS = PROBE_SETTINGS | dict(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 DTYPES = (np.float32, np.float64)
 BIG = {np.float32: float(np.finfo(np.float32).max), np.float64: float(np.finfo(np.float64).max)}
 MESH = icosphere(1)
