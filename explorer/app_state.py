@@ -28,7 +28,7 @@ local frame of the sphere point that faces the viewer (``n = +z``), so their
 incident direction is the light seen from that point; every one of them builds
 it through :func:`lighting.vec.spherical_direction`, so a light on or below the
 horizon reflects nothing in all of them, and they all sample the lobe's peak
-(:func:`lighting.analysis.lobe_peak`), so they report the same peak.
+(:func:`lighting.analysis.analysis.lobe_peak`), so they report the same peak.
 
 Example
 -------
@@ -64,7 +64,7 @@ import numpy as np
 
 from lighting import AmbientLight, BlinnPhong, CookTorrance, DirectionalLight, Lambert, Material, Phong
 from lighting._numeric import ArgumentTypeError, abbreviate, check_bool, check_count, check_range, real_array
-from lighting.analysis import (
+from lighting.analysis.analysis import (
     half_diff_image,
     lobe_mesh,
     reciprocity_pair,
@@ -72,14 +72,14 @@ from lighting.analysis import (
     theta_h_curve,
     theta_v_curve,
 )
-from lighting.analytic import sphere_camera
-from lighting.illumination import shade
-from lighting.image import srgb_to_linear
-from lighting.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo
-from lighting.lights import PointLight, SpotLight
-from lighting.machband import LUMA, edge_jump_metric, scanline_profile
-from lighting.mesh import uv_sphere
-from lighting.render import SHADING_MODES, AnalyticSphere, Renderer
+from lighting.analysis.machband import LUMA, edge_jump_metric, scanline_profile
+from lighting.integrate.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo
+from lighting.lights.punctual import PointLight, SpotLight
+from lighting.render.image import srgb_to_linear
+from lighting.render.mesh import uv_sphere
+from lighting.render.renderer import SHADING_MODES, AnalyticSphere, Renderer
+from lighting.render.sphere import sphere_camera
+from lighting.shading.equation import shade
 from lighting.vec import direction_from_elevation, spherical_direction
 
 __all__ = [
@@ -466,7 +466,7 @@ class AppState:
         return math.atan2(math.hypot(d[0], d[1]), d[2])
 
     def plot_options(self) -> dict:
-        """Keyword arguments of the :mod:`lighting.analysis` functions for the plot controls."""
+        """Keyword arguments of the :mod:`lighting.analysis.analysis` functions for the plot controls."""
         return {"channel": self.channel, "cosine": self.times_cos, "log": self.log}
 
     def quantity_label(self) -> str:
@@ -503,9 +503,9 @@ def state_from_scene(path) -> AppState:
     there.  Render options (mode, form, terms, exposure) are taken too.
     """
     try:
-        from lighting.scene import GLLight, gl_material_to_engine, load_scene
+        from lighting.scene.scene import GLLight, gl_material_to_engine, load_scene
     except ImportError:  # pragma: no cover - the module ships with the engine
-        raise ValueError("scene files need lighting.scene") from None
+        raise ValueError("scene files need lighting.scene.scene") from None
     from lighting import gl
 
     scene = load_scene(path)
@@ -683,7 +683,7 @@ class ProfileView:
     ``x`` is the horizontal position of each pixel centre in sphere units
     (``−1 … 1``), ``y`` the height of the row; ``edges`` are the positions where
     the scan line crosses a triangle edge.  The metrics are
-    :func:`lighting.machband.edge_jump_metric` over every twelfth row of each image.
+    :func:`lighting.analysis.machband.edge_jump_metric` over every twelfth row of each image.
     """
 
     row: int
@@ -724,7 +724,7 @@ class PolarView:
     """The polar slice in the plane of incidence: fixed light (swept view) and fixed view (swept light).
 
     ``angles`` are signed, negative on the light's side (see
-    :func:`lighting.analysis.polar_slice`); ``theta_in`` is the incident polar
+    :func:`lighting.analysis.analysis.polar_slice`); ``theta_in`` is the incident polar
     angle (clamped to 90° when the light is below the horizon).
     """
 
@@ -765,7 +765,7 @@ class AlbedoView:
     ``theta_v`` is the fixed view of the polar panel's dashed slice (``θ_v = θ_l``, 90° when the
     light is below the horizon, where ρ is 0).  ``value`` and ``error`` are the plot channel's
     (luminance: the Rec. 709 weights of the RGB values and errors); ``unconverged`` flags a
-    relative error above 2 % (:attr:`lighting.integrate.Estimate.unconverged`), as the accuracy
+    relative error above 2 % (:attr:`lighting.integrate.integrate.Estimate.unconverged`), as the accuracy
     report does.  ``rgb`` and ``rgb_error`` are the whole estimate.
     """
 
@@ -854,7 +854,7 @@ def _srgb_bucket_table(exposure: float):
 
 
 def encode8(image, coverage=None, exposure: float = 0.0):
-    """8-bit sRGB codes of a linear image: :func:`lighting.image.encode_srgb8` (clamp) by table look-up.
+    """8-bit sRGB codes of a linear image: :func:`lighting.render.image.encode_srgb8` (clamp) by table look-up.
 
     The same codes as ``encode_srgb8(image, exposure=exposure)``, without evaluating the sRGB
     curve at every pixel.  Code ``k`` starts at the linear value ``t_k = srgb_to_linear((k −
@@ -867,7 +867,7 @@ def encode8(image, coverage=None, exposure: float = 0.0):
 
     Examples
     --------
-    >>> from lighting.image import encode_srgb8
+    >>> from lighting.render.image import encode_srgb8
     >>> img = np.array([[[0.0, 0.5, 2.0], [0.001, 0.2, 1.0]]])
     >>> bool(np.array_equal(encode8(img)[0], encode_srgb8(img)[0]))
     True
@@ -925,7 +925,7 @@ class ExplorerModel:
     mesh_size : int
         Pixels of the coarse sphere images.
     lobe_resolution : int
-        Rings of the lobe mesh (:func:`lighting.analysis.lobe_mesh`).
+        Rings of the lobe mesh (:func:`lighting.analysis.analysis.lobe_mesh`).
     dtype : float32 or float64
         Shading precision (float32: faster, relative error of a few 1e-7).
 

@@ -26,10 +26,10 @@ import time
 import numpy as np
 
 from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
-from lighting.camera import Camera
-from lighting.mesh import sphere_for_triangles
-from lighting.raster import rasterize
-from lighting.render import Renderer
+from lighting.render.camera import Camera
+from lighting.render.mesh import sphere_for_triangles
+from lighting.render.raster import rasterize
+from lighting.render.renderer import Renderer
 
 SIZE = 512
 LIGHT_DIRS = [(-1.0, 1.0, 1.5), (1.0, 0.3, 0.8), (0.0, -1.0, 0.6)]
@@ -170,7 +170,7 @@ def time_plans(repeat: int = 15, size=None) -> list[dict]:
     planned frame also re-uses its cached samples, exactly as an interactive
     session does, while the full evaluation prepares every input afresh.
     """
-    from lighting.scene import SceneRenderer, example_path, list_examples, load_scene
+    from lighting.scene.scene import SceneRenderer, example_path, list_examples, load_scene
 
     rows = []
     for name in list_examples():

@@ -29,7 +29,8 @@ from lighting._numeric import (
 PROG = "lighting-explorer"
 
 #: Peak bytes per pixel of ``sphere`` (ray casting, shading in float64, encoding): measured 242; this is the
-#: engine's own estimate for rendering (``lighting.render``), so that the flag is named before the engine refuses.
+#: engine's own estimate for rendering (``lighting.render.renderer``), so that the flag is named before the
+#: engine refuses.
 SPHERE_BYTES_PER_PIXEL = 320
 
 #: The smallest ``--memory-budget`` accepted.
@@ -84,8 +85,8 @@ def _rgb(flag: str, text: str):
 
 def _cmd_sphere(args) -> int:
     from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
-    from lighting.analytic import render_sphere
-    from lighting.image import MAX_EXPOSURE, encode_srgb8
+    from lighting.render.image import MAX_EXPOSURE, encode_srgb8
+    from lighting.render.sphere import render_sphere
 
     from .output import check_output_path, write_image
 

@@ -12,7 +12,7 @@ lecture slide, the Okabe–Ito colour-blind-safe palette for curves, one colour 
 slide vector wherever it appears (``n``, ``l``, ``v``, ``r``/``R_l``, ``R_v``,
 ``h``: :data:`VEC`), and perceptually uniform colour maps (viridis for values,
 magma for quantities spanning decades).  Rendered spheres and scenes are the
-engine's linear images, sRGB-encoded by :func:`lighting.image.encode_srgb8` and
+engine's linear images, sRGB-encoded by :func:`lighting.render.image.encode_srgb8` and
 shown with ``imshow``: no Matplotlib or VTK lighting anywhere.
 """
 
@@ -24,8 +24,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lighting.analytic import render_sphere
-from lighting.image import encode_srgb8
+from lighting.render.image import encode_srgb8
+from lighting.render.sphere import render_sphere
 
 __all__ = [
     "Quality",
@@ -130,7 +130,7 @@ class Quality:
 
     @property
     def lobe_resolution(self) -> int:
-        """``resolution`` of :func:`lighting.analysis.lobe_mesh`."""
+        """``resolution`` of :func:`lighting.analysis.analysis.lobe_mesh`."""
         return 8 if self.quick else 40
 
     @property
@@ -217,7 +217,7 @@ def show_image(ax, rgb8, title: str | None = None, *, color=None, fontsize=None,
 def polar_half(ax, rmax: float, *, label: str | None = r"$f_r$ (1/sr)", ticks: int = 3) -> None:
     """A polar axes showing the upper hemisphere: the normal points up, angles in degrees from it.
 
-    Positive angles are to the right (the mirror side in :func:`lighting.analysis.polar_slice`); the
+    Positive angles are to the right (the mirror side in :func:`lighting.analysis.analysis.polar_slice`); the
     radial scale reads along the right half of the baseline, its label sits under the origin.
     """
     ax.set_theta_zero_location("N")

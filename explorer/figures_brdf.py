@@ -10,14 +10,14 @@ import math
 import numpy as np
 
 from lighting import AmbientLight, BlinnPhong, CookTorrance, Lambert, Material, Phong, PointLight
-from lighting.analysis import lobe_mesh, polar_slice, reciprocity_pair
-from lighting.analytic import sphere_camera
-from lighting.audit import audit
-from lighting.brdf import Geometry
-from lighting.fresnel import dielectric, schlick
-from lighting.image import encode_srgb8
-from lighting.microfacet import beckmann_ndf, ggx_ndf, smith_g1_beckmann
-from lighting.render import AnalyticSphere, Renderer
+from lighting.analysis.analysis import lobe_mesh, polar_slice, reciprocity_pair
+from lighting.analysis.audit import audit
+from lighting.models.brdf import Geometry
+from lighting.models.fresnel import dielectric, schlick
+from lighting.models.microfacet import beckmann_ndf, ggx_ndf, smith_g1_beckmann
+from lighting.render.image import encode_srgb8
+from lighting.render.renderer import AnalyticSphere, Renderer
+from lighting.render.sphere import sphere_camera
 
 from .figures_base import PALETTE, VEC, equation_row, new_figure, polar_half, register, series_colours, show_image
 
@@ -157,7 +157,7 @@ def _lobe_axes(ax, mesh, title):
         "The 3D surface plot of each BRDF for one light direction l (θ_l = {theta_deg:g}°): the distance "
         "from the centre in a view direction v is f_r(l, v), and the colour (viridis) is the same value "
         "relative to the lobe's peak. The grey circle is the surface, n its normal. Meshes from "
-        "lighting.analysis.lobe_mesh, whose grid follows narrow lobes; each panel has its own scale."
+        "lighting.analysis.analysis.lobe_mesh, whose grid follows narrow lobes; each panel has its own scale."
     ),
     slides="UBC: BRDF measurements/plots (3D surface). CMSC 435: Diffuse; Phong; Cook–Torrance; Blinn–Phong",
     theta_deg=45.0,
@@ -575,7 +575,7 @@ def cook_torrance_spheres(q, *, alphas, f0, kd, light):
     "plausibility_table",
     title="Physical plausibility of every model (the audit table)",
     caption=(
-        "The plausibility audit (lighting.audit): for each model and parameter set, whether f_r is positive, "
+        "The plausibility audit (lighting.analysis.audit): for each model and parameter set, whether f_r is positive, "
         "reciprocal (largest relative |f(l,v) − f(v,l)| over {pairs} direction pairs) and energy conserving "
         "(directional albedo ρ = ∫ f_r (n·l) dω_l at most 1, by quadrature with {samples} nodes at each of "
         "{angles} view angles; ρ(0°) at normal incidence, ρ max with the angle where it occurs). Green: pass; "

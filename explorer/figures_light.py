@@ -20,13 +20,13 @@ from lighting import (
     SpotLight,
     shade,
 )
-from lighting.analytic import sphere_camera
-from lighting.camera import Camera
-from lighting.image import encode_srgb8
-from lighting.machband import edge_jump_metric, scanline_profile
-from lighting.mesh import TriangleMesh, uv_sphere
-from lighting.render import AnalyticSphere, Renderer
-from lighting.scene import SceneRenderer, example_path, load_scene
+from lighting.analysis.machband import edge_jump_metric, scanline_profile
+from lighting.render.camera import Camera
+from lighting.render.image import encode_srgb8
+from lighting.render.mesh import TriangleMesh, uv_sphere
+from lighting.render.renderer import AnalyticSphere, Renderer
+from lighting.render.sphere import sphere_camera
+from lighting.scene.scene import SceneRenderer, example_path, load_scene
 
 from .figures_base import PALETTE, VEC, equation_row, new_figure, register, show_image, sphere_rgb8, vector
 
@@ -60,7 +60,7 @@ def light_is_linear(q, *, warm, cool):
     mat = Material(Lambert(0.75) + Phong(0.35, 30.0))
     a = [DirectionalLight(warm[0], color=warm[1])]
     b = [DirectionalLight(cool[0], color=cool[1])]
-    from lighting.analytic import render_sphere
+    from lighting.render.sphere import render_sphere
 
     ia, ib, iab = (render_sphere(mat, lts, size=q.sphere_px) for lts in (a, b, a + b))
     diff = float(np.max(np.abs(ia + ib - iab)))

@@ -10,10 +10,10 @@ import math
 import numpy as np
 
 from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material, Phong, PointLight
-from lighting.camera import Camera
-from lighting.image import encode_srgb8
-from lighting.mesh import TriangleMesh
-from lighting.render import Renderer
+from lighting.render.camera import Camera
+from lighting.render.image import encode_srgb8
+from lighting.render.mesh import TriangleMesh
+from lighting.render.renderer import Renderer
 from lighting.vec import halfway, reflect
 
 from .figures_base import PALETTE, VEC, angle_arc, new_figure, register, series_colours, show_image, sphere_rgb8, vector

@@ -11,11 +11,11 @@ import math
 import numpy as np
 
 from lighting import CookTorrance, DirectionalLight, Lambert, Material
-from lighting.analytic import render_sphere, sphere_camera
-from lighting.environment import LatLongEnvironment, SmallPatchEnvironment
-from lighting.image import encode_srgb8
-from lighting.integrate import outgoing_radiance
-from lighting.render import AnalyticSphere, Renderer
+from lighting.integrate.integrate import outgoing_radiance
+from lighting.lights.environment import LatLongEnvironment, SmallPatchEnvironment
+from lighting.render.image import encode_srgb8
+from lighting.render.renderer import AnalyticSphere, Renderer
+from lighting.render.sphere import render_sphere, sphere_camera
 
 from .figures_base import PALETTE, new_figure, register, show_image
 
@@ -70,7 +70,7 @@ def _image(r, values, fade=True):
     title="The rendering equation: full environment vs light at one point",
     caption=(
         "L_o(v) = ∫ f_r(v, l) L_i(l) (n·l) dω(l), integrated per pixel by the engine "
-        "(lighting.integrate.outgoing_radiance, quadrature with {samples} nodes on the BRDF lobe, "
+        "(lighting.integrate.integrate.outgoing_radiance, quadrature with {samples} nodes on the BRDF lobe, "
         "{patch_samples} on the patch). Top: a sphere lit by a full environment — a daylight sky with a bright "
         "sun glow, shown as a latitude–longitude map (θ "
         "from the zenith, φ around it) — light arrives from every direction. Bottom: the same sun as a small "
@@ -147,7 +147,7 @@ def rendering_equation(q, *, sun_cam, solid_angle, patch_irradiance, kd, alpha, 
 # --------------------------------------------------------------------------- accuracy
 def _read_points(path):
     """Points of an ``accuracy.csv`` written by ``lighting-explorer report accuracy``."""
-    from lighting.accuracy import Point
+    from lighting.validation.accuracy import Point
 
     pts = []
     with open(path, newline="", encoding="utf-8") as f:
@@ -192,7 +192,7 @@ def accuracy(q, *, csv):
         points = _read_points(csv)
         source = "read from an accuracy.csv of lighting-explorer report accuracy"
     else:
-        from lighting.accuracy import run_studies
+        from lighting.validation.accuracy import run_studies
 
         points = [p for st in run_studies(quick=q.quick) for p in st.points]
         source = "measured while drawing, with the settings of lighting-explorer report accuracy" + (

@@ -41,7 +41,7 @@ import threading
 
 import numpy as np
 
-from lighting.image import file_mode
+from lighting.render.image import file_mode
 
 __all__ = [
     "OutputError",
@@ -424,7 +424,7 @@ def encode_image(fmt: str, *, rgb8=None, linear=None):
         if fmt == "pfm":
             return _pfm_bytes(a)
         return _exr_writer(a)
-    from lighting.image import _png_bytes
+    from lighting.render.image import _png_bytes
 
     a = np.asarray(rgb8)
     if a.dtype != np.uint8 or a.ndim != 3 or a.shape[-1] not in (3, 4):

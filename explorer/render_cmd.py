@@ -73,7 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _resolve_scene(arg: str) -> str:
-    from lighting.scene import example_path, list_examples
+    from lighting.scene.scene import example_path, list_examples
 
     if os.path.exists(arg) or os.sep in arg or "/" in arg:
         return arg
@@ -90,7 +90,7 @@ def _short(text) -> str:
 
 
 def _run(args) -> int:
-    from lighting.scene import SceneRenderer, check_scene_budget, list_examples, load_scene, scene_output_path
+    from lighting.scene.scene import SceneRenderer, check_scene_budget, list_examples, load_scene, scene_output_path
 
     from .output import check_output_path, write_image
 

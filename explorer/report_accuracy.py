@@ -10,8 +10,8 @@ import sys
 import time
 from dataclasses import asdict
 
-from lighting.accuracy import STUDY_NAMES, run_studies, summary
-from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
+from lighting.integrate.integrate import UNCONVERGED_RELATIVE_ERROR
+from lighting.validation.accuracy import STUDY_NAMES, run_studies, summary
 
 from .progress import Progress
 

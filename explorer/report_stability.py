@@ -1,11 +1,11 @@
 """``lighting-explorer report stability``: numerical stability on stiff and extreme cases.
 
-Runs :func:`lighting.stability.run` (every model and light, every case family,
+Runs :func:`lighting.validation.stability.run` (every model and light, every case family,
 float32 and float64, against an 80-digit mpmath reference on the same binary
 inputs) and writes, into ``--out`` (default ``out/stability``):
 
 * ``stability.csv`` — one row per model variant × case family × dtype × form
-  (every field of :class:`lighting.stability.SummaryRow`, plus ``passed``, ``u``
+  (every field of :class:`lighting.validation.stability.SummaryRow`, plus ``passed``, ``u``
   and the bound factor);
 * ``rearrangements.csv`` — each formula the engine had to rearrange, with the
   worst ``err / (max(κ,1) u)`` on the sweep before and after;
@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lighting import stability as st
+from lighting.validation import stability as st
 
 from .output import atomic_write
 from .progress import Progress

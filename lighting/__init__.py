@@ -1,70 +1,45 @@
 """lighting — a standalone local-illumination engine for teaching (NumPy only).
 
-Modules
--------
-vec         vectors: normalize, dot, reflect, halfway
-brdf        reflectance models: Lambert, Phong, BlinnPhong, CookTorrance, sums
-microfacet  NDFs (Beckmann, GGX) and shadowing–masking (V-cavity, Smith)
-fresnel     Schlick and exact dielectric Fresnel
-lights      ambient, directional, point, spot and area lights
-illumination the illumination equation, classic and physical form
-gl          the OpenGL 1.x/2.1 fixed-function lighting equation, exactly
-image       linear float images → sRGB 8-bit PNG
-mesh        triangle meshes: UV sphere, icosphere, files through trimesh (lazily)
-camera      look-at cameras, perspective and orthographic
-raster      NumPy rasterizer (geometry buffer) and the ray-cast analytic sphere
-render      flat / Gouraud / Phong-interpolated images; re-shading a cached buffer
-machband    scan-line profiles and the Mach band metric
-analysis    BRDF plots as data: polar slices, half/difference-angle views, 3D lobes
-environment environment lighting: constant, lat-long image, function, small bright patch
-sampling    hemisphere and BRDF importance sampling
-integrate   albedo and the rendering equation: quadrature, Monte Carlo, SH irradiance
-audit       the plausibility audit: positive, reciprocal, energy conserving
+The subpackages follow the lectures:
 
-Importing this package loads NumPy and nothing heavier.
+=========== ==============================================================================
+vec         vectors: normalize, dot, reflect, halfway, frames
+models      reflectance models: Lambert, Phong, Blinn–Phong, Cook–Torrance, microfacet and
+            Fresnel terms, the model protocol and its registry
+lights      ambient, directional, point, spot and area lights; environments
+shading     the illumination equation (classic and physical), plans, the OpenGL mode
+render      meshes, cameras, the rasterizer, flat / Gouraud / Phong images, image files
+integrate   the rendering equation: sampling, quadrature, albedo, SH irradiance
+analysis    BRDFs as data: slices, lobes, the plausibility audit, Mach bands
+scene       scene files (TOML) and the example scenes
+validation  the accuracy and stability studies (not loaded by ``import lighting``)
+=========== ==============================================================================
+
+Importing this package loads NumPy and nothing heavier.  The module paths of the
+public contract (``lighting.brdf``, ``lighting.microfacet``, ``lighting.fresnel``,
+``lighting.gl``, ``lighting.sampling``, ``lighting.integrate``, ``lighting.vec``) keep
+working; the first five are re-export modules.
 """
 
-from . import (
-    analysis,
-    audit,
-    brdf,
-    camera,
-    environment,
-    fresnel,
-    illumination,
-    integrate,
-    lights,
-    machband,
-    mesh,
-    microfacet,
-    raster,
-    render,
-    sampling,
-    vec,
-)
-from .brdf import BlinnPhong, CookTorrance, Lambert, Phong
-from .illumination import Material, shade, shade_terms
-from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
+from . import analysis, integrate, lights, models, render, shading, vec
+from .analysis import audit, machband  # noqa: F401  (old module paths, kept as attributes)
+from .integrate import sampling  # noqa: F401
+from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight, environment  # noqa: F401
+from .models import BlinnPhong, CookTorrance, Lambert, Phong, brdf, fresnel, microfacet  # noqa: F401
+from .render import camera, mesh, raster  # noqa: F401
+from .shading import Material, shade, shade_terms
+from .shading import equation as illumination  # noqa: F401
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "analysis",
-    "audit",
-    "brdf",
-    "camera",
-    "environment",
-    "integrate",
-    "machband",
-    "mesh",
-    "raster",
-    "render",
-    "sampling",
-    "fresnel",
-    "lights",
-    "microfacet",
-    "illumination",
     "vec",
+    "models",
+    "lights",
+    "shading",
+    "render",
+    "integrate",
+    "analysis",
     "Lambert",
     "Phong",
     "BlinnPhong",

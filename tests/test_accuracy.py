@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from explorer import report_accuracy
-from lighting.accuracy import run_studies, summary
+from lighting.validation.accuracy import run_studies, summary
 
 
 @pytest.fixture(scope="module")

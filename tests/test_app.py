@@ -21,11 +21,11 @@ from explorer.app_state import (
     state_from_scene,
 )
 from lighting import BlinnPhong, CookTorrance, Lambert, Phong
-from lighting.analysis import polar_slice
-from lighting.illumination import Material, shade
-from lighting.image import encode_srgb8
-from lighting.machband import LUMA, edge_jump_metric
-from lighting.scene import example_path
+from lighting.analysis.analysis import polar_slice
+from lighting.analysis.machband import LUMA, edge_jump_metric
+from lighting.render.image import encode_srgb8
+from lighting.scene.scene import example_path
+from lighting.shading.equation import Material, shade
 
 pv = pytest.importorskip("pyvista")
 SIZE = (1200, 720)  # smaller than the default window: the same layout, faster to render
@@ -772,7 +772,7 @@ def test_the_command_exits_nonzero_at_once_without_an_x_server(tmp_path):
 
 def test_albedo_readout_with_its_error_and_the_unconverged_flag(fresh):
     # Item 11: the explorer shows ρ(θ_v) ± error and flags it "unconverged" above 2 % relative error.
-    from lighting.integrate import directional_albedo
+    from lighting.integrate.integrate import directional_albedo
 
     app = fresh
     app.set_control("elevation", 30.0)

@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-from lighting.audit import AuditCase, audit, default_cases, direction_pairs
-from lighting.brdf import CookTorrance, Lambert, Phong
+from lighting.analysis.audit import AuditCase, audit, default_cases, direction_pairs
+from lighting.models.brdf import CookTorrance, Lambert, Phong
 
 
 @pytest.fixture(scope="module")

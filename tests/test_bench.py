@@ -30,7 +30,7 @@ if sys.argv[1] == "tune":
     from explorer._allocator import tune_allocator
     assert tune_allocator()
 from explorer.bench import bench_scene
-from lighting.render import Renderer
+from lighting.render.renderer import Renderer
 mesh, camera, material, lights = bench_scene(size=192)
 for _ in range(3):
     Renderer(mesh, camera).render(material, lights)

@@ -5,7 +5,7 @@ import pytest
 from quadrature import direction, hemisphere
 
 from lighting import vec
-from lighting.brdf import BlinnPhong, CookTorrance, Lambert, Phong
+from lighting.models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 
 N = np.array([0.0, 0.0, 1.0])
 
@@ -153,7 +153,7 @@ def test_pi_denominator_reflects_four_over_pi_more():
 
 
 def test_cook_torrance_terms_compose():
-    from lighting.brdf import Geometry
+    from lighting.models.brdf import Geometry
 
     ct = CookTorrance((1.0, 0.5, 0.25), 0.25, (0.9, 0.6, 0.3), ndf="ggx", geometry="v-cavity")
     l, v = _pairs(seed=13)  # noqa: E741
@@ -204,7 +204,7 @@ def test_bad_parameters_raise_clear_errors(factory, match):
 # --------------------------------------------------------------------------- issue 14, items 7 and 9
 def _stacked_fields(model, n, l, v, form):  # noqa: E741
     """The image path: ``separable_cos``/``separable_classic`` on a one-light :class:`StackedGeometry`."""
-    from lighting.brdf import StackedGeometry
+    from lighting.models.brdf import StackedGeometry
 
     unit = [x / np.linalg.norm(x.astype(np.float64)).astype(x.dtype) for x in (n, l, v)]
     g = StackedGeometry(unit[0][None], unit[1][None], unit[2][None])

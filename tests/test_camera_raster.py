@@ -6,9 +6,9 @@ import mpmath
 import numpy as np
 import pytest
 
-from lighting.camera import Camera
-from lighting.mesh import TriangleMesh, icosphere
-from lighting.raster import GBuffer, rasterize, raycast_sphere
+from lighting.render.camera import Camera
+from lighting.render.mesh import TriangleMesh, icosphere
+from lighting.render.raster import GBuffer, rasterize, raycast_sphere
 
 
 def pixel_centres(cam):
@@ -330,7 +330,7 @@ def test_depth_test_keeps_the_nearer_triangle_in_either_order():
 
 
 def test_exact_depth_ties_go_to_the_first_face(monkeypatch):
-    import lighting.raster as raster
+    import lighting.render.raster as raster
 
     # Every face listed twice (duplicated geometry): equal depths everywhere, the first copy wins.
     m = icosphere(2)
@@ -346,7 +346,7 @@ def test_exact_depth_ties_go_to_the_first_face(monkeypatch):
 
 
 def test_batching_does_not_change_the_result(monkeypatch):
-    import lighting.raster as raster
+    import lighting.render.raster as raster
 
     m = icosphere(3)
     cam = Camera((0.3, 0.4, 3), (0, 0, 0), fov_y_deg=50, width=96, height=80)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from lighting.environment import (
+from lighting.lights.environment import (
     ConstantEnvironment,
     FunctionEnvironment,
     LatLongEnvironment,

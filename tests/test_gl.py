@@ -1,4 +1,4 @@
-"""Value tests for ``lighting.gl``: hand-computed colours of the OpenGL 2.1
+"""Value tests for ``lighting.shading.opengl``: hand-computed colours of the OpenGL 2.1
 fixed-function lighting equation (§2.14.1), dtype policy, degenerate inputs
 and parameter validation."""
 
@@ -12,8 +12,8 @@ import warnings
 import numpy as np
 import pytest
 
-import lighting.gl as gl
-from lighting.gl import Light, Material, shade_vertices
+import lighting.shading.opengl as gl
+from lighting.shading.opengl import Light, Material, shade_vertices
 
 BLACK = (0.0, 0.0, 0.0)
 UP = (0.0, 0.0, 1.0)

@@ -1,4 +1,4 @@
-"""``lighting.gl.shade_vertices`` against a real OpenGL implementation.
+"""``lighting.shading.opengl.shade_vertices`` against a real OpenGL implementation.
 
 The fixed-function pipeline of Mesa (or whatever OpenGL the machine offers
 headless) lights the same vertices under the same state, and its lit colours
@@ -551,7 +551,7 @@ def _edge_configs():
 
 
 def _shade(cfg, dtype=np.float64):
-    from lighting.gl import Light, Material, shade_vertices
+    from lighting.shading.opengl import Light, Material, shade_vertices
 
     return shade_vertices(
         np.asarray(cfg["positions"], dtype=dtype),

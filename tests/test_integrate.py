@@ -14,9 +14,7 @@ from quadrature import hemisphere
 from scipy import stats
 
 from lighting import DirectionalLight, Material, shade_terms
-from lighting.brdf import BlinnPhong, CookTorrance, Lambert, Phong
-from lighting.environment import ConstantEnvironment, FunctionEnvironment, LatLongEnvironment, SmallPatchEnvironment
-from lighting.integrate import (
+from lighting.integrate.integrate import (
     METHODS,
     SH_CONSTANTS,
     Estimate,
@@ -28,7 +26,7 @@ from lighting.integrate import (
     sh_coefficients,
     sh_irradiance,
 )
-from lighting.sampling import (
+from lighting.integrate.sampling import (
     CosineSampler,
     MicrofacetSampler,
     PhongSampler,
@@ -41,6 +39,13 @@ from lighting.sampling import (
     sample_stratified,
     sample_uniform,
 )
+from lighting.lights.environment import (
+    ConstantEnvironment,
+    FunctionEnvironment,
+    LatLongEnvironment,
+    SmallPatchEnvironment,
+)
+from lighting.models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 
 MC = [m for m in METHODS if m != "quadrature"]
 
@@ -773,7 +778,7 @@ def test_sh_error_includes_the_truncation():
 
 
 def test_unconverged_flag_is_public_and_documented():
-    from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
+    from lighting.integrate.integrate import UNCONVERGED_RELATIVE_ERROR
 
     assert UNCONVERGED_RELATIVE_ERROR == 0.02
     est = Estimate(np.array([1.0, 1.0, 0.0, 0.0]), np.array([0.019, 0.021, 0.0, 1e-30]), 10, 0.0, "uniform")

@@ -331,7 +331,7 @@ def test_area_light_sample_very_close_saturates_or_gives_zero(dtype):
     # A/S / r² overflows, so the irradiance is 0; facing it, it saturates (r² underflowed to 0, and the
     # point was taken to sit on the sample, receiving nothing).
     tiny = 1e-170 if dtype == np.float64 else 1e-30
-    from lighting.lights import _r2_sequence
+    from lighting.lights.punctual import _r2_sequence
 
     u0, u1 = _r2_sequence(1, None)[0] - 0.5
     rect = RectLight(center=(-u0, u1, 0.0), edge_u=(1.0, 0, 0), edge_v=(0, -1.0, 0), samples=1)
@@ -357,7 +357,7 @@ def test_directions_from_angles_are_exact_at_right_angles():
 
 
 def test_spot_cone_test_exact_at_0_and_90_degrees_and_resolves_tiny_cutoffs():
-    from lighting.lights import _one_minus_cos_deg
+    from lighting.lights.punctual import _one_minus_cos_deg
 
     assert (_one_minus_cos_deg(0), _one_minus_cos_deg(90)) == (0.0, 1.0)
     assert _one_minus_cos_deg(60) == pytest.approx(0.5, rel=2.3e-16)

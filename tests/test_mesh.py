@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from lighting.mesh import TriangleMesh, icosphere, load_mesh, sphere_for_triangles, uv_sphere
+from lighting.render.mesh import TriangleMesh, icosphere, load_mesh, sphere_for_triangles, uv_sphere
 
 trimesh = pytest.importorskip("trimesh")
 

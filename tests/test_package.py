@@ -9,16 +9,16 @@ import pytest
 
 from explorer.cli import main
 from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
-from lighting.analytic import render_sphere, sphere_camera
-from lighting.image import encode_srgb8, read_png, srgb_to_linear, write_png
-from lighting.raster import raycast_sphere
+from lighting.render.image import encode_srgb8, read_png, srgb_to_linear, write_png
+from lighting.render.raster import raycast_sphere
+from lighting.render.sphere import render_sphere, sphere_camera
 
 
 def test_import_lighting_loads_nothing_heavy():
     code = (
-        "import sys, lighting, lighting.brdf, lighting.lights, lighting.illumination, lighting.gl, lighting.image;"
+        "import sys, lighting, lighting.brdf, lighting.gl, lighting.sampling, lighting.microfacet, lighting.fresnel;"
         "heavy = {'matplotlib', 'pyvista', 'vtk', 'vtkmodules', 'trimesh', 'scipy'};"
-        "print(sorted(m for m in sys.modules if m.split('.')[0] in heavy))"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in heavy or m.startswith('lighting.validation')))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == "[]"
@@ -106,10 +106,10 @@ def _one_error_line(err: str) -> str:
     ],
 )
 def test_cli_sphere_refuses_bad_values_in_the_words_of_the_flag(tmp_path, capsys, monkeypatch, argv, expected, absent):
-    import lighting.analytic
+    import lighting.render.sphere
 
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(lighting.analytic, "render_sphere", lambda *a, **k: pytest.fail("rendered a bad request"))
+    monkeypatch.setattr(lighting.render.sphere, "render_sphere", lambda *a, **k: pytest.fail("rendered a bad request"))
     assert main(["sphere", "-o", "x.png", *argv]) == 2
     line = _one_error_line(capsys.readouterr().err)
     for text in expected:
@@ -131,10 +131,10 @@ def test_cli_sphere_refuses_bad_values_in_the_words_of_the_flag(tmp_path, capsys
     ],
 )
 def test_cli_sphere_refuses_outputs_it_cannot_write_before_rendering(tmp_path, capsys, monkeypatch, out, expected):
-    import lighting.analytic
+    import lighting.render.sphere
 
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(lighting.analytic, "render_sphere", lambda *a, **k: pytest.fail("rendered a bad request"))
+    monkeypatch.setattr(lighting.render.sphere, "render_sphere", lambda *a, **k: pytest.fail("rendered a bad request"))
     assert main(["sphere", "-o", out, "--size", "12"]) == 2
     assert expected in _one_error_line(capsys.readouterr().err)
     assert list(tmp_path.iterdir()) == []
@@ -381,9 +381,9 @@ def test_a_signal_between_the_renames_of_a_pair_waits_until_both_are_in_place(tm
 
 
 def test_a_stop_signal_swallowed_by_a_library_still_stops_the_command_before_it_writes(tmp_path, monkeypatch, capsys):
-    import lighting.analytic
+    import lighting.render.sphere
 
-    real = lighting.analytic.render_sphere
+    real = lighting.render.sphere.render_sphere
 
     def render_with_a_greedy_library(*args, **kwargs):
         try:  # trimesh wraps its optional imports in "except BaseException": Ctrl-C there is lost
@@ -394,10 +394,10 @@ def test_a_stop_signal_swallowed_by_a_library_still_stops_the_command_before_it_
             pass
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(lighting.analytic, "render_sphere", render_with_a_greedy_library)
+    monkeypatch.setattr(lighting.render.sphere, "render_sphere", render_with_a_greedy_library)
     out = tmp_path / "s.png"
     assert main(["sphere", "-o", str(out), "--size", "12"]) == 143
     assert capsys.readouterr().err == "lighting-explorer: terminated\n"
     assert list(tmp_path.iterdir()) == []
-    monkeypatch.setattr(lighting.analytic, "render_sphere", real)
+    monkeypatch.setattr(lighting.render.sphere, "render_sphere", real)
     assert main(["sphere", "-o", str(out), "--size", "12"]) == 0  # the next command starts afresh

@@ -13,10 +13,10 @@ from lighting import (
     RectLight,
     SpotLight,
 )
-from lighting.camera import Camera
-from lighting.mesh import icosphere, uv_sphere
-from lighting.plan import bounding_sphere, compile_plan, evaluate_full
-from lighting.render import AnalyticSphere, Renderer
+from lighting.render.camera import Camera
+from lighting.render.mesh import icosphere, uv_sphere
+from lighting.render.plan import bounding_sphere, compile_plan, evaluate_full
+from lighting.render.renderer import AnalyticSphere, Renderer
 
 PERSP = Camera((0.3, 0.2, 6.0), (0, 0, 0), fov_y_deg=24, width=64, height=64)
 ORTHO = Camera((0, 0, 6.0), (0, 0, 0), projection="orthographic", ortho_height=2.4, width=64, height=64)
@@ -120,7 +120,7 @@ def test_plans_do_not_rasterize_again():
 
 
 # ------------------------------------------------------------------ scenes
-from lighting.scene import SceneRenderer, example_path, list_examples, load_scene, parse_scene  # noqa: E402
+from lighting.scene.scene import SceneRenderer, example_path, list_examples, load_scene, parse_scene  # noqa: E402
 
 
 @pytest.mark.parametrize("name", list_examples())
@@ -217,8 +217,8 @@ def test_hidden_objects_and_shared_materials_in_explain():
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
 def test_diffuse_directional_plan_saturates_like_the_general_path(dtype):
     # Issue 14, item 8: a saturated colour times a zero weight (the far side) is 0, the lit side saturates.
-    from lighting.mesh import icosphere
-    from lighting.render import Renderer
+    from lighting.render.mesh import icosphere
+    from lighting.render.renderer import Renderer
 
     mat = Material(Lambert(1e308))
     lights = [AmbientLight(1e308, 1e308), DirectionalLight((0, 0, 1.0), intensity=1e308)]
@@ -230,5 +230,5 @@ def test_diffuse_directional_plan_saturates_like_the_general_path(dtype):
     np.testing.assert_array_equal(img, evaluate_full(r, mat, lights))
     with pytest.raises(ValueError, match=r"^bounds must be None or \(centre, radius\)"):
         compile_plan(mat, lights, bounds="ball")
-    with pytest.raises(TypeError, match="^renderer must be a lighting.render.Renderer; got NoneType"):
+    with pytest.raises(TypeError, match="^renderer must be a lighting.render.renderer.Renderer; got NoneType"):
         plan.execute(None)

@@ -107,7 +107,7 @@ def _snapshot(root: Path) -> dict:
 
 
 def _old_png() -> bytes:
-    from lighting.image import _png_bytes
+    from lighting.render.image import _png_bytes
 
     return _png_bytes(np.full((2, 2, 3), 7, np.uint8))
 
@@ -161,10 +161,10 @@ def _check_one(argv, box: Path, monkeypatch) -> list[str]:
 def test_probe_odd_command_lines(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     pytest.importorskip("pyvista")
-    import lighting.stability
+    import lighting.validation.stability
 
     # The reports themselves are not under test here, only their option checks: never run them.
-    monkeypatch.setattr(lighting.stability, "run", lambda **kw: pytest.fail("report stability ran"))
+    monkeypatch.setattr(lighting.validation.stability, "run", lambda **kw: pytest.fail("report stability ran"))
     monkeypatch.setattr("explorer.bench.run", lambda *a, **k: pytest.fail("bench ran"))
     monkeypatch.setattr("explorer.bench.time_plans", lambda *a, **k: pytest.fail("bench ran"))
     cases = all_cases()

@@ -5,8 +5,9 @@
     patches, every method.  Each call must return finite values >= 0 with finite errors >= 0, keep
     the dtype, and raise no exception or NumPy warning.
 (b) Illegal arguments, one per call, over every public function of lighting.integrate,
-    lighting.sampling, lighting.environment, lighting.audit and lighting.accuracy: each must raise a
-    ValueError or TypeError whose message names the parameter.
+    lighting.integrate.sampling, lighting.lights.environment, lighting.analysis.audit and
+    lighting.validation.accuracy: each must raise a ValueError or TypeError whose message names
+    the parameter.
 
 Both parts count their cases and failures by kind and print one summary line (``pytest -s``).
 """
@@ -24,8 +25,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from probes import PROBE_SETTINGS, IllegalTally
 
-from lighting import accuracy, audit, environment, integrate, sampling
-from lighting.brdf import BlinnPhong, CookTorrance, Lambert, Phong
+from lighting import audit, environment, integrate, sampling
+from lighting.models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
+from lighting.validation import accuracy
 
 # ------------------------------------------------------------------------------------------ (a) legal extremes
 LEGAL = collections.Counter()

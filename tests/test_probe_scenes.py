@@ -29,7 +29,7 @@ import tracemalloc
 
 from explorer import render_cmd
 from lighting._numeric import set_memory_budget
-from lighting.scene import EXAMPLES_DIR, list_examples
+from lighting.scene.scene import EXAMPLES_DIR, list_examples
 
 SEED = 14
 MUTANTS_PER_SCENE = 26

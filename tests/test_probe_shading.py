@@ -40,13 +40,13 @@ from lighting import (
     shade_terms,
 )
 from lighting._numeric import _fmt
-from lighting.analytic import render_sphere, sphere_camera
-from lighting.camera import Camera
-from lighting.machband import edge_jump_metric, luminance, scanline_profile
-from lighting.mesh import icosphere
-from lighting.plan import bounding_sphere, compile_plan, evaluate_full
-from lighting.raster import rasterize, raycast_sphere
-from lighting.render import AnalyticSphere, Renderer, render
+from lighting.analysis.machband import edge_jump_metric, luminance, scanline_profile
+from lighting.render.camera import Camera
+from lighting.render.mesh import icosphere
+from lighting.render.plan import bounding_sphere, compile_plan, evaluate_full
+from lighting.render.raster import rasterize, raycast_sphere
+from lighting.render.renderer import AnalyticSphere, Renderer, render
+from lighting.render.sphere import render_sphere, sphere_camera
 
 SETTINGS = PROBE_SETTINGS | dict(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 DTYPES = (np.float32, np.float64)

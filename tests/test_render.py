@@ -2,12 +2,12 @@ import numpy as np
 import pytest
 
 from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material, Phong, PointLight, shade
-from lighting.analytic import sphere_camera
-from lighting.camera import Camera
-from lighting.image import encode_srgb8
-from lighting.machband import edge_jump_metric, luminance, scanline_profile
-from lighting.mesh import TriangleMesh, icosphere, uv_sphere
-from lighting.render import AnalyticSphere, Renderer, render
+from lighting.analysis.machband import edge_jump_metric, luminance, scanline_profile
+from lighting.render.camera import Camera
+from lighting.render.image import encode_srgb8
+from lighting.render.mesh import TriangleMesh, icosphere, uv_sphere
+from lighting.render.renderer import AnalyticSphere, Renderer, render
+from lighting.render.sphere import sphere_camera
 
 CAM = Camera((0, 0, 6.0), (0, 0, 0), fov_y_deg=22, width=96, height=96)
 MAT = Material(Lambert((0.7, 0.3, 0.2)) + Phong(0.5, 40.0))
@@ -155,7 +155,7 @@ def test_srgb_png_pipeline_counts_clipping():
 
 
 def test_parallel_chunks_give_identical_pixels(monkeypatch):
-    import lighting.illumination as il
+    import lighting.shading.equation as il
 
     def frames():
         # Fresh renderers: their per-pixel samples (normals, view vectors) are built in chunks too.
@@ -175,7 +175,7 @@ def test_parallel_chunks_give_identical_pixels(monkeypatch):
 
 def test_tight_span_columns_change_nothing_but_the_work(monkeypatch):
     """The per-row column bounds only spare candidates: whole bounding-box rows give the same buffer."""
-    import lighting.raster as raster
+    import lighting.render.raster as raster
 
     rng = np.random.default_rng(7)
     # A sphere, and a soup of random triangles including slivers and nearly horizontal edges.
@@ -215,7 +215,7 @@ def test_view_vectors_at_pixels_are_the_pixel_rays():
 
 
 def test_directional_lights_need_no_interpolated_positions():
-    from lighting.illumination import shade_prepared
+    from lighting.shading.equation import shade_prepared
 
     r = Renderer(icosphere(3), CAM)
     directional = [AmbientLight(intensity=0.1), DirectionalLight((1, 0.2, 1.0)), DirectionalLight((-1, 1, 0.5))]
@@ -258,7 +258,7 @@ def test_gouraud_interpolating_saturated_vertex_colours_stays_finite(dtype):
 
 def test_renderer_arguments_and_memory_are_checked_before_work():
     from lighting._numeric import ArgumentTypeError, BudgetError
-    from lighting.analytic import render_sphere
+    from lighting.render.sphere import render_sphere
 
     with pytest.raises(BudgetError, match=r"^size needs about .* \(a 60000x60000 image\), over the memory budget"):
         render_sphere(MAT, LIGHTS, size=60000)

@@ -15,11 +15,10 @@ import pytest
 
 from explorer import render_cmd
 from lighting import gl
-from lighting.brdf import BlinnPhong, Lambert, Phong
-from lighting.illumination import Material, shade
-from lighting.image import read_png
-from lighting.lights import AmbientLight, DirectionalLight, PointLight
-from lighting.scene import (
+from lighting.lights.punctual import AmbientLight, DirectionalLight, PointLight
+from lighting.models.brdf import BlinnPhong, Lambert, Phong
+from lighting.render.image import read_png
+from lighting.scene.scene import (
     EXAMPLES_DIR,
     LIGHT_KEYS,
     MODEL_KEYS,
@@ -36,6 +35,7 @@ from lighting.scene import (
     render_scene,
     scene_to_toml,
 )
+from lighting.shading.equation import Material, shade
 
 DOCS = os.path.join(os.path.dirname(__file__), "..", "docs", "scenes.md")
 EXAMPLES = [
@@ -99,7 +99,7 @@ def view_kwargs(camera):
 # ------------------------------------------------------------------ the shipped examples
 def test_loading_a_scene_without_meshes_imports_nothing_heavy():
     code = (
-        "import sys, lighting.scene as s;"
+        "import sys, lighting.scene.scene as s;"
         "s.render_scene(s.load_scene(s.example_path('lambert_angles')).with_size(16, 8));"
         "heavy = {'matplotlib', 'pyvista', 'vtk', 'vtkmodules', 'trimesh', 'scipy'};"
         "print(sorted(m for m in sys.modules if m.split('.')[0] in heavy))"
@@ -631,7 +631,7 @@ samples = 5
 def test_docs_name_every_key():
     with open(DOCS) as f:
         doc = f.read()
-    from lighting.scene import CAMERA_KEYS, GL_MATERIAL_KEYS, IMAGE_KEYS, MATERIAL_KEYS, OPENGL_KEYS, RENDER_KEYS
+    from lighting.scene.scene import CAMERA_KEYS, GL_MATERIAL_KEYS, IMAGE_KEYS, MATERIAL_KEYS, OPENGL_KEYS, RENDER_KEYS
 
     tables = [CAMERA_KEYS, IMAGE_KEYS, RENDER_KEYS, OPENGL_KEYS, MATERIAL_KEYS, GL_MATERIAL_KEYS]
     tables += list(MODEL_KEYS.values()) + list(LIGHT_KEYS.values()) + list(OBJECT_KEYS.values())
@@ -759,7 +759,7 @@ def test_a_scene_output_inside_the_allowed_folders_is_written_and_minus_o_goes_a
 
 
 def test_scene_output_path_resolves_links_and_names_the_key(tmp_path):
-    from lighting.scene import scene_output_path
+    from lighting.scene.scene import scene_output_path
 
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
@@ -874,7 +874,7 @@ def test_image_size_samples_and_meshes_are_refused_before_allocating(tmp_path, c
 
 def test_the_budget_is_the_shared_one_and_raising_it_lets_a_scene_through(tmp_path):
     from lighting._numeric import set_memory_budget
-    from lighting.scene import SceneBudgetError, check_scene_budget, scene_estimate
+    from lighting.scene.scene import SceneBudgetError, check_scene_budget, scene_estimate
 
     scene = parse_scene(SMALL.replace("width = 8", "width = 300").replace("height = 8", "height = 200"))
     est = scene_estimate(scene)

@@ -15,8 +15,8 @@ import pytest
 from explorer import report_stability
 from explorer.progress import Progress
 from lighting import BlinnPhong, CookTorrance, Phong, SpotLight
-from lighting import stability as st
-from lighting.brdf import Geometry
+from lighting.models.brdf import Geometry
+from lighting.validation import stability as st
 
 
 @pytest.fixture(scope="module")

@@ -8,11 +8,11 @@ import pytest
 
 from lighting import AmbientLight, DirectionalLight, Material, PointLight
 from lighting._numeric import log1p
-from lighting.brdf import BlinnPhong, CookTorrance, Geometry, Lambert, Phong, StackedGeometry
-from lighting.camera import Camera
-from lighting.illumination import shade
-from lighting.mesh import sphere_for_triangles
-from lighting.render import Renderer
+from lighting.models.brdf import BlinnPhong, CookTorrance, Geometry, Lambert, Phong, StackedGeometry
+from lighting.render.camera import Camera
+from lighting.render.mesh import sphere_for_triangles
+from lighting.render.renderer import Renderer
+from lighting.shading.equation import shade
 
 MODELS = [
     Lambert(0.7),
@@ -176,9 +176,9 @@ def test_log1p_through_log_is_accurate_to_a_few_ulp():
 def test_the_renderer_path_does_not_repeat_the_public_argument_checks(monkeypatch):
     # Issue 14, item 10: arguments are checked once, at the public boundary (eval, eval_cos, classic and the
     # public microfacet/Fresnel functions); shading and rendering call the unchecked forms.
-    import lighting.brdf as brdf_mod
-    import lighting.fresnel as fresnel_mod
-    import lighting.microfacet as mf_mod
+    import lighting.models.brdf as brdf_mod
+    import lighting.models.fresnel as fresnel_mod
+    import lighting.models.microfacet as mf_mod
 
     def forbidden(*args, **kwargs):
         raise AssertionError("a public argument check ran on the shading path")

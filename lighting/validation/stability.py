@@ -1,7 +1,7 @@
 r"""Numerical stability of the shading formulas on stiff and extreme inputs.
 
-Every model of :mod:`lighting.brdf` and the point and spot lights of
-:mod:`lighting.lights` are evaluated, in float32 and in float64, on the inputs
+Every model of :mod:`lighting.models.brdf` and the point and spot lights of
+:mod:`lighting.lights.punctual` are evaluated, in float32 and in float64, on the inputs
 where shading formulas go wrong — shininess up to 1e6, roughness down to 1e-6,
 directions near the lobe peak, light and view within 1e-8 rad of the horizon,
 ``l = −v``, ``l = v = n``, zero and non-unit normals, point lights at distance
@@ -309,7 +309,7 @@ def _fmt_param(x: float) -> str:
 
 def brdf_specs() -> list[ModelSpec]:
     """Every model variant of the sweep with its reference terms."""
-    from .brdf import BlinnPhong, CookTorrance, Lambert, Phong
+    from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 
     specs = [
         ModelSpec(
@@ -721,7 +721,7 @@ SPOT_EXPONENTS = (0.0, 1.0, 128.0, 1e4)
 
 def light_specs() -> list[LightSpec]:
     """Point lights (three falloffs, two positions, three extreme intensities) and spot lights."""
-    from .lights import PointLight, SpotLight
+    from ..lights.punctual import PointLight, SpotLight
 
     specs = []
     for p in _DIST_POSITIONS:
@@ -1033,12 +1033,12 @@ def _engine_brdf(specs, cols, n, l, v):  # noqa: E741
     """Engine values ``(m, len(cols), 3)`` (float64 copies), reciprocal ``eval(n, v, l)`` per column, warnings.
 
     ``model.eval(n, l, v)`` is ``model.eval_geometry(Geometry(n, l, v))`` (likewise for
-    ``eval_cos`` and ``classic``); one :class:`~lighting.brdf.Geometry` is shared by every
+    ``eval_cos`` and ``classic``); one :class:`~lighting.models.brdf.Geometry` is shared by every
     model, which is what a shading pass does too.
     """
     import warnings
 
-    from .brdf import Geometry
+    from ..models.brdf import Geometry
 
     m = n.shape[0]
     vals = np.zeros((m, len(cols), 3))
@@ -1057,7 +1057,7 @@ def _engine_brdf(specs, cols, n, l, v):  # noqa: E741
 
 
 def _engine_brdf_stacked(specs, cols, n, l, v, eng):  # noqa: E741
-    """The image path's values: ``separable_cos`` / ``separable_classic`` on a :class:`~lighting.brdf.StackedGeometry`.
+    """The image path's values: ``separable_cos`` / ``separable_classic`` on a stacked geometry.
 
     A renderer lights all directional lights of a frame at once through a
     ``StackedGeometry``; here the ``m`` light directions of the cases are stacked
@@ -1068,8 +1068,8 @@ def _engine_brdf_stacked(specs, cols, n, l, v, eng):  # noqa: E741
     """
     import warnings
 
-    from .brdf import StackedGeometry
-    from .vec import normalize
+    from ..models.brdf import StackedGeometry
+    from ..vec import normalize
 
     out = eng.copy()
     with warnings.catch_warnings(record=True) as caught:
@@ -1186,7 +1186,7 @@ class Rearrangement:
 
 def _legacy_normalize(a):
     """The earlier :func:`lighting.vec.normalize`: one path (fast or scaled) for the whole batch."""
-    from .vec import _scaled
+    from ..vec import _scaled
 
     fi = np.finfo(a.dtype)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
@@ -1206,10 +1206,10 @@ def _legacy_classes():
     """Engine classes with one formula each put back to its earlier or textbook form."""
     from functools import cached_property
 
-    from . import fresnel as fr
-    from ._numeric import saturate_to
-    from .brdf import BRDF, BlinnPhong, CookTorrance, Geometry, Phong, cos_power
-    from .lights import SpotLight, _cos_deg
+    from .._numeric import saturate_to
+    from ..lights.punctual import SpotLight, _cos_deg
+    from ..models import fresnel as fr
+    from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Geometry, Phong, cos_power
 
     class PlainSum(Geometry):
         @cached_property
@@ -1392,7 +1392,7 @@ def _legacy_engine(name, specs, cols, n, l, v):  # noqa: E741
     """Engine ``f_r`` values ``(m, len(cols), 3)`` with rearrangement ``name`` undone (NaN in other columns)."""
     import warnings
 
-    from .brdf import BlinnPhong, CookTorrance, Geometry, Phong
+    from ..models.brdf import BlinnPhong, CookTorrance, Geometry, Phong
 
     lc = _legacy_classes()
     out = np.full((n.shape[0], len(cols), 3), np.nan)

@@ -20,12 +20,12 @@ stated in its ``reference`` field.  :func:`summary` answers "which is the
 cheapest method that reaches 1 % (0.1 %) error, and how long does it take".
 
 Every integration point also records what the method *says* about itself: its
-own error estimate (:class:`lighting.integrate.Estimate`, relative to the
+own error estimate (:class:`lighting.integrate.integrate.Estimate`, relative to the
 value, mean over seeds) in ``estimated_error``; ``coverage``, the fraction of
 seeds whose true error lies within two reported errors (the honesty contract
-of :mod:`lighting.integrate`: at least 90 %); and ``unconverged``, True when
+of :mod:`lighting.integrate.integrate`: at least 90 %); and ``unconverged``, True when
 the estimated relative error is above 2 %
-(:data:`lighting.integrate.UNCONVERGED_RELATIVE_ERROR`).  Studies whose
+(:data:`lighting.integrate.integrate.UNCONVERGED_RELATIVE_ERROR`).  Studies whose
 methods carry no error estimate (area light, tessellation, precision) leave
 ``estimated_error`` and ``coverage`` as NaN and flag ``unconverged`` from the
 measured error against the reference.
@@ -41,15 +41,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._numeric import ArgumentTypeError, _fmt, check_bool, real_array
-from .brdf import BlinnPhong, CookTorrance, Lambert, Phong
-from .camera import Camera
-from .environment import FunctionEnvironment
-from .illumination import Material
-from .integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo, outgoing_radiance
-from .lights import AmbientLight, DirectionalLight, PointLight, RectLight
-from .mesh import icosphere
-from .render import AnalyticSphere, Renderer
+from .._numeric import ArgumentTypeError, _fmt, check_bool, real_array
+from ..integrate.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo, outgoing_radiance
+from ..lights.environment import FunctionEnvironment
+from ..lights.punctual import AmbientLight, DirectionalLight, PointLight, RectLight
+from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
+from ..render.camera import Camera
+from ..render.mesh import icosphere
+from ..render.renderer import AnalyticSphere, Renderer
+from ..shading.equation import Material
 
 __all__ = ["Point", "Study", "run_studies", "summary", "STUDY_NAMES"]
 
@@ -264,7 +264,7 @@ def _tessellation_points(levels, size, repeat, progress):
 
 # ---------------------------------------------------------------------- precision
 def _precision_points(size, repeat, progress):
-    from .mesh import sphere_for_triangles
+    from ..render.mesh import sphere_for_triangles
 
     cam = Camera((0, 0, 6.0), (0, 0, 0), fov_y_deg=22.0, width=size, height=size)
     mesh = sphere_for_triangles(5000)

@@ -44,8 +44,8 @@ import stat
 
 import numpy as np
 
-from ._numeric import BudgetError, abbreviate, check_budget, check_choice, check_count, check_positive
-from .vec import normalize
+from .._numeric import BudgetError, abbreviate, check_budget, check_choice, check_count, check_positive
+from ..vec import normalize
 
 __all__ = [
     "TriangleMesh",

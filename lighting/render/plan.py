@@ -21,7 +21,7 @@ possibly use:
   half vector is still only computed if a remaining model asks for it).
 
 Flat shading evaluates once per face and Gouraud once per vertex (the
-:class:`~lighting.render.Renderer` chooses the samples), and an unchanged
+:class:`~lighting.render.renderer.Renderer` chooses the samples), and an unchanged
 geometry buffer is never re-rasterized.  :meth:`Plan.describe` says in plain
 words what was left out and why.  Every plan gives the same image as the
 nothing-skipped evaluation (:func:`evaluate_full`) to rounding; the tests check
@@ -35,9 +35,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
-from .brdf import BRDF, BRDFSum, Lambert
-from .illumination import (
+from .._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
+from ..lights.punctual import AmbientLight, DirectionalLight, SpotLight
+from ..models.brdf import BRDF, BRDFSum, Lambert
+from ..shading.equation import (
     FORMS,
     TERMS,
     Material,
@@ -47,17 +48,16 @@ from .illumination import (
     _evaluate,
     shade_prepared,
 )
-from .lights import AmbientLight, DirectionalLight, SpotLight
+from ..vec import length
 from .mesh import TriangleMesh
-from .render import SHADING_MODES, AnalyticSphere, Renderer
-from .vec import length
+from .renderer import SHADING_MODES, AnalyticSphere, Renderer
 
 _BIG64 = float(np.finfo(np.float64).max)
 
 
 def _check_renderer(renderer) -> Renderer:
     if not isinstance(renderer, Renderer):
-        raise ArgumentTypeError(f"renderer must be a lighting.render.Renderer; got {type(renderer).__name__} "
+        raise ArgumentTypeError(f"renderer must be a lighting.render.renderer.Renderer; got {type(renderer).__name__} "
                                 f"{_fmt(renderer)}")  # fmt: skip
     return renderer
 
@@ -178,7 +178,7 @@ class Plan:
     def shade_samples(self, renderer: Renderer) -> np.ndarray:
         """Colours ``(N, 3)`` at the renderer's samples for this plan's mode.
 
-        ``renderer`` is a :class:`~lighting.render.Renderer` or any object with its sample methods
+        ``renderer`` is a :class:`~lighting.render.renderer.Renderer` or any object with its sample methods
         (a scene's group of renderers sharing one plan).
         """
         mode, dt = self.mode, renderer.dtype
@@ -375,8 +375,8 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     mode = check_choice("mode", mode, SHADING_MODES)
     form = check_choice("form", form, FORMS)
     terms = _check_terms(terms)
-    from .illumination import view_vectors
-    from .vec import normalize
+    from ..vec import normalize
+    from ..shading.equation import view_vectors
 
     pts = renderer.sample_points(mode)
     nrm = normalize(renderer.sample_normals(mode))

@@ -12,7 +12,7 @@ The CMSC 435 deck calls a BRDF *physically plausible* when it is
 the smallest value over a dense deterministic set of direction pairs; the
 largest relative asymmetry ``|f(l,v) − f(v,l)| / max(|f(l,v)|, |f(v,l)|)`` over
 the same pairs; and the directional albedo over view angles by quadrature
-(:func:`lighting.integrate.albedo_curve`), with its error estimate.  A model
+(:func:`lighting.integrate.integrate.albedo_curve`), with its error estimate.  A model
 fails energy conservation only when its largest albedo exceeds 1 by more than
 the integration error (and a rounding tolerance).
 
@@ -36,7 +36,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._numeric import (
+from .._numeric import (
     ArgumentTypeError,
     check_budget,
     check_count,
@@ -44,11 +44,11 @@ from ._numeric import (
     check_range,
     real_array,
 )
-from ._numeric import (
+from .._numeric import (
     _fmt as _fmt_value,
 )
-from .brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
-from .integrate import albedo_curve
+from ..integrate.integrate import albedo_curve
+from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
 
 __all__ = ["AuditCase", "AuditRow", "AuditTable", "default_cases", "direction_pairs", "audit"]
 
@@ -370,7 +370,7 @@ def audit(
 
     Examples
     --------
-    >>> from lighting.brdf import Lambert, Phong
+    >>> from lighting.models.brdf import Lambert, Phong
     >>> t = audit([("Lambert", Lambert(1.0)), ("Phong e=0", Phong(1.0, 0.0))], samples=1024)
     >>> [(r.label, r.positive, r.reciprocal, r.energy, round(r.albedo_max, 6)) for r in t]
     [('Lambert', True, True, True, 1.0), ('Phong e=0', True, False, False, 2.0)]

@@ -20,8 +20,8 @@ materials, objects and lights — as data (the format is specified in full in
     direction = [1.0, 1.0, 1.0]
 
 :func:`load_scene` / :func:`parse_scene` turn that into a :class:`Scene` of
-engine objects (:class:`~lighting.camera.Camera`, meshes or
-:class:`~lighting.render.AnalyticSphere`, :class:`~lighting.illumination.Material`,
+engine objects (:class:`~lighting.render.camera.Camera`, meshes or
+:class:`~lighting.render.renderer.AnalyticSphere`, :class:`~lighting.shading.equation.Material`,
 lights).  Nothing in a file is executed: model, light and object names go
 through explicit tables.  Every problem is a :class:`SceneError` (a
 ``ValueError``) naming the file, the key path (``lights[2].cutoff_deg``) and what
@@ -29,7 +29,7 @@ is allowed; the engine's own validation runs on every value and its message is
 passed on with the file and key in front.
 
 :class:`SceneRenderer` renders each object with its own
-:class:`~lighting.render.Renderer` (rasterized once, cached) and keeps, per
+:class:`~lighting.render.renderer.Renderer` (rasterized once, cached) and keeps, per
 pixel, the object nearest to the camera (smallest view depth ``f·(p − eye)``
 among the objects covering the pixel; ties go to the object listed first), with
 the background elsewhere.  Changing lights or materials re-shades without
@@ -39,7 +39,7 @@ OpenGL scenes
 -------------
 Lights of ``type = "opengl"`` carry the fixed-function parameters (separate
 ambient, diffuse and specular colours).  Objects lit by them are shaded with
-:func:`lighting.gl.shade_vertices` — the OpenGL 2.1 equation, exactly — at the
+:func:`lighting.shading.opengl.shade_vertices` — the OpenGL 2.1 equation, exactly — at the
 shading samples of the object's mode (per triangle centroid, per vertex, or per
 pixel), in eye coordinates (``V p`` with the camera's view matrix ``V``).  An
 ``opengl`` *material* lit by engine lights is mapped onto the classic form
@@ -81,15 +81,15 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from . import gl
-from ._numeric import BudgetError, abbreviate, check_budget, check_color
-from .brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
-from .camera import Camera
-from .illumination import FORMS, TERMS, Material
-from .image import encode_srgb8
-from .lights import AmbientLight, AreaLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
-from .mesh import TriangleMesh, icosphere, load_mesh, uv_sphere
-from .render import SHADING_MODES, AnalyticSphere, Renderer
+from .._numeric import BudgetError, abbreviate, check_budget, check_color
+from ..lights.punctual import AmbientLight, AreaLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
+from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
+from ..render.camera import Camera
+from ..render.image import encode_srgb8
+from ..render.mesh import TriangleMesh, icosphere, load_mesh, uv_sphere
+from ..render.renderer import SHADING_MODES, AnalyticSphere, Renderer
+from ..shading import opengl as gl
+from ..shading.equation import FORMS, TERMS, Material
 
 __all__ = [
     "SceneError",
@@ -118,7 +118,7 @@ __all__ = [
 #: The format version this module reads and writes (``version = 1`` in a file).
 FORMAT_VERSION = 1
 
-EXAMPLES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes")
+EXAMPLES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "examples")
 
 
 # =============================================================================== errors
@@ -639,7 +639,7 @@ class OpenGLOptions:
 
 @dataclass(frozen=True)
 class GLLight:
-    """An OpenGL light as a scene stores it: :class:`lighting.gl.Light` plus the space of its coordinates.
+    """An OpenGL light as a scene stores it: :class:`lighting.shading.opengl.Light` plus the space of its coordinates.
 
     ``space = "world"``: ``position`` and ``spot_direction`` are world
     coordinates, taken to eye space with the camera's view matrix (``glLight``
@@ -652,7 +652,7 @@ class GLLight:
     space: str = "world"
 
     def in_eye_space(self, view_matrix) -> gl.Light:
-        """The :class:`lighting.gl.Light` with position and spot direction in eye coordinates."""
+        """The :class:`lighting.shading.opengl.Light` with position and spot direction in eye coordinates."""
         if self.space == "eye":
             return self.light
         V = np.asarray(view_matrix, dtype=np.float64)
@@ -669,7 +669,7 @@ class SceneObject:
     ----------
     geometry : TriangleMesh or AnalyticSphere
         In world coordinates (the transform already applied).
-    material : lighting.illumination.Material or lighting.gl.Material
+    material : lighting.shading.equation.Material or lighting.shading.opengl.Material
     material_name : str or None
         The ``[materials]`` name it refers to (None for an inline material).
     mode : str or None
@@ -728,7 +728,7 @@ class Scene:
         return self.objects[index].mode or self.render.mode
 
     def is_opengl_lit(self, index: int) -> bool:
-        """True when object ``index`` is lit by OpenGL lights (shaded with :func:`lighting.gl.shade_vertices`)."""
+        """True when object ``index`` is lit by OpenGL lights (:func:`lighting.shading.opengl.shade_vertices`)."""
         return any(isinstance(lt, GLLight) for lt in self.object_lights(index))
 
     @property
@@ -1213,7 +1213,7 @@ def gl_material_to_engine(material: gl.Material) -> Material:
     Lambert(kd=0.5) + BlinnPhong(ks=1.0, shininess=20.0, normalized=False)
     """
     if not isinstance(material, gl.Material):
-        raise ValueError(f"material must be a lighting.gl.Material; got {type(material).__name__}")
+        raise ValueError(f"material must be a lighting.shading.opengl.Material; got {type(material).__name__}")
     brdf = Lambert(material.diffuse[:3]) + BlinnPhong(material.specular[:3], material.shininess, normalized=False)
     return Material(brdf, ambient=material.ambient[:3], emission=material.emission[:3])
 
@@ -1237,11 +1237,11 @@ def _camera_key(cam: Camera) -> tuple:
 
 
 class SceneRenderer:
-    """Render a :class:`Scene`: one cached :class:`~lighting.render.Renderer` per object, composited by depth.
+    """Render a :class:`Scene`: one cached :class:`~lighting.render.renderer.Renderer` per object, composited by depth.
 
     The pipeline of :meth:`render`:
 
-    1. rasterize every object (once: each :class:`~lighting.render.Renderer`
+    1. rasterize every object (once: each :class:`~lighting.render.renderer.Renderer`
        keeps its geometry buffer until the object's geometry or the camera change);
     2. :meth:`visibility`: per pixel, the index of the nearest covering object
        (``−1`` for background) — smallest view depth, ties to the lower index;
@@ -1266,14 +1266,14 @@ class SceneRenderer:
 
     def __init__(self, scene: Scene, *, dtype=np.float64, plan=True):
         if not isinstance(scene, Scene):
-            raise ValueError(f"scene must be a lighting.scene.Scene; got {type(scene).__name__}")
+            raise ValueError(f"scene must be a lighting.scene.scene.Scene; got {type(scene).__name__}")
         if plan not in (True, False, "full"):
             raise ValueError(f"plan must be True, False or 'full'; got {plan!r}")
         check_scene_budget(scene)  # before any buffer is allocated
         self.dtype = dtype
-        #: True: evaluate through :mod:`lighting.plan` (leave out what the scene does not need);
+        #: True: evaluate through :mod:`lighting.render.plan` (leave out what the scene does not need);
         #: False: the renderer's general path; "full": the nothing-skipped reference
-        #: (:func:`lighting.plan.evaluate_full`), for measuring the plan against.
+        #: (:func:`lighting.render.plan.evaluate_full`), for measuring the plan against.
         self.plan = plan
         self._scene = scene
         self._renderers: list[Renderer | None] = [None] * len(scene.objects)
@@ -1289,7 +1289,7 @@ class SceneRenderer:
     @scene.setter
     def scene(self, new: Scene):
         if not isinstance(new, Scene):
-            raise ValueError(f"scene must be a lighting.scene.Scene; got {type(new).__name__}")
+            raise ValueError(f"scene must be a lighting.scene.scene.Scene; got {type(new).__name__}")
         check_scene_budget(new)
         same_camera = _camera_key(new.camera) == _camera_key(self._scene.camera)
         old = list(zip(self._keys, self._renderers, strict=True))
@@ -1315,7 +1315,7 @@ class SceneRenderer:
         return sum(r.rasterizations for r in self._renderers if r is not None)
 
     def renderer(self, index: int) -> Renderer:
-        """The cached :class:`~lighting.render.Renderer` of object ``index`` (created on first use)."""
+        """The cached :class:`~lighting.render.renderer.Renderer` of object ``index`` (created on first use)."""
         if self._renderers[index] is None:
             ob = self._scene.objects[index]
             cull = self._scene.render.cull_backfaces if ob.cull_backfaces is None else ob.cull_backfaces
@@ -1344,7 +1344,7 @@ class SceneRenderer:
 
         Engine lights: ``renderer.render(material, lights, mode=…, form=…, terms=…)``
         (an OpenGL material is first mapped by :func:`gl_material_to_engine`).
-        OpenGL lights: :func:`lighting.gl.shade_vertices` at the mode's shading
+        OpenGL lights: :func:`lighting.shading.opengl.shade_vertices` at the mode's shading
         samples in eye coordinates.
         """
         scene = self._scene
@@ -1356,7 +1356,7 @@ class SceneRenderer:
         if self.plan is True:
             return self.object_plan(index).execute(renderer)
         if self.plan == "full":
-            from .plan import evaluate_full
+            from ..render.plan import evaluate_full
 
             opts = {"mode": mode, "form": scene.render.form, "terms": scene.render.terms}
             return evaluate_full(renderer, material, lights, **opts)
@@ -1364,8 +1364,8 @@ class SceneRenderer:
 
     # ------------------------------------------------------------------ plans
     def object_plan(self, index: int):
-        """The evaluation plan of object ``index`` (engine-lit objects; see :mod:`lighting.plan`)."""
-        from .plan import bounding_sphere, compile_plan
+        """The evaluation plan of object ``index`` (engine-lit objects; see :mod:`lighting.render.plan`)."""
+        from ..render.plan import bounding_sphere, compile_plan
 
         scene = self._scene
         ob = scene.objects[index]
@@ -1561,7 +1561,7 @@ def _object_name(ob) -> str:
 
 
 class _GroupSamples:
-    """Several renderers' samples seen as one (the interface :meth:`lighting.plan.Plan.shade_samples` uses)."""
+    """Several renderers' samples seen as one (the interface :meth:`lighting.render.plan.Plan.shade_samples` uses)."""
 
     def __init__(self, renderers):
         self.renderers = renderers
@@ -1851,7 +1851,7 @@ def scene_to_toml(scene) -> str:
 
 # =============================================================================== examples
 def list_examples() -> list[str]:
-    """Names of the example scenes shipped with the package (``lighting/scenes/*.toml``)."""
+    """Names of the example scenes shipped with the package (``lighting/scene/examples/*.toml``)."""
     return sorted(f[:-5] for f in os.listdir(EXAMPLES_DIR) if f.endswith(".toml"))
 
 

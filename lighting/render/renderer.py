@@ -8,13 +8,13 @@ The decks' question is *when* to compute lighting:
 * **Phong interpolation** — interpolate the *normals* and light every pixel.
 
 A :class:`Renderer` rasterizes its geometry once into a geometry buffer
-(:class:`lighting.raster.GBuffer`) and then lights it as often as asked: moving a
+(:class:`lighting.render.raster.GBuffer`) and then lights it as often as asked: moving a
 light, changing a material or switching the shading mode re-shades without
 re-rasterizing, which is what makes a slider interactive.  Every colour comes
-from :func:`lighting.illumination.shade_terms`, so all models, lights and the
+from :func:`lighting.shading.equation.shade_terms`, so all models, lights and the
 classic / physical forms work in every mode.
 
-The geometry is a :class:`lighting.mesh.TriangleMesh` or an :class:`AnalyticSphere`
+The geometry is a :class:`lighting.render.mesh.TriangleMesh` or an :class:`AnalyticSphere`
 (ray-cast, exact per-pixel normals: the ground truth that tessellated renderings
 are measured against; it supports only per-pixel shading).
 """
@@ -25,8 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import illumination as _illumination
-from ._numeric import (
+from .._numeric import (
     ArgumentTypeError,
     _fmt,
     check_bool,
@@ -36,12 +35,13 @@ from ._numeric import (
     check_positive,
     real_array,
 )
+from ..lights.punctual import AmbientLight, DirectionalLight
+from ..shading import equation as _illumination
+from ..shading.equation import TERMS, Material, _check_lights, shade_prepared, view_vectors
+from ..vec import normalize
 from .camera import Camera
-from .illumination import TERMS, Material, _check_lights, shade_prepared, view_vectors
-from .lights import AmbientLight, DirectionalLight
 from .mesh import TriangleMesh
 from .raster import GBuffer, _check_camera, check_image_budget, rasterize, raycast_sphere
-from .vec import normalize
 
 __all__ = ["SHADING_MODES", "AnalyticSphere", "Renderer", "render"]
 
@@ -84,7 +84,7 @@ class Renderer:
     Examples
     --------
     >>> from lighting import Lambert, Material, DirectionalLight
-    >>> from lighting.mesh import icosphere
+    >>> from lighting.render.mesh import icosphere
     >>> cam = Camera((0, 0, 5.0), (0, 0, 0), width=32, height=32)
     >>> r = Renderer(icosphere(2), cam)
     >>> img = r.render(Material(Lambert(0.8)), [DirectionalLight((0, 0, 1.0))], mode="gouraud")

@@ -3,15 +3,15 @@
 :func:`sphere_camera` frames a sphere of radius 1 at the origin for an
 orthographic view from +z (image right is +x, image up is +y, the viewer at +z
 infinity, so ``v = (0, 0, 1)`` everywhere), and :func:`render_sphere` lights it per
-pixel with exact normals (ray casting, :func:`lighting.raster.raycast_sphere`).
+pixel with exact normals (ray casting, :func:`lighting.render.raster.raycast_sphere`).
 """
 
 from __future__ import annotations
 
-from ._numeric import check_budget, check_count, check_positive
+from .._numeric import check_budget, check_count, check_positive
+from ..shading.equation import Material
 from .camera import MAX_IMAGE_SIDE, Camera
-from .illumination import Material
-from .render import RENDER_BYTES_PER_PIXEL, AnalyticSphere, Renderer
+from .renderer import RENDER_BYTES_PER_PIXEL, AnalyticSphere, Renderer
 
 __all__ = ["sphere_camera", "render_sphere"]
 

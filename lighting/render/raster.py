@@ -1,7 +1,7 @@
 """A vectorized NumPy rasterizer producing a geometry buffer for a separate lighting pass.
 
-:func:`rasterize` turns a :class:`~lighting.mesh.TriangleMesh` seen by a
-:class:`~lighting.camera.Camera` into a :class:`GBuffer`: for every pixel, which
+:func:`rasterize` turns a :class:`~lighting.render.mesh.TriangleMesh` seen by a
+:class:`~lighting.render.camera.Camera` into a :class:`GBuffer`: for every pixel, which
 triangle is visible there, where on it (barycentric coordinates), at what depth,
 and the interpolated position and normals.  Lighting then runs on the buffer
 alone (``shade(gb.position[gb.coverage], gb.normal[gb.coverage], ...)``), so moving
@@ -15,7 +15,7 @@ the ground truth tessellated renderings are measured against.
 How a pixel is decided
 ----------------------
 * Sampling: one sample per pixel, at its centre ``(j + ½, i + ½)`` (see
-  :mod:`lighting.camera` for pixel coordinates).
+  :mod:`lighting.render.camera` for pixel coordinates).
 * Edge functions (Pineda, "A parallel algorithm for polygon rasterization",
   SIGGRAPH 1988): for the edge from ``a`` to ``b``,
   ``E(p) = (b_x − a_x)(p_y − a_y) − (b_y − a_y)(p_x − a_x)``, signed so the
@@ -63,8 +63,8 @@ The loop runs over batches only, never over pixels or triangles.  A
 
 Examples
 --------
->>> from lighting.camera import Camera
->>> from lighting.mesh import icosphere
+>>> from lighting.render.camera import Camera
+>>> from lighting.render.mesh import icosphere
 >>> cam = Camera((0, 0, 5), (0, 0, 0), width=64, height=64)
 >>> gb = rasterize(icosphere(3), cam)
 >>> gb.coverage.shape, bool(gb.coverage[32, 32]), int(gb.overdraw.max())
@@ -79,7 +79,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ._numeric import (
+from .._numeric import (
     ArgumentTypeError,
     _fmt,
     check_bool,
@@ -89,9 +89,9 @@ from ._numeric import (
     real_array,
     working_dtype,
 )
+from ..vec import normalize
 from .camera import Camera
 from .mesh import TriangleMesh
-from .vec import normalize
 
 __all__ = ["GBuffer", "rasterize", "raycast_sphere"]
 
@@ -293,8 +293,8 @@ class GBuffer:
 
         Examples
         --------
-        >>> from lighting.camera import Camera
-        >>> from lighting.mesh import icosphere
+        >>> from lighting.render.camera import Camera
+        >>> from lighting.render.mesh import icosphere
         >>> m = icosphere(1)
         >>> gb = rasterize(m, Camera((0, 0, 4), (0, 0, 0), width=8, height=8))
         >>> round(gb.interpolate(np.ones(len(m.vertices)))[4, 4].item(), 12)  # barycentrics sum to 1
@@ -538,8 +538,8 @@ def rasterize(mesh: TriangleMesh, camera: Camera, *, cull_backfaces: bool = True
 
     Examples
     --------
-    >>> from lighting.camera import Camera
-    >>> from lighting.mesh import TriangleMesh
+    >>> from lighting.render.camera import Camera
+    >>> from lighting.render.mesh import TriangleMesh
     >>> square = TriangleMesh([[-2, -2, 0], [2, -2, 0], [2, 2, 0], [-2, 2, 0]], [[0, 1, 2], [0, 2, 3]])
     >>> cam = Camera((0, 0, 5), (0, 0, 0), projection="orthographic", ortho_height=8, width=8, height=8)
     >>> gb = rasterize(square, cam)  # the square spans pixels 2..5 in x and y
@@ -796,7 +796,7 @@ def raycast_sphere(camera: Camera, center=(0.0, 0.0, 0.0), radius: float = 1.0, 
 
     Examples
     --------
-    >>> from lighting.camera import Camera
+    >>> from lighting.render.camera import Camera
     >>> cam = Camera((0, 0, 5), (0, 0, 0), projection="orthographic", ortho_height=3, width=5, height=5)
     >>> gb = raycast_sphere(cam)  # pixel centres at x, y = 0, ±0.6, ±1.2
     >>> gb.coverage.astype(int)

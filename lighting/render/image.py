@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numeric import check_choice, check_range
+from .._numeric import check_choice, check_range
 
 #: Largest exposure, in stops, either way (2**100 is about 1e30): beyond it nothing is left to see.
 MAX_EXPOSURE = 100.0

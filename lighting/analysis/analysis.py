@@ -45,7 +45,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._numeric import (
+from .._numeric import (
     ArgumentTypeError,
     _fmt,
     check_bool,
@@ -57,8 +57,8 @@ from ._numeric import (
     real_array,
     working_dtype,
 )
-from .brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong
-from .vec import normalize, spherical_direction
+from ..models.brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong
+from ..vec import normalize, spherical_direction
 
 __all__ = [
     "LUMINANCE",
@@ -432,7 +432,7 @@ def polar_slice(
 
     Parameters
     ----------
-    brdf : lighting.brdf.BRDF
+    brdf : lighting.models.brdf.BRDF
     theta_in : float
         Polar angle of the fixed direction, in ``[0, π/2]``.
     fixed : {"light", "view"}
@@ -790,7 +790,7 @@ def half_diff_image(
 
     Parameters
     ----------
-    brdf : lighting.brdf.BRDF
+    brdf : lighting.models.brdf.BRDF
     phi_d : float
     n_h, n_d : int
         Columns and rows, 2 … 4096 each.
@@ -1060,7 +1060,7 @@ def lobe_peak(brdf, l, *, cosine=False, channel=None) -> LobePeak:
     r"""Direction ``v`` where ``f_r(l, v)`` (or the chosen quantity) is largest, and that value.
 
     The search runs in the plane of incidence — isotropic models are mirror-symmetric
-    about it, and every model of :mod:`lighting.brdf` peaks in it — over a quarter-degree
+    about it, and every model of :mod:`lighting.models.brdf` peaks in it — over a quarter-degree
     grid plus ±8 lobe widths around ``R_l``, then zooms five times around the best
     sample, down to ~1e-6 of the grid spacing.  For Phong and Blinn–Phong the answer is the mirror
     direction ``R_l = 2 n (n·l) − l``; rough Cook–Torrance peaks off-specular, toward
@@ -1069,7 +1069,7 @@ def lobe_peak(brdf, l, *, cosine=False, channel=None) -> LobePeak:
 
     Parameters
     ----------
-    brdf : lighting.brdf.BRDF
+    brdf : lighting.models.brdf.BRDF
     l : array_like (3,)
         Light direction in the local frame (``n = +z``); normalized on entry.
     cosine, channel
@@ -1200,7 +1200,7 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
 
     Parameters
     ----------
-    brdf : lighting.brdf.BRDF
+    brdf : lighting.models.brdf.BRDF
     l : array_like (3,)
         Light direction in the local frame (``n = +z``), normalized on entry.  A light
         on or below the horizon gives an all-zero lobe.

@@ -10,7 +10,7 @@ away), in linear RGB radiance.  Every environment answers
 unit length; world frame) with an ``(..., 3)`` array of the same float dtype,
 and can draw directions from a distribution roughly shaped like itself
 (:meth:`Environment.sample`, :meth:`Environment.pdf`, densities per unit solid
-angle on the whole sphere), which :mod:`lighting.integrate` uses for
+angle on the whole sphere), which :mod:`lighting.integrate.integrate` uses for
 environment and multiple-importance sampling.
 
 The two cases of the deck's "Results" slide:
@@ -23,7 +23,7 @@ The two cases of the deck's "Results" slide:
 
 World frame of the latitude–longitude image (the engine's spherical
 coordinates, the same as the local shading frame and
-:meth:`lighting.lights.DirectionalLight.from_angles`): ``+z`` is "up";
+:meth:`lighting.lights.punctual.DirectionalLight.from_angles`): ``+z`` is "up";
 ``θ`` is measured from ``+z``, ``φ`` from ``+x`` toward ``+y``.  Row ``i`` of an
 ``H × W`` image holds ``θ ∈ [iπ/H, (i+1)π/H]`` (row 0 the sky at the zenith,
 the last row the ground at the nadir) and column ``j`` holds
@@ -40,7 +40,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ._numeric import (
+from .._numeric import (
     ArgumentTypeError,
     _fmt,
     check_budget,

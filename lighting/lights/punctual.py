@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._numeric import (
+from .._numeric import (
     _fmt,
     as_float,
     check_bool,
@@ -48,7 +48,7 @@ from ._numeric import (
     saturate_to,
     working_dtype,
 )
-from .vec import direction_from_elevation, length, normalize, orthonormal_basis
+from ..vec import direction_from_elevation, length, normalize, orthonormal_basis
 
 __all__ = [
     "Incidence",

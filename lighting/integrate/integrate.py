@@ -44,10 +44,10 @@ Methods (every one takes ``samples``, its cost: BRDF evaluations per result):
 ``"uniform"``, ``"cosine"``
     Monte Carlo with uniform or cosine-weighted hemisphere directions.
 ``"importance"``
-    Monte Carlo with :func:`lighting.sampling.importance_sampler` (lobe
+    Monte Carlo with :func:`lighting.integrate.sampling.importance_sampler` (lobe
     sampling; a balance-heuristic mixture for sums).
 ``"stratified"``
-    The importance sampler fed a jittered grid (:func:`lighting.sampling.jittered`),
+    The importance sampler fed a jittered grid (:func:`lighting.integrate.sampling.jittered`),
     in ``replicates`` independent copies whose spread gives the error.
 ``"environment"``, ``"mis"`` (:func:`outgoing_radiance` only)
     Directions drawn from the environment's own density, or half from the BRDF
@@ -114,7 +114,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._numeric import (
+from .._numeric import (
     ArgumentTypeError,
     _fmt,
     check_bool,
@@ -126,8 +126,9 @@ from ._numeric import (
     real_array,
     working_dtype,
 )
-from .brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
-from .environment import Environment, SmallPatchEnvironment, as_environment
+from ..lights.environment import Environment, SmallPatchEnvironment, as_environment
+from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
+from ..vec import orthonormal_basis
 from .sampling import (
     BYTES_PER_SAMPLE,
     CosineSampler,
@@ -137,7 +138,6 @@ from .sampling import (
     importance_sampler,
     jittered_batch,
 )
-from .vec import orthonormal_basis
 
 __all__ = [
     "METHODS",
@@ -269,7 +269,7 @@ def _samples(value, minimum=1, method=None, brdf=None, points=1) -> int:
 def _check_brdf(brdf):
     if not isinstance(brdf, BRDF):
         raise ArgumentTypeError(
-            f"brdf must be a lighting.brdf model (Lambert, Phong, ...); got {type(brdf).__name__} {_fmt(brdf)}"
+            f"brdf must be a lighting.models.brdf model (Lambert, Phong, ...); got {type(brdf).__name__} {_fmt(brdf)}"
         )
     return brdf
 
@@ -744,7 +744,7 @@ def directional_albedo(
     Parameters
     ----------
     brdf : BRDF
-        Any model of :mod:`lighting.brdf` (sums included: each part is
+        Any model of :mod:`lighting.models.brdf` (sums included: each part is
         integrated with its own rule, or sampled by a mixture).
     theta_v : float or array_like, radians in [0, π/2]
         The viewer's angle from the normal (isotropic models: the azimuth does
@@ -785,7 +785,7 @@ def directional_albedo(
 
     Examples
     --------
-    >>> from lighting.brdf import Lambert, Phong
+    >>> from lighting.models.brdf import Lambert, Phong
     >>> directional_albedo(Lambert((0.2, 0.5, 0.8)), 0.3).round(12).tolist()
     [0.2, 0.5, 0.8]
     >>> round(float(directional_albedo(Phong(1.0, 0.0), 0.0)[0]), 12)  # the slides' Phong BRDF, e = 0: 2/(e+1)
@@ -834,7 +834,7 @@ def albedo_curve(
 
     Examples
     --------
-    >>> from lighting.brdf import Phong
+    >>> from lighting.models.brdf import Phong
     >>> c = albedo_curve(Phong(1.0, 1.0), [0.0, 0.5, 1.0])
     >>> c.albedo[:, 0].round(6).tolist()  # 2/(e+1) = 1 at normal incidence, less as the lobe sinks
     [1.0, 0.938791, 0.770151]
@@ -884,7 +884,7 @@ def hemispherical_albedo(
 
     Examples
     --------
-    >>> from lighting.brdf import Lambert
+    >>> from lighting.models.brdf import Lambert
     >>> hemispherical_albedo(Lambert(0.6)).round(12).tolist()
     [0.6, 0.6, 0.6]
     """
@@ -1060,7 +1060,7 @@ def outgoing_radiance(
     ----------
     brdf : BRDF
     environment : Environment, scalar/RGB radiance or callable
-        A :class:`lighting.environment.Environment`; a constant radiance or a
+        A :class:`lighting.lights.environment.Environment`; a constant radiance or a
         function of direction is wrapped.
     normals, view_dirs : array_like, (..., 3), world frame
         Surface normals and directions toward the viewer (broadcast together;
@@ -1068,8 +1068,8 @@ def outgoing_radiance(
     method : {"quadrature", "uniform", "cosine", "importance", "stratified", "environment", "mis", "sh"}
         ``"quadrature"`` puts its nodes on the BRDF's lobe, or — for an
         environment that is black outside a small cap
-        (:class:`~lighting.environment.SmallPatchEnvironment`) — on the cap.
-        ``"sh"`` needs a Lambertian model (a :class:`~lighting.brdf.Lambert`
+        (:class:`~lighting.lights.environment.SmallPatchEnvironment`) — on the cap.
+        ``"sh"`` needs a Lambertian model (a :class:`~lighting.models.brdf.Lambert`
         or a sum of them): ``L_o = k_d/π · E(n)`` with ``E`` from
         :func:`sh_irradiance` (an approximation, about 1 % for typical
         environments, up to ~9 % for a single small light).
@@ -1093,8 +1093,8 @@ def outgoing_radiance(
 
     Examples
     --------
-    >>> from lighting.brdf import Lambert
-    >>> from lighting.environment import ConstantEnvironment
+    >>> from lighting.models.brdf import Lambert
+    >>> from lighting.lights.environment import ConstantEnvironment
     >>> L = outgoing_radiance(Lambert(0.5), ConstantEnvironment(2.0), (0, 0, 1.0), (0.6, 0, 0.8))  # furnace: k_d L
     >>> L.round(12).tolist()
     [1.0, 1.0, 1.0]
@@ -1216,7 +1216,7 @@ def sh_coefficients(environment, samples: int = 4096, *, return_error: bool = Fa
     Quadrature: Gauss–Legendre in ``cos θ`` × trapezoid in ``φ`` over the
     sphere (exact for radiance that is a polynomial of low degree in the
     direction), or a polar rule over the cap of a
-    :class:`~lighting.environment.SmallPatchEnvironment`.  The error estimate
+    :class:`~lighting.lights.environment.SmallPatchEnvironment`.  The error estimate
     is the difference to the rule with a quarter of the nodes.
 
     Returns
@@ -1227,7 +1227,7 @@ def sh_coefficients(environment, samples: int = 4096, *, return_error: bool = Fa
 
     Examples
     --------
-    >>> from lighting.environment import ConstantEnvironment
+    >>> from lighting.lights.environment import ConstantEnvironment
     >>> c = sh_coefficients(ConstantEnvironment(1.0))
     >>> round(float(c[0, 0]), 12) == round(2 * math.sqrt(math.pi), 12), float(np.abs(c[1:]).max()) < 1e-12
     (True, True)
@@ -1287,7 +1287,7 @@ def sh_irradiance(coeffs, normals, *, clamp: bool = True) -> np.ndarray:
 
     Examples
     --------
-    >>> from lighting.environment import ConstantEnvironment
+    >>> from lighting.lights.environment import ConstantEnvironment
     >>> c = sh_coefficients(ConstantEnvironment(1.0))
     >>> round(float(sh_irradiance(c, (0, 0, 1.0))[0]), 12) == round(math.pi, 12)  # E = π L
     True
@@ -1417,14 +1417,14 @@ def point_light_limit(
     r"""The deck's two "Results": a small bright patch tends to a point light.
 
     For each ``Ω`` in ``solid_angles``, integrates the rendering equation under
-    a :class:`~lighting.environment.SmallPatchEnvironment` of radiance ``L``
+    a :class:`~lighting.lights.environment.SmallPatchEnvironment` of radiance ``L``
     (by quadrature on the patch) and compares with the point-light sum
     ``f_r(v, l) (n·l) E`` for ``E = L Ω``.  The relative difference is
     ``O(Ω)`` for models smooth across the patch.
 
     Examples
     --------
-    >>> from lighting.brdf import Lambert
+    >>> from lighting.models.brdf import Lambert
     >>> rows = point_light_limit(Lambert(1.0), (0.0, 0.6, 0.8), solid_angles=(1e-2, 1e-4))
     >>> [f"{r.relative_error:.1e}" for r in rows]
     ['8.0e-04', '8.0e-06']

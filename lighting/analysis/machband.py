@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._numeric import ArgumentTypeError, _fmt, check_count, real_array
+from .._numeric import ArgumentTypeError, _fmt, check_count, real_array
 
 __all__ = ["Profile", "luminance", "scanline_profile", "edge_jump_metric"]
 

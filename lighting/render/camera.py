@@ -26,7 +26,7 @@ from the eye (perspective) or from the image plane through the eye
 on pixel ``(i, j)``'s ray returns ``(j + ½, i + ½)``.
 
 The near and far distances bound the visible depths ``near ≤ d ≤ far``; the
-rasterizer clips against them (:mod:`lighting.raster`).
+rasterizer clips against them (:mod:`lighting.render.raster`).
 
 Examples
 --------
@@ -42,7 +42,7 @@ import math
 
 import numpy as np
 
-from ._numeric import (
+from .._numeric import (
     ArgumentTypeError,
     _fmt,
     as_float,
@@ -56,7 +56,7 @@ from ._numeric import (
     real_array,
     working_dtype,
 )
-from .vec import length, normalize
+from ..vec import length, normalize
 
 __all__ = ["Camera", "MAX_IMAGE_SIDE"]
 

@@ -5,7 +5,7 @@ Classic form (UBC deck, "Illumination Equation")::
     I = k_e + I_a k_a + Σ_p  I_p / A(d_p) · (k_d (n·l_p) + k_s (r_p·v)^n)
 
 with every product taken per RGB channel ("red light on a green surface is
-black").  The bracket is, for any model, its :meth:`~lighting.brdf.BRDF.classic`
+black").  The bracket is, for any model, its :meth:`~lighting.models.brdf.BRDF.classic`
 term ``π f_r (n·l)``, so Blinn–Phong, normalized Blinn–Phong or Cook–Torrance
 drop into the same sum.
 
@@ -30,10 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numeric import ArgumentTypeError, _fmt, as_float, check_choice, check_color, check_vectors, working_dtype
-from .brdf import BRDF, Geometry, StackedGeometry
-from .lights import AmbientLight, DirectionalLight, Light
-from .vec import length, normalize
+from .._numeric import ArgumentTypeError, _fmt, as_float, check_choice, check_color, check_vectors, working_dtype
+from ..lights.punctual import AmbientLight, DirectionalLight, Light
+from ..models.brdf import BRDF, Geometry, StackedGeometry
+from ..vec import length, normalize
 
 __all__ = ["Material", "shade", "shade_terms", "shade_prepared", "view_vectors", "TERMS", "FORMS"]
 
@@ -64,7 +64,7 @@ class Material:
     def __post_init__(self):
         if not isinstance(self.brdf, BRDF):
             raise ArgumentTypeError(
-                f"brdf must be a lighting.brdf model (Lambert, Phong, ...); got {type(self.brdf).__name__} "
+                f"brdf must be a lighting.models.brdf model (Lambert, Phong, ...); got {type(self.brdf).__name__} "
                 f"{_fmt(self.brdf)}"
             )
         ka = self.brdf.diffuse_albedo if self.ambient is None else self.ambient
@@ -253,7 +253,7 @@ def _evaluate(p, n, v, eye_dist, material, lights, *, form, attenuation_distance
 
     Returns ``{term: _Planes}``, or one ``_Planes`` holding the sum when ``summed``.
     ``prune=False`` evaluates black lights and zero colours too (the reference
-    "nothing skipped" path that :mod:`lighting.plan` is measured against).
+    "nothing skipped" path that :mod:`lighting.render.plan` is measured against).
     """
     shape = n.shape[:-1] if p is None else np.broadcast_shapes(p.shape, n.shape)[:-1]
     scale = 1.0 if form == "classic" else 1.0 / math.pi
@@ -351,7 +351,7 @@ def shade_terms(
         normal receives only emission and ambient light).
     material : Material
     lights : sequence of lights
-        :class:`~lighting.lights.AmbientLight` adds to the ambient term, every
+        :class:`~lighting.lights.punctual.AmbientLight` adds to the ambient term, every
         other light to the diffuse and specular terms.
     eye, view_dir : 3-vector
         Exactly one: the viewer's position (perspective, ``v`` varies per point)
@@ -442,8 +442,8 @@ def shade(
     --------
     Red light on a green surface is black:
 
-    >>> from lighting.brdf import Lambert
-    >>> from lighting.lights import DirectionalLight
+    >>> from lighting.models.brdf import Lambert
+    >>> from lighting.lights.punctual import DirectionalLight
     >>> shade((0, 0, 0.0), (0, 0, 1.0), Material(Lambert((0, 1, 0))),
     ...       [DirectionalLight((0, 0, 1.0), color=(1, 0, 0))], view_dir=(0, 0, 1.0)).tolist()
     [0.0, 0.0, 0.0]
@@ -461,7 +461,7 @@ def shade_prepared(
 
     ``unit_normals`` must be unit (or zero) and ``view`` the unit view vectors
     (or one shared direction), all of one float dtype; nothing is normalized or
-    copied here.  This is the path of :class:`lighting.render.Renderer`, whose
+    copied here.  This is the path of :class:`lighting.render.renderer.Renderer`, whose
     geometry and viewer stay fixed while lights and materials change.  With
     ``separate=True`` returns ``{term: (..., 3)}`` like :func:`shade_terms`.
 

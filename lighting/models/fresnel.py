@@ -1,0 +1,173 @@
+"""Fresnel reflectance: the fraction of light a smooth interface reflects.
+
+Both functions broadcast, keep the float dtype of ``cos_theta`` and take RGB
+parameters as a trailing axis of length 3 when given a triple.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._numeric import _fmt, check_budget, real_array, working_dtype
+
+__all__ = ["schlick", "dielectric", "f0_from_eta", "eta_from_f0"]
+
+#: How far a cosine may stray beyond [−1, 1] by rounding (clamped); anything further is refused.
+COS_SLACK = 1e-6
+
+
+def _cosines(name: str, value, lo: float = -1.0) -> np.ndarray:
+    """A public function's cosine argument: finite real numbers in ``[lo, 1]`` (rounding slack clamped), float64."""
+    allowed = f"finite real cosines in [{lo:g}, 1]"
+    arr = real_array(name, value, allowed=allowed, dtype=np.float64)
+    if arr.size and (np.min(arr) < lo - COS_SLACK or np.max(arr) > 1 + COS_SLACK):
+        bad = arr[(arr < lo - COS_SLACK) | (arr > 1 + COS_SLACK)]
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(bad.flat[0])} in {_fmt(value)}")
+    return np.clip(arr, lo, 1)
+
+
+def _param(name: str, value, allowed: str, ok) -> np.ndarray:
+    """A scalar or RGB-triple parameter as float64: real, finite, shape () or (3,), and ``ok(arr)`` everywhere."""
+    arr = real_array(name, value, allowed=allowed, dtype=np.float64)
+    if arr.shape not in ((), (3,)):
+        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {_fmt(value)}")
+    if not np.all(ok(arr)):
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
+    return arr
+
+
+def _budget(name: str, c: np.ndarray, p: np.ndarray) -> None:
+    n = c.size * (3 if p.ndim else 1)
+    check_budget(name, n * 12 * 8, what=f"{n} values")
+
+
+def schlick(cos_theta, f0) -> np.ndarray:
+    """Schlick's approximation ``F = F0 + (1 - F0) (1 - cos θ)^5``.
+
+    ``cos_theta`` is the cosine between the incident direction and the
+    (micro)normal, in [−1, 1] and clamped to [0, 1].  ``f0`` (reflectance at
+    normal incidence, in [0, 1]) is a scalar or an RGB triple; with a triple
+    the result has a trailing axis 3.
+
+    Raises ``ValueError`` naming the argument (``ArgumentTypeError``, also a
+    ``TypeError``, for text, complex, booleans or None).
+
+    Examples
+    --------
+    >>> float(schlick(1.0, 0.04))
+    0.04
+    >>> float(schlick(0.0, 0.04))
+    1.0
+    """
+    dt = working_dtype(cos_theta)
+    c = np.clip(_cosines("cos_theta", cos_theta), 0, 1).astype(dt)
+    f0 = _param("f0", f0, "a scalar or RGB triple in [0, 1]", lambda a: (a >= 0) & (a <= 1)).astype(dt)
+    _budget("cos_theta", c, f0)
+    m = (1 - c) ** 5
+    if f0.ndim:
+        m = m[..., None]
+    return (f0 + (1 - f0) * m).astype(dt, copy=False)
+
+
+def dielectric(cos_theta_i, eta) -> np.ndarray:
+    """Exact unpolarized Fresnel reflectance of a dielectric interface.
+
+    ``eta = n_t / n_i`` is the relative index of refraction seen from the side
+    the light arrives on.  With ``cos_theta_i < 0`` the light arrives from the
+    other side, so ``eta`` is inverted and ``|cos|`` used.  Past the critical
+    angle (``sin θ_t > 1``) the reflectance is 1 (total internal reflection).
+
+        F = (r_par² + r_perp²) / 2,
+        r_par  = (η cos θ_i − cos θ_t) / (η cos θ_i + cos θ_t),
+        r_perp = (cos θ_i − η cos θ_t) / (cos θ_i + η cos θ_t).
+
+    At normal incidence this is ``((η − 1) / (η + 1))²``.
+
+    Examples
+    --------
+    >>> round(float(dielectric(1.0, 1.5)), 6)
+    0.04
+    """
+    dt = working_dtype(cos_theta_i)
+    ci = _cosines("cos_theta_i", cos_theta_i)
+    eta = _param("eta", eta, "a finite scalar or RGB triple > 0", lambda a: a > 0)
+    _budget("cos_theta_i", ci, eta)
+    if eta.ndim:
+        ci = ci[..., None]
+    big = np.finfo(np.float64).max
+    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
+        # Any finite η > 0 stays finite: 1/η of a subnormal η is clamped to the largest float
+        # (then η c <= η and η c + c_t rounds to η: no overflow), and η² may overflow (sin²θ_t
+        # is then 0, its limit) or underflow (inf: total internal reflection; 0/0 only at
+        # normal incidence, where sin²θ_t is 0).
+        eta = np.minimum(np.where(ci < 0, 1 / eta, eta), big)
+        ci = np.abs(ci)
+        # sin²θ_t from Snell's law; (1 - c)(1 + c) keeps 1 - cos² accurate near normal incidence.
+        sin2_t = (1 - ci) * (1 + ci) / (eta * eta)
+        sin2_t = np.where(np.isnan(sin2_t), 0.0, sin2_t)
+        tir = sin2_t >= 1
+        ct = np.sqrt(np.clip((1 - sin2_t), 0, None))
+        d_par = eta * ci + ct
+        d_perp = ci + eta * ct
+        r_par = np.where(d_par > 0, (eta * ci - ct) / np.where(d_par > 0, d_par, 1), 0)
+        r_perp = np.where(d_perp > 0, (ci - eta * ct) / np.where(d_perp > 0, d_perp, 1), 0)
+        f = np.where(tir, 1.0, 0.5 * (r_par * r_par + r_perp * r_perp))
+    return f.astype(dt, copy=False)
+
+
+def _dielectric_from_f0(cos_theta_i, f0) -> np.ndarray:
+    """:func:`dielectric` with ``η = (1 + g)/(1 − g)``, ``g = √F0``, for light arriving from outside.
+
+    Multiplying numerators and denominators by ``1 − g`` removes ``η``::
+
+        r_par  = ((1+g)² c − (1−g) c_t') / ((1+g)² c + (1−g) c_t'),
+        r_perp = ((1−g) c − c_t') / ((1−g) c + c_t'),
+        c_t'   = (1+g) cos θ_t = sqrt((1+g)² − (1 − c²)(1−g)²),
+
+    so ``F0`` is reproduced exactly at normal incidence (``r = ±g``) instead of through
+    a rounded ``η``, whose error the formula amplifies about fivefold at ``F0 = 0.04``.
+    ``F0 = 1`` gives ``F = 1`` (the limit ``η → ∞``).  ``cos_theta_i`` in [0, 1]; the
+    result has a trailing RGB axis when ``f0`` is a triple.  Float64 throughout.
+    """
+    c = np.clip(np.asarray(cos_theta_i, dtype=np.float64), 0, 1)
+    g = np.sqrt(np.clip(np.asarray(f0, dtype=np.float64), 0, 1))
+    if g.ndim:
+        c = c[..., None]
+    p, m = 1 + g, 1 - g
+    ct = np.sqrt(np.maximum(p * p - (1 - c) * (1 + c) * (m * m), 0))  # (1+g) cos θ_t
+    pc = p * p * c
+    d_par = pc + m * ct
+    d_perp = m * c + ct
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r_par = np.where(d_par > 0, (pc - m * ct) / np.where(d_par > 0, d_par, 1), 1)
+        r_perp = np.where(d_perp > 0, (m * c - ct) / np.where(d_perp > 0, d_perp, 1), 1)
+    return 0.5 * (r_par * r_par + r_perp * r_perp)
+
+
+def f0_from_eta(eta):
+    """Normal-incidence reflectance ``((η − 1)/(η + 1))²`` for ``η > 0`` (float64, any shape).
+
+    >>> round(float(f0_from_eta(1.5)), 6)
+    0.04
+    """
+    allowed = "finite real numbers > 0"
+    eta = real_array("eta", eta, allowed=allowed, dtype=np.float64)
+    if np.any(eta <= 0):
+        raise ValueError(f"eta must be {allowed}; got {_fmt(eta)}")
+    return ((eta - 1) / (eta + 1)) ** 2
+
+
+def eta_from_f0(f0):
+    """Inverse of :func:`f0_from_eta` on the branch ``η >= 1``: ``(1 + √F0)/(1 − √F0)``, for ``F0`` in [0, 1].
+
+    ``F0 = 1`` (a perfect conductor in this approximation) maps to a very large η (2e12).
+
+    >>> round(float(eta_from_f0(0.04)), 6)
+    1.5
+    """
+    allowed = "finite real numbers in [0, 1]"
+    f0 = real_array("f0", f0, allowed=allowed, dtype=np.float64)
+    if np.any((f0 < 0) | (f0 > 1)):
+        raise ValueError(f"f0 must be {allowed}; got {_fmt(f0)}")
+    s = np.sqrt(f0)
+    return (1 + s) / np.maximum(1 - s, 1e-12)

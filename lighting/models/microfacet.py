@@ -1,0 +1,389 @@
+"""Microfacet building blocks: normal distributions (D) and shadowing–masking (G).
+
+A microfacet surface is a field of tiny mirrors whose normals ``h`` follow a
+distribution ``D(h)``; ``G`` is the fraction of them that is neither shadowed
+(light blocked) nor masked (view blocked).  Every NDF here is normalized so that
+its projected area integrates to one::
+
+    ∫_Ω D(h) (n·h) dω_h = 1.
+
+Numerical care (the same rules as Mitsuba 3 and pbrt-v4, pushed further because
+this engine must stay finite down to α = 1e-6 and at exact grazing):
+
+* ``tan²θ`` is formed from the tangential part (``sin²θ / cos²θ``, with
+  ``sin²θ = |n × h|²`` when the caller has it) and never as ``1/cos² − 1``,
+  which cancels catastrophically at the lobe peak.
+* GGX is written ``α² / (π (sin²θ + α² cos²θ)²)``: the denominator only vanishes
+  where the true value is infinite, and there the result saturates.
+* The computations run in float64 and are cast back to the input dtype,
+  saturating at the type's largest finite value (a Beckmann lobe of α = 1e-6
+  peaks at ``1/(π α²) ≈ 3.2e11``, which float32 holds).
+
+Arguments: the public functions check theirs once, at the boundary — real,
+finite, cosines in [−1, 1] and squared sines in [0, 1] (rounding up to
+:data:`COS_SLACK` beyond is clamped), α > 0, exponents >= 0, shapes that
+broadcast, a result within the memory budget — and raise ``ValueError``
+(``ArgumentTypeError``, also a ``TypeError``, for a wrong type) naming the
+argument.  The reflectance models call the unchecked ``_`` variants
+(:func:`_beckmann_ndf` …) on values they have already checked, so the
+renderer's inner loop does not pay for it.
+
+References: Beckmann & Spizzichino (1963); Cook & Torrance (1982); Walter,
+Marschner, Li & Torrance, "Microfacet Models for Refraction through Rough
+Surfaces" (EGSR 2007), eqs. 27 and 33 for Smith G1.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._numeric import _fmt, check_budget, real_array, working_dtype
+
+__all__ = [
+    "beckmann_ndf",
+    "ggx_ndf",
+    "blinn_phong_ndf",
+    "blinn_phong_exponent",
+    "smith_g1_beckmann",
+    "smith_g1_ggx",
+    "vcavity_g",
+    "check_alpha",
+]
+
+_EXP_CUTOFF = 745.0  # exp(-745) is the last nonzero float64
+
+
+def check_alpha(alpha, name: str = "alpha") -> np.ndarray:
+    """Validate a roughness α (scalar or array): real, finite and > 0; returns it as float64.
+
+    Raises ``ArgumentTypeError`` (a ``TypeError`` and ``ValueError``) for text, complex, booleans
+    or ``None``, and ``ValueError`` for NaN, infinities or values <= 0, naming ``name``.
+    """
+    allowed = "a finite number > 0 (the roughness α), or an array of them"
+    a = real_array(name, alpha, allowed=allowed, dtype=np.float64)
+    if np.any(a <= 0):
+        raise ValueError(f"{name} must be {allowed}; got {_fmt(alpha)}")
+    return a
+
+
+#: How far beyond [−1, 1] a cosine (and beyond [0, 1] a squared sine) may stray by rounding; such
+#: values are clamped into the range, anything further is refused.
+COS_SLACK = 1e-6
+
+#: Peak bytes per output element of one public call (float64 temporaries), for the memory budget.
+_BYTES_PER_ELEMENT = 16 * 8
+
+
+def _public(name_values: dict, *, ranges: dict, scalars: tuple = (),
+            optional: tuple = ("sin2_theta_h", "sin2_theta")) -> tuple[type, list[np.ndarray]]:
+    """Check the arguments of a public function once, at the boundary: ``(dtype, float64 arrays)``.
+
+    ``name_values`` maps each parameter's name to its value (None for an omitted ``optional`` one);
+    ``ranges[name] = (lo, hi)`` gives a closed range that rounding may overstep by
+    :data:`COS_SLACK` (clamped), and ``scalars`` the parameters that are validated elsewhere
+    (roughness, exponent) but broadcast with the rest.  The dtype is the working dtype of the
+    values in ``ranges`` (the directions' cosines), as the dtype policy asks.
+    """
+    dt = working_dtype(*(v for k, v in name_values.items() if k in ranges and v is not None))
+    out = []
+    for name, value in name_values.items():
+        if (value is None and name in optional) or name in scalars:
+            out.append(value)
+            continue
+        lo, hi = ranges[name]
+        allowed = f"finite real numbers in [{lo:g}, {hi:g}]"
+        arr = real_array(name, value, allowed=allowed, dtype=np.float64)
+        if arr.size and (np.min(arr) < lo - COS_SLACK or np.max(arr) > hi + COS_SLACK):
+            bad = arr[(arr < lo - COS_SLACK) | (arr > hi + COS_SLACK)]
+            raise ValueError(f"{name} must be {allowed}; got {_fmt(bad.flat[0])} in {_fmt(value)}")
+        out.append(np.clip(arr, lo, hi))
+    shapes = [np.shape(x) for x in out if x is not None]
+    try:
+        shape = np.broadcast_shapes(*shapes)
+    except ValueError:
+        names = ", ".join(k for k, v in name_values.items() if v is not None)
+        raise ValueError(f"{names} must broadcast together; got shapes {', '.join(map(str, shapes))}") from None
+    check_budget(", ".join(k for k in name_values if k not in scalars), math.prod(shape) * _BYTES_PER_ELEMENT,
+                 what=f"{math.prod(shape)} values")
+    return dt, out
+
+
+def _cos_sin2(cos_theta, sin2_theta):
+    c = np.asarray(cos_theta, dtype=np.float64)
+    if sin2_theta is None:
+        cc = np.clip(c, -1.0, 1.0)
+        s2 = (1.0 - cc) * (1.0 + cc)
+    else:
+        s2 = np.clip(np.asarray(sin2_theta, dtype=np.float64), 0.0, 1.0)
+    return c, s2
+
+
+def _finish(x: np.ndarray, dt) -> np.ndarray:
+    big = float(np.finfo(dt).max)
+    x = np.nan_to_num(x, nan=0.0, posinf=big, neginf=0.0)
+    return np.minimum(x, big).astype(dt)
+
+
+_COS = (-1.0, 1.0)
+_SIN2 = (0.0, 1.0)
+
+
+def beckmann_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
+    """Beckmann distribution of microfacet normals (Gaussian slopes).
+
+        D(h) = exp(−tan²θ_h / α²) / (π α² cos⁴θ_h),   0 for cos θ_h <= 0.
+
+    Parameters
+    ----------
+    cos_theta_h : array_like
+        ``n·h``, in [−1, 1] (rounding up to :data:`COS_SLACK` beyond is clamped).
+    alpha : float or array_like
+        RMS slope α > 0 (the ``roughness`` of :class:`lighting.models.brdf.CookTorrance`).
+    sin2_theta_h : array_like, optional
+        ``|n × h|²`` in [0, 1]; pass it when available for full accuracy near the peak.
+
+    Returns
+    -------
+    ndarray
+        ``D`` in 1/sr, dtype of ``cos_theta_h``, finite (saturated at the dtype's largest value).
+
+    Raises
+    ------
+    ValueError
+        (``ArgumentTypeError`` for a wrong type) naming the argument that is not allowed.
+
+    Examples
+    --------
+    >>> round(float(beckmann_ndf(1.0, 0.5)), 6)  # peak value 1/(π α²)
+    1.27324
+    """
+    a = check_alpha(alpha)
+    dt, (c, s2, _) = _public({"cos_theta_h": cos_theta_h, "sin2_theta_h": sin2_theta_h, "alpha": a},
+                             ranges={"cos_theta_h": _COS, "sin2_theta_h": _SIN2}, scalars=("alpha",))
+    return _beckmann_ndf(c, a, s2, dt)
+
+
+def _beckmann_ndf(cos_theta_h, a, sin2_theta_h, dt) -> np.ndarray:
+    """:func:`beckmann_ndf` on checked arguments (``a`` a float64 α > 0): the renderer's path."""
+    c, s2 = _cos_sin2(cos_theta_h, sin2_theta_h)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+        # x = tan²θ / α² = sin²θ / (α cos θ)²; inf where the cosine is tiny.
+        ac = a * c
+        x = np.where(ac > 0, s2 / (ac * ac), np.inf)
+        xc = np.minimum(x, _EXP_CUTOFF)
+        t = a * a * xc  # tan²θ, so that 1/cos⁴θ = (1 + tan²θ)²
+        d = np.exp(-xc) * (1.0 + t) ** 2 / (math.pi * a * a)
+        d = np.where((c > 0) & (x < _EXP_CUTOFF), d, 0.0)
+    return _finish(d, dt)
+
+
+def ggx_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
+    """GGX / Trowbridge–Reitz distribution.
+
+        D(h) = α² / (π (sin²θ_h + α² cos²θ_h)²)
+             = 1 / (π α² cos⁴θ_h (1 + tan²θ_h / α²)²),   0 for cos θ_h <= 0.
+
+    Arguments, result and errors as :func:`beckmann_ndf`.
+
+    Examples
+    --------
+    >>> round(float(ggx_ndf(1.0, 0.5)), 6)  # peak value 1/(π α²)
+    1.27324
+    """
+    a = check_alpha(alpha)
+    dt, (c, s2, _) = _public({"cos_theta_h": cos_theta_h, "sin2_theta_h": sin2_theta_h, "alpha": a},
+                             ranges={"cos_theta_h": _COS, "sin2_theta_h": _SIN2}, scalars=("alpha",))
+    return _ggx_ndf(c, a, s2, dt)
+
+
+def _ggx_ndf(cos_theta_h, a, sin2_theta_h, dt) -> np.ndarray:
+    """:func:`ggx_ndf` on checked arguments."""
+    c, s2 = _cos_sin2(cos_theta_h, sin2_theta_h)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+        den = s2 + (a * c) ** 2
+        d = np.where(den > 0, (a * a) / (math.pi * den * den), np.inf)
+        d = np.where(c > 0, d, 0.0)
+    return _finish(d, dt)
+
+
+def blinn_phong_exponent(alpha) -> np.ndarray:
+    """Blinn–Phong exponent equivalent to a Beckmann α: ``e = 2/α² − 2`` (Walter et al. 2007, eq. 30).
+
+    Clamped at 0 for α >= 1 (the flattest Blinn–Phong lobe is ``e = 0``), and at the largest
+    float64 for α below 1e-154 (where ``2/α²`` overflows).
+
+    >>> float(blinn_phong_exponent(0.5))
+    6.0
+    """
+    a = check_alpha(alpha)
+    with np.errstate(over="ignore"):
+        e = 2.0 / (a * a) - 2.0
+    return np.clip(e, 0.0, np.finfo(np.float64).max)
+
+
+def blinn_phong_ndf(cos_theta_h, exponent, sin2_theta_h=None) -> np.ndarray:
+    """The slides' normalized Blinn–Phong distribution ``D(h) = (e+2)/(2π) (n·h)^e``.
+
+    ``(n·h)^e`` is evaluated as ``exp(e·log1p(−(1 − n·h)))`` with
+    ``1 − n·h = sin²θ_h / (1 + cos θ_h)``, accurate for exponents up to 1e6 and
+    beyond; ``0^0 = 1``.  ``exponent`` is a finite number >= 0 (or an array of
+    them); the other arguments, the result and the errors are as for
+    :func:`beckmann_ndf`.
+
+    Examples
+    --------
+    >>> round(float(blinn_phong_ndf(1.0, 10.0)), 6)  # (e+2)/(2π)
+    1.909859
+    """
+    allowed = "a finite number >= 0 (the Blinn–Phong exponent), or an array of them"
+    e = real_array("exponent", exponent, allowed=allowed, dtype=np.float64)
+    if np.any(e < 0):
+        raise ValueError(f"exponent must be {allowed}; got {_fmt(exponent)}")
+    dt, (c, s2, _) = _public({"cos_theta_h": cos_theta_h, "sin2_theta_h": sin2_theta_h, "exponent": e},
+                             ranges={"cos_theta_h": _COS, "sin2_theta_h": _SIN2}, scalars=("exponent",))
+    return _blinn_phong_ndf(c, e, s2, dt)
+
+
+def _blinn_phong_ndf(cos_theta_h, e, sin2_theta_h, dt) -> np.ndarray:
+    """:func:`blinn_phong_ndf` on checked arguments (``e`` float64 >= 0)."""
+    c, s2 = _cos_sin2(cos_theta_h, sin2_theta_h)
+    cp = np.maximum(c, 0.0)
+    one_minus = np.where(c > 0, s2 / (1.0 + cp), 1.0)
+    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
+        p = np.exp(e * np.log1p(-np.minimum(one_minus, 1.0)))
+        # Far from the peak the cosine itself is the accurate input (1 − cos loses its digits).
+        p = np.where(cp < 0.5, np.power(cp, e), p)
+        p = np.where(one_minus < 1, p, np.where(e == 0, 1.0, 0.0))
+        d = np.where(c > 0, (e + 2) / (2 * math.pi) * p, 0.0)
+    return _finish(d, dt)
+
+
+def _erf(x: np.ndarray) -> np.ndarray:
+    # SciPy is imported here, not at module load: ``import lighting`` stays NumPy-only.
+    from scipy.special import erf
+
+    return erf(x)
+
+
+def smith_g1_beckmann(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
+    """Smith masking for the Beckmann NDF, exact (error-function) form.
+
+        a = 1 / (α tan θ),   G1 = 2 / (1 + erf(a) + exp(−a²) / (a √π)).
+
+    Evaluated as ``2a√π / (a√π (1 + erf a) + exp(−a²))``, which has no division by
+    ``a`` and tends to 0 at grazing (``a → 0``) and to 1 at the normal.
+    ``cos_theta`` in [−1, 1], ``sin2_theta`` (optional, ``|n × ω|²``) in [0, 1];
+    errors as :func:`beckmann_ndf`.
+
+    Examples
+    --------
+    >>> float(smith_g1_beckmann(1.0, 0.3))
+    1.0
+    """
+    al = check_alpha(alpha)
+    dt, (c, s2, _) = _public({"cos_theta": cos_theta, "sin2_theta": sin2_theta, "alpha": al},
+                             ranges={"cos_theta": _COS, "sin2_theta": _SIN2}, scalars=("alpha",))
+    return _smith_g1_beckmann(c, al, s2, dt)
+
+
+def _smith_g1_beckmann(cos_theta, al, sin2_theta, dt) -> np.ndarray:
+    """:func:`smith_g1_beckmann` on checked arguments."""
+    c, s2 = _cos_sin2(cos_theta, sin2_theta)
+    s = np.sqrt(s2)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        a = np.where(al * s > 0, c / (al * s), np.inf)
+    a = np.clip(a, 0.0, 1e8)  # below the horizon G1 is 0; G1 = 1 to double precision long before 1e8
+    sp = math.sqrt(math.pi)
+    with np.errstate(under="ignore"):
+        g = 2 * a * sp / (a * sp * (1 + _erf(a)) + np.exp(-a * a))
+    g = np.where(c > 0, np.minimum(g, 1.0), 0.0)
+    return _finish(g, dt)
+
+
+def smith_g1_ggx(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
+    """Smith masking for GGX: ``G1 = 2 / (1 + sqrt(1 + α² tan²θ))``.
+
+    Evaluated as ``2 cos θ / (cos θ + hypot(cos θ, α sin θ))`` (no ``tan``, no
+    overflow at grazing).  Arguments and errors as :func:`smith_g1_beckmann`.
+
+    Examples
+    --------
+    >>> float(smith_g1_ggx(1.0, 0.3))
+    1.0
+    """
+    al = check_alpha(alpha)
+    dt, (c, s2, _) = _public({"cos_theta": cos_theta, "sin2_theta": sin2_theta, "alpha": al},
+                             ranges={"cos_theta": _COS, "sin2_theta": _SIN2}, scalars=("alpha",))
+    return _smith_g1_ggx(c, al, s2, dt)
+
+
+def _smith_g1_ggx(cos_theta, al, sin2_theta, dt) -> np.ndarray:
+    """:func:`smith_g1_ggx` on checked arguments."""
+    c, s2 = _cos_sin2(cos_theta, sin2_theta)
+    s = np.sqrt(s2)
+    cp = np.maximum(c, 0.0)
+    with np.errstate(over="ignore", under="ignore"):
+        den = cp + np.hypot(cp, al * s)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g = np.where(den > 0, 2 * cp / np.where(den > 0, den, 1.0), 0.0)
+    g = np.where(c > 0, g, 0.0)
+    return _finish(g, dt)
+
+
+_INV_SQRT_PI = 0.5641895835477563  # 1/√π, correctly rounded
+
+
+def _smith_g1_den_beckmann(cos_theta, alpha, sin2_theta) -> np.ndarray:
+    """``d`` with ``G1 = 2 cos θ / d`` for Beckmann (float64): ``d = cos θ (1 + erf a) + (α sin θ/√π) exp(−a²)``.
+
+    ``a = cos θ / (α sin θ)``.  ``G1 / cos θ = 2 / d`` is then free of the division of
+    a small ``G1`` by a small cosine at grazing (where it tends to ``2√π/α``), and
+    ``d → 2 cos θ`` at the normal.  ``d`` is 1 (a placeholder) where ``cos θ <= 0``.
+    """
+    al = float(alpha)  # internal: the model checked it once
+    c, s2 = _cos_sin2(cos_theta, sin2_theta)
+    s = np.sqrt(s2)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+        a = np.clip(np.where(al * s > 0, c / (al * s), np.inf), 0.0, 1e8)
+        d = c * (1 + _erf(a)) + (al * _INV_SQRT_PI) * s * np.exp(-a * a)
+    return np.where((c > 0) & (d > 0), d, 1.0)
+
+
+def _smith_g1_den_ggx(cos_theta, alpha, sin2_theta) -> np.ndarray:
+    """``d`` with ``G1 = 2 cos θ / d`` for GGX (float64): ``d = cos θ + sqrt(cos²θ + α² sin²θ)``."""
+    al = float(alpha)  # internal: the model checked it once
+    c, s2 = _cos_sin2(cos_theta, sin2_theta)
+    cp = np.maximum(c, 0.0)
+    d = cp + np.hypot(cp, al * np.sqrt(s2))
+    return np.where((c > 0) & (d > 0), d, 1.0)
+
+
+def vcavity_g(n_dot_h, n_dot_v, n_dot_l, v_dot_h) -> np.ndarray:
+    """Cook–Torrance shadowing/masking from symmetric V-shaped grooves.
+
+        G = min(1, 2 (n·h)(n·v) / (v·h), 2 (n·h)(n·l) / (v·h)),
+
+    0 where any cosine is <= 0 (``v·h = l·h`` by construction of ``h``).  Every
+    argument is a cosine in [−1, 1]; errors as :func:`beckmann_ndf`.
+
+    Examples
+    --------
+    >>> float(vcavity_g(1.0, 1.0, 1.0, 1.0))
+    1.0
+    """
+    names = {"n_dot_h": n_dot_h, "n_dot_v": n_dot_v, "n_dot_l": n_dot_l, "v_dot_h": v_dot_h}
+    dt, arrays = _public(names, ranges=dict.fromkeys(names, _COS))
+    return _vcavity_g(*arrays, dt=dt)
+
+
+def _vcavity_g(n_dot_h, n_dot_v, n_dot_l, v_dot_h, dt=None) -> np.ndarray:
+    """:func:`vcavity_g` on checked arguments (the dtype of the cosines unless ``dt`` is given)."""
+    dt = dt or working_dtype(n_dot_h, n_dot_v, n_dot_l, v_dot_h)
+    nh, nv, nl, vh = (np.asarray(x, dtype=np.float64) for x in (n_dot_h, n_dot_v, n_dot_l, v_dot_h))
+    m = np.minimum(nv, nl)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+        g = np.where(vh > 0, 2 * nh * m / np.where(vh > 0, vh, 1.0), 0.0)
+    g = np.where((nh > 0) & (nv > 0) & (nl > 0), np.clip(g, 0.0, 1.0), 0.0)
+    return _finish(g, dt)
