@@ -28,7 +28,7 @@ local frame of the sphere point that faces the viewer (``n = +z``), so their
 incident direction is the light seen from that point; every one of them builds
 it through :func:`lighting.vec.spherical_direction`, so a light on or below the
 horizon reflects nothing in all of them, and they all sample the lobe's peak
-(:func:`lighting.analysis.analysis.lobe_peak`), so they report the same peak.
+(:func:`lighting.analysis.lobe_peak`), so they report the same peak.
 
 Example
 -------
@@ -724,7 +724,7 @@ class PolarView:
     """The polar slice in the plane of incidence: fixed light (swept view) and fixed view (swept light).
 
     ``angles`` are signed, negative on the light's side (see
-    :func:`lighting.analysis.analysis.polar_slice`); ``theta_in`` is the incident polar
+    :func:`lighting.analysis.polar_slice`); ``theta_in`` is the incident polar
     angle (clamped to 90° when the light is below the horizon).
     """
 
@@ -765,7 +765,7 @@ class AlbedoView:
     ``theta_v`` is the fixed view of the polar panel's dashed slice (``θ_v = θ_l``, 90° when the
     light is below the horizon, where ρ is 0).  ``value`` and ``error`` are the plot channel's
     (luminance: the Rec. 709 weights of the RGB values and errors); ``unconverged`` flags a
-    relative error above 2 % (:attr:`lighting.integrate.integrate.Estimate.unconverged`), as the accuracy
+    relative error above 2 % (:attr:`lighting.integrate.Estimate.unconverged`), as the accuracy
     report does.  ``rgb`` and ``rgb_error`` are the whole estimate.
     """
 
@@ -925,7 +925,7 @@ class ExplorerModel:
     mesh_size : int
         Pixels of the coarse sphere images.
     lobe_resolution : int
-        Rings of the lobe mesh (:func:`lighting.analysis.analysis.lobe_mesh`).
+        Rings of the lobe mesh (:func:`lighting.analysis.lobe_mesh`).
     dtype : float32 or float64
         Shading precision (float32: faster, relative error of a few 1e-7).
 

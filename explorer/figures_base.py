@@ -130,7 +130,7 @@ class Quality:
 
     @property
     def lobe_resolution(self) -> int:
-        """``resolution`` of :func:`lighting.analysis.analysis.lobe_mesh`."""
+        """``resolution`` of :func:`lighting.analysis.lobe_mesh`."""
         return 8 if self.quick else 40
 
     @property
@@ -217,7 +217,7 @@ def show_image(ax, rgb8, title: str | None = None, *, color=None, fontsize=None,
 def polar_half(ax, rmax: float, *, label: str | None = r"$f_r$ (1/sr)", ticks: int = 3) -> None:
     """A polar axes showing the upper hemisphere: the normal points up, angles in degrees from it.
 
-    Positive angles are to the right (the mirror side in :func:`lighting.analysis.analysis.polar_slice`); the
+    Positive angles are to the right (the mirror side in :func:`lighting.analysis.polar_slice`); the
     radial scale reads along the right half of the baseline, its label sits under the origin.
     """
     ax.set_theta_zero_location("N")

@@ -157,7 +157,7 @@ def _lobe_axes(ax, mesh, title):
         "The 3D surface plot of each BRDF for one light direction l (θ_l = {theta_deg:g}°): the distance "
         "from the centre in a view direction v is f_r(l, v), and the colour (viridis) is the same value "
         "relative to the lobe's peak. The grey circle is the surface, n its normal. Meshes from "
-        "lighting.analysis.analysis.lobe_mesh, whose grid follows narrow lobes; each panel has its own scale."
+        "lighting.analysis.lobe_mesh, whose grid follows narrow lobes; each panel has its own scale."
     ),
     slides="UBC: BRDF measurements/plots (3D surface). CMSC 435: Diffuse; Phong; Cook–Torrance; Blinn–Phong",
     theta_deg=45.0,

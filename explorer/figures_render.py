@@ -70,7 +70,7 @@ def _image(r, values, fade=True):
     title="The rendering equation: full environment vs light at one point",
     caption=(
         "L_o(v) = ∫ f_r(v, l) L_i(l) (n·l) dω(l), integrated per pixel by the engine "
-        "(lighting.integrate.integrate.outgoing_radiance, quadrature with {samples} nodes on the BRDF lobe, "
+        "(lighting.integrate.outgoing_radiance, quadrature with {samples} nodes on the BRDF lobe, "
         "{patch_samples} on the patch). Top: a sphere lit by a full environment — a daylight sky with a bright "
         "sun glow, shown as a latitude–longitude map (θ "
         "from the zenith, φ around it) — light arrives from every direction. Bottom: the same sun as a small "

@@ -57,7 +57,7 @@ from .._numeric import (
     real_array,
     working_dtype,
 )
-from ..models.brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong
+from ..models.brdf import BRDFSum
 from ..vec import normalize, spherical_direction
 
 __all__ = [
@@ -830,18 +830,15 @@ def half_diff_image(
 # --------------------------------------------------------------------------- 3D lobe
 def _part_widths(p, cos_l: float) -> tuple[float, float]:
     """``(across, along)``: the lobe's angular standard deviations across and along the plane of incidence."""
-    if isinstance(p, Lambert):
+    lobe = p.lobe()
+    if lobe is None:
+        return math.nan, math.nan  # unknown lobe: measured numerically
+    if lobe.axis == "normal":
         return math.inf, math.inf
-    if isinstance(p, Phong):
-        # (R·v)^e ≈ exp(−e ψ²/2) about R_l: standard deviation 1/√e, the same in every direction.
-        w = math.inf if not np.any(p.ks > 0) or p.shininess == 0 else 1.0 / math.sqrt(p.shininess)
-        return w, w
-    if isinstance(p, BlinnPhong):
-        h_width = math.inf if not np.any(p.ks > 0) or p.shininess == 0 else 1.0 / math.sqrt(p.shininess)
-    elif isinstance(p, CookTorrance):
-        h_width = p.roughness / _SQRT2 if np.any(p.ks > 0) else math.inf  # Beckmann: exp(−θ_h²/α²)
-    else:
-        return math.nan, math.nan  # unknown model: measured numerically
+    if lobe.axis == "mirror":
+        # A cone about R: the same width in every direction.
+        return lobe.width, lobe.width
+    h_width = lobe.width
     # Half-vector lobes: |dv| = 2 |dh| along the plane of incidence, 2 cos θ_d |dh| across it (θ_d = θ_l at R_l).
     return h_width * 2.0 * max(cos_l, _MIN_COS), h_width * 2.0
 

@@ -12,7 +12,7 @@ The CMSC 435 deck calls a BRDF *physically plausible* when it is
 the smallest value over a dense deterministic set of direction pairs; the
 largest relative asymmetry ``|f(l,v) − f(v,l)| / max(|f(l,v)|, |f(v,l)|)`` over
 the same pairs; and the directional albedo over view angles by quadrature
-(:func:`lighting.integrate.integrate.albedo_curve`), with its error estimate.  A model
+(:func:`lighting.integrate.albedo_curve`), with its error estimate.  A model
 fails energy conservation only when its largest albedo exceeds 1 by more than
 the integration error (and a rounding tolerance).
 
@@ -203,28 +203,7 @@ def _fmt(x: float) -> str:
 
 def describe(brdf: BRDF) -> str:
     """Short parameter summary of a model for the table."""
-    parts = []
-    for p in brdf.parts:
-        if isinstance(p, Lambert):
-            parts.append(f"kd={_color(p.kd)}")
-        elif isinstance(p, Phong):
-            parts.append(f"ks={_color(p.ks)} e={_fmt(p.shininess)}")
-        elif isinstance(p, BlinnPhong):
-            parts.append(f"ks={_color(p.ks)} e={_fmt(p.shininess)}" + (" normalized" if p.normalized else ""))
-        elif isinstance(p, CookTorrance):
-            f = "F=1" if p.fresnel == "none" else f"{p.fresnel} f0={_color(p.f0)}"
-            den = "4(n·v)(n·l)" if p.denominator == "4" else "π(n·v)(n·l)"
-            parts.append(f"ks={_color(p.ks)} α={_fmt(p.roughness)} {p.ndf}/{p.geometry} {f} /{den}")
-        else:
-            parts.append(repr(p))
-    return " + ".join(parts)
-
-
-def _color(c) -> str:
-    c = np.asarray(c)
-    if np.all(c == c.flat[0]):
-        return _fmt(float(c.flat[0]))
-    return "(" + ",".join(_fmt(float(x)) for x in c) + ")"
+    return " + ".join(p.summary() for p in brdf.parts)
 
 
 def default_cases() -> list[AuditCase]:

@@ -127,7 +127,7 @@ from .._numeric import (
     working_dtype,
 )
 from ..lights.environment import Environment, SmallPatchEnvironment, as_environment
-from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
+from ..models.brdf import BRDF
 from ..vec import orthonormal_basis
 from .sampling import (
     BYTES_PER_SAMPLE,
@@ -519,12 +519,9 @@ def _lobe_rule(part: BRDF, v: np.ndarray, n_r: int, n_phi: int, min_order: int =
     n = np.broadcast_to(np.array([0.0, 0.0, 1.0]), (b, 3))
     x = np.broadcast_to(np.array([1.0, 0.0, 0.0]), (b, 3))
     y = np.broadcast_to(np.array([0.0, 1.0, 0.0]), (b, 3))
-    if isinstance(part, (Phong, BlinnPhong)) and part.shininess == 0:
-        # e = 0: f_r (n·l) is constant (raw forms) or ∝ n·l (normalized) — smooth about the normal.
-        d, w = _star(n, x, y, lambda phi: np.full(phi.shape, math.pi / 2), None, n_r, n_phi, min_order=min_order)
-        return _Rule(d, w)
-    if isinstance(part, Phong):
-        e = part.shininess
+    lobe = part.lobe()
+    if lobe is not None and lobe.axis == "mirror":
+        e = lobe.power
         r = v * np.array([-1.0, -1.0, 1.0])
         t1, t2 = _frame_about(r)
         cut = _horizon_cut(r, t1, t2)
@@ -533,14 +530,11 @@ def _lobe_rule(part: BRDF, v: np.ndarray, n_r: int, n_phi: int, min_order: int =
             # (R_v·l)^e vanishes beyond ψ = π/2 (e > 0): stop there as well.
             return np.minimum(cut(phi), math.pi / 2)
 
-        width = 1.0 / math.sqrt(e + 1.0)
+        width = lobe.rule_width
         d, w = _star(r, t1, t2, pm, width, n_r, n_phi, eps=_cot(r[:, 2]), power=e, min_order=min_order)
         return _Rule(d, w)
-    if isinstance(part, (BlinnPhong, CookTorrance)):
-        if isinstance(part, BlinnPhong):
-            width = 1.0 / math.sqrt(part.shininess + 1.0)
-        else:
-            width = part.roughness
+    if lobe is not None and lobe.axis == "half":
+        width = lobe.rule_width
         # Half-vector space: rays from n at azimuth φ measured from v's azimuth.
         sv = np.sqrt(v[:, 0] ** 2 + v[:, 1] ** 2)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -555,11 +549,11 @@ def _lobe_rule(part: BRDF, v: np.ndarray, n_r: int, n_phi: int, min_order: int =
             return 0.5 * (beta + math.pi / 2)
 
         breaks = None
-        if isinstance(part, CookTorrance) and part.geometry == "v-cavity":
+        if lobe.horizon == "v-cavity":
             breaks = _vcavity_kinks(sv, cos_v, hmax)
-        elif isinstance(part, CookTorrance):
+        elif lobe.horizon == "smith":
             # Smith G1(l) falls from 1 to 0 within n·l ~ α of the horizon: panels there too.
-            def breaks(phi, a=part.roughness):
+            def breaks(phi, a=width):
                 top = hmax(phi)[..., None]
                 return np.maximum(top - a * np.array([0.5, 2.0, 8.0]), 0.0)
 
@@ -567,7 +561,7 @@ def _lobe_rule(part: BRDF, v: np.ndarray, n_r: int, n_phi: int, min_order: int =
         vh = np.einsum("bk,bmk->bm", v, h)
         l = 2 * vh[..., None] * h - v[:, None, :]  # noqa: E741
         return _Rule(l, w * 4 * np.maximum(vh, 0.0))
-    # Lambert and anything unknown: polar about the normal over the whole hemisphere.
+    # A lobe about the normal (Lambert, e = 0) or none known: polar about the normal over the whole hemisphere.
     d, w = _star(n, x, y, lambda phi: np.full(phi.shape, math.pi / 2), None, n_r, n_phi, min_order=min_order)
     return _Rule(d, w)
 
@@ -1142,7 +1136,7 @@ def outgoing_radiance(
 
 
 def _lambertian_albedo(brdf: BRDF) -> np.ndarray:
-    if not all(isinstance(p, Lambert) for p in brdf.parts):
+    if not all(p.lambertian for p in brdf.parts):
         raise ValueError(
             f"method 'sh' (spherical-harmonic irradiance) needs a Lambertian model (Lambert or a sum of them); "
             f"got {brdf!r}"

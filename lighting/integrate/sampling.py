@@ -53,7 +53,7 @@ from .._numeric import (
     real_array,
 )
 from ..models import microfacet as _mf
-from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Geometry, Lambert, Phong, cos_power
+from ..models.brdf import BRDF, Geometry, cos_power
 from ..vec import orthonormal_basis
 
 __all__ = [
@@ -639,18 +639,7 @@ def _f_cos(brdf: BRDF, l, v) -> np.ndarray:  # noqa: E741
 
 
 def _part_sampler(part: BRDF) -> Sampler:
-    if isinstance(part, Lambert):
-        return CosineSampler()
-    if isinstance(part, Phong):
-        # e = 0: f_r (n·l) is constant over the hemisphere, which uniform sampling integrates exactly.
-        return UniformSampler() if part.shininess == 0 else PhongSampler(part.shininess)
-    if isinstance(part, BlinnPhong):
-        if part.shininess == 0:
-            return CosineSampler() if part.normalized else UniformSampler()
-        return MicrofacetSampler("blinn-phong", exponent=part.shininess)
-    if isinstance(part, CookTorrance):
-        return MicrofacetSampler(part.ndf, part.roughness)
-    return CosineSampler()
+    return part.sampler()
 
 
 _TABLE_MU = np.linspace(0.0, 1.0, 17)
@@ -670,7 +659,7 @@ def _rough_albedo_table(part: BRDF, sampler: Sampler) -> np.ndarray:
 
 
 def importance_sampler(brdf: BRDF) -> Sampler:
-    """The importance sampler for a model, dispatched on its type.
+    """The importance sampler for a model: each model's own (``model.sampler()``), mixed for a sum.
 
     * :class:`~lighting.models.brdf.Lambert` → cosine-weighted;
     * :class:`~lighting.models.brdf.Phong` → Phong lobe around ``R_v`` (uniform for ``e = 0``);

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from . import brdf, fresnel, microfacet
+from . import brdf, fresnel, microfacet, protocol
 from .brdf import (  # noqa: F401
     BRDF,
     BlinnPhong,
@@ -30,8 +30,33 @@ from .microfacet import (  # noqa: F401
     smith_g1_ggx,
     vcavity_g,
 )
+from .protocol import (  # noqa: F401
+    Lobe,
+    Parameter,
+    create_model,
+    model_class,
+    model_names,
+    model_variants,
+    register_model,
+)
 
 __all__ = [
+    "protocol",
+    "Lobe",
+    "Parameter",
+    "create_model",
+    "model_class",
+    "model_names",
+    "model_variants",
+    "register_model",
+    "protocol",
+    "Lobe",
+    "Parameter",
+    "create_model",
+    "model_class",
+    "model_names",
+    "model_variants",
+    "register_model",
     "microfacet",
     "fresnel",
     "brdf",

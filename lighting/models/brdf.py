@@ -48,6 +48,7 @@ from .._numeric import (
 from ..vec import normalize
 from . import fresnel as _fresnel
 from . import microfacet as _mf
+from .protocol import Lobe, Parameter, register_model
 
 __all__ = [
     "Geometry",
@@ -664,6 +665,15 @@ class BRDF:
     #: Whether the separable forms accept a :class:`StackedGeometry` (all lights at once);
     #: a model that reads the vectors ``g.n``, ``g.l``, ``g.v`` themselves leaves it False.
     stackable = False
+    #: The registered name (scene files, the command line, the explorer); ``None`` if unregistered.
+    name: str | None = None
+    #: The parameter table (:class:`~lighting.models.protocol.Parameter`): the constructor's keywords,
+    #: their kinds, ranges, defaults, units and descriptions, in the constructor's order.
+    parameters: tuple[Parameter, ...] = ()
+    #: Named variants a model list shows as entries of their own: name → fixed keyword arguments.
+    variants: dict = {}
+    #: ``f_r`` is the constant ``diffuse_albedo / π``: shading and integration may use closed forms.
+    lambertian = False
 
     # -- evaluation -----------------------------------------------------------------
     def eval(self, n, l, v):  # noqa: E741
@@ -731,6 +741,53 @@ class BRDF:
         with np.errstate(over="ignore"):
             return [(saturate_to(s * pi, g.dtype), c) for s, c in self.separable_cos(g)]
 
+    # -- what the rest of the engine asks a model ---------------------------------------
+    def lobe(self) -> Lobe | None:
+        """Where ``f_r (n·l)`` concentrates (:class:`~lighting.models.protocol.Lobe`); ``None``: unknown.
+
+        Quadrature then covers the hemisphere about the normal, and plots measure the lobe's width
+        numerically.
+        """
+        return None
+
+    def sampler(self):
+        """The importance sampler of this model (``sample(u, v)`` and ``pdf(l, v)``, local frame).
+
+        The default samples the cosine-weighted hemisphere, which any model with a finite
+        ``f_r`` can use (unbiased, if slow for sharp lobes).
+        """
+        from ..integrate.sampling import CosineSampler
+
+        return CosineSampler()
+
+    def summary(self) -> str:
+        """A short parameter summary (the plausibility audit's model column)."""
+        return repr(self)
+
+    def to_dict(self) -> dict:
+        """The model as a scene file's part table: ``{"model": name, parameter: value, ...}``.
+
+        Colours become lists of floats, numbers floats, in the order of :attr:`parameters`.
+        """
+        if self.name is None or self.parts != (self,):
+            raise ValueError(f"no scene-file form for the model {type(self).__name__}")
+        d = {"model": self.name}
+        for p in self.parameters:
+            value = getattr(self, p.name)
+            if p.kind == "color":
+                value = [float(x) for x in np.asarray(value, dtype=np.float64).reshape(-1)]
+            elif p.kind == "float":
+                value = float(value)
+            elif p.kind == "bool":
+                value = bool(value)
+            d[p.name] = value
+        return d
+
+    @classmethod
+    def from_dict(cls, table: dict) -> BRDF:
+        """The inverse of :meth:`to_dict` (the ``model`` key, if present, is ignored)."""
+        return cls(**{k: v for k, v in table.items() if k != "model"})
+
     # -- structure ------------------------------------------------------------------
     @property
     def parts(self) -> tuple[BRDF, ...]:
@@ -753,6 +810,14 @@ class BRDF:
 
     def _params(self) -> dict:
         return {}
+
+
+def _color_text(c) -> str:
+    """``0.5`` for a grey coefficient, ``(0.8,0.2,0.1)`` for a coloured one."""
+    c = np.asarray(c)
+    if np.all(c == c.flat[0]):
+        return f"{float(c.flat[0]):g}"
+    return "(" + ",".join(f"{float(x):g}" for x in c) + ")"
 
 
 def _short(v):
@@ -783,12 +848,27 @@ class Lambert(BRDF):
     [0.31831, 0.31831, 0.31831]
     """
 
+    name = "lambert"
     term = "diffuse"
-
     stackable = True
+    lambertian = True
+    parameters = (
+        Parameter("kd", "color", 0.8, slider=(0.0, 1.0), description="diffuse albedo k_d (the surface colour)"),
+    )
 
     def __init__(self, kd=0.8):
         self.kd = _color("kd", kd)
+
+    def lobe(self):
+        return Lobe("normal")
+
+    def sampler(self):
+        from ..integrate.sampling import CosineSampler
+
+        return CosineSampler()
+
+    def summary(self):
+        return f"kd={_color_text(self.kd)}"
 
     def _params(self):
         return {"kd": self.kd}
@@ -837,7 +917,12 @@ class Phong(BRDF):
     [1.0, 1.0, 1.0]
     """
 
+    name = "phong"
     stackable = True
+    parameters = (
+        Parameter("ks", "color", 0.5, slider=(0.0, 1.0), description="specular coefficient k_s"),
+        Parameter("shininess", "float", 32.0, slider=(0.0, 1e6), log=True, description="the exponent e"),
+    )
 
     def __init__(self, ks=0.5, shininess=32.0):
         self.ks = _color("ks", ks)
@@ -845,6 +930,23 @@ class Phong(BRDF):
 
     def _params(self):
         return {"ks": self.ks, "shininess": self.shininess}
+
+    def lobe(self):
+        e = self.shininess
+        if e == 0:
+            return Lobe("normal")  # f_r (n·l) is constant over the hemisphere
+        # (R·v)^e ≈ exp(−e ψ²/2) about R_v: standard deviation 1/√e; quadrature scales by 1/√(e+1).
+        width = 1.0 / math.sqrt(e) if np.any(self.ks > 0) else math.inf
+        return Lobe("mirror", width, quadrature_width=1.0 / math.sqrt(e + 1.0), power=e)
+
+    def sampler(self):
+        from ..integrate.sampling import PhongSampler, UniformSampler
+
+        # e = 0: f_r (n·l) is constant over the hemisphere, which uniform sampling integrates exactly.
+        return UniformSampler() if self.shininess == 0 else PhongSampler(self.shininess)
+
+    def summary(self):
+        return f"ks={_color_text(self.ks)} e={self.shininess:g}"
 
     def _lobe(self, g):
         lobe = cos_power(g.one_minus_r_dot_v, self.shininess)
@@ -901,7 +1003,14 @@ class BlinnPhong(BRDF):
     [1.0, 1.0, 1.0]
     """
 
+    name = "blinn-phong"
     stackable = True
+    parameters = (
+        Parameter("ks", "color", 0.5, slider=(0.0, 1.0), description="specular coefficient k_s"),
+        Parameter("shininess", "float", 32.0, slider=(0.0, 1e6), log=True, description="the exponent e"),
+        Parameter("normalized", "bool", False, description="the NDF-normalized form (e+2)/(2π) (n·h)^e"),
+    )
+    variants = {"blinn-phong-normalized": {"normalized": True}}
 
     def __init__(self, ks=0.5, shininess=32.0, normalized=False):
         self.ks = _color("ks", ks)
@@ -910,6 +1019,25 @@ class BlinnPhong(BRDF):
 
     def _params(self):
         return {"ks": self.ks, "shininess": self.shininess, "normalized": self.normalized}
+
+    def lobe(self):
+        e = self.shininess
+        if e == 0:
+            return Lobe("normal")
+        # Half vectors ∝ (n·h)^e ≈ exp(−e θ_h²/2) about n: standard deviation 1/√e.
+        width = 1.0 / math.sqrt(e) if np.any(self.ks > 0) else math.inf
+        return Lobe("half", width, quadrature_width=1.0 / math.sqrt(e + 1.0))
+
+    def sampler(self):
+        from ..integrate.sampling import CosineSampler, MicrofacetSampler, UniformSampler
+
+        if self.shininess == 0:
+            # f_r (n·l) is ∝ n·l (normalized) or constant (raw): cosine or uniform sampling is exact.
+            return CosineSampler() if self.normalized else UniformSampler()
+        return MicrofacetSampler("blinn-phong", exponent=self.shininess)
+
+    def summary(self):
+        return f"ks={_color_text(self.ks)} e={self.shininess:g}" + (" normalized" if self.normalized else "")
 
     def _lobe(self, g, dtype=None, scale: float = 1.0):
         """``scale · (n·h)^e`` (0 below the horizon) in ``dtype`` (that of ``g`` by default).
@@ -1071,10 +1199,22 @@ class CookTorrance(BRDF):
     0.884194
     """
 
+    name = "cook-torrance"
     NDFS = ("beckmann", "ggx", "blinn-phong")
     GEOMETRIES = ("v-cavity", "smith")
     FRESNELS = ("schlick", "dielectric", "none")
     DENOMINATORS = ("4", "pi")
+    parameters = (
+        Parameter("ks", "color", 1.0, slider=(0.0, 1.0), description="specular coefficient k_s"),
+        Parameter("roughness", "float", 0.3, slider=(1e-6, 1.0), log=True, low_open=True,
+                  description="the NDF's roughness α"),
+        Parameter("f0", "color", 0.04, high=1.0, description="Fresnel reflectance at normal incidence F0"),
+        Parameter("ndf", "choice", "beckmann", choices=NDFS, description="normal distribution D"),
+        Parameter("geometry", "choice", "v-cavity", choices=GEOMETRIES, description="shadowing–masking G"),
+        Parameter("fresnel", "choice", "schlick", choices=FRESNELS, description="Fresnel term F"),
+        Parameter("denominator", "choice", "4", choices=DENOMINATORS,
+                  description="4 (n·v)(n·l), or the slide's π (n·v)(n·l)"),
+    )
 
     stackable = True
 
@@ -1098,6 +1238,22 @@ class CookTorrance(BRDF):
             denominator = str(denominator)  # 4 means "4"
         self.denominator = check_choice("denominator", denominator, self.DENOMINATORS)
         self._exponent = float(_mf.blinn_phong_exponent(self.roughness))
+
+    def lobe(self):
+        # Beckmann's exp(−tan²θ_h/α²) has standard deviation α/√2 about n; quadrature scales by α.
+        width = self.roughness / math.sqrt(2.0) if np.any(self.ks > 0) else math.inf
+        horizon = "v-cavity" if self.geometry == "v-cavity" else "smith"
+        return Lobe("half", width, quadrature_width=self.roughness, horizon=horizon)
+
+    def sampler(self):
+        from ..integrate.sampling import MicrofacetSampler
+
+        return MicrofacetSampler(self.ndf, self.roughness)
+
+    def summary(self):
+        f = "F=1" if self.fresnel == "none" else f"{self.fresnel} f0={_color_text(self.f0)}"
+        den = "4(n·v)(n·l)" if self.denominator == "4" else "π(n·v)(n·l)"
+        return f"ks={_color_text(self.ks)} α={self.roughness:g} {self.ndf}/{self.geometry} {f} /{den}"
 
     def _params(self):
         return {
@@ -1248,3 +1404,8 @@ class BRDFSum(BRDF):
 
     def __repr__(self):
         return " + ".join(repr(p) for p in self._parts)
+
+
+for _model in (Lambert, Phong, BlinnPhong, CookTorrance):  # the lectures' order
+    register_model(_model)
+del _model

@@ -37,7 +37,7 @@ import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
 from ..lights.punctual import AmbientLight, DirectionalLight, SpotLight
-from ..models.brdf import BRDF, BRDFSum, Lambert
+from ..models.brdf import BRDF, BRDFSum
 from ..shading.equation import (
     FORMS,
     TERMS,
@@ -350,7 +350,7 @@ def compile_plan(
         why = "no light reaches the surface directly" if not direct else "no diffuse or specular part remains"
         skipped.append(Skip("normals, view vectors and the light loop", f"{why}: the image is one constant colour"))
         return plan
-    if all(isinstance(p, Lambert) for p in parts) and all(isinstance(lt, DirectionalLight) for lt in direct):
+    if all(p.lambertian for p in parts) and all(isinstance(lt, DirectionalLight) for lt in direct):
         plan.strategy = "diffuse-directional"
         skipped.append(Skip("view vectors and half vectors", "a diffuse surface needs only the sign of n·v"))
         skipped.append(Skip("per-sample light vectors and attenuation", "every light is directional: one l per light"))
@@ -375,8 +375,8 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     mode = check_choice("mode", mode, SHADING_MODES)
     form = check_choice("form", form, FORMS)
     terms = _check_terms(terms)
-    from ..vec import normalize
     from ..shading.equation import view_vectors
+    from ..vec import normalize
 
     pts = renderer.sample_points(mode)
     nrm = normalize(renderer.sample_normals(mode))

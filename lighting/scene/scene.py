@@ -1266,7 +1266,7 @@ class SceneRenderer:
 
     def __init__(self, scene: Scene, *, dtype=np.float64, plan=True):
         if not isinstance(scene, Scene):
-            raise ValueError(f"scene must be a lighting.scene.scene.Scene; got {type(scene).__name__}")
+            raise ValueError(f"scene must be a lighting.scene.Scene; got {type(scene).__name__}")
         if plan not in (True, False, "full"):
             raise ValueError(f"plan must be True, False or 'full'; got {plan!r}")
         check_scene_budget(scene)  # before any buffer is allocated
@@ -1289,7 +1289,7 @@ class SceneRenderer:
     @scene.setter
     def scene(self, new: Scene):
         if not isinstance(new, Scene):
-            raise ValueError(f"scene must be a lighting.scene.scene.Scene; got {type(new).__name__}")
+            raise ValueError(f"scene must be a lighting.scene.Scene; got {type(new).__name__}")
         check_scene_budget(new)
         same_camera = _camera_key(new.camera) == _camera_key(self._scene.camera)
         old = list(zip(self._keys, self._renderers, strict=True))
@@ -1698,17 +1698,7 @@ def _floats(a) -> list:
 
 
 def _model_to_dict(m: BRDF) -> dict:
-    if isinstance(m, Lambert):
-        return {"model": "lambert", "kd": _floats(m.kd)}
-    if isinstance(m, Phong):
-        return {"model": "phong", "ks": _floats(m.ks), "shininess": m.shininess}
-    if isinstance(m, BlinnPhong):
-        return {"model": "blinn-phong", "ks": _floats(m.ks), "shininess": m.shininess, "normalized": m.normalized}
-    if isinstance(m, CookTorrance):
-        d = {"model": "cook-torrance", "ks": _floats(m.ks), "roughness": m.roughness, "f0": _floats(m.f0)}
-        d.update(ndf=m.ndf, geometry=m.geometry, fresnel=m.fresnel, denominator=m.denominator)
-        return d
-    raise ValueError(f"no scene-file form for the model {type(m).__name__}")
+    return m.to_dict()
 
 
 def _material_to_dict(m) -> dict:

@@ -20,12 +20,12 @@ stated in its ``reference`` field.  :func:`summary` answers "which is the
 cheapest method that reaches 1 % (0.1 %) error, and how long does it take".
 
 Every integration point also records what the method *says* about itself: its
-own error estimate (:class:`lighting.integrate.integrate.Estimate`, relative to the
+own error estimate (:class:`lighting.integrate.Estimate`, relative to the
 value, mean over seeds) in ``estimated_error``; ``coverage``, the fraction of
 seeds whose true error lies within two reported errors (the honesty contract
 of :mod:`lighting.integrate.integrate`: at least 90 %); and ``unconverged``, True when
 the estimated relative error is above 2 %
-(:data:`lighting.integrate.integrate.UNCONVERGED_RELATIVE_ERROR`).  Studies whose
+(:data:`lighting.integrate.UNCONVERGED_RELATIVE_ERROR`).  Studies whose
 methods carry no error estimate (area light, tessellation, precision) leave
 ``estimated_error`` and ``coverage`` as NaN and flag ``unconverged`` from the
 measured error against the reference.

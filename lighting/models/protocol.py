@@ -1,0 +1,213 @@
+"""What every reflectance model tells the rest of the engine about itself, and the registry of models by name.
+
+A model (a :class:`~lighting.models.brdf.BRDF` subclass) owns:
+
+* its values: ``eval``, ``eval_cos``, ``classic``;
+* its importance sampler and density: ``sampler()`` (pbrt's ``Sample_f``/``PDF`` pair);
+* where its reflectance concentrates: ``lobe()``, a :class:`Lobe` that quadrature rules, polar
+  slices and lobe meshes follow instead of asking which class the model is;
+* its parameter table: ``parameters``, a tuple of :class:`Parameter` from which scene files, the
+  command line and the explorer's controls are generated;
+* ``to_dict()`` / ``from_dict()`` and a registered ``name``.
+
+Adding a model is one module that defines the class and calls :func:`register_model`, plus its
+tests; nothing else in the engine or the explorer names the class.
+
+Examples
+--------
+>>> from lighting.models import model_class, model_names
+>>> model_names()[:4]
+('lambert', 'phong', 'blinn-phong', 'cook-torrance')
+>>> model_class("phong").from_dict({"model": "phong", "ks": 0.5, "shininess": 10}).to_dict()
+{'model': 'phong', 'ks': [0.5, 0.5, 0.5], 'shininess': 10.0}
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+
+__all__ = ["Parameter", "Lobe", "register_model", "model_class", "model_names", "model_variants", "create_model"]
+
+#: Kinds of parameter a table may hold, and what each one is in a scene file.
+PARAMETER_KINDS = ("float", "color", "bool", "choice")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One row of a model's parameter table.
+
+    Parameters
+    ----------
+    name : str
+        The keyword of the model's constructor (and the key in scene files).
+    kind : {"float", "color", "bool", "choice"}
+        A number, a scalar-or-RGB colour, a flag, or one of ``choices``.
+    default
+        The constructor's default.
+    low, high : float
+        The allowed range (inclusive unless ``low_open``); ``high = inf`` for none.
+    slider : tuple of float, optional
+        The range an interactive control offers (within ``[low, high]``); defaults to the range.
+    log : bool
+        Whether a control should move on a logarithmic scale (exponents, roughness).
+    unit : str
+        The unit, or ``""`` for a pure number.
+    description : str
+        One line for help texts and tooltips.
+    choices : tuple of str
+        The allowed values of a ``"choice"`` parameter.
+    low_open : bool
+        ``low`` itself is not allowed (roughness ``> 0``).
+    """
+
+    name: str
+    kind: str
+    default: object
+    low: float = 0.0
+    high: float = math.inf
+    slider: tuple[float, float] | None = None
+    log: bool = False
+    unit: str = ""
+    description: str = ""
+    choices: tuple[str, ...] = ()
+    low_open: bool = False
+
+    def __post_init__(self):
+        if self.kind not in PARAMETER_KINDS:
+            raise ValueError(f"Parameter {self.name!r}: kind must be one of {PARAMETER_KINDS}; got {self.kind!r}")
+        if self.kind == "choice" and self.default not in self.choices:
+            raise ValueError(f"Parameter {self.name!r}: the default {self.default!r} is not among {self.choices}")
+
+    @property
+    def control_range(self) -> tuple[float, float]:
+        """The range an interactive control offers: ``slider``, else ``[low, high]``."""
+        return self.slider if self.slider is not None else (self.low, self.high)
+
+
+@dataclass(frozen=True)
+class Lobe:
+    """Where a model's reflectance ``f_r (n·l)`` concentrates, for a viewer ``v``.
+
+    Parameters
+    ----------
+    axis : {"normal", "mirror", "half"}
+        ``"normal"``: spread over the hemisphere about ``n`` (diffuse, or no lobe at all);
+        ``"mirror"``: a cone about ``R_v = 2 n (n·v) − v`` (Phong);
+        ``"half"``: a distribution of half vectors ``h`` about ``n`` (Blinn–Phong, microfacets),
+        whose reflected lobe lies about the mirror direction.
+    width : float
+        The lobe's angular standard deviation about its axis, in radians (``inf``: no lobe to
+        follow; a model with nothing to reflect says so here).  ``(R·v)^e ≈ exp(−e ψ²/2)`` has
+        ``1/√e``; Beckmann's ``exp(−tan²θ_h/α²)`` has ``α/√2``.
+    quadrature_width : float, optional
+        The radial scale of a quadrature rule centred on the axis (defaults to ``width``);
+        rules in :mod:`lighting.integrate` place their nodes by it.
+    power : float, optional
+        For a mirror lobe ``(R_v·l)^e``: ``e``, which tapers the rule's outer end.
+    horizon : {None, "v-cavity", "smith"}
+        What the shadowing term does near the horizon: the V-cavity ``min(1, G_v, G_l)`` has kinks;
+        Smith's ``G1`` falls to 0 within about the roughness of it.  Quadrature places panel breaks there.
+    """
+
+    axis: str = "normal"
+    width: float = math.inf
+    quadrature_width: float | None = None
+    power: float | None = None
+    horizon: str | None = None
+
+    def __post_init__(self):
+        if self.axis not in ("normal", "mirror", "half"):
+            raise ValueError(f"Lobe axis must be 'normal', 'mirror' or 'half'; got {self.axis!r}")
+        if self.horizon not in (None, "v-cavity", "smith"):
+            raise ValueError(f"Lobe horizon must be None, 'v-cavity' or 'smith'; got {self.horizon!r}")
+
+    @property
+    def rule_width(self) -> float:
+        """The scale quadrature uses: ``quadrature_width``, else ``width``."""
+        return self.width if self.quadrature_width is None else self.quadrature_width
+
+
+# --------------------------------------------------------------------------- the registry
+_REGISTRY: dict[str, type] = {}
+
+
+def register_model(cls: type, name: str | None = None, *, replace: bool = False) -> type:
+    """Register a model class under ``name`` (default: ``cls.name``); usable as a class decorator.
+
+    Scene files (``model = "name"``), the command line and the explorer's model list find
+    registered models by this name.
+
+    Parameters
+    ----------
+    cls : type
+        A :class:`~lighting.models.brdf.BRDF` subclass with a ``parameters`` table.
+    name : str, optional
+        Its name; lower case, words joined by ``-``.
+    replace : bool
+        Allow replacing a model already registered under ``name``.
+
+    Returns
+    -------
+    type
+        ``cls`` itself.
+    """
+    name = cls.name if name is None else name
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"register_model: a model needs a non-empty name; got {name!r} for {cls.__name__}")
+    if name in _REGISTRY and _REGISTRY[name] is not cls and not replace:
+        raise ValueError(f"register_model: {name!r} is already {_REGISTRY[name].__name__}; pass replace=True")
+    if cls.name != name:
+        cls.name = name
+    _REGISTRY[name] = cls
+    return cls
+
+
+def unregister_model(name: str) -> None:
+    """Remove ``name`` from the registry (tests that register a model of their own clean up with it)."""
+    _REGISTRY.pop(name, None)
+
+
+def model_names() -> tuple[str, ...]:
+    """Names of the registered models, in registration order (the lectures' order for the built-in ones)."""
+    return tuple(_REGISTRY)
+
+
+def model_class(name) -> type:
+    """The model class registered under ``name``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, listing the known ones and the nearest ("did you mean").
+    """
+    cls = _REGISTRY.get(name) if isinstance(name, str) else None
+    if cls is None:
+        near = difflib.get_close_matches(str(name), list(_REGISTRY), n=1)
+        hint = f"did you mean {near[0]!r}? " if near else ""
+        raise ValueError(f"model must be one of {', '.join(map(repr, _REGISTRY))}; got {name!r}; {hint}".rstrip("; "))
+    return cls
+
+
+def model_variants() -> dict[str, tuple[type, dict]]:
+    """Every entry a model list shows: name → (class, fixed keyword arguments).
+
+    A model's own name comes first, then its named variants (``cls.variants``), such as
+    ``"blinn-phong-normalized"`` for ``BlinnPhong(normalized=True)``.
+    """
+    out = {}
+    for name, cls in _REGISTRY.items():
+        out[name] = (cls, {})
+        for vname, fixed in getattr(cls, "variants", {}).items():
+            out[vname] = (cls, dict(fixed))
+    return out
+
+
+def create_model(name, **params):
+    """``model_class(name)(**params)``: a model from its registered name (or a variant's)."""
+    variants = model_variants()
+    if isinstance(name, str) and name in variants:
+        cls, fixed = variants[name]
+        return cls(**{**fixed, **params})
+    return model_class(name)(**params)
