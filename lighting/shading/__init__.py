@@ -3,34 +3,12 @@
 from __future__ import annotations
 
 from . import equation, opengl
-from .equation import (  # noqa: F401
-    FORMS,
-    TERMS,
-    Material,
-    shade,
-    shade_prepared,
-    shade_terms,
-    view_vectors,
-)
-from .opengl import (  # noqa: F401
-    GL_MAX_SHININESS,
-    GL_MAX_SPOT_EXPONENT,
-    Light,
-    shade_vertices,
-)
+from .equation import *  # noqa: F403
+
+# The OpenGL mode's names (its own Material and Light) stay under lighting.shading.opengl (lighting.gl).
 
 __all__ = [
     "equation",
     "opengl",
-    "Material",
-    "shade",
-    "shade_terms",
-    "shade_prepared",
-    "view_vectors",
-    "TERMS",
-    "FORMS",
-    "Light",
-    "shade_vertices",
-    "GL_MAX_SHININESS",
-    "GL_MAX_SPOT_EXPONENT",
+    *equation.__all__,
 ]
