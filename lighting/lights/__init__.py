@@ -1,9 +1,10 @@
-"""Light sources: ambient, directional, point, spot, area lights and environments."""
+"""Light sources: ambient, directional, point and spot lights (punctual), area lights and environments."""
 
 from __future__ import annotations
 
-from . import environment, punctual
+from . import area, environment, punctual
+from .area import *  # noqa: F403
 from .environment import *  # noqa: F403
 from .punctual import *  # noqa: F403
 
-__all__ = ["punctual", "environment", *punctual.__all__, *environment.__all__]
+__all__ = ["punctual", "area", "environment", *punctual.__all__, *area.__all__, *environment.__all__]

@@ -1,4 +1,4 @@
-r"""Light sources: ambient, directional, point, spot and area lights.
+r"""Punctual light sources: ambient, directional, point and spot lights.
 
 "Light is linear": a scene's lights simply add.  Every light answers one
 question for a set of surface points — from which direction does light arrive,
@@ -11,8 +11,8 @@ and how strongly — through :meth:`Light.incident`, which yields
   light: ``I_p / A(d_p)`` in the slides' notation, shape ``(..., 3)`` or ``(3,)``.
 
 Shading then adds ``f_r (n·l) · irradiance`` over incidences (physical form),
-or ``π`` times that (classic form, :mod:`lighting.shade`).  A point or spot
-light yields one incidence, an area light one per sample.
+or ``π`` times that (classic form, :mod:`lighting.shading.equation`).  A point or spot
+light yields one incidence, an area light (:mod:`lighting.lights.area`) one per sample.
 
 Units: ``intensity × color`` is the irradiance a directional light delivers at
 normal incidence, and the irradiance a point light delivers at unit distance.
@@ -23,7 +23,6 @@ position receives nothing, because no direction toward the light exists there.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -33,14 +32,11 @@ import numpy as np
 from .._numeric import (
     _fmt,
     as_float,
-    check_bool,
-    check_budget,
+    check_choice,
     check_color,
-    check_count,
     check_finite,
     check_float_dtype,
     check_nonnegative,
-    check_positive,
     check_range,
     check_vectors,
     cos_sin_deg,
@@ -48,7 +44,7 @@ from .._numeric import (
     saturate_to,
     working_dtype,
 )
-from ..vec import direction_from_elevation, length, normalize, orthonormal_basis
+from ..vec import direction_from_elevation, normalize
 
 __all__ = [
     "Incidence",
@@ -57,9 +53,8 @@ __all__ = [
     "DirectionalLight",
     "PointLight",
     "SpotLight",
-    "AreaLight",
-    "RectLight",
-    "DiskLight",
+    "ATTENUATIONS",
+    "falloff",
     "check_attenuation",
     "check_cutoff",
 ]
@@ -124,7 +119,10 @@ def _one_minus_cos_deg(deg: float) -> float:
 
 
 def _cos_deg(deg: float) -> float:
-    """``cos(deg°)`` from :func:`lighting._numeric.cos_sin_deg` (exact at multiples of 90°)."""
+    """``cos(deg°)`` from :func:`lighting._numeric.cos_sin_deg` (exact at multiples of 90°).
+
+    Kept as a name because :mod:`lighting.validation.stability` imports it for its textbook spot light.
+    """
     return float(cos_sin_deg(deg)[0])
 
 
@@ -135,10 +133,6 @@ def _radiant(color: np.ndarray, intensity: float) -> np.ndarray:
 
 
 _BIG64 = float(np.finfo(np.float64).max)
-
-#: Most sample points an area light may take (each is one incidence, i.e. one shading pass, per point).
-MAX_AREA_SAMPLES = 1 << 16
-
 
 def real_array_nonneg(name: str, value) -> np.ndarray:
     """Finite real numbers >= 0 as a float64 array."""
@@ -268,11 +262,45 @@ class DirectionalLight(Light):
         yield Incidence(self.direction.astype(dtype), np.ones((), dtype=dtype), saturate_to(self.radiant, dtype))
 
 
+#: Named falloff triples ``(a, b, c)`` of ``1 / (a d² + b d + c)`` (what the explorer's menu offers).
+ATTENUATIONS = {"none": (0.0, 0.0, 1.0), "linear": (0.0, 1.0, 0.0), "inverse-square": (1.0, 0.0, 0.0)}
+
+
+def falloff(distance, attenuation=(1.0, 0.0, 0.0)) -> np.ndarray:
+    r"""The slides' distance falloff ``1 / A(d) = 1 / (a d² + b d + c)``.
+
+    The one home of the attenuation formula of the point and spot lights (the OpenGL mode,
+    :mod:`lighting.shading.opengl`, keeps its own transcription of the specification on purpose).
+
+    Parameters
+    ----------
+    distance : array_like
+        Finite distances ``d >= 0``.
+    attenuation : (a, b, c) or str
+        Coefficients, each >= 0 and not all zero, in the order of ``a d² + b d + c``; or a name
+        of :data:`ATTENUATIONS` (``"none"``, ``"linear"``, ``"inverse-square"``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``1 / (a d² + b d + c)`` in float64, 0 where the denominator is 0, saturated at the
+        largest finite float64.
+
+    Examples
+    --------
+    >>> falloff([1.0, 2.0]).tolist(), falloff(3.0, "none").tolist()
+    ([1.0, 0.25], 1.0)
+    """
+    if isinstance(attenuation, str):
+        attenuation = ATTENUATIONS[check_choice("attenuation", attenuation, tuple(ATTENUATIONS))]
+    return _falloff(real_array_nonneg("distance", distance), check_attenuation(attenuation))
+
+
 def _falloff(dist: np.ndarray, att: tuple[float, float, float]) -> np.ndarray:
-    """``1 / (a r² + b r + c)`` in float64, 0 where the denominator is 0, saturated at the largest float64.
+    """:func:`falloff` on checked float64 distances and a checked triple (the lights' path).
 
     Saturated *here*, before any other factor multiplies it: a falloff of 1e310 (``a = 1e-300`` at
-    ``r = 1e-5``) times a spot factor of 0 must be 0, not ``inf · 0 = NaN``.
+    ``d = 1e-5``) times a spot factor of 0 must be 0, not ``inf · 0 = NaN``.
     """
     a, b, c = att
     with np.errstate(over="ignore"):
@@ -407,30 +435,50 @@ class SpotLight(PointLight):
         object.__setattr__(self, "cutoff_deg", check_cutoff(self.cutoff_deg))
         object.__setattr__(self, "exponent", check_nonnegative("exponent", self.exponent))
 
-    def spot_factor(self, cos_angle: np.ndarray) -> np.ndarray:
-        """Spot factor from the cosine between the axis and the light→point direction."""
-        c = real_array_any("cos_angle", cos_angle, dtype=np.float64)
-        if self.cutoff_deg == 180:
-            return np.ones_like(c)
-        inside = c >= cos_sin_deg(self.cutoff_deg)[0]
-        if self.exponent == 0:
-            p = np.ones_like(c)
-        else:
-            with np.errstate(under="ignore"):
-                p = np.maximum(c, 0.0) ** self.exponent
-        return np.where(inside, p, 0.0)
+    def spot_factor(self, cos_angle, one_minus_cos=None) -> np.ndarray:
+        r"""The slides' spot factor: ``(−l·ŝ)^e`` inside the cone, 0 outside.
 
-    def _spot(self, l):  # noqa: E741
+            spot = max(−l·ŝ, 0)^e   if −l·ŝ >= cos(cutoff),   else 0      (``0^0 = 1``)
+
+        The one home of the formula; the lights call it with both ``cos ψ = −l·ŝ`` and
+        ``1 − cos ψ = |l + ŝ|²/2``, which keeps its digits near the axis where ``cos ψ`` rounds
+        to 1: the cone test is then ``1 − cos ψ <= 1 − cos(cutoff) = 2 sin²(cutoff/2)`` (it
+        resolves a cutoff of 1e-8 degrees), and the power is ``exp(e log1p(−(1 − cos ψ)))``
+        while ``1 − cos ψ < 1/2`` (accurate for ``e = 1e4``), ``cos ψ^e`` beyond.  Given only
+        ``cos_angle``, the cone test compares it with ``cos(cutoff)`` (exact at 0° and 90°) and
+        ``1 − cos ψ`` is formed from it.
+
+        Parameters
+        ----------
+        cos_angle : array_like
+            ``cos ψ = −l·ŝ``, the cosine between the spot axis ``ŝ`` and the light→point direction.
+        one_minus_cos : array_like, optional
+            ``1 − cos ψ`` computed without cancellation (e.g. ``|l + ŝ|²/2``), >= 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            The spot factor in [0, 1], float64, shaped like ``cos_angle``.
+
+        Examples
+        --------
+        >>> SpotLight(cutoff_deg=60, exponent=2).spot_factor([1.0, 0.75, 0.25]).tolist()
+        [1.0, 0.5625, 0.0]
+        """
+        c = real_array_any("cos_angle", cos_angle, dtype=np.float64)
+        om = None if one_minus_cos is None else real_array_nonneg("one_minus_cos", one_minus_cos)
+        return self._spot_factor(c, om)
+
+    def _spot_factor(self, cos_a: np.ndarray, one_minus: np.ndarray | None) -> np.ndarray:
+        """:meth:`spot_factor` on checked float64 arrays."""
         if self.cutoff_deg == 180:
-            return np.ones(l.shape[:-1])
-        s = self.direction
-        cos_a = -(l[..., 0] * s[0] + l[..., 1] * s[1] + l[..., 2] * s[2])
-        # 1 − cos ψ = |l + ŝ|² / 2 keeps its digits near the axis, where cos ψ rounds to 1:
-        # the cone test against 1 − cos(cutoff) = 2 sin²(cutoff/2) then resolves a cutoff of
-        # 1e-8 degrees, and (cos ψ)^e = exp(e log1p(−(1 − cos ψ))) stays accurate for e = 1e4.
-        w = l + s
-        one_minus = 0.5 * (w[..., 0] * w[..., 0] + w[..., 1] * w[..., 1] + w[..., 2] * w[..., 2])
-        inside = one_minus <= _one_minus_cos_deg(self.cutoff_deg)
+            return np.ones_like(cos_a)
+        if one_minus is None:
+            inside = cos_a >= _cos_deg(self.cutoff_deg)
+            with np.errstate(over="ignore", invalid="ignore"):
+                one_minus = np.maximum(1.0 - cos_a, 0.0)
+        else:
+            inside = one_minus <= _one_minus_cos_deg(self.cutoff_deg)
         if self.exponent == 0:
             p = np.ones_like(cos_a)
         else:
@@ -440,161 +488,15 @@ class SpotLight(PointLight):
             p = np.where(one_minus < 0.5, near, far)
         return np.where(inside, p, 0.0)
 
-
-def _r2_sequence(n: int, seed: int | None) -> np.ndarray:
-    """``n`` points of the R2 low-discrepancy sequence in [0, 1)² (Roberts 2018).
-
-    A seed applies a random toroidal shift (Cranley–Patterson rotation), which
-    keeps the low discrepancy and makes the estimate unbiased over seeds.
-    """
-    g = 1.32471795724474602596  # plastic number
-    a = np.array([1 / g, 1 / (g * g)])
-    k = np.arange(1, n + 1)[:, None]
-    shift = np.full(2, 0.5) if seed is None else np.random.default_rng(seed).random(2)
-    return (shift + k * a) % 1.0
+    def _spot(self, l):  # noqa: E741
+        """The spot factor at unit light vectors ``l`` (float64 ``(..., 3)``): :meth:`spot_factor`'s careful form."""
+        if self.cutoff_deg == 180:
+            return np.ones(l.shape[:-1])
+        s = self.direction
+        cos_a = -(l[..., 0] * s[0] + l[..., 1] * s[1] + l[..., 2] * s[2])
+        w = l + s  # 1 − cos ψ = |l + ŝ|² / 2
+        one_minus = 0.5 * (w[..., 0] * w[..., 0] + w[..., 1] * w[..., 1] + w[..., 2] * w[..., 2])
+        return self._spot_factor(cos_a, one_minus)
 
 
-@dataclass(frozen=True, kw_only=True)
-class AreaLight(Light):
-    r"""Base of lights with an extent, integrated by sampling.
 
-    The emitter is Lambertian with radiance ``L_e = intensity × color`` on the side
-    its normal faces (both sides with ``two_sided=True``).  The irradiance it
-    delivers is ``E = ∫ L_e cos θ_e / r² dA``; with ``samples`` points ``y_k`` on
-    it, each sample is an incidence with
-
-        direction = (y_k − x)/|y_k − x|,   irradiance = L_e (A / S) cos θ_e / r².
-
-    As the light shrinks (``L_e A`` fixed) this tends to a point light of
-    intensity ``L_e A``.  ``samples`` trades accuracy for time: points come
-    from a low-discrepancy (R2) pattern, shifted by ``seed`` when one is given.
-    """
-
-    color: object = 1.0
-    intensity: float = 1.0
-    samples: int = 16
-    seed: int | None = None
-    two_sided: bool = False
-
-    def _check_common(self):
-        object.__setattr__(self, "color", check_color("color", self.color))
-        object.__setattr__(self, "intensity", check_nonnegative("intensity", self.intensity))
-        samples = check_count("samples", self.samples, 1, MAX_AREA_SAMPLES)
-        # The sample points are made at once (3 float64 each, plus the pattern's temporaries).
-        check_budget("samples", samples * 8 * 12, what=f"{samples} area-light sample points")
-        object.__setattr__(self, "samples", samples)
-        if self.seed is not None:
-            object.__setattr__(self, "seed", check_count("seed", self.seed, 0))
-        object.__setattr__(self, "two_sided", check_bool("two_sided", self.two_sided))
-
-    # Subclasses provide the geometry.
-    def area(self) -> float:
-        raise NotImplementedError
-
-    def normal(self) -> np.ndarray:
-        raise NotImplementedError
-
-    def sample_points(self) -> np.ndarray:
-        """``(samples, 3)`` points on the emitter, equal-area distributed."""
-        raise NotImplementedError
-
-    def _incident(self, points, *, dtype, extra_distance=None):
-        dt = dtype
-        p = as_float(points, dt)
-        ne = self.normal()
-        weight = self.area() / self.samples
-        radiant = saturate_to(self.radiant, dt)
-        for y in self.sample_points():
-            l, dist = _directions_and_distances(y, p)  # noqa: E741
-            cos_e = -(l @ ne)
-            cos_e = np.abs(cos_e) if self.two_sided else np.maximum(cos_e, 0.0)
-            # The geometric factor A/S / r² saturates before the emitter's cosine (in [0, 1]) multiplies
-            # it, so a sample seen edge-on (cos = 0) from 1e-170 away gives 0, not inf · 0.
-            with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
-                inv = np.minimum(weight / np.where(dist > 0, dist, 1.0) / np.where(dist > 0, dist, 1.0), _BIG64)
-            g = np.where(dist > 0, cos_e * inv, 0.0)
-            yield Incidence(l.astype(dt), saturate_to(g, dt), radiant)
-
-
-@dataclass(frozen=True)
-class RectLight(AreaLight):
-    """A rectangular area light: ``center ± edge_u/2 ± edge_v/2``, facing ``edge_u × edge_v``.
-
-    Examples
-    --------
-    >>> light = RectLight(center=(0, 0, 1.0), edge_u=(0.01, 0, 0), edge_v=(0, -0.01, 0),
-    ...                   intensity=1e4, samples=4)
-    >>> round(float(sum(i.irradiance[0, 0] for i in light.incident(np.zeros((1, 3))))), 4)
-    1.0
-    """
-
-    center: object = (0.0, 0.0, 5.0)
-    edge_u: object = (1.0, 0.0, 0.0)
-    edge_v: object = (0.0, -1.0, 0.0)
-
-    def __post_init__(self):
-        self._check_common()
-        object.__setattr__(self, "center", _vector3("center", self.center))
-        u = _vector3("edge_u", self.edge_u)
-        v = _vector3("edge_v", self.edge_v)
-        with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-            c = np.cross(u, v)
-            area = float(length(c)) if np.all(np.isfinite(c)) else math.inf
-        if not 0 < area < math.inf:
-            raise ValueError(
-                "edge_u and edge_v must span a rectangle (non-parallel, non-zero, its area |edge_u × edge_v| "
-                f"inside the float64 range); got edge_u={_fmt(u)}, edge_v={_fmt(v)}"
-            )
-        object.__setattr__(self, "edge_u", u)
-        object.__setattr__(self, "edge_v", v)
-        object.__setattr__(self, "_area", area)
-        object.__setattr__(self, "_normal", normalize(c))
-
-    def area(self):
-        return self._area
-
-    def normal(self):
-        return self._normal
-
-    def sample_points(self):
-        uv = _r2_sequence(self.samples, self.seed) - 0.5
-        return self.center + uv[:, :1] * self.edge_u + uv[:, 1:] * self.edge_v
-
-
-@dataclass(frozen=True)
-class DiskLight(AreaLight):
-    """A disk-shaped area light of ``radius`` at ``center``, facing ``normal_dir``."""
-
-    center: object = (0.0, 0.0, 5.0)
-    normal_dir: object = (0.0, 0.0, -1.0)
-    radius: float = 0.5
-
-    def __post_init__(self):
-        self._check_common()
-        object.__setattr__(self, "center", _vector3("center", self.center))
-        object.__setattr__(self, "normal_dir", normalize(_vector3("normal_dir", self.normal_dir, nonzero=True)))
-        r = check_positive("radius", self.radius)
-        area = math.pi * r * r  # floats: 1e200² is inf, not an OverflowError
-        if not 0 < area < math.inf:
-            raise ValueError(f"radius must be a finite number > 0 whose disk area π r² is inside the float64 range "
-                             f"(about 1e-161 to 7e153); got {_fmt(self.radius)}")  # fmt: skip
-        object.__setattr__(self, "radius", r)
-
-    def area(self):
-        return math.pi * self.radius * self.radius
-
-    def normal(self):
-        return self.normal_dir
-
-    def sample_points(self):
-        u = _r2_sequence(self.samples, self.seed)
-        # Shirley–Chiu concentric map: equal-area and low-distortion.
-        a, b = 2 * u[:, 0] - 1, 2 * u[:, 1] - 1
-        use_a = np.abs(a) > np.abs(b)
-        safe_a = np.where(a == 0, 1.0, a)
-        safe_b = np.where(b == 0, 1.0, b)
-        r = np.where(use_a, a, b)
-        phi = np.where(use_a, (math.pi / 4) * (b / safe_a), math.pi / 2 - (math.pi / 4) * (a / safe_b))
-        x, y = r * np.cos(phi), r * np.sin(phi)
-        t, bt = orthonormal_basis(self.normal_dir)
-        return self.center + self.radius * (x[:, None] * t + y[:, None] * bt)

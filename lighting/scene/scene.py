@@ -82,7 +82,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .._numeric import BudgetError, abbreviate, check_budget, check_color
-from ..lights.punctual import AmbientLight, AreaLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
+from ..lights import AmbientLight, AreaLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
 from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
 from ..render.camera import Camera
 from ..render.image import encode_srgb8

@@ -44,7 +44,7 @@ import numpy as np
 from .._numeric import ArgumentTypeError, _fmt, check_bool, real_array
 from ..integrate.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo, outgoing_radiance
 from ..lights.environment import FunctionEnvironment
-from ..lights.punctual import AmbientLight, DirectionalLight, PointLight, RectLight
+from ..lights import AmbientLight, DirectionalLight, PointLight, RectLight
 from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 from ..render.camera import Camera
 from ..render.mesh import icosphere

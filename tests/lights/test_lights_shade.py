@@ -331,7 +331,7 @@ def test_area_light_sample_very_close_saturates_or_gives_zero(dtype):
     # A/S / r² overflows, so the irradiance is 0; facing it, it saturates (r² underflowed to 0, and the
     # point was taken to sit on the sample, receiving nothing).
     tiny = 1e-170 if dtype == np.float64 else 1e-30
-    from lighting.lights.punctual import _r2_sequence
+    from lighting.lights.area import _r2_sequence
 
     u0, u1 = _r2_sequence(1, None)[0] - 0.5
     rect = RectLight(center=(-u0, u1, 0.0), edge_u=(1.0, 0, 0), edge_v=(0, -1.0, 0), samples=1)
