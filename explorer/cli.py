@@ -146,7 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
 DELEGATES = {
     "bench": "explorer.bench",
     "render": "explorer.render_cmd",
-    "report": "explorer.report",
+    "report": "explorer.reports",
     "explore": "explorer.app",
     "figures": "explorer.figures",
 }

@@ -3,7 +3,7 @@ import csv
 import numpy as np
 import pytest
 
-from explorer import report_accuracy
+from explorer.reports import accuracy as report_accuracy
 from lighting.validation.accuracy import run_studies, summary
 
 

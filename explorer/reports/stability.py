@@ -32,10 +32,10 @@ import numpy as np
 
 from lighting.validation import stability as st
 
-from .output import atomic_write
-from .progress import Progress
+from ..output import atomic_write
+from ..progress import Progress
 
-__all__ = ["main", "build_parser", "format_table", "write_csv", "make_figure", "CSV_COLUMNS"]
+__all__ = ["main", "run", "add_parser", "build_parser", "format_table", "write_csv", "make_figure", "CSV_COLUMNS"]
 
 CSV_COLUMNS = [f.name for f in fields(st.SummaryRow)] + ["passed", "u", "bound_factor"]
 
@@ -276,14 +276,25 @@ WORKER_BYTES = 128 * 1024**2
 MAX_WORKERS = 64
 
 
-def build_parser() -> argparse.ArgumentParser:
-    from .cli import OneLineParser
+DESCRIPTION = (
+    "Check numerical stability of every model and light on stiff and extreme cases, "
+    "in float32 and float64, against an 80-digit mpmath reference."
+)
 
-    p = OneLineParser(
-        prog="lighting-explorer report stability",
-        description="Check numerical stability of every model and light on stiff and extreme cases, "
-        "in float32 and float64, against an 80-digit mpmath reference.",
-    )
+
+def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Add the options of ``report stability`` to ``p``.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser (standalone or a sub-parser of the command tree).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        ``p``.
+    """
     p.add_argument("--quick", action="store_true", help="fewer points per case family (a few seconds)")
     p.add_argument("--out", default="out/stability", help="output directory (default: out/stability)")
     p.add_argument("--no-figure", action="store_true", help="skip the Matplotlib figure")
@@ -293,12 +304,56 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def build_parser() -> argparse.ArgumentParser:
+    """The standalone parser of ``lighting-explorer report stability``.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        A :class:`~explorer.cli.OneLineParser` (errors are one-line exceptions, not ``exit(2)``).
+    """
+    from ..cli import OneLineParser
+
+    return add_arguments(OneLineParser(prog="lighting-explorer report stability", description=DESCRIPTION))
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Add ``stability`` to ``subparsers`` (the sub-parsers of ``report``) with its options.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        Where to add it.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The new sub-parser (its ``func`` default is :func:`run`).
+    """
+    p = subparsers.add_parser(
+        "stability", help="numerical stability on stiff and extreme cases, against mpmath", description=DESCRIPTION
+    )
+    add_arguments(p)
+    p.set_defaults(func=run)
+    return p
+
+
 def check_args(args) -> None:
     """Refuse bad options before the long computation: ``--workers`` out of range or over the memory
-    budget, ``--out`` that is a file or not writable."""
+    budget, ``--out`` that is a file or not writable.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed options; ``args.workers`` is replaced by its checked value.
+
+    Returns
+    -------
+    None
+    """
     from lighting._numeric import check_budget, check_count
 
-    from .output import check_output_dir
+    from ..output import check_output_dir
 
     if args.workers is not None:
         args.workers = check_count("--workers", args.workers, 1, MAX_WORKERS)
@@ -308,11 +363,44 @@ def check_args(args) -> None:
 
 
 def main(argv=None) -> int:
-    """``lighting-explorer report stability``: 0 when every check holds, 1 when one fails, 2 for a bad request."""
-    from .cli import PROG, error_line
+    """``lighting-explorer report stability``: 0 when every check holds, 1 when one fails, 2 for a bad request.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The options (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
+    from ..cli import PROG, error_line
 
     try:
         args = build_parser().parse_args(argv)
+    except ValueError as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
+    return run(args)
+
+
+def run(args) -> int:
+    """Run the sweep for parsed options and write the table, CSVs and figure.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The options of :func:`add_arguments`.
+
+    Returns
+    -------
+    int
+        0 when every check holds, 1 when one fails, 2 for a bad option (one line on stderr).
+    """
+    from ..cli import PROG, error_line
+
+    try:
         check_args(args)
     except ValueError as exc:
         print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)

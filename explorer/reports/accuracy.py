@@ -13,7 +13,7 @@ from dataclasses import asdict
 from lighting.integrate.integrate import UNCONVERGED_RELATIVE_ERROR
 from lighting.validation.accuracy import STUDY_NAMES, run_studies, summary
 
-from .progress import Progress
+from ..progress import Progress
 
 FLOOR = 1e-16  # errors of exactly 0 are drawn here on the log axis
 #: Marks an unconverged point (relative error estimate above 2 %) in the printed tables.
@@ -72,7 +72,7 @@ def format_summary(rows) -> str:
 
 def write_csv(path, rows, fields) -> None:
     """The rows as CSV, written atomically (no temporary file survives an interrupt)."""
-    from .output import atomic_write
+    from ..output import atomic_write
 
     fh = io.StringIO(newline="")
     w = csv.DictWriter(fh, fieldnames=fields)
@@ -134,7 +134,7 @@ def make_figure(studies, path) -> None:
         "ringed: unconverged, own estimate > 2 %)",
         fontsize=12,
     )
-    from .output import atomic_write
+    from ..output import atomic_write
 
     try:
         atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"), flag="--out")
@@ -142,21 +142,103 @@ def make_figure(studies, path) -> None:
         plt.close(fig)
 
 
-def main(argv=None) -> int:
-    """``lighting-explorer report accuracy``: 0 on success, 2 for a bad request (one line on stderr)."""
-    from .cli import PROG, OneLineParser, error_line
-    from .output import check_output_dir
+DESCRIPTION = "Measure error against run time wherever the engine trades accuracy for speed."
 
-    p = OneLineParser(
-        prog="lighting-explorer report accuracy",
-        description="Measure error against run time wherever the engine trades accuracy for speed.",
-    )
+
+def add_arguments(p):
+    """Add the options of ``report accuracy`` to ``p``.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser (standalone or a sub-parser of the command tree).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        ``p``.
+    """
     p.add_argument("--quick", action="store_true", help="small sample counts and images (seconds, for tests)")
     p.add_argument("--out", default=os.path.join("out", "accuracy"), help="output folder (default: out/accuracy)")
     p.add_argument("--no-figure", action="store_true", help="skip the Matplotlib figure")
     p.add_argument("--only", nargs="+", choices=STUDY_NAMES, help="run only these studies")
+    return p
+
+
+def build_parser():
+    """The standalone parser of ``lighting-explorer report accuracy``.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        A :class:`~explorer.cli.OneLineParser` (errors are one-line exceptions, not ``exit(2)``).
+    """
+    from ..cli import OneLineParser
+
+    return add_arguments(OneLineParser(prog="lighting-explorer report accuracy", description=DESCRIPTION))
+
+
+def add_parser(subparsers):
+    """Add ``accuracy`` to ``subparsers`` (the sub-parsers of ``report``) with its options.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        Where to add it.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The new sub-parser (its ``func`` default is :func:`run`).
+    """
+    p = subparsers.add_parser(
+        "accuracy", help="error against run time wherever the engine trades accuracy for speed", description=DESCRIPTION
+    )
+    add_arguments(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def main(argv=None) -> int:
+    """``lighting-explorer report accuracy``: 0 on success, 2 for a bad request (one line on stderr).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The options (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
+    from ..cli import PROG, error_line
+
     try:
-        args = p.parse_args(argv)
+        args = build_parser().parse_args(argv)
+    except ValueError as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
+    return run(args)
+
+
+def run(args) -> int:
+    """Run the studies for parsed options; print the tables, write the CSVs and the figure.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The options of :func:`add_arguments`.
+
+    Returns
+    -------
+    int
+        0 on success, 2 for a bad ``--out`` (one line on stderr).
+    """
+    from ..cli import PROG, error_line
+    from ..output import check_output_dir
+
+    try:
         check_output_dir(args.out, flag="--out")
     except ValueError as exc:
         print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)

@@ -12,7 +12,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from explorer import report_stability
+from explorer.reports import stability as report_stability
 from explorer.progress import Progress
 from lighting import BlinnPhong, CookTorrance, Phong, SpotLight
 from lighting.models.brdf import Geometry

@@ -1,0 +1,84 @@
+"""``lighting-explorer report accuracy|stability``: the two accuracy reports."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+__all__ = ["REPORTS", "add_parser", "run", "main"]
+
+REPORTS = {
+    "accuracy": ("explorer.reports.accuracy", "error against run time wherever the engine trades accuracy for speed"),
+    "stability": ("explorer.reports.stability", "numerical stability on stiff and extreme cases, against mpmath"),
+}
+
+
+def add_parser(subparsers):
+    """Add ``report`` to ``subparsers``, with the sub-commands ``accuracy`` and ``stability``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the ``lighting-explorer`` command.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The ``report`` parser; each report's parser has ``func`` set to that report's ``run``.
+    """
+    p = subparsers.add_parser(
+        "report", help="accuracy reports: 'report accuracy' (error vs run time), 'report stability'"
+    )
+    reports = p.add_subparsers(dest="report", required=True, parser_class=type(p))
+    for module, _ in REPORTS.values():
+        importlib.import_module(module).add_parser(reports)
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args) -> int:
+    """Run the report named by ``args.report`` with the options parsed by :func:`add_parser`.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed options; ``args.report`` is ``"accuracy"`` or ``"stability"``.
+
+    Returns
+    -------
+    int
+        That report's exit status.
+    """
+    return importlib.import_module(REPORTS[args.report][0]).run(args)
+
+
+def main(argv=None) -> int:
+    """``lighting-explorer report {accuracy,stability} ...``: run one report (0 for help, 2 for an unknown one).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The report's name and its options (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or argv[0] in ("-h", "--help") or argv[0] not in REPORTS:
+        lines = ["usage: lighting-explorer report {accuracy,stability} [--quick] [--out DIR] ...", ""]
+        lines += [f"  {name:10s} {text}" for name, (_, text) in REPORTS.items()]
+        if argv and argv[0] not in ("-h", "--help"):
+            from lighting._numeric import _fmt
+
+            print(f"lighting-explorer: error: unknown report {_fmt(argv[0])}; choose accuracy or stability",
+                  file=sys.stderr)  # fmt: skip
+            return 2
+        print("\n".join(lines))
+        return 0
+    return importlib.import_module(REPORTS[argv[0]][0]).main(argv[1:])
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
