@@ -41,8 +41,8 @@ import warnings
 
 from lighting._numeric import _fmt, check_budget, check_count, memory_budget, set_memory_budget
 
-from .figures_base import REGISTRY, FigureSpec, Quality
-from .output import OutputError, Terminated, atomic_write, atomic_write_many, check_output_dir, on_signal
+from ..output import OutputError, Terminated, atomic_write, atomic_write_many, check_output_dir, on_signal
+from .base import REGISTRY, FigureSpec, Quality
 
 __all__ = ["REGISTRY", "FORMATS", "figure_names", "generate", "make_figure", "main"]
 
@@ -59,13 +59,13 @@ _SAVE_METADATA = {
 
 
 #: The figure modules in lecture order; within a module, figures keep the order they are defined in.
-LECTURE_MODULES = ("figures_models", "figures_light", "figures_brdf", "figures_render")
+LECTURE_MODULES = ("models", "lights", "brdf", "rendering")
 
 
 def _load_registry() -> dict[str, FigureSpec]:
     # Registering happens on import, and any module may be imported first (a doctest run, a notebook):
     # the lecture order is imposed here, not left to the order of imports.
-    from . import figures_brdf, figures_light, figures_models, figures_render  # noqa: F401
+    from . import brdf, lights, models, rendering  # noqa: F401
 
     rank = {f"{__package__}.{name}": i for i, name in enumerate(LECTURE_MODULES)}
 
@@ -138,7 +138,7 @@ def make_figure(name: str, *, quick: bool = False, dpi: int | None = None, optio
     """Draw one figure: ``(matplotlib Figure, spec, parameters, measured)`` (nothing is written)."""
     import matplotlib
 
-    from .figures_base import STYLE
+    from .base import STYLE
 
     spec = _load_registry()[name]
     q = Quality(quick=quick, dpi=dpi or (50 if quick else 150))
@@ -158,7 +158,7 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
 
     import matplotlib
 
-    from .figures_base import STYLE
+    from .base import STYLE
 
     fig, spec, params, q, measured = make_figure(name, quick=quick, dpi=dpi, options=options)
     w_in, h_in = (float(x) for x in fig.get_size_inches())
@@ -552,7 +552,7 @@ def main(argv=None) -> int:
     except (_UsageError, ValueError) as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
-    from .progress import Progress
+    from ..progress import Progress
 
     t0 = time.perf_counter()
     try:

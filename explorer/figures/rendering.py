@@ -1,6 +1,6 @@
 """Figures for the rendering equation and the accuracy report.
 
-Registered on import (see :mod:`explorer.figures_base`); drawn by :mod:`explorer.figures`.
+Registered on import (see :mod:`explorer.figures.base`); drawn by :mod:`explorer.figures`.
 """
 
 from __future__ import annotations
@@ -11,13 +11,13 @@ import math
 import numpy as np
 
 from lighting import CookTorrance, DirectionalLight, Lambert, Material
-from lighting.integrate.integrate import outgoing_radiance
+from lighting.integrate import outgoing_radiance
 from lighting.lights.environment import LatLongEnvironment, SmallPatchEnvironment
 from lighting.render.image import encode_srgb8
 from lighting.render.renderer import AnalyticSphere, Renderer
 from lighting.render.sphere import render_sphere, sphere_camera
 
-from .figures_base import PALETTE, new_figure, register, show_image
+from .base import PALETTE, new_figure, register, show_image
 
 # Camera frame (x right, y up, z toward the viewer) → environment frame (z up): (x, y, z) ↦ (x, −z, y).
 _CAM_TO_ENV = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])

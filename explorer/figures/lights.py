@@ -1,6 +1,6 @@
 """Figures for lights, the illumination equation, and shading interpolation.
 
-Registered on import (see :mod:`explorer.figures_base`); drawn by :mod:`explorer.figures`.
+Registered on import (see :mod:`explorer.figures.base`); drawn by :mod:`explorer.figures`.
 """
 
 from __future__ import annotations
@@ -26,9 +26,9 @@ from lighting.render.image import encode_srgb8
 from lighting.render.mesh import TriangleMesh, uv_sphere
 from lighting.render.renderer import AnalyticSphere, Renderer
 from lighting.render.sphere import sphere_camera
-from lighting.scene.scene import SceneRenderer, example_path, load_scene
+from lighting.scene import SceneRenderer, example_path, load_scene
 
-from .figures_base import PALETTE, VEC, equation_row, new_figure, register, show_image, sphere_rgb8, vector
+from .base import PALETTE, VEC, equation_row, new_figure, register, show_image, sphere_rgb8, vector
 
 
 def _floor_points(x):

@@ -1,6 +1,6 @@
 """Figures for BRDFs: decomposition, polar slices, 3D lobes, reciprocity, microfacets, Cook–Torrance, plausibility.
 
-Registered on import (see :mod:`explorer.figures_base`); drawn by :mod:`explorer.figures`.
+Registered on import (see :mod:`explorer.figures.base`); drawn by :mod:`explorer.figures`.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from lighting.render.image import encode_srgb8
 from lighting.render.renderer import AnalyticSphere, Renderer
 from lighting.render.sphere import sphere_camera
 
-from .figures_base import PALETTE, VEC, equation_row, new_figure, polar_half, register, series_colours, show_image
+from .base import PALETTE, VEC, equation_row, new_figure, polar_half, register, series_colours, show_image
 
 _THETAS_DEG = (15.0, 35.0, 55.0)
 

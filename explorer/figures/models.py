@@ -1,6 +1,6 @@
 """Figures for the reflectance models: Lambert's law, mirror geometry, Phong, Blinn–Phong.
 
-Registered on import (see :mod:`explorer.figures_base`); drawn by :mod:`explorer.figures`.
+Registered on import (see :mod:`explorer.figures.base`); drawn by :mod:`explorer.figures`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from lighting.render.mesh import TriangleMesh
 from lighting.render.renderer import Renderer
 from lighting.vec import halfway, reflect
 
-from .figures_base import PALETTE, VEC, angle_arc, new_figure, register, series_colours, show_image, sphere_rgb8, vector
+from .base import PALETTE, VEC, angle_arc, new_figure, register, series_colours, show_image, sphere_rgb8, vector
 
 N = np.array([0.0, 0.0, 1.0])
 

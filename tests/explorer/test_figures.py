@@ -300,7 +300,7 @@ def test_lecture_order_does_not_depend_on_which_module_is_imported_first():
     import subprocess
     import sys
 
-    code = ("import explorer.figures_render, explorer.figures_brdf, explorer.figures_light\n"
+    code = ("import explorer.figures.rendering, explorer.figures.brdf, explorer.figures.lights\n"
             "from explorer.figures import figure_names\nprint(','.join(figure_names()))")  # fmt: skip
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out.split(",") == figures.figure_names()

@@ -23,22 +23,28 @@ import json
 import os
 import sys
 
-_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# explorer/figures/mkdocs_hook.py → the checkout
+_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 _MARKER = "<!-- figures -->"
 _state: dict = {}
 
 
 def _sources_digest() -> str:
-    """A digest of the code the figures are drawn from: the engine and the figure modules.
+    """A digest of the code the figures are drawn from: the engine, its example scenes and the figure modules.
 
     A changed engine or figure module means a fresh set; other front-end files do not matter.
+
+    Returns
+    -------
+    str
+        The first 16 hexadecimal digits of a SHA-256 over every such file's path and bytes.
     """
     h = hashlib.sha256()
     paths = []
-    for folder, keep in (("lighting", lambda n: n.endswith(".py")), ("lighting/scenes", lambda n: True),
-                         ("explorer", lambda n: n.startswith("figures") and n.endswith(".py"))):  # fmt: skip
-        base = os.path.join(_ROOT, folder)
-        paths += [os.path.join(base, n) for n in sorted(os.listdir(base)) if keep(n)]
+    for folder in ("lighting", os.path.join("explorer", "figures")):
+        for base, dirs, names in os.walk(os.path.join(_ROOT, folder)):
+            dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+            paths += [os.path.join(base, n) for n in sorted(names) if not n.endswith(".pyc")]
     for path in paths:
         if os.path.isfile(path):
             with open(path, "rb") as f:
