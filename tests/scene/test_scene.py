@@ -18,11 +18,7 @@ from lighting import gl
 from lighting.lights.punctual import AmbientLight, DirectionalLight, PointLight
 from lighting.models.brdf import BlinnPhong, Lambert, Phong
 from lighting.render.image import read_png
-from lighting.scene.scene import (
-    EXAMPLES_DIR,
-    LIGHT_KEYS,
-    MODEL_KEYS,
-    OBJECT_KEYS,
+from lighting.scene import (
     GLLight,
     SceneError,
     SceneRenderer,
@@ -35,9 +31,11 @@ from lighting.scene.scene import (
     render_scene,
     scene_to_toml,
 )
+from lighting.scene.examples import EXAMPLES_DIR
+from lighting.scene.schema import LIGHT_KEYS, OBJECT_KEYS, model_keys
 from lighting.shading.equation import Material, shade
 
-DOCS = os.path.join(os.path.dirname(__file__), "..", "docs", "scenes.md")
+DOCS = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "scenes.md")
 EXAMPLES = [
     "ambient_only",
     "directional_ambient",
@@ -99,12 +97,12 @@ def view_kwargs(camera):
 # ------------------------------------------------------------------ the shipped examples
 def test_loading_a_scene_without_meshes_imports_nothing_heavy():
     code = (
-        "import sys, lighting.scene.scene as s;"
+        "import sys, lighting.scene as s;"
         "s.render_scene(s.load_scene(s.example_path('lambert_angles')).with_size(16, 8));"
         "heavy = {'matplotlib', 'pyvista', 'vtk', 'vtkmodules', 'trimesh', 'scipy'};"
         "print(sorted(m for m in sys.modules if m.split('.')[0] in heavy))"
     )
-    root = os.path.join(os.path.dirname(__file__), "..")
+    root = os.path.join(os.path.dirname(__file__), "..", "..")
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=root)
     assert run.stdout.strip() == "[]"
 
@@ -631,13 +629,13 @@ samples = 5
 def test_docs_name_every_key():
     with open(DOCS) as f:
         doc = f.read()
-    from lighting.scene.scene import CAMERA_KEYS, GL_MATERIAL_KEYS, IMAGE_KEYS, MATERIAL_KEYS, OPENGL_KEYS, RENDER_KEYS
+    from lighting.scene.schema import CAMERA_KEYS, GL_MATERIAL_KEYS, IMAGE_KEYS, MATERIAL_KEYS, OPENGL_KEYS, RENDER_KEYS
 
     tables = [CAMERA_KEYS, IMAGE_KEYS, RENDER_KEYS, OPENGL_KEYS, MATERIAL_KEYS, GL_MATERIAL_KEYS]
-    tables += list(MODEL_KEYS.values()) + list(LIGHT_KEYS.values()) + list(OBJECT_KEYS.values())
+    tables += list(model_keys().values()) + list(LIGHT_KEYS.values()) + list(OBJECT_KEYS.values())
     missing = sorted({k for t in tables for k in t if f"`{k}`" not in doc})
     assert not missing, missing
-    for name in list(MODEL_KEYS) + list(LIGHT_KEYS) + list(OBJECT_KEYS):
+    for name in list(model_keys()) + list(LIGHT_KEYS) + list(OBJECT_KEYS):
         assert f'"{name}"' in doc, name
 
 
@@ -759,7 +757,7 @@ def test_a_scene_output_inside_the_allowed_folders_is_written_and_minus_o_goes_a
 
 
 def test_scene_output_path_resolves_links_and_names_the_key(tmp_path):
-    from lighting.scene.scene import scene_output_path
+    from lighting.scene import scene_output_path
 
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
@@ -874,7 +872,7 @@ def test_image_size_samples_and_meshes_are_refused_before_allocating(tmp_path, c
 
 def test_the_budget_is_the_shared_one_and_raising_it_lets_a_scene_through(tmp_path):
     from lighting._numeric import set_memory_budget
-    from lighting.scene.scene import SceneBudgetError, check_scene_budget, scene_estimate
+    from lighting.scene import SceneBudgetError, check_scene_budget, scene_estimate
 
     scene = parse_scene(SMALL.replace("width = 8", "width = 300").replace("height = 8", "height = 200"))
     est = scene_estimate(scene)

@@ -1,6 +1,6 @@
 """Probe: mutated scene files through ``lighting-explorer render`` (issue 14, items 13-16).
 
-Every example scene under ``lighting/scenes/`` is mutated at random (seeded): keys deleted, types
+Every example scene under ``lighting/scene/examples/`` is mutated at random (seeded): keys deleted, types
 swapped, huge, tiny, NaN, negative and overlong numbers, values nested 500 deep, 100k-character
 strings and keys, output paths with ``..``, absolute paths, symbolic links, directories, input paths
 naming FIFOs, devices and folders, huge image sizes, sample counts, sphere resolutions and sparse
@@ -29,7 +29,8 @@ import tracemalloc
 
 from explorer import render_cmd
 from lighting._numeric import set_memory_budget
-from lighting.scene.scene import EXAMPLES_DIR, list_examples
+from lighting.scene import list_examples
+from lighting.scene.examples import EXAMPLES_DIR
 
 SEED = 14
 MUTANTS_PER_SCENE = 26

@@ -1,0 +1,205 @@
+"""Value checks of scene files: types and finiteness, with the key path in every message.
+
+A check is ``f(ctx, path, value) -> normalized value``; it only checks the *type* and finiteness.
+Ranges are the engine's business: its constructors run on every value (see :meth:`_Ctx.build`).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import re
+
+import numpy as np
+
+from .._numeric import BudgetError, check_budget
+from ..render.mesh import TriangleMesh
+from ..shading.equation import TERMS
+from .budget import _clamp
+from .errors import SceneBudgetError, SceneError, _describe, _fmt_value, _int_text, _join, _norm_name, _suggest
+
+__all__: list[str] = []
+
+
+class _Ctx:
+    """Where a parse is: the file label (for messages) and the folder relative paths start from."""
+
+    def __init__(self, source: str, base_dir: str):
+        self.source, self.base_dir = source, base_dir
+        self.meshes: dict[str, TriangleMesh] = {}
+        self.held_bytes = 0  # estimated memory of the geometry built so far (see _charge)
+
+    def charge(self, path: str, nbytes, what: str, *, held: bool = True):
+        """Refuse, naming ``path``, a value whose estimated memory (with what the scene holds) is over the budget.
+
+        Called *before* the value is built; ``held`` adds it to what the scene holds from then on.
+        """
+        total = _clamp(self.held_bytes + nbytes)
+        try:
+            check_budget("this value", total, what=what + ("; with the rest of the scene" if self.held_bytes else ""))
+        except BudgetError as e:
+            raise SceneBudgetError(self.source, path, str(e)) from None
+        if held:
+            self.held_bytes = total
+
+    def fail(self, path: str, detail: str):
+        raise SceneError(self.source, path, detail)
+
+    def build(self, path: str, factory, kwargs: dict, keymap: dict | None = None):
+        """Call an engine constructor; its ValueError comes back with the file and key in front.
+
+        The engine names the offending parameter first in its messages
+        (conventions.md); that name, mapped to the file's key, completes the path.
+        """
+        try:
+            return factory(**kwargs)
+        except ValueError as e:
+            msg = str(e)
+            keymap = keymap or {}
+            names = sorted(set(kwargs) | set(keymap), key=len, reverse=True)
+            hit = next((k for k in names if re.match(rf"{re.escape(k)}\b", msg)), None)
+            key = keymap.get(hit, hit) if hit else None
+            raise SceneError(self.source, _join(path, key) if key else path, msg) from None
+
+
+REQUIRED = object()
+_ABSENT = object()  # optional key with no default: left out
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+
+
+def _finite_number(ctx, path, v, allowed="a finite number"):
+    if not _is_number(v):
+        ctx.fail(path, f"must be {allowed}; got {_describe(v)}")
+    f = float(v)
+    if not math.isfinite(f):
+        ctx.fail(path, f"must be {allowed}; got {_fmt_value(f)} (nan and inf are not allowed)")
+    return f
+
+
+def _number(ctx, path, v):
+    return _finite_number(ctx, path, v)
+
+
+def _integer_check(minimum=None, maximum=None):
+    lo = "" if minimum is None else f" >= {minimum}"
+    allowed = f"an integer{lo}" if maximum is None else f"an integer in [{minimum}, {maximum}]"
+
+    def check(ctx, path, v):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
+            ctx.fail(path, f"must be {allowed}; got {_describe(v)}")
+        if (minimum is not None and v < minimum) or (maximum is not None and v > maximum):
+            ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}")
+        return int(v)
+
+    return check
+
+
+def _boolean(ctx, path, v):
+    if not isinstance(v, (bool, np.bool_)):
+        ctx.fail(path, f"must be true or false; got {_describe(v)}")
+    return bool(v)
+
+
+def _string(ctx, path, v):
+    if not isinstance(v, str):
+        ctx.fail(path, f"must be a string; got {_describe(v)}")
+    return v
+
+
+def _choice(choices):
+    """One of ``choices`` (case-insensitive, ``_`` and ``-`` alike); a check function.
+
+    An integer whose text is a choice is taken as that choice: Cook–Torrance's ``denominator = 4``
+    means ``"4"`` (TOML has no other way to write it unquoted).
+    """
+
+    def check(ctx, path, v):
+        allowed = "one of " + ", ".join(repr(c) for c in choices)
+        if isinstance(v, numbers.Integral) and not isinstance(v, bool):
+            text = _int_text(int(v))  # never str() of a huge integer (Python refuses ints above 4300 digits)
+            if text in choices:
+                return text
+        if not isinstance(v, str):
+            ctx.fail(path, f"must be {allowed}; got {_describe(v)}")
+        for c in choices:
+            if _norm_name(v) == _norm_name(c):
+                return c
+        hint = _suggest(v, choices).strip()
+        ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}" + (f" ({hint})" if hint else ""))
+
+    return check
+
+
+def _numbers(lengths, what):
+    """An array of finite numbers of one of ``lengths``; a check function.  ``what`` says what is allowed."""
+
+    def check(ctx, path, v):
+        if not isinstance(v, (list, tuple)):
+            ctx.fail(path, f"must be {what}; got {_describe(v)}")
+        if len(v) not in lengths:
+            ctx.fail(path, f"must be {what}; got {len(v)} entries {_fmt_value(v)}")
+        return [_finite_number(ctx, _join(path, i), x) for i, x in enumerate(v)]
+
+    return check
+
+
+_vec3 = _numbers((3,), "a 3-vector (an array of 3 numbers)")
+
+
+def _number_or(lengths, what):
+    """A finite number, or an array as for :func:`_numbers`."""
+    vec = _numbers(lengths, what)
+
+    def check(ctx, path, v):
+        if _is_number(v):
+            return _finite_number(ctx, path, v, f"{what}, finite")
+        return vec(ctx, path, v)
+
+    return check
+
+
+_color = _number_or((3,), "a colour: a number or [r, g, b]")
+_rgba_or_number = _number_or((3, 4), "an OpenGL colour: a number, [r, g, b] or [r, g, b, a]")
+
+
+def _rgba(ctx, path, v):
+    """An OpenGL colour as a list of 4: a number is grey, [r, g, b] has alpha 1."""
+    c = _rgba_or_number(ctx, path, v)
+    c = [c, c, c] if isinstance(c, float) else c
+    return c + [1.0] if len(c) == 3 else c
+
+
+def _terms_check(ctx, path, v):
+    if not isinstance(v, (list, tuple)) or not v:
+        ctx.fail(path, f"must be a non-empty array of terms from {', '.join(map(repr, TERMS))}; got {_describe(v)}")
+    pick = _choice(TERMS)
+    out = [pick(ctx, _join(path, i), t) for i, t in enumerate(v)]
+    return [t for t in TERMS if t in out]  # canonical order, no duplicates
+
+
+def _table(ctx, path, value, spec: dict, what: str) -> dict:
+    """Check a table against ``spec`` (key → (check, default)); unknown keys get a suggestion."""
+    if not isinstance(value, dict):
+        ctx.fail(path, f"must be a table ({what}); got {_describe(value)}")
+    for k in value:
+        if k not in spec:
+            hint = _suggest(k, spec)
+            ctx.fail(_join(path, k), f"unknown key for {what}; {hint}allowed keys: {', '.join(spec)}")
+    out = {}
+    for k, (check, default) in spec.items():
+        if k in value:
+            out[k] = check(ctx, _join(path, k), value[k])
+        elif default is REQUIRED:
+            ctx.fail(_join(path, k), f"is required in {what}")
+        elif default is not _ABSENT:
+            out[k] = default
+    return out
+
+
+def _array_of_tables(ctx, path, value, what) -> list:
+    if not isinstance(value, (list, tuple)) or not all(isinstance(x, dict) for x in value):
+        ctx.fail(path, f"must be an array of tables ([[{path}]] entries, {what}); got {_describe(value)}")
+    return list(value)
