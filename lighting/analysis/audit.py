@@ -47,7 +47,7 @@ from .._numeric import (
 from .._numeric import (
     _fmt as _fmt_value,
 )
-from ..integrate.integrate import albedo_curve
+from ..integrate import albedo_curve
 from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
 
 __all__ = ["AuditCase", "AuditRow", "AuditTable", "default_cases", "direction_pairs", "audit"]

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from lighting import BlinnPhong, CookTorrance, Lambert, Phong, vec
-from lighting.analysis.analysis import (
+from lighting.analysis import (
     LUMINANCE,
     dirs_to_half_diff,
     half_diff_image,
@@ -650,7 +650,7 @@ def test_light_exactly_on_the_horizon_reflects_nothing():
     import math
 
     from lighting import BlinnPhong, Phong
-    from lighting.analysis.analysis import polar_slice, theta_v_curve
+    from lighting.analysis import polar_slice, theta_v_curve
 
     for model in (Phong(1.0, 20.0), BlinnPhong(1.0, 20.0)):
         assert np.all(theta_v_curve(model, math.pi / 2).values == 0)

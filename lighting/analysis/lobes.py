@@ -1,0 +1,252 @@
+r"""A BRDF's specular lobe over view directions: its width and where it peaks.
+
+The width is read from the model's own lobe description (``brdf.lobe()``: axis and
+angular width, :class:`lighting.models.protocol.Lobe`), or measured on the slice when
+the model gives none; the peak is found by a search in the plane of incidence.  The
+polar slices (:mod:`lighting.analysis.slices`) and the lobe mesh
+(:mod:`lighting.analysis.meshes`) use both, so every view of one lobe shows the same peak.
+Options (``cosine``, ``channel``) as in :mod:`lighting.analysis.quantity`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .._numeric import _fmt, check_vectors, working_dtype
+from .quantity import (
+    _HALF_PI,
+    _check_angle,
+    _check_brdf,
+    _check_channel,
+    _check_cosine,
+    _plane_dirs,
+    _quantity_rgb,
+    _reduce,
+    _sph,
+)
+
+__all__ = ["LobePeak", "lobe_width", "lobe_peak"]
+
+#: Half-vector lobes are ``2 cos θ_l`` times their half-angle width across the plane of incidence, ``cos θ_l``
+#: clamped here: at grazing the lobe is a thin sliver.
+_MIN_COS = 0.1
+#: Peak searches stop this far (rad) above the horizon, where every BRDF is 0.
+_PEAK_LIMIT = _HALF_PI - 1e-9
+
+
+class LobePeak(NamedTuple):
+    """Where a BRDF lobe peaks for a fixed light: ``direction`` (3,) and scalar ``value``."""
+
+    direction: np.ndarray
+    value: float
+
+
+# --------------------------------------------------------------------------- width
+def _part_widths(p, cos_l: float) -> tuple[float, float]:
+    """``(across, along)``: the lobe's angular standard deviations across and along the plane of incidence."""
+    lobe = p.lobe()
+    if lobe is None:
+        return math.nan, math.nan  # unknown lobe: measured numerically
+    if lobe.axis == "normal":
+        return math.inf, math.inf
+    if lobe.axis == "mirror":
+        # A cone about R: the same width in every direction.
+        return lobe.width, lobe.width
+    h_width = lobe.width
+    # Half-vector lobes: |dv| = 2 |dh| along the plane of incidence, 2 cos θ_d |dh| across it (θ_d = θ_l at R_l).
+    return h_width * 2.0 * max(cos_l, _MIN_COS), h_width * 2.0
+
+
+def _lobe_widths(brdf, theta_l) -> tuple[float, float]:
+    """``(across, along)`` of the narrowest lobe among ``brdf.parts``; ``nan`` if a part's lobe is unknown."""
+    widths = [_part_widths(p, math.cos(theta_l)) for p in brdf.parts]
+    if any(math.isnan(w[0]) for w in widths):
+        return math.nan, math.nan
+    return min(widths)
+
+
+def _numeric_width(brdf, l64, cosine, channel) -> float:
+    """Half-width at half maximum of the in-plane slice, divided by 1.18 (a Gaussian's σ)."""
+    theta, phi = _angles_of(l64)
+    t = np.linspace(-_HALF_PI, _HALF_PI, 2881)[1:-1]
+    v = _plane_dirs(t, phi, "incidence")
+    f = _reduce(_quantity_rgb(brdf, np.broadcast_to(_sph(theta, phi), v.shape), v, cosine, np.float64), channel)
+    k = int(np.argmax(f))
+    if not f[k] > 0 or np.all(f >= 0.5 * f[k]):
+        return math.inf
+    below = np.flatnonzero(f < 0.5 * f[k])
+    dist = np.abs(below - k).min() * (t[1] - t[0])
+    return max(dist / 1.18, 1e-4)
+
+
+def lobe_width(brdf, theta_l=0.0) -> float:
+    r"""Angular width (rad) of the narrowest specular lobe of ``brdf`` over view directions; ``inf`` if none.
+
+    A standard deviation estimated from the model's parameters (its ``lobe()``), for a
+    light at polar angle ``theta_l``:
+
+    * Phong, ``(R_l·v)^e ≈ exp(−e ψ²/2)``: ``1/√e``, the same at every incidence;
+    * half-vector lobes — Blinn–Phong ``(n·h)^e ≈ exp(−e θ_h²/2)`` (``θ_h`` width ``1/√e``)
+      and Cook–Torrance (Beckmann ``exp(−θ_h²/α²)``, width ``α/√2``; GGX and the
+      Blinn–Phong NDF are no wider at the peak) — map to view directions through
+      ``|dv| = 2 cos θ_d |dh|`` across the plane of incidence (``θ_d = θ_l`` at the
+      mirror direction), so their width is ``2 cos θ_l`` times the half-angle width
+      (``cos θ_l`` clamped at 0.1: at grazing the lobe is a thin sliver); along the
+      plane it is ``2`` times the half-angle width, and :func:`~lighting.analysis.meshes.lobe_mesh`
+      stretches its grid by that aspect ratio;
+    * the minimum over the parts of a sum, ignoring parts whose coefficient is 0;
+      Lambert and ``e = 0`` have no lobe (``inf``).
+
+    Parameters
+    ----------
+    brdf : lighting.models.brdf.BRDF
+        The model; a sum is measured part by part (``brdf.parts``).
+    theta_l : float
+        Polar angle of the light, in ``[0, π/2]``.
+
+    Returns
+    -------
+    float
+        The width in radians; ``inf`` without a lobe, ``nan`` for a model whose ``lobe()``
+        is ``None`` (:func:`~lighting.analysis.meshes.lobe_mesh` then measures the width numerically).
+
+    Examples
+    --------
+    >>> from lighting import Lambert, Phong
+    >>> lobe_width(Lambert(0.5) + Phong(0.5, 100))
+    0.1
+    """
+    _check_brdf(brdf)
+    return _lobe_widths(brdf, _check_angle("theta_l", theta_l, 0.0, _HALF_PI))[0]
+
+
+# --------------------------------------------------------------------------- peak
+def _angles_of(d):
+    """Polar angle and azimuth of a unit direction (float64)."""
+    return math.atan2(math.hypot(d[0], d[1]), d[2]), math.atan2(d[1], d[0])
+
+
+def _polar(d) -> float:
+    """Polar angle of a unit direction, at most ``π/2``."""
+    return min(_angles_of(d)[0], _HALF_PI)
+
+
+def _unit_light(l):  # noqa: E741
+    arr = check_vectors("l", l, dtype=np.float64, nonzero=True)
+    if arr.shape != (3,):
+        raise ValueError(f"l must be one direction of shape (3,); got shape {arr.shape}: {_fmt(l)}")
+    m = np.max(np.abs(arr))
+    s = arr / m
+    return s / math.sqrt(float(s @ s))
+
+
+def _peak_candidates(theta, width):
+    """Signed angles where an in-plane peak search starts, and the spacing of the grid each comes from.
+
+    The mirror angle ``theta`` first (so that a flat lobe such as Lambert's reports ``R_l``),
+    then a fine grid of ±8 widths around it at spacing ``width/10`` (if the width is finite),
+    then a quarter-degree grid across the plane.
+    """
+    lim = _PEAK_LIMIT
+    coarse = np.linspace(-lim, lim, 721)
+    coarse_step = coarse[1] - coarse[0]
+    fine_step = width / 10 if math.isfinite(width) else coarse_step
+    t = [np.array([min(theta, lim)]), coarse]
+    steps = [np.array([min(fine_step, coarse_step)]), np.full(coarse.shape, coarse_step)]
+    if math.isfinite(width):
+        t.insert(1, np.clip(theta + width * np.linspace(-8.0, 8.0, 161), -lim, lim))
+        steps.insert(1, np.full(161, fine_step))
+    return np.concatenate(t), np.concatenate(steps)
+
+
+def _zoom_grid(t, step):
+    """One zoom of a peak search: ``t`` itself, then 41 samples at spacing ``step/10`` across ``t ± 2 step``."""
+    return np.concatenate([[t], np.clip(t + step * np.linspace(-2.0, 2.0, 41), -_PEAK_LIMIT, _PEAK_LIMIT)])
+
+
+def _peak_t(brdf, theta, phi, cosine, channel, width, fixed="light", d_fixed=None):
+    """Search the incidence plane for the largest value; returns ``(t, value)``, ``t`` the signed angle.
+
+    The fixed direction (``l`` for ``fixed="light"``, else ``v``) is at polar angle ``theta``,
+    azimuth ``phi``; the other is swept as in :func:`~lighting.analysis.slices.polar_slice`, so the
+    mirror direction is at ``t = theta``.  Isotropic models are mirror-symmetric about the plane of
+    incidence, and every model here peaks in it (at ``R_l``, or off-specular toward grazing for rough
+    Cook–Torrance).  Candidates: :func:`_peak_candidates`; then five zooms around the best.
+    """
+    d_fixed = _sph(theta, phi) if d_fixed is None else d_fixed
+
+    def value(t):
+        sweep = _plane_dirs(t, phi, "incidence")
+        fixed_b = np.broadcast_to(d_fixed, sweep.shape)
+        l, v = (fixed_b, sweep) if fixed == "light" else (sweep, fixed_b)  # noqa: E741
+        return _reduce(_quantity_rgb(brdf, l, v, cosine, np.float64), channel)
+
+    t, steps = _peak_candidates(theta, width)
+    f = value(t)
+    k = int(np.argmax(f))
+    # Zoom on the best candidate with the spacing of the grid it came from.
+    best_t, best_f, step = float(t[k]), float(f[k]), float(steps[k])
+    for _ in range(5):
+        tz = _zoom_grid(best_t, step)
+        fz = value(tz)
+        k = int(np.argmax(fz))
+        if fz[k] > best_f:
+            best_t, best_f = float(tz[k]), float(fz[k])
+        step /= 10
+    return best_t, best_f
+
+
+def _peak64(brdf, l64, cosine, channel, width):
+    """The in-plane peak for the light ``l64``: ``(direction, value)`` in float64 (see :func:`_peak_t`)."""
+    theta, phi = _angles_of(l64)
+    t, f = _peak_t(brdf, theta, phi, cosine, channel, width, d_fixed=l64)
+    return _plane_dirs(t, phi, "incidence"), f
+
+
+def lobe_peak(brdf, l, *, cosine=False, channel=None) -> LobePeak:
+    r"""Direction ``v`` where ``f_r(l, v)`` (or the chosen quantity) is largest, and that value.
+
+    The search runs in the plane of incidence — isotropic models are mirror-symmetric
+    about it, and every model of :mod:`lighting.models.brdf` peaks in it — over a quarter-degree
+    grid plus ±8 lobe widths around ``R_l``, then zooms five times around the best
+    sample, down to ~1e-6 of the grid spacing.  For Phong and Blinn–Phong the answer is the mirror
+    direction ``R_l = 2 n (n·l) − l``; rough Cook–Torrance peaks off-specular, toward
+    grazing.  Ties (a Lambertian lobe is flat) resolve to ``R_l``.  A light on or below
+    the horizon gives ``(n, 0)``.
+
+    Parameters
+    ----------
+    brdf : lighting.models.brdf.BRDF
+        The model.
+    l : array_like (3,)
+        Light direction in the local frame (``n = +z``); normalized on entry.
+    cosine, channel
+        See :mod:`lighting.analysis.quantity`; ``channel=None`` means luminance.
+
+    Returns
+    -------
+    LobePeak
+        ``(direction, value)``: unit vector (3,) in the dtype of ``l`` and a float.
+
+    Examples
+    --------
+    >>> from lighting import Phong
+    >>> p = lobe_peak(Phong(1.0, 1000), (0.6, 0.0, 0.8))
+    >>> p.direction.round(9).tolist()
+    [-0.6, 0.0, 0.8]
+    """
+    _check_brdf(brdf)
+    dt = working_dtype(l)
+    l64 = _unit_light(l)
+    cos_mode = _check_cosine(cosine)
+    ch = _check_channel(channel, "luminance")
+    if not l64[2] > 0:
+        return LobePeak(np.array([0.0, 0.0, 1.0], dtype=dt), 0.0)
+    w = _lobe_widths(brdf, _polar(l64))[0]
+    if math.isnan(w):
+        w = _numeric_width(brdf, l64, cos_mode, ch)
+    d, f = _peak64(brdf, l64, cos_mode, ch, w)
+    return LobePeak(d.astype(dt), f)
