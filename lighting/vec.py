@@ -30,6 +30,7 @@ __all__ = [
     "normalize",
     "reflect",
     "halfway",
+    "one_minus_cos_between",
     "orthonormal_basis",
     "spherical_direction",
     "direction_from_elevation",
@@ -172,6 +173,40 @@ def halfway(l, v) -> np.ndarray:  # noqa: E741 - the slides' name
     """
     dt = working_dtype(l, v)
     return normalize(_vec(l, dt, "l") + _vec(v, dt, "v"))
+
+
+def one_minus_cos_between(a, b) -> np.ndarray:
+    r"""``1 − cos ψ`` of the angle ``ψ`` between unit vectors ``a`` and ``b``, as ``|a − b|² / 2``.
+
+        1 − a·b = |a − b|² / 2        (for |a| = |b| = 1)
+
+    Near ``ψ = 0`` (a mirror direction, the peak of a sharp lobe) ``1 − a·b`` cancels:
+    it keeps only the digits of ``a·b`` left after the leading 1, where ``|a − b|²``
+    keeps those of the components.  The result is clipped to ``[0, 2]``.
+
+    Parameters
+    ----------
+    a, b : array_like, shape (..., 3)
+        Unit vectors (finite), broadcasting together.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``1 − cos ψ`` in ``[0, 2]``, in the float dtype of the inputs.
+
+    Examples
+    --------
+    >>> float(one_minus_cos_between((1.0, 0.0, 0.0), (0.0, 1.0, 0.0)))
+    1.0
+    """
+    dt = working_dtype(a, b)
+    return _one_minus_cos_between(_vec(a, dt, "a"), _vec(b, dt, "b"))
+
+
+def _one_minus_cos_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """:func:`one_minus_cos_between` on arrays already checked (the shading and sampling paths)."""
+    d = a - b
+    return np.clip(0.5 * (d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1] + d[..., 2] * d[..., 2]), 0, 2)
 
 
 def orthonormal_basis(n):

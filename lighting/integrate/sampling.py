@@ -29,6 +29,12 @@ Strategies, from blind to informed:
   mixture density ``Σ_k w_k p_k(l)`` is the balance heuristic of multiple
   importance sampling (Veach & Guibas 1995).
 
+The samplers of single models belong to the models (each model's ``sampler()``, defined
+beside it: :mod:`lighting.models.sampler`, :mod:`lighting.models.lambert`,
+:mod:`lighting.models.phong`, :mod:`lighting.models.microfacet_sampling`) and are re-exported
+here; this module adds the jittered grids, the mixtures, the dispatch by model and the
+estimators' helpers.
+
 Samples that land below the horizon are kept (with their density): the
 integrand is zero there, so they contribute nothing but are counted.
 """
@@ -36,7 +42,6 @@ integrand is zero there, so they contribute nothing but are counted.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
@@ -44,17 +49,26 @@ from .._numeric import (
     ArgumentTypeError,
     _fmt,
     check_bool,
-    check_budget,
     check_choice,
-    check_count,
-    check_nonnegative,
-    check_positive,
-    check_vectors,
     real_array,
 )
-from ..models import microfacet as _mf
-from ..models.brdf import BRDF, Geometry, cos_power
-from ..vec import orthonormal_basis
+from ..models.brdf import BRDF, Geometry
+from ..models.lambert import CosineSampler, cosine_hemisphere_pdf, square_to_cosine_hemisphere
+from ..models.microfacet_sampling import MicrofacetSampler
+from ..models.phong import PhongSampler
+from ..models.sampler import (  # noqa: F401  (BYTES_PER_SAMPLE, _check_size: the integrators' memory estimates)
+    BYTES_PER_SAMPLE,
+    Sampler,
+    Samples,
+    UniformSampler,
+    _broadcast,
+    _check_size,
+    _count,
+    _directions,
+    _local_v,
+    square_to_uniform_hemisphere,
+    uniform_hemisphere_pdf,
+)
 
 __all__ = [
     "Samples",
@@ -79,15 +93,8 @@ __all__ = [
     "f_cos_local",
 ]
 
-_TWO_PI = 2.0 * math.pi
+
 _N = np.array([0.0, 0.0, 1.0])
-
-
-class Samples(NamedTuple):
-    """Directions ``(..., 3)`` (local frame) and their density per steradian ``(...)``."""
-
-    directions: np.ndarray
-    pdf: np.ndarray
 
 
 def as_generator(seed=None) -> np.random.Generator:
@@ -103,48 +110,6 @@ def as_generator(seed=None) -> np.random.Generator:
         raise ValueError(f"seed must be {allowed}; got {_fmt(seed)}")
     return np.random.default_rng(int(seed))
 
-
-#: Peak bytes per drawn direction in the samplers and estimators (directions, densities, weights and
-#: their temporaries, in float64), for the memory estimate made before allocating.
-BYTES_PER_SAMPLE = 256
-
-
-def _count(name: str, value) -> int:
-    """A sample count >= 1 whose arrays fit the memory budget."""
-    n = check_count(name, value, 1)
-    check_budget(name, n * BYTES_PER_SAMPLE, what=f"{n} directions")
-    return n
-
-
-def _check_size(name: str, *shapes) -> None:
-    """Refuse a broadcast of ``shapes`` whose sample arrays exceed the memory budget."""
-    try:
-        size = math.prod(np.broadcast_shapes(*shapes))
-    except ValueError:
-        return  # reported by _broadcast
-    check_budget(name, size * BYTES_PER_SAMPLE, what=f"{size} directions")
-
-
-def _broadcast(a: str, sa: tuple, b: str, sb: tuple) -> None:
-    try:
-        np.broadcast_shapes(sa, sb)
-    except ValueError:
-        raise ValueError(f"{a} and {b} must broadcast together; got leading shapes {sa} and {sb}") from None
-
-
-def _unit_square(name: str, u) -> np.ndarray:
-    """Points of the unit square ``(..., 2)``: finite reals in ``[0, 1]``, float64."""
-    allowed = "points of the unit square [0, 1]², shape (..., 2)"
-    arr = real_array(name, u, allowed=allowed, dtype=np.float64)
-    if arr.shape[-1:] != (2,):
-        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {_fmt(u)}")
-    if arr.size and (np.min(arr) < 0 or np.max(arr) > 1):
-        raise ValueError(f"{name} must be {allowed}; got values in [{np.min(arr):.6g}, {np.max(arr):.6g}]")
-    return arr
-
-
-def _directions(name: str, d) -> np.ndarray:
-    return check_vectors(name, d, dtype=np.float64)
 
 
 def jittered(count: int, seed=None) -> np.ndarray:
@@ -180,66 +145,6 @@ def jittered_batch(batch: tuple, count: int, seed=None) -> np.ndarray:
     return (cells + rng.random(tuple(batch) + cells.shape)) / np.array([kx, ky], dtype=np.float64)
 
 
-# --------------------------------------------------------------------------- blind warps
-def square_to_uniform_hemisphere(u) -> Samples:
-    """Uniform directions on the upper hemisphere: ``cos θ = u₀``, ``φ = 2π u₁``, ``p = 1/(2π)``.
-
-    Examples
-    --------
-    >>> s = square_to_uniform_hemisphere(np.array([1.0, 0.0]))
-    >>> s.directions.tolist(), round(float(s.pdf) * 2 * math.pi, 12)
-    ([0.0, 0.0, 1.0], 1.0)
-    """
-    u = _unit_square("u", u)
-    z = u[..., 0]
-    r = np.sqrt(np.clip((1 - z) * (1 + z), 0.0, None))
-    phi = _TWO_PI * u[..., 1]
-    d = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
-    return Samples(d, np.full(z.shape, 1.0 / _TWO_PI))
-
-
-def uniform_hemisphere_pdf(d) -> np.ndarray:
-    """``1/(2π)`` above the horizon (``z > 0``), 0 below."""
-    d = _directions("d", d)
-    return np.where(d[..., 2] > 0, 1.0 / _TWO_PI, 0.0)
-
-
-def _concentric_disk(u: np.ndarray):
-    """Shirley–Chiu concentric map of the square onto the unit disk (area preserving, low distortion)."""
-    a = 2 * u[..., 0] - 1
-    b = 2 * u[..., 1] - 1
-    first = np.abs(a) > np.abs(b)
-    r = np.where(first, a, b)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        phi = np.where(
-            first,
-            (math.pi / 4) * (b / np.where(a != 0, a, 1.0)),
-            (math.pi / 2) - (math.pi / 4) * (a / np.where(b != 0, b, 1.0)),
-        )
-    phi = np.where((a == 0) & (b == 0), 0.0, phi)
-    return r * np.cos(phi), r * np.sin(phi)
-
-
-def square_to_cosine_hemisphere(u) -> Samples:
-    """Cosine-weighted directions (Malley's method): ``p = cos θ / π``.
-
-    Examples
-    --------
-    >>> s = square_to_cosine_hemisphere(np.array([0.5, 0.5]))
-    >>> s.directions.tolist(), round(float(s.pdf) * math.pi, 12)
-    ([0.0, 0.0, 1.0], 1.0)
-    """
-    u = _unit_square("u", u)
-    x, y = _concentric_disk(u)
-    z = np.sqrt(np.clip(1 - x * x - y * y, 0.0, None))
-    return Samples(np.stack([x, y, z], axis=-1), z / math.pi)
-
-
-def cosine_hemisphere_pdf(d) -> np.ndarray:
-    """``max(cos θ, 0) / π``."""
-    d = _directions("d", d)
-    return np.maximum(d[..., 2], 0.0) / math.pi
-
 
 def sample_uniform(count: int, seed=None) -> Samples:
     """``count`` independent uniform hemisphere directions (see :func:`square_to_uniform_hemisphere`)."""
@@ -261,274 +166,6 @@ def sample_stratified(count: int, seed=None, warp: str = "cosine") -> Samples:
         return square_to_cosine_hemisphere(u)
     return square_to_uniform_hemisphere(u)
 
-
-# --------------------------------------------------------------------------- view-dependent samplers
-def _local_v(v) -> np.ndarray:
-    v = np.asarray(v, dtype=np.float64)
-    if v.shape[-1:] != (3,):
-        raise ValueError(f"v must have shape (..., 3); got shape {v.shape}")
-    return v
-
-
-def _dot(a, b):
-    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
-
-
-class Sampler:
-    """Base class: draws ``l`` for a viewer ``v`` (local frame) and evaluates the density.
-
-    ``sample(u, v)`` takes unit-square points ``u`` ``(..., 2)`` (finite, in
-    ``[0, 1]``) and view directions ``v`` broadcastable to ``(..., 3)`` (finite
-    real vectors); ``pdf(l, v)`` is the density per steradian of the
-    directions it produces, on the whole sphere.  Both check their arguments
-    (ValueError naming the parameter; :class:`~lighting._numeric.ArgumentTypeError`
-    for text, complex or objects) and then call ``_sample`` / ``_pdf``, which
-    subclasses implement and the integrators call directly on checked data.
-    """
-
-    name = "sampler"
-
-    def sample(self, u, v) -> Samples:
-        """Directions and densities for unit-square points ``u`` ``(..., 2)`` and viewers ``v`` ``(..., 3)``."""
-        u = _unit_square("u", u)
-        v = check_vectors("v", v, dtype=np.float64)
-        _broadcast("u", u.shape[:-1], "v", v.shape[:-1])
-        _check_size("u", u.shape[:-1], v.shape[:-1])
-        return self._sample(u, v)
-
-    def pdf(self, l, v) -> np.ndarray:  # noqa: E741
-        """Density per steradian of :meth:`sample`'s directions at ``l`` ``(..., 3)`` for viewers ``v``."""
-        l = check_vectors("l", l, dtype=np.float64)  # noqa: E741
-        v = check_vectors("v", v, dtype=np.float64)
-        _broadcast("l", l.shape[:-1], "v", v.shape[:-1])
-        _check_size("l", l.shape[:-1], v.shape[:-1])
-        return self._pdf(l, v)
-
-    def _sample(self, u, v) -> Samples:
-        raise NotImplementedError
-
-    def _pdf(self, l, v) -> np.ndarray:  # noqa: E741
-        raise NotImplementedError
-
-    def __repr__(self):
-        return f"{type(self).__name__}()"
-
-
-class _ViewIndependentSampler(Sampler):
-    """A fixed density over the hemisphere, ``_warp(u)`` with density ``_density(l)``; ``v`` only broadcasts."""
-
-    _warp = None
-    _density = None
-
-    def _sample(self, u, v):
-        s = type(self)._warp(u)
-        shape = np.broadcast_shapes(s.pdf.shape, _local_v(v).shape[:-1])
-        return Samples(np.broadcast_to(s.directions, shape + (3,)), np.broadcast_to(s.pdf, shape))
-
-    def _pdf(self, l, v):  # noqa: E741
-        return np.broadcast_to(type(self)._density(l), np.broadcast_shapes(np.shape(l)[:-1], np.shape(v)[:-1]))
-
-
-class UniformSampler(_ViewIndependentSampler):
-    """Uniform over the hemisphere (ignores ``v``)."""
-
-    name = "uniform"
-    _warp = staticmethod(square_to_uniform_hemisphere)
-    _density = staticmethod(uniform_hemisphere_pdf)
-
-
-class CosineSampler(_ViewIndependentSampler):
-    """Cosine-weighted over the hemisphere (ignores ``v``): exact importance sampling for Lambert."""
-
-    name = "cosine"
-    _warp = staticmethod(square_to_cosine_hemisphere)
-    _density = staticmethod(cosine_hemisphere_pdf)
-
-
-def _one_minus_cos_power(u0: np.ndarray, k: float) -> np.ndarray:
-    """``1 − (1 − u₀)^{1/k}`` accurately (``expm1``/``log1p``): inverse CDF of ``cos^{k−1}``-type lobes."""
-    with np.errstate(divide="ignore"):
-        return -np.expm1(np.log1p(-np.minimum(u0, 1.0)) / k)
-
-
-def _around(axis: np.ndarray, one_minus_cos: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    """Direction at angle ``ψ`` (given as ``1 − cos ψ``) from ``axis`` and azimuth ``phi`` around it."""
-    omc = one_minus_cos
-    cos_psi = 1.0 - omc
-    sin_psi = np.sqrt(np.clip(omc * (2.0 - omc), 0.0, None))
-    t, b = orthonormal_basis(axis)
-    return cos_psi[..., None] * axis + (sin_psi * np.cos(phi))[..., None] * t + (sin_psi * np.sin(phi))[..., None] * b
-
-
-class PhongSampler(Sampler):
-    r"""The Phong lobe around the mirror direction ``R_v = 2 n (n·v) − v``.
-
-        p(l) = (e + 1)/(2π) · max(R_v·l, 0)^e        (on the whole sphere)
-
-    drawn as ``cos ψ = (1 − u₀)^{1/(e+1)}``, ``φ = 2π u₁`` around ``R_v``.  For
-    the slides' Phong BRDF ``f_r (n·l) = k_s (R_v·l)^e / π`` the weight
-    ``f_r (n·l) / p`` is the constant ``2 k_s / (e + 1)`` above the horizon.
-
-    Examples
-    --------
-    >>> s = PhongSampler(10).sample(np.array([0.0, 0.25]), np.array([0.0, 0.0, 1.0]))
-    >>> s.directions.round(12).tolist(), round(float(s.pdf) * 2 * math.pi, 12)  # R_v itself, density (e+1)/(2π)
-    ([0.0, 0.0, 1.0], 11.0)
-    """
-
-    name = "phong"
-
-    def __init__(self, exponent: float):
-        self.exponent = check_nonnegative("exponent", exponent)
-
-    def __repr__(self):
-        return f"PhongSampler({self.exponent!r})"
-
-    @staticmethod
-    def _mirror(v):
-        return v * np.array([-1.0, -1.0, 1.0])
-
-    def _sample(self, u, v):
-        u = np.asarray(u, dtype=np.float64)
-        v = _local_v(v)
-        e = self.exponent
-        omc = _one_minus_cos_power(u[..., 0], e + 1)
-        shape = np.broadcast_shapes(omc.shape, v.shape[:-1])
-        r = np.broadcast_to(self._mirror(v), shape + (3,))
-        l = _around(r, np.broadcast_to(omc, shape), np.broadcast_to(_TWO_PI * u[..., 1], shape))  # noqa: E741
-        # pdf = (e+1)/(2π) cos^e α with cos α = (1 − u₀)^{1/(e+1)}; u₀ = 1 is the lobe's rim, where
-        # log1p(−1) = −inf: the density there is 0 (1 when e = 0, never 0·inf).
-        with np.errstate(under="ignore", divide="ignore"):
-            log_c = np.log1p(-np.minimum(u[..., 0], 1.0))
-            scaled = e / (e + 1) * log_c if e > 0 else np.zeros_like(log_c)
-            pdf = (e + 1) / _TWO_PI * np.exp(scaled)
-        return Samples(l, np.broadcast_to(pdf, shape))
-
-    def _pdf(self, l, v):  # noqa: E741
-        l, v = np.asarray(l, dtype=np.float64), _local_v(v)  # noqa: E741
-        d = l - self._mirror(v)
-        lobe = cos_power(np.clip(0.5 * _dot(d, d), 0.0, 2.0), self.exponent)
-        return (self.exponent + 1) / _TWO_PI * lobe
-
-
-class MicrofacetSampler(Sampler):
-    r"""Sample a microfacet normal ``h`` with density ``D(h) (n·h)``, then reflect ``v`` about it.
-
-    Inverse CDFs in ``θ_h`` (``φ_h = 2π u₁``; Walter et al. 2007):
-
-    * Beckmann: ``tan²θ_h = −α² ln(1 − u₀)``
-    * GGX:      ``tan²θ_h = α² u₀ / (1 − u₀)``
-    * Blinn–Phong ``(e+2)/(2π)(n·h)^e``: ``cos θ_h = (1 − u₀)^{1/(e+2)}``
-
-    and with ``l = 2 (v·h) h − v``, ``dω_h / dω_l = 1 / (4 |v·h|)``, so
-
-        p(l) = D(h) (n·h) / (4 |v·h|).
-
-    Parameters
-    ----------
-    ndf : {"beckmann", "ggx", "blinn-phong"}
-    alpha : float > 0
-        Roughness α (for "blinn-phong", ``e = 2/α² − 2``, as
-        :class:`lighting.models.brdf.CookTorrance` uses) — or give ``exponent``.
-    exponent : float >= 0, optional
-        Blinn–Phong exponent ``e`` directly.
-
-    Examples
-    --------
-    >>> s = MicrofacetSampler("ggx", 0.5)
-    >>> h = s.sample_normals(np.array([0.0, 0.0]))
-    >>> h.directions.tolist(), round(float(h.pdf) * math.pi * 0.25, 12)  # D(n)·1 = 1/(π α²)
-    ([0.0, 0.0, 1.0], 1.0)
-    """
-
-    name = "microfacet"
-
-    def __init__(self, ndf: str, alpha: float | None = None, *, exponent: float | None = None):
-        ndf = check_choice("ndf", ndf, ("beckmann", "ggx", "blinn-phong"))
-        self.ndf = ndf
-        if ndf == "blinn-phong" and exponent is not None:
-            self.alpha = None
-            self.exponent = check_nonnegative("exponent", exponent)
-        else:
-            if alpha is None:
-                need = "alpha (roughness > 0) or exponent (>= 0)" if ndf == "blinn-phong" else "alpha (roughness > 0)"
-                raise ValueError(f"{need} is required for ndf={ndf!r}; got alpha=None")
-            self.alpha = check_positive("alpha", alpha)
-            self.exponent = float(_mf.blinn_phong_exponent(self.alpha)) if ndf == "blinn-phong" else None
-
-    def __repr__(self):
-        par = f"exponent={self.exponent!r}" if self.alpha is None else f"alpha={self.alpha!r}"
-        return f"MicrofacetSampler({self.ndf!r}, {par})"
-
-    # -- normals ------------------------------------------------------------------
-    def normal_pdf(self, h) -> np.ndarray:
-        """``D(h) (n·h)`` for unit ``h`` ``(..., 3)`` (0 below the horizon)."""
-        return self._normal_pdf(_directions("h", h))
-
-    def _normal_pdf(self, h) -> np.ndarray:
-        c = h[..., 2]
-        s2 = np.clip(h[..., 0] ** 2 + h[..., 1] ** 2, 0.0, 1.0)
-        # h is checked (or built here): the NDFs' unchecked forms, as the models' own evaluation uses.
-        dt = c.dtype
-        if self.ndf == "blinn-phong":
-            d = _mf._blinn_phong_ndf(c, self.exponent, s2, dt)
-        elif self.ndf == "beckmann":
-            d = _mf._beckmann_ndf(c, self.alpha, s2, dt)
-        else:
-            d = _mf._ggx_ndf(c, self.alpha, s2, dt)
-        return d * np.maximum(c, 0.0)
-
-    def sample_normals(self, u) -> Samples:
-        """Microfacet normals ``h`` with density ``D(h)(n·h)`` (upper hemisphere) from points ``u`` ``(..., 2)``."""
-        u = _unit_square("u", u)
-        _check_size("u", u.shape[:-1])
-        return self._sample_normals(u)
-
-    def _sample_normals(self, u) -> Samples:
-        u0 = np.minimum(u[..., 0], 1.0)
-        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-            if self.ndf == "blinn-phong":
-                omc = _one_minus_cos_power(u0, self.exponent + 2)
-                cos_t = 1.0 - omc
-                sin_t = np.sqrt(np.clip(omc * (2.0 - omc), 0.0, None))
-            else:
-                a2 = self.alpha * self.alpha
-                if self.ndf == "beckmann":
-                    tan2 = -a2 * np.log1p(-u0)
-                else:
-                    tan2 = np.where(u0 < 1, a2 * u0 / np.where(u0 < 1, 1.0 - u0, 1.0), np.inf)
-                cos_t = np.where(np.isfinite(tan2), 1.0 / np.sqrt(1.0 + tan2), 0.0)
-                sin_t = np.where(np.isfinite(tan2), np.sqrt(tan2) * cos_t, 1.0)
-        phi = _TWO_PI * u[..., 1]
-        h = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
-        return Samples(h, self._normal_pdf(h))
-
-    # -- directions ---------------------------------------------------------------
-    def _sample(self, u, v):
-        v = _local_v(v)
-        hs = self._sample_normals(u)
-        shape = np.broadcast_shapes(hs.pdf.shape, v.shape[:-1])
-        h = np.broadcast_to(hs.directions, shape + (3,))
-        vh = _dot(v, h)
-        l = 2 * vh[..., None] * h - v  # noqa: E741
-        return Samples(l, self._to_l(np.broadcast_to(hs.pdf, shape), vh))
-
-    @staticmethod
-    def _to_l(pdf_h, vh):
-        den = 4.0 * np.abs(vh)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            p = np.where(den > 0, pdf_h / np.where(den > 0, den, 1.0), 0.0)
-        return np.nan_to_num(p, nan=0.0, posinf=np.finfo(np.float64).max)
-
-    def _pdf(self, l, v):  # noqa: E741
-        l, v = np.asarray(l, dtype=np.float64), _local_v(v)  # noqa: E741
-        s = l + v
-        length = np.sqrt(_dot(s, s))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            h = np.where(length[..., None] > 0, s / np.where(length > 0, length, 1.0)[..., None], 0.0)
-        # The sampled h lies in the upper hemisphere; l + v may point either way along it.
-        h = np.where(h[..., 2:3] < 0, -h, h)
-        return np.where(length > 0, self._to_l(self._normal_pdf(h), _dot(v, h)), 0.0)
 
 
 class MixtureSampler(Sampler):
@@ -661,7 +298,7 @@ def _rough_albedo_table(part: BRDF, sampler: Sampler) -> np.ndarray:
 def importance_sampler(brdf: BRDF) -> Sampler:
     """The importance sampler for a model: each model's own (``model.sampler()``), mixed for a sum.
 
-    * :class:`~lighting.models.brdf.Lambert` → cosine-weighted;
+    * :class:`~lighting.models.lambert.Lambert` → cosine-weighted;
     * :class:`~lighting.models.brdf.Phong` → Phong lobe around ``R_v`` (uniform for ``e = 0``);
     * :class:`~lighting.models.brdf.BlinnPhong` → Blinn–Phong normal distribution
       ``∝ (n·h)^{e+1}`` (uniform / cosine for ``e = 0``);

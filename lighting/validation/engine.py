@@ -47,7 +47,7 @@ def _engine_brdf_stacked(specs, cols, n, l, v, eng):  # noqa: E741
     """
     import warnings
 
-    from ..models.brdf import StackedGeometry
+    from ..shading.stacked import StackedGeometry
     from ..vec import normalize
 
     out = eng.copy()

@@ -24,7 +24,8 @@ from hypothesis import strategies as st
 from probes import PROBE_SETTINGS, IllegalTally, LegalTally
 
 from lighting import fresnel, gl, microfacet
-from lighting.models.brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong, StackedGeometry
+from lighting.models.brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong
+from lighting.shading.stacked import StackedGeometry
 from lighting.vec import normalize
 
 SETTINGS = PROBE_SETTINGS | dict(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])

@@ -8,11 +8,12 @@ import pytest
 
 from lighting import AmbientLight, DirectionalLight, Material, PointLight
 from lighting._numeric import log1p
-from lighting.models.brdf import BlinnPhong, CookTorrance, Geometry, Lambert, Phong, StackedGeometry
+from lighting.models.brdf import BlinnPhong, CookTorrance, Geometry, Lambert, Phong
 from lighting.render.camera import Camera
 from lighting.render.mesh import sphere_for_triangles
 from lighting.render.renderer import Renderer
 from lighting.shading.equation import shade
+from lighting.shading.stacked import StackedGeometry
 
 MODELS = [
     Lambert(0.7),
@@ -176,7 +177,7 @@ def test_log1p_through_log_is_accurate_to_a_few_ulp():
 def test_the_renderer_path_does_not_repeat_the_public_argument_checks(monkeypatch):
     # Issue 14, item 10: arguments are checked once, at the public boundary (eval, eval_cos, classic and the
     # public microfacet/Fresnel functions); shading and rendering call the unchecked forms.
-    import lighting.models.brdf as brdf_mod
+    import lighting.models.base as base_mod
     import lighting.models.fresnel as fresnel_mod
     import lighting.models.microfacet as mf_mod
 
@@ -190,7 +191,7 @@ def test_the_renderer_path_does_not_repeat_the_public_argument_checks(monkeypatc
     renderer = Renderer(sphere_for_triangles(300), cam, dtype=np.float32)
     lights = [DirectionalLight((1, 1, 1.0)), DirectionalLight((-1, 0.5, 1.0)), PointLight((0, 3, 3.0))]
     expected = [renderer.render(Material(m), lights) for m in models]
-    monkeypatch.setattr(brdf_mod, "_public_geometry", forbidden)
+    monkeypatch.setattr(base_mod, "_public_geometry", forbidden)
     monkeypatch.setattr(mf_mod, "_public", forbidden)
     monkeypatch.setattr(mf_mod, "check_alpha", forbidden)
     monkeypatch.setattr(fresnel_mod, "_cosines", forbidden)

@@ -204,7 +204,7 @@ def test_bad_parameters_raise_clear_errors(factory, match):
 # --------------------------------------------------------------------------- issue 14, items 7 and 9
 def _stacked_fields(model, n, l, v, form):  # noqa: E741
     """The image path: ``separable_cos``/``separable_classic`` on a one-light :class:`StackedGeometry`."""
-    from lighting.models.brdf import StackedGeometry
+    from lighting.shading.stacked import StackedGeometry
 
     unit = [x / np.linalg.norm(x.astype(np.float64)).astype(x.dtype) for x in (n, l, v)]
     g = StackedGeometry(unit[0][None], unit[1][None], unit[2][None])
