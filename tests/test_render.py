@@ -155,7 +155,7 @@ def test_srgb_png_pipeline_counts_clipping():
 
 
 def test_parallel_chunks_give_identical_pixels(monkeypatch):
-    import lighting.shading.equation as il
+    import lighting.shading.batch as il
 
     def frames():
         # Fresh renderers: their per-pixel samples (normals, view vectors) are built in chunks too.

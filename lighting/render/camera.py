@@ -518,3 +518,20 @@ class Camera:
         if self.is_perspective:
             return normalize(self.eye.astype(dt) - p)
         return np.broadcast_to((-self.forward).astype(dt), p.shape).copy()
+
+
+def check_camera(camera) -> Camera:
+    """``camera`` itself if it is a :class:`Camera`, else an ``ArgumentTypeError`` naming what was given.
+
+    Parameters
+    ----------
+    camera : Camera
+
+    Returns
+    -------
+    Camera
+        The same object.
+    """
+    if not isinstance(camera, Camera):
+        raise ArgumentTypeError(f"camera must be a Camera; got {type(camera).__name__} {_fmt(camera)}")
+    return camera

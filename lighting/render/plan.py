@@ -38,16 +38,9 @@ import numpy as np
 from .._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
 from ..lights.punctual import AmbientLight, DirectionalLight, SpotLight
 from ..models.brdf import BRDF, BRDFSum
-from ..shading.equation import (
-    FORMS,
-    TERMS,
-    Material,
-    _check_lights,
-    _check_material,
-    _check_terms,
-    _evaluate,
-    shade_prepared,
-)
+from ..shading.batch import accumulate, shade_prepared
+from ..shading.inputs import FORMS, TERMS, Samples, ShadeOptions, check_lights, check_terms, view_vectors
+from ..shading.material import Material, check_material
 from ..vec import length
 from .mesh import TriangleMesh
 from .renderer import SHADING_MODES, AnalyticSphere, Renderer
@@ -183,7 +176,7 @@ class Plan:
         """
         mode, dt = self.mode, renderer.dtype
         if self.strategy == "constant":
-            n = len(renderer.sample_points(mode)) if mode != "phong" else len(renderer._pixels())
+            n = len(renderer.sample_points(mode)) if mode != "phong" else len(renderer.lit_pixels())
             return np.broadcast_to(saturate_to(self.constant, dt), (n, 3)).copy()
         nrm = renderer.sample_normals(mode)
         if self.strategy == "diffuse-directional":
@@ -296,11 +289,11 @@ def compile_plan(
       left out: view vectors and half vectors — a diffuse surface needs only the sign of n·v
       left out: per-sample light vectors and attenuation — every light is directional: one l per light
     """
-    _check_material(material)
+    check_material(material)
     mode = check_choice("mode", mode, SHADING_MODES)
     form = check_choice("form", form, FORMS)
-    terms = tuple(_check_terms(terms))
-    lights = _check_lights(lights)
+    terms = tuple(check_terms(terms))
+    lights = check_lights(lights)
     bounds = _check_bounds(bounds)
     skipped: list[Skip] = []
     scale = 1.0 if form == "classic" else 1.0 / math.pi
@@ -370,12 +363,11 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     this to rounding.
     """
     _check_renderer(renderer)
-    _check_material(material)
-    lights = _check_lights(lights)
+    check_material(material)
+    lights = check_lights(lights)
     mode = check_choice("mode", mode, SHADING_MODES)
     form = check_choice("form", form, FORMS)
-    terms = _check_terms(terms)
-    from ..shading.equation import view_vectors
+    terms = check_terms(terms)
     from ..vec import normalize
 
     pts = renderer.sample_points(mode)
@@ -385,8 +377,6 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
         v, dist = view_vectors(pts, eye=cam.eye, dtype=renderer.dtype)
     else:
         v, dist = view_vectors(pts, view_dir=-cam.forward, dtype=renderer.dtype)
-    acc = _evaluate(
-        pts, nrm, v, dist, material, lights, form=form, attenuation_distance="light",
-        wanted=list(terms), summed=True, dt=renderer.dtype, prune=False,
-    )  # fmt: skip
-    return renderer.spread(mode, acc.total())
+    options = ShadeOptions(form, "light", tuple(terms), prune=False)
+    acc = accumulate(Samples(pts, nrm, v, dist), material, lights, options, summed=True, dtype=renderer.dtype)
+    return renderer.spread(mode, acc["total"].total())

@@ -1,16 +1,12 @@
 """A vectorized NumPy rasterizer producing a geometry buffer for a separate lighting pass.
 
 :func:`rasterize` turns a :class:`~lighting.render.mesh.TriangleMesh` seen by a
-:class:`~lighting.render.camera.Camera` into a :class:`GBuffer`: for every pixel, which
-triangle is visible there, where on it (barycentric coordinates), at what depth,
-and the interpolated position and normals.  Lighting then runs on the buffer
-alone (``shade(gb.position[gb.coverage], gb.normal[gb.coverage], ...)``), so moving
-a light or changing a material re-shades without re-rasterizing; flat, Gouraud
-and Phong interpolation are all reads of the same buffer (:meth:`GBuffer.per_face`,
-:meth:`GBuffer.interpolate`, :attr:`GBuffer.normal`).
+:class:`~lighting.render.camera.Camera` into a :class:`~lighting.render.gbuffer.GBuffer`:
+for every pixel, which triangle is visible there, where on it (barycentric
+coordinates), at what depth, and the interpolated position and normals.
 
-:func:`raycast_sphere` fills the same buffer for the exact sphere by ray casting:
-the ground truth tessellated renderings are measured against.
+:func:`~lighting.render.raycast.raycast_sphere` fills the same buffer for the exact
+sphere by ray casting (both names are importable from here too).
 
 How a pixel is decided
 ----------------------
@@ -58,8 +54,8 @@ settle the nearest (then the lowest face index) with two running minima
 (``np.minimum.at``), no sort.  The winners are then put in pixel order (one
 int32 scatter of their indices, gathers in the output dtype) and kept as the
 buffer's covered pixels; its images are scattered from them when first read.
-The loop runs over batches only, never over pixels or triangles.  A
-5,120-triangle sphere filling a 512×512 view takes about 12.5–14 ms on one core.
+The loop runs over batches only, never over pixels or triangles (docs/images.md
+gives the timings).
 
 Examples
 --------
@@ -75,330 +71,26 @@ True
 
 from __future__ import annotations
 
-from functools import cached_property
-
 import numpy as np
 
-from .._numeric import (
-    ArgumentTypeError,
-    _fmt,
-    check_bool,
-    check_budget,
-    check_float_dtype,
-    check_positive,
-    real_array,
-    working_dtype,
-)
-from ..vec import normalize
-from .camera import Camera
+from .._numeric import ArgumentTypeError, _fmt, check_bool, check_float_dtype
+from .camera import Camera, check_camera
+from .gbuffer import GBuffer, check_image_budget
 from .mesh import TriangleMesh
+from .raycast import raycast_sphere
 
 __all__ = ["GBuffer", "rasterize", "raycast_sphere"]
 
-#: Peak bytes per image pixel (measured with tracemalloc at 1024², rounded up): rasterizing keeps a few
-#: (H, W) index and depth arrays; ray casting about twenty float64 planes.
+#: Peak bytes per image pixel of rasterizing (a few (H, W) index and depth arrays; measured with
+#: tracemalloc at 1024², rounded up).
 RASTER_BYTES_PER_PIXEL = 128
-RAYCAST_BYTES_PER_PIXEL = 224
 
 # Candidate (triangle, pixel) pairs per batch.  Small batches keep the temporaries (~20 arrays of
-# this length) in cache and reuse the allocator's memory; measured fastest among 2^14..2^18.
+# this length) in cache and reuse the allocator's memory; the fastest of 2^14..2^18 on the benchmark.
 _BATCH = 1 << 16
 
 
-class GBuffer:
-    """Per-pixel geometry of one view: everything a lighting pass needs.
-
-    All arrays are ``(H, W, ...)``; pixels that no triangle covers hold zeros
-    (``triangle_id`` holds ``-1`` there).  Float arrays have the dtype asked of
-    :func:`rasterize`.
-
-    The rasterizer stores *visibility* (which triangle, where on it) and the
-    attributes are resolved from it on first use and then cached (a
-    "visibility buffer"): :attr:`position`, :attr:`normal`,
-    :attr:`normal_unnormalized` and :attr:`face_normal` cost nothing until read,
-    and a lighting pass that reads them once re-shades for free afterwards.
-    The images themselves are laid out the same way: :func:`rasterize` keeps
-    the visible fragments as one row per covered pixel, and each ``(H, W)``
-    image below is scattered from them on first read (a renderer that reads
-    only the covered pixels never builds them).  A buffer is read-only.
-
-    Attributes
-    ----------
-    triangle_id : (H, W) int32
-        Index into ``mesh.faces`` of the visible triangle, ``-1`` where empty.
-    barycentric : (H, W, 3)
-        Perspective-correct barycentric coordinates ``b`` of the sample point
-        on that triangle, in the order of its vertices in ``mesh.faces``
-        (``Σ b_i = 1``; the point is ``Σ b_i p_i``).
-    depth : (H, W)
-        View-space depth ``f·(p − eye)`` of the visible point.
-    coverage : (H, W) bool
-        True where a triangle covers the pixel centre.
-    front_facing : (H, W) bool
-        True where the visible triangle faces the camera (always, when back
-        faces are culled).
-    overdraw : (H, W) int32
-        How many triangles passed the coverage test at the pixel before the
-        depth test (1 everywhere on a closed convex mesh with culling).
-    camera : Camera
-    mesh : TriangleMesh or None
-        ``None`` for the analytic sphere of :func:`raycast_sphere`.
-    attributes : dict
-        Per-pixel arrays given directly instead of interpolated from the mesh
-        (``"position"``, ``"normal"``, … for the analytic sphere).
-    shape : (int, int)
-        Image shape ``(H, W)``.
-    dtype : numpy.dtype
-        Float dtype of the buffer.
-    """
-
-    def __init__(
-        self, triangle_id, barycentric, depth, coverage, front_facing, overdraw, camera, mesh, attributes=None
-    ):
-        d = self.__dict__
-        d.update(triangle_id=triangle_id, barycentric=barycentric, depth=depth, coverage=coverage,
-                 front_facing=front_facing, overdraw=overdraw)  # fmt: skip
-        d.update(camera=camera, mesh=mesh, attributes={} if attributes is None else attributes)
-        d.update(shape=coverage.shape, dtype=depth.dtype)
-
-    @classmethod
-    def _from_fragments(cls, shape, pixels, triangle_id, barycentric, depth, front, overdraw, camera, mesh):
-        """A buffer held as its covered pixels: flat indices (increasing) and, per pixel, the mesh face id,
-        the barycentric planes ``(3, n)``, the depth, whether the face is front-facing (``None``: all
-        are) and the overdraw counts of the whole image (flat)."""
-        gb = cls.__new__(cls)
-        gb.__dict__.update(
-            shape=shape, dtype=depth.dtype, camera=camera, mesh=mesh, attributes={}, pixels=pixels,
-            _compact=(triangle_id, list(barycentric)), _depth_compact=depth, _front_compact=front,
-            _overdraw_flat=overdraw,
-        )  # fmt: skip
-        return gb
-
-    def __setattr__(self, name, value):
-        raise AttributeError(f"GBuffer is read-only (cannot set {name!r})")
-
-    # ------------------------------------------------------------------ images, from the covered pixels
-    @cached_property
-    def triangle_id(self) -> np.ndarray:
-        return self._scatter(self._compact[0], -1, np.int32)
-
-    @cached_property
-    def barycentric(self) -> np.ndarray:
-        planes = np.zeros((3, self.shape[0] * self.shape[1]), dtype=self.dtype)
-        for k in range(3):
-            planes[k][self.pixels] = self._compact[1][k]
-        # (H, W, 3) view of the planes: each barycentric coordinate stays one contiguous image.
-        return planes.reshape((3,) + self.shape).transpose(1, 2, 0)
-
-    @cached_property
-    def depth(self) -> np.ndarray:
-        return self._scatter(self._depth_compact)
-
-    @cached_property
-    def coverage(self) -> np.ndarray:
-        return self._scatter(True, False, bool)
-
-    @cached_property
-    def front_facing(self) -> np.ndarray:
-        front = self._front_compact
-        return self.coverage if front is None else self._scatter(front, False, bool)
-
-    @cached_property
-    def overdraw(self) -> np.ndarray:
-        return self._overdraw_flat.astype(np.int32).reshape(self.shape)
-
-    # ------------------------------------------------------------------ basics
-    def __repr__(self) -> str:
-        H, W = self.shape
-        source = "analytic sphere" if self.mesh is None else repr(self.mesh)
-        return f"GBuffer({W}x{H}, {len(self.pixels)} pixels covered, {self.dtype}, {source})"
-
-    @cached_property
-    def pixels(self) -> np.ndarray:
-        """Flat (row-major) indices of the covered pixels, increasing."""
-        return np.flatnonzero(self.coverage)
-
-    @cached_property
-    def _compact(self):
-        """At :attr:`pixels`: the triangle ids and the three barycentric columns (contiguous)."""
-        p = self.pixels
-        tid = self.triangle_id.reshape(-1).take(p)
-        b = [self.barycentric[..., k].take(p) for k in range(3)]
-        return tid, b
-
-    @cached_property
-    def _depth_compact(self):
-        return self.depth.reshape(-1).take(self.pixels)
-
-    def _scatter(self, values, fill=0, dtype=None) -> np.ndarray:
-        """An image holding ``values`` (one row per covered pixel, or one value for all) and ``fill`` elsewhere."""
-        values = np.asarray(values)
-        out = np.full((self.shape[0] * self.shape[1],) + values.shape[1:], fill, dtype=dtype or values.dtype)
-        if values.shape[1:] == (3,):
-            # One 1-D scatter per channel (a strided column of the image): several times faster
-            # than assigning rows of three.
-            for c in range(3):
-                out[:, c][self.pixels] = values[:, c]
-        else:
-            out[self.pixels] = values
-        return out.reshape(self.shape + values.shape[1:])
-
-    def _need_mesh(self, what: str) -> TriangleMesh:
-        if self.mesh is None:
-            raise ValueError(f"{what} needs a mesh; this buffer comes from an analytic sphere (mesh is None)")
-        return self.mesh
-
-    def _interp_compact(self, a: np.ndarray, rows=None) -> np.ndarray:
-        """``Σ b_i a[f_i]`` at the covered pixels (or at ``rows`` of them: a slice or indices).
-
-        ``a`` is ``(V,)`` or ``(V, k)``.
-        """
-        mesh = self._need_mesh("interpolate")
-        tid, b = self._compact
-        if rows is not None:
-            tid, b = tid[rows], [bk[rows] for bk in b]
-        b = [bk.astype(a.dtype, copy=False) for bk in b]
-        flat = a.reshape(len(a), int(np.prod(a.shape[1:])))
-        out = np.empty((len(tid), flat.shape[1]), dtype=a.dtype, order="F")  # columns contiguous
-        big = np.finfo(a.dtype).max
-        for c in range(flat.shape[1]):
-            # One contiguous column at a time (1-D gathers are several times faster than row gathers),
-            # looked up per triangle corner first: a[f_i] = (a[faces[:, i]])[triangle id], exactly.
-            col = np.ascontiguousarray(flat[:, c])
-            corner = [col.take(f) for f in mesh.face_columns]
-            # The weights sum to 1 only up to rounding, so three values at the dtype's largest finite
-            # number (saturated Gouraud colours) can sum past it: the sum saturates instead.  Each
-            # b_i a_i is finite (0 <= b_i <= 1 up to rounding), so the sum is finite or ±inf, never NaN.
-            with np.errstate(over="ignore"):
-                acc = b[0] * corner[0].take(tid)
-                acc += b[1] * corner[1].take(tid)
-                acc += b[2] * corner[2].take(tid)
-            np.clip(acc, -big, big, out=out[:, c])
-        return out.reshape((len(tid),) + a.shape[1:])
-
-    # ------------------------------------------------------------------ attribute access
-    def interpolate(self, vertex_values) -> np.ndarray:
-        """Interpolate a per-vertex attribute across the image: ``Σ b_i a[f_i]``.
-
-        Parameters
-        ----------
-        vertex_values : array_like, shape (V,) or (V, k)
-            One value (or row) per mesh vertex, e.g. Gouraud vertex colours.
-
-        Returns
-        -------
-        ndarray, shape (H, W) or (H, W, k)
-            Zero where nothing is covered.  dtype: float64 if either the buffer
-            or the values are float64, else float32.
-
-        Examples
-        --------
-        >>> from lighting.render.camera import Camera
-        >>> from lighting.render.mesh import icosphere
-        >>> m = icosphere(1)
-        >>> gb = rasterize(m, Camera((0, 0, 4), (0, 0, 0), width=8, height=8))
-        >>> round(gb.interpolate(np.ones(len(m.vertices)))[4, 4].item(), 12)  # barycentrics sum to 1
-        1.0
-        """
-        mesh = self._need_mesh("interpolate")
-        a = real_array("vertex_values", vertex_values)
-        dt = working_dtype(self.barycentric, a)
-        a = a.astype(dt, copy=False)
-        if a.ndim == 0 or a.shape[0] != mesh.n_vertices:
-            raise ValueError(
-                f"vertex_values must have one row per vertex ({mesh.n_vertices}); got shape {np.shape(vertex_values)}"
-            )
-        return self._scatter(self._interp_compact(a))
-
-    def per_face(self, face_values) -> np.ndarray:
-        """Look up a per-triangle attribute at each pixel (flat shading): ``a[triangle_id]``.
-
-        Parameters
-        ----------
-        face_values : array_like, shape (F,) or (F, k)
-
-        Returns
-        -------
-        ndarray, shape (H, W) or (H, W, k), zero where nothing is covered.
-        Float values come back as float64 if either the buffer or the values
-        are float64, else float32.
-        """
-        n_faces = self.mesh.n_triangles if self.mesh is not None else 1
-        a = np.asarray(face_values)
-        if a.dtype.kind != "b":
-            real_array("face_values", face_values)  # text, complex, NaN and inf refused; integers stay integers
-        if a.dtype.kind in "fc":
-            a = a.astype(working_dtype(self.barycentric, face_values), copy=False)
-        if a.ndim == 0 or a.shape[0] != n_faces:
-            raise ValueError(
-                f"face_values must have one row per triangle ({n_faces}); got shape {np.shape(face_values)}"
-            )
-        return self._scatter(a[self._compact[0]])
-
-    @cached_property
-    def _position_compact(self) -> np.ndarray:
-        if "position" in self.attributes:
-            return self.attributes["position"].reshape(-1, 3)[self.pixels]
-        return self._interp_compact(self._need_mesh("position").vertices.astype(self.dtype))
-
-    @cached_property
-    def position(self) -> np.ndarray:
-        """World position ``Σ b_i p_i`` of the visible point, ``(H, W, 3)``."""
-        if "position" in self.attributes:
-            return self.attributes["position"]
-        return self._scatter(self._position_compact)
-
-    @cached_property
-    def _normal_raw_compact(self) -> np.ndarray:
-        return self._interp_compact(self._need_mesh("normal").normals.astype(self.dtype))
-
-    @cached_property
-    def normal_unnormalized(self) -> np.ndarray:
-        """``Σ b_i n_i`` as interpolated, ``(H, W, 3)``.
-
-        Shorter than 1 inside a triangle whose vertex normals differ; its length
-        shows how much they differ.
-        """
-        if "normal_unnormalized" in self.attributes:
-            return self.attributes["normal_unnormalized"]
-        return self._scatter(self._normal_raw_compact)
-
-    @cached_property
-    def normal(self) -> np.ndarray:
-        """**Unit** interpolated vertex normal ``normalize(Σ b_i n_i)``, ``(H, W, 3)``.
-
-        The normal of Phong interpolation, ready for shading.
-        """
-        if "normal" in self.attributes:
-            return self.attributes["normal"]
-        return self._scatter(normalize(self._normal_raw_compact))
-
-    @cached_property
-    def face_normal(self) -> np.ndarray:
-        """Unit geometric normal of the visible triangle (flat shading), ``(H, W, 3)``."""
-        if "face_normal" in self.attributes:
-            return self.attributes["face_normal"]
-        return self.per_face(self._need_mesh("face_normal").face_normals.astype(self.dtype))
-
-    def view_direction(self) -> np.ndarray:
-        """The slides' ``v`` at every covered pixel (unit, toward the eye), ``(H, W, 3)``, zero elsewhere."""
-        return self._scatter(self.camera.view_direction(self._position_compact))
-
-
 # ---------------------------------------------------------------------- rasterizer
-def _check_camera(camera) -> Camera:
-    if not isinstance(camera, Camera):
-        raise ArgumentTypeError(f"camera must be a Camera; got {type(camera).__name__} {_fmt(camera)}")
-    return camera
-
-
-def check_image_budget(camera: Camera, bytes_per_pixel: float, what: str) -> None:
-    """Refuse (:class:`lighting._numeric.BudgetError`) an image whose per-pixel work exceeds the memory budget."""
-    n = camera.width * camera.height
-    check_budget(f"camera width x height ({camera.width}x{camera.height} pixels)", n * bytes_per_pixel,
-                 what=f"{what}, about {bytes_per_pixel:g} bytes per pixel")  # fmt: skip
-
-
 def _lex_less(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a < b`` lexicographically over the last axis (rows of 2 or 3 numbers)."""
     less = a[..., -1] < b[..., -1]
@@ -553,7 +245,7 @@ def rasterize(mesh: TriangleMesh, camera: Camera, *, cull_backfaces: bool = True
     """
     if not isinstance(mesh, TriangleMesh):
         raise ArgumentTypeError(f"mesh must be a TriangleMesh; got {type(mesh).__name__} {_fmt(mesh)}")
-    _check_camera(camera)
+    check_camera(camera)
     cull_backfaces = check_bool("cull_backfaces", cull_backfaces)
     out_dt = check_float_dtype(dtype)
     check_image_budget(camera, RASTER_BYTES_PER_PIXEL, "rasterizing")
@@ -776,106 +468,3 @@ def _raster_spans(scount, spx0, sax, sey, rowterm, stri, spix0, setup, perspecti
     cat = np.concatenate
     return (cat([o[0] for o in out]), cat([o[1] for o in out]), cat([o[2] for o in out]),
             [cat([o[3][k] for o in out]) for k in range(3)])  # fmt: skip
-
-
-# ---------------------------------------------------------------------- analytic sphere
-def raycast_sphere(camera: Camera, center=(0.0, 0.0, 0.0), radius: float = 1.0, dtype=np.float64) -> GBuffer:
-    """Ray-cast the exact sphere ``|p − c| = r`` into a :class:`GBuffer` (the ground truth).
-
-    For the unit-direction ray ``o + t d``, with ``f = o − c``:
-    ``t² + 2 (f·d) t + |f|² − r² = 0``.  Following Haines et al., "Precision
-    Improvements for Ray/Sphere Intersection" (Ray Tracing Gems, 2019), the
-    discriminant is computed as ``r² − |f − (f·d) d|²`` (no cancellation for
-    small spheres far away) and the roots as ``q = −(f·d) − sign(f·d) √disc``,
-    ``t₁ = q``, ``t₀ = (|f|² − r²) / q`` (no cancellation between ``−(f·d)`` and
-    ``√disc``).  The nearest root with depth in ``[near, far]`` is kept.
-
-    Position ``p = o + t d``, normal ``(p − c) / r``; ``triangle_id`` is 0 on the
-    sphere and −1 elsewhere, ``barycentric`` is zero, ``face_normal`` equals
-    ``normal``.  Computed in float64, returned in ``dtype``.
-
-    Examples
-    --------
-    >>> from lighting.render.camera import Camera
-    >>> cam = Camera((0, 0, 5), (0, 0, 0), projection="orthographic", ortho_height=3, width=5, height=5)
-    >>> gb = raycast_sphere(cam)  # pixel centres at x, y = 0, ±0.6, ±1.2
-    >>> gb.coverage.astype(int)
-    array([[0, 0, 0, 0, 0],
-           [0, 1, 1, 1, 0],
-           [0, 1, 1, 1, 0],
-           [0, 1, 1, 1, 0],
-           [0, 0, 0, 0, 0]])
-    >>> float(gb.depth[2, 2])  # the centre ray hits (0, 0, 1)
-    4.0
-    """
-    _check_camera(camera)
-    dt = check_float_dtype(dtype)
-    r = check_positive("radius", radius)
-    c = real_array("center", center, allowed="one finite 3-vector (x, y, z)", dtype=np.float64)
-    if c.shape != (3,):
-        raise ValueError(f"center must be one finite 3-vector (x, y, z); got shape {c.shape}: {_fmt(center)}")
-    check_image_budget(camera, RAYCAST_BYTES_PER_PIXEL, "ray casting a sphere")
-    # Spheres and cameras near the float range (radius 1e200, an eye 1e308 away) overflow the quadratic's
-    # terms: such pixels are misses (or their hits are dropped below), never NaN in the buffer.
-    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        return _raycast_sphere(camera, c, r, dt)
-
-
-def _raycast_sphere(camera, c, r, dt):
-    H, W = camera.height, camera.width
-    o, d = camera.ray_components()
-    o = [np.broadcast_to(oc, (H, W)) for oc in o]
-    d = [np.broadcast_to(dc, (H, W)) for dc in d]
-    f = [o[k] - c[k] for k in range(3)]
-    b = f[0] * d[0] + f[1] * d[1] + f[2] * d[2]
-    closest2 = sum((f[k] - b * d[k]) ** 2 for k in range(3))
-    disc = r * r - closest2
-    # Everything else only where the line meets the sphere.
-    pix = np.flatnonzero(disc >= 0)
-    b, disc = b.reshape(-1)[pix], disc.reshape(-1)[pix]
-    f = [fk.reshape(-1)[pix] for fk in f]
-    d = [dk.reshape(-1)[pix] for dk in d]
-    o = [ok.reshape(-1)[pix] for ok in o]
-    sq = np.sqrt(disc)
-    q = -(b + np.where(b >= 0, sq, -sq))
-    cc = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r * r
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_other = np.where(q != 0, cc / np.where(q != 0, q, 1), 0)
-    t_near = np.minimum(q, t_other)
-    t_far = np.maximum(q, t_other)
-    fw = camera.forward
-    cosf = d[0] * fw[0] + d[1] * fw[1] + d[2] * fw[2]
-    base = (o[0] - camera.eye[0]) * fw[0] + (o[1] - camera.eye[1]) * fw[1] + (o[2] - camera.eye[2]) * fw[2]
-    dn, df = base + t_near * cosf, base + t_far * cosf
-    ok_n = (dn >= camera.near) & (dn <= camera.far)
-    ok_f = ~ok_n & (df >= camera.near) & (df <= camera.far)
-    keep = np.flatnonzero(ok_n | ok_f)
-    t = np.where(ok_n, t_near, t_far)[keep]
-    pix = pix[keep]
-    p = np.stack([o[k][keep] + t * d[k][keep] for k in range(3)], axis=1)
-    n = (p - c) / r
-    finite = np.all(np.isfinite(p), axis=1) & np.all(np.isfinite(n), axis=1)
-    finite &= np.all(np.abs(p) <= np.finfo(dt).max, axis=1)  # representable in the buffer's dtype
-    if not np.all(finite):
-        keep, t, pix, p, n = keep[finite], t[finite], pix[finite], p[finite], n[finite]
-    z = (base[keep] + t * cosf[keep]).astype(dt)
-    facing = n[:, 0] * d[0][keep] + n[:, 1] * d[1][keep] + n[:, 2] * d[2][keep] < 0
-
-    def image(values, fill=0):
-        out = np.full((H * W,) + values.shape[1:], fill, dtype=values.dtype)
-        out[pix] = values
-        return out.reshape((H, W) + values.shape[1:])
-
-    p, n = image(p.astype(dt)), image(n.astype(dt))
-    cov = image(np.ones(len(pix), dtype=bool), False)
-    return GBuffer(
-        triangle_id=image(np.zeros(len(pix), dtype=np.int32), -1),
-        barycentric=np.zeros((H, W, 3), dtype=dt),
-        depth=image(z),
-        coverage=cov,
-        front_facing=image(facing, False),
-        overdraw=cov.astype(np.int32),
-        camera=camera,
-        mesh=None,
-        attributes={"position": p, "normal": n, "normal_unnormalized": n, "face_normal": n},
-    )

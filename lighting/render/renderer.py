@@ -36,12 +36,15 @@ from .._numeric import (
     real_array,
 )
 from ..lights.punctual import AmbientLight, DirectionalLight
-from ..shading import equation as _illumination
-from ..shading.equation import TERMS, Material, _check_lights, shade_prepared, view_vectors
+from ..shading.batch import each_chunk, shade_prepared, shade_prepared_into, shade_prepared_terms
+from ..shading.inputs import TERMS, check_lights, view_vectors
+from ..shading.material import Material
 from ..vec import normalize
-from .camera import Camera
+from .camera import Camera, check_camera
+from .gbuffer import GBuffer, check_image_budget
 from .mesh import TriangleMesh
-from .raster import GBuffer, _check_camera, check_image_budget, rasterize, raycast_sphere
+from .raster import rasterize
+from .raycast import raycast_sphere
 
 __all__ = ["SHADING_MODES", "AnalyticSphere", "Renderer", "render"]
 
@@ -97,7 +100,7 @@ class Renderer:
 
     def __init__(self, geometry, camera: Camera, *, dtype=np.float64, cull_backfaces: bool = True):
         _check_geometry(geometry)
-        _check_camera(camera)
+        check_camera(camera)
         dt = check_float_dtype(dtype)
         self._geometry, self._camera, self.dtype = geometry, camera, dt.type
         self.cull_backfaces = check_bool("cull_backfaces", cull_backfaces)
@@ -125,7 +128,7 @@ class Renderer:
 
     @camera.setter
     def camera(self, value: Camera):
-        _check_camera(value)
+        check_camera(value)
         if value is not self._camera:
             self._camera = value
             self._invalidate()
@@ -192,7 +195,7 @@ class Renderer:
 
         def make():
             if mode == "phong":
-                pts = self._take(self.gbuffer._position_compact)
+                pts = self._take(self.gbuffer.covered_positions)
             elif mode == "gouraud":
                 pts = self._need_mesh(mode).vertices
             else:  # flat: one sample per triangle, at its centroid
@@ -210,7 +213,7 @@ class Renderer:
 
         def make():
             if mode == "phong":
-                nrm = self.gbuffer.normal.reshape(-1, 3).take(self._pixels(), axis=0)
+                nrm = self.gbuffer.normal.reshape(-1, 3).take(self.lit_pixels(), axis=0)
             elif mode == "gouraud":
                 nrm = self._need_mesh(mode).normals
             else:
@@ -247,9 +250,9 @@ class Renderer:
 
         def make():
             gb, cam, dt = self.gbuffer, self._camera, self.dtype
-            pixels = self._pixels()
+            pixels = self.lit_pixels()
             rows = self._subset
-            depth = self._take(gb._depth_compact)
+            depth = self._take(gb.covered_depth)
             n = len(pixels)
             normals = None
             if gb.mesh is not None:
@@ -262,12 +265,12 @@ class Renderer:
 
             def fill(sl):
                 if normals is not None:
-                    normals[sl] = normalize(gb._interp_compact(vertex_normals, sl if rows is None else rows[sl]))
+                    normals[sl] = normalize(gb.interpolate_covered(vertex_normals, sl if rows is None else rows[sl]))
                 if cam.is_perspective:
                     # The point seen at a pixel lies on that pixel's ray: v needs no interpolated position.
                     v[sl], dist[sl] = cam._pixel_view_vectors(pixels[sl], depth[sl], dtype=dt)
 
-            _illumination._each_chunk(n, fill)
+            each_chunk(n, fill)
             return normals, (v, dist)
 
         return self._cached(("pixel samples", "phong"), make)
@@ -281,8 +284,14 @@ class Renderer:
     def _take(self, compact: np.ndarray) -> np.ndarray:
         return compact if self._subset is None else compact[self._subset]
 
-    def _pixels(self) -> np.ndarray:
-        """Flat indices of the pixels lit in ``"phong"`` mode (all covered ones unless restricted)."""
+    def lit_pixels(self) -> np.ndarray:
+        """Flat indices of the pixels lit in ``"phong"`` mode (all covered ones unless restricted).
+
+        Returns
+        -------
+        numpy.ndarray
+            Increasing flat (row-major) pixel indices, one per sample of ``"phong"`` mode.
+        """
         gb = self.gbuffer
         return gb.pixels if self._subset is None else gb.pixels[self._subset]
 
@@ -291,10 +300,10 @@ class Renderer:
         mode = check_choice("mode", mode, SHADING_MODES)
         gb = self.gbuffer
         if mode == "phong":
-            return self._pixels(), colours
+            return self.lit_pixels(), colours
         if mode == "gouraud":
-            return gb.pixels, gb._interp_compact(np.asarray(colours))
-        return gb.pixels, np.asarray(colours)[gb._compact[0]]
+            return gb.pixels, gb.interpolate_covered(np.asarray(colours))
+        return gb.pixels, np.asarray(colours)[gb.covered_triangle_ids]
 
     def _image_sink(self, dtype=None):
         """A zero ``(H, W, 3)`` image and ``put(row_slice, planes)`` that writes channel planes ``(3, m)``
@@ -302,7 +311,7 @@ class Renderer:
         gb = self.gbuffer
         img = np.zeros(gb.shape + (3,), dtype=self.dtype if dtype is None else dtype)
         columns = img.reshape(-1, 3)
-        pixels = self._pixels()
+        pixels = self.lit_pixels()
 
         def put(rows, planes):
             for c in range(3):
@@ -335,11 +344,9 @@ class Renderer:
     ) -> dict[str, np.ndarray]:
         """Each term of the illumination equation as an ``(H, W, 3)`` image (zero off the object)."""
         mode = check_choice("mode", mode, SHADING_MODES)
-        lights = _check_lights(lights)
+        lights = check_lights(lights)
         pts, nrm, v, dist = self._samples(mode, lights)
-        colours = shade_prepared(
-            pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms, separate=True
-        )
+        colours = shade_prepared_terms(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)
         return {name: self.spread(mode, c) for name, c in colours.items()}
 
     def render(
@@ -370,13 +377,13 @@ class Renderer:
         """
         bg = check_color("background", background)
         mode = check_choice("mode", mode, SHADING_MODES)
-        lights = _check_lights(lights)
+        lights = check_lights(lights)
         pts, nrm, v, dist = self._samples(mode, lights)
         if mode == "phong":
             img, put = self._image_sink()
-            shade_prepared(
-                pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
-                view_cache=self._cached(("view terms", mode), dict), channels=True, sink=put,
+            shade_prepared_into(
+                put, pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
+                view_cache=self._cached(("view terms", mode), dict),
             )  # fmt: skip
         else:
             colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)

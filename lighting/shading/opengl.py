@@ -8,6 +8,16 @@ normals, light positions and spot directions are taken to be already
 transformed by the modelview matrix (OpenGL transforms a light's position and
 spot direction by the modelview matrix current when ``glLight`` is called).
 
+A second statement of the equation, on purpose
+-----------------------------------------------
+This module does not call :mod:`lighting.lights` (``falloff``,
+``SpotLight.spot_factor``) nor :mod:`lighting.shading.equation`: it keeps its
+own transcription of the specification's formulas (the attenuation
+``1 / (k_0 + k_1 d + k_2 d²)`` in the specification's coefficient order, the
+spot factor, the half vector), tested against Mesa.  It is an independent
+second statement of the lighting equation, so a drift in the engine's one
+home of a formula shows up as a disagreement instead of being copied here.
+
 The equation
 ------------
 For a vertex ``V`` with unit normal ``n`` the primary colour is
