@@ -9,7 +9,7 @@ shrink only when the data fall below a quarter of the range), so updates rarely
 need a full draw.  The window updates the panels when a slider is released,
 not during the drag.
 
-The panels only draw what :class:`explorer.app_state.ExplorerModel` computed;
+The panels only draw what :class:`explorer.app.views.ExplorerModel` computed;
 nothing here touches the engine.  Imports Matplotlib (Agg canvas only, no
 pyplot), not PyVista.
 """
@@ -255,7 +255,7 @@ class ProfilePlot(BlitFigure):
         return [self.g_line, self.p_line, self.g_d2, self.p_d2, self.edges]
 
     def set_data(self, profile, channel_label: str = "luminance Y"):
-        """Show a :class:`~explorer.app_state.ProfileView`."""
+        """Show a :class:`~explorer.app.views.ProfileView`."""
         x = profile.x
         g, p = _finite(profile.gouraud), _finite(profile.phong)
         self.g_line.set_data(x, g)
@@ -328,7 +328,7 @@ class PolarPlot(BlitFigure):
         return [self.light_ray, self.mirror_ray, self.fixed_light, self.fixed_view]
 
     def set_data(self, polar, *, channel="luminance", label="f_r"):
-        """Show a :class:`~explorer.app_state.PolarView`."""
+        """Show a :class:`~explorer.app.views.PolarView`."""
         a = _finite(polar.light_fixed)
         b = _finite(polar.view_fixed)
         self.fixed_light.set_data(polar.angles, a)
@@ -403,7 +403,7 @@ class AnglePlots(BlitFigure):
         return self.curves + self.markers + [self.image, self.im_marker]
 
     def set_data(self, theta_v, theta_h, theta_d, halfdiff, *, channel="luminance", label="f_r"):
-        """Show three :class:`~explorer.app_state.CurveView` and a :class:`~explorer.app_state.HalfDiffView`."""
+        """Show three :class:`~explorer.app.views.CurveView` and a :class:`~explorer.app.views.HalfDiffView`."""
         colour = COLOURS.get(channel, COLOURS["luminance"])
         tl = math.degrees(theta_v.markers[1])
         # Models with 1/(n·l) (Phong, unnormalized Blinn-Phong) grow without bound toward grazing: the

@@ -7,24 +7,30 @@ import numpy as np
 import pytest
 
 from explorer import app as app_mod
-from explorer.app_plots import COLOURS
-from explorer.app_state import (
-    CHANNELS,
-    LIVE_VIEWS,
-    MODELS,
-    TERM_NAMES,
-    VIEWS,
-    AppState,
-    ExplorerModel,
-    _srgb_thresholds,
-    encode8,
-    state_from_scene,
+from explorer.app import display as display_mod
+from explorer.app.encode import _srgb_thresholds, encode8
+from explorer.app.layout import (
+    ANGLES,
+    BACKGROUND,
+    CONTROLS_PANEL,
+    GOURAUD,
+    LOBE,
+    PHONG,
+    POLAR,
+    PROFILE,
+    SCANLINE,
+    SPHERE,
 )
+from explorer.app.plots import COLOURS
+from explorer.app.scenes import state_from_scene
+from explorer.app.state import CHANNELS, CONTROLS, MODELS, TERM_NAMES, AppState
+from explorer.app.views import LIVE_VIEWS, VIEWS, ExplorerModel
+from explorer.app.widgets import SLIDERS
 from lighting import BlinnPhong, CookTorrance, Lambert, Phong
-from lighting.analysis.analysis import polar_slice
+from lighting.analysis import polar_slice
 from lighting.analysis.machband import LUMA, edge_jump_metric
 from lighting.render.image import encode_srgb8
-from lighting.scene.scene import example_path
+from lighting.scene import example_path
 from lighting.shading.equation import Material, shade
 
 pv = pytest.importorskip("pyvista")
@@ -102,7 +108,7 @@ def test_state_from_command_line():
         ["--model", "phong", "--kd", "0.6,0.3,0.15", "--no-log", "--times-cos", "--terms", "diffuse", "--azimuth",
          "-30", "--size", "900x600", "--light-color", "1,0.5,0"]
     )  # fmt: skip
-    values = {k: v for k, v in vars(args).items() if k in app_mod.CONTROLS or k in ("kd", "scene")}
+    values = {k: v for k, v in vars(args).items() if k in CONTROLS or k in ("kd", "scene")}
     s = AppState.from_args(values)
     assert (s.model, s.log, s.times_cos, s.terms, s.azimuth) == ("phong", False, True, ("diffuse",), -30.0)
     assert s.kd == 0.6 and s.color == (1.0, 0.5, 0.25)
@@ -240,7 +246,7 @@ def test_light_to_the_left_moves_the_brightest_pixel_left(fresh):
     # ... and on screen, in the lit sphere's panel.
     cols = []
     for img in (win_right, win_left):
-        y = luminance8(panel_pixels(app, img, app_mod.SPHERE))
+        y = luminance8(panel_pixels(app, img, SPHERE))
         cols.append(np.unravel_index(np.argmax(y), y.shape)[1] / y.shape[1])
     assert cols[1] < 0.45 < 0.55 < cols[0]
 
@@ -271,13 +277,13 @@ def test_slider_drag_shows_the_images_at_once_and_the_plots_on_release(fresh):
     assert all(app.model.views[k] is before[k] for k in app.stale_views)
     # The frame drawn during the drag redraws only the panels that changed (and the controls) ...
     drawn = {panel for panel, ren in app._panel_renderers.items() if ren.GetDraw()}
-    assert drawn == {app_mod.SPHERE, app_mod.GOURAUD, app_mod.PHONG}
+    assert drawn == {SPHERE, GOURAUD, PHONG}
     app.plotter.render()  # what the widget does after calling back
     frame = np.asarray(app.plotter.screenshot(return_img=True)).copy()
     assert all(ren.GetDraw() for ren in app._panel_renderers.values())  # the next frame draws everything
     # ... and the panels it skipped still show last frame's pixels: the same picture as a full redraw.
     assert np.array_equal(frame, app.image())
-    lobe_before = panel_pixels(app, frame, app_mod.LOBE)
+    lobe_before = panel_pixels(app, frame, LOBE)
     # The release brings every view up to date: the same data and the same picture as set_control.
     widget.InvokeEvent("EndInteractionEvent")
     assert app.stale_views == set()
@@ -287,7 +293,7 @@ def test_slider_drag_shows_the_images_at_once_and_the_plots_on_release(fresh):
                 assert np.array_equal(getattr(app.model.views[name], field), value), (name, field)
     after = app.image()
     assert np.array_equal(after, reference)
-    assert not np.array_equal(panel_pixels(app, after, app_mod.LOBE), lobe_before)  # the lobe did wait
+    assert not np.array_equal(panel_pixels(app, after, LOBE), lobe_before)  # the lobe did wait
 
 
 def test_a_resting_slider_brings_the_plots_up_to_date(fresh):
@@ -332,8 +338,8 @@ def test_gouraud_shows_mach_bands_and_loses_the_highlight(fresh):
     assert np.array_equal(app.gouraud_poly.point_data["rgb"], encode_srgb8(vertex[None])[0][0])
     # ... so on screen the sharp highlight falls between vertices: Phong's panel is brighter at its peak.
     img = app.image()
-    g = luminance8(central(panel_pixels(app, img, app_mod.GOURAUD))).max()
-    ph = luminance8(central(panel_pixels(app, img, app_mod.PHONG))).max()
+    g = luminance8(central(panel_pixels(app, img, GOURAUD))).max()
+    ph = luminance8(central(panel_pixels(app, img, PHONG))).max()
     assert ph > g + 20
     # Switching the lit sphere to Gouraud shows the engine's Gouraud image of the coarse sphere.
     app.on_slider("mode", 1)
@@ -502,20 +508,20 @@ def test_window_screenshot_has_no_blank_panel(fresh, tmp_path):
     path = app.screenshot(tmp_path / "window.png")
     img = np.asarray(Image.open(path).convert("RGB"))
     assert img.shape == (SIZE[1], SIZE[0], 3)
-    panels = [app_mod.SPHERE, app_mod.GOURAUD, app_mod.PHONG, app_mod.PROFILE, app_mod.LOBE, app_mod.POLAR,
-              app_mod.ANGLES, app_mod.CONTROLS_PANEL]  # fmt: skip
+    panels = [SPHERE, GOURAUD, PHONG, PROFILE, LOBE, POLAR,
+              ANGLES, CONTROLS_PANEL]  # fmt: skip
     for panel in panels:
         crop = panel_pixels(app, img, panel).astype(np.float64)
         assert crop.std() > 12.0, panel  # drawn content, not a flat background
         # more than a few lines of text: at least 3 % of the pixels differ clearly from the background
-        bg = np.asarray(app_mod.BACKGROUND) * 255
+        bg = np.asarray(BACKGROUND) * 255
         assert np.mean(np.abs(crop - bg).max(axis=-1) > 40) > 0.03, panel
 
 
 def test_main_without_display_says_so_in_one_line(monkeypatch, capsys):
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
-    monkeypatch.setattr(app_mod.sys, "platform", "linux")
+    monkeypatch.setattr(display_mod.sys, "platform", "linux")
     assert app_mod.main([]) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--off-screen --screenshot" in err
@@ -550,7 +556,7 @@ def test_material_is_the_engines():
 def test_integer_slider_snaps_to_the_nearest_integer(fresh):
     # Item 1: VTK sliders report floats; 7.6 raised ValueError at every non-integer position before.
     app = fresh
-    spec = app_mod.SLIDERS["tessellation"]
+    spec = SLIDERS["tessellation"]
     assert (spec.lo, spec.hi) == (3.0, 64.0)  # the control's whole range (the slider stopped at 40)
     for raw, want in ((7.4, 7), (7.5, 8), (7.6, 8), (12.49, 12), (63.7, 64), (2.0, 3), (64.9, 64)):
         app.on_slider("tessellation", raw)
@@ -699,7 +705,7 @@ def test_display_without_an_x_server_is_said_in_one_line_quickly(monkeypatch, ca
     import time
 
     n = _free_display_number()
-    monkeypatch.setattr(app_mod.sys, "platform", "linux")
+    monkeypatch.setattr(display_mod.sys, "platform", "linux")
     for display in (f":{n}", f"127.0.0.1:{n}"):
         monkeypatch.setenv("DISPLAY", display)
         t0 = time.perf_counter()
@@ -719,7 +725,7 @@ def test_an_x_server_that_accepts_and_is_silent_or_refuses_is_no_display(monkeyp
     import socket
     import threading
 
-    monkeypatch.setattr(app_mod.sys, "platform", "linux")
+    monkeypatch.setattr(display_mod.sys, "platform", "linux")
     for behaviour, said in (("close", "refused the connection"), ("silent", "accepted the connection, then said")):
         n = _free_display_number()
         monkeypatch.setenv("DISPLAY", f"127.0.0.1:{n}")
@@ -772,7 +778,7 @@ def test_the_command_exits_nonzero_at_once_without_an_x_server(tmp_path):
 
 def test_albedo_readout_with_its_error_and_the_unconverged_flag(fresh):
     # Item 11: the explorer shows ρ(θ_v) ± error and flags it "unconverged" above 2 % relative error.
-    from lighting.integrate.integrate import directional_albedo
+    from lighting.integrate import directional_albedo
 
     app = fresh
     app.set_control("elevation", 30.0)
@@ -790,7 +796,7 @@ def test_albedo_readout_with_its_error_and_the_unconverged_flag(fresh):
     av = app.model.views["albedo"]
     assert av.unconverged and av.relative_error > 0.02
     assert "unconverged" in app.captions["polar_albedo"].GetInput()
-    assert app.captions["polar_albedo"].GetTextProperty().GetColor() == pytest.approx(app_mod.SCANLINE)
+    assert app.captions["polar_albedo"].GetTextProperty().GetColor() == pytest.approx(SCANLINE)
     # Off the drag path: a drag leaves the albedo for the release, so a drag frame does not pay for it.
     before = app.model.views["albedo"]
     _drag(app.sliders["elevation"], (20.0, 10.0))

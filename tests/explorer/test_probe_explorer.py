@@ -6,7 +6,7 @@ printing one summary line (``pytest -s`` shows it):
 * the window (:class:`explorer.app.ExplorerApp`, off-screen): slider drags with fractional
   positions through the widgets themselves, releases, keys, check boxes, and invalid values and
   slider positions;
-* the model alone (:class:`explorer.app_state.ExplorerModel`, no VTK): many more random states,
+* the model alone (:class:`explorer.app.views.ExplorerModel`, no VTK): many more random states,
   every control at once, light at, near and below the horizon, extreme materials.
 
 After each event, once the views are up to date (a drag leaves the plots for the release):
@@ -30,7 +30,9 @@ import numpy as np
 import pytest
 
 from explorer import app as app_mod
-from explorer.app_state import CONTROLS, LIVE_VIEWS, MODELS, AppState, ExplorerModel
+from explorer.app.state import CONTROLS, MODELS, AppState
+from explorer.app.views import LIVE_VIEWS, ExplorerModel
+from explorer.app.widgets import SLIDERS
 
 pv = pytest.importorskip("pyvista")
 
@@ -105,7 +107,7 @@ def _check_laws(model, failures: Counter) -> None:
 def _widgets_show_state(app) -> bool:
     """Every slider at the position of its control's value (clamped to its range), every box as its flag."""
     for name, widget in app.sliders.items():
-        spec = app_mod.SLIDERS[name]
+        spec = SLIDERS[name]
         want = spec.to_slider(app._state_value(name))
         if not math.isclose(widget.GetRepresentation().GetValue(), want, rel_tol=1e-9, abs_tol=1e-9):
             return False
@@ -167,7 +169,7 @@ def test_event_storm_over_every_control_of_the_window(app):
                 if dragging not in (None, name):
                     app.sliders[dragging].InvokeEvent("EndInteractionEvent")
                 dragging = name
-                spec = app_mod.SLIDERS[name]
+                spec = SLIDERS[name]
                 raw = float(rng.uniform(spec.lo - 0.1 * (spec.hi - spec.lo), spec.hi + 0.1 * (spec.hi - spec.lo)))
                 if rng.random() < 0.2:  # near the horizon, where the views used to disagree
                     raw = float(rng.choice([0.0, 1e-6, -1e-6, 0.3, 90.0, -90.0])) if name == "elevation" else raw

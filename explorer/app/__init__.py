@@ -1,0 +1,54 @@
+"""The desktop explorer: one PyVista window of linked views; every colour on screen comes from the engine.
+
+Panels (see ``docs/explorer.md``)::
+
+    +--------------+--------------+--------------+------------------+
+    | lit sphere   | coarse sphere| coarse sphere| scan-line profile|
+    | (engine)     | Gouraud      | Phong interp.| (Matplotlib)     |
+    +--------------+--------------+--------------+------------------+
+    | 3D BRDF lobe | polar slice  | angle curves and half/diff image|
+    +--------------+--------------+---------------------------------+
+    | controls: light | point/spot | material | shading | terms, plots|
+    +---------------------------------------------------------------+
+
+The package, by topic:
+
+* :mod:`~explorer.app.state` — the controls (:class:`~explorer.app.state.AppState`), validated; the
+  model list is the engine's registry;
+* :mod:`~explorer.app.scenes` — a scene file as a starting state;
+* :mod:`~explorer.app.views` — :class:`~explorer.app.views.ExplorerModel`, every view's data from the
+  engine, recomputed only when its inputs change; :mod:`~explorer.app.encode` — 8-bit sRGB codes;
+* :mod:`~explorer.app.window` — :class:`ExplorerApp`, built from :mod:`~explorer.app.panels`,
+  :mod:`~explorer.app.widgets`, :mod:`~explorer.app.keys` and :mod:`~explorer.app.drawing`, laid
+  out by :mod:`~explorer.app.layout`; :mod:`~explorer.app.plots` — the Matplotlib panels;
+* :mod:`~explorer.app.display` — whether a window can open; :mod:`~explorer.app.bench` —
+  :func:`benchmark_handlers`; :mod:`~explorer.app.command` — the ``explore`` command
+  (:func:`main`, :func:`build_parser`, :func:`add_parser`, :func:`run`).
+
+Only the state, views and encoder are imported with the package (NumPy and the engine); PyVista
+and Matplotlib load when a window is built.
+"""
+
+from __future__ import annotations
+
+from .bench import benchmark_handlers
+from .command import add_parser, build_parser, main, run
+from .display import display_problem, has_display, no_display_message
+from .drawing import albedo_caption
+from .layout import DEFAULT_WINDOW_SIZE, IDLE_MS
+from .window import ExplorerApp
+
+__all__ = [
+    "DEFAULT_WINDOW_SIZE",
+    "IDLE_MS",
+    "ExplorerApp",
+    "albedo_caption",
+    "benchmark_handlers",
+    "build_parser",
+    "add_parser",
+    "run",
+    "has_display",
+    "display_problem",
+    "no_display_message",
+    "main",
+]

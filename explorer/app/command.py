@@ -1,0 +1,198 @@
+"""The ``explore`` command: its options (:func:`add_parser`, :func:`build_parser`), :func:`run` and :func:`main`."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+
+from .display import display_problem, no_display_message
+from .layout import DEFAULT_WINDOW_SIZE
+from .state import ATTENUATIONS, CHANNELS, CONTROLS, FORMS, LIGHT_TYPES, MODELS, NDFS, AppState
+
+__all__ = ["add_parser", "build_parser", "run", "main"]
+
+
+def _window_size(text: str):
+    try:
+        w, h = (int(x) for x in text.lower().replace("×", "x").split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT in pixels, e.g. 1280x768; got {text!r}") from None
+    if not (640 <= w <= 8192 and 400 <= h <= 8192):
+        raise argparse.ArgumentTypeError(f"window size must be at least 640x400 and at most 8192x8192; got {text!r}")
+    return (w, h)
+
+
+DESCRIPTION = (
+    "Open the explorer window: a lit sphere, Gouraud against Phong, BRDF lobe, polar and angle "
+    "plots, all computed by the engine. Every option sets the starting value of a control."
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of ``lighting-explorer [options]`` (the ``explore`` command on its own).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        A :class:`explorer.cli.OneLineParser` with the options of :func:`add_options`.
+    """
+    from ..cli import OneLineParser
+
+    p = OneLineParser(prog="lighting-explorer", description=DESCRIPTION)
+    add_options(p)
+    return p
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Add the ``explore`` command to a command line's sub-parsers; it runs :func:`run`.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers`` returned.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The ``explore`` parser (its ``func`` default is :func:`run`).
+    """
+    p = subparsers.add_parser(
+        "explore", help="the interactive explorer window (the default with no sub-command)", description=DESCRIPTION
+    )
+    add_options(p)
+    p.set_defaults(func=run)
+    return p
+
+
+def add_options(p) -> None:
+    """The options of the ``explore`` command: one per control (its starting value), and the window's.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser to add them to.
+    """
+    h = {name: spec.help for name, spec in CONTROLS.items()}
+    g = p.add_argument_group("material")
+    g.add_argument("--model", choices=MODELS, help=h["model"])
+    g.add_argument("--kd", help="diffuse albedo: one number (times --color) or r,g,b")
+    g.add_argument("--color", help=h["color"])
+    g.add_argument("--ks", type=float, help=h["ks"])
+    g.add_argument("--shininess", type=float, help=h["shininess"])
+    g.add_argument("--roughness", type=float, help=h["roughness"])
+    g.add_argument("--f0", type=float, help=h["f0"])
+    g.add_argument("--ndf", choices=NDFS, help=h["ndf"])
+    g = p.add_argument_group("light")
+    g.add_argument("--light", choices=LIGHT_TYPES, help=h["light"])
+    g.add_argument("--elevation", type=float, help=h["elevation"])
+    g.add_argument("--azimuth", type=float, help=h["azimuth"])
+    g.add_argument("--intensity", type=float, help=h["intensity"])
+    g.add_argument("--light-color", dest="light_color", help=h["light_color"])
+    g.add_argument("--ambient", type=float, help=h["ambient"])
+    g.add_argument("--distance", type=float, help=h["distance"])
+    g.add_argument("--attenuation", choices=tuple(ATTENUATIONS), help=h["attenuation"])
+    g.add_argument("--cutoff", type=float, help=h["cutoff"])
+    g.add_argument("--spot-exponent", dest="spot_exponent", type=float, help=h["spot_exponent"])
+    g = p.add_argument_group("shading and plots")
+    g.add_argument("--mode", choices=("flat", "gouraud", "phong"), help=h["mode"])
+    g.add_argument("--form", choices=FORMS, help=h["form"])
+    g.add_argument("--terms", help="terms shown, comma-separated from ambient,diffuse,specular")
+    g.add_argument("--tessellation", type=int, help=h["tessellation"])
+    g.add_argument("--channel", choices=CHANNELS, help=h["channel"])
+    g.add_argument("--log", action=argparse.BooleanOptionalAction, default=None, help=h["log"])
+    g.add_argument("--times-cos", dest="times_cos", action=argparse.BooleanOptionalAction, default=None,
+                   help=h["times_cos"])  # fmt: skip
+    g.add_argument("--exposure", type=float, help=h["exposure"])
+    g.add_argument("--scanline", type=float, help=h["scanline"])
+    g = p.add_argument_group("window")
+    g.add_argument("--scene", help="start from a scene file (TOML): its first object's material and its lights")
+    g.add_argument("--size", type=_window_size, default=DEFAULT_WINDOW_SIZE, help="window size WIDTHxHEIGHT")
+    g.add_argument("--off-screen", dest="off_screen", action="store_true", help="render without a window")
+    g.add_argument("--screenshot", metavar="PATH",
+                   help="render the window to an image (.png; .jpg .tif .webp with Pillow) and exit "
+                        "(implies --off-screen)")  # fmt: skip
+
+
+def main(argv=None) -> int:
+    """``lighting-explorer [options]``: open the window, or with ``--screenshot`` write it to an image.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The options (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 done, 1 no display to open a window on, 2 a bad option or output path.
+    """
+    from ..cli import PROG, error_line
+
+    try:
+        args = build_parser().parse_args(argv)
+    except (ValueError, OSError) as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
+    return run(args)
+
+
+def run(args) -> int:
+    """Run the ``explore`` command from parsed options (what :func:`main` and the CLI tree call).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Options as :func:`add_options` defines them.
+
+    Returns
+    -------
+    int
+        The exit status, as :func:`main`.
+    """
+    from ..cli import PROG, error_line
+    from ..output import check_output_path, write_image
+    from . import ExplorerApp  # through the package, so that a test can stand in for the window
+
+    try:
+        if args.screenshot is not None:  # checked before the window is built: no work for a file we cannot write
+            check_output_path(args.screenshot, flag="--screenshot", kinds=("rgb8",))
+        values = {k: v for k, v in vars(args).items() if k in CONTROLS or k in ("kd", "scene")}
+        state = AppState.from_args(values)
+    except (ValueError, OSError) as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
+    off_screen = bool(args.off_screen or args.screenshot)
+    problem = None if off_screen else display_problem()
+    if problem:
+        print(no_display_message(problem), file=sys.stderr)
+        return 1
+    try:
+        import pyvista as pv
+    except ImportError:
+        print("lighting-explorer: error: the window needs PyVista (pip install 'lighting-explorer[explorer]')",
+              file=sys.stderr)  # fmt: skip
+        return 2
+    if off_screen:
+        pv.OFF_SCREEN = True
+    app = ExplorerApp(state, window_size=args.size, off_screen=off_screen)
+    if args.screenshot is not None:
+        try:
+            rgb8 = np.ascontiguousarray(app.image(), dtype=np.uint8)
+        finally:
+            app.close()
+        try:
+            write_image(args.screenshot, rgb8=rgb8, flag="--screenshot")
+        except ValueError as exc:
+            print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+            return 2
+        print(f"lighting-explorer: wrote {args.screenshot} ({rgb8.shape[1]}x{rgb8.shape[0]})")
+        return 0
+    if off_screen:
+        app.plotter.render()
+        app.close()
+        print("lighting-explorer: rendered off-screen (add --screenshot PATH to keep the picture)")
+        return 0
+    app.show()
+    return 0

@@ -1,0 +1,121 @@
+"""Whether a window can open here (an X server that answers, or Wayland), and the one line said when none can."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+__all__ = ["DISPLAY_TIMEOUT", "NO_DISPLAY_MESSAGE", "display_problem", "has_display", "no_display_message"]
+
+
+def no_display_message(problem: str) -> str:
+    """The one line the command prints when no window can open: why, and how to get images instead."""
+    return (
+        f"lighting-explorer: {problem}, so no window can open; for images instead run "
+        "`lighting-explorer --off-screen --screenshot out.png` (any control options work too) "
+        "or `lighting-explorer sphere -o sphere.png`"
+    )
+
+
+NO_DISPLAY_MESSAGE = no_display_message("no display (DISPLAY/WAYLAND_DISPLAY unset)")
+#: Seconds to wait for an X server to accept a connection before saying that none answers.
+DISPLAY_TIMEOUT = 2.0
+
+
+def has_display() -> bool:
+    """Whether a window can open: on Linux and BSD an X server must answer (see :func:`display_problem`)."""
+    return display_problem() is None
+
+
+def display_problem(timeout: float = DISPLAY_TIMEOUT) -> str | None:
+    """Why no window can open, in a few words (``None`` when one can).
+
+    On Linux and BSD the window is an X11 window (VTK's X render window), so ``DISPLAY`` must name
+    an X server that answers: a ``DISPLAY`` where nobody listens made the window fail only after
+    VTK had set everything up (3 s, no message of ours, exit status 0).  The server is asked as
+    Xlib asks it, first its socket (``/tmp/.X11-unix/X<n>`` or TCP port ``6000 + n``, within
+    ``timeout`` seconds), then ``XOpenDisplay`` (which also checks the X authority).  Without
+    ``DISPLAY``, a Wayland session (``WAYLAND_DISPLAY``) is trusted.  Other systems: ``None``.
+    """
+    if not sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")):
+        return None
+    display = os.environ.get("DISPLAY")
+    if not display:
+        return None if os.environ.get("WAYLAND_DISPLAY") else "no display (DISPLAY/WAYLAND_DISPLAY unset)"
+    return _x_server_problem(display, timeout)
+
+
+def _x_server_problem(display: str, timeout: float) -> str | None:
+    import ctypes
+    import socket
+    import threading
+
+    host, sep, rest = display.rpartition(":")
+    number = rest.split(".")[0]
+    if not sep or not number.isdigit():
+        return f"DISPLAY={display!r} is not an X display name (such as :0 or host:0)"
+    n = int(number)
+    try:
+        if host in ("", "unix"):
+            path = f"/tmp/.X11-unix/X{n}"
+            candidates = [path] + (["\0" + path] if sys.platform.startswith("linux") else [])  # Linux: abstract too
+            for k, address in enumerate(candidates):
+                with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as sock:
+                    sock.settimeout(timeout)
+                    try:
+                        sock.connect(address)
+                        break
+                    except OSError:
+                        if k == len(candidates) - 1:
+                            raise
+        else:
+            socket.create_connection((host, 6000 + n), timeout=timeout).close()
+    except OSError:
+        return f"no X server answers at DISPLAY={display}"
+    try:
+        xlib = ctypes.CDLL("libX11.so.6")
+    except OSError:  # the socket answered; without Xlib here the window will tell more
+        return None
+    xlib.XOpenDisplay.restype = ctypes.c_void_p
+    xlib.XOpenDisplay.argtypes = [ctypes.c_char_p]
+    xlib.XCloseDisplay.argtypes = [ctypes.c_void_p]
+    # XOpenDisplay waits as long as the server is silent (a socket that accepts and never replies):
+    # it runs in a daemon thread (ctypes releases the GIL), given ``timeout`` seconds.
+    result = {}
+
+    def opener():
+        handle = xlib.XOpenDisplay(display.encode())
+        result["handle"] = handle
+        if handle:
+            xlib.XCloseDisplay(handle)
+
+    worker = threading.Thread(target=opener, name="lighting-explorer X probe", daemon=True)
+    worker.start()
+    worker.join(timeout)
+    if "handle" not in result:
+        return f"no X server answers at DISPLAY={display} (it accepted the connection, then said nothing)"
+    if not result["handle"]:
+        return f"the X server at DISPLAY={display} refused the connection (check its X authority, xauth)"
+    return None
+
+
+class _quiet_vtk:
+    """Silence VTK's log below errors (off-screen without X, VTK warns once that it found no X server)."""
+
+    def __init__(self, active: bool):
+        self.active = active
+
+    def __enter__(self):
+        if self.active:
+            from vtkmodules.vtkCommonCore import vtkLogger
+
+            self.old = vtkLogger.GetCurrentVerbosityCutoff()
+            vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
+        return self
+
+    def __exit__(self, *exc):
+        if self.active:
+            from vtkmodules.vtkCommonCore import vtkLogger
+
+            vtkLogger.SetStderrVerbosity(self.old)
+        return False

@@ -1,0 +1,164 @@
+"""Showing the model's views in the panels (a mixin of the explorer window), and the albedo caption."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .layout import ACCENT, MUTED, SCANLINE, _arrow_matrix
+from .state import CHANNEL_LABELS, MODEL_LABELS
+
+__all__ = ["albedo_caption", "DrawingMixin"]
+
+
+def albedo_caption(av) -> str:
+    """The text of the albedo readout of an :class:`~explorer.app.views.AlbedoView`.
+
+    >>> from explorer.app.views import AlbedoView
+    >>> albedo_caption(AlbedoView(0.5, 0.8123, 2e-5, 2.5e-5, False, None, None, "quadrature", 4096))
+    'albedo ρ(θ_v = 29°) = 0.8123 ± 2e-05'
+    >>> albedo_caption(AlbedoView(0.5, 1.2, 0.05, 0.042, True, None, None, "quadrature", 4096))
+    'albedo ρ(θ_v = 29°) = 1.2 ± 0.05  unconverged (4.2 % > 2 %)'
+    """
+    text = f"albedo ρ(θ_v = {math.degrees(av.theta_v):.0f}°) = {av.value:.4g} ± {av.error:.2g}"
+    if av.unconverged:
+        rel = f"{100 * av.relative_error:.2g} %" if math.isfinite(av.relative_error) else "no digit"
+        text += f"  unconverged ({rel} > 2 %)"
+    return text
+
+
+class DrawingMixin:
+    """Puts the views of :class:`~explorer.app.views.ExplorerModel` into the panels' actors and captions."""
+
+    def _display(self, views):
+        s = self.state
+        m = self.model.views
+        label = s.quantity_label()
+        if "sphere" in views:
+            sv = m["sphere"]
+            self._upload(self.sphere_plane, sv.rgb8, sv.coverage)
+            where = "per pixel, exact sphere" if sv.mode == "phong" else f"{sv.mode}, {sv.geometry}"
+            self._set_text("sphere_title", f"Lit sphere (engine): {MODEL_LABELS[s.model]}")
+            share = 100 * sv.clipped / max(int(sv.coverage.sum()), 1)
+            share = f"{share:.0f}%" if share >= 0.5 else "under 1%"
+            clipped = f"{share} of the sphere above 1: clipped (lower the exposure)\n" if sv.clipped else ""
+            self._set_text("sphere_legend", f"{where} · arrow: the light")
+            self._set_text("sphere_info", clipped + self._light_summary())
+        if views & {"sphere", "lobe"} or not self._glyphs_placed:
+            self._update_light_glyphs()
+        if "coarse" in views:
+            cv = m["coarse"]
+            if cv.vertices.shape[0] != self.gouraud_poly.n_points or len(cv.faces) != self.gouraud_poly.n_cells:
+                self._replace_coarse_mesh(s.tessellation)
+            self.gouraud_poly.point_data["rgb"][:] = cv.vertex_rgb8
+            self.gouraud_poly.Modified()
+            self._upload(self.phong_plane, cv.phong_rgb8, cv.coverage)
+            self._set_text("gouraud_title", "Gouraud: lit at the vertices")
+            self._set_text(
+                "gouraud_info",
+                f"{cv.n_triangles} triangles, {len(cv.vertices)} vertices: engine colours\n"
+                "interpolated across each triangle (VTK lighting off)",
+            )
+        if "profile" in views:
+            pv_ = m["profile"]
+            for line in (self.scan_g, self.scan_p):
+                pts = line.points
+                pts[:, 1] = pv_.y
+                line.points = pts
+            self.profile_plot.set_data(pv_, CHANNEL_LABELS[s.channel])
+            self.profile_plot.render()
+            self._set_text("profile_title", f"Scan line: intensity ({CHANNEL_LABELS[s.channel]})")
+            self._set_text(
+                "profile_metric",
+                f"Mach-band metric (slope kinks): Gouraud {pv_.metric_gouraud:.2f}, Phong {pv_.metric_phong:.2f}",
+            )
+        if "lobe" in views:
+            self._update_lobe(m["lobe"], label)
+        if "polar" in views:
+            self.polar_plot.set_data(m["polar"], channel=s.channel, label=label)
+            self.polar_plot.render()
+            theta_in = math.degrees(m["polar"].theta_in)
+            self._set_text("polar_title", f"Polar slice, plane of incidence, θ_l = {theta_in:.0f}°")
+            self._set_text("polar_note", "light below the horizon:\nnothing reflected" if m["polar"].below_horizon
+                           else "")  # fmt: skip
+            scale = self.polar_plot.captions.get("scale", "")
+            self._set_text("polar_quantity", f"{label} · {scale}" if scale else label)
+        if "albedo" in views:
+            self._show_albedo(m["albedo"])
+        if views & {"theta_v", "theta_h", "theta_d", "halfdiff"}:
+            self.angle_plots.set_data(
+                m["theta_v"], m["theta_h"], m["theta_d"], m["halfdiff"], channel=s.channel, label=label
+            )
+            self.angle_plots.render()
+            self._set_text("angles_title", f"{MODEL_LABELS[s.model]}: {label} against θ_v, θ_h, θ_d (Rusinkiewicz)")
+            self._set_text("angles_peak", self.angle_plots.captions.get("peak", ""))
+
+    def _show_albedo(self, av):
+        """The albedo readout: ``ρ(θ_v) = value ± error``, flagged "unconverged" above 2 % relative error."""
+        self._set_text("polar_albedo", albedo_caption(av))
+        self.captions["polar_albedo"].GetTextProperty().SetColor(*(SCANLINE if av.unconverged else MUTED))
+
+    def _light_summary(self) -> str:
+        s = self.state
+        if s.light == "ambient":
+            light = "ambient light only"
+        else:
+            light = f"{s.light}, elevation {s.elevation:.0f}°, azimuth {s.azimuth:.0f}°"
+            if s.light in ("point", "spot"):
+                light += f", distance {s.distance:.1f}"
+        terms = " + ".join(s.terms) or "no terms"
+        form = "classic I" if s.form == "classic" else "physical I/π"
+        return f"{light}\n{form} · {terms}"
+
+    def _update_light_glyphs(self):
+        self._glyphs_placed = True
+        s = self.state
+        d = s.light_direction()
+        # The light is yellow in every panel; a coloured light shows its colour (lightened to stay visible).
+        colour = np.asarray(s.light_color, float)
+        if np.allclose(colour, colour[0]):
+            colour = np.asarray(ACCENT)
+        else:
+            colour = 0.35 + 0.65 * colour / colour.max()
+        visible = s.light != "ambient"
+        self.light_arrow.user_matrix = _arrow_matrix(1.34 * d, 1.03 * d)
+        self.light_arrow.prop.color = tuple(colour)
+        self.light_arrow.SetVisibility(visible)
+        self.light_bulb.user_matrix = _arrow_matrix(1.34 * d, 2.34 * d)
+        self.light_bulb.prop.color = tuple(colour)
+        self.light_bulb.SetVisibility(visible and s.light in ("point", "spot"))
+        lv = self.model.views.get("lobe")
+        if lv is not None:
+            self.lobe_light.user_matrix = _arrow_matrix(1.3 * lv.light, 0.03 * lv.light)
+            self.lobe_mirror.user_matrix = _arrow_matrix(0.03 * lv.mirror, 1.3 * lv.mirror)
+
+    def _replace_coarse_mesh(self, tessellation):
+        new = self._coarse_poly(tessellation)
+        self.gouraud_poly.copy_from(new)
+        self.gouraud_poly.point_data.active_scalars_name = "rgb"
+        self.edges_poly.copy_from(self._edges_poly(new))
+
+    def _update_lobe(self, lv, label):
+        poly = self.lobe_poly
+        n = len(lv.vertices)
+        if poly.n_points != n or poly.n_cells != len(lv.faces):
+            faces = np.hstack([np.full((len(lv.faces), 1), 3), lv.faces]).ravel()
+            new = self.pv.PolyData(lv.vertices.copy(), faces)
+            new.point_data["value"] = lv.values.copy()
+            poly.copy_from(new)
+            poly.point_data.active_scalars_name = "value"
+        else:
+            poly.points[:] = lv.vertices
+            poly.point_data["value"][:] = lv.values
+            poly.Modified()
+        top = lv.peak if lv.peak > 0 else 1.0
+        self.lobe_actor.mapper.scalar_range = (0.0, top)
+        theta = math.degrees(math.atan2(-lv.light[0], lv.light[2]))
+        self._set_text("lobe_title", f"3D lobe: {label}")
+        extra = " · light below the horizon" if lv.below_horizon else ""
+        self._set_text(
+            "lobe_info",
+            f"light l at θ_l = {theta:.0f}° (yellow), mirror direction (red)\n"
+            f"peak {lv.peak:.3g}, radius scaled to fit{extra}",
+        )

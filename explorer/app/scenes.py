@@ -1,0 +1,160 @@
+"""A scene file as the explorer's starting state: the first object's material and the scene's lights.
+
+The material's parts map back onto the controls through the model protocol (``part.lambertian``,
+``part.name``, ``part.variants``, ``part.to_dict()``), never by asking which class a part is.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from lighting import AmbientLight, DirectionalLight, Material
+from lighting.lights import PointLight, SpotLight
+
+from .state import ATTENUATIONS, CONTROLS, MODEL_CONTROLS, MODELS, TERM_NAMES, AppState
+
+__all__ = ["state_from_scene"]
+
+
+def state_from_scene(path) -> AppState:
+    """An :class:`AppState` from a scene file: the first object's material and the scene's lights.
+
+    The material's Lambert part gives ``kd``/``color``, its specular part the
+    model and parameters (an OpenGL material is read as Lambert + Blinn-Phong).
+    Ambient lights add up to ``ambient``; the first other light becomes the key
+    light, its direction seen from the scene's camera (so it lights the explorer's
+    sphere from the same side of the picture) and, for point and spot lights, at
+    the same distance from the object's centre, with the irradiance it delivers
+    there.  Render options (mode, form, terms, exposure) are taken too.
+    """
+    try:
+        from lighting.scene import GLLight, gl_material_to_engine, load_scene
+    except ImportError:  # pragma: no cover - the module ships with the engine
+        raise ValueError("scene files need lighting.scene") from None
+    from lighting import gl
+
+    scene = load_scene(path)
+    state = AppState()
+    obj = scene.objects[0]
+    material = obj.material
+    if isinstance(material, gl.Material):
+        material = gl_material_to_engine(material)
+    _apply_material(state, material, str(path))
+    centre = np.asarray(getattr(obj.geometry, "center", (0.0, 0.0, 0.0)), dtype=np.float64)
+    if hasattr(obj.geometry, "vertices"):
+        centre = np.asarray(obj.geometry.vertices, dtype=np.float64).mean(axis=0)
+    lights = scene.object_lights(0)
+    _apply_lights(state, lights, scene.camera, centre, GLLight)
+    if any(isinstance(lt, GLLight) for lt in lights):
+        # OpenGL's scene ambient light adds to the lights' own ambient parts.
+        state.ambient = min(state.ambient + float(np.mean(scene.opengl.scene_ambient[:3])), 2.0)
+    state.update(
+        mode=scene.object_mode(0),
+        form=scene.render.form,
+        terms=[t for t in scene.render.terms if t in TERM_NAMES],
+        exposure=min(max(scene.image.exposure, -8.0), 8.0),
+    )
+    return state
+
+
+def _apply_material(state: AppState, material: Material, source: str):
+    """Set the material controls from a material's parts, through the model protocol.
+
+    The Lambertian parts (``part.lambertian``) add up to ``kd × color``; the first other part gives
+    the model (its registered ``name``, or the variant of ``part.variants`` whose fixed arguments its
+    :meth:`~lighting.models.brdf.BRDF.to_dict` matches) and the controls of
+    :data:`~explorer.app.state.MODEL_CONTROLS` its table names (colours by their largest channel,
+    numbers above a control's range at its top).
+    """
+    kd = np.zeros(3)
+    spec = None
+    for p in material.brdf.parts:
+        if p.lambertian:
+            kd = kd + p.diffuse_albedo
+        elif spec is None:
+            spec = p
+    top = float(kd.max())
+    values = {"kd": min(top, 1.0)}
+    if top > 0:
+        values["color"] = tuple(np.minimum(kd / top, 1.0))
+    if spec is None:
+        values["model"] = "lambert"
+    else:
+        try:
+            table = spec.to_dict()
+        except ValueError:
+            table = {}
+        if table.get("model") not in MODELS:
+            raise ValueError(f"{source}: the explorer cannot show the model {type(spec).__name__}")
+        values["model"] = table["model"]
+        for variant, fixed in spec.variants.items():
+            if all(table.get(k) == v for k, v in fixed.items()):
+                values["model"] = variant
+        for p in spec.parameters:
+            if p.name not in MODEL_CONTROLS or p.name == "kd":
+                continue
+            value = table[p.name]
+            if p.kind == "color":
+                value = float(np.max(value))
+            if p.kind in ("color", "float"):
+                value = min(value, CONTROLS[p.name].hi)
+            values[p.name] = value
+    state.update(**values)
+
+
+def _apply_lights(state: AppState, lights, camera, centre, gl_light_type):
+    # View frame of the scene's camera: right, up, toward the viewer.
+    frame = np.stack([camera.right, camera.true_up, -camera.forward])
+    ambient, key = 0.0, None
+    for lt in lights:
+        if isinstance(lt, gl_light_type):
+            g = lt.light
+            pos = np.asarray(g.position, dtype=np.float64)
+            colour = np.asarray(g.diffuse[:3], dtype=np.float64)
+            ambient += float(np.mean(g.ambient[:3]))
+            if key is None and np.any(colour > 0):
+                key = ("directional", pos[:3], colour, 1.0) if pos[3] == 0 else ("point", pos[:3] / pos[3], colour, 1.0)
+            continue
+        if isinstance(lt, AmbientLight):
+            ambient += float(np.mean(lt.radiant))
+            continue
+        if key is not None:
+            continue
+        if isinstance(lt, DirectionalLight):
+            key = ("directional", lt.direction, lt.color, lt.intensity)
+        elif isinstance(lt, PointLight):
+            kind = "spot" if isinstance(lt, SpotLight) else "point"
+            key = (kind, lt.position, lt.color, lt.intensity, lt)
+    values = {"ambient": min(ambient, 2.0)}
+    if key is None:
+        values["light"] = "ambient"
+    else:
+        kind, vec, colour, intensity = key[:4]
+        vec = np.asarray(vec, dtype=np.float64)
+        d = vec if kind == "directional" else vec - centre
+        dist = float(np.linalg.norm(d))
+        view = frame @ (d / dist) if dist > 0 else np.array([0.0, 0.0, 1.0])
+        colour = np.asarray(colour, dtype=np.float64)
+        top = float(colour.max())
+        values.update(
+            light=kind,
+            elevation=math.degrees(math.asin(float(np.clip(view[2], -1.0, 1.0)))),
+            azimuth=math.degrees(math.atan2(view[1], view[0])),
+            light_color=tuple(colour / top) if top > 0 else (1.0, 1.0, 1.0),
+        )
+        irradiance = top * intensity
+        if kind != "directional":
+            lt = key[4] if len(key) > 4 else None
+            a, b, c = lt.attenuation if lt is not None else (0.0, 0.0, 1.0)
+            falloff = a * dist * dist + b * dist + c
+            irradiance = irradiance / falloff if falloff > 0 else irradiance
+            values["distance"] = min(max(dist, 1.5), 20.0)
+            named = {v: k for k, v in ATTENUATIONS.items()}
+            values["attenuation"] = named.get(tuple(float(x) for x in (a, b, c)), "inverse-square")
+            if kind == "spot":
+                values["cutoff"] = lt.cutoff_deg if lt.cutoff_deg <= 90 else 90.0
+                values["spot_exponent"] = min(lt.exponent, 128.0)
+        values["intensity"] = min(max(irradiance, 0.0), 10.0)
+    state.update(**values)

@@ -1,0 +1,543 @@
+r"""The explorer's state and computations: every control value, and every view's data from the engine.
+
+Nothing here imports PyVista or Matplotlib, so the whole logic of the window can
+be driven and checked without a display:
+
+* :class:`AppState` — one field per control (model, its parameters, the light,
+  shading options, plot options) with validated assignment: a bad value raises
+  ``ValueError`` naming the control, the value and what is allowed.
+* :class:`ExplorerModel` — owns the engine's renderers (geometry buffers are
+  rasterized once and re-shaded on every change) and computes the data of every
+  view: the lit sphere, the coarse sphere lit per vertex and per pixel, the scan
+  line profile with its Mach-band metric, the 3D lobe, the polar slice, the
+  angle curves, the half/difference image and the directional albedo readout
+  (with its error and an "unconverged" flag above 2 %).  :meth:`ExplorerModel.update`
+  recomputes only the views whose inputs changed and returns their names; with
+  ``only=LIVE_VIEWS`` (a slider being dragged) it recomputes the images and
+  keeps the other stale views in ``pending`` for the next full update.
+
+Frames.  The viewer looks down ``−z`` at a unit sphere at the origin: image
+right is ``+x``, image up ``+y``, and ``+z`` points at the viewer.  The light's
+*elevation* is its angle above the image plane (90° = from the viewer, 0° =
+from the side, negative = from behind) and its *azimuth* turns in the image
+plane from ``+x`` toward ``+y`` (135° = upper left).  The direction is
+:func:`lighting.vec.direction_from_elevation` with ``+z`` as "up" (exact at the
+horizon: elevation 0 is ``z = 0``), so the slides' "Lambertian sphere from
+several lighting angles" is one drag of the elevation.  The BRDF views use the
+local frame of the sphere point that faces the viewer (``n = +z``), so their
+incident direction is the light seen from that point; every one of them builds
+it through :func:`lighting.vec.spherical_direction`, so a light on or below the
+horizon reflects nothing in all of them, and they all sample the lobe's peak
+(:func:`lighting.analysis.lobe_peak`), so they report the same peak.
+
+Example
+-------
+>>> state = AppState(model="phong", shininess=20.0, elevation=60.0)
+>>> model = ExplorerModel(state, sphere_size=48, mesh_size=48, lobe_resolution=8)
+>>> sorted(model.update())
+['albedo', 'coarse', 'halfdiff', 'lobe', 'polar', 'profile', 'sphere', 'theta_d', 'theta_h', 'theta_v']
+>>> state.azimuth = 10.0  # turning the light about the view axis: the BRDF plots stay
+>>> sorted(model.update())
+['coarse', 'profile', 'sphere']
+>>> state.elevation = 30.0  # a new incident angle: the plots that depend on it follow
+>>> sorted(model.update())
+['albedo', 'coarse', 'lobe', 'polar', 'profile', 'sphere', 'theta_h', 'theta_v']
+>>> state.shininess = 80.0  # while a slider is dragged: the images at once, the rest on release
+>>> sorted(model.update(only=LIVE_VIEWS)), sorted(model.pending)
+(['coarse', 'sphere'], ['albedo', 'halfdiff', 'lobe', 'polar', 'profile', 'theta_d', 'theta_h', 'theta_v'])
+>>> sorted(model.update()), model.pending
+(['albedo', 'halfdiff', 'lobe', 'polar', 'profile', 'theta_d', 'theta_h', 'theta_v'], set())
+>>> state.shininess = -1
+Traceback (most recent call last):
+...
+ValueError: shininess must be a number in [0, 1000000]; got -1
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from lighting.analysis import (
+    edge_jump_metric,
+    half_diff_image,
+    lobe_mesh,
+    reciprocity_pair,
+    scanline_profile,
+    theta_d_curve,
+    theta_h_curve,
+    theta_v_curve,
+)
+from lighting.analysis.machband import LUMA
+from lighting.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo
+from lighting.render import AnalyticSphere, Renderer, sphere_camera, uv_sphere
+from lighting.shading import shade
+from lighting.vec import spherical_direction
+
+from .encode import encode8
+from .state import ALBEDO_SAMPLES, AppState
+
+__all__ = [
+    "VIEWS",
+    "LIVE_VIEWS",
+    "VIEW_DEPENDENCIES",
+    "ExplorerModel",
+    "SphereView",
+    "CoarseView",
+    "ProfileView",
+    "LobeView",
+    "PolarView",
+    "CurveView",
+    "HalfDiffView",
+    "AlbedoView",
+]
+
+
+# =============================================================================== views
+@dataclass(frozen=True, eq=False)
+class SphereView:
+    """The lit sphere: linear image, its 8-bit sRGB encoding and coverage.
+
+    ``geometry`` is ``"exact sphere"`` (ray-cast, per pixel) in Phong mode and
+    ``"<n> triangles"`` (the coarse sphere) in flat and Gouraud mode.
+    """
+
+    image: np.ndarray  # (H, W, 3) linear
+    rgb8: np.ndarray  # (H, W, 3) uint8 sRGB
+    coverage: np.ndarray  # (H, W) bool
+    mode: str
+    geometry: str
+    clipped: int  # pixels clipped by the encoding
+
+    @cached_property
+    def brightest(self) -> tuple[int, int]:
+        """``(row, column)`` of the pixel of largest luminance."""
+        y = self.image.astype(np.float64) @ LUMA
+        k = int(np.argmax(y))
+        return divmod(k, y.shape[1])
+
+
+@dataclass(frozen=True, eq=False)
+class CoarseView:
+    """The coarse sphere, lit per vertex (Gouraud) and per pixel (Phong interpolation).
+
+    The engine's Gouraud image (:attr:`gouraud`) is rendered when first asked for: the
+    window draws the vertex colours, only the scan-line profile and its metric need it.
+    """
+
+    vertices: np.ndarray  # (V, 3)
+    faces: np.ndarray  # (F, 3)
+    vertex_colors: np.ndarray  # (V, 3) linear: the engine's lighting at each vertex
+    vertex_rgb8: np.ndarray  # (V, 3) uint8 sRGB
+    phong: np.ndarray  # (H, W, 3) linear, normals interpolated
+    phong_rgb8: np.ndarray
+    triangle_id: np.ndarray  # (H, W) int, -1 off the sphere
+    coverage: np.ndarray  # (H, W) bool
+    tessellation: int
+    exposure: float
+    render_gouraud: Callable[[], np.ndarray] = field(repr=False, default=None)
+
+    @cached_property
+    def gouraud(self) -> np.ndarray:
+        """``(H, W, 3)`` linear: the engine's Gouraud image, colours interpolated (rendered once)."""
+        return self.render_gouraud()
+
+    @cached_property
+    def gouraud_rgb8(self) -> np.ndarray:
+        """The engine's Gouraud image, encoded (the window draws the vertex colours instead)."""
+        return _encode(self.gouraud, self.coverage, self.exposure)[0]
+
+    @property
+    def n_triangles(self) -> int:
+        return len(self.faces)
+
+
+@dataclass(frozen=True, eq=False)
+class ProfileView:
+    """Intensity along one scan line of the coarse sphere, Gouraud against Phong interpolation.
+
+    ``x`` is the horizontal position of each pixel centre in sphere units
+    (``−1 … 1``), ``y`` the height of the row; ``edges`` are the positions where
+    the scan line crosses a triangle edge.  The metrics are
+    :func:`lighting.analysis.machband.edge_jump_metric` over every twelfth row of each image.
+    """
+
+    row: int
+    y: float
+    x: np.ndarray
+    gouraud: np.ndarray
+    phong: np.ndarray
+    gouraud_d2: np.ndarray  # second differences, at x[1:-1]
+    phong_d2: np.ndarray
+    edges: np.ndarray
+    metric_gouraud: float
+    metric_phong: float
+    channel: str
+    slope: float  # mean |ΔI| along the row (both curves): the scale of the second differences
+
+
+@dataclass(frozen=True, eq=False)
+class LobeView:
+    """The 3D lobe, drawn with the light in the ``x``–``z`` plane on the ``−x`` side (mirror on ``+x``).
+
+    ``vertices`` are scaled so the largest radius is 1; ``values`` are the plotted
+    quantity (what the colours show) and ``peak`` its largest value.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    values: np.ndarray
+    peak: float
+    scale: float  # display units per plotted unit
+    light: np.ndarray  # unit incident direction (local frame)
+    mirror: np.ndarray
+    peak_direction: np.ndarray
+    below_horizon: bool
+
+
+@dataclass(frozen=True, eq=False)
+class PolarView:
+    """The polar slice in the plane of incidence: fixed light (swept view) and fixed view (swept light).
+
+    ``angles`` are signed, negative on the light's side (see
+    :func:`lighting.analysis.polar_slice`); ``theta_in`` is the incident polar
+    angle (clamped to 90° when the light is below the horizon).
+    """
+
+    angles: np.ndarray
+    light_fixed: np.ndarray
+    view_fixed: np.ndarray
+    view_angles: np.ndarray
+    theta_in: float
+    below_horizon: bool
+
+
+@dataclass(frozen=True, eq=False)
+class CurveView:
+    """One angle curve: ``values`` against ``angles`` (rad), with ``markers`` (rad) to draw."""
+
+    variable: str
+    angles: np.ndarray
+    values: np.ndarray
+    markers: tuple
+    params: dict
+
+
+@dataclass(frozen=True, eq=False)
+class HalfDiffView:
+    """The BRDF over ``(θ_h, θ_d)`` at ``φ_d = 90°``: rows θ_d, columns θ_h; ``marker`` = (θ_h, θ_d) of the mirror."""
+
+    theta_h: np.ndarray
+    theta_d: np.ndarray
+    values: np.ndarray
+    peak: float
+    marker: tuple
+
+
+@dataclass(frozen=True, eq=False)
+class AlbedoView:
+    """The directional albedo ``ρ(θ_v) = ∫ f_r(v, l) (n·l) dω_l`` of the plotted BRDF, with its error.
+
+    ``theta_v`` is the fixed view of the polar panel's dashed slice (``θ_v = θ_l``, 90° when the
+    light is below the horizon, where ρ is 0).  ``value`` and ``error`` are the plot channel's
+    (luminance: the Rec. 709 weights of the RGB values and errors); ``unconverged`` flags a
+    relative error above 2 % (:attr:`lighting.integrate.Estimate.unconverged`), as the accuracy
+    report does.  ``rgb`` and ``rgb_error`` are the whole estimate.
+    """
+
+    theta_v: float
+    value: float
+    error: float
+    relative_error: float
+    unconverged: bool
+    rgb: np.ndarray
+    rgb_error: np.ndarray
+    method: str
+    samples: int
+
+
+MATERIAL_FIELDS = frozenset({"model", "kd", "color", "ks", "shininess", "roughness", "f0", "ndf"})
+LIGHT_FIELDS = frozenset(
+    {"light", "elevation", "azimuth", "intensity", "light_color", "ambient", "distance", "attenuation", "cutoff"}
+    | {"spot_exponent"}
+)
+#: Pseudo-field: the incident polar angle θ_l at the facing point.  The BRDF views depend on it alone
+#: (isotropic models; the plots are drawn in the plane of incidence), so turning the light about the
+#: viewing axis (azimuth) re-shades the images but leaves the plots as they are.
+INCIDENT_FIELDS = frozenset({"incidence"})
+PLOT_FIELDS = frozenset({"channel", "log", "times_cos"})
+SHADING_FIELDS = MATERIAL_FIELDS | LIGHT_FIELDS | {"form", "terms", "exposure", "tessellation"}
+
+#: Which controls each view depends on.
+VIEW_DEPENDENCIES = {
+    "sphere": SHADING_FIELDS | {"mode"},
+    "coarse": SHADING_FIELDS,
+    "profile": SHADING_FIELDS | {"scanline", "channel"},
+    "lobe": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
+    "polar": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
+    "theta_v": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
+    "theta_h": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
+    "theta_d": MATERIAL_FIELDS | PLOT_FIELDS | {"terms"},
+    "halfdiff": MATERIAL_FIELDS | PLOT_FIELDS | {"terms"},
+    "albedo": MATERIAL_FIELDS | INCIDENT_FIELDS | {"terms", "channel"},
+}
+VIEWS = tuple(VIEW_DEPENDENCIES)
+#: The views that follow a slider while it is dragged: the engine's images, cheap and where the eye
+#: is.  The scan-line profile, the lobe and the plots wait for the release (``update(only=...)``).
+LIVE_VIEWS = frozenset({"sphere", "coarse"})
+
+
+def _encode(image, coverage, exposure):
+    return encode8(image, coverage, exposure)
+
+
+def _coarse_camera(size: int):
+    # The same framing as the lit sphere's: orthographic from +z, the unit sphere filling 1/1.08 of the height.
+    return sphere_camera(size)
+
+
+class ExplorerModel:
+    """Computes every view of the explorer from the engine, recomputing only what a change affects.
+
+    Parameters
+    ----------
+    state : AppState, optional
+        The controls (a fresh default state if omitted); the model reads it on
+        every :meth:`update`, so the window changes ``model.state`` and calls
+        ``update()``.
+    sphere_size : int
+        Pixels (width and height) of the lit sphere image.
+    mesh_size : int
+        Pixels of the coarse sphere images.
+    lobe_resolution : int
+        Rings of the lobe mesh (:func:`lighting.analysis.lobe_mesh`).
+    dtype : float32 or float64
+        Shading precision (float32: faster, relative error of a few 1e-7).
+
+    Attributes
+    ----------
+    views : dict
+        ``"sphere"`` :class:`SphereView`, ``"coarse"`` :class:`CoarseView`,
+        ``"profile"`` :class:`ProfileView`, ``"lobe"`` :class:`LobeView`, ``"polar"``
+        :class:`PolarView`, ``"theta_v"``, ``"theta_h"``, ``"theta_d"``
+        :class:`CurveView`, ``"halfdiff"`` :class:`HalfDiffView`, ``"albedo"`` :class:`AlbedoView`.
+    """
+
+    def __init__(self, state=None, *, sphere_size=360, mesh_size=256, lobe_resolution=40, dtype=np.float32):
+        self.state = state if state is not None else AppState()
+        for name, v in (("sphere_size", sphere_size), ("mesh_size", mesh_size)):
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 16 <= v <= 4096:
+                raise ValueError(f"{name} must be an integer in [16, 4096]; got {v!r}")
+        self.sphere_size, self.mesh_size = int(sphere_size), int(mesh_size)
+        self.lobe_resolution = int(lobe_resolution)
+        self.dtype = dtype
+        self.views: dict = {}
+        #: Views whose controls changed but which an ``update(only=...)`` left for later.
+        self.pending: set[str] = set()
+        self._snapshot: dict | None = None
+        self._sphere = Renderer(AnalyticSphere(), sphere_camera(self.sphere_size), dtype=dtype)
+        self._meshes: dict = {}
+        self._renderers: dict = {}
+
+    # ------------------------------------------------------------------ caches
+    def mesh(self, tessellation: int):
+        """The coarse UV sphere with ``tessellation`` bands and twice as many sectors (cached)."""
+        if tessellation not in self._meshes:
+            self._meshes[tessellation] = uv_sphere(tessellation, 2 * tessellation)
+        return self._meshes[tessellation]
+
+    def mesh_renderer(self, tessellation: int, size: int) -> Renderer:
+        """A renderer of the coarse sphere at ``size`` pixels; rasterized once, kept for the last 12 used."""
+        key = (tessellation, size)
+        r = self._renderers.pop(key, None)
+        if r is None:
+            r = Renderer(self.mesh(tessellation), _coarse_camera(size), dtype=self.dtype)
+        self._renderers[key] = r
+        while len(self._renderers) > 12:
+            self._renderers.pop(next(iter(self._renderers)))
+        return r
+
+    def is_rasterized(self, tessellation: int, size: int) -> bool:
+        """Whether the renderer of that coarse sphere at that size is in the cache."""
+        return (tessellation, size) in self._renderers
+
+    @property
+    def rasterizations(self) -> int:
+        """Rasterizations (or ray casts) so far of the renderers in the cache."""
+        return self._sphere.rasterizations + sum(r.rasterizations for r in self._renderers.values())
+
+    # ------------------------------------------------------------------ updates
+    def _inputs(self) -> dict:
+        d = self.state.to_dict()
+        d["incidence"] = round(self.state.theta_l, 12)
+        return d
+
+    def changed_fields(self) -> set[str]:
+        """Controls whose value differs from the last :meth:`update` (all of them before the first).
+
+        Includes the pseudo-field ``"incidence"`` when the incident polar angle changed.
+        """
+        now = self._inputs()
+        if self._snapshot is None:
+            return set(now)
+        return {k for k, v in now.items() if v != self._snapshot[k]}
+
+    def stale_views(self, changed=None) -> set[str]:
+        """Views that depend on the changed controls."""
+        changed = self.changed_fields() if changed is None else set(changed)
+        views = {v for v, deps in VIEW_DEPENDENCIES.items() if deps & changed}
+        if "sphere" in views and changed <= {"tessellation"} and self.state.mode == "phong":
+            views.discard("sphere")  # the exact sphere has no tessellation
+        if self._snapshot is None:
+            views = set(VIEWS)
+        return views
+
+    def update(self, changed=None, *, only=None) -> set[str]:
+        """Recompute the views whose controls changed since the last call; return their names.
+
+        ``changed`` adds control names to treat as changed even if their values are
+        equal.  ``only`` restricts the work to those views (a slider being dragged
+        updates :data:`LIVE_VIEWS`): the other stale views are kept in :attr:`pending`
+        and recomputed by the next call that includes them.  :meth:`refresh`
+        recomputes everything.
+        """
+        diff = self.changed_fields() | set(changed or ())
+        stale = self.stale_views(diff) | self.pending
+        views = stale if only is None else stale & set(only)
+        if "profile" in views and "coarse" in stale:
+            views.add("coarse")  # the profile is read off the coarse sphere's images
+        self.pending = stale - views
+        s = self.state
+        if views & {"sphere", "coarse", "profile"}:
+            material, lights = s.material(), s.lights()
+            if "sphere" in views:
+                self.views["sphere"] = self._sphere_view(material, lights)
+            if "coarse" in views:
+                self.views["coarse"] = self._coarse_view(material, lights)
+            if "profile" in views:
+                self.views["profile"] = self._profile_view()
+        if views - {"sphere", "coarse", "profile"}:
+            brdf = s.plot_brdf()
+            opts = s.plot_options()
+            theta = min(s.theta_l, 0.5 * math.pi)
+            below = s.theta_l >= 0.5 * math.pi
+            if "lobe" in views:
+                self.views["lobe"] = self._lobe_view(brdf, theta, below, opts)
+            if "polar" in views:
+                self.views["polar"] = self._polar_view(brdf, theta, below, opts)
+            if "theta_v" in views:
+                c = theta_v_curve(brdf, theta, n=181, **opts)
+                self.views["theta_v"] = CurveView("theta_v", c.angles, c.values, (-theta, theta), c.params)
+            if "theta_h" in views:
+                c = theta_h_curve(brdf, theta_d=theta, n=181, **opts)
+                self.views["theta_h"] = CurveView("theta_h", c.angles, c.values, (0.0,), c.params)
+            if "theta_d" in views:
+                c = theta_d_curve(brdf, theta_h=0.0, n=181, **opts)
+                self.views["theta_d"] = CurveView("theta_d", c.angles, c.values, (theta,), c.params)
+            elif "theta_d" in self.views and "theta_v" in views:
+                old = self.views["theta_d"]
+                self.views["theta_d"] = CurveView("theta_d", old.angles, old.values, (theta,), old.params)
+            if "halfdiff" in views:
+                im = half_diff_image(brdf, n_h=91, n_d=91, **opts)
+                peak = float(im.values.max())
+                self.views["halfdiff"] = HalfDiffView(im.theta_h, im.theta_d, im.values, peak, (0.0, theta))
+            elif "halfdiff" in self.views and "theta_v" in views:
+                old = self.views["halfdiff"]
+                self.views["halfdiff"] = HalfDiffView(old.theta_h, old.theta_d, old.values, old.peak, (0.0, theta))
+            if "albedo" in views:
+                self.views["albedo"] = self._albedo_view(brdf, theta)
+        self._snapshot = self._inputs()
+        return views
+
+    def refresh(self) -> set[str]:
+        """Recompute every view."""
+        self._snapshot = None
+        self.pending = set()
+        return self.update()
+
+    # ------------------------------------------------------------------ view builders
+    def _sphere_view(self, material, lights) -> SphereView:
+        s = self.state
+        if s.mode == "phong":
+            r, geometry = self._sphere, "exact sphere"
+        else:
+            r = self.mesh_renderer(s.tessellation, self.sphere_size)
+            geometry = f"{r.geometry.n_triangles} triangles"
+        img = r.render(material, lights, mode=s.mode, form=s.form, terms=s.terms)
+        cov = r.gbuffer.coverage
+        rgb8, clipped = _encode(img, cov, s.exposure)
+        return SphereView(img, rgb8, cov, s.mode, geometry, clipped)
+
+    def _coarse_view(self, material, lights) -> CoarseView:
+        s = self.state
+        mesh = self.mesh(s.tessellation)
+        r = self.mesh_renderer(s.tessellation, self.mesh_size)
+        opts = {"form": s.form, "terms": s.terms}
+        # The engine's lighting at every vertex: what Gouraud shading interpolates (the renderer's
+        # Gouraud image interpolates exactly these colours; orthographic view: v = +z everywhere).
+        vertex = shade(mesh.vertices, mesh.normals, material, lights, view_dir=(0.0, 0.0, 1.0), **opts)
+        phong = r.render(material, lights, mode="phong", **opts)
+        vertex8, _ = encode8(vertex[None], exposure=s.exposure)
+        gb = r.gbuffer
+        p8, _ = _encode(phong, gb.coverage, s.exposure)
+        return CoarseView(
+            mesh.vertices, mesh.faces, vertex, vertex8[0], phong, p8, gb.triangle_id, gb.coverage,
+            s.tessellation, s.exposure, lambda: r.render(material, lights, mode="gouraud", **opts),
+        )  # fmt: skip
+
+    def _profile_view(self) -> ProfileView:
+        s = self.state
+        c = self.views["coarse"]
+        h, w = c.triangle_id.shape
+        row = min(h - 1, max(0, int(s.scanline * h)))
+        ch = s.channel
+        pg = scanline_profile(c.gouraud, row, coverage=c.coverage, channel=ch)
+        pp = scanline_profile(c.phong, row, coverage=c.coverage, channel=ch)
+        unit = 2.0 * 1.08 / h  # sphere units per pixel (sphere_camera's framing)
+        x = (pg.x + 0.5 - 0.5 * w) * unit
+        t = c.triangle_id[row, pg.x]
+        cross = np.flatnonzero(t[:-1] != t[1:])
+        edges = (pg.x[cross] + 1.0 - 0.5 * w) * unit
+        rows = range(0, h, 12)
+        mg = edge_jump_metric(c.gouraud, c.triangle_id, rows=rows, channel=ch)
+        mp = edge_jump_metric(c.phong, c.triangle_id, rows=rows, channel=ch)
+        y = (0.5 * h - row - 0.5) * unit
+        slope = float(np.mean(np.abs(np.concatenate([pg.d1, pp.d1])))) if pg.d1.size else 0.0
+        return ProfileView(row, y, x, pg.intensity, pp.intensity, pg.d2, pp.d2, edges, mg, mp, ch, slope)
+
+    def _lobe_view(self, brdf, theta, below, opts) -> LobeView:
+        s = self.state
+        l_plot = spherical_direction(theta, math.pi)  # the light on the −x side, exactly on the horizon at π/2
+        m = lobe_mesh(brdf, l_plot, resolution=self.lobe_resolution, cosine=s.times_cos, channel=s.channel)
+        values = m.values.astype(np.float64)
+        if s.log:
+            values = np.log1p(values) / math.log(10.0)
+        peak = float(values.max()) if values.size else 0.0
+        scale = 1.0 / peak if peak > 0 else 1.0
+        vertices = (values * scale)[:, None] * m.directions.astype(np.float64)
+        mirror = np.array([-l_plot[0], 0.0, l_plot[2]])
+        return LobeView(vertices, m.faces, values, peak, scale, l_plot, mirror, m.peak.astype(np.float64), below)
+
+    def _albedo_view(self, brdf, theta) -> AlbedoView:
+        # Quadrature on the lobe's nodes: deterministic, a few ms (up to ~30 ms), with an error estimate.
+        # Not a live view: computed when the plots follow, on a slider's release, never during a drag.
+        est = directional_albedo(brdf, theta, samples=ALBEDO_SAMPLES, method="quadrature", return_error=True)
+        rgb = np.asarray(est.value, dtype=np.float64)
+        err = np.abs(np.asarray(est.error, dtype=np.float64))
+        ch = self.state.channel
+        if ch == "luminance":
+            value, error = float(rgb @ LUMA), float(err @ LUMA)  # errors add at worst linearly
+        else:
+            k = "rgb".index(ch)
+            value, error = float(rgb[k]), float(err[k])
+        rel = error / abs(value) if value != 0 else (math.inf if error > 0 else 0.0)
+        return AlbedoView(theta, value, error, rel, bool(rel > UNCONVERGED_RELATIVE_ERROR), rgb, err, est.method,
+                          int(est.samples))  # fmt: skip
+
+    def _polar_view(self, brdf, theta, below, opts) -> PolarView:
+        a, b = reciprocity_pair(brdf, theta, n=361, **opts)
+        return PolarView(a.angles, a.values, b.values, b.angles, theta, below)
