@@ -23,6 +23,14 @@ normalized lobe ``(e+2)/(2π)(n·h)^e`` used directly is reciprocal but reflects
 up to 4×; Cook–Torrance with any NDF passes, losing energy (never gaining it)
 at high roughness — the table shows where — and its ``π``-denominator form
 reflects up to ``4/π``.
+
+The models are read through their public interface only (``eval``, ``parts``, each part's
+``summary()``), so a newly registered model is audited without any edit here.
+
+References
+----------
+R. R. Lewis, "Making Shaders More Physically Plausible", Computer Graphics Forum 13(2), 1994
+(the slides' Phong BRDF is neither reciprocal nor energy conserving).
 """
 
 from __future__ import annotations
@@ -98,6 +106,16 @@ class AuditTable:
     """The rows of an audit, with plain-text and CSV renderings.
 
     Iterates over :class:`AuditRow`; ``table["Phong e=0"]`` finds a row by label.
+
+    Parameters
+    ----------
+    rows : iterable of AuditRow
+        The rows, in table order.
+    settings : dict, optional
+        What the audit ran with (``method``, ``samples``, ``view_angles``, ``pairs``,
+        ``energy_tol``), printed under the table.
+    seconds : float
+        Run time of the audit, printed under the table.
     """
 
     def __init__(self, rows, *, settings: dict | None = None, seconds: float = 0.0):
@@ -120,7 +138,13 @@ class AuditTable:
         return self.rows[key]
 
     def format_table(self) -> str:
-        """A readable plain-text table (one line per model, verdicts and notes)."""
+        """A readable plain-text table (one line per model, verdicts and notes).
+
+        Returns
+        -------
+        str
+            Header, rule, one line per row and a footer naming the settings.
+        """
         head = [
             "model",
             "parameters",
@@ -174,7 +198,18 @@ class AuditTable:
         return self.format_table()
 
     def to_csv(self, path=None) -> str:
-        """The rows as CSV text (header = :class:`AuditRow` field names); also written to ``path`` if given."""
+        """The rows as CSV text (header = :class:`AuditRow` field names); also written to ``path`` if given.
+
+        Parameters
+        ----------
+        path : str or os.PathLike, optional
+            File to write the text to (UTF-8).
+
+        Returns
+        -------
+        str
+            The CSV text; verdicts are ``pass``/``fail``, floats their ``repr``.
+        """
         buf = io.StringIO()
         names = [f.name for f in fields(AuditRow)]
         w = csv.writer(buf, lineterminator="\n")
@@ -202,12 +237,30 @@ def _fmt(x: float) -> str:
 
 
 def describe(brdf: BRDF) -> str:
-    """Short parameter summary of a model for the table."""
+    """Short parameter summary of a model for the table.
+
+    Parameters
+    ----------
+    brdf : lighting.models.brdf.BRDF
+        The model; a sum is described part by part.
+
+    Returns
+    -------
+    str
+        Each part's ``summary()``, joined by ``" + "``.
+    """
     return " + ".join(p.summary() for p in brdf.parts)
 
 
 def default_cases() -> list[AuditCase]:
-    """The deck's models at representative parameters (the default of :func:`audit`)."""
+    """The deck's models at representative parameters (the default of :func:`audit`).
+
+    Returns
+    -------
+    list of AuditCase
+        Lambert, Phong, raw and normalized Blinn–Phong, and Cook–Torrance with each NDF,
+        geometry term and denominator, labelled and annotated for the table.
+    """
     cases = [AuditCase("Lambert", Lambert(1.0), "f_r = kd/π")]
     for e in (0.0, 0.5, 1.0, 10.0, 1000.0):
         note = "ρ(0) = 2ks/(e+1); f/(n·l) breaks reciprocity" if e == 0 else ""
@@ -245,17 +298,33 @@ def direction_pairs(n_theta: int = 16, n_phi: int = 24, max_theta_deg: float = 8
     ``l`` and ``v`` and ``n_phi`` azimuth differences in ``[0, 2π)`` (the
     mirror configuration ``θ_l = θ_v``, ``Δφ = π`` included), plus near-mirror
     pairs (``θ_l = θ_v ± 0.1°, ± 1°`` and ``Δφ = π ± 0.5°``), where sharp lobes
-    are nonzero.  Returns two arrays ``(P, 3)``.
+    are nonzero.
+
+    Parameters
+    ----------
+    n_theta : int
+        Polar angles per direction, in ``[1, 1000]``.
+    n_phi : int
+        Azimuth differences, in ``[1, 1000]``.
+    max_theta_deg : float
+        Largest polar angle, in ``[0, 90]`` degrees.
+
+    Returns
+    -------
+    l, v : ndarray (P, 3)
+        Unit light and view directions, float64.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument, for values out of range or a pair count over the memory
+        budget (estimated before allocating).
 
     Examples
     --------
     >>> l, v = direction_pairs(4, 4)
     >>> l.shape == v.shape, bool(np.allclose(np.linalg.norm(l, axis=-1), 1))
     (True, True)
-
-    ``n_theta`` and ``n_phi`` are integers in ``[1, 1000]`` and
-    ``max_theta_deg`` a number in ``[0, 90]`` (ValueError naming the argument
-    otherwise); the pair count is estimated against the memory budget first.
     """
     n_theta = check_count("n_theta", n_theta, 1, 1000)
     n_phi = check_count("n_phi", n_phi, 1, 1000)

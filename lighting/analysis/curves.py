@@ -57,6 +57,7 @@ class AngleCurve:
 
 
 def _curve(brdf, variable, angles, l, v, cosine, log, channel, dt, params):  # noqa: E741
+    """The :class:`AngleCurve` of the samples ``(l, v)`` (float64) at the abscissae ``angles``."""
     cos_mode = _check_cosine(cosine)
     log = check_bool("log", log)
     ch = _check_channel(channel, "rgb")
@@ -81,6 +82,28 @@ def theta_h_curve(
     At ``θ_d = 0`` (the default) ``l = v = h``: the backscatter curve, whose shape is
     the specular lobe's NDF.  Samples are ``θ_h = π/2 · k/(n−1)``; where ``l`` or ``v``
     is not above the horizon the value is 0 and ``valid`` is False.
+
+    Parameters
+    ----------
+    brdf : lighting.models.brdf.BRDF
+        The model.
+    theta_d : float
+        Difference angle, in ``[0, π/2]``.
+    phi_d, phi_h : float
+        Azimuths of the difference vector and of the half vector.
+    n : int
+        Number of samples, 2 … 100001.
+    cosine, log, channel, dtype
+        See :mod:`lighting.analysis.quantity`.
+
+    Returns
+    -------
+    AngleCurve
+        ``variable="theta_h"``; ``params`` holds ``theta_d``, ``phi_d``, ``phi_h``.
+
+    References
+    ----------
+    S. Rusinkiewicz, "A New Change of Variables for Efficient BRDF Representation", 1998.
 
     Examples
     --------
@@ -119,6 +142,28 @@ def theta_d_curve(
     grazing (Fresnel, shadowing).  Samples ``θ_d = π/2 · k/(n−1)``; 0 and
     ``valid = False`` where ``l`` or ``v`` is not above the horizon.
 
+    Parameters
+    ----------
+    brdf : lighting.models.brdf.BRDF
+        The model.
+    theta_h : float
+        Half angle, in ``[0, π/2]``.
+    phi_d, phi_h : float
+        Azimuths of the difference vector and of the half vector.
+    n : int
+        Number of samples, 2 … 100001.
+    cosine, log, channel, dtype
+        See :mod:`lighting.analysis.quantity`.
+
+    Returns
+    -------
+    AngleCurve
+        ``variable="theta_d"``; ``params`` holds ``theta_h``, ``phi_d``, ``phi_h``.
+
+    References
+    ----------
+    S. Rusinkiewicz, "A New Change of Variables for Efficient BRDF Representation", 1998.
+
     Examples
     --------
     >>> from lighting import Lambert
@@ -151,12 +196,33 @@ def theta_v_curve(
     """The BRDF against the view angle in the incidence plane, for a fixed light.
 
     The abscissa is the signed view angle ``θ_v ∈ [−π/2, π/2]`` of
-    :func:`polar_slice` (``fixed="light"``): the light is at ``−theta_l`` and the
+    :func:`~lighting.analysis.slices.polar_slice` (``fixed="light"``): the light is at ``−theta_l`` and the
     mirror direction at ``+theta_l``; the ends are on the horizon (value 0).  This is
     the same data as the polar slice with the same ``n`` and ``refine``, drawn on
     Cartesian axes: with ``refine=True`` (default) the samples are the ``n`` uniform
     ones plus those where the lobe is, its peak included, so a highlight narrower than
-    the grid or a hair above the horizon shows at the height :func:`lobe_peak` finds.
+    the grid or a hair above the horizon shows at the height
+    :func:`~lighting.analysis.lobes.lobe_peak` finds.
+
+    Parameters
+    ----------
+    brdf : lighting.models.brdf.BRDF
+        The model.
+    theta_l : float
+        Polar angle of the light, in ``[0, π/2]``.
+    phi_l : float
+        Azimuth of the light (and of the plane of incidence).
+    n : int
+        Number of uniform samples, 2 … 100001.
+    refine : bool
+        Add the samples where the lobe is, as :func:`~lighting.analysis.slices.polar_slice` does.
+    cosine, log, channel, dtype
+        See :mod:`lighting.analysis.quantity`.
+
+    Returns
+    -------
+    AngleCurve
+        ``variable="theta_v"``; ``params`` holds ``theta_l`` and ``phi_l``.
 
     Examples
     --------

@@ -85,6 +85,11 @@ def half_diff_to_dirs(theta_h, phi_h, theta_d, phi_d):
     l, v : ndarray (..., 3)
         Unit vectors (possibly below the horizon: no masking here), float dtype of the inputs.
 
+    References
+    ----------
+    S. Rusinkiewicz, "A New Change of Variables for Efficient BRDF Representation",
+    Rendering Techniques '98 (Eurographics Workshop on Rendering), 1998.
+
     Examples
     --------
     >>> l, v = half_diff_to_dirs(0.0, 0.0, 0.5, 0.0)  # h = n: l and v mirror each other
@@ -131,6 +136,11 @@ def dirs_to_half_diff(l, v):  # noqa: E741
     -------
     theta_h, phi_h, theta_d, phi_d : ndarray (...)
         Float dtype of the inputs.
+
+    References
+    ----------
+    S. Rusinkiewicz, "A New Change of Variables for Efficient BRDF Representation",
+    Rendering Techniques '98 (Eurographics Workshop on Rendering), 1998.
 
     Examples
     --------
@@ -223,13 +233,27 @@ def half_diff_image(
     Parameters
     ----------
     brdf : lighting.models.brdf.BRDF
+        The model.
     phi_d : float
+        Azimuth of the difference vector (default ``π/2``).
     n_h, n_d : int
         Columns and rows, 2 … 4096 each.
     phi_h : float
+        Azimuth of the half vector (isotropic models do not depend on it).
     theta_h_spacing : {"uniform", "sqrt"}
+        Spacing of the columns.
     cosine, log, channel, dtype
-        See the module notes.
+        See :mod:`lighting.analysis.quantity`.
+
+    Returns
+    -------
+    HalfDiffImage
+        The axes ``theta_h`` (columns) and ``theta_d`` (rows), ``values`` and ``valid``.
+
+    References
+    ----------
+    S. Rusinkiewicz, "A New Change of Variables for Efficient BRDF Representation",
+    Rendering Techniques '98 (Eurographics Workshop on Rendering), 1998.
 
     Examples
     --------

@@ -15,6 +15,15 @@ This module turns that into numbers:
   rows.  A slope discontinuity of size ``s`` shows as ``|Δ²I| ≈ s`` at the edge,
   so the ratio is the typical relative slope jump; it is near the (small)
   curvature term for smooth shading and large for Gouraud.
+
+References
+----------
+F. Ratliff, *Mach Bands: Quantitative Studies on Neural Networks in the Retina*,
+Holden-Day, 1965.
+H. Gouraud, "Continuous Shading of Curved Surfaces", IEEE Transactions on Computers
+C-20(6), 1971.
+B. T. Phong, "Illumination for Computer Generated Pictures", Communications of the
+ACM 18(6), 1975.
 """
 
 from __future__ import annotations
@@ -24,11 +33,12 @@ from typing import NamedTuple
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_count, real_array
+from .quantity import LUMINANCE
 
 __all__ = ["Profile", "luminance", "scanline_profile", "edge_jump_metric"]
 
-#: Rec. 709 / sRGB luminance weights of linear RGB.
-LUMA = np.array([0.2126, 0.7152, 0.0722])
+#: Rec. 709 / sRGB luminance weights of linear RGB (:data:`lighting.analysis.quantity.LUMINANCE`) as an array.
+LUMA = np.array(LUMINANCE)
 
 
 def _image(value, name: str = "image", *, gray_ok: bool = True) -> np.ndarray:
@@ -40,7 +50,18 @@ def _image(value, name: str = "image", *, gray_ok: bool = True) -> np.ndarray:
 
 
 def luminance(image) -> np.ndarray:
-    """Relative luminance ``Y`` of a linear RGB image ``(..., 3)``."""
+    """Relative luminance ``Y`` of a linear RGB image ``(..., 3)``.
+
+    Parameters
+    ----------
+    image : array_like (..., 3)
+        Finite linear RGB.
+
+    Returns
+    -------
+    ndarray (...)
+        ``Y = 0.2126 R + 0.7152 G + 0.0722 B`` (Rec. 709 weights, :data:`LUMA`), float64.
+    """
     img = real_array("image", image, allowed="finite linear RGB of shape (..., 3)", dtype=np.float64)
     if img.shape[-1:] != (3,):
         raise ValueError(f"image must be finite linear RGB of shape (..., 3); got shape {img.shape}: {_fmt(image)}")
@@ -95,6 +116,12 @@ def scanline_profile(image, row: int, *, coverage=None, channel="luminance") -> 
     coverage : array_like of bool, (H, W), optional
         Pixels that show the object; default: all.
     channel : {"luminance", "r", "g", "b"}
+        The intensity: luminance or one channel.
+
+    Returns
+    -------
+    Profile
+        The covered columns ``x``, ``intensity``, and its first and second differences.
 
     Examples
     --------
@@ -144,6 +171,9 @@ def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_
         Scan lines to use; default every row whose covered run is at least
         ``min_run`` pixels long.
     channel : {"luminance", "r", "g", "b"}
+        The intensity: luminance or one channel.
+    min_run : int
+        Shortest covered run of a row that counts.
 
     Returns
     -------

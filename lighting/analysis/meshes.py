@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._numeric import check_bool, check_count, working_dtype
+from ..vec import normalize
 from .lobes import _lobe_widths, _numeric_width, _peak64, _polar, _unit_light
 from .quantity import _HALF_PI, _check_brdf, _check_channel, _check_cosine, _quantity_rgb, _reduce, _sph
 
@@ -48,7 +49,7 @@ class LobeMesh:
     center : ndarray (3,)
         Pole of the polar grid (vertex 0): the lobe peak, or ``n`` for broad lobes.
     peak : ndarray (3,)
-        Direction of the largest value found by :func:`lobe_peak`.
+        Direction of the largest value found by :func:`~lighting.analysis.lobes.lobe_peak`.
     light : ndarray (3,)
         The unit light direction.
     width : float
@@ -148,10 +149,10 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
     horizon.
 
     With ``adaptive=True`` and a lobe narrower than 0.5 rad (``w`` from
-    :func:`lobe_width`: ``1/√e`` for Phong, ``2 cos θ_l/√e`` for Blinn–Phong,
+    :func:`~lighting.analysis.lobes.lobe_width`: ``1/√e`` for Phong, ``2 cos θ_l/√e`` for Blinn–Phong,
     ``√2 α cos θ_l`` for Cook–Torrance):
 
-    * ``c`` is the lobe peak (:func:`lobe_peak`), kept at least ``max(w/2, 1e-4)``
+    * ``c`` is the lobe peak (:func:`~lighting.analysis.lobes.lobe_peak`), kept at least ``max(w/2, 1e-4)``
       above the horizon;
     * the rings are ellipses stretched along the plane of incidence by the lobe's
       aspect ratio (``1/cos θ_l`` for half-vector lobes, 1 for Phong);
@@ -172,13 +173,16 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
     Parameters
     ----------
     brdf : lighting.models.brdf.BRDF
+        The model.
     l : array_like (3,)
         Light direction in the local frame (``n = +z``), normalized on entry.  A light
         on or below the horizon gives an all-zero lobe.
     resolution : int
         Number of rings, 4 … 99 (segments are twice that).
     cosine : bool or {"light", "view"}
+        The factor ``n·l`` or ``n·v`` (see :mod:`lighting.analysis.quantity`).
     adaptive : bool
+        Grade the grid on the lobe (see above); ``False``: a uniform grid about the normal.
     channel : None, 0, 1, 2, "r", "g", "b" or "luminance"
         The radius; ``None`` means luminance.  ``rgb`` always holds all three channels.
 
@@ -262,7 +266,7 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
     radial = cchi[:, None] * t1 + schi[:, None] * t2  # (S, 3)
     dirs = cp[..., None] * c + sp[..., None] * radial[None, :, :]
     dirs = np.concatenate([c[None, :], dirs.reshape(-1, 3)])
-    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    dirs = normalize(dirs)
     if peak_vertex is not None:
         dirs[peak_vertex] = peak  # the same rounding as lobe_peak's direction, not a rebuilt one
 

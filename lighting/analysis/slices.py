@@ -86,6 +86,11 @@ class PolarSlice:
         ``x`` runs along the plane (positive on the mirror side), ``y`` along the normal.
         On Matplotlib polar axes, plot ``(angles, values)`` with
         ``set_theta_zero_location("N")`` and ``set_theta_direction(-1)`` instead.
+
+        Returns
+        -------
+        ndarray
+            ``(..., 2)``: the ``x`` and ``y`` of every value.
         """
         s, c = np.sin(self.angles), np.cos(self.angles)
         if self.values.ndim == 2:
