@@ -16,6 +16,7 @@ import tomllib
 
 import numpy as np
 
+from .. import vec
 from .._numeric import BudgetError, abbreviate, check_color
 from ..models import model_class
 from ..render.camera import Camera
@@ -265,8 +266,7 @@ def _check_view_distance(ctx, cam):
     eye, target = np.asarray(cam["eye"]), np.asarray(cam["target"])
     with np.errstate(over="ignore", invalid="ignore"):
         d = target - eye
-        big = np.max(np.abs(d))
-        length = float(big * np.sqrt(np.sum((d / big) ** 2))) if big > 0 else 0.0
+        length = float(vec.length(d)) if np.all(np.isfinite(d)) else math.inf  # the scaled, overflow-free length
     # far defaults to 1000 times the distance: keep that finite too
     if not length < 1e305:
         key = "camera.eye" if np.max(np.abs(eye)) >= np.max(np.abs(target)) else "camera.target"
