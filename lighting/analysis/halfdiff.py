@@ -28,7 +28,7 @@ from .._numeric import (
     safe_div,
     working_dtype,
 )
-from ..vec import normalize
+from ..vec import halfway, normalize
 from .quantity import (
     _HALF_PI,
     _check_brdf,
@@ -159,7 +159,7 @@ def dirs_to_half_diff(l, v):  # noqa: E741
         raise ValueError(f"l and v must broadcast together; got shapes {l.shape} and {v.shape}") from None
     a, b = normalize(l.astype(np.float64)), normalize(v.astype(np.float64))
     a, b = np.broadcast_arrays(a, b)
-    h = normalize(a + b)
+    h = halfway(a, b)
     theta_h = np.arctan2(np.hypot(h[..., 0], h[..., 1]), h[..., 2])
     phi_h = np.arctan2(h[..., 1], h[..., 0])
     # Build the rotations from h's components directly (no trig round trip).
