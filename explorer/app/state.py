@@ -50,7 +50,20 @@ __all__ = [
     "CONTROLS",
     "AppState",
     "model_label",
+    "model_choices",
 ]
+
+
+def model_choices() -> tuple[str, ...]:
+    """The explorer's model list now: every registered model and named variant, in registration order.
+
+    Returns
+    -------
+    tuple of str
+        ``tuple(MODELS)``, e.g. ``("lambert", "phong", "blinn-phong", "blinn-phong-normalized",
+        "cook-torrance")`` for the built-in models.
+    """
+    return tuple(model_variants())
 
 
 def model_label(name: str) -> str:

@@ -454,10 +454,27 @@ class ExplorerModel:
         return views
 
     def refresh(self) -> set[str]:
-        """Recompute every view."""
+        """Recompute every view.
+
+        Returns
+        -------
+        set of str
+            The names of every view (:data:`VIEWS`).
+        """
         self._snapshot = None
         self.pending = set()
         return self.update()
+
+    def compute(self) -> dict:
+        """Compute every view and return them (:meth:`refresh`, then :attr:`views`).
+
+        Returns
+        -------
+        dict
+            View name → view data.
+        """
+        self.refresh()
+        return self.views
 
     # ------------------------------------------------------------------ view builders
     def _sphere_view(self, material, lights) -> SphereView:
