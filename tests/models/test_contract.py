@@ -1,0 +1,237 @@
+"""The model protocol's contract, checked on every registered model and variant at collection time.
+
+For each entry of :func:`lighting.models.model_variants` (a model registered from a test module
+before collection is included) at its defaults, at each end of every numeric parameter's range
+and at every choice of every choice parameter:
+
+* ``eval_cos = eval · (n·l)`` where ``eval`` is finite (relative tolerance);
+* ``classic = π · eval_cos`` (a few ulp);
+* the float dtype of the vectors is kept (float32 in, float32 out; float64 likewise);
+* a stackable model's separable forms on a :class:`~lighting.shading.stacked.StackedGeometry`
+  (all lights at once) equal the per-light :class:`~lighting.models.geometry.Geometry` values and
+  the public ``eval_cos``/``classic``;
+* ``to_dict``/``from_dict`` round-trips, the parameter table matches the constructor's keywords and
+  defaults, and ``lobe()`` is a :class:`~lighting.models.protocol.Lobe` or None;
+
+and for each distinct importance sampler (``model.sampler()``) of those settings: its density
+integrates to 1 over the sphere (quadrature, for a few views) and a χ² test of ``sample`` against
+``pdf`` passes (seeded).
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+
+import numpy as np
+import pytest
+from quadrature import hemisphere
+from scipy import stats
+
+from lighting.models import Lobe, model_variants
+from lighting.models.base import _combine
+from lighting.models.geometry import Geometry
+from lighting.shading.stacked import StackedGeometry
+
+
+def _settings(cls, fixed):
+    """``(label, kwargs, extreme)``: the defaults, each numeric parameter at both ends of its range, each choice."""
+    out = [("default", dict(fixed), False)]
+    for p in cls.parameters:
+        if p.name in fixed:
+            continue
+        if p.kind == "float":
+            lo, hi = p.control_range
+            for x in (lo, hi):
+                if math.isfinite(x) and x != p.default:
+                    out.append((f"{p.name}={x:g}", {**fixed, p.name: x}, True))
+        elif p.kind == "choice":
+            out += [(f"{p.name}={c}", {**fixed, p.name: c}, False) for c in p.choices if c != p.default]
+    return out
+
+
+CASES = []
+for _variant, (_cls, _fixed) in model_variants().items():
+    for _label, _kwargs, _ in _settings(_cls, _fixed):
+        CASES.append(pytest.param(_cls, _kwargs, id=f"{_variant}[{_label}]"))
+VARIANTS = [pytest.param(cls, fixed, id=name) for name, (cls, fixed) in model_variants().items()]
+
+
+def _unit(a):
+    return a / np.linalg.norm(a, axis=-1, keepdims=True)
+
+
+def _directions(seed=5, count=600):
+    """Random normals, lights and viewers (``count`` each), a quarter of the viewers near the mirror direction."""
+    rng = np.random.default_rng(seed)
+    n = _unit(rng.normal(size=(count, 3)))
+    l = _unit(rng.normal(size=(count, 3)))  # noqa: E741
+    v = _unit(rng.normal(size=(count, 3)))
+    q = count // 4
+    mirror = 2 * n[:q] * np.sum(n[:q] * l[:q], axis=-1, keepdims=True) - l[:q]
+    v[:q] = _unit(mirror + 1e-2 * rng.normal(size=(q, 3)))
+    return n, l, v
+
+
+def _model(cls, kwargs):
+    try:
+        return cls(**kwargs)
+    except ValueError as exc:  # a range end the constructor does not take: nothing to check there
+        pytest.skip(f"{cls.__name__}({kwargs}) refused: {exc}")
+
+
+@pytest.mark.parametrize("cls, kwargs", CASES)
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_eval_eval_cos_and_classic_agree_and_keep_the_dtype(cls, kwargs, dtype):
+    model = _model(cls, kwargs)
+    n, l, v = (x.astype(dtype) for x in _directions())  # noqa: E741
+    f, fc, cl = model.eval(n, l, v), model.eval_cos(n, l, v), model.classic(n, l, v)
+    assert f.dtype == fc.dtype == cl.dtype == dtype
+    assert f.shape == fc.shape == cl.shape == (len(n), 3)
+    for x in (f, fc, cl):
+        assert np.all(np.isfinite(x)) and np.all(x >= 0)
+    eps = np.finfo(dtype).eps
+    tiny = np.finfo(dtype).tiny
+    nl = np.clip(np.sum(n.astype(np.float64) * l, axis=-1), 0, None)[:, None]
+    # eval_cos = eval (n·l) where eval has not saturated (Phong's eval divides by n·l).
+    ok = f < np.finfo(dtype).max
+    want = (f.astype(np.float64) * nl)[ok]
+    got = fc.astype(np.float64)[ok]
+    np.testing.assert_allclose(got, want, rtol=64 * eps, atol=tiny / eps)
+    # classic = π eval_cos, to a few ulp.
+    np.testing.assert_allclose(cl.astype(np.float64), math.pi * fc.astype(np.float64), rtol=8 * eps, atol=tiny / eps)
+
+
+@pytest.mark.parametrize("cls, kwargs", CASES)
+def test_stacked_equals_per_light_equals_the_public_evaluation(cls, kwargs):
+    model = _model(cls, kwargs)
+    if not getattr(model, "stackable", False):
+        pytest.skip("not stackable: the fast path evaluates it one light at a time")
+    n, _, v = _directions(count=300)
+    lights = _unit(np.random.default_rng(11).normal(size=(3, 3)))
+    g = StackedGeometry(n, lights, v)
+    for form, public in (("separable_cos", "eval_cos"), ("separable_classic", "classic")):
+        fields = getattr(model, form)(g)
+        for k in range(len(lights)):
+            stacked = _combine([(np.broadcast_to(s, (len(lights), len(n)))[k], c) for s, c in fields], np.float64)
+            per_light = _combine(getattr(model, form)(Geometry(n, lights[k], v, unit=True)), np.float64)
+            plain = getattr(model, public)(n, lights[k], v)
+            scale = max(np.abs(plain).max(), np.finfo(np.float64).tiny)
+            assert np.abs(stacked - per_light).max() <= 1e-9 * scale, (form, k)
+            assert np.abs(per_light - plain).max() <= 1e-9 * scale, (form, k)
+
+
+@pytest.mark.parametrize("cls, kwargs", CASES)
+def test_to_dict_from_dict_round_trip(cls, kwargs):
+    model = _model(cls, kwargs)
+    table = model.to_dict()
+    again = type(model).from_dict(table)
+    assert again.to_dict() == table
+    n, l, v = _directions(count=50)  # noqa: E741
+    np.testing.assert_array_equal(again.eval(n, l, v), model.eval(n, l, v))
+
+
+@pytest.mark.parametrize("cls, fixed", VARIANTS)
+def test_parameter_table_matches_the_constructor(cls, fixed):
+    sig = inspect.signature(cls.__init__)
+    keywords = [name for name in sig.parameters if name != "self"]
+    assert [p.name for p in cls.parameters] == keywords
+    for p in cls.parameters:
+        default = sig.parameters[p.name].default
+        assert default is not inspect.Parameter.empty, p.name
+        if p.kind == "color":
+            np.testing.assert_array_equal(np.asarray(p.default, dtype=float), np.asarray(default, dtype=float))
+        else:
+            assert p.default == default, p.name
+        if p.kind == "choice":
+            assert p.default in p.choices
+    assert set(fixed) <= set(keywords)
+    model = cls(**fixed)
+    lobe = model.lobe()
+    assert lobe is None or isinstance(lobe, Lobe)
+
+
+# --------------------------------------------------------------------------- samplers
+def _samplers():
+    """Each distinct sampler of the non-extreme settings, with the model that owns it."""
+    seen = {}
+    for variant, (cls, fixed) in model_variants().items():
+        for label, kwargs, extreme in _settings(cls, fixed):
+            if extreme:  # lobes too sharp for the quadrature and the histogram
+                continue
+            try:
+                model = cls(**kwargs)
+            except ValueError:
+                continue
+            sampler = model.sampler()
+            seen.setdefault(repr(sampler), (f"{variant}[{label}]", model, sampler))
+    return [pytest.param(model, sampler, id=f"{label}:{key}") for key, (label, model, sampler) in seen.items()]
+
+
+SAMPLERS = _samplers()
+VIEWS_DEG = (0.0, 40.0, 75.0)
+
+
+def _view(theta_deg):
+    t = math.radians(theta_deg)
+    return np.array([math.sin(t), 0.0, math.cos(t)])
+
+
+def _frame(axis):
+    a = _unit(np.asarray(axis, dtype=float))
+    t = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
+    t /= np.linalg.norm(t)
+    return np.stack([t, np.cross(a, t), a])  # rows: the images of x, y, z
+
+
+def _sphere_integral(func, axis):
+    """``∫ func dω`` over the sphere: the hemisphere about ``axis`` (nodes graded toward it) and the other."""
+    total = 0.0
+    for a in (np.asarray(axis, dtype=float), -np.asarray(axis, dtype=float)):
+        frame = _frame(a)
+        total += float(hemisphere(lambda d, frame=frame: func(d @ frame), panels=32, order=16, n_phi=192))
+    return total
+
+
+@pytest.mark.parametrize("model, sampler", SAMPLERS)
+@pytest.mark.parametrize("theta_v", VIEWS_DEG)
+def test_sampler_density_integrates_to_one(model, sampler, theta_v):
+    v = _view(theta_v)
+    lobe = model.lobe()
+    # The quadrature's nodes crowd toward the axis: the mirror direction for a mirror lobe; for half-vector
+    # lobes −v, where p(l) = D(h)(n·h)/(4|v·h|) has an integrable 1/|l + v| point.
+    axes = {"normal": np.array([0, 0, 1.0]), "mirror": np.array([-v[0], -v[1], v[2]]), "half": -v}
+    axis = axes[lobe.axis if lobe is not None else "normal"]
+    assert _sphere_integral(lambda d: sampler.pdf(d, v), axis) == pytest.approx(1.0, abs=1e-6)
+
+
+@pytest.mark.parametrize("model, sampler", SAMPLERS)
+def test_sampler_chi_square(model, sampler):
+    # Mitsuba-style χ² test over (cos θ, φ) cells of the sphere against the density integrated over
+    # each cell (6 × 6 Gauss–Legendre points); the sparsest cells are pooled into one bin.
+    v = _view(40.0)
+    count, nt, nph = 60_000, 16, 32
+    d = sampler.sample(np.random.default_rng(2024).random((count, 2)), v).directions
+    ti = np.minimum(((1 - d[:, 2]) / 2 * nt).astype(int), nt - 1)
+    pj = np.minimum((np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * math.pi) / (2 * math.pi) * nph).astype(int), nph - 1)
+    counts = np.bincount(ti * nph + pj, minlength=nt * nph).astype(float)
+    x, w = np.polynomial.legendre.leggauss(6)
+    z_edges = 1 - 2 * np.arange(nt + 1) / nt
+    p_edges = np.arange(nph + 1) * 2 * math.pi / nph
+    zc = (z_edges[:-1, None] + z_edges[1:, None]) / 2 + (z_edges[1:, None] - z_edges[:-1, None]) / 2 * x
+    pc = (p_edges[:-1, None] + p_edges[1:, None]) / 2 + (p_edges[1:, None] - p_edges[:-1, None]) / 2 * x
+    zz, pp = zc[:, None, :, None], pc[None, :, None, :]
+    r = np.sqrt(np.clip(1 - zz**2, 0, None))
+    dirs = np.stack(np.broadcast_arrays(r * np.cos(pp), r * np.sin(pp), zz), -1)
+    dens = sampler.pdf(dirs, v)
+    cell = (2 / nt) * (2 * math.pi / nph) / 4
+    expected = count * np.sum(dens * w[:, None] * w[None, :], axis=(-2, -1)).ravel() * cell
+    order = np.argsort(expected)
+    e_sorted, c_sorted = expected[order], counts[order]
+    small = np.cumsum(e_sorted) < 50
+    e_bins = np.r_[e_sorted[small].sum(), e_sorted[~small]]
+    c_bins = np.r_[c_sorted[small].sum(), c_sorted[~small]]
+    keep = e_bins > 0
+    chi2 = np.sum((c_bins[keep] - e_bins[keep]) ** 2 / e_bins[keep])
+    assert expected.sum() == pytest.approx(count, rel=5e-3)
+    assert stats.chi2.sf(chi2, keep.sum() - 1) > 1e-3
