@@ -10,8 +10,10 @@ away), in linear RGB radiance.  Every environment answers
 unit length; world frame) with an ``(..., 3)`` array of the same float dtype,
 and can draw directions from a distribution roughly shaped like itself
 (:meth:`Environment.sample`, :meth:`Environment.pdf`, densities per unit solid
-angle on the whole sphere), which :mod:`lighting.integrate.integrate` uses for
-environment and multiple-importance sampling.
+angle on the whole sphere), which :func:`lighting.integrate.outgoing_radiance` uses for
+environment and multiple-importance sampling.  This module is the environment light's one home:
+the integrators of :mod:`lighting.integrate` read an environment only through ``_radiance``,
+``_sample``, ``_pdf`` (the checked-input forms of the three public methods) and ``support``.
 
 The two cases of the deck's "Results" slide:
 
@@ -101,10 +103,17 @@ def uniform_sphere(u) -> tuple[np.ndarray, np.ndarray]:
 
     ``z = 1 − 2u₀``, ``φ = 2π u₁``; the density is ``1/(4π)`` per steradian.
 
+    Parameters
+    ----------
+    u : array_like, (..., 2)
+        Points of the unit square, finite reals in ``[0, 1]``.
+
     Returns
     -------
     directions : ndarray, (..., 3)
+        Unit directions, float64.
     pdf : ndarray, (...)
+        Their density per steradian, ``1/(4π)``.
 
     Examples
     --------
@@ -121,7 +130,18 @@ def uniform_sphere(u) -> tuple[np.ndarray, np.ndarray]:
 
 
 def uniform_sphere_pdf(directions) -> np.ndarray:
-    """Density ``1/(4π)`` of :func:`uniform_sphere`, shape ``(...)``."""
+    """Density ``1/(4π)`` of :func:`uniform_sphere`.
+
+    Parameters
+    ----------
+    directions : array_like, (..., 3)
+        Any finite directions.
+
+    Returns
+    -------
+    ndarray, (...)
+        ``1/(4π)`` per steradian, float64.
+    """
     d, _ = _directions(directions)
     return np.full(d.shape[:-1], _INV_4PI)
 
@@ -139,7 +159,18 @@ class Environment:
     support: tuple[np.ndarray, float] | None = None
 
     def radiance(self, directions) -> np.ndarray:
-        """Radiance arriving from ``directions`` ``(..., 3)``: RGB ``(..., 3)``, dtype kept."""
+        """Radiance arriving from ``directions``.
+
+        Parameters
+        ----------
+        directions : array_like, (..., 3)
+            World-frame directions (need not be unit length; a zero vector looks nowhere).
+
+        Returns
+        -------
+        ndarray, (..., 3)
+            Linear RGB radiance, in the float dtype of ``directions``.
+        """
         d, dt = _directions(directions)
         return self._radiance(d).astype(dt, copy=False)
 
@@ -147,14 +178,35 @@ class Environment:
         raise NotImplementedError
 
     def sample(self, u) -> tuple[np.ndarray, np.ndarray]:
-        """Directions (world frame, ``(..., 3)``) and their density per steradian from unit-square points ``u``.
+        """Directions drawn from this environment's sampling density.
 
-        ``u`` ``(..., 2)`` must hold finite reals in ``[0, 1]`` (ValueError naming ``u`` otherwise).
+        Parameters
+        ----------
+        u : array_like, (..., 2)
+            Points of the unit square, finite reals in ``[0, 1]`` (ValueError naming ``u`` otherwise).
+
+        Returns
+        -------
+        directions : ndarray, (..., 3)
+            Unit directions, world frame, float64.
+        pdf : ndarray, (...)
+            Their density per steradian on the whole sphere.
         """
         return self._sample(_unit_square(u))
 
     def pdf(self, directions) -> np.ndarray:
-        """Density of :meth:`sample` at ``directions``, per steradian, shape ``(...)``."""
+        """Density of :meth:`sample` at ``directions``.
+
+        Parameters
+        ----------
+        directions : array_like, (..., 3)
+            World-frame directions (need not be unit length).
+
+        Returns
+        -------
+        ndarray, (...)
+            Density per steradian, float64.
+        """
         d, _ = _directions(directions)
         return self._pdf(d)
 
@@ -266,7 +318,20 @@ class LatLongEnvironment(Environment):
 
     @classmethod
     def from_function(cls, func: Callable[[np.ndarray], np.ndarray], height: int, width: int | None = None):
-        """Sample ``func(directions (H, W, 3)) → (H, W, 3)`` at the pixel centres of an ``H × W`` image."""
+        """An environment image from ``func`` sampled at the pixel centres of an ``H × W`` image.
+
+        Parameters
+        ----------
+        func : callable
+            ``func(directions (H, W, 3)) → (H, W, 3)`` radiance (or anything broadcasting to it).
+        height : int >= 1
+        width : int >= 1, optional
+            Default ``2 height``.
+
+        Returns
+        -------
+        LatLongEnvironment
+        """
         if not callable(func):
             raise ArgumentTypeError(f"func must be a callable directions (H, W, 3) -> radiance; got {_fmt(func)}")
         height, width = _image_size(height, width)
@@ -276,7 +341,17 @@ class LatLongEnvironment(Environment):
 
     @staticmethod
     def pixel_directions(height: int, width: int) -> np.ndarray:
-        """Unit directions of the pixel centres of an ``height × width`` image, ``(H, W, 3)``."""
+        """Unit directions of the pixel centres of an ``height × width`` image.
+
+        Parameters
+        ----------
+        height, width : int >= 1
+
+        Returns
+        -------
+        ndarray, (height, width, 3)
+            Float64 unit directions (see the class notes for the orientation).
+        """
         height, width = _image_size(height, check_count("width", width, 1))
         th = (np.arange(height) + 0.5) * (math.pi / height)
         ph = (np.arange(width) + 0.5) * (2 * math.pi / width)
@@ -284,7 +359,13 @@ class LatLongEnvironment(Environment):
         return np.stack(np.broadcast_arrays(st * np.cos(ph), st * np.sin(ph), ct), axis=-1)
 
     def solid_angles(self) -> np.ndarray:
-        """Exact solid angle of each pixel, ``(H, W)``: ``(cos θ_top − cos θ_bottom) 2π / W``; sums to 4π."""
+        """Exact solid angle of each pixel: ``(cos θ_top − cos θ_bottom) 2π / W``; sums to 4π.
+
+        Returns
+        -------
+        ndarray, (H, W)
+            Steradians per pixel, float64.
+        """
         c = _pixel_rows(self.height)
         return np.broadcast_to(((c[:-1] - c[1:]) * (2 * math.pi / self.width))[:, None], (self.height, self.width))
 
@@ -489,7 +570,12 @@ PointEnvironment = SmallPatchEnvironment
 
 
 def _basis(c: np.ndarray):
-    """Two unit tangents completing ``c`` to a right-handed frame (Duff et al. 2017)."""
+    """Two unit tangents completing a unit ``c`` to a right-handed frame (Duff et al. 2017).
+
+    The construction of :func:`lighting.vec.orthonormal_basis`, applied to ``c`` as given:
+    that function normalizes its input again, which moves the tangents (and the patch's samples)
+    by an ulp in a third of directions.
+    """
     sign = 1.0 if c[2] >= 0 else -1.0
     a = -1.0 / (sign + c[2])
     b = c[0] * c[1] * a
@@ -499,7 +585,18 @@ def _basis(c: np.ndarray):
 
 
 def as_environment(env) -> Environment:
-    """An :class:`Environment` from an environment, a scalar/RGB radiance, or a callable."""
+    """An :class:`Environment` from an environment, a scalar/RGB radiance, or a callable.
+
+    Parameters
+    ----------
+    env : Environment, float, RGB triple or callable
+        An environment (returned as is), a constant radiance (:class:`ConstantEnvironment`) or a
+        function of direction (:class:`FunctionEnvironment`).
+
+    Returns
+    -------
+    Environment
+    """
     if isinstance(env, Environment):
         return env
     if callable(env):

@@ -14,7 +14,7 @@ from quadrature import hemisphere
 from scipy import stats
 
 from lighting import DirectionalLight, Material, shade_terms
-from lighting.integrate.integrate import (
+from lighting.integrate import (
     METHODS,
     SH_CONSTANTS,
     Estimate,
@@ -778,7 +778,7 @@ def test_sh_error_includes_the_truncation():
 
 
 def test_unconverged_flag_is_public_and_documented():
-    from lighting.integrate.integrate import UNCONVERGED_RELATIVE_ERROR
+    from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
 
     assert UNCONVERGED_RELATIVE_ERROR == 0.02
     est = Estimate(np.array([1.0, 1.0, 0.0, 0.0]), np.array([0.019, 0.021, 0.0, 1e-30]), 10, 0.0, "uniform")

@@ -1,0 +1,286 @@
+r"""Deterministic quadrature on the hemisphere: polar ("star") rules centred on a lobe, cut at the horizon.
+
+The ``"quadrature"`` method of :mod:`lighting.integrate`.  Each part of the model is integrated in polar
+coordinates centred on its lobe (the model's :class:`~lighting.models.protocol.Lobe`, ``part.lobe()``):
+the normal ``n`` for Lambert; the mirror direction ``R_v`` for Phong (whose lobe ``(R_v·l)^e`` is round
+there); the half vector for Blinn–Phong and microfacet models (whose lobe ``D(h)`` is round about ``n``
+in ``h``; ``dω_l = 4 (v·h) dω_h``).  Along each ray from the centre the integration stops exactly at the
+horizon (``n·l = 0``), where most integrands jump, so what is left is smooth.
+
+Radially: Gauss–Legendre in ``u`` with ``ψ = w sinh(A u)`` (``w`` the lobe width,
+``A = asinh(ψ_max / w)``) — linear inside the lobe, geometric outside, which resolves a shininess of
+10⁶ or α = 10⁻⁶ and the algebraic tails of GGX alike — on panels split at multiples of ``w`` and at
+the kinks of the V-cavity ``min(1, G_v, G_l)`` and the grazing layer of Smith masking; for Phong,
+Gauss–Legendre in ``y = 1 − cos^{e+1} ψ``, in which the lobe is constant.  In azimuth: four
+Gauss–Legendre panels graded toward ``φ = ±π/2``, where the horizon cut sweeps past the centre (a turn
+of width ``cot θ`` that is sharp at grazing view); the periodic trapezoid rule about the normal.
+
+The reported error is the difference to the same rule with half the nodes each way (:func:`_split`);
+the fine rule has at least two Gauss nodes on every radial panel and the coarse one at most half as
+many, so the two never coincide on an unresolved lobe (they did once, both with one node a panel,
+and reported 6.5e-4 for a true error of 0.26).  Conservative (the fine rule is usually far better),
+never below the rounding of the sum.
+
+Every rule here works in the local shading frame (``n = +z``) on batches of ``B`` viewers and returns
+directions ``(B, M, 3)`` with solid-angle weights ``(B, M)`` (:class:`_Rule`).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import NamedTuple
+
+import numpy as np
+
+from ..models.brdf import BRDF
+from ..vec import orthonormal_basis
+
+__all__: list[str] = []
+
+_TWO_PI = 2.0 * math.pi
+
+
+@lru_cache(maxsize=64)
+def _gl01(n: int):
+    x, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (x + 1.0), 0.5 * w
+
+
+def _azimuths(b: int, n_phi: int, eps):
+    """Azimuth nodes ``(B, n_phi)`` and weights about a ray centre.
+
+    Without ``eps``: the periodic trapezoid rule.  With ``eps`` (``(B,)``): the
+    integrand turns steeply at ``φ = ±π/2`` over a width ``eps`` (where the
+    horizon cut sweeps past the centre, ``eps = cot θ_c``), so four
+    Gauss–Legendre panels meet there, graded toward them by
+    ``δ = eps sinh(A s)`` (``δ`` the distance to the turn).
+    """
+    if eps is None:
+        phi = (np.arange(n_phi) + 0.5) * (_TWO_PI / n_phi)
+        return np.broadcast_to(phi, (b, n_phi)), np.full((b, n_phi), _TWO_PI / n_phi)
+    m = max(1, n_phi // 4)
+    s, ws = _gl01(m)
+    e = np.clip(np.asarray(eps, dtype=np.float64), 1e-12, 10.0)[:, None]
+    a = np.arcsinh((math.pi / 2) / e)
+    delta = e * np.sinh(a * s)
+    dd = e * a * np.cosh(a * s) * ws
+    half = math.pi / 2
+    phi = np.concatenate([half - delta, half + delta, 3 * half - delta, 3 * half + delta], axis=1)
+    return phi, np.concatenate([dd, dd, dd, dd], axis=1)
+
+
+def _star(c, t1, t2, psi_max, width, n_r: int, n_phi: int, breaks=None, eps=None, power=None, min_order=1):
+    """Polar rule about ``c`` (rays in directions ``cos φ t1 + sin φ t2``), each ray on ``[0, ψ_max(φ)]``.
+
+    ``c, t1, t2`` are ``(B, 3)``; ``psi_max`` is a callable ``φ (B, n_phi) → (B, n_phi)``;
+    ``breaks`` (optional) a callable ``φ → (B, n_phi, K)`` of radii where the
+    integrand has a kink, which become panel boundaries of a composite rule;
+    ``eps`` grades the azimuths (:func:`_azimuths`).  With ``power = e`` the radius
+    is ``y = 1 − cos^{e+1} ψ`` instead (for a ``cos^e ψ`` lobe about ``c``, which is
+    then constant in ``y``: ``cos^e ψ sin ψ dψ = dy/(e+1)``).
+    Returns directions ``(B, n_phi n_r, 3)`` and solid-angle weights ``(B, n_phi n_r)``.
+    """
+    b = c.shape[0]
+    phi, wphi = _azimuths(b, n_phi, eps)
+    pm = np.clip(psi_max(phi), 0.0, math.pi)[..., None]  # (B, n_phi, 1)
+    if power is not None:
+        k = power + 1.0
+        with np.errstate(divide="ignore"):
+            log_cos = np.log1p(-np.minimum(2 * np.sin(pm / 2) ** 2, 1.0))
+        y_max = -np.expm1(k * log_cos)
+        x, wx = _gl01(n_r)
+        y = y_max * x
+        omc = -np.expm1(np.log1p(-y) / k)  # 1 − cos ψ
+        sp = np.sqrt(np.clip(omc * (2 - omc), 0.0, None))
+        w = (y_max * wx) / k * np.exp(-(power / k) * np.log1p(-y)) * wphi[..., None]
+        ray = np.cos(phi)[..., None] * t1[:, None, :] + np.sin(phi)[..., None] * t2[:, None, :]
+        d = (1 - omc)[..., None] * c[:, None, None, :] + sp[..., None] * ray[:, :, None, :]
+        return d.reshape(b, -1, 3), w.reshape(b, -1)
+    a = None if width is None else np.arcsinh(pm / width)
+    # Panel boundaries (in ψ): a few multiples of the lobe width, so the lobe always gets
+    # panels of its own however far the ray reaches, and the kinks of the integrand.
+    marks = [] if width is None else [m * width for m in (2.0, 8.0, 32.0) if m * width < math.pi / 4]
+    cuts = [np.broadcast_to(np.float64(m), pm.shape) for m in marks]
+    if breaks is not None:
+        kinks = breaks(phi)
+        cuts += [kinks[..., i : i + 1] for i in range(kinks.shape[-1])]
+    if not cuts:
+        ux, uw = _gl01(n_r)
+    else:
+        kinks = np.clip(np.concatenate(cuts, axis=-1), 0.0, pm)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if width is None:
+                ub = np.where(pm > 0, kinks / np.where(pm > 0, pm, 1.0), 0.0)
+            else:
+                ub = np.where(a > 0, np.arcsinh(kinks / width) / np.where(a > 0, a, 1.0), 0.0)
+        ub = np.sort(np.clip(ub, 0.0, 1.0), axis=-1)
+        edges = np.concatenate([np.zeros(ub.shape[:-1] + (1,)), ub, np.ones(ub.shape[:-1] + (1,))], axis=-1)
+        x, wx = _gl01(max(min_order, n_r // (edges.shape[-1] - 1)))
+        lo, span = edges[..., :-1, None], np.diff(edges, axis=-1)[..., None]  # (B, n_phi, P, 1)
+        ux = (lo + span * x).reshape(lo.shape[:2] + (-1,))
+        uw = (span * wx).reshape(lo.shape[:2] + (-1,))
+    if width is None:
+        psi = pm * ux
+        dpsi = pm * uw
+    else:
+        psi = width * np.sinh(a * ux)
+        dpsi = width * a * np.cosh(a * ux) * uw
+    sp = np.sin(psi)
+    w = dpsi * sp * wphi[..., None]
+    ray = np.cos(phi)[..., None] * t1[:, None, :] + np.sin(phi)[..., None] * t2[:, None, :]  # (B, n_phi, 3)
+    d = np.cos(psi)[..., None] * c[:, None, None, :] + sp[..., None] * ray[:, :, None, :]
+    return d.reshape(b, -1, 3), w.reshape(b, -1)
+
+
+def _horizon_cut(c, t1, t2):
+    """``ψ_h(φ)``: where the ray from ``c`` (``n·c > 0``) meets the horizon ``n·l = 0``.
+
+    ``n·l = cos ψ (n·c) + sin ψ (n·t(φ))`` vanishes at ``ψ = atan2(n·c, −n·t(φ))``.
+    """
+
+    def f(phi):
+        nt = np.cos(phi) * t1[:, 2:3] + np.sin(phi) * t2[:, 2:3]
+        return np.arctan2(np.maximum(c[:, 2:3], 0.0), -nt)
+
+    return f
+
+
+def _frame_about(c):
+    """Tangents at ``c`` (``(B, 3)``); ``t1`` points toward the normal when ``c ≠ n``."""
+    n = np.array([0.0, 0.0, 1.0])
+    t = n - c * c[:, 2:3]
+    length = np.sqrt(np.sum(t * t, axis=-1, keepdims=True))
+    fallback, _ = orthonormal_basis(c)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t1 = np.where(length > 1e-12, t / np.where(length > 1e-12, length, 1.0), fallback)
+    t2 = np.cross(c, t1)
+    return t1, t2
+
+
+class _Rule(NamedTuple):
+    l: np.ndarray  # (B, M, 3) local directions
+    w: np.ndarray  # (B, M) weights (solid angle in l, Jacobians included)
+
+
+def _lobe_rule(part: BRDF, v: np.ndarray, n_r: int, n_phi: int, min_order: int = 1) -> _Rule:
+    """The polar rule centred on ``part``'s lobe for viewers ``v`` ``(B, 3)``."""
+    b = v.shape[0]
+    n = np.broadcast_to(np.array([0.0, 0.0, 1.0]), (b, 3))
+    x = np.broadcast_to(np.array([1.0, 0.0, 0.0]), (b, 3))
+    y = np.broadcast_to(np.array([0.0, 1.0, 0.0]), (b, 3))
+    lobe = part.lobe()
+    if lobe is not None and lobe.axis == "mirror":
+        e = lobe.power
+        r = v * np.array([-1.0, -1.0, 1.0])
+        t1, t2 = _frame_about(r)
+        cut = _horizon_cut(r, t1, t2)
+
+        def pm(phi):
+            # (R_v·l)^e vanishes beyond ψ = π/2 (e > 0): stop there as well.
+            return np.minimum(cut(phi), math.pi / 2)
+
+        width = lobe.rule_width
+        d, w = _star(r, t1, t2, pm, width, n_r, n_phi, eps=_cot(r[:, 2]), power=e, min_order=min_order)
+        return _Rule(d, w)
+    if lobe is not None and lobe.axis == "half":
+        width = lobe.rule_width
+        # Half-vector space: rays from n at azimuth φ measured from v's azimuth.
+        sv = np.sqrt(v[:, 0] ** 2 + v[:, 1] ** 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            horiz = np.stack([v[:, 0], v[:, 1], 0 * sv], -1) / np.where(sv > 0, sv, 1.0)[:, None]
+        a1 = np.where(sv[:, None] > 0, horiz, x)
+        a2 = np.cross(n, a1)
+        cos_v = v[:, 2]
+
+        def hmax(phi):
+            # n·l = 2 (v·h)(n·h) − n·v = A cos(2α − β), β = atan2(sin θ_v cos φ, cos θ_v): zero at α = (β + π/2)/2.
+            beta = np.arctan2(sv[:, None] * np.cos(phi), np.maximum(cos_v[:, None], 0.0))
+            return 0.5 * (beta + math.pi / 2)
+
+        breaks = None
+        if lobe.horizon == "v-cavity":
+            breaks = _vcavity_kinks(sv, cos_v, hmax)
+        elif lobe.horizon == "smith":
+            # Smith G1(l) falls from 1 to 0 within n·l ~ α of the horizon: panels there too.
+            def breaks(phi, a=width):
+                top = hmax(phi)[..., None]
+                return np.maximum(top - a * np.array([0.5, 2.0, 8.0]), 0.0)
+
+        h, w = _star(n, a1, a2, hmax, width, n_r, n_phi, breaks, eps=_cot(cos_v), min_order=min_order)
+        vh = np.einsum("bk,bmk->bm", v, h)
+        l = 2 * vh[..., None] * h - v[:, None, :]  # noqa: E741
+        return _Rule(l, w * 4 * np.maximum(vh, 0.0))
+    # A lobe about the normal (Lambert, e = 0) or none known: polar about the normal over the whole hemisphere.
+    d, w = _star(n, x, y, lambda phi: np.full(phi.shape, math.pi / 2), None, n_r, n_phi, min_order=min_order)
+    return _Rule(d, w)
+
+
+def _vcavity_kinks(sin_v, cos_v, hmax):
+    """Radii ``α`` along half-vector rays where the V-cavity ``G = min(1, G_v, G_l)`` switches branch.
+
+    Along the ray at azimuth ``φ`` (from ``v``'s azimuth): ``n·h = cos α``,
+    ``v·h = sin θ_v sin α cos φ + cos θ_v cos α``, ``n·l = 2 (v·h) cos α − cos θ_v``;
+    ``G_v = 2 (n·h)(n·v)/(v·h) = 1`` at ``tan α = cos θ_v / (sin θ_v cos φ)`` and
+    ``G_l = 2 (n·h)(n·l)/(v·h) = 1`` is found by bisection (``G_l`` is 2 at
+    ``α = 0`` and 0 at the horizon); ``G_v = G_l`` where ``n·l = n·v``, at
+    ``tan α = tan θ_v cos φ``.  Composite panels split there keep the
+    Gauss–Legendre rule converging fast despite the kinks.
+    """
+
+    def breaks(phi):
+        s = sin_v[:, None]
+        c = np.maximum(cos_v[:, None], 0.0)
+        cp = np.cos(phi)
+        top = hmax(phi)
+        a_v = np.arctan2(c, s * cp)
+        a_v = np.where(a_v < top, a_v, top)
+
+        def g_l(alpha):
+            ca = np.cos(alpha)
+            vh = s * np.sin(alpha) * cp + c * ca
+            return 2 * ca * (2 * vh * ca - c) - vh
+
+        lo = np.zeros_like(top)
+        hi = top.copy()
+        for _ in range(46):  # 2^-46 of a quarter turn: ~2e-14 rad
+            mid = 0.5 * (lo + hi)
+            pos = g_l(mid) > 0
+            lo = np.where(pos, mid, lo)
+            hi = np.where(pos, hi, mid)
+        # G_v = G_l (n·l = n·v) where tan α = tan θ_v cos φ.
+        a_e = np.arctan2(s * cp, c)
+        a_e = np.where((a_e > 0) & (a_e < top), a_e, top)
+        return np.stack([a_v, 0.5 * (lo + hi), a_e], axis=-1)
+
+    return breaks
+
+
+def _cap_rule(c, cap: float, n_r: int, n_phi: int, min_order: int = 1) -> _Rule:
+    """Polar rule over the cap of half-angle ``cap`` about ``c`` ``(B, 3)`` (local), cut at the horizon."""
+    t1, t2 = _frame_about(c)
+    cut = _horizon_cut(c, t1, t2)
+    above = c[:, 2:3] > 0
+
+    def pm(phi):
+        return np.where(above, np.minimum(cap, cut(phi)), cap)
+
+    d, w = _star(c, t1, t2, pm, None, n_r, n_phi, eps=_cot(c[:, 2]), min_order=min_order)
+    return _Rule(d, w)
+
+
+def _cot(cos_t):
+    """``cot θ`` from ``cos θ`` (``(B,)``), the width of the horizon cut's turn in azimuth."""
+    c = np.clip(cos_t, 0.0, 1.0)
+    s = np.sqrt((1 - c) * (1 + c))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(s > 0, c / np.where(s > 0, s, 1.0), 10.0)
+
+
+def _split(samples: int, parts: int):
+    """Radial and angular node counts of the fine and coarse rules within ``samples`` evaluations."""
+    per = max(samples // parts, 10)
+    fine = max(per * 4 // 5, 8)  # the coarse rule costs a quarter of the fine one
+    n_phi = max(8, 8 * round(math.sqrt(fine) / 8))  # four azimuth panels, in the coarse rule too
+    n_r = max(2, fine // n_phi)
+    return (n_r, n_phi), (max(1, n_r // 2), max(1, n_phi // 2))
