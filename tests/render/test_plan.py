@@ -120,7 +120,7 @@ def test_plans_do_not_rasterize_again():
 
 
 # ------------------------------------------------------------------ scenes
-from lighting.scene.scene import SceneRenderer, example_path, list_examples, load_scene, parse_scene  # noqa: E402
+from lighting.scene import SceneRenderer, example_path, list_examples, load_scene, parse_scene  # noqa: E402
 
 
 @pytest.mark.parametrize("name", list_examples())
