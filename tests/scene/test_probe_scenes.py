@@ -5,7 +5,7 @@ swapped, huge, tiny, NaN, negative and overlong numbers, values nested 500 deep,
 strings and keys, output paths with ``..``, absolute paths, symbolic links, directories, input paths
 naming FIFOs, devices and folders, huge image sizes, sample counts, sphere resolutions and sparse
 mesh files, truncation and random bytes.  Each mutant is rendered in-process with
-``explorer.render_cmd.main`` from a work folder, with a decoy folder beside it.  A case fails when
+``explorer.commands.render.main`` from a work folder, with a decoy folder beside it.  A case fails when
 
 * the command raises (any traceback, including a warning turned into an error by the test settings);
 * it exits 0 without writing a PNG inside the allowed folders, or exits 2 without exactly one
@@ -27,7 +27,7 @@ import shutil
 import tomllib
 import tracemalloc
 
-from explorer import render_cmd
+from explorer.commands import render as render_cmd
 from lighting._numeric import set_memory_budget
 from lighting.scene import list_examples
 from lighting.scene.examples import EXAMPLES_DIR

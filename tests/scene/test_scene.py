@@ -13,7 +13,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from explorer import render_cmd
+from explorer.commands import render as render_cmd
 from lighting import gl
 from lighting.lights.punctual import AmbientLight, DirectionalLight, PointLight
 from lighting.models.brdf import BlinnPhong, Lambert, Phong
@@ -926,7 +926,7 @@ def test_command_line_values_are_abbreviated_and_exposure_bounded(capsys):
 
 @pytest.mark.parametrize("out", ["", "x.svg", "missing/x.png"])
 def test_render_checks_the_output_before_rendering(out, tmp_path, monkeypatch, capsys):
-    from explorer import render_cmd
+    from explorer.commands import render as render_cmd
     from lighting import scene as scene_mod
 
     def no_render(self):
