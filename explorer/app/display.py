@@ -9,7 +9,18 @@ __all__ = ["DISPLAY_TIMEOUT", "NO_DISPLAY_MESSAGE", "display_problem", "has_disp
 
 
 def no_display_message(problem: str) -> str:
-    """The one line the command prints when no window can open: why, and how to get images instead."""
+    """The one line the command prints when no window can open: why, and how to get images instead.
+
+    Parameters
+    ----------
+    problem : str
+        Why no window can open (:func:`display_problem`).
+
+    Returns
+    -------
+    str
+        One line, without a newline.
+    """
     return (
         f"lighting-explorer: {problem}, so no window can open; for images instead run "
         "`lighting-explorer --off-screen --screenshot out.png` (any control options work too) "
@@ -23,7 +34,13 @@ DISPLAY_TIMEOUT = 2.0
 
 
 def has_display() -> bool:
-    """Whether a window can open: on Linux and BSD an X server must answer (see :func:`display_problem`)."""
+    """Whether a window can open: on Linux and BSD an X server must answer (see :func:`display_problem`).
+
+    Returns
+    -------
+    bool
+        True when :func:`display_problem` finds nothing in the way.
+    """
     return display_problem() is None
 
 
@@ -32,10 +49,20 @@ def display_problem(timeout: float = DISPLAY_TIMEOUT) -> str | None:
 
     On Linux and BSD the window is an X11 window (VTK's X render window), so ``DISPLAY`` must name
     an X server that answers: a ``DISPLAY`` where nobody listens made the window fail only after
-    VTK had set everything up (3 s, no message of ours, exit status 0).  The server is asked as
+    VTK had set everything up (no message of ours, exit status 0).  The server is asked as
     Xlib asks it, first its socket (``/tmp/.X11-unix/X<n>`` or TCP port ``6000 + n``, within
     ``timeout`` seconds), then ``XOpenDisplay`` (which also checks the X authority).  Without
     ``DISPLAY``, a Wayland session (``WAYLAND_DISPLAY``) is trusted.  Other systems: ``None``.
+
+    Parameters
+    ----------
+    timeout : float
+        Seconds to wait for the X server's socket, and again for ``XOpenDisplay``.
+
+    Returns
+    -------
+    str or None
+        The problem, or None when a window can open.
     """
     if not sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")):
         return None

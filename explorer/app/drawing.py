@@ -20,6 +20,16 @@ def albedo_caption(av) -> str:
     'albedo ρ(θ_v = 29°) = 0.8123 ± 2e-05'
     >>> albedo_caption(AlbedoView(0.5, 1.2, 0.05, 0.042, True, None, None, "quadrature", 4096))
     'albedo ρ(θ_v = 29°) = 1.2 ± 0.05  unconverged (4.2 % > 2 %)'
+
+    Parameters
+    ----------
+    av : AlbedoView
+        The albedo view.
+
+    Returns
+    -------
+    str
+        ``albedo ρ(θ_v = …°) = value ± error``, with "unconverged (…)" above 2 % relative error.
     """
     text = f"albedo ρ(θ_v = {math.degrees(av.theta_v):.0f}°) = {av.value:.4g} ± {av.error:.2g}"
     if av.unconverged:

@@ -66,10 +66,26 @@ def encode8(image, coverage=None, exposure: float = 0.0):
     curve at every pixel.  Code ``k`` starts at the linear value ``t_k = srgb_to_linear((k −
     ½)/255) / 2^exposure``, so the code of ``x`` is the number of ``t_k <= x``.  For float32 images
     two table look-ups find it (:func:`_srgb_bucket_table`: the top 16 bits of ``x`` give the
-    code of its bucket, one comparison adds the step inside the bucket), about five times faster
-    than a binary search among the 255 ``t_k``, which float64 images still use.  Pixels outside
+    code of its bucket, one comparison adds the step inside the bucket) instead of a binary search
+    among the 255 ``t_k``, which float64 images still use.  Pixels outside
     ``coverage`` are black.  Returns ``(rgb8, clipped)``: codes ``(..., 3)`` and the number of
     covered pixels with a channel above 1 after the exposure (counted as the engine counts them).
+
+    Parameters
+    ----------
+    image : array_like, shape (..., 3)
+        Linear RGB; float32 takes the two-step look-up, other dtypes a binary search in float64.
+    coverage : array_like of bool, shape (...), optional
+        Pixels to encode; the others become black and are not counted as clipped.
+    exposure : float
+        Stops: the codes of ``image · 2^exposure``.
+
+    Returns
+    -------
+    rgb8 : ndarray of uint8, shape (..., 3)
+        The codes, equal to ``encode_srgb8(image, exposure=exposure)[0]``.
+    clipped : int
+        Covered pixels with a channel above 1 after the exposure.
 
     Examples
     --------
@@ -80,6 +96,8 @@ def encode8(image, coverage=None, exposure: float = 0.0):
     >>> bool(np.array_equal(encode8(img.astype(np.float32))[0], encode_srgb8(img)[0]))
     True
     """
+    # A fast path of lighting.render.image.encode_srgb8 (clamp): it must give that function's codes bit
+    # for bit; test_encode8_* in tests/explorer/test_app.py hold it to that at every code step.
     img = np.asarray(image)
     if img.dtype not in (np.float32, np.float64):
         img = img.astype(np.float64)

@@ -70,16 +70,40 @@ class KeysMixin:
 
     @property
     def help_visible(self) -> bool:
+        """Whether the help overlay is shown."""
         return bool(self.help_renderer.GetDraw())
 
     def toggle_help(self, show=None):
+        """Show or hide the help overlay (the ``h`` key).
+
+        Parameters
+        ----------
+        show : bool, optional
+            Show (True) or hide (False); default: the other way round from now.
+
+        Returns
+        -------
+        bool
+            Whether the help is shown now.
+        """
         show = not self.help_visible if show is None else bool(show)
         self.help_renderer.SetDraw(show)
         self._render()
         return show
 
     def on_key(self, key: str) -> set[str]:
-        """What a key press does (see the help text); returns the views it changed."""
+        """What a key press does (see the help text); returns the views it changed.
+
+        Parameters
+        ----------
+        key : str
+            The key symbol (``"m"``, ``"Up"``, ...).
+
+        Returns
+        -------
+        set of str
+            The names of the views recomputed (empty for keys that change no control).
+        """
         s = self.state
         cycle = {
             "m": ("model", MODELS, 1),

@@ -1,10 +1,10 @@
 """The explorer's Matplotlib panels: scan-line profile, polar slice, angle curves and half/difference image.
 
 Each panel is a :class:`BlitFigure`: a small Matplotlib figure whose data
-artists are *animated* — a full draw (axes, ticks, labels: 40–100 ms) happens
+artists are *animated* — a full draw (axes, ticks, labels: the slow part) happens
 only when the layout changes (axis limits, the figure's size); otherwise an
 update restores the saved background and redraws the data artists alone
-(1–2 ms).  Axis limits follow the data with hysteresis (they grow at once,
+(``docs/explorer.md`` gives the costs).  Axis limits follow the data with hysteresis (they grow at once,
 shrink only when the data fall below a quarter of the range), so updates rarely
 need a full draw.  The window updates the panels when a slider is released,
 not during the drag.
@@ -73,6 +73,16 @@ def nice_ceiling(x: float) -> float:
 
     Coarse steps on purpose: an axis that changes its limit needs a full redraw.
 
+    Parameters
+    ----------
+    x : float
+        The value to cover.
+
+    Returns
+    -------
+    float
+        The limit.
+
     Examples
     --------
     >>> [nice_ceiling(v) for v in (0.0, 0.23, 1.0, 7.1, 1234.0)]
@@ -91,6 +101,20 @@ def nice_ceiling(x: float) -> float:
 
 def hysteresis_limit(peak: float, current: float | None, margin: float = 1.05) -> float:
     """An axis limit for data reaching ``peak``: keep ``current`` while ``current/4 <= peak <= current``.
+
+    Parameters
+    ----------
+    peak : float
+        The data's largest value.
+    current : float or None
+        The axis limit now (None: none yet).
+    margin : float
+        Head room above the peak before rounding up.
+
+    Returns
+    -------
+    float
+        The new limit.
 
     Examples
     --------
@@ -122,7 +146,7 @@ class BlitFigure:
         whole layout (the window passes ``100 × height / 768``).
     captions : bool
         Draw the texts that change with the data (titles with numbers).  Text is the
-        slow part of a blit (~5 ms a line); a host that can draw text faster shows
+        slow part of a blit; a host that can draw text faster shows
         :attr:`captions` itself and passes False.
 
     Attributes
@@ -197,7 +221,13 @@ class BlitFigure:
                 self.fig.draw_artist(a)
 
     def render(self) -> np.ndarray:
-        """Redraw (blit if possible) and return the RGBA buffer ``(H, W, 4)`` (a view: copy to keep it)."""
+        """Redraw (blit if possible) and return the RGBA buffer ``(H, W, 4)`` (a view: copy to keep it).
+
+        Returns
+        -------
+        ndarray of uint8, shape (H, W, 4)
+            The figure's pixels (also passed to :attr:`on_image` when set).
+        """
         canvas = self.fig.canvas
         if self._dirty or self._bg is None or self._bg_size != canvas.get_width_height():
             with matplotlib.rc_context(STYLE):
@@ -255,7 +285,15 @@ class ProfilePlot(BlitFigure):
         return [self.g_line, self.p_line, self.g_d2, self.p_d2, self.edges]
 
     def set_data(self, profile, channel_label: str = "luminance Y"):
-        """Show a :class:`~explorer.app.views.ProfileView`."""
+        """Show a :class:`~explorer.app.views.ProfileView`.
+
+        Parameters
+        ----------
+        profile : ProfileView
+            The scan line's data.
+        channel_label : str
+            The plotted channel, for the axis label.
+        """
         x = profile.x
         g, p = _finite(profile.gouraud), _finite(profile.phong)
         self.g_line.set_data(x, g)
@@ -283,6 +321,20 @@ def radial_scale(top: float) -> tuple[float, str]:
     Polar axes draw no offset text, so a radial axis up to 7.9e15 would read "1.0, 0.75, …" with
     nothing to say "× 1e16".  Labels are given in units of a power of ten, named by the caption.
 
+    Parameters
+    ----------
+    top : float
+        The largest value to show.
+
+    Returns
+    -------
+    factor : float
+        What the radial labels are divided by (a power of ten).
+    caption : str
+        The scale's caption (empty when the factor is 1).
+
+    Examples
+    --------
     >>> radial_scale(0.8), radial_scale(7.9e15), radial_scale(2e-5)
     ((1.0, ''), (1000000000000000.0, 'radius × 1e15'), (1e-05, 'radius × 1e-5'))
     """
@@ -328,7 +380,17 @@ class PolarPlot(BlitFigure):
         return [self.light_ray, self.mirror_ray, self.fixed_light, self.fixed_view]
 
     def set_data(self, polar, *, channel="luminance", label="f_r"):
-        """Show a :class:`~explorer.app.views.PolarView`."""
+        """Show a :class:`~explorer.app.views.PolarView`.
+
+        Parameters
+        ----------
+        polar : PolarView
+            The two slices.
+        channel : str
+            The plotted channel (its colour).
+        label : str
+            What the values are (:meth:`~explorer.app.state.AppState.quantity_label`).
+        """
         a = _finite(polar.light_fixed)
         b = _finite(polar.view_fixed)
         self.fixed_light.set_data(polar.angles, a)
@@ -403,7 +465,19 @@ class AnglePlots(BlitFigure):
         return self.curves + self.markers + [self.image, self.im_marker]
 
     def set_data(self, theta_v, theta_h, theta_d, halfdiff, *, channel="luminance", label="f_r"):
-        """Show three :class:`~explorer.app.views.CurveView` and a :class:`~explorer.app.views.HalfDiffView`."""
+        """Show three :class:`~explorer.app.views.CurveView` and a :class:`~explorer.app.views.HalfDiffView`.
+
+        Parameters
+        ----------
+        theta_v, theta_h, theta_d : CurveView
+            The three angle curves.
+        halfdiff : HalfDiffView
+            The half/difference image.
+        channel : str
+            The plotted channel (its colour).
+        label : str
+            What the values are.
+        """
         colour = COLOURS.get(channel, COLOURS["luminance"])
         tl = math.degrees(theta_v.markers[1])
         # Models with 1/(n·l) (Phong, unnormalized Blinn-Phong) grow without bound toward grazing: the

@@ -28,6 +28,21 @@ def state_from_scene(path) -> AppState:
     sphere from the same side of the picture) and, for point and spot lights, at
     the same distance from the object's centre, with the irradiance it delivers
     there.  Render options (mode, form, terms, exposure) are taken too.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A scene file (TOML).
+
+    Returns
+    -------
+    AppState
+        The state; controls the scene does not set keep their defaults.
+
+    Raises
+    ------
+    ValueError
+        For a malformed scene, or a material part no registered model describes.
     """
     try:
         from lighting.scene import GLLight, gl_material_to_engine, load_scene

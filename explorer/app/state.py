@@ -354,11 +354,28 @@ class AppState:
 
     # ------------------------------------------------------------------ bulk operations
     def to_dict(self) -> dict:
-        """Every control value, by name."""
+        """Every control value, by name.
+
+        Returns
+        -------
+        dict
+            Control name → value.
+        """
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
     def update(self, **values) -> set[str]:
-        """Assign several controls (all validated first: on error nothing changes); returns the names that changed."""
+        """Assign several controls (all validated first: on error nothing changes); returns the names that changed.
+
+        Parameters
+        ----------
+        **values
+            Control name → new value.
+
+        Returns
+        -------
+        set of str
+            The names whose value changed.
+        """
         checked = {}
         trial = AppState(**self.to_dict())
         for k, v in values.items():
@@ -370,10 +387,23 @@ class AppState:
         return changed
 
     def reset(self) -> set[str]:
-        """Back to the defaults; returns the names that changed."""
+        """Back to the defaults; returns the names that changed.
+
+        Returns
+        -------
+        set of str
+            The names whose value changed.
+        """
         return self.update(**AppState().to_dict())
 
     def copy(self) -> AppState:
+        """A copy of the state.
+
+        Returns
+        -------
+        AppState
+            An independent state with the same values.
+        """
         return AppState(**self.to_dict())
 
     @classmethod
@@ -383,6 +413,18 @@ class AppState:
         ``scene`` (a path) is loaded first with :func:`state_from_scene`; explicit
         options then override it.  ``kd`` may be one number or an RGB triple: a
         triple sets ``kd`` to its largest entry and ``color`` to the triple divided by it.
+
+        Parameters
+        ----------
+        args : argparse.Namespace or dict, optional
+            Parsed options; ``None`` values are skipped, names that are no controls ignored.
+        **overrides
+            More values, applied after ``args``.
+
+        Returns
+        -------
+        AppState
+            The state.
 
         Examples
         --------
@@ -438,7 +480,18 @@ class AppState:
         return self.diffuse_albedo if name == "kd" else getattr(self, name)
 
     def brdf(self, parts=("diffuse", "specular")):
-        """``Lambert(k_d)`` plus the specular model, restricted to ``parts`` (zero Lambert if none)."""
+        """``Lambert(k_d)`` plus the specular model, restricted to ``parts`` (zero Lambert if none).
+
+        Parameters
+        ----------
+        parts : collection of str
+            ``"diffuse"`` and/or ``"specular"``.
+
+        Returns
+        -------
+        BRDF
+            The model (a sum when both parts are present).
+        """
         out = []
         if "diffuse" in parts:
             out.append(Lambert(self.diffuse_albedo))
@@ -450,24 +503,54 @@ class AppState:
         return out[0] if len(out) == 1 else out[0] + out[1]
 
     def plot_brdf(self):
-        """The BRDF the plots show: the parts whose terms are switched on."""
+        """The BRDF the plots show: the parts whose terms are switched on.
+
+        Returns
+        -------
+        BRDF
+            The diffuse and/or specular part, as :attr:`terms` says.
+        """
         return self.brdf(self.terms)
 
     def material(self) -> Material:
-        """The surface; its ambient coefficient is the diffuse albedo (``k_a = k_d``)."""
+        """The surface; its ambient coefficient is the diffuse albedo (``k_a = k_d``).
+
+        Returns
+        -------
+        Material
+            ``Material(self.brdf())``.
+        """
         return Material(self.brdf())
 
     def light_direction(self) -> np.ndarray:
-        """Unit vector from the sphere centre toward the light (view frame: x right, y up, z to the viewer)."""
+        """Unit vector from the sphere centre toward the light (view frame: x right, y up, z to the viewer).
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            The unit direction, float64.
+        """
         # Exact at the horizon: elevation 0 gives z = 0, not cos(90°) = 6e-17 (a light a hair above it).
         return direction_from_elevation(float(self.elevation), float(self.azimuth))
 
     def light_position(self) -> np.ndarray:
-        """Where a point or spot light is: ``distance`` along :meth:`light_direction`."""
+        """Where a point or spot light is: ``distance`` along :meth:`light_direction`.
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            The position, float64.
+        """
         return self.distance * self.light_direction()
 
     def key_light(self):
-        """The light of the ``light`` control (None for ambient only)."""
+        """The light of the ``light`` control (None for ambient only).
+
+        Returns
+        -------
+        Light or None
+            A directional, point or spot light.
+        """
         d = self.light_direction()
         if self.light == "directional":
             return DirectionalLight(d, color=self.light_color, intensity=self.intensity)
@@ -490,12 +573,24 @@ class AppState:
         )
 
     def lights(self) -> list:
-        """Ambient light ``I_a`` plus the key light."""
+        """Ambient light ``I_a`` plus the key light.
+
+        Returns
+        -------
+        list of Light
+            The ambient light first.
+        """
         key = self.key_light()
         return [AmbientLight(intensity=self.ambient)] + ([key] if key is not None else [])
 
     def incident_direction(self) -> np.ndarray:
-        """The light direction ``l`` at the sphere point facing the viewer (local frame, ``n = +z``)."""
+        """The light direction ``l`` at the sphere point facing the viewer (local frame, ``n = +z``).
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            The unit direction, float64.
+        """
         if self.light in ("point", "spot"):
             d = self.light_position() - np.array([0.0, 0.0, 1.0])
             return d / np.linalg.norm(d)
@@ -508,11 +603,23 @@ class AppState:
         return math.atan2(math.hypot(d[0], d[1]), d[2])
 
     def plot_options(self) -> dict:
-        """Keyword arguments of the :mod:`lighting.analysis` functions for the plot controls."""
+        """Keyword arguments of the :mod:`lighting.analysis` functions for the plot controls.
+
+        Returns
+        -------
+        dict
+            ``channel``, ``cosine`` and ``log``.
+        """
         return {"channel": self.channel, "cosine": self.times_cos, "log": self.log}
 
     def quantity_label(self) -> str:
-        """What the plots show, e.g. ``log10(1 + f_r·cos θ_l)  [luminance Y]``."""
+        """What the plots show, e.g. ``log10(1 + f_r·cos θ_l)  [luminance Y]``.
+
+        Returns
+        -------
+        str
+            The label.
+        """
         q = "f_r·cos θ_l" if self.times_cos else "f_r"
         q = f"log10(1 + {q})" if self.log else q + " (1/sr)"
         return f"{q}  [{CHANNEL_LABELS[self.channel]}]"

@@ -153,6 +153,7 @@ class CoarseView:
 
     @property
     def n_triangles(self) -> int:
+        """Triangles of the coarse sphere."""
         return len(self.faces)
 
 
@@ -345,13 +346,37 @@ class ExplorerModel:
 
     # ------------------------------------------------------------------ caches
     def mesh(self, tessellation: int):
-        """The coarse UV sphere with ``tessellation`` bands and twice as many sectors (cached)."""
+        """The coarse UV sphere with ``tessellation`` bands and twice as many sectors (cached).
+
+        Parameters
+        ----------
+        tessellation : int
+            Latitude bands.
+
+        Returns
+        -------
+        Mesh
+            The UV sphere.
+        """
         if tessellation not in self._meshes:
             self._meshes[tessellation] = uv_sphere(tessellation, 2 * tessellation)
         return self._meshes[tessellation]
 
     def mesh_renderer(self, tessellation: int, size: int) -> Renderer:
-        """A renderer of the coarse sphere at ``size`` pixels; rasterized once, kept for the last 12 used."""
+        """A renderer of the coarse sphere at ``size`` pixels; rasterized once, kept for the last 12 used.
+
+        Parameters
+        ----------
+        tessellation : int
+            Latitude bands of the coarse sphere.
+        size : int
+            Image width and height in pixels.
+
+        Returns
+        -------
+        Renderer
+            The renderer (its geometry buffers rasterized once).
+        """
         key = (tessellation, size)
         r = self._renderers.pop(key, None)
         if r is None:
@@ -362,7 +387,18 @@ class ExplorerModel:
         return r
 
     def is_rasterized(self, tessellation: int, size: int) -> bool:
-        """Whether the renderer of that coarse sphere at that size is in the cache."""
+        """Whether the renderer of that coarse sphere at that size is in the cache.
+
+        Parameters
+        ----------
+        tessellation, size : int
+            As :meth:`mesh_renderer`.
+
+        Returns
+        -------
+        bool
+            True when cached.
+        """
         return (tessellation, size) in self._renderers
 
     @property
@@ -380,6 +416,11 @@ class ExplorerModel:
         """Controls whose value differs from the last :meth:`update` (all of them before the first).
 
         Includes the pseudo-field ``"incidence"`` when the incident polar angle changed.
+
+        Returns
+        -------
+        set of str
+            Control names (and ``"incidence"``).
         """
         now = self._inputs()
         if self._snapshot is None:
@@ -387,7 +428,18 @@ class ExplorerModel:
         return {k for k, v in now.items() if v != self._snapshot[k]}
 
     def stale_views(self, changed=None) -> set[str]:
-        """Views that depend on the changed controls."""
+        """Views that depend on the changed controls.
+
+        Parameters
+        ----------
+        changed : collection of str, optional
+            Changed controls (default: :meth:`changed_fields`).
+
+        Returns
+        -------
+        set of str
+            View names (every view before the first update).
+        """
         changed = self.changed_fields() if changed is None else set(changed)
         views = {v for v, deps in VIEW_DEPENDENCIES.items() if deps & changed}
         if "sphere" in views and changed <= {"tessellation"} and self.state.mode == "phong":
@@ -404,6 +456,18 @@ class ExplorerModel:
         updates :data:`LIVE_VIEWS`): the other stale views are kept in :attr:`pending`
         and recomputed by the next call that includes them.  :meth:`refresh`
         recomputes everything.
+
+        Parameters
+        ----------
+        changed : collection of str, optional
+            Control names to treat as changed.
+        only : collection of str, optional
+            The views to recompute now (e.g. :data:`LIVE_VIEWS`).
+
+        Returns
+        -------
+        set of str
+            The names of the views recomputed.
         """
         diff = self.changed_fields() | set(changed or ())
         stale = self.stale_views(diff) | self.pending
@@ -540,7 +604,7 @@ class ExplorerModel:
         return LobeView(vertices, m.faces, values, peak, scale, l_plot, mirror, m.peak.astype(np.float64), below)
 
     def _albedo_view(self, brdf, theta) -> AlbedoView:
-        # Quadrature on the lobe's nodes: deterministic, a few ms (up to ~30 ms), with an error estimate.
+        # Quadrature on the lobe's nodes: deterministic, with an error estimate.
         # Not a live view: computed when the plots follow, on a slider's release, never during a drag.
         est = directional_albedo(brdf, theta, samples=ALBEDO_SAMPLES, method="quadrature", return_error=True)
         rgb = np.asarray(est.value, dtype=np.float64)

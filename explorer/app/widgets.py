@@ -64,6 +64,18 @@ class SliderSpec:
         return float(len(self.choices) - 1) if self._range is None else self._range[1]
 
     def to_slider(self, value) -> float:
+        """The slider position that shows ``value``.
+
+        Parameters
+        ----------
+        value
+            A control value (a choice, or a number).
+
+        Returns
+        -------
+        float
+            The slider position (an index for choices, log10 for log sliders), within the range.
+        """
         if self.choices is not None:
             return float(self.choices.index(value)) if value in self.choices else 0.0
         if self.log:
@@ -75,6 +87,16 @@ class SliderSpec:
 
         Choices and integer controls snap to the nearest allowed value (ties upward): a float from
         a widget is a position, not a user's error.
+
+        Parameters
+        ----------
+        x : float
+            The slider position.
+
+        Returns
+        -------
+        str, int or float
+            The control value.
         """
         x = check_range(f"{self.name} slider position", x)
         x = min(max(x, self.lo), self.hi)
@@ -87,6 +109,18 @@ class SliderSpec:
         return x
 
     def title(self, value) -> str:
+        """The slider's title showing ``value``.
+
+        Parameters
+        ----------
+        value
+            The control value.
+
+        Returns
+        -------
+        str
+            E.g. ``"k_d = 0.80"`` or ``"model: Blinn-Phong"``.
+        """
         if self.choices is not None:
             shown = _CHOICE_LABELS.get(self.name, {}).get(value, value)
             return f"{self.label}: {shown}"

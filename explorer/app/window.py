@@ -116,7 +116,7 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         with _quiet_vtk(self.off_screen and not has_display()):
             pl = self._make_plotter(row_w, col_w)
         pl.set_background(BACKGROUND)
-        # Multisampling costs 3-4x the frame time with software OpenGL, and the engine's images need none.
+        # Multisampling multiplies the frame time with software OpenGL, and the engine's images need none.
         pl.ren_win.SetMultiSamples(0)
         self.plotter = pl
         self.sliders: dict = {}
@@ -154,6 +154,7 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
     # ------------------------------------------------------------------ small helpers
     @property
     def state(self) -> AppState:
+        """The controls (the model's :class:`~explorer.app.state.AppState`)."""
         return self.model.state
 
     # ------------------------------------------------------------------ handlers
@@ -163,6 +164,22 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         The slider widget renders the window itself after calling back, so by default
         this only updates the scene (``render=True`` renders too).  ``live=True`` is a
         drag in progress (what the widget passes): see :meth:`set_control`.
+
+        Parameters
+        ----------
+        name : str
+            The control (a key of :data:`~explorer.app.widgets.SLIDERS`).
+        raw : float
+            The slider position.
+        render : bool
+            Render the window afterwards.
+        live : bool
+            A drag in progress.
+
+        Returns
+        -------
+        set of str
+            The names of the views recomputed.
         """
         spec = SLIDERS[name]
         value = spec.from_slider(raw)
@@ -182,6 +199,24 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         when the change affects one of them, and leaves the others in
         :attr:`stale_views` for :meth:`flush` (the slider's release, or :data:`IDLE_MS`
         without a move).  Otherwise every affected view is updated at once.
+
+        Parameters
+        ----------
+        name : str
+            The control.
+        value
+            Its new value (validated; a bad one raises ``ValueError`` naming the control).
+        sync : bool
+            Make the widgets show the new state.
+        render : bool
+            Render the window afterwards.
+        live : bool
+            A drag in progress.
+
+        Returns
+        -------
+        set of str
+            The names of the views recomputed (empty when the value did not change).
         """
         changed = self.state.update(**{name: value})
         if not changed:
@@ -194,7 +229,13 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         return views
 
     def reset(self) -> set[str]:
-        """Every control back to its default, cameras too."""
+        """Every control back to its default, cameras too.
+
+        Returns
+        -------
+        set of str
+            The names of the views recomputed.
+        """
         self.state.reset()
         views = self.refresh(render=False)
         self._sync_widgets()
@@ -223,6 +264,20 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
 
         With ``live`` only the live views are recomputed if any of them is stale (see
         :meth:`set_control`); the rest wait in :attr:`stale_views`.
+
+        Parameters
+        ----------
+        render : bool
+            Render the window afterwards.
+        force : bool
+            Recompute every view.
+        live : bool
+            A drag in progress.
+
+        Returns
+        -------
+        set of str
+            The names of the views recomputed.
         """
         model = self.model
         if force:
@@ -268,6 +323,16 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
 
         Called when a slider is released and when it has rested :data:`IDLE_MS`; the
         views then hold the same data as if every view had been updated at each move.
+
+        Parameters
+        ----------
+        render : bool
+            Render the window afterwards.
+
+        Returns
+        -------
+        set of str
+            The names of the views recomputed.
         """
         if not self.model.pending:
             return set()
@@ -305,6 +370,16 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         Written through :func:`explorer.output.write_image`: the format follows the extension (PNG,
         and JPEG/TIFF/WebP with Pillow), the file appears complete or not at all, and it gets the
         user's umask.  A bad path raises :class:`explorer.output.OutputError` before anything is drawn.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The image file to write.
+
+        Returns
+        -------
+        str
+            ``path``.
         """
         from ..output import check_output_path, write_image
 
@@ -315,7 +390,13 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         return path
 
     def image(self) -> np.ndarray:
-        """The window as an RGB array ``(H, W, 3)`` (renders first)."""
+        """The window as an RGB array ``(H, W, 3)`` (renders first).
+
+        Returns
+        -------
+        ndarray of uint8, shape (H, W, 3)
+            The window's pixels, top row first.
+        """
         self._draw_all_panels()
         self.plotter.render()
         return np.asarray(self.plotter.screenshot(return_img=True))
@@ -328,7 +409,18 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
                 return path
 
     def panel_viewport(self, panel) -> tuple[float, float, float, float]:
-        """Normalized ``(xmin, ymin, xmax, ymax)`` of a panel in the window (origin bottom left)."""
+        """Normalized ``(xmin, ymin, xmax, ymax)`` of a panel in the window (origin bottom left).
+
+        Parameters
+        ----------
+        panel : (int, int)
+            Row and column of the panel (:mod:`explorer.app.layout`).
+
+        Returns
+        -------
+        tuple of float
+            The viewport.
+        """
         self.plotter.subplot(*panel)
         return tuple(self.plotter.renderer.GetViewport())
 
@@ -338,4 +430,5 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         self.plotter.show(auto_close=True)
 
     def close(self):
+        """Close the window (and release its render window)."""
         self.plotter.close()
