@@ -77,8 +77,8 @@ class Estimate:
 
     Honesty: the true error lies within ``2 * error`` in at least 90 % of seeds
     (Monte Carlo; the test suite measures it over 200 seeds), including when no
-    sample fell where the integrand is rare (see "Error estimates" in the module
-    notes).  :attr:`unconverged` flags every value whose relative error is above
+    sample fell where the integrand is rare (see "Monte Carlo errors" in the
+    module notes).  :attr:`unconverged` flags every value whose relative error is above
     :data:`UNCONVERGED_RELATIVE_ERROR` (2 %); the explorer and the accuracy
     report read it from here.
     """

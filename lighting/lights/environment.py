@@ -50,9 +50,10 @@ from .._numeric import (
     check_count,
     check_range,
     check_vectors,
-    real_array,
+    safe_div,
     working_dtype,
 )
+from ..models.sampler import _unit_square as _checked_unit_square
 
 __all__ = [
     "Environment",
@@ -76,10 +77,10 @@ def _directions(directions) -> tuple[np.ndarray, type]:
     """
     dt = working_dtype(directions)
     d = check_vectors("directions", directions, dtype=np.float64)
+    # Not vec.normalize: that one rescales vectors whose squared length under- or overflows, which
+    # this lookup has always mapped to zero (and the environments' results with it).
     length = np.sqrt(np.sum(d * d, axis=-1, keepdims=True))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d = np.where(length > 0, d / np.where(length > 0, length, 1.0), 0.0)
-    return d, dt
+    return safe_div(d, length), dt
 
 
 #: Peak bytes per direction of an environment lookup or sample (for the estimate made before allocating).
@@ -87,13 +88,8 @@ BYTES_PER_DIRECTION = 256
 
 
 def _unit_square(u) -> np.ndarray:
-    """Points of the unit square ``(..., 2)``: finite reals in ``[0, 1]``, float64, within the memory budget."""
-    allowed = "points of the unit square [0, 1]², shape (..., 2)"
-    arr = real_array("u", u, allowed=allowed, dtype=np.float64)
-    if arr.shape[-1:] != (2,):
-        raise ValueError(f"u must be {allowed}; got shape {arr.shape}: {_fmt(u)}")
-    if arr.size and (np.min(arr) < 0 or np.max(arr) > 1):
-        raise ValueError(f"u must be {allowed}; got values in [{np.min(arr):.6g}, {np.max(arr):.6g}]")
+    """Points of the unit square ``(..., 2)`` (the samplers' check), float64, within the memory budget."""
+    arr = _checked_unit_square("u", u)
     check_budget("u", arr.size // 2 * BYTES_PER_DIRECTION, what=f"{arr.size // 2} directions")
     return arr
 
