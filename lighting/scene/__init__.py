@@ -29,7 +29,7 @@ is allowed; the engine's own validation runs on every value and its message is
 passed on with the file and key in front.
 
 Modules: :mod:`~lighting.scene.errors` (:class:`SceneError` and its messages),
-:mod:`~lighting.scene.checks` (value checks), :mod:`~lighting.scene.schema` (the key tables; the
+:mod:`~lighting.scene.checks` (value checks, the nesting limit), :mod:`~lighting.scene.schema` (the key tables; the
 models' keys come from the model registry), :mod:`~lighting.scene.model` (:class:`Scene` and its
 parts), :mod:`~lighting.scene.load` (reading), :mod:`~lighting.scene.opengl` (OpenGL materials),
 :mod:`~lighting.scene.renderer` (:class:`SceneRenderer`), :mod:`~lighting.scene.budget` (memory and
@@ -78,6 +78,7 @@ from __future__ import annotations
 
 from . import budget, checks, errors, examples, load, model, opengl, paths, renderer, save, schema
 from .budget import *  # noqa: F403
+from .checks import *  # noqa: F403
 from .errors import *  # noqa: F403
 from .examples import *  # noqa: F403
 from .load import *  # noqa: F403
@@ -101,6 +102,7 @@ __all__ = [
     "save",
     "examples",
     *errors.__all__,
+    *checks.__all__,
     *schema.__all__,
     *model.__all__,
     *load.__all__,

@@ -2,6 +2,7 @@
 
 A check is ``f(ctx, path, value) -> normalized value``; it only checks the *type* and finiteness.
 Ranges are the engine's business: its constructors run on every value (see :meth:`_Ctx.build`).
+Before any of that, the text (or dict) is checked for nesting deeper than :data:`MAX_NESTING`.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from ..shading.equation import TERMS
 from .budget import _clamp
 from .errors import SceneBudgetError, SceneError, _describe, _fmt_value, _int_text, _join, _norm_name, _suggest
 
-__all__: list[str] = []
+__all__ = ["MAX_NESTING"]
 
 
 class _Ctx:
@@ -203,3 +204,63 @@ def _array_of_tables(ctx, path, value, what) -> list:
     if not isinstance(value, (list, tuple)) or not all(isinstance(x, dict) for x in value):
         ctx.fail(path, f"must be an array of tables ([[{path}]] entries, {what}); got {_describe(value)}")
     return list(value)
+
+
+#: Deepest nesting of arrays and tables a scene may use (a scene needs about 7: objects[0].material.parts[0].kd).
+#: tomllib reads nested values recursively, and 500 levels exhaust Python's stack: the text is scanned first.
+MAX_NESTING = 32
+
+# TOML's lexical pieces that matter for nesting: strings (brackets inside them do not count), comments,
+# brackets and braces, line ends; everything else in runs.
+_NEST_TOKENS = re.compile(
+    r'"""(?:\\.|[^\\])*?"""|\'\'\'.*?\'\'\'|"(?:\\.|[^"\\\n])*"|\'[^\'\n]*\'|#[^\n]*|[\[\]{}\n]|[^"\'#\[\]{}\n]+',
+    re.S,
+)
+_HEADER = re.compile(r"(?m)^[ \t]*(\[\[?)[ \t]*([^\[\]\n]+?)[ \t]*\]")
+
+
+def _check_text_nesting(ctx, text: str) -> None:
+    """Refuse TOML text whose arrays or inline tables nest deeper than :data:`MAX_NESTING`, naming the key."""
+    depth, opened = 0, 0
+    for m in _NEST_TOKENS.finditer(text):
+        tok = m.group()
+        if tok in ("[", "{"):
+            if depth == 0:
+                opened = m.start()
+            depth += 1
+            if depth > MAX_NESTING:
+                ctx.fail(_key_at(text, opened), f"arrays or tables nested more than {MAX_NESTING} deep "
+                         f"(line {text.count(chr(10), 0, m.start()) + 1}); a scene needs fewer than 10 levels")
+        elif tok in ("]", "}"):
+            depth = max(depth - 1, 0)
+
+
+def _key_at(text: str, pos: int) -> str:
+    """The key path of the value starting at ``pos``: the last table header before it and the key on its line."""
+    path = ""
+    headers = list(_HEADER.finditer(text, 0, pos))
+    if headers:
+        last = headers[-1]
+        name = ".".join(part.strip().strip("\"'") for part in last.group(2).split("."))
+        if last.group(1) == "[[":
+            index = sum(1 for h in headers if h.group(1) == "[[" and h.group(2) == last.group(2)) - 1
+            name = f"{name}[{index}]"
+        path = name
+    line = text[text.rfind("\n", 0, pos) + 1 : pos]
+    if "=" in line:
+        key = line.split("=", 1)[0].strip().strip("\"'")
+        path = _join(path, key) if key else path
+    return path
+
+
+def _check_dict_nesting(ctx, data: dict) -> None:
+    """The same limit for a scene given as a dict (walked without recursion)."""
+    stack = [("", data, 1)]
+    while stack:
+        path, value, depth = stack.pop()
+        if depth > MAX_NESTING:
+            ctx.fail(path, f"arrays or tables nested more than {MAX_NESTING} deep; a scene needs fewer than 10 levels")
+        items = value.items() if isinstance(value, dict) else enumerate(value)
+        for k, v in items:
+            if isinstance(v, (dict, list, tuple)):
+                stack.append((_join(path, k if isinstance(k, (int, str)) else str(k)), v, depth + 1))

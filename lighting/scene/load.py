@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import re
 import stat
 import tomllib
 
@@ -25,7 +24,7 @@ from ..render.renderer import AnalyticSphere
 from ..shading import opengl as gl
 from ..shading.equation import Material
 from .budget import BYTES_PER_MESH_FILE_BYTE, BYTES_PER_TRIANGLE, _charge_file
-from .checks import _choice, _Ctx, _is_number, _table
+from .checks import MAX_NESTING, _check_dict_nesting, _check_text_nesting, _choice, _Ctx, _is_number, _table
 from .errors import SceneBudgetError, SceneError, _describe, _fmt_value, _join, _norm_name, _suggest
 from .model import GLLight, ImageOptions, OpenGLOptions, RenderOptions, Scene, SceneObject, _gl_lit
 from .schema import (
@@ -43,7 +42,7 @@ from .schema import (
     model_keys,
 )
 
-__all__ = ["load_scene", "parse_scene", "object_matrix", "MAX_NESTING"]
+__all__ = ["load_scene", "parse_scene", "object_matrix"]
 
 
 def load_scene(path) -> Scene:
@@ -137,65 +136,6 @@ def parse_scene(data, source: str = "<string>", *, base_dir=None) -> Scene:
     _check_dict_nesting(ctx, data)
     return _parse(ctx, data)
 
-
-#: Deepest nesting of arrays and tables a scene may use (a scene needs about 7: objects[0].material.parts[0].kd).
-#: tomllib reads nested values recursively, and 500 levels exhaust Python's stack: the text is scanned first.
-MAX_NESTING = 32
-
-# TOML's lexical pieces that matter for nesting: strings (brackets inside them do not count), comments,
-# brackets and braces, line ends; everything else in runs.
-_NEST_TOKENS = re.compile(
-    r'"""(?:\\.|[^\\])*?"""|\'\'\'.*?\'\'\'|"(?:\\.|[^"\\\n])*"|\'[^\'\n]*\'|#[^\n]*|[\[\]{}\n]|[^"\'#\[\]{}\n]+',
-    re.S,
-)
-_HEADER = re.compile(r"(?m)^[ \t]*(\[\[?)[ \t]*([^\[\]\n]+?)[ \t]*\]")
-
-
-def _check_text_nesting(ctx, text: str) -> None:
-    """Refuse TOML text whose arrays or inline tables nest deeper than :data:`MAX_NESTING`, naming the key."""
-    depth, opened = 0, 0
-    for m in _NEST_TOKENS.finditer(text):
-        tok = m.group()
-        if tok in ("[", "{"):
-            if depth == 0:
-                opened = m.start()
-            depth += 1
-            if depth > MAX_NESTING:
-                ctx.fail(_key_at(text, opened), f"arrays or tables nested more than {MAX_NESTING} deep "
-                         f"(line {text.count(chr(10), 0, m.start()) + 1}); a scene needs fewer than 10 levels")
-        elif tok in ("]", "}"):
-            depth = max(depth - 1, 0)
-
-
-def _key_at(text: str, pos: int) -> str:
-    """The key path of the value starting at ``pos``: the last table header before it and the key on its line."""
-    path = ""
-    headers = list(_HEADER.finditer(text, 0, pos))
-    if headers:
-        last = headers[-1]
-        name = ".".join(part.strip().strip("\"'") for part in last.group(2).split("."))
-        if last.group(1) == "[[":
-            index = sum(1 for h in headers if h.group(1) == "[[" and h.group(2) == last.group(2)) - 1
-            name = f"{name}[{index}]"
-        path = name
-    line = text[text.rfind("\n", 0, pos) + 1 : pos]
-    if "=" in line:
-        key = line.split("=", 1)[0].strip().strip("\"'")
-        path = _join(path, key) if key else path
-    return path
-
-
-def _check_dict_nesting(ctx, data: dict) -> None:
-    """The same limit for a scene given as a dict (walked without recursion)."""
-    stack = [("", data, 1)]
-    while stack:
-        path, value, depth = stack.pop()
-        if depth > MAX_NESTING:
-            ctx.fail(path, f"arrays or tables nested more than {MAX_NESTING} deep; a scene needs fewer than 10 levels")
-        items = value.items() if isinstance(value, dict) else enumerate(value)
-        for k, v in items:
-            if isinstance(v, (dict, list, tuple)):
-                stack.append((_join(path, k if isinstance(k, (int, str)) else str(k)), v, depth + 1))
 
 
 def _parse(ctx: _Ctx, data: dict) -> Scene:
