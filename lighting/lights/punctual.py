@@ -89,7 +89,18 @@ def _vector3(name: str, value, *, nonzero: bool = False) -> np.ndarray:
 
 
 def check_attenuation(value) -> tuple[float, float, float]:
-    """Validate ``(a, b, c)`` of the falloff ``1 / (a r² + b r + c)``."""
+    """Validate ``(a, b, c)`` of the falloff ``1 / (a r² + b r + c)``.
+
+    Parameters
+    ----------
+    value : sequence of 3 numbers
+        Each finite and >= 0, not all zero.
+
+    Returns
+    -------
+    tuple of float
+        ``(a, b, c)``.
+    """
     allowed = "three finite numbers (a, b, c) >= 0, not all zero, for 1/(a r² + b r + c)"
     arr = check_finite("attenuation", value, shape_hint=allowed)
     if arr.shape != (3,) or np.any(arr < 0) or not np.any(arr > 0):
@@ -98,7 +109,19 @@ def check_attenuation(value) -> tuple[float, float, float]:
 
 
 def check_cutoff(value, name: str = "cutoff_deg") -> float:
-    """A spot cutoff in degrees: within [0, 90], or exactly 180 (no spot), as in OpenGL."""
+    """A spot cutoff in degrees: within [0, 90], or exactly 180 (no spot), as in OpenGL.
+
+    Parameters
+    ----------
+    value : float
+        The cutoff in degrees.
+    name : str
+        The argument's name in error messages.
+
+    Returns
+    -------
+    float
+    """
     c = check_range(name, value)
     if not (0 <= c <= 90 or c == 180):
         raise ValueError(f"{name} must be in [0, 90] degrees or exactly 180 (no cone); got {_fmt(value)}")
@@ -134,7 +157,7 @@ def _radiant(color: np.ndarray, intensity: float) -> np.ndarray:
 
 _BIG64 = float(np.finfo(np.float64).max)
 
-def real_array_nonneg(name: str, value) -> np.ndarray:
+def _real_array_nonneg(name: str, value) -> np.ndarray:
     """Finite real numbers >= 0 as a float64 array."""
     arr = real_array(name, value, allowed="finite real numbers >= 0", dtype=np.float64)
     if np.any(arr < 0):
@@ -142,7 +165,7 @@ def real_array_nonneg(name: str, value) -> np.ndarray:
     return arr
 
 
-def real_array_any(name: str, value, dtype=None) -> np.ndarray:
+def _real_array_any(name: str, value, dtype=None) -> np.ndarray:
     """Finite real numbers as an array (float64 unless a NumPy float dtype is given)."""
     return real_array(name, value, dtype=dtype)
 
@@ -175,11 +198,16 @@ class Light:
         extra_distance : array_like, optional
             Non-negative distance added to the light's distance in the falloff
             (the slides' "distance to the light plus distance to the viewer").
+
+        Returns
+        -------
+        iterator of Incidence
+            One record for a directional, point or spot light, one per sample for an area light.
         """
         points = check_vectors("points", points)
         dt = check_float_dtype(dtype).type if dtype is not None else working_dtype(points)
         if extra_distance is not None:
-            extra_distance = real_array_nonneg("extra_distance", extra_distance)
+            extra_distance = _real_array_nonneg("extra_distance", extra_distance)
         return self._incident(points, dtype=dt, extra_distance=extra_distance)
 
     def _incident(self, points, *, dtype, extra_distance=None) -> Iterator[Incidence]:
@@ -252,6 +280,17 @@ class DirectionalLight(Light):
 
         ...with +z as "up"; the slides' "Lambertian sphere from several lighting
         angles" is a sweep of ``elevation_deg`` from 90 (overhead) to 0.
+
+        Parameters
+        ----------
+        elevation_deg, azimuth_deg : float
+            Degrees; exact at multiples of 90°.
+        **kwargs
+            ``color``, ``intensity``.
+
+        Returns
+        -------
+        DirectionalLight
         """
         el = check_range("elevation_deg", elevation_deg)
         az = check_range("azimuth_deg", azimuth_deg)
@@ -293,7 +332,7 @@ def falloff(distance, attenuation=(1.0, 0.0, 0.0)) -> np.ndarray:
     """
     if isinstance(attenuation, str):
         attenuation = ATTENUATIONS[check_choice("attenuation", attenuation, tuple(ATTENUATIONS))]
-    return _falloff(real_array_nonneg("distance", distance), check_attenuation(attenuation))
+    return _falloff(_real_array_nonneg("distance", distance), check_attenuation(attenuation))
 
 
 def _falloff(dist: np.ndarray, att: tuple[float, float, float]) -> np.ndarray:
@@ -465,8 +504,8 @@ class SpotLight(PointLight):
         >>> SpotLight(cutoff_deg=60, exponent=2).spot_factor([1.0, 0.75, 0.25]).tolist()
         [1.0, 0.5625, 0.0]
         """
-        c = real_array_any("cos_angle", cos_angle, dtype=np.float64)
-        om = None if one_minus_cos is None else real_array_nonneg("one_minus_cos", one_minus_cos)
+        c = _real_array_any("cos_angle", cos_angle, dtype=np.float64)
+        om = None if one_minus_cos is None else _real_array_nonneg("one_minus_cos", one_minus_cos)
         return self._spot_factor(c, om)
 
     def _spot_factor(self, cos_a: np.ndarray, one_minus: np.ndarray | None) -> np.ndarray:

@@ -335,7 +335,12 @@ class GBuffer:
         return self.per_face(self._need_mesh("face_normal").face_normals.astype(self.dtype))
 
     def view_direction(self) -> np.ndarray:
-        """The slides' ``v`` at every covered pixel (unit, toward the eye), ``(H, W, 3)``, zero elsewhere."""
+        """The slides' ``v`` at every covered pixel (unit, toward the eye), ``(H, W, 3)``, zero elsewhere.
+
+        Returns
+        -------
+        numpy.ndarray, (H, W, 3)
+        """
         return self._scatter(self.camera.view_direction(self._position_compact))
 
 

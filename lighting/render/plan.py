@@ -361,6 +361,20 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     Normals are normalized and view vectors computed from scratch, black lights
     and zero coefficients are evaluated like any other; the plan must agree with
     this to rounding.
+
+    Parameters
+    ----------
+    renderer : Renderer
+    material : Material
+    lights : sequence of lights
+    mode : {"flat", "gouraud", "phong"}
+    form : {"classic", "physical"}
+    terms : iterable of {"emission", "ambient", "diffuse", "specular"}
+
+    Returns
+    -------
+    numpy.ndarray
+        The ``(H, W, 3)`` image in the renderer's dtype.
     """
     _check_renderer(renderer)
     check_material(material)

@@ -342,7 +342,18 @@ class Renderer:
         form: str = "classic",
         terms=TERMS,
     ) -> dict[str, np.ndarray]:
-        """Each term of the illumination equation as an ``(H, W, 3)`` image (zero off the object)."""
+        """Each term of the illumination equation as an ``(H, W, 3)`` image (zero off the object).
+
+        Parameters
+        ----------
+        material, lights, mode, form, terms
+            As :meth:`render`.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            One ``(H, W, 3)`` image per requested term.
+        """
         mode = check_choice("mode", mode, SHADING_MODES)
         lights = check_lights(lights)
         pts, nrm, v, dist = self._samples(mode, lights)
@@ -374,6 +385,11 @@ class Renderer:
             decomposition, shown one at a time).
         background : scalar or RGB
             Colour of pixels the geometry does not cover.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(H, W, 3)`` linear RGB in the renderer's dtype.
         """
         bg = check_color("background", background)
         mode = check_choice("mode", mode, SHADING_MODES)
@@ -405,6 +421,21 @@ def _needs_points(lights) -> bool:
 
 
 def render(geometry, camera: Camera, material: Material, lights, **kwargs) -> np.ndarray:
-    """One-shot :meth:`Renderer.render` (rasterizes, shades, returns the image)."""
+    """One-shot :meth:`Renderer.render` (rasterizes, shades, returns the image).
+
+    Parameters
+    ----------
+    geometry : TriangleMesh or AnalyticSphere
+    camera : Camera
+    material : Material
+    lights : sequence of lights
+    **kwargs
+        ``dtype`` (of the :class:`Renderer`) and the keywords of :meth:`Renderer.render`.
+
+    Returns
+    -------
+    numpy.ndarray
+        The ``(H, W, 3)`` linear RGB image.
+    """
     dtype = kwargs.pop("dtype", np.float64)
     return Renderer(geometry, camera, dtype=dtype).render(material, lights, **kwargs)

@@ -60,6 +60,19 @@ class ChannelSums:
         later zero factor would be.  So the scalar factors are multiplied first, in float64, and
         clamped to the dtype's largest value, and an array light scale is clamped after multiplying
         the field: each multiplication that follows sees finite operands, and a zero factor wins.
+
+        Parameters
+        ----------
+        field : numpy.ndarray
+            A scalar field over the samples, in the working dtype.
+        light_scale : float or numpy.ndarray
+            The light's scalar factor (falloff × spot factor), one value or one per sample.
+        colour : numpy.ndarray, (3,)
+            RGB weight (float64).
+
+        Returns
+        -------
+        None
         """
         if self.prune and not np.any(colour):
             return
@@ -83,7 +96,19 @@ class ChannelSums:
                     self.planes[ch] += term
 
     def add_stacked(self, field, weights):
-        """Add ``Σ_k field[k] · weights[k]``: a ``(K, N)`` field of ``K`` lights, their RGB weights ``(K, 3)``."""
+        """Add ``Σ_k field[k] · weights[k]``: a ``(K, N)`` field of ``K`` lights, their RGB weights ``(K, 3)``.
+
+        Parameters
+        ----------
+        field : numpy.ndarray, (K, N)
+            One scalar field per stacked light (broadcast to it).
+        weights : numpy.ndarray, (K, 3)
+            RGB weights (float64), saturated before the cast to the working dtype.
+
+        Returns
+        -------
+        None
+        """
         field = np.broadcast_to(field, (len(weights),) + self.shape)
         if self.prune and not np.any(weights):
             return
@@ -98,7 +123,13 @@ class ChannelSums:
                 self.block += term
 
     def channels(self):
-        """The three channel planes ``(3, ...)`` (the constant included), saturated at the dtype's maximum."""
+        """The three channel planes ``(3, ...)`` (the constant included), saturated at the dtype's maximum.
+
+        Returns
+        -------
+        numpy.ndarray, (3, ...)
+            In the working dtype.
+        """
         big = np.finfo(self.dt).max
         if self.block is not None and all(p is None for p in self.planes):
             # Only stacked lights: finish their sums in place (the block is ours alone).
@@ -129,12 +160,26 @@ class ChannelSums:
         return out.reshape((3,) + self.shape)
 
     def add_constant(self, rgb):
-        """Add one RGB constant (float64) to every sample, saturating."""
+        """Add one RGB constant (float64) to every sample, saturating.
+
+        Parameters
+        ----------
+        rgb : numpy.ndarray, (3,)
+
+        Returns
+        -------
+        None
+        """
         with np.errstate(over="ignore"):
             self.constant = np.minimum(self.constant + rgb, self.big)
 
     def total(self):
-        """The sums as ``(..., 3)`` colours (:meth:`channels` interleaved)."""
+        """The sums as ``(..., 3)`` colours (:meth:`channels` interleaved).
+
+        Returns
+        -------
+        numpy.ndarray, (..., 3)
+        """
         return np.moveaxis(self.channels(), 0, -1).copy()
 
 

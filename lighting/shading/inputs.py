@@ -54,14 +54,35 @@ def check_lights(lights, name: str = "lights") -> list:
 
 
 def points_needed_error(light) -> ArgumentTypeError:
-    """The error for ``points=None`` with a ``light`` that needs the surface positions."""
+    """The error for ``points=None`` with a ``light`` that needs the surface positions.
+
+    Parameters
+    ----------
+    light : Light
+        The first light that needs them (named in the message).
+
+    Returns
+    -------
+    ArgumentTypeError
+        To be raised by the caller.
+    """
     i = type(light).__name__
     return ArgumentTypeError(f"points=None is allowed only for ambient and directional lights; {i} needs the "
                              f"surface positions (points: finite real vectors of shape (..., 3)): {_fmt(light)}")
 
 
 def positional_lights(lights) -> list:
-    """The lights that depend on where the surface point is (all but ambient and directional ones)."""
+    """The lights that depend on where the surface point is (all but ambient and directional ones).
+
+    Parameters
+    ----------
+    lights : list of lights
+
+    Returns
+    -------
+    list
+        Those lights, in order.
+    """
     return [lt for lt in lights if not isinstance(lt, (AmbientLight, DirectionalLight))]
 
 
