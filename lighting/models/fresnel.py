@@ -52,6 +52,11 @@ def schlick(cos_theta, f0) -> np.ndarray:
     Raises ``ValueError`` naming the argument (``ArgumentTypeError``, also a
     ``TypeError``, for text, complex, booleans or None).
 
+    References
+    ----------
+    C. Schlick, "An inexpensive BRDF model for physically-based rendering", Computer
+    Graphics Forum 13(3), 1994.
+
     Examples
     --------
     >>> float(schlick(1.0, 0.04))

@@ -117,6 +117,13 @@ class Geometry:
 
     @_cached
     def h(self):
+        """The half vector ``h = (l + v) / |l + v|`` (the slides'; :func:`lighting.vec.halfway` is the public form).
+
+        The shading path's careful twin of :func:`~lighting.vec.halfway`: the sum rebuilt without
+        cancellation where ``l`` and ``v`` nearly oppose (:attr:`_l_plus_v`), multiplied by
+        ``1/|l + v|``, and only the rows with a tiny ``|l + v|²`` normalized with scaling
+        (:func:`lighting.vec.normalize`).  The zero vector where ``l = −v``.
+        """
         s, len2 = self._l_plus_v
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             h = s * (1 / np.sqrt(len2))[..., None]

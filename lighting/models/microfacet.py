@@ -154,6 +154,12 @@ def beckmann_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
     ValueError
         (``ArgumentTypeError`` for a wrong type) naming the argument that is not allowed.
 
+    References
+    ----------
+    P. Beckmann and A. Spizzichino, *The Scattering of Electromagnetic Waves from Rough
+    Surfaces*, Pergamon, 1963; R. L. Cook and K. E. Torrance, "A reflectance model for
+    computer graphics", ACM TOG 1(1), 1982.
+
     Examples
     --------
     >>> round(float(beckmann_ndf(1.0, 0.5)), 6)  # peak value 1/(π α²)
@@ -186,6 +192,12 @@ def ggx_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
              = 1 / (π α² cos⁴θ_h (1 + tan²θ_h / α²)²),   0 for cos θ_h <= 0.
 
     Arguments, result and errors as :func:`beckmann_ndf`.
+
+    References
+    ----------
+    B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet models for refraction
+    through rough surfaces", EGSR 2007 (eq. 33); T. S. Trowbridge and K. P. Reitz, "Average
+    irregularity representation of a rough surface for ray reflection", JOSA 65(5), 1975.
 
     Examples
     --------
@@ -277,6 +289,12 @@ def smith_g1_beckmann(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
     ``cos_theta`` in [−1, 1], ``sin2_theta`` (optional, ``|n × ω|²``) in [0, 1];
     errors as :func:`beckmann_ndf`.
 
+    References
+    ----------
+    B. G. Smith, "Geometrical shadowing of a random rough surface", IEEE Transactions on
+    Antennas and Propagation 15(5), 1967; Walter et al., EGSR 2007 (eq. 27); E. Heitz,
+    "Understanding the masking-shadowing function in microfacet-based BRDFs", JCGT 3(2), 2014.
+
     Examples
     --------
     >>> float(smith_g1_beckmann(1.0, 0.3))
@@ -307,6 +325,11 @@ def smith_g1_ggx(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
 
     Evaluated as ``2 cos θ / (cos θ + hypot(cos θ, α sin θ))`` (no ``tan``, no
     overflow at grazing).  Arguments and errors as :func:`smith_g1_beckmann`.
+
+    References
+    ----------
+    Walter et al., EGSR 2007 (eq. 34); E. Heitz, "Understanding the masking-shadowing
+    function in microfacet-based BRDFs", JCGT 3(2), 2014 (Λ and the height-correlated form).
 
     Examples
     --------
@@ -367,6 +390,11 @@ def vcavity_g(n_dot_h, n_dot_v, n_dot_l, v_dot_h) -> np.ndarray:
 
     0 where any cosine is <= 0 (``v·h = l·h`` by construction of ``h``).  Every
     argument is a cosine in [−1, 1]; errors as :func:`beckmann_ndf`.
+
+    References
+    ----------
+    R. L. Cook and K. E. Torrance, "A reflectance model for computer graphics", ACM TOG
+    1(1), 1982 (after Torrance and Sparrow, 1967).
 
     Examples
     --------

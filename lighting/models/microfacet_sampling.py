@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._numeric import check_choice, check_nonnegative, check_positive, safe_div
+from ..vec import normalize
 from . import microfacet as _mf
 from .sampler import (
     _TWO_PI,
@@ -141,10 +142,8 @@ class MicrofacetSampler(Sampler):
     def _pdf(self, l, v):  # noqa: E741
         l, v = np.asarray(l, dtype=np.float64), _local_v(v)  # noqa: E741
         s = l + v
-        length = np.sqrt(_dot(s, s))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            h = np.where(length[..., None] > 0, s / np.where(length > 0, length, 1.0)[..., None], 0.0)
+        h = normalize(s)  # h = (l + v)/|l + v| (vec.halfway's formula); the zero vector where l = −v
         # The sampled h lies in the upper hemisphere; l + v may point either way along it.
         h = np.where(h[..., 2:3] < 0, -h, h)
-        return np.where(length > 0, self._to_l(self._normal_pdf(h), _dot(v, h)), 0.0)
+        return np.where(_dot(s, s) > 0, self._to_l(self._normal_pdf(h), _dot(v, h)), 0.0)
 
