@@ -35,9 +35,8 @@ from .._numeric import (
     check_positive,
     real_array,
 )
-from ..lights.punctual import AmbientLight, DirectionalLight
 from ..shading.batch import each_chunk, shade_prepared, shade_prepared_into, shade_prepared_terms
-from ..shading.inputs import TERMS, check_lights, view_vectors
+from ..shading.inputs import TERMS, check_lights, positional_lights, view_vectors
 from ..shading.material import Material
 from ..vec import normalize
 from .camera import Camera, check_camera
@@ -417,7 +416,7 @@ def _check_geometry(geometry) -> None:
 
 def _needs_points(lights) -> bool:
     """Whether any light depends on where the surface point is (not ambient, not directional)."""
-    return not all(isinstance(lt, (AmbientLight, DirectionalLight)) for lt in lights)
+    return bool(positional_lights(lights))
 
 
 def render(geometry, camera: Camera, material: Material, lights, **kwargs) -> np.ndarray:
