@@ -1,11 +1,9 @@
-r"""The explorer's state and computations: every control value, and every view's data from the engine.
+r"""Every view's data from the engine: :class:`ExplorerModel` and the view records it fills.
 
 Nothing here imports PyVista or Matplotlib, so the whole logic of the window can
-be driven and checked without a display:
+be driven and checked without a display (the controls are
+:class:`~explorer.app.state.AppState`):
 
-* :class:`AppState` — one field per control (model, its parameters, the light,
-  shading options, plot options) with validated assignment: a bad value raises
-  ``ValueError`` naming the control, the value and what is allowed.
 * :class:`ExplorerModel` — owns the engine's renderers (geometry buffers are
   rasterized once and re-shaded on every change) and computes the data of every
   view: the lit sphere, the coarse sphere lit per vertex and per pixel, the scan

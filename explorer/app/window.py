@@ -1,15 +1,4 @@
-"""The explorer window: one PyVista window of linked views; every colour on screen comes from the engine.
-
-Panels (see ``docs/explorer.md``)::
-
-    +--------------+--------------+--------------+------------------+
-    | lit sphere   | coarse sphere| coarse sphere| scan-line profile|
-    | (engine)     | Gouraud      | Phong interp.| (Matplotlib)     |
-    +--------------+--------------+--------------+------------------+
-    | 3D BRDF lobe | polar slice  | angle curves and half/diff image|
-    +--------------+--------------+---------------------------------+
-    | controls: light | point/spot | material | shading | terms, plots|
-    +---------------------------------------------------------------+
+"""The explorer window: :class:`ExplorerApp`, one PyVista window of linked views around an explorer model.
 
 How the engine's colours reach the screen, with VTK lighting off everywhere:
 
@@ -25,13 +14,14 @@ How the engine's colours reach the screen, with VTK lighting off everywhere:
 A frame must follow a slider within 50 ms with software OpenGL, so while a slider
 is dragged only the engine's images and the light arrow follow each move (the
 scan-line profile, the lobe and the plots wait for the release, or for the slider
-to rest :data:`IDLE_MS`), and VTK redraws only the panels that changed.
+to rest :data:`~explorer.app.layout.IDLE_MS`), and VTK redraws only the panels that changed.
 
-:class:`ExplorerApp` builds the window around an :class:`~explorer.app.views.ExplorerModel`;
-its handlers (:meth:`ExplorerApp.set_control`, :meth:`ExplorerApp.on_slider`,
-:meth:`ExplorerApp.on_key`, :meth:`ExplorerApp.flush`) are what the widgets call, and
-what the tests call.  :func:`benchmark_handlers` times them.  :func:`main` is the
-``lighting-explorer`` command (no sub-command, or ``explore``).
+:class:`ExplorerApp` builds the window around an :class:`~explorer.app.views.ExplorerModel`
+from four mixins: the panels (:mod:`explorer.app.panels`), the control widgets
+(:mod:`explorer.app.widgets`), the keys and help (:mod:`explorer.app.keys`) and the drawing
+of the views (:mod:`explorer.app.drawing`).  Its handlers (:meth:`ExplorerApp.set_control`,
+:meth:`ExplorerApp.on_slider`, :meth:`ExplorerApp.on_key`, :meth:`ExplorerApp.flush`) are what
+the widgets call, and what the tests call.
 """
 
 from __future__ import annotations
@@ -74,12 +64,15 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
     Parameters
     ----------
     state : AppState, optional
+        The starting controls (default: a fresh :class:`~explorer.app.state.AppState`).
     window_size : (int, int)
         Window width and height in pixels (default 1280 × 768).
     off_screen : bool
         Render without a window (screenshots, tests); needs no display.
     sphere_size, mesh_size : int, optional
         Pixels of the engine images (default: about the size of their panels).
+    lobe_resolution : int
+        Rings of the lobe mesh.
     """
 
     def __init__(self, state=None, *, window_size=DEFAULT_WINDOW_SIZE, off_screen=False, sphere_size=None,
