@@ -4,8 +4,8 @@ glibc serves blocks above its ``mmap`` threshold (128 KiB at start, raised
 dynamically up to a few MiB) straight from the kernel and unmaps them on free,
 and trims the heap top above its trim threshold.  The image pipeline makes
 dozens of 0.5–6 MiB temporaries per frame, so with the defaults every one of
-them page-faults anew: profiling a 512×512 rasterize-and-shade showed the same
-work taking 45 ms with raised thresholds against 81 ms without.
+them page-faults anew, frame after frame (``tests/explorer/test_bench.py``
+counts the page faults; ``lighting-explorer bench`` times the frames).
 
 :func:`tune_allocator` raises the thresholds (blocks up to 32 MiB come from the
 heap, and up to 64 MiB of free heap is kept) for the front end's long-running
@@ -24,7 +24,13 @@ _done = False
 
 
 def tune_allocator() -> bool:
-    """Raise glibc's mmap and trim thresholds once; True if the allocator accepted them."""
+    """Raise glibc's mmap and trim thresholds once (later calls only report).
+
+    Returns
+    -------
+    bool
+        True if the allocator accepted them; False elsewhere than Linux with glibc.
+    """
     global _done
     if _done or not sys.platform.startswith("linux"):
         return _done

@@ -18,7 +18,6 @@ machine conditions.
 
 from __future__ import annotations
 
-import json
 import statistics
 import sys
 import time
@@ -37,6 +36,20 @@ LIGHT_COLOURS = [(1.0, 0.95, 0.9), (0.3, 0.35, 0.6), (0.25, 0.2, 0.15)]
 
 
 def bench_scene(size=SIZE, triangles=5000):
+    """The benchmark's scene: a tessellated sphere, a camera, Lambert + Blinn–Phong and four lights.
+
+    Parameters
+    ----------
+    size : int, optional
+        Image width and height in pixels.
+    triangles : int, optional
+        About how many triangles the sphere has.
+
+    Returns
+    -------
+    tuple
+        ``(mesh, camera, material, lights)``.
+    """
     mesh = sphere_for_triangles(triangles)
     camera = Camera((0, 0, 6.0), (0, 0, 0), fov_y_deg=22.0, width=size, height=size)
     material = Material(Lambert((0.7, 0.25, 0.2)) + BlinnPhong(0.5, 40.0))
@@ -71,7 +84,18 @@ def _interleaved_ms(fns: dict, repeat: int) -> dict:
 
 
 def engine_frames(size: int = SIZE) -> dict:
-    """The engine's timed callables: ``{result key: callable}``."""
+    """The engine's timed callables.
+
+    Parameters
+    ----------
+    size : int, optional
+        Image width and height in pixels.
+
+    Returns
+    -------
+    dict
+        ``{result key: callable}``: re-shading (float64, float32), rasterizing, and whole frames.
+    """
     mesh, camera, material, lights = bench_scene(size)
     fns = {}
     for dt, key in ((np.float64, "reshade_ms"), (np.float32, "reshade_f32_ms")):
@@ -94,7 +118,18 @@ def engine_frames(size: int = SIZE) -> dict:
 
 
 def vtk_frame(size: int = SIZE):
-    """``(frame, close)``: one VTK render plus read-back of the same scene, and the clean-up (None without VTK)."""
+    """One VTK render plus read-back of the same scene, and the clean-up.
+
+    Parameters
+    ----------
+    size : int, optional
+        Image width and height in pixels.
+
+    Returns
+    -------
+    tuple or None
+        ``(frame, close)``, or ``None`` without PyVista/VTK.
+    """
     try:
         import pyvista as pv
     except ImportError:
@@ -119,7 +154,21 @@ def vtk_frame(size: int = SIZE):
 
 
 def run(repeat: int = 15, size: int | None = None) -> dict:
-    """All measurements of one benchmark run (see the module docstring)."""
+    """All measurements of one benchmark run (see the module docstring).
+
+    Parameters
+    ----------
+    repeat : int, optional
+        Timed runs per measurement (the median is reported).
+    size : int, optional
+        Image width and height (default :data:`SIZE`).
+
+    Returns
+    -------
+    dict
+        The medians in ms (``reshade_ms``, ``raster_ms``, ``raster_shade_ms``, ``vtk_ms`` ...), the
+        ratios to VTK and the scene's size.
+    """
     return _run(repeat, SIZE if size is None else size)
 
 
@@ -143,6 +192,18 @@ def _run(repeat: int, size: int) -> dict:
 
 
 def format_report(r: dict) -> str:
+    """The table that ``lighting-explorer bench`` prints.
+
+    Parameters
+    ----------
+    r : dict
+        A result of :func:`run`.
+
+    Returns
+    -------
+    str
+        One row per measurement: ms, the ratio to VTK, the target.
+    """
     vtk = r.get("vtk_ms")
     lines = [
         f"Sphere of {r['triangles']} triangles, {r['size']}x{r['size']}, three lights, Blinn-Phong (median ms)",
@@ -169,8 +230,20 @@ def time_plans(repeat: int = 15, size=None) -> list[dict]:
     Both re-use the scene's geometry buffers (rasterization is not timed); the
     planned frame also re-uses its cached samples, exactly as an interactive
     session does, while the full evaluation prepares every input afresh.
+
+    Parameters
+    ----------
+    repeat : int, optional
+        Timed runs per measurement (the median is reported).
+    size : tuple of int, optional
+        ``(width, height)`` to render every scene at instead of its own size.
+
+    Returns
+    -------
+    list of dict
+        Per scene: ``scene``, ``pixels``, ``planned_ms``, ``full_ms``, ``speedup``.
     """
-    from lighting.scene.scene import SceneRenderer, example_path, list_examples, load_scene
+    from lighting.scene import SceneRenderer, example_path, list_examples, load_scene
 
     rows = []
     for name in list_examples():
@@ -188,6 +261,18 @@ def time_plans(repeat: int = 15, size=None) -> list[dict]:
 
 
 def format_plans(rows) -> str:
+    """The table that ``lighting-explorer bench --plan`` prints.
+
+    Parameters
+    ----------
+    rows : list of dict
+        A result of :func:`time_plans`.
+
+    Returns
+    -------
+    str
+        One row per example scene.
+    """
     lines = [
         "One frame per example scene, geometry buffers cached (median ms)",
         "",
@@ -200,39 +285,22 @@ def format_plans(rows) -> str:
     return "\n".join(lines)
 
 
-#: Most timed runs per measurement: more only takes longer.
-MAX_REPEAT = 10000
-
-
 def main(argv=None) -> int:
-    """``lighting-explorer bench``: 0 when done, 2 for a bad option (one line on standard error)."""
-    from ._allocator import tune_allocator
-    from .cli import PROG, OneLineParser, error_line
+    """``lighting-explorer bench`` run alone (the command is :mod:`explorer.commands.bench`).
 
-    p = OneLineParser(
-        prog="lighting-explorer bench",
-        description="Time the engine's re-shading and rasterizing against VTK rendering the same scene, in one run.",
-    )
-    p.add_argument("--json", action="store_true", help="print one JSON line instead of the table")
-    p.add_argument("--repeat", type=int, default=15,
-                   help=f"timed runs per measurement, 1 to {MAX_REPEAT} (median reported)")  # fmt: skip
-    p.add_argument("--plan", action="store_true", help="planned vs nothing-skipped evaluation of every example scene")
-    try:
-        args = p.parse_args(argv)
-        from lighting._numeric import check_count
+    Parameters
+    ----------
+    argv : list of str, optional
+        The options (default: ``sys.argv[1:]``).
 
-        check_count("--repeat", args.repeat, 1, MAX_REPEAT)
-    except ValueError as exc:
-        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
-    tune_allocator()
-    if args.plan:
-        rows = time_plans(args.repeat)
-        print(json.dumps(rows) if args.json else format_plans(rows))
-        return 0
-    result = run(args.repeat)
-    print(json.dumps(result) if args.json else format_report(result))
-    return 0
+    Returns
+    -------
+    int
+        The exit status: 0 when done, 2 for a bad option (one line on standard error).
+    """
+    from .commands.bench import main as bench_main
+
+    return bench_main(argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -14,49 +14,62 @@ import argparse
 import re
 import sys
 
-from lighting._numeric import (
-    ArgumentTypeError,
-    _fmt,
-    check_budget,
-    check_color,
-    check_count,
-    check_nonnegative,
-    check_range,
-    memory_budget,
-    set_memory_budget,
-)
+from lighting._numeric import _fmt, memory_budget, set_memory_budget
 
 PROG = "lighting-explorer"
-
-#: Peak bytes per pixel of ``sphere`` (ray casting, shading in float64, encoding): measured 242; this is the
-#: engine's own estimate for rendering (``lighting.render.renderer``), so that the flag is named before the
-#: engine refuses.
-SPHERE_BYTES_PER_PIXEL = 320
 
 #: The smallest ``--memory-budget`` accepted.
 MIN_MEMORY_BUDGET = 1024**2
 
 
 class UsageError(ValueError):
-    """A malformed command line (unknown option, missing value): one line, exit status 2."""
+    """A malformed command line (unknown option, missing value): one line, exit status 2.
+
+    ``prog`` is the name the line starts with (``lighting-explorer`` unless the sub-command reports
+    under its own name).
+    """
+
+    def __init__(self, message: str, prog: str = PROG):
+        super().__init__(message)
+        self.prog = prog
 
 
 class OneLineParser(argparse.ArgumentParser):
     """An ``ArgumentParser`` whose errors are a :class:`UsageError` instead of usage text and ``exit(2)``.
 
     The caller prints the one line (``lighting-explorer: error: argument --size: invalid int value: 'x'``).
+    With ``own_name=True`` the line starts with the parser's own name and has no pointer to ``--help``
+    (``lighting-explorer figures: error: argument --dpi: …``), as ``figures`` has always reported.
     """
+
+    def __init__(self, *args, own_name: bool = False, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.own_name = own_name
 
     def error(self, message):
         from lighting._numeric import abbreviate
 
         # argparse quotes the whole value it refused: a 100,000-character one is cut short.
         message = re.sub(r"'[^']{81,}'", lambda m: abbreviate(m.group(0)), message)
+        if self.own_name:
+            raise UsageError(message, prog=self.prog)
         raise UsageError(f"{message} (see {self.prog} --help)")
 
 
 def error_line(exc: BaseException) -> str:
-    """The one line that reports ``exc`` to the user (no traceback, no temporary file names)."""
+    """The one line that reports ``exc`` to the user (no traceback, no temporary file names).
+
+    Parameters
+    ----------
+    exc : BaseException
+        The error.
+
+    Returns
+    -------
+    str
+        One line: an ``OSError``'s reason and file name, a fixed text for ``MemoryError`` and
+        ``RecursionError``, else the message with its whitespace collapsed.
+    """
     if isinstance(exc, OSError) and exc.strerror:
         name = exc.filename if exc.filename is not None else ""
         text = f"{exc.strerror}: {name}" if name != "" else exc.strerror
@@ -69,87 +82,110 @@ def error_line(exc: BaseException) -> str:
     return " ".join(text.split())
 
 
-# --------------------------------------------------------------------------- sphere
-def _rgb(flag: str, text: str):
-    """``--kd 0.8,0.25,0.2`` or ``--ks 0.5``: one number or three, finite and >= 0."""
-    allowed = "one number or three comma-separated numbers, each finite and >= 0"
-    try:
-        parts = [float(x) for x in str(text).split(",")]
-    except ValueError:
-        raise ArgumentTypeError(f"{flag} must be {allowed}; got {_fmt(text)}") from None
-    if len(parts) not in (1, 3):
-        raise ValueError(f"{flag} must be {allowed}; got {_fmt(text)}")
-    value = check_color(flag, parts[0] if len(parts) == 1 else parts)
-    return float(value[0]) if len(parts) == 1 else tuple(float(x) for x in value)
+#: The sub-commands in the order ``--help`` lists them: name → the module that offers ``add_parser(subparsers)``
+#: and ``run(args)`` (see :mod:`explorer.commands`).
+COMMANDS = {
+    "sphere": "explorer.commands.sphere",
+    "bench": "explorer.commands.bench",
+    "render": "explorer.commands.render",
+    "report": None,
+    "explore": None,
+    "figures": "explorer.commands.figures",
+}
 
-
-def _cmd_sphere(args) -> int:
-    from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
-    from lighting.render.image import MAX_EXPOSURE, encode_srgb8
-    from lighting.render.sphere import render_sphere
-
-    from .output import check_output_path, write_image
-
-    # Every value is checked, in the words of its flag, before anything is allocated or rendered.
-    check_output_path(args.out, flag="-o")
-    size = check_count("--size", args.size, 1)
-    check_budget(f"--size {size}", SPHERE_BYTES_PER_PIXEL * size * size, what=f"a {size}x{size} sphere image")
-    kd = _rgb("--kd", args.kd)
-    ks = _rgb("--ks", args.ks)
-    shininess = check_nonnegative("--shininess", args.shininess)
-    ambient = check_nonnegative("--ambient", args.ambient)
-    elevation = check_range("--elevation", args.elevation, -90.0, 90.0)
-    azimuth = check_range("--azimuth", args.azimuth)
-    exposure = check_range("--exposure", args.exposure, -MAX_EXPOSURE, MAX_EXPOSURE)
-
-    material = Material(Lambert(kd) + BlinnPhong(ks, shininess), ambient=kd)
-    lights = [AmbientLight(intensity=ambient), DirectionalLight.from_angles(elevation, azimuth)]
-    img = render_sphere(material, lights, size=size)
-    rgb8, report = encode_srgb8(img, exposure=exposure, tonemap=args.tonemap)
-    fmt = write_image(args.out, rgb8=rgb8, linear=img, flag="-o")
-    kind = f"linear {img.dtype}" if fmt in ("npy", "pfm", "exr") else fmt.upper()
-    print(f"wrote {args.out} ({size}x{size}, {kind}); {report}")
-    return 0
+#: Sub-commands that keep their own parser, with the help line the tree shows for them; the rest of the
+#: command line goes to the module's ``main(argv)``.  ``explore`` is also what runs with no sub-command, and
+#: its messages name no sub-command (``lighting-explorer: …``, usage ``lighting-explorer [options]``); a bare
+#: ``report`` lists the reports and exits 0, where a required argparse sub-command would exit 2.
+DELEGATES = {
+    "report": ("explorer.reports", "accuracy reports: 'report accuracy' (error vs run time), 'report stability'"),
+    "explore": ("explorer.app", "the interactive explorer window (the default with no sub-command)"),
+}
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The one argparse tree of ``lighting-explorer``: every sub-command and its options.
+
+    Each command module's ``add_parser(subparsers)`` adds its sub-parser (with ``func`` set to its
+    ``run``); the :data:`DELEGATES` appear with their help line only.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        A :class:`OneLineParser`: a bad command line raises :class:`UsageError`.
+    """
+    import importlib
+
     p = OneLineParser(
         prog=PROG,
         description="Explore local illumination models. With no sub-command, opens the explorer window. "
         "--memory-budget SIZE (e.g. 4G, 512M; default 2G) raises or lowers the memory any one request may use.",
     )
     sub = p.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
-    s = sub.add_parser("sphere", help="render one lit sphere with the engine and save it (PNG and other formats)")
-    s.add_argument("-o", "--out", default="sphere.png",
-                   help="output image: .png; .jpg .tif .webp (with Pillow); the linear image as .npy .pfm "
-                        "(.exr with OpenEXR) (default: sphere.png)")  # fmt: skip
-    s.add_argument("--size", type=int, default=384, help="image width and height in pixels")
-    s.add_argument("--kd", default="0.8,0.25,0.2", help="diffuse colour, e.g. 0.8,0.25,0.2")
-    s.add_argument("--ks", default="0.5", help="specular coefficient (one number or r,g,b)")
-    s.add_argument("--shininess", type=float, default=40.0, help="Blinn-Phong exponent")
-    s.add_argument("--ambient", type=float, default=0.1, help="ambient intensity I_a")
-    s.add_argument("--elevation", type=float, default=45.0, help="light elevation in degrees, -90 to 90")
-    s.add_argument("--azimuth", type=float, default=135.0, help="light azimuth in degrees")
-    s.add_argument("--exposure", type=float, default=0.0, help="exposure in stops, -100 to 100 (8-bit formats)")
-    s.add_argument("--tonemap", choices=("clamp", "reinhard"), default="clamp", help="tone map (8-bit formats)")
-    s.set_defaults(func=_cmd_sphere)
-
-    sub.add_parser("bench", help="time re-shading, rasterizing and VTK rendering side by side (--json, --plan)")
-    sub.add_parser("render", help="render a scene file (or an example scene) to an image (--explain shows the plan)")
-    sub.add_parser("report", help="accuracy reports: 'report accuracy' (error vs run time), 'report stability'")
-    sub.add_parser("explore", help="the interactive explorer window (the default with no sub-command)")
-    sub.add_parser("figures", help="write the lecture-note figure set (--out DIR, --format, --only, --dpi, --quick)")
+    for name, module in COMMANDS.items():
+        if module is None:
+            sub.add_parser(name, help=DELEGATES[name][1])
+        else:
+            # An argument the sub-command does not know is reported by the sub-command's parser (see parse).
+            command = importlib.import_module(module).add_parser(sub)
+            command.set_defaults(_parser=command)
     return p
 
 
-# Sub-commands with options of their own: the rest of the command line goes to the module's main().
-DELEGATES = {
-    "bench": "explorer.bench",
-    "render": "explorer.render_cmd",
-    "report": "explorer.reports",
-    "explore": "explorer.app",
-    "figures": "explorer.figures",
-}
+def parse(argv: list[str]) -> argparse.Namespace:
+    """Parse a command line with the tree of :func:`build_parser`.
+
+    Parameters
+    ----------
+    argv : list of str
+        The sub-command and its options.
+
+    Returns
+    -------
+    argparse.Namespace
+        The options; ``func`` is the sub-command's ``run``.
+
+    Raises
+    ------
+    UsageError
+        For a malformed line; an unrecognized argument is reported by the sub-command's own parser, in
+        its words (``(see lighting-explorer render --help)``).
+    """
+    parser = build_parser()
+    args, extras = parser.parse_known_args(argv)
+    if extras:
+        getattr(args, "_parser", parser).error(f"unrecognized arguments: {' '.join(extras)}")
+    return args
+
+
+def run_alone(name: str, argv=None) -> int:
+    """Run one sub-command alone: what its module's ``main(argv)`` does.
+
+    Unlike :func:`main`, no ``--memory-budget``, no signal handlers and no allocator tuning: the
+    caller's process is left as it is.
+
+    Parameters
+    ----------
+    name : str
+        The sub-command (a key of :data:`COMMANDS` with a module).
+    argv : list of str, optional
+        Its options (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 done, 2 a bad request (one line on standard error).
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        args = parse([name, *argv])
+        return args.func(args)
+    except SystemExit as exc:  # --help
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    except (ValueError, OSError, MemoryError, RecursionError) as exc:
+        print(f"{getattr(exc, 'prog', PROG)}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
+
 
 _UNITS = {"": 1, "k": 1024, "m": 1024**2, "g": 1024**3, "t": 1024**4}
 
@@ -157,6 +193,25 @@ _UNITS = {"": 1, "k": 1024, "m": 1024**2, "g": 1024**3, "t": 1024**4}
 def parse_size(text: str, flag: str = "--memory-budget") -> int:
     """``"2G"``, ``"512M"``, ``"1.5g"``, ``"4GiB"``, ``"1000000"`` → bytes (binary units).
 
+    Parameters
+    ----------
+    text : str
+        The size.
+    flag : str, optional
+        The flag named in the error.
+
+    Returns
+    -------
+    int
+        Bytes, at least :data:`MIN_MEMORY_BUDGET`.
+
+    Raises
+    ------
+    UsageError
+        For anything else.
+
+    Examples
+    --------
     >>> parse_size("512M"), parse_size("1.5G")
     (536870912, 1610612736)
     """
@@ -196,14 +251,25 @@ def _dispatch(argv: list[str]) -> int:
     if argv[0] in DELEGATES:
         import importlib
 
-        return importlib.import_module(DELEGATES[argv[0]]).main(argv[1:])
-    args = build_parser().parse_args(argv)
+        return importlib.import_module(DELEGATES[argv[0]][0]).main(argv[1:])
+    args = parse(argv)
     return args.func(args)
 
 
 def main(argv=None) -> int:
-    """Run ``lighting-explorer``; returns the exit status (0 done, 1 a check failed, 2 a bad request,
-    130 interrupted by Ctrl-C, 143 by ``SIGTERM``)."""
+    """Run ``lighting-explorer``.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The command line after the program name (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 done, 1 a check failed, 2 a bad request, 130 interrupted by Ctrl-C, 143 by
+        ``SIGTERM``.
+    """
     from ._allocator import tune_allocator
     from .output import Terminated, raise_if_signalled, signals_as_exceptions
 
@@ -227,7 +293,7 @@ def main(argv=None) -> int:
             print(f"{PROG}: terminated", file=sys.stderr)
             return 143
         except (ValueError, OSError, MemoryError, RecursionError) as exc:
-            print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+            print(f"{getattr(exc, 'prog', PROG)}: error: {error_line(exc)}", file=sys.stderr)
             return 2
         finally:
             set_memory_budget(previous)

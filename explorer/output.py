@@ -105,7 +105,18 @@ def _has_module(name: str) -> bool:
 
 
 def available_formats(kinds=("rgb8", "linear")) -> tuple[str, ...]:
-    """The extensions that can be written here (Pillow's and OpenEXR's only when installed)."""
+    """The extensions that can be written here (Pillow's and OpenEXR's only when installed).
+
+    Parameters
+    ----------
+    kinds : tuple of str, optional
+        ``"rgb8"`` (8-bit formats) and/or ``"linear"`` (floating-point formats).
+
+    Returns
+    -------
+    tuple of str
+        Extensions with their dot (``".png"``, ``".npy"`` ...).
+    """
     pil = _has_module("PIL")
     exr = _has_module("OpenEXR")
     out = []
@@ -155,6 +166,20 @@ def check_output_path(path, *, flag: str = "-o", kinds=("rgb8", "linear")) -> st
     empty path, an extension that is not one of the formats available here (the message lists them), a
     directory, a missing folder, a folder the user cannot write, or an existing target that is not a
     regular file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output file.
+    flag : str, optional
+        The option that gave it, named in the error.
+    kinds : tuple of str, optional
+        The kinds of format the command writes (``"rgb8"``, ``"linear"``).
+
+    Returns
+    -------
+    str
+        The format name.
     """
     path = _path_text(path, flag, "a file path", "the output path is empty; give a file name such as out.png",
                       "cannot write")  # fmt: skip
@@ -181,7 +206,19 @@ def check_output_dir(path, *, flag: str = "--out") -> str:
     """Check that ``path`` is, or can be made, a writable folder (a missing one is created later).
 
     Raises :class:`OutputError` when it names an existing file, is empty, or its nearest existing
-    ancestor is not a writable folder.  Returns the path.
+    ancestor is not a writable folder.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output folder.
+    flag : str, optional
+        The option that gave it, named in the error.
+
+    Returns
+    -------
+    str
+        The path.
     """
     path = _path_text(path, flag, "a folder path", "the output folder is empty; give a folder name", "cannot use")
     if os.path.exists(path):
@@ -218,12 +255,24 @@ _deferral = {"depth": 0, "pending": None, "received": None}
 
 
 def received_signal() -> int | None:
-    """The signal that asked this command to stop (within :func:`signals_as_exceptions`), or ``None``."""
+    """The signal that asked this command to stop (within :func:`signals_as_exceptions`).
+
+    Returns
+    -------
+    int or None
+        The signal number, or ``None``.
+    """
     return _deferral["received"]
 
 
 def raise_if_signalled() -> None:
-    """Raise ``KeyboardInterrupt`` or :class:`Terminated` again if a stop signal arrived and was swallowed."""
+    """Raise ``KeyboardInterrupt`` or :class:`Terminated` again if a stop signal arrived and was swallowed.
+
+    Returns
+    -------
+    None
+        Outside a deferred section, when no stop signal arrived.
+    """
     if _deferral["received"] is not None and not _deferral["depth"]:
         _raise_for(_deferral["received"])
 
@@ -235,7 +284,20 @@ def _raise_for(signum: int):
 
 
 def on_signal(signum, frame=None) -> None:
-    """The handler :func:`signals_as_exceptions` installs: raise now, or at the end of a deferred section."""
+    """The handler :func:`signals_as_exceptions` installs: raise now, or at the end of a deferred section.
+
+    Parameters
+    ----------
+    signum : int
+        The signal.
+    frame : frame, optional
+        Unused (the signal module passes it).
+
+    Returns
+    -------
+    None
+        Inside a deferred section; otherwise it raises ``KeyboardInterrupt`` or :class:`Terminated`.
+    """
     _deferral["received"] = signum
     if _deferral["depth"]:
         _deferral["pending"] = _deferral["pending"] or signum
@@ -249,6 +311,11 @@ def deferred_signals():
 
     A signal that arrived meanwhile is raised at the end of the block.  Off the main thread this does
     nothing (Python runs signal handlers in the main thread only).
+
+    Yields
+    ------
+    None
+        Inside the block, ``SIGINT`` and ``SIGTERM`` are held.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
@@ -276,6 +343,11 @@ def signals_as_exceptions():
     file being written would stay behind.  Both handlers respect :func:`deferred_signals`.  A signal
     that is ignored (``SIG_IGN``, e.g. under ``nohup``) stays ignored.  Off the main thread this does
     nothing (only the main thread may set handlers).
+
+    Yields
+    ------
+    None
+        Inside the block, the handlers are :func:`on_signal`; the previous ones are restored after it.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
@@ -353,6 +425,19 @@ def atomic_write(path, data, *, flag: str = "-o") -> None:
     write files themselves).  The file gets the replaced file's mode, else ``0o666`` minus the umask.  On
     any exception, ``KeyboardInterrupt`` or :class:`Terminated` the temporary file is removed and the
     target is left as it was.  ``OSError`` becomes :class:`OutputError` naming ``flag`` and ``path``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    data : bytes or callable
+        The contents, or ``data(temporary_path)`` writing them.
+    flag : str, optional
+        The option that named the file, for errors.
+
+    Returns
+    -------
+    None
     """
     atomic_write_many([(path, data)], flag=flag)
 
@@ -361,7 +446,18 @@ def atomic_write_many(items, *, flag: str = "-o") -> None:
     """Write several files as a unit: all are written to temporary files first, then renamed together.
 
     The renames happen with ``SIGINT``/``SIGTERM`` held, so an interrupt leaves all of the new files or
-    none of them (a figure never without its sidecar).  ``items`` is a list of ``(path, data)``.
+    none of them (a figure never without its sidecar).
+
+    Parameters
+    ----------
+    items : list of tuple
+        ``(path, data)`` pairs, as :func:`atomic_write` takes them.
+    flag : str, optional
+        The option that named the files, for errors.
+
+    Returns
+    -------
+    None
     """
     done = []
     try:
@@ -410,7 +506,22 @@ def _exr_writer(linear: np.ndarray):
 
 
 def encode_image(fmt: str, *, rgb8=None, linear=None):
-    """The file contents for ``fmt``: bytes, or a callable writing the file (OpenEXR writes its own)."""
+    """The file contents for ``fmt``.
+
+    Parameters
+    ----------
+    fmt : str
+        A format name (``"png"``, ``"npy"`` ...).
+    rgb8 : numpy.ndarray, optional
+        The 8-bit image, for 8-bit formats.
+    linear : numpy.ndarray, optional
+        The linear image, for floating-point formats.
+
+    Returns
+    -------
+    bytes or callable
+        The bytes, or a callable writing the file at a path (OpenEXR writes its own).
+    """
     if _kind(fmt) == "linear":
         if linear is None:
             raise OutputError(f"the {fmt} format stores the linear float image, which this command does not have")

@@ -74,6 +74,15 @@ class Progress:
 
         Reaching ``total`` finishes the display (as :meth:`close` does), so a caller
         that only ever calls ``update`` still leaves a complete line behind.
+
+        Parameters
+        ----------
+        n : int, optional
+            Units of work just done.
+
+        Returns
+        -------
+        None
         """
         if self._closed:
             return
@@ -97,6 +106,15 @@ class Progress:
         """Finish the line (a terminal bar) or write the final plain line, ending with ``outcome``.
 
         :meth:`abort` closes with ``"stopped"``: work cut short is never reported as done.
+
+        Parameters
+        ----------
+        outcome : str, optional
+            The last word of the line (nothing is added on a terminal for ``"done"``).
+
+        Returns
+        -------
+        None
         """
         if self._closed:
             return
@@ -111,7 +129,12 @@ class Progress:
         self.stream.flush()
 
     def abort(self) -> None:
-        """Close the display for work that did not finish (an error, Ctrl-C, ``SIGTERM``)."""
+        """Close the display for work that did not finish (an error, Ctrl-C, ``SIGTERM``).
+
+        Returns
+        -------
+        None
+        """
         self.close("stopped")
 
     def __enter__(self) -> Progress:

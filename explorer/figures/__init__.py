@@ -30,7 +30,6 @@ From Python::
 
 from __future__ import annotations
 
-import argparse
 import difflib
 import json
 import math
@@ -41,6 +40,7 @@ import warnings
 
 from lighting._numeric import _fmt, check_budget, check_count, memory_budget, set_memory_budget
 
+from ..commands.figures import MAX_JOBS
 from ..output import OutputError, Terminated, atomic_write, atomic_write_many, check_output_dir, on_signal
 from .base import REGISTRY, FigureSpec, Quality
 
@@ -80,7 +80,13 @@ def _load_registry() -> dict[str, FigureSpec]:
 
 
 def figure_names() -> list[str]:
-    """Names of every figure, in lecture order."""
+    """Names of every figure, in lecture order.
+
+    Returns
+    -------
+    list of str
+        The registered names, ordered by :data:`LECTURE_MODULES`, then by definition in each module.
+    """
     return list(_load_registry())
 
 
@@ -135,7 +141,26 @@ def _png_size(data: bytes) -> tuple[int, int]:
 
 
 def make_figure(name: str, *, quick: bool = False, dpi: int | None = None, options: dict | None = None):
-    """Draw one figure: ``(matplotlib Figure, spec, parameters, measured)`` (nothing is written)."""
+    """Draw one figure; nothing is written.
+
+    Parameters
+    ----------
+    name : str
+        A registered figure name (see :func:`figure_names`).
+    quick : bool, optional
+        Low resolution and sample counts (see :class:`~explorer.figures.base.Quality`).
+    dpi : int, optional
+        Raster resolution (default 150; 50 with ``quick``).
+    options : dict, optional
+        Values that replace the figure's registered parameters of the same name (others are ignored).
+
+    Returns
+    -------
+    tuple
+        ``(figure, spec, parameters, quality, measured)``: the Matplotlib figure, its
+        :class:`~explorer.figures.base.FigureSpec`, the parameters it was drawn with, the
+        :class:`~explorer.figures.base.Quality` and the numbers measured while drawing.
+    """
     import matplotlib
 
     from .base import STYLE
@@ -208,8 +233,6 @@ BYTES_PER_PIXEL = 8
 AGG_MAX_PIXELS = 2**16 - 1
 #: Memory one worker process takes (the interpreter, NumPy, Matplotlib and one figure), for the budget.
 WORKER_BYTES = 256 * 1024**2
-#: More workers than this only cost memory.
-MAX_JOBS = 64
 
 
 def _check_raster(what: str, w_in: float, h_in: float, dpi: int) -> None:
@@ -251,9 +274,22 @@ ACCURACY_COLUMNS = {"study": str, "case": str, "method": str, "cost": int, "cost
 def check_accuracy_csv(path) -> str:
     """Check that ``path`` is an ``accuracy.csv`` the ``accuracy`` figure can draw; returns its absolute path.
 
-    Raises :class:`FigureError` naming the file, the line and the column for a missing file, a file
-    that is not UTF-8 CSV, a missing column, a value of the wrong type or a negative or non-finite
-    number, or a file without data rows.
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file given to ``--accuracy-csv``.
+
+    Returns
+    -------
+    str
+        Its absolute path.
+
+    Raises
+    ------
+    FigureError
+        Naming the file, the line and the column for a missing file, a file that is not UTF-8 CSV, a
+        missing column, a value of the wrong type or a negative or non-finite number, or a file without
+        data rows.
     """
     import csv
 
@@ -407,12 +443,36 @@ def generate(
 ) -> list[dict]:
     """Write the figures (all, or ``only``) into ``out_dir``; returns the manifest records in lecture order.
 
-    ``progress`` is a callable ``(total, label)`` returning an object with ``update()`` and
-    ``close()`` (e.g. :class:`explorer.progress.Progress`); ``log(name, seconds)`` is called as
-    each figure is done.  ``jobs > 1`` draws figures in that many worker processes (the
-    files are the same either way).  With ``only``, the figures drawn replace their entries in an
-    existing ``figures.json`` and the others are kept; without it the manifest lists the whole set.
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        The output folder (created if missing).
+    formats : sequence of str, optional
+        Among ``png``, ``svg``, ``pdf``.
+    only : sequence of str, optional
+        Draw only these figures: they replace their entries in an existing ``figures.json`` and the
+        others are kept; without it the manifest lists the whole set.
+    quick : bool, optional
+        Low resolution and sample counts.
+    dpi : int, optional
+        Raster resolution (default 150; 50 with ``quick``).
+    jobs : int, optional
+        Worker processes (1 to :data:`MAX_JOBS`); the files are the same either way.
+    options : dict, optional
+        ``{"csv": path}`` draws ``accuracy`` from an ``accuracy.csv``.
+    progress : callable, optional
+        ``progress(total, label)`` returning an object with ``update()``, ``close()`` and ``abort()``
+        (e.g. :class:`explorer.progress.Progress`).
+    log : callable, optional
+        ``log(name, seconds)``, called as each figure is done.
 
+    Returns
+    -------
+    list of dict
+        The manifest records of the figures drawn, in lecture order.
+
+    Notes
+    -----
     Everything is checked before anything is drawn: unknown names or formats, a dpi below 10 or
     one whose largest figure is over Matplotlib's limit or the memory budget, ``jobs`` outside
     ``[1, 64]`` or over the budget, an ``out_dir`` that is a file or not writable, a malformed
@@ -500,78 +560,24 @@ def _heaviest_first(tasks):
 
 
 # --------------------------------------------------------------------------- command line
-class _UsageError(Exception):
-    pass
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # report like every other error: one line, status 2, long values cut short
-        import re
-
-        from lighting._numeric import abbreviate
-
-        raise _UsageError(re.sub(r"'[^']{81,}'", lambda m: abbreviate(m.group(0)), message))
-
-
-def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog=PROG, description="Write the lecture-note figures (PNG/SVG/PDF, each with a JSON sidecar).")
-    p.add_argument("--out", "-o", default=os.path.join("out", "figures"), help="output folder (default: out/figures)")
-    p.add_argument("--format", default="png", help="comma-separated formats among png, svg, pdf (default: png)")
-    p.add_argument("--only", nargs="+", metavar="NAME",
-                   help="draw only these figures (see --list); figures.json keeps the other entries")  # fmt: skip
-    p.add_argument("--dpi", type=int, help="raster resolution (default 150; 50 with --quick)")
-    p.add_argument("--quick", action="store_true", help="low resolution and sample counts: the whole set in seconds")
-    p.add_argument("--jobs", "-j", type=int, default=None,
-                   help=f"worker processes, 1 to {MAX_JOBS} (default: up to 4, one per core)")  # fmt: skip
-    p.add_argument("--accuracy-csv", metavar="FILE",
-                   help="draw the 'accuracy' figure from this accuracy.csv (lighting-explorer report accuracy) "
-                        "instead of measuring now")  # fmt: skip
-    p.add_argument("--list", action="store_true", help="list the figures and exit")
-    return p
-
-
 def main(argv=None) -> int:
-    """Entry point of ``lighting-explorer figures``; returns the exit status (2 for a bad request).
+    """``lighting-explorer figures`` run alone: the command is :mod:`explorer.commands.figures`.
 
     Every option is checked before anything is drawn (see :func:`generate`).
-    """
-    argv = list(sys.argv[1:] if argv is None else argv)
-    try:
-        args = build_parser().parse_args(argv)
-        if args.list:
-            for name, spec in _load_registry().items():
-                print(f"{name:24s} {spec.title}")
-            return 0
-        formats = _check_formats(args.format.split(","))
-        names = _check_names(args.only)
-        # Worker processes pay for their start-up: only worth it for more than a handful of figures.
-        jobs = args.jobs if args.jobs is not None else max(1, min(4, os.cpu_count() or 1, len(names) // 4))
-        options = {}
-        if args.accuracy_csv is not None:
-            options["csv"] = check_accuracy_csv(args.accuracy_csv)
-    except (_UsageError, ValueError) as exc:
-        print(f"{PROG}: error: {exc}", file=sys.stderr)
-        return 2
-    from ..progress import Progress
 
-    t0 = time.perf_counter()
-    try:
-        records = generate(
-            args.out, formats=formats, only=args.only, quick=args.quick, dpi=args.dpi, jobs=jobs,
-            options=options, progress=Progress,
-        )  # fmt: skip
-    except ValueError as exc:
-        print(f"{PROG}: error: {' '.join(str(exc).split())}", file=sys.stderr)
-        return 2
-    except OSError as exc:
-        print(f"{PROG}: error: {exc.strerror or exc}: {exc.filename or args.out}", file=sys.stderr)
-        return 1
-    n_files = sum(len(r["files"]) for r in records)
-    print(
-        f"wrote {len(records)} figures ({n_files} files, {', '.join(formats)}) and {MANIFEST} to {args.out} "
-        f"in {time.perf_counter() - t0:.1f} s"
-    )
-    return 0
+    Parameters
+    ----------
+    argv : list of str, optional
+        The options (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 done, 1 a file could not be written, 2 a bad request.
+    """
+    from ..commands.figures import main as figures_main
+
+    return figures_main(argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

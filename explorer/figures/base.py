@@ -91,7 +91,22 @@ STYLE = {
 
 
 def series_colours(count: int, cmap: str = "viridis", stop: float = 0.85) -> list:
-    """``count`` colours along a perceptually uniform map (light end trimmed for a white background)."""
+    """``count`` colours along a perceptually uniform map (light end trimmed for a white background).
+
+    Parameters
+    ----------
+    count : int
+        How many colours.
+    cmap : str, optional
+        A Matplotlib colour map name.
+    stop : float, optional
+        Where along the map the last colour sits (0 to 1).
+
+    Returns
+    -------
+    list
+        ``count`` RGBA tuples.
+    """
     import matplotlib
 
     m = matplotlib.colormaps[cmap]
@@ -169,7 +184,25 @@ REGISTRY: dict[str, FigureSpec] = {}
 
 
 def register(name: str, *, title: str, caption: str, slides: str, nondeterministic: str | None = None, **parameters):
-    """Decorator: add a figure function to :data:`REGISTRY` under ``name``."""
+    """Decorator: add a figure function to :data:`REGISTRY` under ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The figure's name (its files are ``NAME.png`` ...); registering a name twice raises ``ValueError``.
+    title, caption, slides : str
+        What the sidecar and the gallery say about it (``{...}`` fields of the caption are filled from
+        what the figure measured).
+    nondeterministic : str, optional
+        Why two runs may differ, or ``None`` when the pixels are reproducible.
+    **parameters
+        The parameters the function is called with.
+
+    Returns
+    -------
+    callable
+        The decorator, which returns the function unchanged.
+    """
 
     def deco(func):
         if name in REGISTRY:
@@ -182,7 +215,20 @@ def register(name: str, *, title: str, caption: str, slides: str, nondeterminist
 
 # --------------------------------------------------------------------------- drawing helpers
 def new_figure(width: float, height: float, **kwargs):
-    """A Matplotlib figure (no pyplot: nothing global, safe in worker processes) with constrained layout."""
+    """A Matplotlib figure (no pyplot: nothing global, safe in worker processes) with constrained layout.
+
+    Parameters
+    ----------
+    width, height : float
+        Size in inches.
+    **kwargs
+        Passed to :class:`matplotlib.figure.Figure` (``layout`` defaults to ``"constrained"``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure.
+    """
     from matplotlib.figure import Figure
 
     kwargs.setdefault("layout", "constrained")
@@ -190,14 +236,51 @@ def new_figure(width: float, height: float, **kwargs):
 
 
 def sphere_rgb8(material, lights, size: int, *, exposure: float = 0.0, background=0.0) -> np.ndarray:
-    """The engine's exact (ray-cast) unit sphere under ``lights``, sRGB-encoded, ``(size, size, 3)`` uint8."""
+    """The engine's exact (ray-cast) unit sphere under ``lights``, sRGB-encoded.
+
+    Parameters
+    ----------
+    material : lighting.Material
+        The sphere's material.
+    lights : list
+        The engine's lights.
+    size : int
+        Image width and height in pixels.
+    exposure : float, optional
+        Exposure in stops.
+    background : float or colour, optional
+        The linear value behind the sphere.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(size, size, 3)`` uint8.
+    """
     img = render_sphere(material, lights, size=size, background=background)
     rgb8, _ = encode_srgb8(img, exposure=exposure)
     return rgb8
 
 
 def show_image(ax, rgb8, title: str | None = None, *, color=None, fontsize=None, dark=True) -> None:
-    """An engine image in ``ax``: no ticks, no frame, optional title."""
+    """An engine image in ``ax``: no ticks, no frame, optional title.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to show it.
+    rgb8 : numpy.ndarray
+        ``(h, w, 3)`` uint8.
+    title : str, optional
+        The axes title.
+    color, fontsize : optional
+        The title's colour and size.
+    dark : bool, optional
+        Black axes background.
+
+    Returns
+    -------
+    None
+    """
     ax.imshow(rgb8, interpolation="antialiased")
     ax.set_xticks([])
     ax.set_yticks([])
@@ -219,6 +302,21 @@ def polar_half(ax, rmax: float, *, label: str | None = r"$f_r$ (1/sr)", ticks: i
 
     Positive angles are to the right (the mirror side in :func:`lighting.analysis.polar_slice`); the
     radial scale reads along the right half of the baseline, its label sits under the origin.
+
+    Parameters
+    ----------
+    ax : matplotlib.projections.polar.PolarAxes
+        The axes to set up.
+    rmax : float
+        The radial limit.
+    label : str, optional
+        The radial scale's label (none if empty).
+    ticks : int, optional
+        About how many radial ticks.
+
+    Returns
+    -------
+    None
     """
     ax.set_theta_zero_location("N")
     ax.set_theta_direction(-1)
@@ -253,7 +351,27 @@ def _fmt_tick(x: float) -> str:
 
 
 def vector(ax, start, end, color, label=None, *, lw=2.6, label_offset=(0.0, 0.0), fontsize=18, zorder=4, ls="-"):
-    """An arrow from ``start`` to ``end`` with a bold label near its tip (for the vector diagrams)."""
+    """An arrow from ``start`` to ``end`` with a bold label near its tip (for the vector diagrams).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The diagram.
+    start, end : tuple of float
+        Tail and tip, in data coordinates.
+    color : str
+        Arrow and label colour (see :data:`VEC`).
+    label : str, optional
+        Drawn at the tip, shifted by ``label_offset``.
+    lw, fontsize, zorder, ls : optional
+        Line width, label size, drawing order and line style.
+    label_offset : tuple of float, optional
+        Offset of the label from the tip.
+
+    Returns
+    -------
+    None
+    """
     from matplotlib.patches import FancyArrowPatch
 
     arrow = FancyArrowPatch(start, end, arrowstyle="-|>", mutation_scale=22, color=color, lw=lw, zorder=zorder,
@@ -265,7 +383,29 @@ def vector(ax, start, end, color, label=None, *, lw=2.6, label_offset=(0.0, 0.0)
 
 
 def angle_arc(ax, center, radius, a0_deg, a1_deg, color, label=None, *, label_radius=None, fontsize=15):
-    """An arc from angle ``a0`` to ``a1`` (degrees, counter-clockwise from +x) with a label at its middle."""
+    """An arc from angle ``a0`` to ``a1`` (degrees, counter-clockwise from +x) with a label at its middle.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The diagram.
+    center : tuple of float
+        The arc's centre.
+    radius : float
+        The arc's radius.
+    a0_deg, a1_deg : float
+        Its ends, in degrees.
+    color : str
+        Arc and label colour.
+    label : str, optional
+        Drawn at the arc's middle, ``label_radius`` (default 1.35 ``radius``) from the centre.
+    label_radius, fontsize : float, optional
+        Where and how large the label is.
+
+    Returns
+    -------
+    None
+    """
     from matplotlib.patches import Arc
 
     lo, hi = min(a0_deg, a1_deg), max(a0_deg, a1_deg)
@@ -280,7 +420,23 @@ def angle_arc(ax, center, radius, a0_deg, a1_deg, color, label=None, *, label_ra
 def equation_row(fig, symbols, *, gap: float = 0.16, subplotspec=None):
     """Axes for ``len(symbols) + 1`` images in a row with an operator between each pair ("+", "=").
 
-    Returns the image axes; the operators sit in narrow axes of their own, so they never overlap an image.
+    The operators sit in narrow axes of their own, so they never overlap an image.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    symbols : sequence of str
+        The operators, one between each pair of images.
+    gap : float, optional
+        Width of an operator's axes relative to an image's.
+    subplotspec : matplotlib.gridspec.SubplotSpec, optional
+        Lay the row out inside this cell instead of the whole figure.
+
+    Returns
+    -------
+    list of matplotlib.axes.Axes
+        The image axes, left to right.
     """
     n = len(symbols) + 1
     ratios = []

@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from lighting import AmbientLight, BlinnPhong, CookTorrance, Lambert, Material, Phong, PointLight
-from lighting.analysis.analysis import lobe_mesh, polar_slice, reciprocity_pair
+from lighting.analysis import lobe_mesh, polar_slice, reciprocity_pair
 from lighting.analysis.audit import audit
 from lighting.models.brdf import Geometry
 from lighting.models.fresnel import dielectric, schlick
@@ -64,6 +64,27 @@ def _incidence_lines(ax, theta_deg, rmax, color, label=None):
     e=30.0,
 )
 def brdf_decomposition(q, *, theta_deg, kd, ks, e):
+    """Decomposing a BRDF: diffuse + specular, as polar slices and spheres.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    theta_deg : float
+        Incidence angle of the light, in degrees.
+    kd : float
+        Diffuse coefficient.
+    ks : float
+        Specular coefficient.
+    e : float
+        Phong exponent.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     parts = [("diffuse  $f_d$", Lambert(kd)), ("specular  $f_s$", Phong(ks, e)), ("sum  $f_d + f_s$",
              Lambert(kd) + Phong(ks, e))]  # fmt: skip
     slices = [polar_slice(b, math.radians(theta_deg), n=q.polar_n, channel=0) for _, b in parts]
@@ -98,6 +119,21 @@ def brdf_decomposition(q, *, theta_deg, kd, ks, e):
     theta_deg=_THETAS_DEG,
 )
 def brdf_polar(q, *, theta_deg):
+    """Polar slices of the lecture's models in the plane of incidence.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    theta_deg : float
+        Incidence angle of the light, in degrees.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     models = _models()
     fig = new_figure(14.0, 8.4)
     axes = fig.subplots(2, 3, subplot_kw={"projection": "polar"})
@@ -163,6 +199,21 @@ def _lobe_axes(ax, mesh, title):
     theta_deg=45.0,
 )
 def brdf_lobes_3d(q, *, theta_deg):
+    """3D lobe surfaces of the lecture's models.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    theta_deg : float
+        Incidence angle of the light, in degrees.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     import matplotlib
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize
@@ -201,6 +252,25 @@ def brdf_lobes_3d(q, *, theta_deg):
     blinn_e=80.0,
 )
 def reciprocity(q, *, theta_deg, phong_e, blinn_e):
+    """Reciprocity: swapping view and light, for the Phong and the Blinn–Phong BRDFs.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    theta_deg : float
+        Incidence angle, in degrees.
+    phong_e : float
+        Phong exponent.
+    blinn_e : float
+        Blinn–Phong exponent.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     th = math.radians(theta_deg)
     cases = [
         (f"Phong BRDF, e = {phong_e:g}", Phong(1.0, phong_e)),
@@ -306,6 +376,31 @@ def _blocked(x, y, i, p, d):
     tolerance_deg=6.0,
 )
 def microfacets(q, *, seed, sigma, light_deg, view_deg, facets, tolerance_deg):
+    """Specular microfacets: a random rough profile, the facets that reflect l into v, shadowing and masking.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    seed : int
+        Seed of the random profile.
+    sigma : float
+        RMS slope of the profile.
+    light_deg : float
+        Direction of l, in degrees from the normal.
+    view_deg : float
+        Direction of v, in degrees from the normal.
+    facets : int
+        Number of facets.
+    tolerance_deg : float
+        How close to h a facet normal must be to count, in degrees.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     from matplotlib.collections import LineCollection
 
     rng = np.random.default_rng(seed)
@@ -425,6 +520,25 @@ _ALPHAS = (0.1, 0.2, 0.35, 0.6)
     f0=0.04,
 )
 def cook_torrance_terms(q, *, alphas, theta_deg, f0):
+    """Cook–Torrance's D, G and F over roughness.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    alphas : sequence of float
+        Roughness values α.
+    theta_deg : float
+        Incidence angle, in degrees.
+    f0 : float
+        Reflectance at normal incidence.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     cols = series_colours(len(alphas))
     fig = new_figure(14.0, 9.4)
     axes = fig.subplots(2, 2)
@@ -498,6 +612,27 @@ def cook_torrance_terms(q, *, alphas, theta_deg, f0):
     light=((-2.2, 1.8, 1.6), 12.0),
 )
 def cook_torrance_spheres(q, *, alphas, f0, kd, light):
+    """Cook–Torrance on a sphere: D, G and the result over roughness.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    alphas : sequence of float
+        Roughness values α, one row each.
+    f0 : float
+        Reflectance at normal incidence.
+    kd : colour
+        Diffuse albedo added under the specular lobe.
+    light : tuple
+        Direction of the directional light.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     import matplotlib
     from matplotlib.colors import LogNorm, Normalize
     from matplotlib.patches import Circle
@@ -586,6 +721,19 @@ def cook_torrance_spheres(q, *, alphas, f0, kd, light):
     slides="CMSC 435: Physically plausible BRDF (positive, reciprocity, conservation of energy)",
 )
 def plausibility_table(q):
+    """The audit table: albedo, reciprocity and energy conservation of every audited model.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     table = audit(samples=q.audit_samples)
     head = ["model", "parameters", "ρ(0°)", "ρ max (θ)", "recip. err", "positive", "reciprocal", "energy", "note"]
     cells, colours = [], []

@@ -57,6 +57,23 @@ def _diffuse_on_floor(light, x):
     cool=((1.0, 0.2, 0.7), (0.35, 0.55, 1.0)),
 )
 def light_is_linear(q, *, warm, cool):
+    """Light is linear: the image under two lights is the sum of the images under each.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    warm : tuple
+        ``(direction, colour)`` of the warm directional light.
+    cool : tuple
+        ``(direction, colour)`` of the cool directional light.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     mat = Material(Lambert(0.75) + Phong(0.35, 30.0))
     a = [DirectionalLight(warm[0], color=warm[1])]
     b = [DirectionalLight(cool[0], color=cool[1])]
@@ -132,6 +149,23 @@ def _source_panel(ax, kind, light, xs):
     cutoff=25.0,
 )
 def light_sources(q, *, height, cutoff):
+    """Point, directional, area and spot lights as diagrams.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    height : float
+        Height of the lights over the surface.
+    cutoff : float
+        Spot cut-off angle, in degrees.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     h = height
     lights = {
         "point": PointLight((0.0, h, 0.0), intensity=h * h),
@@ -208,6 +242,21 @@ _LIGHT_SETUPS = {
     scene="ambient_only",
 )
 def light_types(q, *, scene):
+    """One example scene rendered under each kind of light.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    scene : str
+        The example scene's name.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     base = load_scene(example_path(scene))
     w = int(round(base.image.width * q.scene_scale))
     h = int(round(base.image.height * q.scene_scale))
@@ -255,6 +304,23 @@ def _falloff_floor(px_w, px_h):
     kd=0.7,
 )
 def falloff(q, *, light_height, kd):
+    """Light source falloff with distance over a surface.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    light_height : float
+        Height of the point light.
+    kd : colour
+        Diffuse albedo.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     fig = new_figure(13.0, 8.2)
     gs = fig.add_gridspec(2, len(_FALLOFFS), height_ratios=[1.15, 1.0])
     ax = fig.add_subplot(gs[0, :])
@@ -309,6 +375,22 @@ def _triple(c):
     background=0.22,
 )
 def light_colour(q, *, ambient, background):
+    """Light colour times surface colour.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    ambient : float
+        Ambient intensity.
+    background : float
+        Linear value behind the spheres.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     fig = new_figure(14.0, 4.3)
     axes = fig.subplots(1, len(_COLOUR_CASES))
     for ax, (title, light_c, surf) in zip(axes, _COLOUR_CASES, strict=True):
@@ -339,6 +421,29 @@ def light_colour(q, *, ambient, background):
     light=((-2.0, 2.5, 4.0), 24.0),
 )
 def illumination_terms(q, *, kd, ks, shininess, ambient, light):
+    """The illumination equation term by term: ambient + diffuse + specular = the image.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    kd : colour
+        Diffuse albedo.
+    ks : float
+        Specular coefficient.
+    shininess : float
+        Blinn–Phong exponent.
+    ambient : float
+        Ambient intensity.
+    light : tuple
+        Direction of the directional light.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     mat = Material(Lambert(kd) + Phong(ks, shininess))
     lights = [AmbientLight(intensity=ambient), PointLight(light[0], intensity=light[1])]
     r = Renderer(AnalyticSphere(), sphere_camera(q.sphere_px))
@@ -385,6 +490,33 @@ def illumination_terms(q, *, kd, ks, shininess, ambient, light):
     scan_latitude_deg=0.0,
 )
 def gouraud_vs_phong(q, *, n_lat, n_lon, kd, ks, shininess, light, scan_latitude_deg):
+    """Gouraud against Phong interpolation on a coarse sphere, with a scanline showing Mach bands.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    n_lat : int
+        Latitude bands of the sphere mesh.
+    n_lon : int
+        Longitude segments of the sphere mesh.
+    kd : colour
+        Diffuse albedo.
+    ks : float
+        Specular coefficient.
+    shininess : float
+        Blinn–Phong exponent.
+    light : tuple
+        Direction of the directional light.
+    scan_latitude_deg : float
+        Latitude of the plotted scanline, in degrees.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     from matplotlib.collections import LineCollection
 
     size = max(q.sphere_px, 128)  # the Mach band metric needs scan lines of some length, even in quick mode

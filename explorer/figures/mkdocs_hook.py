@@ -81,6 +81,19 @@ def _figures_dir(log) -> str:
 
 
 def on_pre_build(config, **kwargs):
+    """MkDocs event: draw (or reuse) the figure set and read its manifest.
+
+    Parameters
+    ----------
+    config : mkdocs.config.Config
+        The site's configuration (unused).
+    **kwargs
+        Other event arguments.
+
+    Returns
+    -------
+    None
+    """
     import logging
 
     log = logging.getLogger("mkdocs.hooks.gallery")
@@ -91,6 +104,22 @@ def on_pre_build(config, **kwargs):
 
 
 def on_files(files, config, **kwargs):
+    """MkDocs event: add every figure's PNG to the site under ``gallery/``.
+
+    Parameters
+    ----------
+    files : mkdocs.structure.files.Files
+        The site's files.
+    config : mkdocs.config.Config
+        The site's configuration.
+    **kwargs
+        Other event arguments.
+
+    Returns
+    -------
+    mkdocs.structure.files.Files
+        ``files`` with the figures added.
+    """
     from mkdocs.structure.files import File
 
     for rec in _state["manifest"]["figures"]:
@@ -121,6 +150,24 @@ def _section(rec) -> str:
 
 
 def on_page_markdown(markdown, page, config, files, **kwargs):
+    """MkDocs event: replace ``<!-- figures -->`` on ``gallery.md`` with one section per figure.
+
+    Parameters
+    ----------
+    markdown : str
+        The page's Markdown.
+    page : mkdocs.structure.pages.Page
+        The page.
+    config, files
+        The site's configuration and files (unused).
+    **kwargs
+        Other event arguments.
+
+    Returns
+    -------
+    str
+        The Markdown, with the gallery in place on ``gallery.md``.
+    """
     if page.file.src_uri != "gallery.md" or _MARKER not in markdown:
         return markdown
     m = _state["manifest"]

@@ -54,6 +54,21 @@ def _surface(ax, x0, x1, *, thickness=0.12):
     theta_deg=60.0,
 )
 def lambert_cosine_law(q, *, theta_deg):
+    """Lambert's cosine law: the light a surface patch receives falls as cos θ.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    theta_deg : float
+        The tilt of the light shown in the diagram, in degrees.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     from matplotlib.patches import Polygon
 
     fig = new_figure(13.0, 5.4)
@@ -118,6 +133,23 @@ def lambert_cosine_law(q, *, theta_deg):
     kd=0.85,
 )
 def lambert_sphere_angles(q, *, angles_deg, kd):
+    """A Lambertian sphere lit from several angles.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    angles_deg : sequence of float
+        Light elevations, in degrees, one sphere each.
+    kd : colour
+        Diffuse albedo.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     fig = new_figure(13.0, 3.05)
     axes = fig.subplots(1, len(angles_deg))
     mat = Material(Lambert(kd))
@@ -148,6 +180,25 @@ def lambert_sphere_angles(q, *, angles_deg, kd):
     view_deg=30.0,
 )
 def reflection_geometry(q, *, alpha_deg, light_deg, view_deg):
+    """Mirror reflection and the slides' vectors n, l, v, r and h.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    alpha_deg : float
+        Angle of incidence α of the mirror diagram (l to n, and n to r), in degrees.
+    light_deg : float
+        Direction of l in the second diagram, in degrees from the normal (negative: to the left).
+    view_deg : float
+        Direction of v in the second diagram, in degrees from the normal.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     fig = new_figure(13.0, 5.0)
     ax, ax2 = fig.subplots(1, 2)
     L = 2.6
@@ -220,6 +271,29 @@ def reflection_geometry(q, *, alpha_deg, light_deg, view_deg):
     light=(-1.0, 1.0, 1.4),
 )
 def phong_falloff(q, *, exponents, kd, ks, ambient, light):
+    """Phong's angular falloff cosᵉ α for several exponents, with rendered spheres.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    exponents : sequence of float
+        The exponents e compared.
+    kd : colour
+        Diffuse albedo of the spheres.
+    ks : float
+        Specular coefficient.
+    ambient : float
+        Ambient intensity.
+    light : tuple
+        Direction of the directional light.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     fig = new_figure(13.0, 7.6)
     gs = fig.add_gridspec(2, len(exponents), height_ratios=[1.25, 1.0])
     ax = fig.add_subplot(gs[0, :])
@@ -274,6 +348,33 @@ def _floor_renderer(px_w, px_h):
     floor_light_intensity=60.0,
 )
 def phong_vs_blinn_phong(q, *, e, kd, ks, sphere_light_deg, floor_kd, floor_light, floor_light_intensity):
+    """Phong against Blinn–Phong highlights, on a sphere and at grazing angles on a floor.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    e : float
+        Phong exponent (Blinn–Phong uses 4e).
+    kd : colour
+        Diffuse albedo of the spheres.
+    ks : float
+        Specular coefficient.
+    sphere_light_deg : float
+        Light elevation over the spheres, in degrees.
+    floor_kd : colour
+        Diffuse albedo of the floor.
+    floor_light : tuple
+        Position of the floor's light.
+    floor_light_intensity : float
+        Intensity of the floor's light.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     rows = [
         (f"Phong, e = {e:g}", Phong(ks, e)),
         (f"Blinn–Phong, e = {4 * e:g}", BlinnPhong(ks, 4 * e)),

@@ -88,6 +88,31 @@ def _image(r, values, fade=True):
     f0=(0.95, 0.8, 0.55),
 )
 def rendering_equation(q, *, sun_cam, solid_angle, patch_irradiance, kd, alpha, f0):
+    """The rendering equation: a sphere under a full environment against light from one point.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    sun_cam : tuple
+        Direction of the sun, in camera space.
+    solid_angle : float
+        Solid angle of the small patch light, in steradians.
+    patch_irradiance : float
+        Irradiance the patch delivers at normal incidence.
+    kd : colour
+        Diffuse albedo.
+    alpha : float
+        Cook–Torrance roughness.
+    f0 : colour
+        Reflectance at normal incidence.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     sun_cam = np.asarray(sun_cam, dtype=np.float64) / np.linalg.norm(sun_cam)
     sun_env = _CAM_TO_ENV @ sun_cam
     h = 48 if q.quick else 192
@@ -186,6 +211,21 @@ _FLOOR = 1e-16  # exact zeros on a log axis
     csv=None,
 )
 def accuracy(q, *, csv):
+    """Error against run time of the engine's approximations (measured now, or read from an accuracy.csv).
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    csv : str or None
+        An ``accuracy.csv`` of ``lighting-explorer report accuracy``; ``None`` measures now.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
+        (they fill the caption's fields and the sidecar).
+    """
     import matplotlib.ticker as mt
 
     if csv:

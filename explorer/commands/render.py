@@ -22,16 +22,14 @@ import re
 import sys
 import time
 
+__all__ = ["add_parser", "run", "main"]
+
 PROG = "lighting-explorer render"
+DESCRIPTION = "Render a scene file (TOML, see docs/scenes.md) to a PNG image."
 
 
 class _UsageError(Exception):
     pass
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # argparse would print usage and exit; we report like every other error
-        raise _UsageError(message)
 
 
 def _size(text: str):
@@ -60,8 +58,23 @@ def _exposure(text: str) -> float:
     return v
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog=PROG, description="Render a scene file (TOML, see docs/scenes.md) to a PNG image.")
+def add_parser(subparsers):
+    """Add ``render`` and its options to the sub-commands of ``lighting-explorer``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the ``lighting-explorer`` command.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The new sub-parser (its ``func`` default is :func:`run`).
+    """
+    p = subparsers.add_parser(
+        "render", help="render a scene file (or an example scene) to an image (--explain shows the plan)",
+        description=DESCRIPTION,
+    )  # fmt: skip
     p.add_argument("scene", nargs="?", help="scene file, or the name of a shipped example scene")
     p.add_argument("-o", "--out", help="output PNG (default: [image].output of the scene, else SCENE-NAME.png)")
     p.add_argument("--size", type=_size, metavar="WxH", help="image size override, e.g. 640x480")
@@ -69,11 +82,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tonemap", choices=("clamp", "reinhard"), help="tone map override")
     p.add_argument("--explain", action="store_true", help="print the evaluation plan (what the scene needs)")
     p.add_argument("--list", action="store_true", help="list the example scenes shipped with the package")
+    p.set_defaults(func=run)
     return p
 
 
 def _resolve_scene(arg: str) -> str:
-    from lighting.scene.scene import example_path, list_examples
+    from lighting.scene import example_path, list_examples
 
     if os.path.exists(arg) or os.sep in arg or "/" in arg:
         return arg
@@ -90,9 +104,9 @@ def _short(text) -> str:
 
 
 def _run(args) -> int:
-    from lighting.scene.scene import SceneRenderer, check_scene_budget, list_examples, load_scene, scene_output_path
+    from lighting.scene import SceneRenderer, check_scene_budget, list_examples, load_scene, scene_output_path
 
-    from .output import check_output_path, write_image
+    from ..output import check_output_path, write_image
 
     if args.list:
         for name in list_examples():
@@ -129,14 +143,21 @@ def _run(args) -> int:
     return 0
 
 
-def main(argv=None) -> int:
-    """Run the command; returns the exit status (0 on success, 2 on any error)."""
-    argv = list(sys.argv[1:] if argv is None else argv)
+def run(args) -> int:
+    """Render the scene the options name and write the image; report any problem in one line.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The options of :func:`add_parser`.
+
+    Returns
+    -------
+    int
+        0 on success, 2 on any error (``lighting-explorer: error: …`` on standard error).
+    """
     try:
-        args = build_parser().parse_args(argv)
         return _run(args)
-    except SystemExit as e:  # --help
-        return int(e.code or 0) if isinstance(e.code, int) or e.code is None else 2
     except _UsageError as e:
         print(f"lighting-explorer: error: {e} (see {PROG} --help)", file=sys.stderr)
         return 2
@@ -147,6 +168,24 @@ def main(argv=None) -> int:
     except MemoryError:
         print("lighting-explorer: error: out of memory (try a smaller --size)", file=sys.stderr)
         return 2
+
+
+def main(argv=None) -> int:
+    """``lighting-explorer render`` run alone (see :func:`explorer.cli.run_alone`).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The scene and the options (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 on success, 2 on any error.
+    """
+    from ..cli import run_alone
+
+    return run_alone("render", argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,8 @@
+"""The sub-commands of ``lighting-explorer``, one module each.
+
+Every module offers ``add_parser(subparsers)`` (adds the command and its options to the one argparse
+tree, :func:`explorer.cli.build_parser`, with ``func`` set to its ``run``), ``run(args) -> int`` (runs
+it on parsed options and returns the exit status) and ``main(argv) -> int`` (runs it alone).  The
+work itself lives with its topic: the engine (``sphere``, ``render``), :mod:`explorer.bench`,
+:mod:`explorer.figures`.  ``explore`` and ``report`` keep their own parsers (:data:`explorer.cli.DELEGATES`).
+"""

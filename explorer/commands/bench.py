@@ -1,0 +1,97 @@
+"""``lighting-explorer bench``: time the engine's image pipeline against VTK (the work is :mod:`explorer.bench`).
+
+::
+
+    lighting-explorer bench [--json] [--repeat N] [--plan]
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+__all__ = ["MAX_REPEAT", "add_parser", "run", "main"]
+
+#: Most timed runs per measurement: more only takes longer.
+MAX_REPEAT = 10000
+
+
+def add_parser(subparsers):
+    """Add ``bench`` and its options to the sub-commands of ``lighting-explorer``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the ``lighting-explorer`` command.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The new sub-parser (its ``func`` default is :func:`run`).
+    """
+    p = subparsers.add_parser(
+        "bench", help="time re-shading, rasterizing and VTK rendering side by side (--json, --plan)",
+        description="Time the engine's re-shading and rasterizing against VTK rendering the same scene, in one run.",
+    )  # fmt: skip
+    p.add_argument("--json", action="store_true", help="print one JSON line instead of the table")
+    p.add_argument("--repeat", type=int, default=15,
+                   help=f"timed runs per measurement, 1 to {MAX_REPEAT} (median reported)")  # fmt: skip
+    p.add_argument("--plan", action="store_true", help="planned vs nothing-skipped evaluation of every example scene")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args) -> int:
+    """Run the benchmark the options ask for and print its table (or one JSON line).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The options of :func:`add_parser`.
+
+    Returns
+    -------
+    int
+        0 when done, 2 for a bad ``--repeat`` (one line on standard error).
+    """
+    from lighting._numeric import check_count
+
+    from .. import bench
+    from .._allocator import tune_allocator
+    from ..cli import PROG, error_line
+
+    try:
+        check_count("--repeat", args.repeat, 1, MAX_REPEAT)
+    except ValueError as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
+    tune_allocator()
+    if args.plan:
+        rows = bench.time_plans(args.repeat)
+        print(json.dumps(rows) if args.json else bench.format_plans(rows))
+        return 0
+    result = bench.run(args.repeat)
+    print(json.dumps(result) if args.json else bench.format_report(result))
+    return 0
+
+
+def main(argv=None) -> int:
+    """``lighting-explorer bench`` run alone (see :func:`explorer.cli.run_alone`).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The options (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 when done, 2 for a bad option (one line on standard error).
+    """
+    from ..cli import run_alone
+
+    return run_alone("bench", argv)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
