@@ -10,7 +10,7 @@ import sys
 import time
 from dataclasses import asdict
 
-from lighting.integrate.integrate import UNCONVERGED_RELATIVE_ERROR
+from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
 from lighting.validation.accuracy import STUDY_NAMES, run_studies, summary
 
 from ..progress import Progress
@@ -27,6 +27,17 @@ def _fmt_s(seconds) -> str:
 
 
 def format_points(studies) -> str:
+    """Every measured point, one block per study and case, as the terminal prints it.
+
+    Parameters
+    ----------
+    studies : list of Study
+        From :func:`lighting.validation.accuracy.run_studies`.
+
+    Returns
+    -------
+    str
+    """
     lines = []
     for st in studies:
         lines.append(f"\n{st.description}")
@@ -55,6 +66,17 @@ def format_points(studies) -> str:
 
 
 def format_summary(rows) -> str:
+    """The cheapest method that reaches each error target, per case.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`lighting.validation.accuracy.summary`.
+
+    Returns
+    -------
+    str
+    """
     lines = ["", "Cheapest method that reaches the error (fastest measured point at or below it):"]
     lines.append(f"  {'case':62s} {'error':>6s}  {'method':28s} {'cost':>14s} {'time':>10s}")
     for r in rows:
@@ -71,7 +93,19 @@ def format_summary(rows) -> str:
 
 
 def write_csv(path, rows, fields) -> None:
-    """The rows as CSV, written atomically (no temporary file survives an interrupt)."""
+    """The rows as CSV, written atomically (no temporary file survives an interrupt).
+
+    Parameters
+    ----------
+    path : str
+    rows : list of dict
+    fields : list of str
+        The columns, in order.
+
+    Returns
+    -------
+    None
+    """
     from ..output import atomic_write
 
     fh = io.StringIO(newline="")
@@ -83,7 +117,18 @@ def write_csv(path, rows, fields) -> None:
 
 
 def make_figure(studies, path) -> None:
-    """One log-log panel per case: relative error against time, one line per method."""
+    """One log-log panel per case: relative error against time, one line per method.
+
+    Parameters
+    ----------
+    studies : list of Study
+    path : str
+        The PNG to write (atomically).
+
+    Returns
+    -------
+    None
+    """
     import matplotlib
     import matplotlib.ticker
 

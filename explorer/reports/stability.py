@@ -99,7 +99,16 @@ def _family_summary(rows, dtypes):
 
 
 def format_table(result: st.StabilityResult) -> str:
-    """The terminal table: model family × case family, per dtype the largest error, κ there, and the worst ratio."""
+    """The terminal table: model family × case family, per dtype the largest error, κ there, and the worst ratio.
+
+    Parameters
+    ----------
+    result : StabilityResult
+
+    Returns
+    -------
+    str
+    """
     dtypes = result.dtypes
     summ = _family_summary(result.rows, dtypes)
     head = f"{'model family':<19} {'case family':<11} {'values':>7} {'NaN/Inf':>7}"
@@ -172,7 +181,17 @@ def format_table(result: st.StabilityResult) -> str:
 
 
 def write_csv(result: st.StabilityResult, path: Path) -> None:
-    """Every summary row (see :data:`CSV_COLUMNS`), written atomically."""
+    """Every summary row (see :data:`CSV_COLUMNS`), written atomically.
+
+    Parameters
+    ----------
+    result : StabilityResult
+    path : pathlib.Path
+
+    Returns
+    -------
+    None
+    """
     fh = io.StringIO(newline="")
     w = csv.writer(fh)
     w.writerow(CSV_COLUMNS)
@@ -184,6 +203,17 @@ def write_csv(result: st.StabilityResult, path: Path) -> None:
 
 
 def write_rearrangements(result: st.StabilityResult, path: Path) -> None:
+    """``rearrangements.csv``: each rearranged formula, per dtype the worst ratio and failures before and after.
+
+    Parameters
+    ----------
+    result : StabilityResult
+    path : pathlib.Path
+
+    Returns
+    -------
+    None
+    """
     fh = io.StringIO(newline="")
     w = csv.writer(fh)
     w.writerow(["rearrangement", "where", "before", "after", "dtype", "ratio_before", "failing_before",
@@ -198,7 +228,18 @@ def write_rearrangements(result: st.StabilityResult, path: Path) -> None:
 
 
 def make_figure(result: st.StabilityResult, path: Path) -> None:
-    """Relative error against κu (log-log, one colour per dtype, the line 8 κ u) and the worst ratio per family."""
+    """Relative error against κu (log-log, one colour per dtype, the line 8 κ u) and the worst ratio per family.
+
+    Parameters
+    ----------
+    result : StabilityResult
+    path : pathlib.Path
+        The PNG to write (atomically).
+
+    Returns
+    -------
+    None
+    """
     import matplotlib
 
     matplotlib.use("Agg")

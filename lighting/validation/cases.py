@@ -23,7 +23,17 @@ LIGHT_FORMS = ("scale", "irradiance")
 
 
 def unit_roundoff(dtype) -> float:
-    """``u`` of a float type: 2^-24 for float32, 2^-53 for float64."""
+    """``u`` of a float type: 2^-24 for float32, 2^-53 for float64.
+
+    Parameters
+    ----------
+    dtype : numpy float type
+
+    Returns
+    -------
+    float
+
+    """
     return float(np.finfo(dtype).eps) / 2
 
 
@@ -90,7 +100,18 @@ N_TILT = (0.3, -0.5, 0.81)  # generic, not unit length
 
 
 def brdf_cases(quick: bool = False) -> list[BrdfCase]:
-    """The ``(n, l, v)`` inputs of the sweep, grouped by case family (see :data:`CASE_FAMILIES`)."""
+    """The ``(n, l, v)`` inputs of the sweep, grouped by case family (see :data:`CASE_FAMILIES`).
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer points per family (every family and extreme is still there).
+
+    Returns
+    -------
+    list of BrdfCase
+
+    """
     cases: list[BrdfCase] = []
     normals = (N_AXIS, N_TILT)
 
@@ -222,7 +243,12 @@ def _fmt_param(x: float) -> str:
 
 
 def brdf_specs() -> list[ModelSpec]:
-    """Every model variant of the sweep with its reference terms."""
+    """Every model variant of the sweep with its reference terms.
+
+    Returns
+    -------
+    list of ModelSpec
+    """
     from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 
     specs = [
@@ -344,7 +370,12 @@ SPOT_EXPONENTS = (0.0, 1.0, 128.0, 1e4)
 
 
 def light_specs() -> list[LightSpec]:
-    """Point lights (three falloffs, two positions, three extreme intensities) and spot lights."""
+    """Point lights (three falloffs, two positions, three extreme intensities) and spot lights.
+
+    Returns
+    -------
+    list of LightSpec
+    """
     from ..lights.punctual import PointLight, SpotLight
 
     specs = []
@@ -376,7 +407,18 @@ def _spot_direction(axis, psi):
 
 
 def light_cases(quick: bool = False) -> list[LightCase]:
-    """Surface points for every light spec: distance sweeps, intensity extremes, and angles across the spot cone."""
+    """Surface points for every light spec: distance sweeps, intensity extremes, and angles across the spot cone.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer points per sweep.
+
+    Returns
+    -------
+    list of LightCase
+
+    """
     specs = light_specs()
     u = np.array([1.0, 2.0, 2.0]) / 3.0
     cases = []

@@ -128,7 +128,13 @@ def textbook_spot(light, l):  # noqa: E741
 
 
 def rearrangement_list() -> list[Rearrangement]:
-    """The rearranged formulas checked by :func:`run` (new ones first, then those the engine already had)."""
+    """The rearranged formulas checked by :func:`run` (new ones first, then those the engine already had).
+
+    Returns
+    -------
+    list of Rearrangement
+        Fresh objects (``before`` and ``after`` empty).
+    """
     return [
         Rearrangement(
             "half vector near l = −v",

@@ -12,11 +12,14 @@ import mpmath
 import numpy as np
 import pytest
 
-from explorer.reports import stability as report_stability
 from explorer.progress import Progress
+from explorer.reports import stability as report_stability
 from lighting import BlinnPhong, CookTorrance, Phong, SpotLight
 from lighting.models.brdf import Geometry
+from lighting.validation import cases as vcases
+from lighting.validation import reference as vref
 from lighting.validation import stability as st
+from lighting.validation import tables as vtables
 
 
 @pytest.fixture(scope="module")
@@ -172,11 +175,11 @@ def test_reference_is_converged_and_its_condition_numbers_agree_with_direct_pert
     mp = mpmath.mp
     with mp.workdps(80):
         x = [mp.mpf(float(c)) for c in (*case.n, *case.l, *case.v)]
-        base = st._brdf_factors(mp, x)
+        base = vref._brdf_factors(mp, x)
         keys = [k for k in base if k != "above"]
-        direct = st._gradient(mp, st._brdf_factors, x, base, keys, st.DELTA)
+        direct = vref._gradient(mp, vref._brdf_factors, x, base, keys, vcases.DELTA)
     for key, g in zip(keys, direct, strict=True):
-        k1, k2 = st._kappa(g), st._kappa(a["grad"][key][:9])
+        k1, k2 = vtables._kappa(g), vtables._kappa(a["grad"][key][:9])
         assert k2 == pytest.approx(k1, rel=1e-9, abs=1e-20), key
 
 
@@ -196,7 +199,7 @@ def test_reference_values_match_closed_forms():
     # Condition number of n·l for n = z, l = (sin t, 0, cos t): Σ |∂ ln(n·l)/∂ ln l_i| = 2 sin²t.
     t = 0.7
     ref = st.reference_brdf((0.0, 0.0, 1.0), (math.sin(t), 0.0, math.cos(t)), (0.0, 0.0, 1.0))
-    assert st._kappa(ref["grad"]["nl"]) == pytest.approx(2 * math.sin(t) ** 2, rel=1e-12)
+    assert vtables._kappa(ref["grad"]["nl"]) == pytest.approx(2 * math.sin(t) ** 2, rel=1e-12)
     # Reciprocity of the reference itself.
     a = st.reference_brdf((0.3, -0.5, 0.81), (0.2, 0.7, 0.6), (-0.5, 0.1, 0.9))["values"]
     b = st.reference_brdf((0.3, -0.5, 0.81), (-0.5, 0.1, 0.9), (0.2, 0.7, 0.6))["values"]
@@ -287,12 +290,12 @@ def test_cli_writes_table_csv_and_figure_with_the_computed_values(result, tmp_pa
         key=lambda r: float(r["max_rel_err"]),
     )
     n, l, v = (np.array([float(t) for t in row[k].split()], np.float32) for k in ("worst_a", "worst_b", "worst_c"))
-    engine = float(Phong(st.KS, 1e4).eval(n, l, v)[0])
+    engine = float(Phong(vcases.KS, 1e4).eval(n, l, v)[0])
     assert engine == float(row["worst_engine"])
     ref = st.reference_brdf(n.tolist(), l.tolist(), v.tolist())["values"]
     mp = mpmath.mp
     with mp.workdps(60):
-        true = mp.mpf(st.KS) * ref["phong:10000.0"] / (mp.pi * ref["nl"])
+        true = mp.mpf(vcases.KS) * ref["phong:10000.0"] / (mp.pi * ref["nl"])
         err = float(abs((mp.mpf(engine) - true) / true))
     assert err == pytest.approx(float(row["max_rel_err"]), rel=1e-9)
     assert float(row["max_rel_err"]) > 0
