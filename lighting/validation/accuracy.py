@@ -23,7 +23,7 @@ Every integration point also records what the method *says* about itself: its
 own error estimate (:class:`lighting.integrate.Estimate`, relative to the
 value, mean over seeds) in ``estimated_error``; ``coverage``, the fraction of
 seeds whose true error lies within two reported errors (the honesty contract
-of :mod:`lighting.integrate.integrate`: at least 90 %); and ``unconverged``, True when
+of :mod:`lighting.integrate.estimate`: at least 90 %); and ``unconverged``, True when
 the estimated relative error is above 2 %
 (:data:`lighting.integrate.UNCONVERGED_RELATIVE_ERROR`).  Studies whose
 methods carry no error estimate (area light, tessellation, precision) leave
@@ -42,9 +42,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_bool, real_array
-from ..integrate.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo, outgoing_radiance
-from ..lights.environment import FunctionEnvironment
+from ..integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo, outgoing_radiance
 from ..lights import AmbientLight, DirectionalLight, PointLight, RectLight
+from ..lights.environment import FunctionEnvironment
 from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 from ..render.camera import Camera
 from ..render.mesh import icosphere
