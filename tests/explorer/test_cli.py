@@ -1,0 +1,71 @@
+"""The one argparse tree of ``lighting-explorer`` (explorer/cli.py and explorer/commands/)."""
+
+from __future__ import annotations
+
+import importlib
+
+import pytest
+
+from explorer import cli
+
+
+def test_every_command_module_offers_add_parser_run_and_main():
+    for name, module in cli.COMMANDS.items():
+        if module is None:
+            assert name in cli.DELEGATES
+            continue
+        mod = importlib.import_module(module)
+        for attr in ("add_parser", "run", "main"):
+            assert callable(getattr(mod, attr)), (module, attr)
+
+
+def test_the_tree_lists_the_commands_in_order_with_their_options():
+    parser = cli.build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    assert list(sub.choices) == list(cli.COMMANDS)
+    args = cli.parse(["sphere", "--size", "12"])
+    assert args.command == "sphere" and args.size == 12 and args.func.__module__ == "explorer.commands.sphere"
+    args = cli.parse(["render", "spotlight", "--size", "40x30"])
+    assert args.scene == "spotlight" and args.size == (40, 30)
+    args = cli.parse(["figures", "--only", "falloff", "-j", "1"])
+    assert args.only == ["falloff"] and args.jobs == 1
+    assert cli.parse(["bench", "--repeat", "3"]).repeat == 3
+
+
+def test_building_the_tree_loads_no_figure_module_or_matplotlib():
+    import subprocess
+    import sys
+
+    heavy = "('matplotlib', 'explorer.figures', 'pyvista')"
+    loaded = f"sorted(m for m in sys.modules if m.startswith({heavy}))"
+    code = f"import sys, explorer.cli as c; c.build_parser(); print({loaded})"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "[]"
+
+
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        (
+            ["render", "x", "--bogus"],
+            "lighting-explorer: error: unrecognized arguments: --bogus (see lighting-explorer render --help)",
+        ),
+        (
+            ["bench", "extra"],
+            "lighting-explorer: error: unrecognized arguments: extra (see lighting-explorer bench --help)",
+        ),
+        (["figures", "--bogus"], "lighting-explorer figures: error: unrecognized arguments: --bogus"),
+        (["figures", "--dpi", "many"], "lighting-explorer figures: error: argument --dpi: invalid int value: 'many'"),
+        (
+            ["render", "x", "--tonemap", "no"],
+            "lighting-explorer: error: argument --tonemap: invalid choice: 'no' "
+            "(choose from 'clamp', 'reinhard') (see lighting-explorer render --help)",
+        ),
+    ],
+)
+def test_a_bad_line_is_reported_in_the_words_of_its_sub_command(argv, line, capsys):
+    assert cli.main(argv) == 2
+    assert capsys.readouterr().err == line + "\n"
+    # Run alone (the module's main), the command reports the same line.
+    assert importlib.import_module(cli.COMMANDS[argv[0]]).main(argv[1:]) == 2
+    assert capsys.readouterr().err == line + "\n"
