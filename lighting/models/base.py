@@ -78,8 +78,20 @@ def cos_power(one_minus_cos: np.ndarray, exponent: float) -> np.ndarray:
     lobe lives where ``1 − cos φ ~ 1e-6``, and forming ``cos φ`` first would
     throw away the digits that the millionth power then amplifies.  Any
     exponent from 0 to the largest float works in either dtype (:func:`_exponent_in`).
-    A building block of the shading path: it does not check its arguments
-    (``one_minus_cos`` an array in [0, 2], ``exponent`` a finite number >= 0).
+    A building block of the shading path: it does not check its arguments.
+
+    Parameters
+    ----------
+    one_minus_cos : ndarray
+        ``1 − cos φ`` in [0, 2], formed without cancellation (e.g.
+        :func:`lighting.vec.one_minus_cos_between`).
+    exponent : float
+        ``e``, finite and >= 0.
+
+    Returns
+    -------
+    ndarray
+        ``max(cos φ, 0)^e`` in the dtype of ``one_minus_cos``.
     """
     d = one_minus_cos
     if exponent == 0:
@@ -228,11 +240,33 @@ class BRDF:
         return self.eval_geometry(_public_geometry(n, l, v))
 
     def eval_cos(self, n, l, v):  # noqa: E741
-        """``f_r (n·l)``, computed without dividing by ``n·l``; shape ``(..., 3)``.  Arguments as :meth:`eval`."""
+        """``f_r (n·l)``, computed without dividing by ``n·l``.
+
+        Parameters
+        ----------
+        n, l, v : array_like, shape (..., 3)
+            As :meth:`eval`.
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            Finite and >= 0, in the float dtype of the vectors.
+        """
         return self.eval_cos_geometry(_public_geometry(n, l, v))
 
     def classic(self, n, l, v):  # noqa: E741
-        """The slides' illumination term ``π f_r (n·l)``; shape ``(..., 3)``.  Arguments as :meth:`eval`."""
+        """The slides' illumination term ``π f_r (n·l)``.
+
+        Parameters
+        ----------
+        n, l, v : array_like, shape (..., 3)
+            As :meth:`eval`.
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            Finite and >= 0, in the float dtype of the vectors.
+        """
         return self.classic_geometry(_public_geometry(n, l, v))
 
     def eval_geometry(self, g: Geometry):
@@ -272,12 +306,33 @@ class BRDF:
         Most models are one scalar lobe times a colour (``k_d``, ``k_s``), so a
         shading pass can combine colours once per term instead of once per
         pixel and channel.  The default splits the RGB result into channels.
+
+        Parameters
+        ----------
+        g : Geometry or StackedGeometry
+            The shading directions (a stacked one only if :attr:`stackable`).
+
+        Returns
+        -------
+        list of (ndarray, ndarray)
+            Pairs ``(s_k, c_k)``: a scalar field in the dtype of ``g`` and an RGB constant ``(3,)``.
         """
         f = self._f_cos(g)
         return [(f[..., i], _UNIT_RGB[i]) for i in range(3)]
 
     def separable_classic(self, g: Geometry) -> list[tuple[np.ndarray, np.ndarray]]:
-        """The classic term ``π f_r (n·l)`` in the separable form of :meth:`separable_cos`."""
+        """The classic term ``π f_r (n·l)`` in the separable form of :meth:`separable_cos`.
+
+        Parameters
+        ----------
+        g : Geometry or StackedGeometry
+            As :meth:`separable_cos`.
+
+        Returns
+        -------
+        list of (ndarray, ndarray)
+            As :meth:`separable_cos`.
+        """
         pi = g.dtype(math.pi)
         with np.errstate(over="ignore"):
             return [(saturate_to(s * pi, g.dtype), c) for s, c in self.separable_cos(g)]
@@ -288,6 +343,10 @@ class BRDF:
 
         Quadrature then covers the hemisphere about the normal, and plots measure the lobe's width
         numerically.
+
+        Returns
+        -------
+        Lobe or None
         """
         return None
 
@@ -296,19 +355,37 @@ class BRDF:
 
         The default samples the cosine-weighted hemisphere, which any model with a finite
         ``f_r`` can use (unbiased, if slow for sharp lobes).
+
+        Returns
+        -------
+        lighting.models.sampler.Sampler
         """
         from .lambert import CosineSampler
 
         return CosineSampler()
 
     def summary(self) -> str:
-        """A short parameter summary (the plausibility audit's model column)."""
+        """A short parameter summary (the plausibility audit's model column).
+
+        Returns
+        -------
+        str
+        """
         return repr(self)
 
     def to_dict(self) -> dict:
         """The model as a scene file's part table: ``{"model": name, parameter: value, ...}``.
 
         Colours become lists of floats, numbers floats, in the order of :attr:`parameters`.
+
+        Returns
+        -------
+        dict
+
+        Raises
+        ------
+        ValueError
+            For an unregistered model or a sum (no single scene-file part).
         """
         if self.name is None or self.parts != (self,):
             raise ValueError(f"no scene-file form for the model {type(self).__name__}")
@@ -326,7 +403,17 @@ class BRDF:
 
     @classmethod
     def from_dict(cls, table: dict) -> BRDF:
-        """The inverse of :meth:`to_dict` (the ``model`` key, if present, is ignored)."""
+        """The inverse of :meth:`to_dict` (the ``model`` key, if present, is ignored).
+
+        Parameters
+        ----------
+        table : dict
+            Constructor keywords (and optionally ``model``).
+
+        Returns
+        -------
+        BRDF
+        """
         return cls(**{k: v for k, v in table.items() if k != "model"})
 
     # -- structure ------------------------------------------------------------------

@@ -118,6 +118,18 @@ def _concentric_disk(u: np.ndarray):
 def square_to_cosine_hemisphere(u) -> Samples:
     """Cosine-weighted directions (Malley's method): ``p = cos θ / π``.
 
+    Points of the disk (:func:`_concentric_disk`) lifted to the hemisphere, ``z = √(1 − x² − y²)``.
+
+    Parameters
+    ----------
+    u : array_like, shape (..., 2)
+        Points of the unit square.
+
+    Returns
+    -------
+    Samples
+        Directions ``(..., 3)`` and their density ``(...)``.
+
     Examples
     --------
     >>> s = square_to_cosine_hemisphere(np.array([0.5, 0.5]))
@@ -131,7 +143,17 @@ def square_to_cosine_hemisphere(u) -> Samples:
 
 
 def cosine_hemisphere_pdf(d) -> np.ndarray:
-    """``max(cos θ, 0) / π``."""
+    """``max(cos θ, 0) / π``.
+
+    Parameters
+    ----------
+    d : array_like, shape (..., 3)
+        Directions in the local frame.
+
+    Returns
+    -------
+    ndarray, shape (...)
+    """
     d = _directions("d", d)
     return np.maximum(d[..., 2], 0.0) / math.pi
 

@@ -83,7 +83,17 @@ class MicrofacetSampler(Sampler):
 
     # -- normals ------------------------------------------------------------------
     def normal_pdf(self, h) -> np.ndarray:
-        """``D(h) (n·h)`` for unit ``h`` ``(..., 3)`` (0 below the horizon)."""
+        """``D(h) (n·h)``, the density of the sampled normals (0 below the horizon).
+
+        Parameters
+        ----------
+        h : array_like, shape (..., 3)
+            Unit microfacet normals in the local frame.
+
+        Returns
+        -------
+        ndarray, shape (...)
+        """
         return self._normal_pdf(_directions("h", h))
 
     def _normal_pdf(self, h) -> np.ndarray:
@@ -100,7 +110,18 @@ class MicrofacetSampler(Sampler):
         return d * np.maximum(c, 0.0)
 
     def sample_normals(self, u) -> Samples:
-        """Microfacet normals ``h`` with density ``D(h)(n·h)`` (upper hemisphere) from points ``u`` ``(..., 2)``."""
+        """Microfacet normals ``h`` with density ``D(h)(n·h)`` (upper hemisphere).
+
+        Parameters
+        ----------
+        u : array_like, shape (..., 2)
+            Points of the unit square.
+
+        Returns
+        -------
+        Samples
+            Normals ``(..., 3)`` and their density ``(...)``.
+        """
         u = _unit_square("u", u)
         _check_size("u", u.shape[:-1])
         return self._sample_normals(u)

@@ -86,6 +86,16 @@ def _directions(name: str, d) -> np.ndarray:
 def square_to_uniform_hemisphere(u) -> Samples:
     """Uniform directions on the upper hemisphere: ``cos θ = u₀``, ``φ = 2π u₁``, ``p = 1/(2π)``.
 
+    Parameters
+    ----------
+    u : array_like, shape (..., 2)
+        Points of the unit square.
+
+    Returns
+    -------
+    Samples
+        Directions ``(..., 3)`` and their density ``(...)``.
+
     Examples
     --------
     >>> s = square_to_uniform_hemisphere(np.array([1.0, 0.0]))
@@ -101,7 +111,17 @@ def square_to_uniform_hemisphere(u) -> Samples:
 
 
 def uniform_hemisphere_pdf(d) -> np.ndarray:
-    """``1/(2π)`` above the horizon (``z > 0``), 0 below."""
+    """``1/(2π)`` above the horizon (``z > 0``), 0 below.
+
+    Parameters
+    ----------
+    d : array_like, shape (..., 3)
+        Directions in the local frame.
+
+    Returns
+    -------
+    ndarray, shape (...)
+    """
     d = _directions("d", d)
     return np.where(d[..., 2] > 0, 1.0 / _TWO_PI, 0.0)
 
@@ -133,7 +153,20 @@ class Sampler:
     name = "sampler"
 
     def sample(self, u, v) -> Samples:
-        """Directions and densities for unit-square points ``u`` ``(..., 2)`` and viewers ``v`` ``(..., 3)``."""
+        """Directions and densities for unit-square points ``u`` and viewers ``v``.
+
+        Parameters
+        ----------
+        u : array_like, shape (..., 2)
+            Points of the unit square ``[0, 1]²``.
+        v : array_like, shape (..., 3)
+            View directions in the local frame (``z`` = the normal), broadcasting with ``u``.
+
+        Returns
+        -------
+        Samples
+            ``directions`` ``(..., 3)`` and ``pdf`` ``(...)`` per steradian.
+        """
         u = _unit_square("u", u)
         v = check_vectors("v", v, dtype=np.float64)
         _broadcast("u", u.shape[:-1], "v", v.shape[:-1])
@@ -141,7 +174,18 @@ class Sampler:
         return self._sample(u, v)
 
     def pdf(self, l, v) -> np.ndarray:  # noqa: E741
-        """Density per steradian of :meth:`sample`'s directions at ``l`` ``(..., 3)`` for viewers ``v``."""
+        """Density per steradian of :meth:`sample`'s directions.
+
+        Parameters
+        ----------
+        l, v : array_like, shape (..., 3)
+            Directions and viewers in the local frame, broadcasting together.
+
+        Returns
+        -------
+        ndarray, shape (...)
+            The density on the whole sphere (>= 0).
+        """
         l = check_vectors("l", l, dtype=np.float64)  # noqa: E741
         v = check_vectors("v", v, dtype=np.float64)
         _broadcast("l", l.shape[:-1], "v", v.shape[:-1])
