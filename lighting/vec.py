@@ -20,6 +20,7 @@ from ._numeric import (
     cos_sin,
     cos_sin_deg,
     real_array,
+    safe_div,
     working_dtype,
 )
 
@@ -98,8 +99,7 @@ def _scaled(a: np.ndarray):
     float32) and underflow (components ~1e-30 in float32).
     """
     m = np.max(np.abs(a), axis=-1, keepdims=True)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(m > 0, a / np.where(m > 0, m, 1), 0)
+    s = safe_div(a, m)  # 0 for the zero vector
     return s.astype(a.dtype, copy=False), m
 
 
@@ -145,8 +145,7 @@ def _normalize(a, name):
         out = flat / np.sqrt(np.where(ok, len2.reshape(-1), 1))[:, None]
     s, _ = _scaled(flat[~ok])
     len_s = np.sqrt(s[..., 0] * s[..., 0] + s[..., 1] * s[..., 1] + s[..., 2] * s[..., 2])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out[~ok] = np.where(len_s[..., None] > 0, s / np.where(len_s > 0, len_s, 1)[..., None], 0)
+    out[~ok] = safe_div(s, len_s[..., None])
     return out.astype(a.dtype, copy=False).reshape(a.shape)
 
 

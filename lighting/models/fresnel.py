@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import _fmt, check_budget, real_array, working_dtype
+from .._numeric import _fmt, check_budget, real_array, safe_div, working_dtype
 
 __all__ = ["schlick", "dielectric", "f0_from_eta", "eta_from_f0"]
 
@@ -114,8 +114,8 @@ def dielectric(cos_theta_i, eta) -> np.ndarray:
         ct = np.sqrt(np.clip((1 - sin2_t), 0, None))
         d_par = eta * ci + ct
         d_perp = ci + eta * ct
-        r_par = np.where(d_par > 0, (eta * ci - ct) / np.where(d_par > 0, d_par, 1), 0)
-        r_perp = np.where(d_perp > 0, (ci - eta * ct) / np.where(d_perp > 0, d_perp, 1), 0)
+        r_par = safe_div(eta * ci - ct, d_par)
+        r_perp = safe_div(ci - eta * ct, d_perp)
         f = np.where(tir, 1.0, 0.5 * (r_par * r_par + r_perp * r_perp))
     return f.astype(dt, copy=False)
 

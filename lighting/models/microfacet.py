@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from .._numeric import _fmt, check_budget, real_array, working_dtype
+from .._numeric import _fmt, check_budget, real_array, safe_div, working_dtype
 
 __all__ = [
     "beckmann_ndf",
@@ -349,8 +349,7 @@ def _smith_g1_ggx(cos_theta, al, sin2_theta, dt) -> np.ndarray:
     cp = np.maximum(c, 0.0)
     with np.errstate(over="ignore", under="ignore"):
         den = cp + np.hypot(cp, al * s)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        g = np.where(den > 0, 2 * cp / np.where(den > 0, den, 1.0), 0.0)
+    g = safe_div(2 * cp, den)
     g = np.where(c > 0, g, 0.0)
     return _finish(g, dt)
 
