@@ -65,6 +65,11 @@ RADIANCE_METHODS = METHODS + ("environment", "mis", "sh")
 
 
 def _frames(normals, view_dirs):
+    """Each point's shading frame: ``(shape, n, t, b, v_local, valid)``, flat over the points.
+
+    Normals and view directions are broadcast together and made unit (a zero vector becomes ``+z`` and
+    marks its point invalid); ``t, b`` complete ``n`` (:func:`lighting.vec.orthonormal_basis`).
+    """
     n = np.asarray(normals, dtype=np.float64)
     v = np.asarray(view_dirs, dtype=np.float64)
     try:
@@ -83,10 +88,12 @@ def _frames(normals, view_dirs):
 
 
 def _to_world(l, t, b, n):  # noqa: E741
+    """Local directions ``l`` ``(B, M, 3)`` in the world frame of each point's ``(t, b, n)`` ``(B, 3)``."""
     return l[..., 0:1] * t[:, None, :] + l[..., 1:2] * b[:, None, :] + l[..., 2:3] * n[:, None, :]
 
 
 def _to_local(d, t, b, n):
+    """World directions ``d`` ``(B, M, 3)`` in each point's local frame (inverse of :func:`_to_world`)."""
     return np.stack(
         [np.sum(d * t[:, None, :], -1), np.sum(d * b[:, None, :], -1), np.sum(d * n[:, None, :], -1)], axis=-1
     )
