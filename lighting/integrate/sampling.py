@@ -98,7 +98,16 @@ _N = np.array([0.0, 0.0, 1.0])
 
 
 def as_generator(seed=None) -> np.random.Generator:
-    """A :class:`numpy.random.Generator` from a seed (int or None) or a generator (returned as is)."""
+    """A :class:`numpy.random.Generator` from a seed (int or None) or a generator (returned as is).
+
+    Parameters
+    ----------
+    seed : None, int >= 0 or numpy.random.Generator
+
+    Returns
+    -------
+    numpy.random.Generator
+    """
     if isinstance(seed, np.random.Generator):
         return seed
     allowed = "None, an integer >= 0 or a numpy.random.Generator"
@@ -120,6 +129,16 @@ def jittered(count: int, seed=None) -> np.ndarray:
     near-equal integers).  Rows are in random order, so any prefix is not
     biased toward one side of the square.
 
+    Parameters
+    ----------
+    count : int >= 1
+        The number of points asked for.
+    seed : None, int >= 0 or numpy.random.Generator
+
+    Returns
+    -------
+    ndarray, shape (k_x k_y, 2)
+
     Examples
     --------
     >>> u = jittered(16, seed=1)
@@ -132,7 +151,21 @@ def jittered(count: int, seed=None) -> np.ndarray:
 
 
 def jittered_batch(batch: tuple, count: int, seed=None) -> np.ndarray:
-    """Independent jittered grids (see :func:`jittered`) for every index of ``batch``: ``batch + (k_x k_y, 2)``."""
+    """Independent jittered grids (see :func:`jittered`) for every index of ``batch``.
+
+    Parameters
+    ----------
+    batch : tuple of int >= 0
+        The leading shape.
+    count : int >= 1
+        Points per grid, as :func:`jittered`.
+    seed : None, int >= 0 or numpy.random.Generator
+
+    Returns
+    -------
+    ndarray, shape batch + (k_x k_y, 2)
+        Rows in grid order (not shuffled).
+    """
     count = _count("count", count)
     if not isinstance(batch, tuple) or not all(isinstance(k, (int, np.integer)) and k >= 0 for k in batch):
         raise ArgumentTypeError(f"batch must be a tuple of integers >= 0; got {_fmt(batch)}")
@@ -147,19 +180,50 @@ def jittered_batch(batch: tuple, count: int, seed=None) -> np.ndarray:
 
 
 def sample_uniform(count: int, seed=None) -> Samples:
-    """``count`` independent uniform hemisphere directions (see :func:`square_to_uniform_hemisphere`)."""
+    """``count`` independent uniform hemisphere directions (see :func:`square_to_uniform_hemisphere`).
+
+    Parameters
+    ----------
+    count : int >= 1
+    seed : None, int >= 0 or numpy.random.Generator
+
+    Returns
+    -------
+    Samples
+    """
     u = as_generator(seed).random((_count("count", count), 2))
     return square_to_uniform_hemisphere(u)
 
 
 def sample_cosine(count: int, seed=None) -> Samples:
-    """``count`` independent cosine-weighted directions (see :func:`square_to_cosine_hemisphere`)."""
+    """``count`` independent cosine-weighted directions (see :func:`square_to_cosine_hemisphere`).
+
+    Parameters
+    ----------
+    count : int >= 1
+    seed : None, int >= 0 or numpy.random.Generator
+
+    Returns
+    -------
+    Samples
+    """
     u = as_generator(seed).random((_count("count", count), 2))
     return square_to_cosine_hemisphere(u)
 
 
 def sample_stratified(count: int, seed=None, warp: str = "cosine") -> Samples:
-    """A jittered grid (:func:`jittered`) mapped to the hemisphere by ``warp`` ("cosine" or "uniform")."""
+    """A jittered grid (:func:`jittered`) mapped to the hemisphere by ``warp``.
+
+    Parameters
+    ----------
+    count : int >= 1
+    seed : None, int >= 0 or numpy.random.Generator
+    warp : {"cosine", "uniform"}
+
+    Returns
+    -------
+    Samples
+    """
     warp = check_choice("warp", warp, ("cosine", "uniform"))
     u = jittered(count, seed)
     if warp == "cosine":
@@ -209,7 +273,16 @@ class MixtureSampler(Sampler):
         return f"MixtureSampler({list(self.samplers)!r})"
 
     def weights(self, v) -> np.ndarray:
-        """Normalized component probabilities for viewer ``v`` ``(..., 3)``: ``(..., K)``."""
+        """Normalized component probabilities for viewers ``v``.
+
+        Parameters
+        ----------
+        v : array_like, shape (..., 3)
+
+        Returns
+        -------
+        ndarray, shape (..., K)
+        """
         return self._weights_of(_directions("v", v))
 
     def _weights_of(self, v) -> np.ndarray:
@@ -259,7 +332,19 @@ def _check_brdf(brdf) -> BRDF:
 
 
 def f_cos_local(brdf: BRDF, l, v) -> np.ndarray:
-    """``f_r (n·l)`` in the local frame (``n = +z``), float64, ``(..., 3)``, for unit ``l`` and ``v`` ``(..., 3)``."""
+    """``f_r (n·l)`` in the local frame (``n = +z``).
+
+    Parameters
+    ----------
+    brdf : BRDF
+    l, v : array_like, shape (..., 3)
+        Unit directions toward the light and the viewer, broadcasting together.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        float64.
+    """
     _check_brdf(brdf)
     l = _directions("l", l)  # noqa: E741
     v = _directions("v", v)
@@ -299,13 +384,21 @@ def importance_sampler(brdf: BRDF) -> Sampler:
     """The importance sampler for a model: each model's own (``model.sampler()``), mixed for a sum.
 
     * :class:`~lighting.models.lambert.Lambert` → cosine-weighted;
-    * :class:`~lighting.models.brdf.Phong` → Phong lobe around ``R_v`` (uniform for ``e = 0``);
-    * :class:`~lighting.models.brdf.BlinnPhong` → Blinn–Phong normal distribution
+    * :class:`~lighting.models.phong.Phong` → Phong lobe around ``R_v`` (uniform for ``e = 0``);
+    * :class:`~lighting.models.blinn_phong.BlinnPhong` → Blinn–Phong normal distribution
       ``∝ (n·h)^{e+1}`` (uniform / cosine for ``e = 0``);
-    * :class:`~lighting.models.brdf.CookTorrance` → its NDF's ``D(h)(n·h)``;
+    * :class:`~lighting.models.cook_torrance.CookTorrance` → its NDF's ``D(h)(n·h)``;
     * a sum → :class:`MixtureSampler` of the parts' samplers, weighted by each
       part's albedo, tabulated over ``cos θ_v`` and interpolated (at least 1 %
       each, so no part with nonzero reflectance is starved).
+
+    Parameters
+    ----------
+    brdf : BRDF
+
+    Returns
+    -------
+    Sampler
 
     Examples
     --------
@@ -337,6 +430,20 @@ def sample_brdf(brdf: BRDF, v, count: int, seed=None, *, stratified: bool = Fals
     ``v`` of shape ``(..., 3)`` gives directions ``(..., count', 3)`` and densities
     ``(..., count')``; ``count' = count`` unless ``stratified`` (then the
     :func:`jittered` grid size).
+
+    Parameters
+    ----------
+    brdf : BRDF
+    v : array_like, shape (..., 3)
+        Viewers in the local frame.
+    count : int >= 1
+    seed : None, int >= 0 or numpy.random.Generator
+    stratified : bool
+        Draw from a jittered grid instead of independent uniforms.
+
+    Returns
+    -------
+    Samples
 
     Examples
     --------
