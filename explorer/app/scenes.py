@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from lighting import AmbientLight, DirectionalLight, Material
-from lighting.lights import PointLight, SpotLight
+from lighting.lights import PointLight, SpotLight, attenuation_polynomial
 
 from .state import ATTENUATIONS, CONTROLS, MODEL_CONTROLS, MODELS, TERM_NAMES, AppState
 
@@ -163,7 +163,7 @@ def _apply_lights(state: AppState, lights, camera, centre, gl_light_type):
         if kind != "directional":
             lt = key[4] if len(key) > 4 else None
             a, b, c = lt.attenuation if lt is not None else (0.0, 0.0, 1.0)
-            falloff = a * dist * dist + b * dist + c
+            falloff = attenuation_polynomial(dist, (a, b, c))
             irradiance = irradiance / falloff if falloff > 0 else irradiance
             values["distance"] = min(max(dist, 1.5), 20.0)
             named = {v: k for k, v in ATTENUATIONS.items()}

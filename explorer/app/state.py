@@ -28,7 +28,7 @@ import numpy as np
 
 from lighting import AmbientLight, DirectionalLight, Lambert, Material
 from lighting._numeric import ArgumentTypeError, abbreviate, check_bool, check_count, check_range, real_array
-from lighting.lights import ATTENUATIONS, PointLight, SpotLight
+from lighting.lights import ATTENUATIONS, PointLight, SpotLight, attenuation_polynomial
 from lighting.models import model_variants
 from lighting.render import SHADING_MODES
 from lighting.vec import direction_from_elevation
@@ -558,7 +558,7 @@ class AppState:
             return None
         att = ATTENUATIONS[self.attenuation]
         r = self.distance - 1.0  # nearest point of the unit sphere
-        scale = self.intensity * (att[0] * r * r + att[1] * r + att[2])
+        scale = self.intensity * attenuation_polynomial(r, att)
         pos = self.distance * d
         if self.light == "point":
             return PointLight(pos, color=self.light_color, intensity=scale, attenuation=att)

@@ -55,6 +55,7 @@ __all__ = [
     "SpotLight",
     "ATTENUATIONS",
     "falloff",
+    "attenuation_polynomial",
     "check_attenuation",
     "check_cutoff",
 ]
@@ -142,10 +143,7 @@ def _one_minus_cos_deg(deg: float) -> float:
 
 
 def _cos_deg(deg: float) -> float:
-    """``cos(deg°)`` from :func:`lighting._numeric.cos_sin_deg` (exact at multiples of 90°).
-
-    Kept as a name because :mod:`lighting.validation.stability` imports it for its textbook spot light.
-    """
+    """``cos(deg°)`` as a float, from :func:`lighting._numeric.cos_sin_deg` (exact at multiples of 90°)."""
     return float(cos_sin_deg(deg)[0])
 
 
@@ -335,15 +333,36 @@ def falloff(distance, attenuation=(1.0, 0.0, 0.0)) -> np.ndarray:
     return _falloff(_real_array_nonneg("distance", distance), check_attenuation(attenuation))
 
 
+def attenuation_polynomial(distance, attenuation):
+    """The slides' attenuation ``A(d) = a d² + b d + c``, evaluated as ``(a d + b) d + c``.
+
+    The one place the polynomial is written: :func:`falloff` is its reciprocal, and front ends
+    that scale a light's intensity by ``A`` at some distance call it too.
+
+    Parameters
+    ----------
+    distance : float or ndarray
+        Distances ``d >= 0``, finite.
+    attenuation : (a, b, c)
+        Checked coefficients (see :func:`check_attenuation`).
+
+    Returns
+    -------
+    float or ndarray
+        ``A(d)``, finite or ``+inf`` (it overflows without a warning).
+    """
+    a, b, c = attenuation
+    with np.errstate(over="ignore"):
+        return (a * distance + b) * distance + c  # a, b, c >= 0 and d finite: finite or +inf
+
+
 def _falloff(dist: np.ndarray, att: tuple[float, float, float]) -> np.ndarray:
     """:func:`falloff` on checked float64 distances and a checked triple (the lights' path).
 
     Saturated *here*, before any other factor multiplies it: a falloff of 1e310 (``a = 1e-300`` at
     ``d = 1e-5``) times a spot factor of 0 must be 0, not ``inf · 0 = NaN``.
     """
-    a, b, c = att
-    with np.errstate(over="ignore"):
-        den = (a * dist + b) * dist + c  # dist is finite and a, b, c >= 0: finite or +inf
+    den = attenuation_polynomial(dist, att)
     with np.errstate(divide="ignore", over="ignore"):
         f = np.where(den > 0, 1.0 / np.where(den > 0, den, 1.0), 0.0)
     return np.minimum(f, _BIG64)
