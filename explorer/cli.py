@@ -187,6 +187,35 @@ def run_alone(name: str, argv=None) -> int:
         return 2
 
 
+def parse_and_run(build_parser, run, argv=None, *, errors=(ValueError,)) -> int:
+    """A delegated command's ``main(argv)``: parse with its own parser, then ``run(args)``.
+
+    A bad value raised while parsing (one of ``errors``) is printed as one line and gives status 2.
+
+    Parameters
+    ----------
+    build_parser : callable
+        Returns the command's ``argparse.ArgumentParser``.
+    run : callable
+        ``run(args) -> int``, the command itself.
+    argv : list of str, optional
+        The options (default: ``sys.argv[1:]``).
+    errors : tuple of exception types
+        What counts as a bad value while parsing.
+
+    Returns
+    -------
+    int
+        ``run``'s status, or 2 for a bad value.
+    """
+    try:
+        args = build_parser().parse_args(argv)
+    except errors as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
+    return run(args)
+
+
 _UNITS = {"": 1, "k": 1024, "m": 1024**2, "g": 1024**3, "t": 1024**4}
 
 

@@ -128,14 +128,9 @@ def main(argv=None) -> int:
     int
         The exit status: 0 done, 1 no display to open a window on, 2 a bad option or output path.
     """
-    from ..cli import PROG, error_line
+    from ..cli import parse_and_run
 
-    try:
-        args = build_parser().parse_args(argv)
-    except (ValueError, OSError) as exc:
-        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
-    return run(args)
+    return parse_and_run(build_parser, run, argv, errors=(ValueError, OSError))
 
 
 def run(args) -> int:

@@ -416,14 +416,9 @@ def main(argv=None) -> int:
     int
         The exit status.
     """
-    from ..cli import PROG, error_line
+    from ..cli import parse_and_run
 
-    try:
-        args = build_parser().parse_args(argv)
-    except ValueError as exc:
-        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
-    return run(args)
+    return parse_and_run(build_parser, run, argv)
 
 
 def run(args) -> int:
