@@ -138,7 +138,7 @@ def rearrangement_list() -> list[Rearrangement]:
     return [
         Rearrangement(
             "half vector near l = −v",
-            "brdf.Geometry._l_plus_v, brdf._unit_sum",
+            "models.geometry.Geometry._l_plus_v, models.geometry._unit_sum",
             "l + v from the normalized vectors",
             "where l·v < −1/2, components that cancel from (l_i²|v|² − v_i²|l|²)/(|l||v|(l_i|v| − v_i|l|)),"
             " with l_i²|v|² − v_i²|l|² = Σ_j (l_i v_j − v_i l_j)(l_i v_j + v_i l_j)",
@@ -157,7 +157,7 @@ def rearrangement_list() -> list[Rearrangement]:
         ),
         Rearrangement(
             "Blinn–Phong power far from the peak",
-            "brdf.BlinnPhong._lobe, microfacet.blinn_phong_ndf",
+            "models.blinn_phong.BlinnPhong._lobe, models.microfacet.blinn_phong_ndf",
             "exp(e log1p(−(1 − n·h))) everywhere",
             "(n·h)^e directly (pow) where n·h < 1/2",
             models=("blinn-phong",),
@@ -165,7 +165,7 @@ def rearrangement_list() -> list[Rearrangement]:
         ),
         Rearrangement(
             "Phong / Blinn–Phong f_r divided in float64",
-            "brdf.Phong._f, brdf.BlinnPhong._f, brdf._lobe_over_cos",
+            "models.phong.Phong._f, models.blinn_phong.BlinnPhong._f, models.base._lobe_over_cos",
             "(k_s lobe / π) / (n·l) with the lobe rounded to the dtype (subnormal in float32)",
             "k_s lobe / (π n·l) in float64; exp(ln lobe − ln(π n·l)) where the lobe is subnormal in float64",
             models=("phong", "blinn-phong"),
@@ -173,7 +173,7 @@ def rearrangement_list() -> list[Rearrangement]:
         ),
         Rearrangement(
             "Cook–Torrance D in float64 before the division",
-            "brdf.CookTorrance._separable",
+            "models.cook_torrance.CookTorrance._separable",
             "D rounded to the dtype, then D G F / (c (n·v)(n·l))",
             "D in float64 (its tail may be subnormal in float32 where f_r is not)",
             models=("cook-torrance",),
@@ -181,7 +181,7 @@ def rearrangement_list() -> list[Rearrangement]:
         ),
         Rearrangement(
             "visibility G/((n·v)(n·l)) formed directly",
-            "brdf.CookTorrance._visibility, microfacet._smith_g1_den_*",
+            "models.cook_torrance.CookTorrance._visibility, models.microfacet._smith_g1_den_*",
             "D G / (c (n·v)(n·l))",
             "Smith: 4 / (d_v d_l), G1 = 2 cos/d;  V-cavity: min(1/((n·v)(n·l)), (2 n·h/v·h)/max(n·v, n·l))",
             models=("cook-torrance",),
@@ -189,7 +189,7 @@ def rearrangement_list() -> list[Rearrangement]:
         ),
         Rearrangement(
             "dielectric Fresnel without a rounded η",
-            "fresnel._dielectric_from_f0",
+            "models.fresnel._dielectric_from_f0",
             "dielectric(v·h, η), η = (1 + √f0)/(1 − √f0) rounded",
             "r_par, r_perp multiplied through by (1 ∓ √f0): F(1) = f0 exactly",
             models=("cook-torrance",),
@@ -197,13 +197,13 @@ def rearrangement_list() -> list[Rearrangement]:
         ),
         Rearrangement(
             "spot cone near its axis",
-            "lights.SpotLight._spot",
+            "lights.punctual.SpotLight.spot_factor",
             "cos ψ ≥ cos(cutoff),  (cos ψ)^e",
             "1 − cos ψ = |l + ŝ|²/2 ≤ 2 sin²(cutoff/2),  exp(e log1p(−(1 − cos ψ)))",
         ),
         Rearrangement(
             "Phong lobe from |R_l − v|²/2",
-            "brdf.Geometry.one_minus_r_dot_v",
+            "models.geometry.Geometry.one_minus_r_dot_v",
             "(R_l·v)^e, R_l·v = 2 (n·l)(n·v) − l·v",
             "exp(e log1p(−|R_l − v|²/2))",
             existing=True,
@@ -213,7 +213,7 @@ def rearrangement_list() -> list[Rearrangement]:
         ),
         Rearrangement(
             "tan²θ_h from the cross product",
-            "brdf.Geometry.sin2_h, one_minus_n_dot_h",
+            "models.geometry.Geometry.sin2_h, one_minus_n_dot_h",
             "sin²θ_h = 1 − cos²θ_h,  1 − n·h",
             "sin²θ_h = |n × h|²,  1 − n·h = sin²θ_h / (1 + n·h)",
             existing=True,
@@ -223,7 +223,7 @@ def rearrangement_list() -> list[Rearrangement]:
         ),
         Rearrangement(
             "microfacet terms in float64",
-            "brdf.CookTorrance._separable",
+            "models.cook_torrance.CookTorrance._separable",
             "D G F / (c (n·v)(n·l)) in float32 for float32 inputs",
             "in float64, rounded once at the end",
             existing=True,
