@@ -47,6 +47,18 @@ class OneLineParser(argparse.ArgumentParser):
         self.own_name = own_name
 
     def error(self, message):
+        """Raise the refusal as a :class:`UsageError` (argparse calls this instead of printing usage).
+
+        Parameters
+        ----------
+        message : str
+            argparse's message; a quoted value over 80 characters is shortened.
+
+        Raises
+        ------
+        UsageError
+            Named after this parser (``prog``) with ``own_name=True``; otherwise ending ``(see PROG --help)``.
+        """
         from lighting._numeric import abbreviate
 
         # argparse quotes the whole value it refused: a 100,000-character one is cut short.

@@ -170,15 +170,33 @@ class RectLight(AreaLight):
         object.__setattr__(self, "_normal", normalize(c))
 
     def area(self):
-        """``|edge_u × edge_v|`` (see :meth:`AreaLight.area`)."""
+        """``|edge_u × edge_v|`` (see :meth:`AreaLight.area`).
+
+        Returns
+        -------
+        float
+            The rectangle's area, finite and > 0.
+        """
         return self._area
 
     def normal(self):
-        """``normalize(edge_u × edge_v)`` (see :meth:`AreaLight.normal`)."""
+        """``normalize(edge_u × edge_v)`` (see :meth:`AreaLight.normal`).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` ``float64`` unit vector.
+        """
         return self._normal
 
     def sample_points(self):
-        """Points of the R2 pattern on the rectangle (see :meth:`AreaLight.sample_points`)."""
+        """Points of the R2 pattern on the rectangle (see :meth:`AreaLight.sample_points`).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(samples, 3)`` ``float64`` points inside the rectangle.
+        """
         uv = _r2_sequence(self.samples, self.seed) - 0.5
         return self.center + uv[:, :1] * self.edge_u + uv[:, 1:] * self.edge_v
 
@@ -203,15 +221,33 @@ class DiskLight(AreaLight):
         object.__setattr__(self, "radius", r)
 
     def area(self):
-        """``π r²`` (see :meth:`AreaLight.area`)."""
+        """``π r²`` (see :meth:`AreaLight.area`).
+
+        Returns
+        -------
+        float
+            The disk's area, finite and > 0.
+        """
         return math.pi * self.radius * self.radius
 
     def normal(self):
-        """``normal_dir`` (see :meth:`AreaLight.normal`)."""
+        """``normal_dir`` (see :meth:`AreaLight.normal`).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` ``float64`` unit vector.
+        """
         return self.normal_dir
 
     def sample_points(self):
-        """Points of the R2 pattern mapped onto the disk (see :meth:`AreaLight.sample_points`)."""
+        """Points of the R2 pattern mapped onto the disk (see :meth:`AreaLight.sample_points`).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(samples, 3)`` ``float64`` points inside the disk.
+        """
         # Shirley–Chiu concentric map (equal-area, low distortion): the one the cosine sampler uses.
         x, y = _concentric_disk(_r2_sequence(self.samples, self.seed))
         t, bt = orthonormal_basis(self.normal_dir)

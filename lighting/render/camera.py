@@ -183,7 +183,21 @@ class Camera:
     # ------------------------------------------------------------------ constructors
     @classmethod
     def look_at(cls, eye, target=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), **options) -> Camera:
-        """A camera at ``eye`` looking at ``target`` (default the origin); options as for :class:`Camera`."""
+        """A camera at ``eye`` looking at ``target`` (default the origin); options as for :class:`Camera`.
+
+        Parameters
+        ----------
+        eye, target : 3-vectors
+            Camera position and the point it looks at (must differ); ``target`` defaults to the origin.
+        up : 3-vector, default (0, 1, 0)
+            Roughly "up" in the image; must not be parallel to ``target − eye``.
+        **options
+            The other keywords of :class:`Camera` (``projection``, ``fov_y_deg``, ``width``, ...).
+
+        Returns
+        -------
+        Camera
+        """
         return cls(eye, target, up, **options)
 
     @classmethod
@@ -202,6 +216,23 @@ class Camera:
         ``a = 0``, elevation ``e = 0`` looks from ``+z`` toward ``−z``; azimuth
         turns toward ``+x``; elevation must stay inside (−90, 90) degrees (the
         view direction would be parallel to up).
+
+        Parameters
+        ----------
+        target : 3-vector, default (0, 0, 0)
+            The point looked at, the centre of the orbit.
+        distance : float > 0, default 5
+            Eye–target distance; the eye must stay finite in float64.
+        azimuth_deg : float, default 0
+            Turn about the y axis, in degrees, from ``+z`` toward ``+x``.
+        elevation_deg : float in (-90, 90), default 0
+            Angle above the xz plane, in degrees.
+        **options
+            The other keywords of :class:`Camera` (``up`` included, default ``(0, 1, 0)``).
+
+        Returns
+        -------
+        Camera
 
         Examples
         --------
@@ -229,6 +260,16 @@ class Camera:
 
         Changing ``eye`` or ``target`` without giving ``near``/``far`` resets them
         to their defaults for the new distance.
+
+        Parameters
+        ----------
+        **changes
+            Keywords of :class:`Camera`; an unknown name is a ValueError.
+
+        Returns
+        -------
+        Camera
+            A new camera (this one is immutable and unchanged).
         """
         args = dict(
             eye=self.eye,
@@ -285,6 +326,11 @@ class Camera:
 
         ``[x_c, y_c, z_c, 1]ᵀ = V [p, 1]ᵀ``, exactly the ``gluLookAt`` matrix.
 
+        Returns
+        -------
+        numpy.ndarray
+            ``(4, 4)`` ``float64``, a new array.
+
         Examples
         --------
         >>> V = Camera((0, 0, 5), (0, 0, 0)).view_matrix()
@@ -305,7 +351,19 @@ class Camera:
 
     # ------------------------------------------------------------------ mappings
     def world_to_camera(self, points) -> np.ndarray:
-        """Camera coordinates ``(x_c, y_c, z_c)`` of world points, shape ``(..., 3)``; keeps the dtype."""
+        """Camera coordinates ``(x_c, y_c, z_c)`` of world points, shape ``(..., 3)``; keeps the dtype.
+
+        Parameters
+        ----------
+        points : array_like, (..., 3)
+            Finite world points; float32 (or smaller float) input gives float32, anything else float64.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(..., 3)`` camera coordinates (``−z_c`` is the view depth), in the input's float dtype;
+            values beyond that dtype's range saturate at its largest finite number.
+        """
         return self._world_to_camera(check_vectors("points", points))
 
     def _world_to_camera(self, points) -> np.ndarray:
@@ -326,6 +384,18 @@ class Camera:
 
         Perspective points with depth ``≤ 0`` (at or behind the eye) have no image:
         their ``xy`` is returned as 0; check ``depth >= near`` before using it.
+
+        Parameters
+        ----------
+        cam_points : array_like, (..., 3)
+            Finite camera-space points, as :meth:`world_to_camera` returns them.
+
+        Returns
+        -------
+        xy : numpy.ndarray, (..., 2)
+            Pixel coordinates (``x`` right, ``y`` down), as in :meth:`project`, in the input's float dtype.
+        depth : numpy.ndarray, (...)
+            View depth ``−z_c``, same dtype.
         """
         c = check_vectors("cam_points", cam_points)
         return self._camera_to_pixels(c)
@@ -374,7 +444,18 @@ class Camera:
         return self._camera_to_pixels(self.world_to_camera(points))
 
     def pixel_centers(self, dtype=np.float64) -> np.ndarray:
-        """``(H, W, 2)`` pixel-centre coordinates ``(j + ½, i + ½)``."""
+        """``(H, W, 2)`` pixel-centre coordinates ``(j + ½, i + ½)``.
+
+        Parameters
+        ----------
+        dtype : float32 or float64, default float64
+            Of the result; an image over the memory budget is refused (``BudgetError``, a ValueError).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(H, W, 2)`` in ``dtype``: ``[..., 0]`` is ``x = j + ½``, ``[..., 1]`` is ``y = i + ½``.
+        """
         dtype = check_float_dtype(dtype).type
         self._check_image_budget("pixel_centers", 2 * 3 * np.dtype(dtype).itemsize)
         jj, ii = np.meshgrid(np.arange(self.width, dtype=dtype), np.arange(self.height, dtype=dtype))
@@ -388,6 +469,19 @@ class Camera:
         ``eye + ((x − W/2) r − (y − H/2) u) / S`` on the plane through the eye,
         direction ``f``.  Directions are unit vectors; a point at parameter ``t``
         has depth ``t (dir·f)``.
+
+        Parameters
+        ----------
+        dtype : float32 or float64, default float64
+            Of both arrays (computed in float64 and rounded once); an image over the memory budget is refused
+            (``BudgetError``, a ValueError).
+
+        Returns
+        -------
+        origins : numpy.ndarray
+            ``(H, W, 3)`` in ``dtype``.
+        directions : numpy.ndarray
+            ``(H, W, 3)`` unit vectors in ``dtype``.
 
         Examples
         --------
@@ -412,6 +506,13 @@ class Camera:
         Each component broadcasts to ``(H, W)``: perspective origins are
         scalars, orthographic directions too.  Cheaper than :meth:`rays` for
         code that works component by component.
+
+        Returns
+        -------
+        origins : list of 3
+            ``float64`` scalars (perspective) or arrays broadcasting to ``(H, W)`` (orthographic).
+        directions : list of 3
+            ``float64`` arrays broadcasting to ``(H, W)`` (perspective) or scalars (orthographic).
         """
         dx = (np.arange(self.width) + 0.5 - self.width / 2)[None, :]
         dy = (np.arange(self.height) + 0.5 - self.height / 2)[:, None]
@@ -507,6 +608,16 @@ class Camera:
 
         Perspective: ``normalize(eye − p)`` (zero at the eye itself);
         orthographic: the constant ``−f`` (the viewer is at infinity).
+
+        Parameters
+        ----------
+        points : array_like, (..., 3)
+            Finite world points; float32 (or smaller float) input gives float32, anything else float64.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(..., 3)`` unit vectors (a new array) in the input's float dtype.
 
         Examples
         --------

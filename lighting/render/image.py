@@ -33,13 +33,35 @@ __all__ = ["EncodeReport", "linear_to_srgb", "srgb_to_linear", "encode_srgb8", "
 
 
 def linear_to_srgb(x):
-    """The sRGB transfer function on values in [0, 1]."""
+    """The sRGB transfer function on values in [0, 1].
+
+    Parameters
+    ----------
+    x : array_like
+        Linear values, any shape; clipped to ``[0, 1]`` first.
+
+    Returns
+    -------
+    numpy.ndarray
+        sRGB-encoded values in ``[0, 1]``, same shape, ``float64``.
+    """
     x = np.clip(np.asarray(x, dtype=np.float64), 0, 1)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 
 
 def srgb_to_linear(y):
-    """Inverse of :func:`linear_to_srgb`."""
+    """Inverse of :func:`linear_to_srgb`.
+
+    Parameters
+    ----------
+    y : array_like
+        sRGB-encoded values, any shape; clipped to ``[0, 1]`` first.
+
+    Returns
+    -------
+    numpy.ndarray
+        Linear values in ``[0, 1]``, same shape, ``float64``.
+    """
     y = np.clip(np.asarray(y, dtype=np.float64), 0, 1)
     return np.where(y <= 0.04045, y / 12.92, ((y + 0.055) / 1.055) ** 2.4)
 
@@ -75,6 +97,13 @@ def encode_srgb8(image, *, exposure: float = 0.0, tonemap: str = "clamp"):
     tonemap : {"clamp", "reinhard"}
         ``clamp`` clips at 1 (clipped pixels are counted in the report);
         ``reinhard`` maps ``x → x / (1 + x)``.
+
+    Returns
+    -------
+    numpy.ndarray, (H, W, 3), uint8
+        The sRGB-encoded picture.
+    EncodeReport
+        Clipped pixel count (0 for ``reinhard``), total pixel count and the brightest value after exposure.
 
     Examples
     --------
@@ -129,6 +158,16 @@ def file_mode(target) -> int:
     """Permission bits for a file written to ``target``: the replaced file's, else ``0o666`` minus the umask.
 
     What ``open(target, "w")`` would give; ``tempfile.mkstemp`` alone gives ``0o600``.
+
+    Parameters
+    ----------
+    target : str or os.PathLike
+        Path of the file about to be written (it may not exist yet).
+
+    Returns
+    -------
+    int
+        Permission bits (``stat.S_IMODE``), e.g. ``0o644``.
     """
     try:
         st = os.stat(target)
@@ -142,6 +181,13 @@ def write_png(path, rgb8) -> None:
 
     The file keeps the user's umask (or the mode of the file it replaces).  The command line writes
     through ``explorer.output.write_image``, which adds other formats and interrupt safety.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination; a symbolic link is followed and its target replaced.
+    rgb8 : array_like, (H, W, 3) or (H, W, 4), uint8
+        RGB or RGBA pixels, first row at the top; any other dtype or shape is a ValueError.
     """
     a = np.asarray(rgb8)
     if a.dtype != np.uint8 or a.ndim != 3 or a.shape[-1] not in (3, 4):
@@ -165,7 +211,18 @@ def write_png(path, rgb8) -> None:
 
 
 def read_png(path) -> np.ndarray:
-    """Read back a PNG written by :func:`write_png` (8-bit RGB/RGBA, no interlace)."""
+    """Read back a PNG written by :func:`write_png` (8-bit RGB/RGBA, no interlace).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The PNG file; other bit depths, colour types, interlacing or row filters are a ValueError.
+
+    Returns
+    -------
+    numpy.ndarray, (H, W, 3) or (H, W, 4), uint8
+        The pixels, a writable copy.
+    """
     with open(path, "rb") as f:
         data = f.read()
     if data[:8] != b"\x89PNG\r\n\x1a\n":

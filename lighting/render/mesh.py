@@ -227,6 +227,11 @@ class TriangleMesh:
 
         ``atan2(|a × b|, a·b)`` rather than ``acos`` of a normalized dot product:
         accurate for angles near 0 and π, and 0 (not NaN) for zero-length edges.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(F, 3)`` ``float64`` angles in ``[0, π]``, column ``k`` at vertex ``faces[:, k]`` (a new array).
         """
         p = self._vertices[self._faces]
         out = np.empty(self._faces.shape)
@@ -303,6 +308,16 @@ class TriangleMesh:
         also reverses each face's vertex order so faces stay counter-clockwise
         seen from outside.
 
+        Parameters
+        ----------
+        matrix : array_like, (4, 4)
+            Finite, affine (last row ``0, 0, 0, 1``) and invertible; the transformed vertices must stay finite.
+
+        Returns
+        -------
+        TriangleMesh
+            A new mesh; normals given with this mesh are transformed, computed ones are recomputed.
+
         Examples
         --------
         >>> m = icosphere(0).transformed(np.diag([2.0, 1.0, 1.0, 1.0]))
@@ -370,6 +385,27 @@ def uv_sphere(n_lat: int, n_lon: int, radius: float = 1.0, center=(0.0, 0.0, 0.0
 
     Vertex ``(sin θ sin φ, cos θ, sin θ cos φ)`` scaled by ``radius`` around
     ``center``; normals are the exact sphere normals.
+
+    Parameters
+    ----------
+    n_lat : int >= 2
+        Latitude bands between the poles.
+    n_lon : int >= 3
+        Longitude sectors.
+    radius : float > 0, default 1
+        Sphere radius.
+    center : 3-vector, default (0, 0, 0)
+        Sphere centre (finite).
+
+    Returns
+    -------
+    TriangleMesh
+        ``2 + n_lon (n_lat - 1)`` vertices, ``2 n_lon (n_lat - 1)`` triangles.
+
+    Raises
+    ------
+    BudgetError
+        A ValueError, when the mesh would need more than the memory budget.
 
     Examples
     --------
@@ -465,6 +501,20 @@ def icosphere(level: int, radius: float = 1.0, center=(0.0, 0.0, 0.0)) -> Triang
     nearly equilateral, so an icosphere approximates the sphere more uniformly
     than a uv sphere with as many triangles.  Normals are the exact sphere normals.
 
+    Parameters
+    ----------
+    level : int in [0, 9]
+        Number of 4-way splits of the icosahedron.
+    radius : float > 0, default 1
+        Sphere radius.
+    center : 3-vector, default (0, 0, 0)
+        Sphere centre (finite).
+
+    Returns
+    -------
+    TriangleMesh
+        ``10·4^level + 2`` vertices, ``20·4^level`` triangles.
+
     Examples
     --------
     >>> [icosphere(k).n_triangles for k in range(3)]
@@ -499,6 +549,20 @@ def sphere_for_triangles(n: int, radius: float = 1.0, center=(0.0, 0.0, 0.0)) ->
     ``2 n_lon (n_lat − 1)`` triangles nearest ``n`` among those with
     ``1.5 n_lat ≤ n_lon ≤ 2.5 n_lat`` (near-square quads at the equator need
     ``n_lon ≈ 2 n_lat``; ties go to the squarest).
+
+    Parameters
+    ----------
+    n : int >= 8
+        Wanted number of triangles.
+    radius : float > 0, default 1
+        Sphere radius.
+    center : 3-vector, default (0, 0, 0)
+        Sphere centre (finite).
+
+    Returns
+    -------
+    TriangleMesh
+        An :func:`icosphere` or a :func:`uv_sphere`.
 
     Examples
     --------
@@ -542,6 +606,19 @@ def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
     normals, exactly coincident vertices are merged first (``weld=True``) so that
     STL files, which store every triangle separately, shade smoothly.
     Degenerate triangles are kept (they are harmless, see the module notes).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A regular file with extension ``.obj``, ``.ply``, ``.stl``, ``.glb``, ``.gltf`` or ``.off``
+        (case-insensitive); a file too large for the memory budget is refused (``BudgetError``) before reading.
+    weld : bool, default True
+        Merge exactly coincident vertices when the file has no normals.
+
+    Returns
+    -------
+    TriangleMesh
+        ``float64`` vertices in file order (after welding), ``int64`` faces.
 
     Raises
     ------

@@ -92,7 +92,19 @@ def _is_zero_part(model: BRDF) -> bool:
 
 
 def bounding_sphere(geometry) -> tuple[np.ndarray, float]:
-    """A sphere that contains ``geometry`` (centre of the bounding box, farthest vertex)."""
+    """A sphere that contains ``geometry`` (centre of the bounding box, farthest vertex).
+
+    Parameters
+    ----------
+    geometry : TriangleMesh or AnalyticSphere
+
+    Returns
+    -------
+    centre : numpy.ndarray
+        ``(3,)`` ``float64`` (the origin for a mesh without vertices).
+    radius : float
+        ``>= 0``, saturated at the largest finite float64; an analytic sphere returns its own centre and radius.
+    """
     if isinstance(geometry, AnalyticSphere):
         return np.asarray(geometry.center, dtype=np.float64), float(geometry.radius)
     if not isinstance(geometry, TriangleMesh):
@@ -147,7 +159,13 @@ class Plan:
 
     # ------------------------------------------------------------------ words
     def describe(self) -> str:
-        """The plan in plain words: what is evaluated, and everything left out with its reason."""
+        """The plan in plain words: what is evaluated, and everything left out with its reason.
+
+        Returns
+        -------
+        str
+            Several lines: the strategy, what is evaluated, then one ``left out:`` line per :class:`Skip`.
+        """
         where = {"phong": "per pixel", "gouraud": "per vertex", "flat": "per triangle"}[self.mode]
         lines = [f"Plan ({self.mode} shading, {self.form} form): strategy '{self.strategy}'."]
         if np.any(self.constant):
@@ -173,6 +191,17 @@ class Plan:
 
         ``renderer`` is a :class:`~lighting.render.renderer.Renderer` or any object with its sample methods
         (a scene's group of renderers sharing one plan).
+
+        Parameters
+        ----------
+        renderer : Renderer
+            Supplies the samples, the camera and the working dtype.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3)`` linear RGB in the renderer's dtype, one row per sample of :meth:`Renderer.sample_points`
+            (per lit pixel in ``"phong"`` mode).
         """
         mode, dt = self.mode, renderer.dtype
         if self.strategy == "constant":
@@ -236,7 +265,19 @@ class Plan:
         return out
 
     def execute(self, renderer: Renderer, background=None) -> np.ndarray:
-        """The ``(H, W, 3)`` image of ``renderer``'s geometry under this plan."""
+        """The ``(H, W, 3)`` image of ``renderer``'s geometry under this plan.
+
+        Parameters
+        ----------
+        renderer : Renderer
+        background : scalar or RGB >= 0, optional
+            Colour of the pixels the geometry does not cover; ``None`` (the default) or black leaves them 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(H, W, 3)`` linear RGB in the renderer's dtype.
+        """
         _check_renderer(renderer)
         bg = None if background is None else check_color("background", background)
         if self.strategy == "constant":
@@ -273,6 +314,12 @@ def compile_plan(
     bounds : (centre, radius), optional
         A sphere containing the object (:func:`bounding_sphere`); lets the plan
         drop spot lights whose cone cannot reach it.
+
+    Returns
+    -------
+    Plan
+        With ``strategy`` ``"constant"``, ``"diffuse-directional"`` or ``"general"``, the kept parts and lights
+        and the list of what was skipped.
 
     Examples
     --------

@@ -116,6 +116,12 @@ class Renderer:
 
     @geometry.setter
     def geometry(self, value):
+        """Replace the geometry; a different object drops the geometry buffer and every cached sample.
+
+        Parameters
+        ----------
+        value : TriangleMesh or AnalyticSphere
+        """
         _check_geometry(value)
         if value is not self._geometry:
             self._geometry = value
@@ -127,6 +133,12 @@ class Renderer:
 
     @camera.setter
     def camera(self, value: Camera):
+        """Replace the camera; a different object drops the geometry buffer and every cached sample.
+
+        Parameters
+        ----------
+        value : Camera
+        """
         check_camera(value)
         if value is not self._camera:
             self._camera = value
@@ -142,6 +154,12 @@ class Renderer:
 
         A scene renderer passes the pixels where this object is not hidden
         behind another; per-vertex and per-face samples are unaffected.
+
+        Parameters
+        ----------
+        subset : array_like of int, (M,), or None
+            Positions in ``gbuffer.pixels`` (integers in ``[0, len(gbuffer.pixels))``); ``None`` lights every
+            covered pixel.  A change drops the cached ``"phong"`` samples.
         """
         if subset is not None:
             n = len(self.gbuffer.pixels)
@@ -189,6 +207,17 @@ class Renderer:
         Like every sample array here it is cached until geometry or camera change,
         and column-major (one contiguous plane per component), the layout the
         per-component shading arithmetic runs fastest on.
+
+        Parameters
+        ----------
+        mode : {"flat", "gouraud", "phong"}
+            ``"flat"`` and ``"gouraud"`` need a triangle mesh.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3)`` Fortran-ordered, in the renderer's dtype: one row per lit pixel (phong), vertex (gouraud)
+            or triangle (flat).  Cached: do not modify.
         """
         mode = check_choice("mode", mode, SHADING_MODES)
 
@@ -205,7 +234,18 @@ class Renderer:
         return self._cached(("points", mode), make)
 
     def sample_normals(self, mode: str) -> np.ndarray:
-        """Unit normals at :meth:`sample_points`: interpolated (phong), vertex (gouraud) or face (flat)."""
+        """Unit normals at :meth:`sample_points`: interpolated (phong), vertex (gouraud) or face (flat).
+
+        Parameters
+        ----------
+        mode : {"flat", "gouraud", "phong"}
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3)`` Fortran-ordered, in the renderer's dtype, row for row with :meth:`sample_points`
+            (zero rows for degenerate faces or isolated vertices).  Cached: do not modify.
+        """
         mode = check_choice("mode", mode, SHADING_MODES)
         if mode == "phong" and self.gbuffer.mesh is not None:
             return self._pixel_samples()[0]
@@ -222,7 +262,20 @@ class Renderer:
         return self._cached(("normals", mode), make)
 
     def sample_view(self, mode: str):
-        """The slides' ``v`` at :meth:`sample_points` and the eye distances (``None`` for orthographic)."""
+        """The slides' ``v`` at :meth:`sample_points` and the eye distances (``None`` for orthographic).
+
+        Parameters
+        ----------
+        mode : {"flat", "gouraud", "phong"}
+
+        Returns
+        -------
+        v : numpy.ndarray
+            ``(N, 3)`` unit vectors toward the eye in the renderer's dtype, or one ``(3,)`` vector for an
+            orthographic camera.
+        dist : numpy.ndarray or None
+            ``(N,)`` ``float64`` eye distances; ``None`` for an orthographic camera.
+        """
         mode = check_choice("mode", mode, SHADING_MODES)
 
         if mode == "phong":
@@ -295,7 +348,22 @@ class Renderer:
         return gb.pixels if self._subset is None else gb.pixels[self._subset]
 
     def spread_pixels(self, mode: str, colours: np.ndarray):
-        """Colours at :meth:`sample_points` as ``(flat pixel indices, (M, 3) values)``, without a full image."""
+        """Colours at :meth:`sample_points` as ``(flat pixel indices, (M, 3) values)``, without a full image.
+
+        Parameters
+        ----------
+        mode : {"flat", "gouraud", "phong"}
+        colours : numpy.ndarray
+            ``(N, 3)``, one row per sample of ``mode``.
+
+        Returns
+        -------
+        pixels : numpy.ndarray
+            ``(M,)`` increasing flat row-major pixel indices (the lit pixels in ``"phong"`` mode, else all covered).
+        values : numpy.ndarray
+            ``(M, 3)`` colours at those pixels (``colours`` itself in ``"phong"`` mode; Gouraud-interpolated
+            or per-face looked up otherwise, keeping the colours' float dtype).
+        """
         mode = check_choice("mode", mode, SHADING_MODES)
         gb = self.gbuffer
         if mode == "phong":
@@ -319,7 +387,20 @@ class Renderer:
         return img, put
 
     def spread(self, mode: str, colours: np.ndarray) -> np.ndarray:
-        """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry)."""
+        """Turn colours at :meth:`sample_points` into an ``(H, W, 3)`` image (zero off the geometry).
+
+        Parameters
+        ----------
+        mode : {"flat", "gouraud", "phong"}
+        colours : numpy.ndarray
+            ``(N, 3)``, one row per sample of ``mode``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(H, W, 3)``: per pixel (phong, the colours' dtype), Gouraud-interpolated (gouraud) or looked up per
+            triangle (flat); the latter two in float64 if the buffer or the colours are float64, else float32.
+        """
         mode = check_choice("mode", mode, SHADING_MODES)
         gb = self.gbuffer
         if mode == "phong":

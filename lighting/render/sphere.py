@@ -17,7 +17,20 @@ __all__ = ["sphere_camera", "render_sphere"]
 
 
 def sphere_camera(size: int = 256, *, margin: float = 1.08) -> Camera:
-    """A ``size × size`` camera on +z looking at a unit sphere at the origin, ``margin`` × its radius in view."""
+    """A ``size × size`` camera on +z looking at a unit sphere at the origin, ``margin`` × its radius in view.
+
+    Parameters
+    ----------
+    size : int in [1, 65536]
+        Image width and height in pixels.
+    margin : float > 0
+        Half the view height, in sphere radii (default 1.08: a thin border around the disc).
+
+    Returns
+    -------
+    Camera
+        Orthographic, at ``(0, 0, 10)`` looking at the origin, ``ortho_height = 2 * margin``.
+    """
     size = check_count("size", size, 1, MAX_IMAGE_SIDE)
     margin = check_positive("margin", margin)
     return Camera((0, 0, 10.0), (0, 0, 0), projection="orthographic", ortho_height=2 * margin, width=size, height=size)
@@ -35,6 +48,11 @@ def render_sphere(material: Material, lights, *, size: int = 256, form: str = "c
         need more than the memory budget.
     form : {"classic", "physical"}
     background : scalar or RGB >= 0
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(size, size, 3)`` linear RGB, ``float64``; pixels off the sphere hold ``background``.
     """
     size = check_count("size", size, 1, MAX_IMAGE_SIDE)
     check_budget("size", size * size * RENDER_BYTES_PER_PIXEL, what=f"a {size}x{size} image")

@@ -96,6 +96,13 @@ class SceneRenderer:
 
     @scene.setter
     def scene(self, new: Scene):
+        """Draw ``new`` from now on, keeping each object's rasterization if its geometry and the camera are unchanged.
+
+        Parameters
+        ----------
+        new : Scene
+            Refused (``BudgetError``, a ValueError) when it would need more than the memory budget.
+        """
         if not isinstance(new, Scene):
             raise ValueError(f"scene must be a lighting.scene.Scene; got {type(new).__name__}")
         check_scene_budget(new)

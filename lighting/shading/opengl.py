@@ -314,6 +314,17 @@ class Light:
         ``GL_LIGHT0`` has white diffuse and specular colours; every other
         light starts with black ones (so enabling it alone changes nothing).
 
+        Parameters
+        ----------
+        index : int >= 0, default 0
+            The ``i`` of ``GL_LIGHTi``.
+        **overrides
+            Fields of :class:`Light` to set instead of their defaults.
+
+        Returns
+        -------
+        Light
+
         Example
         -------
         >>> Light.gl_default(1).diffuse

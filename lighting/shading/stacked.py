@@ -320,7 +320,21 @@ class StackedGeometry:
         return values
 
     def entries(self, k, i) -> Geometry:
-        """A :class:`Geometry` of the pairs (light ``k[j]``, point ``i[j]``)."""
+        """A :class:`Geometry` of the pairs (light ``k[j]``, point ``i[j]``).
+
+        Parameters
+        ----------
+        k : array of int, (M,)
+            Light indices in ``[0, K)`` (the first index array of :attr:`delicate`).
+        i : array of int, (M,)
+            Point indices in ``[0, N)``, one per entry of ``k``.
+
+        Returns
+        -------
+        Geometry
+            ``M`` pairs of unit vectors, in this geometry's dtype; ``entries(*delicate)[j]`` is the entry
+            ``(k[j], i[j])`` of the ``(K, N)`` planes.
+        """
         v = self.v if self._distant else self.v[i]
         return Geometry(self.n[i], self.l[k], v, unit=True, dtype=self.dtype)
 
