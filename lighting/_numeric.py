@@ -60,6 +60,17 @@ def working_dtype(*inputs) -> type:
     float32 if every NumPy float input is float32 (or smaller); float64 if any
     NumPy input is float64 or an integer array; float64 if there is no NumPy
     input at all (Python scalars and tuples are weak, as NEP 50 treats them).
+
+    Parameters
+    ----------
+    *inputs
+        Any values.  Only NumPy arrays and NumPy scalars count: float16/float32 ones ask for
+        float32, every other dtype (float64, integer, bool) for float64.
+
+    Returns
+    -------
+    type
+        ``np.float32`` or ``np.float64`` (the scalar type, not a ``np.dtype``).
     """
     found = [d for d in (_array_float_dtype(x) for x in inputs) if d is not None]
     if not found:
@@ -68,12 +79,39 @@ def working_dtype(*inputs) -> type:
 
 
 def as_float(x, dtype) -> np.ndarray:
-    """``x`` as an ndarray of ``dtype`` (no copy when it already is one)."""
+    """``x`` as an ndarray of ``dtype`` (no copy when it already is one).
+
+    Parameters
+    ----------
+    x : array_like
+        The values, any shape.
+    dtype : dtype or type
+        The target dtype (in the engine ``np.float32`` or ``np.float64``).
+
+    Returns
+    -------
+    ndarray
+        ``x`` in ``dtype``, same shape (0-d for a scalar).
+    """
     return np.asarray(x, dtype=dtype)
 
 
 def saturate_to(x, dtype) -> np.ndarray:
-    """``x`` cast to ``dtype``, values above its largest finite number clamped to it (no overflow warning)."""
+    """``x`` cast to ``dtype``, values above its largest finite number clamped to it (no overflow warning).
+
+    Parameters
+    ----------
+    x : array_like
+        The values, usually float64 and >= 0: only the upper end is clamped.
+    dtype : dtype or type
+        The target float dtype.
+
+    Returns
+    -------
+    ndarray
+        ``x`` in ``dtype``, same shape (a NumPy scalar for a scalar ``x``); ``inf`` and every value above
+        ``np.finfo(dtype).max`` become that maximum, NaN stays NaN.
+    """
     return np.minimum(x, float(np.finfo(dtype).max)).astype(dtype)
 
 
@@ -141,6 +179,21 @@ def safe_div(num, den, *, zero_where_den_le0: bool = True) -> np.ndarray:
     result is 0: every caller uses this for quantities that are masked to zero
     there (a BRDF below the horizon, a light at zero distance contributing with a
     zero-length direction).
+
+    Parameters
+    ----------
+    num, den : array_like
+        Numerator and denominator, broadcasting together.
+    zero_where_den_le0 : bool, optional
+        True (default): the result is 0 where ``den <= 0``; False: only where ``den == 0``.
+
+    Returns
+    -------
+    ndarray
+        The quotient, of the broadcast shape (a NumPy scalar for scalar arguments), in the float dtype
+        NumPy gives ``np.asarray(num) / np.asarray(den)`` (float64 for integers; a Python float is
+        float64 here, so it does not adopt a float32 partner's dtype).  NaN becomes 0 and ``±inf``
+        becomes ``±np.finfo(dtype).max``.
     """
     num = np.asarray(num)
     den = np.asarray(den)
@@ -166,6 +219,21 @@ MAX_VALUE_CHARS = 80
 def abbreviate(text: str, limit: int = MAX_VALUE_CHARS) -> str:
     """``text`` cut to ``limit`` characters, with the number of characters left out.
 
+    Parameters
+    ----------
+    text : str
+        The text (any other value is converted with ``str``).
+    limit : int, optional
+        The longest text kept whole (default :data:`MAX_VALUE_CHARS`, 80).
+
+    Returns
+    -------
+    str
+        ``text`` itself if it has at most ``limit`` characters; else its first ``max(limit // 2, 1)``
+        characters followed by ``…(+N chars)``, ``N`` the number left out.
+
+    Examples
+    --------
     >>> abbreviate("x" * 200, 20)
     'xxxxxxxxxx…(+190 chars)'
     """
@@ -218,6 +286,32 @@ def real_array(name: str, value, *, allowed: str = "finite real numbers", dtype=
     """``value`` as a real float array; TypeError for text, complex, None or objects; ValueError for NaN/inf.
 
     ``dtype=None`` keeps a NumPy float input's dtype (float64 otherwise), as the dtype policy asks.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : array_like
+        Real numbers (integer or float), any shape.  Booleans, complex numbers, text, None, dicts,
+        sets and objects are refused.
+    allowed : str, optional
+        What the error message says is allowed.
+    dtype : dtype or type, optional
+        The result's dtype; ``None``: :func:`working_dtype` of ``value`` (float32 for a float32 or
+        float16 array, float64 otherwise).
+
+    Returns
+    -------
+    ndarray
+        ``value`` in that dtype, same shape (0-d for a scalar), every entry finite; no copy when it
+        already has the dtype.
+
+    Raises
+    ------
+    ArgumentTypeError
+        For a refused type.
+    ValueError
+        For NaN or infinite entries, also those that overflow ``dtype`` on conversion.
     """
     if value is None or _is_text(value) or isinstance(value, (dict, set)):
         raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {_fmt(value)}")
@@ -236,7 +330,30 @@ def real_array(name: str, value, *, allowed: str = "finite real numbers", dtype=
 
 
 def check_vectors(name: str, value, *, dtype=None, nonzero: bool = False) -> np.ndarray:
-    """Directions or points of shape ``(..., 3)``: real, finite, and (``nonzero``) of non-zero length."""
+    """Directions or points of shape ``(..., 3)``: real, finite, and (``nonzero``) of non-zero length.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : array_like, shape (..., 3)
+        Real vectors, as :func:`real_array` accepts them.
+    dtype : dtype or type, optional
+        As :func:`real_array` (``None``: the float dtype of ``value``).
+    nonzero : bool, optional
+        Refuse any vector whose entries are all 0.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``value`` in that dtype, every entry finite.
+
+    Raises
+    ------
+    ValueError
+        For a last axis other than 3, a zero vector when ``nonzero``, or what :func:`real_array`
+        refuses (``ArgumentTypeError`` for a wrong type).
+    """
     allowed = "finite real vectors of shape (..., 3)" + (" and non-zero length" if nonzero else "")
     arr = real_array(name, value, allowed=allowed, dtype=dtype)
     if arr.shape[-1:] != (3,):
@@ -249,7 +366,31 @@ def check_vectors(name: str, value, *, dtype=None, nonzero: bool = False) -> np.
 
 
 def check_count(name: str, value, lo: int = 1, hi: int | None = None) -> int:
-    """An integer in ``[lo, hi]`` (a bool, a float or text is refused with TypeError)."""
+    """An integer in ``[lo, hi]`` (a bool, a float or text is refused with TypeError).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : int
+        A Python or NumPy integer.
+    lo : int, optional
+        The smallest allowed value (default 1).
+    hi : int or None, optional
+        The largest allowed value; ``None`` (default): no upper bound.
+
+    Returns
+    -------
+    int
+        ``value`` as a Python ``int``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        For a value that is not an integer.
+    ValueError
+        For an integer outside ``[lo, hi]``.
+    """
     allowed = f"an integer >= {lo}" if hi is None else f"an integer in [{lo}, {hi}]"
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
         raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {_fmt(value)}")
@@ -260,7 +401,25 @@ def check_count(name: str, value, lo: int = 1, hi: int | None = None) -> int:
 
 
 def check_bool(name: str, value) -> bool:
-    """A real bool (``True``/``False`` or a NumPy bool), not a number or a string."""
+    """A real bool (``True``/``False`` or a NumPy bool), not a number or a string.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : bool
+        ``True``, ``False`` or a NumPy bool.
+
+    Returns
+    -------
+    bool
+        ``value`` as a Python ``bool``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        For anything else (``0``, ``1``, ``"yes"`` …).
+    """
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
     raise ArgumentTypeError(f"{name} must be True or False; got {type(value).__name__} {_fmt(value)}")
@@ -268,7 +427,31 @@ def check_bool(name: str, value) -> bool:
 
 def check_range(name: str, value, lo: float | None = None, hi: float | None = None, *,
                 lo_open: bool = False, hi_open: bool = False) -> float:
-    """A finite real scalar inside ``[lo, hi]`` (ends open where asked)."""
+    """A finite real scalar inside ``[lo, hi]`` (ends open where asked).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : float
+        A real Python or NumPy number (or a 0-d array); booleans and text are refused.
+    lo, hi : float or None, optional
+        The ends of the range; ``None`` (default): unbounded on that side.
+    lo_open, hi_open : bool, optional
+        Exclude ``lo`` (``hi``) itself.
+
+    Returns
+    -------
+    float
+        ``value`` as a Python ``float``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        For a value that is not a real scalar.
+    ValueError
+        For NaN, infinities or a value outside the range.
+    """
     parts = []
     if lo is not None:
         parts.append(f"{'>' if lo_open else '>='} {lo:g}")
@@ -290,12 +473,34 @@ _memory_budget = [DEFAULT_MEMORY_BUDGET]
 
 
 def memory_budget() -> int:
-    """The memory budget in force, in bytes (2 GiB unless :func:`set_memory_budget` raised it)."""
+    """The memory budget in force, in bytes (2 GiB unless :func:`set_memory_budget` raised it).
+
+    Returns
+    -------
+    int
+        The budget in bytes.
+    """
     return _memory_budget[0]
 
 
 def set_memory_budget(nbytes: int) -> int:
-    """Set the memory budget (bytes); returns the previous one.  The command line's ``--memory-budget``."""
+    """Set the memory budget (bytes); returns the previous one.  The command line's ``--memory-budget``.
+
+    Parameters
+    ----------
+    nbytes : int
+        The new budget in bytes, an integer >= 1.
+
+    Returns
+    -------
+    int
+        The budget in force before the call, in bytes.
+
+    Raises
+    ------
+    ValueError
+        For ``nbytes < 1`` (``ArgumentTypeError`` for a value that is not an integer).
+    """
     previous = _memory_budget[0]
     _memory_budget[0] = check_count("memory budget", nbytes, 1)
     return previous
@@ -316,6 +521,22 @@ def check_budget(name: str, estimate_bytes: float, *, what: str = "", budget: in
     """Refuse a request whose estimated memory exceeds the budget, naming ``name`` and the estimate.
 
     Call it *before* allocating, with an estimate of the peak bytes the request needs.
+
+    Parameters
+    ----------
+    name : str
+        What the request is, for the error message (the arguments that set its size).
+    estimate_bytes : float
+        The estimated peak memory in bytes; NaN is refused like an estimate over the budget.
+    what : str, optional
+        A detail shown in parentheses after the estimate (``"1000 shading points"``).
+    budget : int or None, optional
+        The limit in bytes; ``None`` (default): :func:`memory_budget`.
+
+    Raises
+    ------
+    BudgetError
+        Where ``estimate_bytes`` is not <= the limit.
     """
     limit = memory_budget() if budget is None else budget
     if not estimate_bytes <= limit:  # also refuses NaN estimates
@@ -327,7 +548,29 @@ def check_budget(name: str, estimate_bytes: float, *, what: str = "", budget: in
 
 
 def check_finite(name: str, value, *, shape_hint: str = "a finite number") -> np.ndarray:
-    """Convert ``value`` to a float64 array and require it to be finite."""
+    """Convert ``value`` to a float64 array and require it to be finite.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : array_like
+        Real numbers (integer or float), any shape; booleans, complex numbers, text and None are refused.
+    shape_hint : str, optional
+        What the error message says is allowed.
+
+    Returns
+    -------
+    ndarray
+        A float64 copy of ``value``, same shape (0-d for a scalar).
+
+    Raises
+    ------
+    ArgumentTypeError
+        For a refused type.
+    ValueError
+        For NaN or infinite entries.
+    """
     if value is None or _is_text(value):
         raise ArgumentTypeError(f"{name} must be {shape_hint}; got {type(value).__name__} {_fmt(value)}")
     try:
@@ -348,6 +591,26 @@ def check_color(name: str, value, *, allow_negative: bool = False) -> np.ndarray
     """An RGB coefficient: a scalar or an RGB triple, finite and (usually) >= 0.
 
     Returns a float64 array of shape (3,).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : float or array_like, shape (3,)
+        A scalar (the same in every channel) or an RGB triple of real numbers.
+    allow_negative : bool, optional
+        Accept entries < 0 (default False).
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        float64; a scalar ``value`` repeated in the three channels.
+
+    Raises
+    ------
+    ValueError
+        For another shape, NaN, infinities or (unless ``allow_negative``) a negative entry
+        (``ArgumentTypeError`` for a wrong type).
     """
     allowed = "a finite scalar or RGB triple" + ("" if allow_negative else " with every entry >= 0")
     arr = check_finite(name, value, shape_hint=allowed)
@@ -376,7 +639,25 @@ def _scalar(name, value, allowed):
 
 
 def check_positive(name: str, value) -> float:
-    """A finite scalar > 0."""
+    """A finite scalar > 0.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : float
+        A real Python or NumPy number (or a 0-d array); booleans and text are refused.
+
+    Returns
+    -------
+    float
+        ``value`` as a Python ``float``.
+
+    Raises
+    ------
+    ValueError
+        For NaN, infinities or a value <= 0 (``ArgumentTypeError`` for a wrong type).
+    """
     allowed = "a finite number > 0"
     v = _scalar(name, value, allowed)
     if not v > 0:
@@ -385,7 +666,25 @@ def check_positive(name: str, value) -> float:
 
 
 def check_nonnegative(name: str, value) -> float:
-    """A finite scalar >= 0."""
+    """A finite scalar >= 0.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : float
+        A real Python or NumPy number (or a 0-d array); booleans and text are refused.
+
+    Returns
+    -------
+    float
+        ``value`` as a Python ``float``.
+
+    Raises
+    ------
+    ValueError
+        For NaN, infinities or a value < 0 (``ArgumentTypeError`` for a wrong type).
+    """
     allowed = "a finite number >= 0"
     v = _scalar(name, value, allowed)
     if not v >= 0:
@@ -394,7 +693,29 @@ def check_nonnegative(name: str, value) -> float:
 
 
 def check_choice(name: str, value, choices) -> str:
-    """One of a fixed set of names (case-insensitive, '_' and '-' alike)."""
+    """One of a fixed set of names (case-insensitive, '_' and '-' alike).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the error message.
+    value : str
+        The name given; surrounding blanks are ignored.
+    choices : iterable of str
+        The allowed names; only lower-case ones without ``_`` can match.
+
+    Returns
+    -------
+    str
+        The entry of ``choices`` that ``value`` names.
+
+    Raises
+    ------
+    ArgumentTypeError
+        For a value that is not a string.
+    ValueError
+        For a string that names none of ``choices``.
+    """
     if isinstance(value, str):
         key = value.strip().lower().replace("_", "-")
         for c in choices:
@@ -415,6 +736,18 @@ def cos_sin(theta):
 
     Elsewhere the values are NumPy's.  Keeps the float dtype of ``theta`` (float64 for Python numbers).
 
+    Parameters
+    ----------
+    theta : float or array_like
+        Angles in radians, any shape (integers are converted to float64).
+
+    Returns
+    -------
+    c, s : ndarray
+        ``cos θ`` and ``sin θ``, each of ``theta``'s shape and float dtype.
+
+    Examples
+    --------
     >>> import math
     >>> cos_sin(math.pi / 2)
     (array(0.), array(1.))
@@ -437,6 +770,18 @@ def cos_sin(theta):
 def cos_sin_deg(deg):
     """``(cos, sin)`` of an angle in degrees, exactly 0 and ±1 at multiples of 90°.
 
+    Parameters
+    ----------
+    deg : float or array_like
+        Angles in degrees, any shape (integers are converted to float64).
+
+    Returns
+    -------
+    c, s : ndarray
+        The cosine and the sine, each of ``deg``'s shape and float dtype (float64 for Python numbers).
+
+    Examples
+    --------
     >>> cos_sin_deg(90.0)
     (array(0.), array(1.))
     >>> cos_sin_deg(-180.0)
@@ -461,6 +806,25 @@ def check_float_dtype(dtype, name: str = "dtype") -> np.dtype:
 
     Callers that accept ``None`` ("the inputs decide") test for it before calling.
 
+    Parameters
+    ----------
+    dtype : dtype, type or str
+        Anything ``np.dtype`` reads as float32 or float64 (``np.float32``, ``"float64"``, ``float`` …).
+    name : str, optional
+        The parameter's name, for the error message (default ``"dtype"``).
+
+    Returns
+    -------
+    numpy.dtype
+        ``np.dtype(np.float32)`` or ``np.dtype(np.float64)``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        For any other dtype (float16, integers …), None, or a value that is not a dtype.
+
+    Examples
+    --------
     >>> check_float_dtype("float32")
     dtype('float32')
     """

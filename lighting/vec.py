@@ -68,6 +68,17 @@ def _refuse_nonfinite(name, a) -> None:
 def dot(a, b) -> np.ndarray:
     """Dot product over the last axis: shape ``(...)``.
 
+    Parameters
+    ----------
+    a, b : array_like, shape (..., 3)
+        Finite real vectors, broadcasting together.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``a·b`` over the broadcast leading axes (a NumPy scalar for two single vectors), in the float
+        dtype of the inputs.
+
     Examples
     --------
     >>> float(dot((1.0, 2.0, 3.0), (4.0, 5.0, 6.0)))
@@ -79,7 +90,18 @@ def dot(a, b) -> np.ndarray:
 
 
 def cross(a, b) -> np.ndarray:
-    """Cross product ``a × b``, shape ``(..., 3)``."""
+    """Cross product ``a × b``, shape ``(..., 3)``.
+
+    Parameters
+    ----------
+    a, b : array_like, shape (..., 3)
+        Finite real vectors, broadcasting together.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``a × b`` over the broadcast leading axes, in the float dtype of the inputs.
+    """
     dt = working_dtype(a, b)
     a, b = _vec(a, dt, "a"), _vec(b, dt, "b")
     return np.stack(
@@ -104,7 +126,18 @@ def _scaled(a: np.ndarray):
 
 
 def length(a) -> np.ndarray:
-    """Euclidean length over the last axis, computed without overflow or underflow."""
+    """Euclidean length over the last axis, computed without overflow or underflow.
+
+    Parameters
+    ----------
+    a : array_like, shape (..., 3)
+        Finite real vectors.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``|a|`` >= 0 (a NumPy scalar for a single vector), in the float dtype of ``a``.
+    """
     a = _vec(a, name="a")
     s, m = _scaled(a)
     return m[..., 0] * np.sqrt(dot(s, s))
@@ -116,6 +149,16 @@ def normalize(a) -> np.ndarray:
     Uses the direct ``a / |a|`` where ``|a|²`` is safely representable and a
     scaled form elsewhere, so tiny (1e-30 in float32) and huge (1e20 in float32)
     vectors normalize correctly.  No warning is raised for zero vectors.
+
+    Parameters
+    ----------
+    a : array_like, shape (..., 3)
+        Finite real vectors (NaN and infinities are refused).
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Unit vectors (zero vectors for zero ``a``), in the float dtype of ``a``.
 
     Examples
     --------
@@ -150,7 +193,20 @@ def _normalize(a, name):
 
 
 def reflect(d, n) -> np.ndarray:
-    """Mirror ``d`` about ``n``: ``2 n (n·d) - d`` (the slides' ``R_l`` for ``d = l``)."""
+    """Mirror ``d`` about ``n``: ``2 n (n·d) - d`` (the slides' ``R_l`` for ``d = l``).
+
+    Parameters
+    ----------
+    d : array_like, shape (..., 3)
+        The direction to mirror (finite, real).
+    n : array_like, shape (..., 3)
+        The unit normal; it is not normalized here.  Broadcasts with ``d``.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        The mirrored direction (of the length of ``d`` for a unit ``n``), in the float dtype of the inputs.
+    """
     dt = working_dtype(d, n)
     d, n = _vec(d, dt, "d"), _vec(n, dt, "n")
     return 2 * n * dot(n, d)[..., None] - d
@@ -162,6 +218,17 @@ def halfway(l, v) -> np.ndarray:  # noqa: E741 - the slides' name
     Where ``l = -v`` exactly the sum is the zero vector and so is the result:
     then every ``n·h`` is 0, which is the right limit for the shading models
     (one of ``l``, ``v`` is then at or below the horizon, where every BRDF is 0).
+
+    Parameters
+    ----------
+    l, v : array_like, shape (..., 3)
+        Unit directions toward the light and toward the viewer (finite, real), broadcasting together;
+        only their sum is normalized.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Unit vectors (the zero vector where ``l + v = 0``), in the float dtype of the inputs.
 
     Examples
     --------
@@ -213,6 +280,16 @@ def orthonormal_basis(n):
 
     Branch-free construction of Duff et al., "Building an Orthonormal Basis,
     Revisited" (JCGT 2017); continuous except across ``n_z = 0`` sign flips.
+
+    Parameters
+    ----------
+    n : array_like, shape (..., 3)
+        Normals (finite, real); normalized here.  A zero ``n`` gives ``t = x``, ``b = y``.
+
+    Returns
+    -------
+    t, b : ndarray, shape (..., 3)
+        The two tangents, in the float dtype of ``n``.
     """
     n = _normalize(n, "n")
     sign = np.where(n[..., 2] >= 0, 1.0, -1.0).astype(n.dtype)
@@ -230,6 +307,21 @@ def spherical_direction(theta, phi, dtype=None) -> np.ndarray:
     (``z = 0``, not ``cos(π/2) = 6.1e-17``) and ``phi = π/2`` exactly on the ``y`` axis: every view that
     builds a direction from angles agrees on which side of the horizon it is.
 
+    Parameters
+    ----------
+    theta, phi : float or array_like
+        Polar angle and azimuth in radians: finite real numbers, broadcasting together.
+    dtype : dtype, type, str or None, optional
+        The result's dtype, float32 or float64; ``None`` (default): the float dtype of ``theta`` and
+        ``phi`` (float64 for Python numbers).
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Unit vectors; ``...`` is the broadcast shape of ``theta`` and ``phi``.
+
+    Examples
+    --------
     >>> import math
     >>> spherical_direction(math.pi / 2, 0.0)
     array([1., 0., 0.])
@@ -246,6 +338,21 @@ def direction_from_elevation(elevation_deg, azimuth_deg=0.0) -> np.ndarray:
 
     Exact at multiples of 90° (an elevation of 0 is exactly on the horizon, 90 exactly overhead).
 
+    Parameters
+    ----------
+    elevation_deg : float or array_like
+        Angle above the xy-plane in degrees (negative: below it); finite real numbers.
+    azimuth_deg : float or array_like, optional
+        Angle from +x toward +y in degrees (default 0); broadcasts with ``elevation_deg``.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Unit vectors; ``...`` is the broadcast shape of the angles.  In their float dtype (float64 for
+        Python numbers).
+
+    Examples
+    --------
     >>> direction_from_elevation(0.0, 90.0)
     array([0., 1., 0.])
     """
@@ -267,14 +374,42 @@ def _angles(**angles):
 
 
 def to_local(d, n) -> np.ndarray:
-    """Express world direction ``d`` in the shading frame whose ``z`` is ``n``."""
+    """Express world direction ``d`` in the shading frame whose ``z`` is ``n``.
+
+    Parameters
+    ----------
+    d : array_like, shape (..., 3)
+        World directions (finite, real).
+    n : array_like, shape (..., 3)
+        Normals, normalized here; broadcast with ``d``.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``(d·t, d·b, d·n̂)`` with ``(t, b)`` from :func:`orthonormal_basis`.  float32 when ``n`` is a
+        float32 array and ``d`` float32 or a Python sequence; float64 otherwise (also for a tuple ``n``).
+    """
     d = _vec(d, working_dtype(d, n), "d")
     t, b = orthonormal_basis(n)
     return np.stack([dot(d, t), dot(d, b), dot(d, normalize(n))], axis=-1)
 
 
 def from_local(d_local, n) -> np.ndarray:
-    """Inverse of :func:`to_local`."""
+    """Inverse of :func:`to_local`.
+
+    Parameters
+    ----------
+    d_local : array_like, shape (..., 3)
+        Directions in the shading frame (finite, real).
+    n : array_like, shape (..., 3)
+        Normals (the frame's ``z``), normalized here; broadcast with ``d_local``.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``d_local[0] t + d_local[1] b + d_local[2] n̂``.  dtype as :func:`to_local`: float32 when ``n``
+        is a float32 array and ``d_local`` float32 or a Python sequence, float64 otherwise.
+    """
     dt = working_dtype(d_local, n)
     d_local = _vec(d_local, dt, "d_local")
     t, b = orthonormal_basis(np.asarray(_vec(n, dt, "n")))

@@ -285,11 +285,33 @@ class BRDF:
         return self._f(g)
 
     def eval_cos_geometry(self, g: Geometry):
-        """:meth:`eval_cos` on a :class:`Geometry`; parameters and result as :meth:`eval_geometry`."""
+        """:meth:`eval_cos` on a :class:`Geometry`; parameters and result as :meth:`eval_geometry`.
+
+        Parameters
+        ----------
+        g : Geometry
+            The shading directions.
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            ``f_r (n·l)`` in the dtype of ``g``, finite and >= 0.
+        """
         return self._f_cos(g)
 
     def classic_geometry(self, g: Geometry):
-        """:meth:`classic` on a :class:`Geometry`; parameters and result as :meth:`eval_geometry`."""
+        """:meth:`classic` on a :class:`Geometry`; parameters and result as :meth:`eval_geometry`.
+
+        Parameters
+        ----------
+        g : Geometry
+            The shading directions.
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            ``π f_r (n·l)`` in the dtype of ``g``, finite and >= 0.
+        """
         return _combine(self.separable_classic(g), g.dtype)
 
     def _f(self, g: Geometry):
@@ -498,9 +520,33 @@ class BRDFSum(BRDF):
         return _saturating_sum([p.eval_cos_geometry(g) for p in self._parts], g.dtype)
 
     def separable_cos(self, g):
+        """See :meth:`BRDF.separable_cos`.
+
+        Parameters
+        ----------
+        g : Geometry or StackedGeometry
+            The shading directions (a stacked one only if every part is :attr:`stackable`).
+
+        Returns
+        -------
+        list of (ndarray, ndarray)
+            The terms of every part, concatenated in the order of :attr:`parts`.
+        """
         return [t for p in self._parts for t in p.separable_cos(g)]
 
     def separable_classic(self, g):
+        """See :meth:`BRDF.separable_classic`.
+
+        Parameters
+        ----------
+        g : Geometry or StackedGeometry
+            The shading directions (a stacked one only if every part is :attr:`stackable`).
+
+        Returns
+        -------
+        list of (ndarray, ndarray)
+            The terms of every part, concatenated in the order of :attr:`parts`.
+        """
         return [t for p in self._parts for t in p.separable_classic(g)]
 
     def __repr__(self):

@@ -116,15 +116,38 @@ class CookTorrance(BRDF):
         self._exponent = float(_mf.blinn_phong_exponent(self.roughness))
 
     def lobe(self):
+        """See :meth:`BRDF.lobe`.
+
+        Returns
+        -------
+        Lobe
+            A ``"half"`` lobe of width ``α/√2`` (``inf`` when ``ks`` is 0), quadrature width ``α`` and
+            ``horizon`` ``"v-cavity"`` or ``"smith"`` after :attr:`geometry`.
+        """
         # Beckmann's exp(−tan²θ_h/α²) has standard deviation α/√2 about n; quadrature scales by α.
         width = self.roughness / math.sqrt(2.0) if np.any(self.ks > 0) else math.inf
         horizon = "v-cavity" if self.geometry == "v-cavity" else "smith"
         return Lobe("half", width, quadrature_width=self.roughness, horizon=horizon)
 
     def sampler(self):
+        """See :meth:`BRDF.sampler`.
+
+        Returns
+        -------
+        MicrofacetSampler
+            ``MicrofacetSampler(ndf, roughness)``: half vectors drawn from this model's ``D``.
+        """
         return MicrofacetSampler(self.ndf, self.roughness)
 
     def summary(self):
+        """See :meth:`BRDF.summary`.
+
+        Returns
+        -------
+        str
+            For example ``"ks=1 α=0.3 beckmann/v-cavity schlick f0=0.04 /4(n·v)(n·l)"`` (``F=1`` for
+            ``fresnel="none"``).
+        """
         f = "F=1" if self.fresnel == "none" else f"{self.fresnel} f0={_color_text(self.f0)}"
         den = "4(n·v)(n·l)" if self.denominator == "4" else "π(n·v)(n·l)"
         return f"ks={_color_text(self.ks)} α={self.roughness:g} {self.ndf}/{self.geometry} {f} /{den}"
@@ -142,7 +165,19 @@ class CookTorrance(BRDF):
 
     # The three factors, public so that figures can show each one.
     def D(self, g: Geometry):
-        """Normal distribution at ``h`` (1/sr)."""
+        """Normal distribution at ``h`` (1/sr).
+
+        Parameters
+        ----------
+        g : Geometry
+            The shading directions (``n·h`` and ``sin²θ_h`` are read).
+
+        Returns
+        -------
+        ndarray, shape (...)
+            ``D(h)`` >= 0 for :attr:`ndf` and :attr:`roughness`, 0 where ``n·h <= 0``, finite (saturated),
+            in the dtype of ``g``.
+        """
         return self._D(g, g.dtype)
 
     # The unchecked microfacet functions: the parameters were checked by the constructor, and the
@@ -155,7 +190,19 @@ class CookTorrance(BRDF):
         return f(c, self.roughness, s2, dtype)
 
     def G(self, g: Geometry):
-        """Shadowing–masking in [0, 1]."""
+        """Shadowing–masking in [0, 1].
+
+        Parameters
+        ----------
+        g : Geometry
+            The shading directions.
+
+        Returns
+        -------
+        ndarray, shape (...)
+            The V-cavity ``G`` or Smith's ``G1(v) G1(l)`` for :attr:`ndf` (after :attr:`geometry`), in
+            the dtype of ``g``.
+        """
         if self.geometry == "v-cavity":
             return _mf._vcavity_g(g.n_dot_h, g.n_dot_v, g.n_dot_l, g.v_dot_h)
         # Blinn–Phong lobes use the Beckmann G1 of the equivalent α (Walter et al. 2007).
@@ -163,7 +210,19 @@ class CookTorrance(BRDF):
         return g1(g.n_dot_v, self.roughness, g.sin2_v, g.dtype) * g1(g.n_dot_l, self.roughness, g.sin2_l, g.dtype)
 
     def F(self, g: Geometry):
-        """Fresnel reflectance per channel, shape ``(..., 3)``."""
+        """Fresnel reflectance per channel, shape ``(..., 3)``.
+
+        Parameters
+        ----------
+        g : Geometry
+            The shading directions (``v·h`` is read).
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            ``F(v·h)`` in [0, 1] for :attr:`fresnel` and :attr:`f0` (ones for ``"none"``), in the dtype
+            of ``g``.
+        """
         c = g.v_dot_h
         if self.fresnel == "none":
             return np.ones(c.shape + (3,), dtype=g.dtype)
@@ -226,9 +285,35 @@ class CookTorrance(BRDF):
         return saturate_to(_combine(self._separable(g, True), np.float64), g.dtype)
 
     def separable_cos(self, g):
+        """See :meth:`BRDF.separable_cos`.
+
+        Parameters
+        ----------
+        g : Geometry or StackedGeometry
+            The shading directions.
+
+        Returns
+        -------
+        list of (ndarray, ndarray)
+            With ``s = D G / (c (n·v))`` (``c`` 4 or π, 0 below the horizon) in the dtype of ``g``:
+            ``(s, ks)`` for ``fresnel="none"``; ``(s, ks f0)`` and ``(s (1 − v·h)^5, ks (1 − f0))`` for
+            Schlick; ``(s F_i, ks e_i)`` per channel ``i`` for the dielectric ``F``.
+        """
         return [(saturate_to(s, g.dtype), c) for s, c in self._separable(g, False)]
 
     def separable_classic(self, g):
+        """See :meth:`BRDF.separable_classic`.
+
+        Parameters
+        ----------
+        g : Geometry or StackedGeometry
+            The shading directions.
+
+        Returns
+        -------
+        list of (ndarray, ndarray)
+            The terms of :meth:`separable_cos` with their scalar fields times π.
+        """
         return [(saturate_to(s * math.pi, g.dtype), c) for s, c in self._separable(g, False)]
 
 

@@ -52,6 +52,19 @@ def schlick(cos_theta, f0) -> np.ndarray:
     Raises ``ValueError`` naming the argument (``ArgumentTypeError``, also a
     ``TypeError``, for text, complex, booleans or None).
 
+    Parameters
+    ----------
+    cos_theta : array_like
+        Cosines in [−1, 1] (rounding up to :data:`COS_SLACK` beyond is tolerated), any shape.
+    f0 : float or array_like, shape (3,)
+        Reflectance at normal incidence, in [0, 1]: a scalar or an RGB triple.
+
+    Returns
+    -------
+    ndarray
+        ``F`` in ``[f0, 1]``, of ``cos_theta``'s shape (plus a trailing axis 3 for a triple ``f0``), in
+        the float dtype of ``cos_theta`` (float64 for Python numbers).
+
     References
     ----------
     C. Schlick, "An inexpensive BRDF model for physically-based rendering", Computer
@@ -87,6 +100,20 @@ def dielectric(cos_theta_i, eta) -> np.ndarray:
         r_perp = (cos θ_i − η cos θ_t) / (cos θ_i + η cos θ_t).
 
     At normal incidence this is ``((η − 1) / (η + 1))²``.
+
+    Parameters
+    ----------
+    cos_theta_i : array_like
+        Cosines of the angle of incidence in [−1, 1] (rounding up to :data:`COS_SLACK` beyond is
+        tolerated), any shape.
+    eta : float or array_like, shape (3,)
+        ``n_t / n_i``, finite and > 0: a scalar or an RGB triple.
+
+    Returns
+    -------
+    ndarray
+        ``F`` in [0, 1], of ``cos_theta_i``'s shape (plus a trailing axis 3 for a triple ``eta``),
+        computed in float64 and returned in the float dtype of ``cos_theta_i``.
 
     Examples
     --------
@@ -152,6 +179,23 @@ def _dielectric_from_f0(cos_theta_i, f0) -> np.ndarray:
 def f0_from_eta(eta):
     """Normal-incidence reflectance ``((η − 1)/(η + 1))²`` for ``η > 0`` (float64, any shape).
 
+    Parameters
+    ----------
+    eta : float or array_like
+        Relative indices of refraction, finite and > 0, any shape.
+
+    Returns
+    -------
+    ndarray
+        ``F0`` in [0, 1], float64, of ``eta``'s shape.
+
+    Raises
+    ------
+    ValueError
+        For an ``eta`` <= 0, NaN or infinite (``ArgumentTypeError`` for a wrong type).
+
+    Examples
+    --------
     >>> round(float(f0_from_eta(1.5)), 6)
     0.04
     """
@@ -167,6 +211,23 @@ def eta_from_f0(f0):
 
     ``F0 = 1`` (a perfect conductor in this approximation) maps to a very large η (2e12).
 
+    Parameters
+    ----------
+    f0 : float or array_like
+        Normal-incidence reflectances in [0, 1], any shape.
+
+    Returns
+    -------
+    ndarray
+        ``η >= 1``, float64, of ``f0``'s shape.
+
+    Raises
+    ------
+    ValueError
+        For an ``f0`` outside [0, 1], NaN or infinite (``ArgumentTypeError`` for a wrong type).
+
+    Examples
+    --------
     >>> round(float(eta_from_f0(0.04)), 6)
     1.5
     """

@@ -60,6 +60,18 @@ def check_alpha(alpha, name: str = "alpha") -> np.ndarray:
 
     Raises ``ArgumentTypeError`` (a ``TypeError`` and ``ValueError``) for text, complex, booleans
     or ``None``, and ``ValueError`` for NaN, infinities or values <= 0, naming ``name``.
+
+    Parameters
+    ----------
+    alpha : float or array_like
+        Roughness values, any shape.
+    name : str, optional
+        The parameter's name, for the error message (default ``"alpha"``).
+
+    Returns
+    -------
+    ndarray
+        ``alpha`` as float64, same shape (0-d for a scalar).
     """
     allowed = "a finite number > 0 (the roughness α), or an array of them"
     a = real_array(name, alpha, allowed=allowed, dtype=np.float64)
@@ -193,6 +205,22 @@ def ggx_ndf(cos_theta_h, alpha, sin2_theta_h=None) -> np.ndarray:
 
     Arguments, result and errors as :func:`beckmann_ndf`.
 
+    Parameters
+    ----------
+    cos_theta_h : array_like
+        ``n·h``, in [−1, 1] (rounding up to :data:`COS_SLACK` beyond is clamped).
+    alpha : float or array_like
+        Roughness α > 0.
+    sin2_theta_h : array_like, optional
+        ``|n × h|²`` in [0, 1]; pass it when available for full accuracy near the peak.
+
+    Returns
+    -------
+    ndarray
+        ``D`` >= 0 in 1/sr (0 for ``cos θ_h <= 0``), of the broadcast shape of the arguments, in the float dtype
+        of ``cos_theta_h`` and ``sin2_theta_h`` (float64 for Python numbers); finite (saturated at the dtype's
+        largest value).
+
     References
     ----------
     B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet models for refraction
@@ -226,6 +254,23 @@ def blinn_phong_exponent(alpha) -> np.ndarray:
     Clamped at 0 for α >= 1 (the flattest Blinn–Phong lobe is ``e = 0``), and at the largest
     float64 for α below 1e-154 (where ``2/α²`` overflows).
 
+    Parameters
+    ----------
+    alpha : float or array_like
+        Beckmann roughness α > 0, any shape.
+
+    Returns
+    -------
+    ndarray
+        ``e >= 0``, float64, of ``alpha``'s shape.
+
+    Raises
+    ------
+    ValueError
+        As :func:`check_alpha`.
+
+    Examples
+    --------
     >>> float(blinn_phong_exponent(0.5))
     6.0
     """
@@ -243,6 +288,22 @@ def blinn_phong_ndf(cos_theta_h, exponent, sin2_theta_h=None) -> np.ndarray:
     beyond; ``0^0 = 1``.  ``exponent`` is a finite number >= 0 (or an array of
     them); the other arguments, the result and the errors are as for
     :func:`beckmann_ndf`.
+
+    Parameters
+    ----------
+    cos_theta_h : array_like
+        ``n·h``, in [−1, 1] (rounding up to :data:`COS_SLACK` beyond is clamped).
+    exponent : float or array_like
+        ``e``, finite and >= 0.
+    sin2_theta_h : array_like, optional
+        ``|n × h|²`` in [0, 1]; pass it when available for full accuracy near the peak.
+
+    Returns
+    -------
+    ndarray
+        ``D`` >= 0 in 1/sr (0 for ``cos θ_h <= 0``), of the broadcast shape of the arguments, in the float dtype
+        of ``cos_theta_h`` and ``sin2_theta_h`` (float64 for Python numbers); finite (saturated at the dtype's
+        largest value).
 
     Examples
     --------
@@ -289,6 +350,22 @@ def smith_g1_beckmann(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
     ``cos_theta`` in [−1, 1], ``sin2_theta`` (optional, ``|n × ω|²``) in [0, 1];
     errors as :func:`beckmann_ndf`.
 
+    Parameters
+    ----------
+    cos_theta : array_like
+        ``n·ω`` of the view or light direction ``ω``, in [−1, 1] (rounding up to :data:`COS_SLACK`
+        beyond is clamped).
+    alpha : float or array_like
+        Beckmann roughness α > 0.
+    sin2_theta : array_like, optional
+        ``|n × ω|²`` in [0, 1]; by default formed from ``cos_theta``.
+
+    Returns
+    -------
+    ndarray
+        ``G1`` in [0, 1] (0 for ``cos θ <= 0``), of the broadcast shape of the arguments, in the float dtype of
+        ``cos_theta`` and ``sin2_theta`` (float64 for Python numbers).
+
     References
     ----------
     B. G. Smith, "Geometrical shadowing of a random rough surface", IEEE Transactions on
@@ -325,6 +402,22 @@ def smith_g1_ggx(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
 
     Evaluated as ``2 cos θ / (cos θ + hypot(cos θ, α sin θ))`` (no ``tan``, no
     overflow at grazing).  Arguments and errors as :func:`smith_g1_beckmann`.
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        ``n·ω`` of the view or light direction ``ω``, in [−1, 1] (rounding up to :data:`COS_SLACK`
+        beyond is clamped).
+    alpha : float or array_like
+        GGX roughness α > 0.
+    sin2_theta : array_like, optional
+        ``|n × ω|²`` in [0, 1]; by default formed from ``cos_theta``.
+
+    Returns
+    -------
+    ndarray
+        ``G1`` in [0, 1] (0 for ``cos θ <= 0``), of the broadcast shape of the arguments, in the float dtype of
+        ``cos_theta`` and ``sin2_theta`` (float64 for Python numbers).
 
     References
     ----------
@@ -389,6 +482,18 @@ def vcavity_g(n_dot_h, n_dot_v, n_dot_l, v_dot_h) -> np.ndarray:
 
     0 where any cosine is <= 0 (``v·h = l·h`` by construction of ``h``).  Every
     argument is a cosine in [−1, 1]; errors as :func:`beckmann_ndf`.
+
+    Parameters
+    ----------
+    n_dot_h, n_dot_v, n_dot_l, v_dot_h : array_like
+        The four cosines, in [−1, 1] (rounding up to :data:`COS_SLACK` beyond is clamped),
+        broadcasting together.
+
+    Returns
+    -------
+    ndarray
+        ``G`` in [0, 1], of the broadcast shape of the arguments, in the float dtype of the four cosines
+        (float64 for Python numbers).
 
     References
     ----------

@@ -170,12 +170,29 @@ def unregister_model(name: str) -> None:
 
 
 def model_names() -> tuple[str, ...]:
-    """Names of the registered models, in registration order (the lectures' order for the built-in ones)."""
+    """Names of the registered models, in registration order (the lectures' order for the built-in ones).
+
+    Returns
+    -------
+    tuple of str
+        The registered names (not the variants': see :func:`model_variants`).
+    """
     return tuple(_REGISTRY)
 
 
 def model_class(name) -> type:
     """The model class registered under ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A registered name, exactly as :func:`model_names` gives it (variant names are not accepted:
+        :func:`create_model` takes those).
+
+    Returns
+    -------
+    type
+        The :class:`~lighting.models.brdf.BRDF` subclass.
 
     Raises
     ------
@@ -195,6 +212,12 @@ def model_variants() -> dict[str, tuple[type, dict]]:
 
     A model's own name comes first, then its named variants (``cls.variants``), such as
     ``"blinn-phong-normalized"`` for ``BlinnPhong(normalized=True)``.
+
+    Returns
+    -------
+    dict of str to (type, dict)
+        A new dict, in registration order: each model's name maps to ``(cls, {})``, each variant's
+        name to ``(cls, fixed)`` with a copy of its fixed keyword arguments.
     """
     out = {}
     for name, cls in _REGISTRY.items():
@@ -205,7 +228,25 @@ def model_variants() -> dict[str, tuple[type, dict]]:
 
 
 def create_model(name, **params):
-    """``model_class(name)(**params)``: a model from its registered name (or a variant's)."""
+    """``model_class(name)(**params)``: a model from its registered name (or a variant's).
+
+    Parameters
+    ----------
+    name : str
+        A registered model's name or a variant's (:func:`model_variants`).
+    **params
+        Constructor keywords; for a variant they override its fixed ones.
+
+    Returns
+    -------
+    BRDF
+        A new instance of the model.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name (as :func:`model_class`) or a parameter the constructor refuses.
+    """
     variants = model_variants()
     if isinstance(name, str) and name in variants:
         cls, fixed = variants[name]

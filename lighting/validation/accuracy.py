@@ -318,6 +318,26 @@ def run_studies(*, quick: bool = False, only=None, progress_factory=None) -> lis
 
     ``progress_factory(total, label)`` may return an object with ``update()``
     (a progress bar); it is called once per study.
+
+    Parameters
+    ----------
+    quick : bool, optional
+        The quick settings (fewer samples, seeds, sizes and repeats) instead of the full ones.
+    only : str or iterable of str, optional
+        Study names from :data:`STUDY_NAMES`; ``None`` (default): all of them.
+    progress_factory : callable or None, optional
+        ``progress_factory(total, label)`` returning an object with ``update()``, called once per unit
+        of work; ``None`` (default): no progress display.
+
+    Returns
+    -------
+    list of Study
+        The studies run, in the order of :data:`STUDY_NAMES`, each holding its measured points (:class:`Point`).
+
+    Raises
+    ------
+    ValueError
+        For an unknown study name (``ArgumentTypeError`` for arguments of the wrong type).
     """
     quick = check_bool("quick", quick)
     if progress_factory is not None and not callable(progress_factory):
@@ -374,6 +394,18 @@ def summary(studies, thresholds=(1e-2, 1e-3)) -> list[dict]:
     Each row also carries ``unconverged``: the chosen point's flag (its own
     relative error estimate above 2 %), so a method that reached the threshold
     without being able to tell is marked.
+
+    Parameters
+    ----------
+    studies : iterable of Study
+        As :func:`run_studies` returns them.
+    thresholds : sequence of float, optional
+        Relative errors > 0 to reach, a nonempty 1-D list (default 1 % and 0.1 %).
+
+    Returns
+    -------
+    list of dict
+        One row per study, case (in order of first appearance) and threshold, with the keys above.
     """
     allowed = "error thresholds, finite numbers > 0"
     thr_arr = real_array("thresholds", thresholds, allowed=allowed, dtype=np.float64)

@@ -66,6 +66,22 @@ def _careful_fr(model, q, n, l, v):  # noqa: E741
 
 
 def phong_fr_variant(model, q, n, l, v):  # noqa: E741
+    """The Phong rearrangement's ``variant``: :func:`~lighting.validation.forms.phong_fr` on ``q``.
+
+    Parameters
+    ----------
+    model : Phong
+        The model; its ``ks`` and ``shininess`` are read.
+    q : Geometry or Quantities
+        The quantities the rearrangement's ``quantities`` built (the textbook ``1 − R_l·v``).
+    n, l, v : ndarray, shape (..., 3)
+        The case's vectors; not read (every variant takes them).
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``f_r`` in the dtype of ``q``.
+    """
     return phong_fr(model, q)
 
 
