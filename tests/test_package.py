@@ -3,6 +3,7 @@ import signal
 import stat
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -366,8 +367,12 @@ def test_a_signal_between_the_renames_of_a_pair_waits_until_both_are_in_place(tm
         renamed.append(os.path.basename(dst))
         if len(renamed) == 1:
             signal.pthread_kill(bystander.ident, signal.SIGTERM)
-            for _ in range(100_000):  # the main thread runs the Python handler during this loop
-                pass
+            # Wait until the main thread has run the Python handler (it notes the signal as pending):
+            # on a loaded machine the bystander may be scheduled, and the signal delivered, only later,
+            # and after the block the default handler would end the process.
+            deadline = time.monotonic() + 30
+            while explorer.output._deferral["pending"] is None and time.monotonic() < deadline:
+                time.sleep(0.001)
 
     monkeypatch.setattr(explorer.output.os, "replace", replace_then_signal)
     try:
