@@ -44,7 +44,7 @@ from .._numeric import (
     saturate_to,
     working_dtype,
 )
-from ..vec import direction_from_elevation, normalize
+from ..vec import _one_minus_cos_between, direction_from_elevation, normalize
 
 __all__ = [
     "Incidence",
@@ -552,8 +552,9 @@ class SpotLight(PointLight):
             return np.ones(l.shape[:-1])
         s = self.direction
         cos_a = -(l[..., 0] * s[0] + l[..., 1] * s[1] + l[..., 2] * s[2])
-        w = l + s  # 1 − cos ψ = |l + ŝ|² / 2
-        one_minus = 0.5 * (w[..., 0] * w[..., 0] + w[..., 1] * w[..., 1] + w[..., 2] * w[..., 2])
+        # 1 − cos ψ between l and −ŝ, |l + ŝ|²/2 (l − (−ŝ) is l + ŝ exactly; the clip to [0, 2] only touches
+        # values far outside any cone).
+        one_minus = _one_minus_cos_between(l, -s)
         return self._spot_factor(cos_a, one_minus)
 
 
