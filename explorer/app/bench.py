@@ -46,18 +46,6 @@ def benchmark_handlers(repeat: int = 15, window_size=DEFAULT_WINDOW_SIZE) -> dic
     -------
     dict
         The keys above (milliseconds), plus ``window``, ``sphere_px`` and ``mesh_px``.
-
-    Parameters
-    ----------
-    repeat : int
-        Runs per measurement (the median is reported).
-    window_size : (int, int)
-        Window width and height in pixels.
-
-    Returns
-    -------
-    dict
-        The keys above (milliseconds), plus ``window``, ``sphere_px`` and ``mesh_px``.
     """
     import pyvista as pv
 
