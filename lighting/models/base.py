@@ -171,24 +171,27 @@ def _color(name: str, value, hi: float | None = None) -> np.ndarray:
 _BYTES_PER_POINT = 64 * 8
 
 
-def _public_geometry(n, l, v) -> Geometry:  # noqa: E741
+def _public_geometry(n, l, v, tangent=None) -> Geometry:  # noqa: E741
     """The arguments of ``eval``/``eval_cos``/``classic``, checked once: a :class:`Geometry`.
 
     ``n``, ``l``, ``v``: real, finite, shape ``(..., 3)``, broadcasting together, within the
     memory budget.  Zero vectors are allowed (the contract's directions are unit; a zero one
     has no direction and gives zero reflectance).  The dtype is decided on the arguments as
-    given (a tuple is weak), then every one is converted to it.
+    given (a tuple is weak), then every one is converted to it.  ``tangent`` (optional) is checked
+    the same way and must broadcast with them; anisotropic models orient their lobe by it.
     """
     dt = working_dtype(n, l, v)
-    arrays = [check_vectors(name, x, dtype=dt) for name, x in (("n", n), ("l", l), ("v", v))]
+    named = (("n", n), ("l", l), ("v", v)) + ((("tangent", tangent),) if tangent is not None else ())
+    arrays = [check_vectors(name, x, dtype=dt) for name, x in named]
     try:
         shape = np.broadcast_shapes(*(a.shape for a in arrays))
     except ValueError:
         shapes = ", ".join(str(a.shape) for a in arrays)
-        raise ValueError(f"n, l and v must broadcast together (shapes (..., 3)); got shapes {shapes}") from None
+        names = "n, l, v and tangent" if tangent is not None else "n, l and v"
+        raise ValueError(f"{names} must broadcast together (shapes (..., 3)); got shapes {shapes}") from None
     points = math.prod(shape[:-1])
     check_budget("n, l, v", points * _BYTES_PER_POINT, what=f"{points} shading points")
-    return Geometry(*arrays, dtype=dt)
+    return Geometry(*arrays[:3], dtype=dt, tangent=arrays[3] if tangent is not None else None)
 
 
 
@@ -215,7 +218,7 @@ class BRDF:
     lambertian = False
 
     # -- evaluation -----------------------------------------------------------------
-    def eval(self, n, l, v):  # noqa: E741
+    def eval(self, n, l, v, *, tangent=None):  # noqa: E741
         """Physical BRDF ``f_r`` in 1/sr, shape ``(..., 3)``; 0 below the horizon.
 
         Parameters
@@ -223,6 +226,10 @@ class BRDF:
         n, l, v : array_like, shape (..., 3)
             Normal, direction toward the light, direction toward the viewer: finite real
             vectors that broadcast together, normalized on entry.  A zero vector gives 0.
+        tangent : array_like, shape (..., 3), optional
+            The surface tangent that orients an anisotropic lobe (made perpendicular to ``n``).
+            Without it the frame is ``t = ẑ × n / |ẑ × n|`` (``x̂`` where ``n`` is along ±z); see
+            :attr:`lighting.models.geometry.Geometry.t`.  Isotropic models ignore it.
 
         Returns
         -------
@@ -237,29 +244,16 @@ class BRDF:
             shapes that do not broadcast, more points than the memory budget allows
             (``ArgumentTypeError``, also a ``TypeError``, for text, complex, booleans, None).
         """
-        return self.eval_geometry(_public_geometry(n, l, v))
+        return self.eval_geometry(_public_geometry(n, l, v, tangent))
 
-    def eval_cos(self, n, l, v):  # noqa: E741
+    def eval_cos(self, n, l, v, *, tangent=None):  # noqa: E741
         """``f_r (n·l)``, computed without dividing by ``n·l``.
 
         Parameters
         ----------
         n, l, v : array_like, shape (..., 3)
             As :meth:`eval`.
-
-        Returns
-        -------
-        ndarray, shape (..., 3)
-            Finite and >= 0, in the float dtype of the vectors.
-        """
-        return self.eval_cos_geometry(_public_geometry(n, l, v))
-
-    def classic(self, n, l, v):  # noqa: E741
-        """The slides' illumination term ``π f_r (n·l)``.
-
-        Parameters
-        ----------
-        n, l, v : array_like, shape (..., 3)
+        tangent : array_like, shape (..., 3), optional
             As :meth:`eval`.
 
         Returns
@@ -267,7 +261,24 @@ class BRDF:
         ndarray, shape (..., 3)
             Finite and >= 0, in the float dtype of the vectors.
         """
-        return self.classic_geometry(_public_geometry(n, l, v))
+        return self.eval_cos_geometry(_public_geometry(n, l, v, tangent))
+
+    def classic(self, n, l, v, *, tangent=None):  # noqa: E741
+        """The slides' illumination term ``π f_r (n·l)``.
+
+        Parameters
+        ----------
+        n, l, v : array_like, shape (..., 3)
+            As :meth:`eval`.
+        tangent : array_like, shape (..., 3), optional
+            As :meth:`eval`.
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            Finite and >= 0, in the float dtype of the vectors.
+        """
+        return self.classic_geometry(_public_geometry(n, l, v, tangent))
 
     def eval_geometry(self, g: Geometry):
         """:meth:`eval` on a :class:`Geometry` built (and checked) already.

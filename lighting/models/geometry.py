@@ -59,13 +59,60 @@ class Geometry:
     check them once and build it.
     """
 
-    def __init__(self, n, l, v, *, unit: bool = False, dtype=None):  # noqa: E741
+    def __init__(self, n, l, v, *, unit: bool = False, dtype=None, tangent=None):  # noqa: E741
         dt = dtype or working_dtype(n, l, v)
         n, l, v = (as_float(x, dt) for x in (n, l, v))
         if not unit:
             n, l, v = normalize(n), normalize(l), normalize(v)
         self.dtype = dt
         self.n, self.l, self.v = n, l, v
+        self._tangent = None if tangent is None else as_float(tangent, dt)
+
+    # -- the tangent frame (anisotropic models only; isotropic ones never ask) ------------
+    @_cached
+    def t(self):
+        """The unit tangent ``t ⊥ n`` of the shading frame ``(t, b, n)``.
+
+        From the ``tangent`` given at construction, made perpendicular to ``n``
+        (``t − (n·t) n``, normalized).  Without one, or where it is parallel to ``n``, the
+        documented default: ``t = ẑ × n / |ẑ × n|``, the direction of increasing azimuth φ
+        about the z axis (on a sphere about z, the UV sphere's φ direction), and ``t = x̂``
+        where ``n`` is along ±z.  In the local frame (``n = +z``) that is ``t = x̂``,
+        ``b = ŷ``: azimuths are measured from +x toward +y, as everywhere in the engine.
+        """
+        n = self.n
+        zero = np.zeros((), dtype=self.dtype)
+        default = np.stack([-n[..., 1], n[..., 0], np.broadcast_to(zero, n[..., 0].shape)], axis=-1)
+        if self._tangent is not None:
+            given = self._tangent - self._dot(n, self._tangent)[..., None] * n
+            ok = self._dot(given, given) > 0
+            default = np.where(ok[..., None], given, default)
+        t = normalize(default)
+        pole = self._dot(t, t) == 0
+        if np.any(pole):
+            t = np.where(pole[..., None], np.array([1.0, 0.0, 0.0], dtype=self.dtype), t)
+        return t
+
+    @_cached
+    def b(self):
+        """The unit bitangent ``b = n × t``, completing the right-handed frame ``(t, b, n)``."""
+        return np.cross(self.n, self.t).astype(self.dtype, copy=False)
+
+    @_cached
+    def h_local(self):
+        """The half vector's components ``(h·t, h·b, h·n)`` in the shading frame, shape ``(..., 3)``."""
+        h = self.h
+        return np.stack([self._dot(h, self.t), self._dot(h, self.b), self.n_dot_h], axis=-1)
+
+    @_cached
+    def l_local(self):
+        """``(l·t, l·b, l·n)``: the light direction in the shading frame, shape ``(..., 3)``."""
+        return np.stack([self._dot(self.l, self.t), self._dot(self.l, self.b), self.n_dot_l], axis=-1)
+
+    @_cached
+    def v_local(self):
+        """``(v·t, v·b, v·n)``: the view direction in the shading frame, shape ``(..., 3)``."""
+        return np.stack([self._dot(self.v, self.t), self._dot(self.v, self.b), self.n_dot_v], axis=-1)
 
     @staticmethod
     def _dot(a, b):
