@@ -37,9 +37,14 @@ class CookTorrance(BRDF):
 
     Parts: ``D`` Beckmann (Gaussian slopes, the slides'), GGX, or the slides'
     normalized Blinn–Phong lobe with exponent ``e = 2/α² − 2``; ``G`` the
-    slides' V-cavity term or separable Smith ``G1(v) G1(l)`` for the chosen NDF;
-    ``F`` Schlick, the exact dielectric formula with ``η`` from ``f0``, or
-    ``"none"`` (F = 1).
+    slides' V-cavity term, separable Smith ``G1(v) G1(l)`` or the height-correlated Smith
+    ``G2 = 1 / (1 + Λ(v) + Λ(l))`` for the chosen NDF (``G1 = 1/(1 + Λ)``)::
+
+        GGX:       Λ(θ) = (−1 + sqrt(1 + α² tan²θ)) / 2
+        Beckmann:  Λ(θ) = (erf(a) − 1)/2 + exp(−a²) / (2 a √π),   a = 1 / (α tan θ)
+
+    (Blinn–Phong lobes take Beckmann's of the same α); ``F`` Schlick, the exact dielectric formula
+    with ``η`` from ``f0``, or ``"none"`` (F = 1).
 
     Parameters
     ----------
@@ -51,7 +56,9 @@ class CookTorrance(BRDF):
     f0 : float or RGB triple in [0, 1]
         Fresnel reflectance at normal incidence (0.04 for common dielectrics).
     ndf : {"beckmann", "ggx", "blinn-phong"}
-    geometry : {"v-cavity", "smith"}
+    geometry : {"v-cavity", "smith", "smith-correlated"}
+        ``"smith-correlated"`` lies between ``G1(v) G1(l)`` and ``min(G1(v), G1(l))``: a microfacet
+        visible from ``v`` is more likely visible from ``l`` too (both are high on the surface).
     fresnel : {"schlick", "dielectric", "none"}
     denominator : {"4", "pi"}
 
@@ -66,7 +73,8 @@ class CookTorrance(BRDF):
     C. Schlick, "An inexpensive BRDF model for physically-based rendering", Computer
     Graphics Forum 13(3), 233–246, 1994.
     E. Heitz, "Understanding the masking-shadowing function in microfacet-based BRDFs",
-    Journal of Computer Graphics Techniques 3(2), 48–107, 2014 (Smith G1 and Λ).
+    Journal of Computer Graphics Techniques 3(2), 48–107, 2014 (Smith G1 and Λ, and the
+    height-correlated G2, eq. 99).
 
     Examples
     --------
@@ -77,7 +85,7 @@ class CookTorrance(BRDF):
 
     name = "cook-torrance"
     NDFS = ("beckmann", "ggx", "blinn-phong")
-    GEOMETRIES = ("v-cavity", "smith")
+    GEOMETRIES = ("v-cavity", "smith", "smith-correlated")
     FRESNELS = ("schlick", "dielectric", "none")
     DENOMINATORS = ("4", "pi")
     parameters = (
@@ -122,7 +130,7 @@ class CookTorrance(BRDF):
         -------
         Lobe
             A ``"half"`` lobe of width ``α/√2`` (``inf`` when ``ks`` is 0), quadrature width ``α`` and
-            ``horizon`` ``"v-cavity"`` or ``"smith"`` after :attr:`geometry`.
+            ``horizon`` ``"v-cavity"`` or ``"smith"`` (both Smith forms) after :attr:`geometry`.
         """
         # Beckmann's exp(−tan²θ_h/α²) has standard deviation α/√2 about n; quadrature scales by α.
         width = self.roughness / math.sqrt(2.0) if np.any(self.ks > 0) else math.inf
@@ -200,11 +208,22 @@ class CookTorrance(BRDF):
         Returns
         -------
         ndarray, shape (...)
-            The V-cavity ``G`` or Smith's ``G1(v) G1(l)`` for :attr:`ndf` (after :attr:`geometry`), in
-            the dtype of ``g``.
+            The V-cavity ``G``, Smith's ``G1(v) G1(l)`` or the height-correlated ``1/(1 + Λ(v) + Λ(l))``
+            for :attr:`ndf` (after :attr:`geometry`), in the dtype of ``g``.
         """
         if self.geometry == "v-cavity":
             return _mf._vcavity_g(g.n_dot_h, g.n_dot_v, g.n_dot_l, g.v_dot_h)
+        if self.geometry == "smith-correlated":
+            nv = g.n_dot_v.astype(np.float64)
+            nl = g.n_dot_l.astype(np.float64)
+            lam = self._lambda_cos
+            lv = lam(nv, self.roughness, g.sin2_v.astype(np.float64))
+            ll = lam(nl, self.roughness, g.sin2_l.astype(np.float64))
+            with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+                # Λ = (Λ cos θ)/cos θ; an infinite Λ (cos θ underflowing) gives G2 = 0.
+                total = 1 + lv / np.where(nv > 0, nv, 1.0) + ll / np.where(nl > 0, nl, 1.0)
+                g2 = np.where((nv > 0) & (nl > 0), 1 / total, 0.0)
+            return _mf._finish(g2, g.dtype)
         # Blinn–Phong lobes use the Beckmann G1 of the equivalent α (Walter et al. 2007).
         g1 = _mf._smith_g1_ggx if self.ndf == "ggx" else _mf._smith_g1_beckmann
         return g1(g.n_dot_v, self.roughness, g.sin2_v, g.dtype) * g1(g.n_dot_l, self.roughness, g.sin2_l, g.dtype)
@@ -231,6 +250,11 @@ class CookTorrance(BRDF):
         # The exact dielectric formula with η = (1 + √f0)/(1 − √f0), written in √f0 itself.
         return _fresnel._dielectric_from_f0(c, self.f0).astype(g.dtype)
 
+    @property
+    def _lambda_cos(self):
+        """``Λ(θ) cos θ`` (float64) for :attr:`ndf`: GGX's, or Beckmann's (also for Blinn–Phong lobes)."""
+        return _mf._smith_lambda_cos_ggx if self.ndf == "ggx" else _mf._smith_lambda_cos_beckmann
+
     def _den_const(self):
         return 4.0 if self.denominator == "4" else math.pi
 
@@ -241,11 +265,22 @@ class CookTorrance(BRDF):
         ``G1(v) ≈ 2 a √π`` with ``a ∝ n·v``), so ``f_r`` stays moderate while ``G`` and
         ``(n·v)(n·l)`` both vanish; forming each ratio directly saves the roundings of the
         product and the quotient.  Smith: ``G1(θ) = 2 cos θ / d(θ)`` with ``d`` from
-        :func:`lighting.models.microfacet._smith_g1_den_beckmann` (or ``_ggx``).  V-cavity:
+        :func:`lighting.models.microfacet._smith_g1_den_beckmann` (or ``_ggx``).  Height-correlated
+        Smith: ``1 / ((n·v)(n·l) + (n·l)(Λ(v) n·v) + (n·v)(Λ(l) n·l))`` with ``Λ cos θ`` from
+        ``_smith_lambda_cos_beckmann`` (or ``_ggx``), finite at the horizon.  V-cavity:
         ``G/((n·v)(n·l)) = min(1/((n·v)(n·l)), (2 n·h / v·h) / max(n·v, n·l))``.
         """
         nv = g.n_dot_v.astype(np.float64)
         nl = g.n_dot_l.astype(np.float64)
+        if self.geometry == "smith-correlated":
+            # G2/((n·v)(n·l)) = 1 / ((n·v)(n·l) + (n·l) Λ(v)(n·v) + (n·v) Λ(l)(n·l)): every term finite
+            # at grazing (Λ cos θ → α/(2√π) or α/2 there), so no small G divided by a small cosine.
+            lam = self._lambda_cos
+            den = nv * nl + nl * lam(nv, self.roughness, g.sin2_v.astype(np.float64)) + nv * lam(
+                nl, self.roughness, g.sin2_l.astype(np.float64))
+            with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+                vis = 1 / den if with_n_dot_l else nl / den
+            return np.where((nv > 0) & (nl > 0), vis, 0.0)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             if self.geometry == "smith":
                 den = _mf._smith_g1_den_ggx if self.ndf == "ggx" else _mf._smith_g1_den_beckmann
