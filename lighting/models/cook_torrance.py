@@ -15,7 +15,7 @@ from . import fresnel as _fresnel
 from . import microfacet as _mf
 from .base import _UNIT_RGB, BRDF, _color, _color_text, _combine
 from .geometry import Geometry
-from .microfacet_sampling import MicrofacetSampler
+from .microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
 from .protocol import Lobe, Parameter, register_model
 
 __all__ = ["CookTorrance"]
@@ -142,9 +142,15 @@ class CookTorrance(BRDF):
 
         Returns
         -------
-        MicrofacetSampler
-            ``MicrofacetSampler(ndf, roughness)``: half vectors drawn from this model's ``D``.
+        MicrofacetSampler or VisibleNormalSampler
+            For the Smith geometries with a GGX or Beckmann ``D``, ``VisibleNormalSampler(ndf, roughness)``:
+            half vectors drawn from the normals visible from ``v`` (Heitz 2018; Heitz and d'Eon 2014),
+            density ``G1(v) D(h) / (4 n·v)``, so each sample's weight ``f_r (n·l) / p`` is ``F G1(l)``
+            (separable) or ``F G2 / G1(v)`` (height-correlated), at most ``F``.  Otherwise
+            ``MicrofacetSampler(ndf, roughness)``: half vectors drawn from ``D(h)(n·h)``.
         """
+        if self.geometry != "v-cavity" and self.ndf != "blinn-phong":
+            return VisibleNormalSampler(self.ndf, self.roughness)
         return MicrofacetSampler(self.ndf, self.roughness)
 
     def summary(self):
