@@ -13,6 +13,7 @@ from __future__ import annotations
 # The order of these imports is the registry's order (each model's module registers its model).
 from . import protocol, microfacet, fresnel, geometry, base, sampler
 from . import lambert, phong, microfacet_sampling, blinn_phong, cook_torrance, brdf
+from . import ashikhmin_shirley
 
 # isort: on
 from .brdf import *  # noqa: F403
