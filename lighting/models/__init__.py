@@ -14,6 +14,7 @@ from __future__ import annotations
 from . import protocol, microfacet, fresnel, geometry, base, sampler
 from . import lambert, phong, microfacet_sampling, blinn_phong, cook_torrance, brdf
 from . import ashikhmin_shirley
+from . import oren_nayar
 from . import ward
 
 # isort: on
