@@ -15,6 +15,7 @@ from . import protocol, microfacet, fresnel, geometry, base, sampler
 from . import lambert, phong, microfacet_sampling, blinn_phong, cook_torrance, brdf
 from . import ashikhmin_shirley
 from . import oren_nayar
+from . import disney
 from . import ward
 
 # isort: on
