@@ -26,26 +26,22 @@ _DIFFUSE_CONST = 28.0 / (23.0 * math.pi)
 
 
 def _log_lobe(ht, hb, hn, nu: float, nv: float) -> np.ndarray:
-    """``log (n·h)^E`` with ``E = (n_u h_t² + n_v h_b²)/(h_t² + h_b²)`` (float64; −∞ where ``n·h <= 0``).
+    """``E log(n·h)`` with ``E = (n_u h_t² + n_v h_b²)/(h_t² + h_b²)`` (float64; −∞ where ``n·h <= 0``).
 
-    ``E`` is formed from the tangential components of ``h`` (never ``1 − (n·h)²``).  Near the
-    peak (``n·h >= 1/2``), with ``x = 1 − n·h = s²/(1 + n·h)`` and ``s² = h_t² + h_b²``::
-
-        E log(n·h) = (n_u h_t² + n_v h_b²)/(1 + n·h) · log1p(−x)/x        (log1p(−x)/x → −1 as x → 0)
-
-    so ``h = n`` (``s² = 0``) gives 0 whatever the direction of approach, and no 0/0.  Far from it
-    (``n·h < 1/2``, ``s² > 3/4``) ``log(n·h)`` itself keeps the digits of a small ``n·h``.
+    ``E`` is a weighted mean of ``n_u`` and ``n_v`` formed from the tangential components of ``h``
+    (never from ``1 − (n·h)²``, which cancels at the peak); ``h = n`` gives ``(n·h)^E = 1`` for
+    every ``E``.  ``log(n·h)`` is ``log1p(−s²/(1 + n·h))`` near the peak (``n·h >= 1/2``,
+    ``s² = h_t² + h_b² = (1 − n·h)(1 + n·h)``) and ``log(n·h)`` far from it, where it keeps the
+    digits of a small ``n·h``.
     """
     ht2, hb2 = ht * ht, hb * hb
     s2 = ht2 + hb2
     with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-        num = nu * ht2 + nv * hb2  # may overflow to inf for huge exponents: then the lobe is 0 (s² > 0)
+        # inf only for exponents near the largest float, where s² > 0 makes the lobe 0 anyway.
+        e = np.where(s2 > 0, (nu * ht2 + nv * hb2) / np.where(s2 > 0, s2, 1.0), 0.0)
         hn_pos = np.maximum(hn, 0.0)
-        x = s2 / (1.0 + hn_pos)
-        q = np.where(x > 0, np.log1p(-np.minimum(x, 0.5)) / np.where(x > 0, x, 1.0), -1.0)
-        near = np.where(num > 0, num / (1.0 + hn_pos) * q, 0.0)
-        far = np.where(num > 0, (num / np.where(s2 > 0, s2, 1.0)) * np.log(np.where(hn > 0, hn, 1.0)), 0.0)
-        out = np.where(hn >= 0.5, near, far)
+        log_cos = np.where(hn >= 0.5, np.log1p(-s2 / (1.0 + hn_pos)), np.log(hn_pos))
+        out = np.where(log_cos < 0, e * log_cos, 0.0)
     return np.where(hn > 0, out, -np.inf)
 
 
@@ -211,8 +207,15 @@ class AshikhminShirley(BRDF):
         return np.zeros(3)
 
     # -- evaluation -----------------------------------------------------------------------
-    def _terms(self, g, cos: bool):
-        """The RGB result in float64: ``f_r`` (``cos=False``) or ``f_r (n·l)``, 0 below the horizon."""
+    def _fields(self, g, cos: bool):
+        """Float64 fields ``(S, w, D)``, 0 below the horizon, with ``f_r = S (R_s + (1 − R_s) w) + D c_d``.
+
+        ``c_d = 28 R_d (1 − R_s)/(23π)`` is the diffuse colour constant.
+
+        ``S`` is the specular lobe without its Fresnel factor (saturated at the float64 maximum),
+        ``w = (1 − k·h)⁵``, ``D`` the diffuse shape (``None`` without the diffuse term); with
+        ``cos=True`` each is multiplied by ``n·l`` (the specular one as ``n·l / max(n·l, n·v) <= 1``).
+        """
         above = g.above
         hl = g.h_local.astype(np.float64)
         nl = g.n_dot_l.astype(np.float64)
@@ -220,37 +223,71 @@ class AshikhminShirley(BRDF):
         vh = g.v_dot_h.astype(np.float64)
         log_lobe = _log_lobe(hl[..., 0], hl[..., 1], hl[..., 2], self.nu, self.nv)
         m = np.maximum(nl, nvw)
+        log_norm = _log_norm(self.nu, self.nv) - math.log(8.0 * math.pi)
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
             lobe = np.exp(log_lobe)
             norm = math.sqrt(self.nu + 1.0) * math.sqrt(self.nv + 1.0) / (8.0 * math.pi)
             if cos:
-                # f_s (n·l) = norm (n·h)^E F / (k·h) · n·l/max(n·l, n·v): the last factor is <= 1.
                 ratio = nl / np.where(above, m, 1.0)
                 direct = norm * lobe * ratio / vh
-                log_s = _log_norm(self.nu, self.nv) - math.log(8.0 * math.pi) + log_lobe + np.log(ratio) - np.log(vh)
+                log_s = log_norm + log_lobe + np.log(ratio) - np.log(vh)
             else:
                 direct = norm * lobe / (vh * m)
-                log_s = _log_norm(self.nu, self.nv) - math.log(8.0 * math.pi) + log_lobe - np.log(vh) - np.log(m)
+                log_s = log_norm + log_lobe - np.log(vh) - np.log(m)
             # Where the lobe is subnormal (or 0) but the denominator tiny, the logarithms keep the digits.
             s = np.where(lobe >= _TINY64, direct, np.exp(log_s))
             s = np.where(above, np.minimum(s, _MAX64), 0.0)  # saturated before F multiplies it
-            # Schlick with 1 − k·h = (1 − l·v) / (2 (1 + k·h)), accurate where l ≈ v.
+            # Schlick's (1 − k·h)⁵ with 1 − k·h = (1 − l·v) / (2 (1 + k·h)), accurate where l ≈ v.
             omc = _one_minus_cos_between(g.l.astype(np.float64), g.v.astype(np.float64)) / (2.0 * (1.0 + vh))
             w5 = np.clip(omc, 0.0, 1.0) ** 5
+        d = None
+        if self.diffuse:
+            d = _one_minus_half_power5(nl) * _one_minus_half_power5(nvw)
+            if cos:
+                d = d * nl
+            d = np.where(above, d, 0.0)
+        return s, w5, d
+
+    @property
+    def _diffuse_color(self):
+        return _DIFFUSE_CONST * self.rd * (1.0 - self.rs)
+
+    def _rgb64(self, g, cos):
+        s, w5, d = self._fields(g, cos)
+        with np.errstate(over="ignore"):
             out = s[..., None] * (self.rs + (1.0 - self.rs) * w5[..., None])
-            if self.diffuse:
-                d = _one_minus_half_power5(nl) * _one_minus_half_power5(nvw)
-                if cos:
-                    d = d * nl
-                d = np.where(above, d, 0.0)
-                out = out + d[..., None] * (_DIFFUSE_CONST * self.rd * (1.0 - self.rs))
+            if d is not None:
+                out = out + d[..., None] * self._diffuse_color
         return out
 
     def _f(self, g):
-        return saturate_to(self._terms(g, cos=False), g.dtype)
+        return saturate_to(self._rgb64(g, cos=False), g.dtype)
 
     def _f_cos(self, g):
-        return saturate_to(self._terms(g, cos=True), g.dtype)
+        return saturate_to(self._rgb64(g, cos=True), g.dtype)
+
+    def separable_cos(self, g):
+        """See :meth:`BRDF.separable_cos`.
+
+        Parameters
+        ----------
+        g : Geometry
+            The shading directions (not a stacked geometry: the model reads the tangent frame).
+
+        Returns
+        -------
+        list of (ndarray, ndarray)
+            ``(S, R_s)``, ``(S w, 1 − R_s)`` and, with the diffuse term, ``(D, 28 R_d (1 − R_s)/(23π))``:
+            the specular lobe times ``n·l`` without its Fresnel factor, that times ``w = (1 − k·h)⁵``,
+            and the diffuse shape times ``n·l``; scalar fields in the dtype of ``g`` (saturated).
+        """
+        s, w5, d = self._fields(g, cos=True)
+        dt = g.dtype
+        with np.errstate(over="ignore"):
+            terms = [(saturate_to(s, dt), self.rs), (saturate_to(s * w5, dt), 1.0 - self.rs)]
+        if d is not None:
+            terms.append((saturate_to(d, dt), self._diffuse_color))
+        return terms
 
 
 class AshikhminShirleySampler(Sampler):

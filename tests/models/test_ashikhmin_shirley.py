@@ -246,8 +246,8 @@ def _albedo_any_azimuth(model, theta_v, phi_v):
     return hemisphere(lambda d: model.eval_cos(n, d, v), scale=1e-4, panels=48, order=24, n_phi=512)
 
 
-ENERGY = [(rs, nu, nv) for rs in (0.05, 0.5, 1.0) for nu, nv in ((0.0, 0.0), (1.0, 1.0), (10.0, 10.0), (100.0, 10.0),
-                                                                  (1000.0, 1000.0), (1e4, 100.0))]  # fmt: skip
+_EXPONENT_PAIRS = ((0.0, 0.0), (1.0, 1.0), (10.0, 10.0), (100.0, 10.0), (1000.0, 1000.0), (1e4, 100.0))
+ENERGY = [(rs, nu, nv) for rs in (0.0, 0.05, 0.5, 1.0) for nu, nv in _EXPONENT_PAIRS]
 
 
 @pytest.mark.parametrize("rs, nu, nv", ENERGY)
