@@ -115,6 +115,10 @@ class OrenNayar(BRDF):
       rising from ``k_d A`` at the normal to ``k_d (A + B/2)`` at grazing; ``A + B/2 ≈ 1 + 0.985 σ²``
       for small σ exceeds 1 for every ``0 < σ < 0.326`` rad (by at most 1.5 %, at σ ≈ 0.199), so
       a white surface there reflects slightly more than it receives at grazing views;
+    * the full model's directional albedo is ``k_d D(θ_v) + k_d² R`` with ``R = 0.17 σ²/(σ² + 0.13)``
+      exactly (the ``cos Δφ`` part of the interreflection term integrates to 0); ``D`` stays below
+      ``A + B/2`` and peaks near 1.0035 (σ ≈ 0.15, grazing), so for ``k_d`` near 1 the sum exceeds
+      ``k_d`` at grazing views (1.040 at σ = 0.2, ``k_d = 1``);
     * the full model's direct term turns negative for σ > 0.665 rad at forward-scattering
       grazing geometry: at ``cos Δφ = −1`` with both angles near 90°, ``C2 tan β`` tends to
       ``(6/π) · 0.45 σ²/(σ² + 0.09)``, which exceeds ``C1`` there.  It is clamped at 0 here (a BRDF
