@@ -229,9 +229,13 @@ class Disney(BRDF):
     normal, 1.6 at grazing).
 
     *Numerics.*  Everything is computed in float64 from the geometry's cosines and local
-    components and rounded once to the dtype of the vectors.  ``f_r`` is bounded for every
-    direction off the horizon (``ss`` grows as ``1/(n·l + n·v)`` when both graze, to about
-    ``6e5`` at 1e-6 rad; the specular peak is ``1/(4π α_x α_y) <= 8e4``), so nothing saturates.
+    components and rounded once to the dtype of the vectors; the Schlick weights are formed from
+    ``1 − cos`` given without cancellation (``sin²θ/(1 + cos θ)``, ``|l − v|²/(4 (1 + cos θ_d))``), so
+    that a specular that is nothing but ``F_H`` (``specular = 0``) keeps its digits near the normal.
+    ``f_r`` is bounded (``ss`` grows as ``1/(n·l + n·v)`` when both directions graze, to about
+    ``6e5`` at 1e-6 rad; the specular is at most ``1/(π α_x α_y min(α_x, α_y)²)``, ``3.2e11`` for a
+    mirror pair grazing at α = 0.001, and ``1/(4π α_x α_y) <= 8e4`` at the normal), so nothing saturates
+    in float32.
 
     *Sampler.*  :class:`DisneySampler`: one-sample mixture of a smoothed cosine
     ``5 (1 + cos θ)^4/(64 π)`` (diffuse and sheen; :func:`smooth_cosine_pdf` says why not the

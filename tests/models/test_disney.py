@@ -5,9 +5,13 @@ Measured numbers (this machine, see the report of issue 16):
 
 * eval vs the 80-digit mpmath transcription: the relative error divided by ``eps (1 + κ)`` (κ the
   condition number of ``f_r`` in the components of n, l, v and the tangent, from 80-digit differences)
-  stays below 8 in float64 and 4 in float32, over ordinary inputs and the extremes (1e-6 rad from the
-  horizon, the GTR2 peak at α = 0.001, l = −v-like grazing pairs, parameters 1e-300 and 1 − 1e-16);
-  the tests assert 64.
+  is at most 4.8 (ordinary inputs) and 5.9 (extremes) in float64, 1.6 and 2.9 in float32; the extremes
+  are 1e-6 rad from the horizon, the GTR2 peak at α = 0.001, mirror pairs grazing on opposite sides,
+  parameters 1e-300 and 1 − 1e-16.  The tests assert 16.
+* χ² p-values (100 000 samples; h-space cells about v / l-space cells) at θ_v = 0, 40, 80, 89°:
+  default 0.94/0.32, 0.93/0.20, 0.42, 0.53; metal-aniso 0.33/0.66, 0.17/0.19, 0.91, 0.04;
+  clearcoat-satin 0.96/0.005 (seeds 0–7: 0.02 to 0.96), 0.89/0.39, 0.54, 0.78; sheen 0.26/0.65, 0.40/0.61,
+  0.24, 0.56.
 * directional albedo at the defaults (quadrature, converged to 1e-13) at θ_v = 0, 15, 30, 45, 60, 70, 80,
   85, 89, 89.9°: 0.8414 0.8412 0.8409 0.8433 0.8622 0.8975 0.9523 0.9783 0.9888 0.9887 — below 1.
   (A white base at roughness 1 is not: 1.048 at the normal, 1.60 at 89.9°.)
@@ -201,9 +205,9 @@ def _random_directions(seed, count):
 def test_eval_matches_the_80_digit_shader_at_ordinary_inputs(setting, dtype):
     model = Disney(**SETTINGS[setting])
     n, l, v, t = _random_directions(7, 24)  # noqa: E741
-    assert _worst_ratio(model, n, l, v, t, dtype) <= 64
+    assert _worst_ratio(model, n, l, v, t, dtype) <= 16
     # Without a tangent: the documented default frame t = ẑ × n / |ẑ × n|.
-    assert _worst_ratio(model, n[:8], l[:8], v[:8], None, dtype) <= 64
+    assert _worst_ratio(model, n[:8], l[:8], v[:8], None, dtype) <= 16
 
 
 def _grazing_cases():
@@ -249,7 +253,7 @@ def test_eval_matches_the_80_digit_shader_at_extreme_inputs(setting, dtype):
     n, l, v = _grazing_cases()  # noqa: E741
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert _worst_ratio(model, n, l, v, None, dtype) <= 64
+        assert _worst_ratio(model, n, l, v, None, dtype) <= 16
         # eval_cos and classic stay finite and consistent there too.
         fc = model.eval_cos(n.astype(dtype), l.astype(dtype), v.astype(dtype))
         assert fc.dtype == dtype and np.all(np.isfinite(fc)) and np.all(fc >= 0)
