@@ -230,8 +230,13 @@ class OrenNayar(BRDF):
 
     @property
     def diffuse_albedo(self):
-        """Zeros: ``f_r`` is not a constant (the ``lambertian`` closed forms do not apply)."""
-        return np.zeros(3)
+        """``k_d``, the facet albedo: a :class:`~lighting.shading.material.Material`'s default ambient ``k_a``.
+
+        ``f_r`` is not the constant ``k_d/π`` for σ > 0, so :attr:`lambertian` is False and no closed form
+        of Lambert's is applied to this model; the ambient term (``I_a k_a``) shows the surface's colour
+        as it does for Lambert.
+        """
+        return self.kd
 
     # -- the values ----------------------------------------------------------------------
     def factors(self, g: Geometry):

@@ -526,6 +526,10 @@ def test_registry_table_summary_and_errors():
     assert m.summary() == "kd=(0.8,0.2,0.1) σ=0.4 full"
     assert OrenNayar().summary() == "kd=0.8 σ=0.3"
     assert m.term == "diffuse" and not m.lambertian and not m.stackable
+    np.testing.assert_array_equal(m.diffuse_albedo, [0.8, 0.2, 0.1])  # the default ambient k_a, as Lambert's
+    from lighting.shading.material import Material
+
+    np.testing.assert_array_equal(Material(m).ambient, [0.8, 0.2, 0.1])
     table = {p.name: p for p in OrenNayar.parameters}
     assert table["sigma"].unit == "rad" and table["sigma"].control_range == (0.0, math.pi / 2)
     assert table["form"].choices == FORMS
