@@ -61,6 +61,23 @@ class CookTorrance(BRDF):
         visible from ``v`` is more likely visible from ``l`` too (both are high on the surface).
     fresnel : {"schlick", "dielectric", "none"}
     denominator : {"4", "pi"}
+    alpha_x, alpha_y : float > 0 or None
+        Anisotropic roughness along the tangent ``t`` and the bitangent ``b = n × t`` (GGX and Beckmann;
+        each defaults to ``roughness``).  With ``h = (h_t, h_b, h_n)`` in the frame ``(t, b, n)``::
+
+            GGX:       D(h) = 1 / (π α_x α_y ((h_t/α_x)² + (h_b/α_y)² + h_n²)²)
+            Beckmann:  D(h) = exp(−((h_t/α_x)² + (h_b/α_y)²) / h_n²) / (π α_x α_y h_n⁴)
+
+        and Λ is the isotropic one with ``α(φ) = sqrt(cos²φ α_x² + sin²φ α_y²)`` for the direction's
+        azimuth φ.  The tangent comes from ``eval(..., tangent=t)``; without one the frame of
+        :attr:`lighting.models.geometry.Geometry.t`.  ``α_x = α_y`` is the isotropic model bit for bit
+        (the isotropic code, with that α); an anisotropic model is not :attr:`stackable`.
+
+    Notes
+    -----
+    The ``"smith-correlated"`` geometry and visible-normal sampling follow Heitz (2014, 2018); at
+    ``θ_v = 0`` the two Smith forms agree (``Λ(v) = 0``), so the height-correlated GGX albedo at
+    normal incidence and ``α = 1`` (``F = 1``) is ``1 − ln 2``, as the separable one's.
 
     References
     ----------
@@ -73,14 +90,19 @@ class CookTorrance(BRDF):
     C. Schlick, "An inexpensive BRDF model for physically-based rendering", Computer
     Graphics Forum 13(3), 233–246, 1994.
     E. Heitz, "Understanding the masking-shadowing function in microfacet-based BRDFs",
-    Journal of Computer Graphics Techniques 3(2), 48–107, 2014 (Smith G1 and Λ, and the
-    height-correlated G2, eq. 99).
+    Journal of Computer Graphics Techniques 3(2), 48–107, 2014 (Smith G1 and Λ, the
+    height-correlated G2, eq. 99, and the anisotropic D and Λ, sec. 5).
+    E. Heitz, "Sampling the GGX distribution of visible normals", Journal of Computer Graphics
+    Techniques 7(4), 1–13, 2018.
 
     Examples
     --------
     >>> ct = CookTorrance(1.0, 0.3, 1.0)
     >>> round(float(ct.eval((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0))[0]), 6)  # D(0)/4
     0.884194
+    >>> aniso = CookTorrance(1.0, f0=1.0, ndf="ggx", geometry="smith-correlated", alpha_x=0.2, alpha_y=0.5)
+    >>> round(float(aniso.eval((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0))[0]), 6)  # 1/(4π α_x α_y)
+    0.795775
     """
 
     name = "cook-torrance"
@@ -98,8 +120,14 @@ class CookTorrance(BRDF):
         Parameter("fresnel", "choice", "schlick", choices=FRESNELS, description="Fresnel term F"),
         Parameter("denominator", "choice", "4", choices=DENOMINATORS,
                   description="4 (n·v)(n·l), or the slide's π (n·v)(n·l)"),
+        Parameter("alpha_x", "float", None, slider=(1e-3, 1.0), log=True, low_open=True,
+                  description="α along the tangent t (anisotropic GGX/Beckmann); None: roughness"),
+        Parameter("alpha_y", "float", None, slider=(1e-3, 1.0), log=True, low_open=True,
+                  description="α along the bitangent b = n × t; None: roughness"),
     )
 
+    #: The class default; an instance with α_x ≠ α_y sets its own ``stackable = False`` (the stacked fast
+    #: path carries no tangents), as :class:`~lighting.models.ward.Ward` does.
     stackable = True
 
     def __init__(
@@ -111,6 +139,8 @@ class CookTorrance(BRDF):
         geometry="v-cavity",
         fresnel="schlick",
         denominator="4",
+        alpha_x=None,
+        alpha_y=None,
     ):
         self.ks = _color("ks", ks)
         self.roughness = check_positive("roughness", roughness)
@@ -121,7 +151,21 @@ class CookTorrance(BRDF):
         if isinstance(denominator, (int, np.integer)) and not isinstance(denominator, (bool, np.bool_)):
             denominator = str(denominator)  # 4 means "4"
         self.denominator = check_choice("denominator", denominator, self.DENOMINATORS)
-        self._exponent = float(_mf.blinn_phong_exponent(self.roughness))
+        self.alpha_x = None if alpha_x is None else check_positive("alpha_x", alpha_x)
+        self.alpha_y = None if alpha_y is None else check_positive("alpha_y", alpha_y)
+        ax = self.roughness if self.alpha_x is None else self.alpha_x
+        ay = self.roughness if self.alpha_y is None else self.alpha_y
+        #: (α_x, α_y) as used; the isotropic code paths take ``_alpha`` (the roughness unless both are given).
+        self._ax, self._ay = ax, ay
+        self.anisotropic = ax != ay
+        if self.anisotropic and self.ndf == "blinn-phong":
+            raise ValueError(f"alpha_x and alpha_y must be equal (or None) for ndf 'blinn-phong', which has no "
+                             f"anisotropic form; got alpha_x={alpha_x!r}, alpha_y={alpha_y!r} "
+                             "(use ndf 'ggx' or 'beckmann')")
+        self._alpha = ax
+        if self.anisotropic:
+            self.stackable = False
+        self._exponent = float(_mf.blinn_phong_exponent(self._alpha))
 
     def lobe(self):
         """See :meth:`BRDF.lobe`.
@@ -133,9 +177,12 @@ class CookTorrance(BRDF):
             ``horizon`` ``"v-cavity"`` or ``"smith"`` (both Smith forms) after :attr:`geometry`.
         """
         # Beckmann's exp(−tan²θ_h/α²) has standard deviation α/√2 about n; quadrature scales by α.
-        width = self.roughness / math.sqrt(2.0) if np.any(self.ks > 0) else math.inf
+        # Anisotropic: the geometric mean for the width, the narrower α for the quadrature's scale.
+        alpha = math.sqrt(self._ax * self._ay) if self.anisotropic else self._alpha
+        width = alpha / math.sqrt(2.0) if np.any(self.ks > 0) else math.inf
         horizon = "v-cavity" if self.geometry == "v-cavity" else "smith"
-        return Lobe("half", width, quadrature_width=self.roughness, horizon=horizon)
+        quad = min(self._ax, self._ay) if self.anisotropic else self._alpha
+        return Lobe("half", width, quadrature_width=quad, horizon=horizon)
 
     def sampler(self):
         """See :meth:`BRDF.sampler`.
@@ -147,11 +194,15 @@ class CookTorrance(BRDF):
             half vectors drawn from the normals visible from ``v`` (Heitz 2018; Heitz and d'Eon 2014),
             density ``G1(v) D(h) / (4 n·v)``, so each sample's weight ``f_r (n·l) / p`` is ``F G1(l)``
             (separable) or ``F G2 / G1(v)`` (height-correlated), at most ``F``.  Otherwise
-            ``MicrofacetSampler(ndf, roughness)``: half vectors drawn from ``D(h)(n·h)``.
+            ``MicrofacetSampler(ndf, roughness)``: half vectors drawn from ``D(h)(n·h)``.  Anisotropic
+            models (any geometry) take ``VisibleNormalSampler(ndf, α_x, alpha_y=α_y)``, whose local frame
+            has ``x`` along the tangent ``t`` and ``y`` along ``b``.
         """
+        if self.anisotropic:
+            return VisibleNormalSampler(self.ndf, self._ax, alpha_y=self._ay)
         if self.geometry != "v-cavity" and self.ndf != "blinn-phong":
-            return VisibleNormalSampler(self.ndf, self.roughness)
-        return MicrofacetSampler(self.ndf, self.roughness)
+            return VisibleNormalSampler(self.ndf, self._alpha)
+        return MicrofacetSampler(self.ndf, self._alpha)
 
     def summary(self):
         """See :meth:`BRDF.summary`.
@@ -164,9 +215,30 @@ class CookTorrance(BRDF):
         """
         f = "F=1" if self.fresnel == "none" else f"{self.fresnel} f0={_color_text(self.f0)}"
         den = "4(n·v)(n·l)" if self.denominator == "4" else "π(n·v)(n·l)"
-        return f"ks={_color_text(self.ks)} α={self.roughness:g} {self.ndf}/{self.geometry} {f} /{den}"
+        alpha = f"αx={self._ax:g} αy={self._ay:g}" if self.anisotropic else f"α={self._alpha:g}"
+        return f"ks={_color_text(self.ks)} {alpha} {self.ndf}/{self.geometry} {f} /{den}"
+
+    def to_dict(self):
+        """See :meth:`BRDF.to_dict`; ``alpha_x`` and ``alpha_y`` appear only when given (not None).
+
+        Returns
+        -------
+        dict
+        """
+        d = {"model": self.name}
+        for p in self.parameters:
+            value = getattr(self, p.name)
+            if value is None:
+                continue
+            if p.kind == "color":
+                value = [float(x) for x in np.asarray(value, dtype=np.float64).reshape(-1)]
+            elif p.kind == "float":
+                value = float(value)
+            d[p.name] = value
+        return d
 
     def _params(self):
+        extra = {k: getattr(self, k) for k in ("alpha_x", "alpha_y") if getattr(self, k) is not None}
         return {
             "ks": self.ks,
             "roughness": self.roughness,
@@ -175,6 +247,7 @@ class CookTorrance(BRDF):
             "geometry": self.geometry,
             "fresnel": self.fresnel,
             "denominator": self.denominator,
+            **extra,
         }
 
     # The three factors, public so that figures can show each one.
@@ -197,11 +270,15 @@ class CookTorrance(BRDF):
     # The unchecked microfacet functions: the parameters were checked by the constructor, and the
     # cosines come from a Geometry (the renderer's path must not pay for a check per call).
     def _D(self, g: Geometry, dtype):
+        if self.anisotropic:
+            x, y, z = (g.h_local[..., i] for i in range(3))
+            f = _mf._ggx_ndf_aniso if self.ndf == "ggx" else _mf._beckmann_ndf_aniso
+            return f(x, y, z, self._ax, self._ay, dtype)
         c, s2 = g.n_dot_h.astype(dtype, copy=False), g.sin2_h.astype(dtype, copy=False)
         if self.ndf == "blinn-phong":
             return _mf._blinn_phong_ndf(c, self._exponent, s2, dtype)
         f = _mf._beckmann_ndf if self.ndf == "beckmann" else _mf._ggx_ndf
-        return f(c, self.roughness, s2, dtype)
+        return f(c, self._alpha, s2, dtype)
 
     def G(self, g: Geometry):
         """Shadowing–masking in [0, 1].
@@ -222,9 +299,7 @@ class CookTorrance(BRDF):
         if self.geometry == "smith-correlated":
             nv = g.n_dot_v.astype(np.float64)
             nl = g.n_dot_l.astype(np.float64)
-            lam = self._lambda_cos
-            lv = lam(nv, self.roughness, g.sin2_v.astype(np.float64))
-            ll = lam(nl, self.roughness, g.sin2_l.astype(np.float64))
+            lv, ll = self._lambda_cos_vl(g)
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
                 # Λ = (Λ cos θ)/cos θ; an infinite Λ (cos θ underflowing) gives G2 = 0.
                 total = 1 + lv / np.where(nv > 0, nv, 1.0) + ll / np.where(nl > 0, nl, 1.0)
@@ -232,7 +307,15 @@ class CookTorrance(BRDF):
             return _mf._finish(g2, g.dtype)
         # Blinn–Phong lobes use the Beckmann G1 of the equivalent α (Walter et al. 2007).
         g1 = _mf._smith_g1_ggx if self.ndf == "ggx" else _mf._smith_g1_beckmann
-        return g1(g.n_dot_v, self.roughness, g.sin2_v, g.dtype) * g1(g.n_dot_l, self.roughness, g.sin2_l, g.dtype)
+        if self.anisotropic:  # G1 = cos θ / (cos θ + Λ cos θ)
+            lv, ll = self._lambda_cos_vl(g)
+            nv = np.maximum(g.n_dot_v.astype(np.float64), 0.0)
+            nl = np.maximum(g.n_dot_l.astype(np.float64), 0.0)
+            with np.errstate(divide="ignore", invalid="ignore", under="ignore"):
+                g1v = np.where(nv > 0, nv / (nv + lv), 0.0)
+                g1l = np.where(nl > 0, nl / (nl + ll), 0.0)
+            return _mf._finish(g1v * g1l, g.dtype)
+        return g1(g.n_dot_v, self._alpha, g.sin2_v, g.dtype) * g1(g.n_dot_l, self._alpha, g.sin2_l, g.dtype)
 
     def F(self, g: Geometry):
         """Fresnel reflectance per channel, shape ``(..., 3)``.
@@ -261,6 +344,16 @@ class CookTorrance(BRDF):
         """``Λ(θ) cos θ`` (float64) for :attr:`ndf`: GGX's, or Beckmann's (also for Blinn–Phong lobes)."""
         return _mf._smith_lambda_cos_ggx if self.ndf == "ggx" else _mf._smith_lambda_cos_beckmann
 
+    def _lambda_cos_vl(self, g: Geometry):
+        """``Λ(v) n·v`` and ``Λ(l) n·l`` (float64; 0 below the horizon), anisotropic through the tangent frame."""
+        if self.anisotropic:
+            vl, ll = g.v_local, g.l_local
+            return tuple(_mf._smith_lambda_cos_aniso(self.ndf, d[..., 0], d[..., 1], d[..., 2].astype(np.float64),
+                                                     self._ax, self._ay) for d in (vl, ll))
+        lam = self._lambda_cos
+        return (lam(g.n_dot_v.astype(np.float64), self._alpha, g.sin2_v.astype(np.float64)),
+                lam(g.n_dot_l.astype(np.float64), self._alpha, g.sin2_l.astype(np.float64)))
+
     def _den_const(self):
         return 4.0 if self.denominator == "4" else math.pi
 
@@ -281,9 +374,8 @@ class CookTorrance(BRDF):
         if self.geometry == "smith-correlated":
             # G2/((n·v)(n·l)) = 1 / ((n·v)(n·l) + (n·l) Λ(v)(n·v) + (n·v) Λ(l)(n·l)): every term finite
             # at grazing (Λ cos θ → α/(2√π) or α/2 there), so no small G divided by a small cosine.
-            lam = self._lambda_cos
-            den = nv * nl + nl * lam(nv, self.roughness, g.sin2_v.astype(np.float64)) + nv * lam(
-                nl, self.roughness, g.sin2_l.astype(np.float64))
+            lv, ll = self._lambda_cos_vl(g)
+            den = nv * nl + nl * lv + nv * ll
             with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
                 vis = 1 / den if with_n_dot_l else nl / den
             return np.where((nv > 0) & (nl > 0), vis, 0.0)
@@ -294,7 +386,11 @@ class CookTorrance(BRDF):
                 s2l = g.sin2_l.astype(np.float64)
                 # G1 = 2 cos θ / d:  G1(v) G1(l) / ((n·v)(n·l)) = 4 / (d_v d_l),
                 # and G1(v) G1(l) / (n·v) = 4 (n·l) / (d_v d_l).
-                dd = den(nv, self.roughness, s2v) * den(nl, self.roughness, s2l)
+                if self.anisotropic:  # d = 2 (cos θ + Λ cos θ)
+                    lv, ll = self._lambda_cos_vl(g)
+                    dd = 4 * (nv + lv) * (nl + ll)
+                else:
+                    dd = den(nv, self._alpha, s2v) * den(nl, self._alpha, s2l)
                 vis = 4 / dd if with_n_dot_l else 4 * nl / dd
                 return np.where((nv > 0) & (nl > 0), vis, 0.0)
             nh = g.n_dot_h.astype(np.float64)

@@ -623,6 +623,77 @@ def smith_lambda_ggx(cos_theta, alpha, sin2_theta=None) -> np.ndarray:
     return _smith_lambda(c, al, s2, dt, _smith_lambda_cos_ggx)
 
 
+# --------------------------------------------------------------------------- anisotropic (α_x, α_y)
+def _aniso_slope2(x, y, z, ax, ay):
+    """``tan²θ (cos²φ/α_x² + sin²φ/α_y²) = ((x/α_x)² + (y/α_y)²) / z²`` numerator: ``(x/α_x)² + (y/α_y)²`` (float64)."""
+    x, y = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+    with np.errstate(over="ignore", under="ignore"):
+        return (x / ax) ** 2 + (y / ay) ** 2
+
+
+def _ggx_ndf_aniso(x, y, z, ax, ay, dt) -> np.ndarray:
+    """Anisotropic GGX from the local components ``(h·t, h·b, h·n)`` of a unit ``h``.
+
+        D(h) = 1 / (π α_x α_y ((h·t/α_x)² + (h·b/α_y)² + (h·n)²)²),   0 for h·n <= 0,
+
+    ``α_x`` along the tangent ``t``, ``α_y`` along the bitangent ``b``; with ``α_x = α_y = α`` it is
+    the isotropic ``α² / (π (sin²θ + α² cos²θ)²)`` (the same value, another rounding).
+    """
+    z = np.asarray(z, dtype=np.float64)
+    q = _aniso_slope2(x, y, z, ax, ay)
+    with np.errstate(over="ignore", under="ignore", divide="ignore"):
+        den = q + z * z
+        d = np.where((z > 0) & (den > 0), 1 / (math.pi * ax * ay * np.where(den > 0, den, 1.0) ** 2), 0.0)
+        d = np.where((z > 0) & (den == 0), np.inf, d)
+    return _finish(d, dt)
+
+
+def _beckmann_ndf_aniso(x, y, z, ax, ay, dt) -> np.ndarray:
+    """Anisotropic Beckmann from the local components of a unit ``h``.
+
+        D(h) = exp(−((h·t/α_x)² + (h·b/α_y)²) / (h·n)²) / (π α_x α_y (h·n)⁴),   0 for h·n <= 0,
+
+    written as ``exp(−X) (1 + tan²θ)² / (π α_x α_y)`` with ``X`` the exponent and ``tan²θ`` from the
+    tangential part (the isotropic function's form).
+    """
+    z = np.asarray(z, dtype=np.float64)
+    q = _aniso_slope2(x, y, z, ax, ay)
+    xx, yy = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
+        zz = z * z
+        ex = np.where(z > 0, q / np.where(z > 0, zz, 1.0), np.inf)
+        exc = np.minimum(ex, _EXP_CUTOFF)
+        t2 = np.where(z > 0, (xx * xx + yy * yy) / np.where(z > 0, zz, 1.0), np.inf)
+        d = np.exp(-exc) * (1.0 + t2) ** 2 / (math.pi * ax * ay)
+        d = np.where((z > 0) & (ex < _EXP_CUTOFF) & np.isfinite(d), d, 0.0)
+    return _finish(d, dt)
+
+
+def _alpha_along(x, y, ax, ay):
+    """``α(φ) = sqrt(cos²φ α_x² + sin²φ α_y²)`` of a direction with tangential components ``(x, y)`` (float64).
+
+    Where the direction is the normal (``x = y = 0``, no azimuth) any value serves: ``α_x``.
+    """
+    x, y = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+        r = np.hypot(x, y)
+        a = np.hypot(ax * x, ay * y) / np.where(r > 0, r, 1.0)
+    return np.where(r > 0, a, ax)
+
+
+def _smith_lambda_cos_aniso(ndf, x, y, z, ax, ay) -> np.ndarray:
+    """``Λ cos θ`` (float64) of the anisotropic NDF for a unit direction with local components ``(x, y, z)``.
+
+    Smith's Λ of a stretch-invariant NDF is the isotropic one with ``α(φ) = sqrt(cos²φ α_x² + sin²φ α_y²)``
+    (Heitz 2014, sec. 5.2), i.e. ``α tan θ → sqrt((α_x x)² + (α_y y)²) / z``.
+    """
+    x, y = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+    al = _alpha_along(x, y, ax, ay)
+    s2 = np.clip(x * x + y * y, 0.0, 1.0)
+    lam = _smith_lambda_cos_ggx if ndf == "ggx" else _smith_lambda_cos_beckmann
+    return lam(z, al, s2)
+
+
 def vcavity_g(n_dot_h, n_dot_v, n_dot_l, v_dot_h) -> np.ndarray:
     """Cook–Torrance shadowing/masking from symmetric V-shaped grooves.
 

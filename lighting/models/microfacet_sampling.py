@@ -205,7 +205,11 @@ class VisibleNormalSampler(MicrofacetSampler):
     ----------
     ndf : {"beckmann", "ggx"}
     alpha : float > 0
-        Roughness α.
+        Roughness α (``α_x``, along the local ``x`` axis — the tangent — when ``alpha_y`` is given).
+    alpha_y : float > 0, optional
+        Roughness along the local ``y`` axis (the bitangent) for anisotropic distributions
+        (``D ∝ 1/(α_x α_y ((h_x/α_x)² + (h_y/α_y)² + h_z²)²)`` for GGX); both methods stretch by
+        ``(α_x, α_y)`` natively.
 
     References
     ----------
@@ -225,24 +229,48 @@ class VisibleNormalSampler(MicrofacetSampler):
 
     name = "visible-normals"
 
-    def __init__(self, ndf: str, alpha: float):
+    def __init__(self, ndf: str, alpha: float, *, alpha_y: float | None = None):
         ndf = check_choice("ndf", ndf, ("beckmann", "ggx"))
         super().__init__(ndf, alpha)
+        self.alpha_y = None if alpha_y is None else check_positive("alpha_y", alpha_y)
+        self._ay = self.alpha if self.alpha_y is None else self.alpha_y
+        self._aniso = self._ay != self.alpha
 
     def __repr__(self):
-        return f"VisibleNormalSampler({self.ndf!r}, alpha={self.alpha!r})"
+        extra = "" if self.alpha_y is None else f", alpha_y={self.alpha_y!r}"
+        return f"VisibleNormalSampler({self.ndf!r}, alpha={self.alpha!r}{extra})"
 
     def _den_v(self, v):
         """``d_v`` with ``G1(v) = 2 (n·v) / d_v`` (1 where ``n·v <= 0``)."""
         s2 = np.clip(v[..., 0] ** 2 + v[..., 1] ** 2, 0.0, 1.0)
+        if self._aniso:
+            lc = _mf._smith_lambda_cos_aniso(self.ndf, v[..., 0], v[..., 1], v[..., 2], self.alpha, self._ay)
+            d = 2 * (v[..., 2] + lc)
+            return np.where((v[..., 2] > 0) & (d > 0), d, 1.0)
         den = _mf._smith_g1_den_ggx if self.ndf == "ggx" else _mf._smith_g1_den_beckmann
         return den(v[..., 2], self.alpha, s2)
 
+    def _normal_pdf(self, h) -> np.ndarray:
+        if not self._aniso:
+            return super()._normal_pdf(h)
+        f = _mf._ggx_ndf_aniso if self.ndf == "ggx" else _mf._beckmann_ndf_aniso
+        c = h[..., 2]
+        return f(h[..., 0], h[..., 1], c, self.alpha, self._ay, np.float64) * np.maximum(c, 0.0)
+
+    def _sample_normals(self, u) -> Samples:
+        if not self._aniso:
+            return super()._sample_normals(u)
+        # D(h)(n·h) for the anisotropic NDF: the visible normals of the view v = n are exactly these.
+        n = np.zeros(u.shape[:-1] + (3,))
+        n[..., 2] = 1.0
+        h = self._visible_normals(u, n)
+        return Samples(h, self._normal_pdf(h))
+
     def _visible_normals(self, u, v):
         """Visible normals ``h`` (upper hemisphere, ``v·h >= 0``) for unit views ``v`` with ``v_z > 0``."""
-        al = self.alpha
+        al, ay = self.alpha, self._ay
         # Stretch the view to the unit-roughness configuration.
-        vs = normalize(np.stack([al * v[..., 0], al * v[..., 1], v[..., 2]], axis=-1))
+        vs = normalize(np.stack([al * v[..., 0], ay * v[..., 1], v[..., 2]], axis=-1))
         if self.ndf == "ggx":
             lensq = vs[..., 0] ** 2 + vs[..., 1] ** 2
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -258,7 +286,7 @@ class VisibleNormalSampler(MicrofacetSampler):
             p2 = (1 - sh) * np.sqrt(np.clip(1 - p1 * p1, 0.0, None)) + sh * p2
             p3 = np.sqrt(np.clip(1 - p1 * p1 - p2 * p2, 0.0, None))
             nh = p1[..., None] * t1 + p2[..., None] * t2 + p3[..., None] * vs
-            h = np.stack([al * nh[..., 0], al * nh[..., 1], np.maximum(nh[..., 2], 0.0)], axis=-1)
+            h = np.stack([al * nh[..., 0], ay * nh[..., 1], np.maximum(nh[..., 2], 0.0)], axis=-1)
             return normalize(h)
         # Beckmann: slopes of the stretched configuration, along the view's azimuth and across it.
         sin_t = np.hypot(vs[..., 0], vs[..., 1])
@@ -269,7 +297,7 @@ class VisibleNormalSampler(MicrofacetSampler):
         sx = _beckmann_slope_x(cos_t, sin_t, u[..., 0])
         sy = _erfinv(2 * np.clip(u[..., 1], 1e-12, 1 - 1e-12) - 1)
         x = al * (cos_p * sx - sin_p * sy)
-        y = al * (sin_p * sx + cos_p * sy)
+        y = ay * (sin_p * sx + cos_p * sy)
         return normalize(np.stack([-x, -y, np.ones_like(x)], axis=-1))
 
     def _sample(self, u, v):
@@ -294,9 +322,13 @@ class VisibleNormalSampler(MicrofacetSampler):
     def _visible_pdf(self, h, v, vh):
         """``p(l) = D(h) / (2 d_v)`` where ``v·h > 0`` and ``n·h > 0``, else 0 (``v`` unit, ``v_z > 0``)."""
         c = h[..., 2]
-        s2 = np.clip(h[..., 0] ** 2 + h[..., 1] ** 2, 0.0, 1.0)
-        ndf = _mf._ggx_ndf if self.ndf == "ggx" else _mf._beckmann_ndf
-        d = ndf(c, self.alpha, s2, np.float64)
+        if self._aniso:
+            f = _mf._ggx_ndf_aniso if self.ndf == "ggx" else _mf._beckmann_ndf_aniso
+            d = f(h[..., 0], h[..., 1], c, self.alpha, self._ay, np.float64)
+        else:
+            s2 = np.clip(h[..., 0] ** 2 + h[..., 1] ** 2, 0.0, 1.0)
+            ndf = _mf._ggx_ndf if self.ndf == "ggx" else _mf._beckmann_ndf
+            d = ndf(c, self.alpha, s2, np.float64)
         with np.errstate(over="ignore"):
             p = d / (2 * self._den_v(v))
         return np.where((vh > 0) & (c > 0), np.minimum(p, np.finfo(np.float64).max), 0.0)

@@ -47,9 +47,13 @@ def _mp_ndf(ndf, c, s2, al):
     return mpmath.exp(-s2 / (al * c) ** 2) / (mpmath.pi * al**2 * c**4)
 
 
+def _mp(x):
+    return x if isinstance(x, mpmath.mpf) else mpmath.mpf(float(x))
+
+
 def _mp_eval(ndf, alpha, l, v):  # noqa: E741
     """``D G2 / (4 (n·v)(n·l))`` (F = 1, n = z) from the given float vectors taken as exact, normalized in 80 digits."""
-    lv = [mpmath.matrix([mpmath.mpf(float(x)) for x in d]) for d in (l, v)]
+    lv = [mpmath.matrix([_mp(x) for x in d]) for d in (l, v)]
     lv = [d / mpmath.norm(d) for d in lv]
     l, v = lv  # noqa: E741
     nl, nv = l[2], v[2]
@@ -67,9 +71,9 @@ def _condition(ndf, alpha, l, v, f0, eps):  # noqa: E741
     """A condition estimate: the largest relative change of the 80-digit value per relative input change ``eps``."""
     rng = np.random.default_rng(1)
     worst = 1.0
-    for _ in range(4):
-        dl = np.asarray(l, float) * (1 + eps * rng.choice([-1, 1], 3))
-        dv = np.asarray(v, float) * (1 + eps * rng.choice([-1, 1], 3))
+    for _ in range(4):  # the perturbation in 80 digits (1 + 2⁻⁶⁰ is 1 in float64)
+        dl = [_mp(x) * (1 + eps * int(sg)) for x, sg in zip(l, rng.choice([-1, 1], 3), strict=True)]
+        dv = [_mp(x) * (1 + eps * int(sg)) for x, sg in zip(v, rng.choice([-1, 1], 3), strict=True)]
         f1 = _mp_eval(ndf, alpha, dl, dv)
         worst = max(worst, float(abs(f1 - f0) / abs(f0)) / eps if f0 != 0 else 1.0)
     return worst
@@ -322,26 +326,15 @@ def _density_integral(sampler, v, alpha):
     """``∫ p(l) dω_l`` over the sphere, as ``∫ p(l(h)) 4 (v·h) dω_h`` over the normals that reflect ``v`` to ``l``.
 
     Every ``l ≠ −v`` is ``2 (v·h) h − v`` for exactly one ``h`` with ``n·h > 0``; where that ``h`` has
-    ``v·h <= 0`` the density is 0, a jump in ``l``.  In ``h`` the integrand vanishes linearly there, and for
-    each ``θ_h`` the ``φ`` interval with ``v·h > 0`` (``cos(φ − φ_v) > −cot θ_v cot θ_h``) is integrated by
-    Gauss–Legendre, so no node straddles the cut.
+    ``v·h <= 0`` the density is 0, a jump in ``l``.  In ``h`` the integrand vanishes linearly there, and
+    :func:`_h_integral` integrates each ``θ_h``'s ``φ`` interval with ``v·h > 0`` by Gauss–Legendre, so no
+    node straddles the cut.
     """
-    from quadrature import theta_nodes
+    def integrand(h):
+        vh = h @ v
+        return sampler.pdf(2 * vh[..., None] * h - v, v) * 4 * np.maximum(vh, 0)
 
-    th, wt = theta_nodes(scale=alpha * 1e-3, panels=60, order=24)
-    tv, pv = math.acos(v[2]), math.atan2(v[1], v[0])
-    with np.errstate(divide="ignore"):
-        lim = np.clip(-np.cos(tv) * np.cos(th) / (np.sin(tv) * np.sin(th)), -1, 1) if tv > 0 else -np.ones_like(th)
-    half = np.arccos(lim)  # the half-width of the φ interval with v·h > 0
-    x, w = np.polynomial.legendre.leggauss(96)
-    ph = pv + half[:, None] * x
-    wp = half[:, None] * w
-    h = np.stack(np.broadcast_arrays(np.sin(th)[:, None] * np.cos(ph), np.sin(th)[:, None] * np.sin(ph),
-                                     np.cos(th)[:, None]), -1)
-    vh = h @ v
-    l = 2 * vh[..., None] * h - v  # noqa: E741
-    f = sampler.pdf(l, v) * 4 * np.maximum(vh, 0)
-    return float(np.sum(f * wp * (wt * np.sin(th))[:, None]))
+    return _h_integral(integrand, alpha, v)
 
 
 @pytest.mark.parametrize("ndf, alpha", SAMPLER_CASES)
@@ -416,3 +409,285 @@ def test_importance_sampled_albedo_matches_quadrature(ndf, geometry):
         ref = directional_albedo(ct, tv)[0]
         est = directional_albedo(ct, tv, 8192, "importance", seed=4, return_error=True)
         assert abs(est.value[0] - ref) <= 4 * est.error[0] + 1e-12
+
+
+# --------------------------------------------------------------------------- anisotropic GGX and Beckmann
+ANISO = [(0.1, 0.5), (0.05, 1.0), (1.0, 0.3), (0.3, 0.3 * (1 + 2**-40))]
+
+
+def _d_aniso(ndf, h, ax, ay):
+    f = mf._ggx_ndf_aniso if ndf == "ggx" else mf._beckmann_ndf_aniso
+    return f(h[..., 0], h[..., 1], h[..., 2], ax, ay, np.float64)
+
+
+def _g1_aniso(ndf, w, ax, ay):
+    lc = mf._smith_lambda_cos_aniso(ndf, w[..., 0], w[..., 1], w[..., 2], ax, ay)
+    c = np.maximum(w[..., 2], 0.0)
+    return np.where(c > 0, c / np.where(c > 0, c + lc, 1.0), 0.0)
+
+
+def _ndf_and_g1(ndf, ax, ay):
+    """``D(h)`` and ``G1(ω)`` for an NDF: isotropic (the public functions) or anisotropic (the model's)."""
+    if ax == ay:
+        d = {"ggx": mf.ggx_ndf, "beckmann": mf.beckmann_ndf}[ndf]
+        g1 = {"ggx": mf.smith_g1_ggx, "beckmann": mf.smith_g1_beckmann}[ndf]
+
+        def dfun(h):
+            return d(h[..., 2], ax, np.clip(h[..., 0] ** 2 + h[..., 1] ** 2, 0, 1))
+
+        def gfun(w):
+            return g1(w[..., 2], ax, np.clip(w[..., 0] ** 2 + w[..., 1] ** 2, 0, 1))
+
+        return dfun, gfun
+    return (lambda h: _d_aniso(ndf, h, ax, ay)), (lambda w: _g1_aniso(ndf, w, ax, ay))
+
+
+def _h_integral(func, alpha, v=None):
+    """``∫ func(h) dω_h`` over the upper hemisphere; with ``v``, over the part with ``v·h > 0`` only.
+
+    θ_h: Gauss panels graded toward the pole by ``alpha``; φ: Gauss–Legendre over the interval where
+    ``v·h > 0`` (``cos(φ − φ_v) > −cot θ_v cot θ_h``), so the integrand's kink there is an endpoint.
+    """
+    from quadrature import theta_nodes
+
+    th, wt = theta_nodes(scale=alpha * 1e-3, panels=60, order=24)
+    if v is None or v[2] >= 1:  # the whole circle: the periodic trapezoid rule, spectrally accurate
+        half, pv = np.full(th.shape, math.pi), 0.0
+        x, w = np.arange(1024) / 512 - 1, np.full(1024, 2 / 1024)
+    else:
+        tv, pv = math.acos(v[2]), math.atan2(v[1], v[0])
+        half = np.arccos(np.clip(-math.cos(tv) * np.cos(th) / (math.sin(tv) * np.sin(th)), -1, 1))
+        x, w = np.polynomial.legendre.leggauss(384)
+    ph = pv + half[:, None] * x
+    h = np.stack(np.broadcast_arrays(np.sin(th)[:, None] * np.cos(ph), np.sin(th)[:, None] * np.sin(ph),
+                                     np.cos(th)[:, None]), -1)
+    return float(np.sum(func(h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
+
+
+@pytest.mark.parametrize("ndf", NDFS)
+@pytest.mark.parametrize("ax, ay", [(a, a) for a in (1e-3, 0.1, 0.5, 1.0, 2.0)] + ANISO)
+def test_ndf_normalization_and_projected_area(ndf, ax, ay):
+    # ∫ D(h)(n·h) dω_h = 1, and ∫ G1(v) max(0, v·h) D(h) dω_h = n·v (the projected area of the visible
+    # microsurface equals that of the macrosurface; Heitz 2014 eq. 12), for views up to 89° at several azimuths.
+    dfun, gfun = _ndf_and_g1(ndf, ax, ay)
+    a = min(ax, ay)
+    assert _h_integral(lambda h: dfun(h) * h[..., 2], a) == pytest.approx(1.0, abs=1e-9)
+    for tv, pv in ((0.0, 0.0), (0.6, 0.4), (1.2, 2.0), (1.5, -0.9), (math.radians(89), 0.8)):
+        v = _dir(tv, pv)
+        got = _h_integral(lambda h, v=v: gfun(v) * np.maximum(h @ v, 0) * dfun(h), a, v)
+        assert got == pytest.approx(v[2], rel=1e-7, abs=1e-12), (tv, pv)
+
+
+def test_blinn_phong_ndf_normalization():
+    # The third NDF: (e + 2)/(2π) (n·h)^e with e = 2/α² − 2 (its Smith G1 is Beckmann's of the same α, an
+    # approximation, so the projected-area identity holds only approximately and is not asserted).
+    for alpha in (0.05, 0.3, 1.0):
+        ct = CookTorrance(1.0, alpha, 1.0, ndf="blinn-phong")
+        total = _h_integral(lambda h, e=ct._exponent: mf.blinn_phong_ndf(h[..., 2], e) * h[..., 2], alpha)
+        assert total == pytest.approx(1.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("ndf", (*NDFS, "blinn-phong"))
+@pytest.mark.parametrize("geometry", CookTorrance.GEOMETRIES)
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_equal_alphas_are_the_isotropic_model_bit_for_bit(ndf, geometry, dtype):
+    rng = np.random.default_rng(8)
+    n, l, v = (rng.normal(size=(400, 3)).astype(dtype) for _ in range(3))  # noqa: E741
+    t = rng.normal(size=(400, 3)).astype(dtype)
+    for alpha in (1e-6, 0.2, 1.0):
+        iso = CookTorrance(0.8, alpha, 0.3, ndf=ndf, geometry=geometry, fresnel="dielectric")
+        same = CookTorrance(0.8, 0.77, 0.3, ndf=ndf, geometry=geometry, fresnel="dielectric",
+                            alpha_x=alpha, alpha_y=alpha)
+        assert not same.anisotropic and same.stackable and iso.stackable
+        for form in ("eval", "eval_cos", "classic"):
+            want = getattr(iso, form)(n, l, v)
+            np.testing.assert_array_equal(getattr(same, form)(n, l, v), want)
+            np.testing.assert_array_equal(getattr(same, form)(n, l, v, tangent=t), want)
+        assert repr(same.sampler()) == repr(iso.sampler())
+
+
+@pytest.mark.parametrize("ndf", NDFS)
+@pytest.mark.parametrize("geometry", CookTorrance.GEOMETRIES)
+def test_anisotropic_code_at_nearly_equal_alphas_matches_isotropic(ndf, geometry):
+    # α_y = α_x (1 + 2⁻⁴⁰) takes the anisotropic code: it agrees with the isotropic model to 2⁻⁴⁰ times the
+    # α-sensitivity (|∂ ln f/∂ ln α| <= 6 + 4X, X = tan²θ_h/α² for Beckmann, 0 for GGX) plus rounding 64 eps (1 + X).
+    rng = np.random.default_rng(9)
+    l, v = rng.normal(size=(2, 600, 3))  # noqa: E741
+    l[:, 2], v[:, 2] = np.abs(l[:, 2]), np.abs(v[:, 2])
+    for alpha in (0.05, 0.3, 1.0):
+        iso = CookTorrance(1.0, alpha, 1.0, ndf=ndf, geometry=geometry, fresnel="none")
+        an = CookTorrance(1.0, alpha, 1.0, ndf=ndf, geometry=geometry, fresnel="none",
+                          alpha_x=alpha, alpha_y=alpha * (1 + 2**-40))
+        assert an.anisotropic and not an.stackable
+        a, b = iso.eval(N, l, v)[:, 0], an.eval(N, l, v)[:, 0]
+        g = Geometry(N, l, v)
+        x = (g.sin2_h / np.maximum(g.n_dot_h, 1e-300) ** 2) / alpha**2
+        x = x if ndf == "beckmann" else 0 * x
+        bound = 2.0**-40 * (6 + 4 * x) + 64 * np.finfo(float).eps * (1 + x)
+        rel = np.abs(a - b) / np.maximum(a, 1e-300)
+        assert np.all((rel <= bound) | (a < 1e-290)), float(np.max(rel / bound))
+
+
+def _mp_eval_aniso(ndf, ax, ay, geometry, l, v, t):  # noqa: E741
+    """``D G / (4 (n·v)(n·l))`` (F = 1, n = z, tangent ``t`` in the xy plane) in 80 digits."""
+    mp = mpmath
+    L, V = (mp.matrix([_mp(x) for x in d]) for d in (l, v))
+    L, V = L / mp.norm(L), V / mp.norm(V)
+    if L[2] <= 0 or V[2] <= 0:
+        return mp.mpf(0)
+    T = mp.matrix([_mp(t[0]), _mp(t[1]), 0])
+    T = T / mp.norm(T)
+    B = mp.matrix([-T[1], T[0], 0])  # n × t with n = z
+    H = L + V
+    H = H / mp.norm(H)
+    ax, ay = mp.mpf(ax), mp.mpf(ay)
+
+    def loc(d):
+        return (d[0] * T[0] + d[1] * T[1] + d[2] * T[2], d[0] * B[0] + d[1] * B[1] + d[2] * B[2], d[2])
+
+    hx, hy, hz = loc(H)
+    q = (hx / ax) ** 2 + (hy / ay) ** 2
+    if ndf == "ggx":
+        d = 1 / (mp.pi * ax * ay * (q + hz**2) ** 2)
+    else:
+        d = mp.exp(-q / hz**2) / (mp.pi * ax * ay * hz**4)
+
+    def lam(w):
+        x, y, z = loc(w)
+        r2 = x * x + y * y
+        if r2 == 0:
+            return mp.mpf(0)
+        at = mp.sqrt((ax * x) ** 2 + (ay * y) ** 2) / z  # α(φ) tan θ
+        if ndf == "ggx":
+            return (-1 + mp.sqrt(1 + at**2)) / 2
+        a = 1 / at
+        return -mp.erfc(a) / 2 + mp.exp(-a * a) / (2 * a * mp.sqrt(mp.pi))
+
+    lv, ll = lam(V), lam(L)
+    g = 1 / (1 + lv + ll) if geometry == "smith-correlated" else 1 / ((1 + lv) * (1 + ll))
+    return d * g / (4 * V[2] * L[2])
+
+
+@pytest.mark.parametrize("ndf", NDFS)
+@pytest.mark.parametrize("geometry", ["smith", "smith-correlated"])
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_anisotropic_eval_matches_80_digits(ndf, geometry, dtype):
+    # Relative error ≤ 64 eps × (a condition estimate: 1 + the 80-digit value's relative change per relative
+    # change of the tangent's angle and of the components of l and v); below tiny/eps of the dtype, absolute.
+    eps = float(np.finfo(dtype).eps)
+    rng = np.random.default_rng(12)
+    worst = 0.0
+    with mpmath.workdps(80):
+        for ax, ay in ((0.1, 0.5), (0.02, 0.3), (1.0, 0.2), (1e-4, 1e-2), (3.0, 0.7)):
+            ct = CookTorrance(1.0, 0.5, 1.0, ndf=ndf, geometry=geometry, fresnel="none", alpha_x=ax, alpha_y=ay)
+            for tl, pl, tv, pv in CASES:
+                phi_t = float(rng.uniform(0, 2 * math.pi))
+                t = np.array([math.cos(phi_t), math.sin(phi_t), 0.0]).astype(dtype)
+                l, v = _dir(tl, pl).astype(dtype), _dir(tv, pv).astype(dtype)  # noqa: E741
+                with warnings.catch_warnings():
+                    warnings.simplefilter("error")
+                    got = float(ct.eval(N.astype(dtype), l, v, tangent=t)[0])
+                ref = _mp_eval_aniso(ndf, ax, ay, geometry, l, v, t)
+                if ref >= np.finfo(dtype).max:
+                    assert got == float(np.finfo(dtype).max)
+                    continue
+                if ref < np.finfo(dtype).tiny / eps:
+                    assert abs(got - float(ref)) <= np.finfo(dtype).tiny / eps
+                    continue
+                # condition: relative change per relative change of the tangent's angle and the directions
+                d = 2.0**-60
+                t2 = [_mp(t[0]) - d * _mp(t[1]), _mp(t[1]) + d * _mp(t[0]), 0]  # turned by d, in 80 digits
+                c1 = abs(_mp_eval_aniso(ndf, ax, ay, geometry, l, v, t2) - ref) / ref / d
+                c3 = 0.0
+                for sl, sv in (([1, -1, -1], [0, 0, 0]), ([0, 0, 0], [-1, 1, -1]), ([-1, 1, 1], [1, 1, -1])):
+                    dl = [_mp(x) * (1 + d * k) for x, k in zip(l, sl, strict=True)]
+                    dv = [_mp(x) * (1 + d * k) for x, k in zip(v, sv, strict=True)]
+                    c3 = max(c3, float(abs(_mp_eval_aniso(ndf, ax, ay, geometry, dl, dv, t) - ref) / ref / d))
+                cond = 1 + float(c1) + c3
+                err = float(abs(mpmath.mpf(got) - ref) / ref)
+                worst = max(worst, err / (eps * cond))
+                assert err <= 64 * eps * cond, (ax, ay, (tl, pl, tv, pv), got, float(ref), cond)
+    print(f"anisotropic {ndf} {geometry} {np.dtype(dtype).name}: max error {worst:.2f} eps × condition")
+
+
+@pytest.mark.parametrize("ndf", NDFS)
+def test_anisotropic_tangent_rotation_swaps_the_alphas_and_reciprocity(ndf):
+    rng = np.random.default_rng(13)
+    l, v = rng.normal(size=(2, 500, 3))  # noqa: E741
+    l[:, 2], v[:, 2] = np.abs(l[:, 2]) + 1e-3, np.abs(v[:, 2]) + 1e-3
+    n = np.array([0.2, -0.3, 1.0])
+    t = np.cross(n, [0.3, 1.0, 0.1])
+    a = CookTorrance(1.0, 0.5, 0.2, ndf=ndf, geometry="smith-correlated", alpha_x=0.1, alpha_y=0.6)
+    b = CookTorrance(1.0, 0.5, 0.2, ndf=ndf, geometry="smith-correlated", alpha_x=0.6, alpha_y=0.1)
+    bt = np.cross(n / np.linalg.norm(n), t / np.linalg.norm(t))
+    np.testing.assert_allclose(a.eval(n, l, v, tangent=t), b.eval(n, l, v, tangent=bt), rtol=1e-10, atol=1e-300)
+    np.testing.assert_allclose(a.eval(n, l, v, tangent=t), a.eval(n, v, l, tangent=t), rtol=1e-12, atol=0)
+    # −t is the same frame up to φ → φ + π, under which D and Λ are even.
+    np.testing.assert_allclose(a.eval(n, l, v, tangent=t), a.eval(n, l, v, tangent=-t), rtol=1e-12, atol=1e-300)
+    # The default frame (no tangent) is t = ẑ × n / |ẑ × n|.
+    tz = np.cross([0.0, 0.0, 1.0], n)
+    # (the two frames differ in the last bits of t, which Beckmann's exponent X <= 700 amplifies)
+    np.testing.assert_allclose(a.eval(n, l, v), a.eval(n, l, v, tangent=tz), rtol=1e-10, atol=1e-300)
+
+
+@pytest.mark.parametrize("ndf", NDFS)
+@pytest.mark.parametrize("geometry", CookTorrance.GEOMETRIES)
+def test_anisotropic_albedo_at_most_one(ndf, geometry):
+    ct = CookTorrance(1.0, 0.5, 1.0, ndf=ndf, geometry=geometry, fresnel="none", alpha_x=0.08, alpha_y=0.6)
+    for tv in (0.0, 0.8, 1.4, 1.55):
+        assert directional_albedo(ct, tv)[0] <= 1.0 + 1e-6
+
+
+@pytest.mark.parametrize("ndf", NDFS)
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_anisotropic_finite_at_extremes(ndf, dtype):
+    rng = np.random.default_rng(3)
+    d = rng.normal(size=(4, 300, 3))
+    d[0, :50] = 0.0
+    d[1, 50:100] = [1.0, 0.0, 0.0]
+    d[2, 100:150] = [-1.0, 0.0, 1e-30]
+    d[1, 150:200] = -d[2, 150:200]
+    d[3, 200:250] = d[0, 200:250]  # tangent along n: the default frame
+    d[3, 250:] = 0.0  # zero tangent
+    d = d.astype(dtype)
+    for ax, ay in ((1e-6, 1e-3), (1e-3, 1e3), (1.0, 0.01)):
+        for geometry in CookTorrance.GEOMETRIES:
+            ct = CookTorrance(1.0, 0.5, 0.04, ndf=ndf, geometry=geometry, alpha_x=ax, alpha_y=ay)
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")
+                for form in (ct.eval, ct.eval_cos, ct.classic):
+                    f = form(*d[:3], tangent=d[3])
+                    assert f.dtype == dtype and np.all(np.isfinite(f)) and np.all(f >= 0)
+
+
+def test_anisotropic_parameters_and_stackable():
+    assert CookTorrance.stackable is True and CookTorrance().stackable is True
+    an = CookTorrance(alpha_x=0.1, alpha_y=0.4, ndf="ggx", geometry="smith")
+    assert an.stackable is False and an.anisotropic
+    assert "αx=0.1 αy=0.4" in an.summary()
+    assert CookTorrance.from_dict(an.to_dict()).to_dict() == an.to_dict()
+    assert "alpha_x" not in CookTorrance().to_dict()
+    assert CookTorrance(alpha_x=0.2).anisotropic  # α_y defaults to roughness 0.3
+    assert repr(an.sampler()) == "VisibleNormalSampler('ggx', alpha=0.1, alpha_y=0.4)"
+    with pytest.raises(ValueError, match="alpha_x"):
+        CookTorrance(alpha_x=-1.0)
+    with pytest.raises(ValueError, match="blinn-phong"):
+        CookTorrance(ndf="blinn-phong", alpha_x=0.1, alpha_y=0.2)
+
+
+@pytest.mark.parametrize("ndf", NDFS)
+@pytest.mark.parametrize("ax, ay", [(0.1, 0.5), (1.0, 0.2)])
+@pytest.mark.parametrize("theta_v, phi_v", [(0.0, 0.0), (50.0, 0.7), (85.0, 2.0), (89.0, -1.0)])
+def test_anisotropic_sampler_chi_square_and_density(ndf, ax, ay, theta_v, phi_v):
+    s = VisibleNormalSampler(ndf, ax, alpha_y=ay)
+    v = _view(theta_v, phi_v)
+    p, mass = _chi2_pvalue(s, v)
+    print(f"χ² anisotropic {ndf} α=({ax}, {ay}) θ_v={theta_v}° φ_v={phi_v}: p = {p:.3g}")
+    assert p > 1e-3 and mass == pytest.approx(1.0, abs=3e-3)
+    assert _density_integral(s, v, min(ax, ay)) == pytest.approx(1.0, abs=1e-6)
+    # The density is G1(v) D(h) / (4 n·v) with the anisotropic D and G1.
+    smp = s.sample(np.random.default_rng(3).random((2000, 2)), v)
+    h = smp.directions + v
+    h /= np.linalg.norm(h, axis=-1, keepdims=True)
+    want = _g1_aniso(ndf, v, ax, ay) * _d_aniso(ndf, h, ax, ay) / (4 * v[2])
+    np.testing.assert_allclose(smp.pdf, want, rtol=1e-10)
