@@ -4,7 +4,8 @@ One module per topic: ``protocol`` (parameters, lobes, the registry), ``geometry
 directions), ``base`` (the BRDF base class and sums), ``sampler`` (the sampler protocol), one
 module per model family (each registers its model and defines its sampler), ``microfacet`` and
 ``fresnel`` (the factors), and ``brdf`` (every model under the contract's name ``lighting.brdf``).
-The import order below is the registry's order: lambert, phong, blinn-phong, cook-torrance.
+The import order below is the registry's order: lambert, phong, blinn-phong, cook-torrance, then
+oren-nayar, ward, ashikhmin-shirley, disney.
 """
 
 from __future__ import annotations
@@ -13,10 +14,8 @@ from __future__ import annotations
 # The order of these imports is the registry's order (each model's module registers its model).
 from . import protocol, microfacet, fresnel, geometry, base, sampler
 from . import lambert, phong, microfacet_sampling, blinn_phong, cook_torrance, brdf
-from . import ashikhmin_shirley
-from . import oren_nayar
-from . import disney
-from . import ward
+# Beyond the slides, in the order lecturers compare them: diffuse, then glossy, then the principled model.
+from . import oren_nayar, ward, ashikhmin_shirley, disney
 
 # isort: on
 from .brdf import *  # noqa: F403
@@ -41,6 +40,10 @@ __all__ = [
     "blinn_phong",
     "cook_torrance",
     "brdf",
+    "oren_nayar",
+    "ward",
+    "ashikhmin_shirley",
+    "disney",
     *protocol.__all__,
     *microfacet.__all__,
     *fresnel.__all__,

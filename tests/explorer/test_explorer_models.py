@@ -16,7 +16,7 @@ from explorer.app.widgets import SliderSpec
 from lighting import Lambert, Material
 from lighting.analysis import lobe_mesh, reciprocity_pair
 from lighting.integrate import directional_albedo
-from lighting.models import BRDF, Parameter, register_model
+from lighting.models import BRDF, Parameter, model_variants, register_model
 from lighting.models.protocol import unregister_model
 from lighting.render import AnalyticSphere, Renderer, sphere_camera
 from lighting.vec import spherical_direction
@@ -71,9 +71,10 @@ def test_the_model_list_is_the_registry(backscatter):
     state = AppState()
     state.model = NAME.upper().replace("-", "_")  # choices accept any case and _ for -
     assert state.model == NAME
-    # The built-in models: today's five, in today's order.
+    # The built-in models: the slides' five first, in the lectures' order, then the registry's others.
     unregister_model(NAME)
-    assert model_choices() == ("lambert", "phong", "blinn-phong", "blinn-phong-normalized", "cook-torrance")
+    assert model_choices()[:5] == ("lambert", "phong", "blinn-phong", "blinn-phong-normalized", "cook-torrance")
+    assert model_choices() == tuple(model_variants())
     assert NAME not in MODELS
 
 
