@@ -451,7 +451,8 @@ class CookTorrance(BRDF):
         list of (ndarray, ndarray)
             The terms of :meth:`separable_cos` with their scalar fields times π.
         """
-        return [(saturate_to(s * math.pi, g.dtype), c) for s, c in self._separable(g, False)]
+        with np.errstate(over="ignore"):  # a field near the dtype's largest value times π saturates below
+            return [(saturate_to(s * math.pi, g.dtype), c) for s, c in self._separable(g, False)]
 
 
 

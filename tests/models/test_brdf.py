@@ -321,3 +321,16 @@ def test_normalized_blinn_phong_peak_is_its_normalization_to_the_last_bit(e, dty
     n = np.array([0.0, 0.0, 1.0], dtype)
     peak = BlinnPhong(1.0, e, normalized=True).eval(n, n, n)
     assert peak.dtype == dtype and np.all(peak == dtype((e + 2) / (2 * math.pi)))
+
+
+@pytest.mark.parametrize("geometry", ["smith", "smith-correlated", "v-cavity"])
+def test_stacked_classic_saturates_without_a_warning_at_a_subnormal_grazing_pair(geometry):
+    # Found by the models probe: l = v at 5e-324 above the horizon makes the separable field the largest
+    # float64; times π it must saturate there, not warn.
+    from lighting.shading.stacked import StackedGeometry
+
+    m = CookTorrance(ks=(1e-8, 1e30, 0), roughness=0.136, f0=(0.5, 0, 0.04), ndf="ggx", geometry=geometry)
+    d = np.array([[1.0, 0.0, 5e-324]])
+    g = StackedGeometry(np.array([[0.0, 0.0, 1.0]]), d, d)
+    for s, _ in m.separable_classic(g):
+        assert np.all(np.isfinite(s)) and np.all(s >= 0)
