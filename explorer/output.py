@@ -36,6 +36,7 @@ import contextlib
 import io
 import os
 import signal
+import sys
 import tempfile
 import threading
 
@@ -277,6 +278,31 @@ def raise_if_signalled() -> None:
         _raise_for(_deferral["received"])
 
 
+def quiet_stop_unraisable(unraisable, fallback=None) -> None:
+    """A ``sys.unraisablehook`` that notes a stop signal raised where Python cannot propagate it.
+
+    A signal handler that raises (:func:`on_signal`) may run inside a weak-reference callback or a
+    ``__del__`` that the garbage collector calls (Matplotlib's transform tree has such callbacks);
+    Python then prints "Exception ignored in ..." with a traceback and goes on.  The signal is already
+    noted (:func:`received_signal`), and :func:`raise_if_signalled` raises it again at the next safe
+    point, so nothing is printed for it here; any other unraisable exception goes to ``fallback``.
+
+    Parameters
+    ----------
+    unraisable : object
+        What Python passes to ``sys.unraisablehook`` (``exc_value`` and the rest).
+    fallback : callable, optional
+        The hook for every other exception (default: Python's own).
+
+    Returns
+    -------
+    None
+    """
+    if isinstance(unraisable.exc_value, (Terminated, KeyboardInterrupt)):
+        return
+    (fallback or sys.__unraisablehook__)(unraisable)
+
+
 def _raise_for(signum: int):
     if signum == signal.SIGINT:
         raise KeyboardInterrupt
@@ -357,9 +383,12 @@ def signals_as_exceptions():
     for sig in _SIGNALS:
         if signal.getsignal(sig) is not signal.SIG_IGN:
             old[sig] = signal.signal(sig, on_signal)
+    old_hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: quiet_stop_unraisable(unraisable, old_hook)
     try:
         yield
     finally:
+        sys.unraisablehook = old_hook
         for sig, handler in old.items():
             signal.signal(sig, handler if handler is not None else signal.SIG_DFL)
         _deferral["received"] = None

@@ -406,3 +406,30 @@ def test_a_stop_signal_swallowed_by_a_library_still_stops_the_command_before_it_
     assert list(tmp_path.iterdir()) == []
     monkeypatch.setattr(lighting.render.sphere, "render_sphere", real)
     assert main(["sphere", "-o", str(out), "--size", "12"]) == 0  # the next command starts afresh
+
+
+def test_a_stop_signal_raised_inside_a_garbage_collector_callback_is_noted_not_printed(capsys):
+    # Matplotlib's transform tree drops weak references in callbacks; a SIGTERM handled there raises
+    # where Python cannot propagate it ("Exception ignored in ..." and a traceback on stderr).
+    import gc
+    import weakref
+
+    from explorer.output import Terminated, raise_if_signalled, received_signal, signals_as_exceptions
+
+    class Node:
+        pass
+
+    with signals_as_exceptions():
+        target = Node()
+        weakref.finalize(target, os.kill, os.getpid(), signal.SIGTERM)
+        keep = weakref.ref(target, lambda _: [None for _ in range(100_000)])  # the handler runs in here
+        del target
+        gc.collect()
+        deadline = time.monotonic() + 10
+        while received_signal() is None and time.monotonic() < deadline:
+            time.sleep(0.001)
+        assert received_signal() == signal.SIGTERM
+        with pytest.raises(Terminated):
+            raise_if_signalled()
+    assert keep() is None
+    assert "Traceback" not in capsys.readouterr().err

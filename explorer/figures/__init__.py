@@ -41,7 +41,16 @@ import warnings
 from lighting._numeric import _fmt, check_budget, check_count, memory_budget, set_memory_budget
 
 from ..commands.figures import MAX_JOBS
-from ..output import OutputError, Terminated, atomic_write, atomic_write_many, check_output_dir, on_signal
+from ..output import (
+    OutputError,
+    Terminated,
+    atomic_write,
+    atomic_write_many,
+    check_output_dir,
+    on_signal,
+    quiet_stop_unraisable,
+    raise_if_signalled,
+)
 from .base import REGISTRY, FigureSpec, Quality
 
 __all__ = ["REGISTRY", "FORMATS", "figure_names", "generate", "make_figure", "main"]
@@ -376,6 +385,7 @@ def _worker_init(filters, parent, budget):
     _in_job[1] = True
     signal.signal(signal.SIGTERM, _worker_signal)
     signal.signal(signal.SIGINT, _worker_signal)
+    sys.unraisablehook = quiet_stop_unraisable  # a stop raised inside a GC callback: noted, not printed
     set_memory_budget(budget)
     warnings.filters[:] = filters
     import matplotlib
@@ -388,6 +398,7 @@ def _run_job(args):
     _in_job[0] = True
     try:
         rec = _render_one(*args)
+        raise_if_signalled()  # a stop that a callback swallowed (see quiet_stop_unraisable) ends the job here
     except (Terminated, KeyboardInterrupt):
         if _in_job[1]:
             os._exit(143)  # a worker: this figure's files are cleaned up, and the parent is going away
