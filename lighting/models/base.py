@@ -216,6 +216,10 @@ class BRDF:
     variants: dict = {}
     #: ``f_r`` is the constant ``diffuse_albedo / π``: shading and integration may use closed forms.
     lambertian = False
+    #: ``f_r`` is a Dirac delta (the ideal mirror): ``eval`` is 0 for every finite pair of directions,
+    #: and integrators, plots and the explorer must treat the reflected direction apart
+    #: (see :class:`~lighting.models.mirror.Mirror`, ``reflectance(cos_theta)``).
+    is_delta = False
 
     # -- evaluation -----------------------------------------------------------------
     def eval(self, n, l, v, *, tangent=None):  # noqa: E741
