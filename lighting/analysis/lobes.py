@@ -22,6 +22,7 @@ from .quantity import (
     _check_brdf,
     _check_channel,
     _check_cosine,
+    _check_tangent,
     _plane_dirs,
     _quantity_rgb,
     _reduce,
@@ -68,12 +69,13 @@ def _lobe_widths(brdf, theta_l) -> tuple[float, float]:
     return min(widths)
 
 
-def _numeric_width(brdf, l64, cosine, channel) -> float:
+def _numeric_width(brdf, l64, cosine, channel, tangent=None) -> float:
     """Half-width at half maximum of the in-plane slice, divided by 1.18 (a Gaussian's σ)."""
     theta, phi = _angles_of(l64)
     t = np.linspace(-_HALF_PI, _HALF_PI, 2881)[1:-1]
     v = _plane_dirs(t, phi, "incidence")
-    f = _reduce(_quantity_rgb(brdf, np.broadcast_to(_sph(theta, phi), v.shape), v, cosine, np.float64), channel)
+    l = np.broadcast_to(_sph(theta, phi), v.shape)  # noqa: E741
+    f = _reduce(_quantity_rgb(brdf, l, v, cosine, np.float64, tangent), channel)
     k = int(np.argmax(f))
     if not f[k] > 0 or np.all(f >= 0.5 * f[k]):
         return math.inf
@@ -167,14 +169,16 @@ def _zoom_grid(t, step):
     return np.concatenate([[t], np.clip(t + step * np.linspace(-2.0, 2.0, 41), -_PEAK_LIMIT, _PEAK_LIMIT)])
 
 
-def _peak_t(brdf, theta, phi, cosine, channel, width, fixed="light", d_fixed=None):
+def _peak_t(brdf, theta, phi, cosine, channel, width, fixed="light", d_fixed=None, tangent=None):
     """Search the incidence plane for the largest value; returns ``(t, value)``, ``t`` the signed angle.
 
     The fixed direction (``l`` for ``fixed="light"``, else ``v``) is at polar angle ``theta``,
     azimuth ``phi``; the other is swept as in :func:`~lighting.analysis.slices.polar_slice`, so the
     mirror direction is at ``t = theta``.  Isotropic models are mirror-symmetric about the plane of
     incidence, and every model here peaks in it (at ``R_l``, or off-specular toward grazing for rough
-    Cook–Torrance).  Candidates: :func:`_peak_candidates`; then five zooms around the best.
+    Cook–Torrance); so do anisotropic ones when the plane holds ``t`` or ``b``, and elsewhere the search
+    finds the largest value *in the plane*, which is what the slices draw.  Candidates:
+    :func:`_peak_candidates`; then five zooms around the best.
     """
     d_fixed = _sph(theta, phi) if d_fixed is None else d_fixed
 
@@ -182,7 +186,7 @@ def _peak_t(brdf, theta, phi, cosine, channel, width, fixed="light", d_fixed=Non
         sweep = _plane_dirs(t, phi, "incidence")
         fixed_b = np.broadcast_to(d_fixed, sweep.shape)
         l, v = (fixed_b, sweep) if fixed == "light" else (sweep, fixed_b)  # noqa: E741
-        return _reduce(_quantity_rgb(brdf, l, v, cosine, np.float64), channel)
+        return _reduce(_quantity_rgb(brdf, l, v, cosine, np.float64, tangent), channel)
 
     t, steps = _peak_candidates(theta, width)
     f = value(t)
@@ -199,14 +203,14 @@ def _peak_t(brdf, theta, phi, cosine, channel, width, fixed="light", d_fixed=Non
     return best_t, best_f
 
 
-def _peak64(brdf, l64, cosine, channel, width):
+def _peak64(brdf, l64, cosine, channel, width, tangent=None):
     """The in-plane peak for the light ``l64``: ``(direction, value)`` in float64 (see :func:`_peak_t`)."""
     theta, phi = _angles_of(l64)
-    t, f = _peak_t(brdf, theta, phi, cosine, channel, width, d_fixed=l64)
+    t, f = _peak_t(brdf, theta, phi, cosine, channel, width, d_fixed=l64, tangent=tangent)
     return _plane_dirs(t, phi, "incidence"), f
 
 
-def lobe_peak(brdf, l, *, cosine=False, channel=None) -> LobePeak:
+def lobe_peak(brdf, l, *, cosine=False, channel=None, tangent=None) -> LobePeak:
     r"""Direction ``v`` where ``f_r(l, v)`` (or the chosen quantity) is largest, and that value.
 
     The search runs in the plane of incidence — isotropic models are mirror-symmetric
@@ -225,6 +229,8 @@ def lobe_peak(brdf, l, *, cosine=False, channel=None) -> LobePeak:
         Light direction in the local frame (``n = +z``); normalized on entry.
     cosine, channel
         See :mod:`lighting.analysis.quantity`; ``channel=None`` means luminance.
+    tangent : array_like (3,), optional
+        The surface tangent (see :func:`~lighting.analysis.slices.polar_slice`); default ``+x``.
 
     Returns
     -------
@@ -243,10 +249,11 @@ def lobe_peak(brdf, l, *, cosine=False, channel=None) -> LobePeak:
     l64 = _unit_light(l)
     cos_mode = _check_cosine(cosine)
     ch = _check_channel(channel, "luminance")
+    tan = _check_tangent(tangent)
     if not l64[2] > 0:
         return LobePeak(np.array([0.0, 0.0, 1.0], dtype=dt), 0.0)
     w = _lobe_widths(brdf, _polar(l64))[0]
     if math.isnan(w):
-        w = _numeric_width(brdf, l64, cos_mode, ch)
-    d, f = _peak64(brdf, l64, cos_mode, ch, w)
+        w = _numeric_width(brdf, l64, cos_mode, ch, tan)
+    d, f = _peak64(brdf, l64, cos_mode, ch, w, tan)
     return LobePeak(d.astype(dt), f)

@@ -15,7 +15,16 @@ import numpy as np
 from .._numeric import check_bool, check_count, working_dtype
 from ..vec import normalize
 from .lobes import _lobe_widths, _numeric_width, _peak64, _polar, _unit_light
-from .quantity import _HALF_PI, _check_brdf, _check_channel, _check_cosine, _quantity_rgb, _reduce, _sph
+from .quantity import (
+    _HALF_PI,
+    _check_brdf,
+    _check_channel,
+    _check_cosine,
+    _check_tangent,
+    _quantity_rgb,
+    _reduce,
+    _sph,
+)
 
 __all__ = ["LobeMesh", "lobe_mesh"]
 
@@ -133,7 +142,8 @@ def _fit_to_rim(rho: np.ndarray, rho_max: np.ndarray) -> np.ndarray:
     return out
 
 
-def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=None) -> LobeMesh:
+def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=None, tangent=None,
+              lock=False) -> LobeMesh:  # fmt: skip
     r"""The "3D surface" plot of a BRDF: radius ``f_r(l, v)`` in every view direction ``v``.
 
     For the fixed light ``l`` the surface is ``{ f(v) · v : v in the upper hemisphere }``
@@ -167,6 +177,11 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
     uniform rings).  The finest spacing is at least 256 ulp of the output dtype, so
     float32 meshes stay valid for the narrowest lobes (which float32 cannot resolve).
 
+    ``lock=True`` is the view lock of :func:`~lighting.analysis.slices.polar_slice`: the radius in
+    direction ``d`` is ``f_r(d, d)`` (light and view together), the retro-reflection lobe; ``l`` then
+    only marks the light.  Its grid is centred on the normal, where a specular lobe's retro-reflection
+    peaks (graded on half the lobe's width at normal incidence).
+
     Vertex count ``1 + 2·resolution²`` (8193 by default, at most 19603), faces
     ``2·segments·(rings − ½)``.  Faces are counter-clockwise seen from outside.
 
@@ -185,6 +200,10 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
         Grade the grid on the lobe (see above); ``False``: a uniform grid about the normal.
     channel : None, 0, 1, 2, "r", "g", "b" or "luminance"
         The radius; ``None`` means luminance.  ``rgb`` always holds all three channels.
+    tangent : array_like (3,), optional
+        The surface tangent ``t`` (azimuth origin of anisotropic models); default ``+x``.
+    lock : bool
+        The view follows the light: the retro-reflection lobe ``f_r(d, d)``.
 
     Returns
     -------
@@ -207,23 +226,29 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
     cos_mode = _check_cosine(cosine)
     adaptive = check_bool("adaptive", adaptive)
     ch = _check_channel(channel, "luminance")
+    tan = _check_tangent(tangent)
+    lock = check_bool("lock", lock)
     S = 2 * K
 
-    lit = l64[2] > 0
+    lit = l64[2] > 0 or lock
     width, along = math.inf, math.inf
     peak = np.array([0.0, 0.0, 1.0])
-    if lit:
+    if lock:
+        # f(d, d): a specular lobe of width w about R_d is a cone of width w/2 about n (R_d = d at n only).
+        width = along = 0.5 * _lobe_widths(brdf, 0.0)[0]
+        width = along = math.inf if math.isnan(width) else width
+    elif lit:
         width, along = _lobe_widths(brdf, _polar(l64))
         if math.isnan(width):
-            width = along = _numeric_width(brdf, l64, cos_mode, ch)
-        peak, _ = _peak64(brdf, l64, cos_mode, ch, width)
+            width = along = _numeric_width(brdf, l64, cos_mode, ch, tan)
+        peak, _ = _peak64(brdf, l64, cos_mode, ch, width, tan)
     narrow = adaptive and width < _BROAD
     theta_c, phi_c, stretch = 0.0, 0.0, 1.0
     rim_elevation = _RIM_ELEVATION
     # The adaptive grid holds the peak as a vertex (see below), so the lobe drawn reaches the
     # value lobe_peak reports and the slices show: its azimuth is the grid's χ = π ray, and a
     # peak closer to the horizon than the rim (rough Cook–Torrance lit at grazing) lowers the rim.
-    snap = adaptive and lit
+    snap = adaptive and lit and not lock
     if snap:
         phi_c = math.atan2(peak[1], peak[0])
         rim_elevation = min(rim_elevation, math.atan2(peak[2], math.hypot(peak[0], peak[1])))
@@ -280,8 +305,10 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
     faces = np.concatenate([fan, quads]).astype(np.int64)
 
     d_out = dirs.astype(dt)
-    if lit:
-        rgb = _quantity_rgb(brdf, np.broadcast_to(l64, dirs.shape), d_out, cos_mode, dt)
+    if lock:
+        rgb = _quantity_rgb(brdf, d_out, d_out, cos_mode, dt, tan)
+    elif lit:
+        rgb = _quantity_rgb(brdf, np.broadcast_to(l64, dirs.shape), d_out, cos_mode, dt, tan)
     else:
         rgb = np.zeros(dirs.shape, dtype=dt)
     values = _reduce(rgb, ch).astype(dt, copy=False)

@@ -127,19 +127,43 @@ def _check_phi(name, value):
     return _scalar_angle(name, value, "a finite angle in radians")
 
 
+def _check_tangent(tangent):
+    """``None``, or a unit tangent (float64, shape (3,)) in the plane ``z = 0`` of the local frame.
+
+    The tangent ``t`` orients anisotropic lobes (``α_x`` along ``t``, ``α_y`` along ``b = n × t``); only its
+    part perpendicular to ``n = +z`` counts, so that part must not vanish.
+    """
+    if tangent is None:
+        return None
+    allowed = "None or a direction (3,) not along the normal n = +z"
+    arr = real_array("tangent", tangent, allowed=allowed, dtype=np.float64)
+    if arr.shape != (3,):
+        raise ValueError(f"tangent must be {allowed}; got shape {arr.shape}: {_fmt(tangent)}")
+    t = np.array([arr[0], arr[1], 0.0])
+    size = math.hypot(t[0], t[1])
+    if not size > 0 or not math.isfinite(size):
+        raise ValueError(f"tangent must be {allowed}; got {_fmt(tangent)}")
+    return t / size
+
+
 def _out_dtype(dtype, *inputs):
     return working_dtype(*inputs) if dtype is None else check_float_dtype(dtype).type
 
 
 # --------------------------------------------------------------------------- evaluation
-def _quantity_rgb(brdf, l, v, cosine, dt):  # noqa: E741
-    """The plotted RGB quantity for unit ``l``, ``v`` (float64 arrays), in dtype ``dt``."""
+def _quantity_rgb(brdf, l, v, cosine, dt, tangent=None):  # noqa: E741
+    """The plotted RGB quantity for unit ``l``, ``v`` (float64 arrays), in dtype ``dt``.
+
+    ``tangent`` (checked by :func:`_check_tangent`) orients an anisotropic lobe; ``None`` leaves the
+    models' documented default, which at ``n = +z`` is ``t = +x``.
+    """
     n = np.array([0.0, 0.0, 1.0], dtype=dt)
     l, v = np.asarray(l, dt), np.asarray(v, dt)  # noqa: E741
+    frame = {} if tangent is None else {"tangent": np.asarray(tangent, dt)}
     if cosine == "light":
-        f = brdf.eval_cos(n, l, v)
+        f = brdf.eval_cos(n, l, v, **frame)
     else:
-        f = brdf.eval(n, l, v)
+        f = brdf.eval(n, l, v, **frame)
         if cosine == "view":
             f = f * np.maximum(v[..., 2], 0)[..., None]
     return np.asarray(f, dtype=dt)

@@ -23,6 +23,7 @@ from .quantity import (
     _check_channel,
     _check_cosine,
     _check_phi,
+    _check_tangent,
     _log_scale,
     _out_dtype,
     _plane_dirs,
@@ -60,8 +61,9 @@ class PolarSlice:
         ``theta_in`` in the incidence plane, ``0`` in the perpendicular plane.
     incident_angle : float
         Same for the fixed direction: ``-theta_in`` (incidence plane) or ``0``.
-    fixed, plane, cosine, log, channel, theta_in, phi_in
-        The options the slice was made with (``cosine`` normalized to ``None``, ``"light"`` or ``"view"``).
+    fixed, plane, cosine, log, channel, theta_in, phi_in, lock, tangent
+        The options the slice was made with (``cosine`` normalized to ``None``, ``"light"`` or ``"view"``;
+        ``tangent`` ``None`` or the unit tangent used).
     """
 
     angles: np.ndarray
@@ -78,6 +80,8 @@ class PolarSlice:
     channel: object
     theta_in: float
     phi_in: float
+    lock: bool = False
+    tangent: np.ndarray | None = None
 
     @property
     def xy(self) -> np.ndarray:
@@ -112,6 +116,8 @@ def polar_slice(
     channel=None,
     refine=True,
     dtype=None,
+    tangent=None,
+    lock=False,
 ) -> PolarSlice:
     r"""Polar plot of reflectance strength: one direction fixed, the other swept across a plane.
 
@@ -131,6 +137,19 @@ def polar_slice(
     (:func:`~lighting.analysis.lobes.lobe_width` ``w`` at ``theta_in``: shininess above ~1e4 at ``n = 361``) would
     fall between samples, so 129 more samples at spacing ``w/8`` are merged in across
     ``mirror_angle ± 8w``; ``angles`` stays sorted but is then not uniform.
+
+    ``phi_in`` turns the plane of incidence about the normal.  It is measured from the
+    tangent ``t`` (``+x`` unless ``tangent`` says otherwise), so for an anisotropic model
+    (Ward, Ashikhmin–Shirley, anisotropic Cook–Torrance) ``phi_in = 0`` cuts the lobe along
+    ``α_x`` and ``phi_in = π/2`` along ``α_y``; an isotropic model gives the same slice at
+    every ``phi_in``.
+
+    ``lock=True`` is BRDF Explorer's *view lock*: the view follows the light,
+    ``θ_v = θ_l`` and ``φ_v = φ_l``, and the swept direction ``d(t)`` is both ``l`` and
+    ``v``.  The slice is then the **retro-reflection** curve ``f_r(d, d)`` across the plane
+    (``theta_in`` and ``fixed`` only mark the current light); a specular lobe shows there as
+    a peak at the normal (``R_d = d`` only at ``t = 0``), back-scattering (rough diffuse
+    surfaces) as a rise toward grazing.
 
     ``cosine=True`` (``"light"``) plots ``f_r (n·l)``: with ``fixed="light"`` that is the
     constant ``cos theta_in`` times ``f_r`` (and removes Phong's ``1/(n·l)``), with
@@ -156,6 +175,11 @@ def polar_slice(
         See :mod:`lighting.analysis.quantity`.
     refine : bool
         Add samples across a lobe too narrow for the uniform grid.
+    tangent : array_like (3,), optional
+        The surface tangent ``t`` in the local frame (its part in the plane ``z = 0``): the
+        azimuth origin of anisotropic models.  Default: the models' own frame, ``t = +x``.
+    lock : bool
+        The view follows the light (retro-reflection slice, see above).
 
     Returns
     -------
@@ -182,15 +206,23 @@ def polar_slice(
     ch = _check_channel(channel, "rgb")
     refine = check_bool("refine", refine)
     dt = _out_dtype(dtype, theta_in)
+    tan = _check_tangent(tangent)
+    lock = check_bool("lock", lock)
     in_plane = plane == "incidence"
 
-    t = _slice_angles(brdf, theta, phi, count, plane, refine, cos_mode, ch)
+    if lock:
+        t = _retro_angles(brdf, count, refine)
+    else:
+        t = _slice_angles(brdf, theta, phi, count, plane, refine, cos_mode, ch, tan)
     sweep = _plane_dirs(t, phi, plane)
     d_fixed = _sph(theta, phi)
     mirror = np.array([-d_fixed[0], -d_fixed[1], d_fixed[2]])
     fixed_b = np.broadcast_to(d_fixed, sweep.shape)
-    l, v = (fixed_b, sweep) if fixed == "light" else (sweep, fixed_b)  # noqa: E741
-    values = _log_scale(_reduce(_quantity_rgb(brdf, l, v, cos_mode, dt), ch), log)
+    if lock:
+        l = v = sweep  # noqa: E741 - θ_v = θ_l, φ_v = φ_l
+    else:
+        l, v = (fixed_b, sweep) if fixed == "light" else (sweep, fixed_b)  # noqa: E741
+    values = _log_scale(_reduce(_quantity_rgb(brdf, l, v, cos_mode, dt, tan), ch), log)
     return PolarSlice(
         angles=t.astype(dt),
         values=values,
@@ -206,6 +238,8 @@ def polar_slice(
         channel=channel,
         theta_in=theta,
         phi_in=phi,
+        lock=lock,
+        tangent=tan,
     )
 
 
@@ -243,7 +277,24 @@ def reciprocity_pair(brdf, theta_in, **kwargs) -> tuple[PolarSlice, PolarSlice]:
     return polar_slice(brdf, theta_in, fixed="light", **kwargs), polar_slice(brdf, theta_in, fixed="view", **kwargs)
 
 
-def _slice_angles(brdf, theta, phi, count, plane, refine, cosine, channel):
+def _retro_angles(brdf, count, refine):
+    """Signed sample angles of a retro-reflection slice (``l = v = d(t)``): the grid, plus the normal's lobe.
+
+    With ``l = v`` at polar angle ``t`` the mirror direction is ``2t`` away, so a specular lobe of
+    width ``w`` (at normal incidence) shows as a peak of width ``w/2`` about ``t = 0``; below four grid
+    spacings it gets 129 more samples across ``±8 · w/2``, as :func:`_slice_angles` does for the mirror.
+    """
+    t = np.linspace(-_HALF_PI, _HALF_PI, count)
+    if not refine:
+        return t
+    w = 0.5 * _lobe_widths(brdf, 0.0)[0]
+    if w < 4 * math.pi / (count - 1):  # False for inf and nan
+        extra = w * np.linspace(-8.0, 8.0, 129)
+        t = np.union1d(t, extra[np.abs(extra) < _HALF_PI])
+    return t
+
+
+def _slice_angles(brdf, theta, phi, count, plane, refine, cosine, channel, tangent=None):
     """Signed sample angles of a slice: the uniform grid, plus where the lobe is.
 
     With ``refine``: a lobe narrower than four grid spacings gets 129 samples at spacing
@@ -264,19 +315,19 @@ def _slice_angles(brdf, theta, phi, count, plane, refine, cosine, channel):
     scalar = "luminance" if channel == "rgb" else channel
     w = _lobe_widths(brdf, theta)[0]
     if math.isnan(w):
-        w = _numeric_width(brdf, _sph(theta, phi), None, scalar)  # the options must not move the samples
+        w = _numeric_width(brdf, _sph(theta, phi), None, scalar, tangent)  # the options must not move the samples
     extra = []
     if w < 4 * math.pi / (count - 1):  # False for inf
         extra.append((theta if in_plane else 0.0) + w * np.linspace(-8.0, 8.0, 129))
     if in_plane and theta < _HALF_PI and math.isfinite(w):
-        extra.append(_slice_peaks(brdf, theta, phi, scalar, w))
+        extra.append(_slice_peaks(brdf, theta, phi, scalar, w, tangent))
     if extra:
         extra = np.concatenate([np.asarray(e, dtype=np.float64) for e in extra])
         t = np.union1d(t, extra[np.abs(extra) < _HALF_PI])
     return t
 
 
-def _slice_peaks(brdf, theta, phi, channel, width):
+def _slice_peaks(brdf, theta, phi, channel, width, tangent=None):
     """Signed angles of the in-plane peaks a slice must sample, whatever its ``fixed`` and ``cosine``.
 
     The same search as :func:`lighting.analysis.lobes._peak_t` for four quantities at once: ``f`` and
@@ -296,7 +347,7 @@ def _slice_peaks(brdf, theta, phi, channel, width):
         fixed_b = np.broadcast_to(d_fixed, sweep.shape)
         l = np.where(role_light[:, None], fixed_b, sweep)  # noqa: E741
         v = np.where(role_light[:, None], sweep, fixed_b)
-        f = _reduce(_quantity_rgb(brdf, l, v, None, np.float64), channel)
+        f = _reduce(_quantity_rgb(brdf, l, v, None, np.float64, tangent), channel)
         out, start = [], 0
         for n, (_, mode) in zip(sizes, variants, strict=True):
             part = f[start : start + n]
