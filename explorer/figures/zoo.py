@@ -1,4 +1,368 @@
 """The model gallery: every registered model on the same lit sphere, in the same polar slice, with its albedo curve.
+
+The rows are generated from the model registry (:func:`lighting.models.model_variants`: each model and
+each named variant, at its default parameters), never listed by hand, so a model registered later
+appears here by itself.  The gallery is split in two figures by family — the lobe axis each model
+declares (:meth:`~lighting.models.brdf.BRDF.lobe`): models reflecting about the normal or the mirror
+direction (diffuse, Phong, delta mirrors) and half-vector models (Blinn–Phong and the microfacet family).
+
+Registered on import (see :mod:`explorer.figures.base`); drawn by :mod:`explorer.figures`.
 """
 
 from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from lighting import CookTorrance, DirectionalLight, Lambert, Material
+from lighting.analysis import polar_slice
+from lighting.integrate import albedo_curve, directional_albedo
+from lighting.models import create_model, model_variants
+from lighting.models.oren_nayar import OrenNayar
+
+from .base import PALETTE, VEC, new_figure, register, show_image, sphere_rgb8
+
+#: The figures of the gallery: name → (family test on a model's lobe axis, title of the family).
+FAMILIES = {
+    "model_gallery_normal_mirror": ("normal", "models reflecting about the normal or the mirror direction"),
+    "model_gallery_half_vector": ("half", "half-vector models: Blinn–Phong and the microfacet family"),
+}
+
+#: Cards per row of a gallery figure.
+COLUMNS = 2
+
+
+def family_of(brdf) -> str:
+    """``"half"`` for a model whose lobe is a distribution of half vectors, else ``"normal"``.
+
+    Parameters
+    ----------
+    brdf : lighting.models.brdf.BRDF
+        A model.
+
+    Returns
+    -------
+    str
+        ``"half"`` or ``"normal"`` (diffuse, mirror-direction, delta or unknown lobes).
+    """
+    lobe = brdf.lobe()
+    return "half" if lobe is not None and lobe.axis == "half" else "normal"
+
+
+def gallery_entries(family: str) -> list[tuple[str, object]]:
+    """The registered models and variants of one family, at their default parameters, in registry order.
+
+    Parameters
+    ----------
+    family : {"normal", "half"}
+        See :func:`family_of`.
+
+    Returns
+    -------
+    list of (str, BRDF)
+        The registered name and the model.
+    """
+    out = []
+    for name in model_variants():
+        brdf = create_model(name)
+        if family_of(brdf) == family:
+            out.append((name, brdf))
+    return out
+
+
+def _param_text(brdf, width: int = 44) -> str:
+    """The model's parameters as ``name value`` pairs, wrapped to at most two lines."""
+    import textwrap
+
+    items = []
+    for p in brdf.parameters:
+        value = getattr(brdf, p.name, None)
+        if value is None:  # an optional parameter left at "same as another" (Ward's alpha_y)
+            continue
+        if p.kind == "color":
+            arr = np.asarray(value, dtype=np.float64).reshape(-1)
+            text = f"{arr[0]:g}" if np.all(arr == arr[0]) else "(" + ", ".join(f"{x:g}" for x in arr) + ")"
+        elif p.kind == "float":
+            text = f"{float(value):g}"
+        else:
+            text = str(value)
+        items.append(f"{p.name} {text}")
+    lines = textwrap.wrap(", ".join(items), width)
+    if len(lines) > 2:
+        lines = lines[:2]
+        lines[1] = lines[1].rstrip(",") + " …"
+    return "\n".join(lines)
+
+
+def half_disc(ax, rmax: float, *, ticks: int = 2, label: bool = True) -> None:
+    """Cartesian axes showing the upper hemisphere as a half disc (normal up, mirror side right).
+
+    A Matplotlib polar axes restricted to [−90°, 90°] keeps a square box and leaves its lower half
+    empty; drawn in Cartesian coordinates with equal aspect the half disc fills a 2:1 cell.  Plot a
+    slice with ``ax.plot(*slice.xy.T)`` (``x = f sin t``, ``y = f cos t``).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes to set up.
+    rmax : float
+        The radius of the outer circle (the radial scale's limit).
+    ticks : int, optional
+        About how many radial grid circles.
+    label : bool, optional
+        Print the radial scale's values along the right half of the baseline.
+
+    Returns
+    -------
+    None
+    """
+    from .base import _fmt_tick, _nice_ticks
+
+    t = np.linspace(-math.pi / 2, math.pi / 2, 181)
+    for r in _nice_ticks(rmax, ticks):
+        ax.plot(r * np.sin(t), r * np.cos(t), color="0.85", lw=0.7, zorder=0)
+        if label and r < 0.97 * rmax:
+            ax.text(r, -0.03 * rmax, _fmt_tick(r), ha="center", va="top", fontsize=10, color="0.35")
+    for deg in (-60, -30, 0, 30, 60):
+        a = math.radians(deg)
+        ax.plot([0, rmax * math.sin(a)], [0, rmax * math.cos(a)], color="0.85", lw=0.7, zorder=0)
+    ax.plot(rmax * np.sin(t), rmax * np.cos(t), color="0.2", lw=1.0, zorder=1)
+    ax.plot([-rmax, rmax], [0, 0], color="0.2", lw=1.0, zorder=1)
+    ax.text(0.03 * rmax, 0.99 * rmax, "n", ha="left", va="top", fontsize=11, color=VEC["n"], fontweight="bold")
+    ax.set_aspect("equal")
+    ax.set_xlim(-1.04 * rmax, 1.04 * rmax)
+    ax.set_ylim(-0.16 * rmax, 1.02 * rmax)
+    ax.axis("off")
+
+
+def _delta_albedo(brdf, thetas: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A delta model's albedo ρ(θ_v) = R(cos θ_v) (its own closed form: no quadrature error)."""
+    c = np.where(thetas >= math.pi / 2, 0.0, np.cos(thetas))
+    rho = np.asarray(brdf.reflectance(c), dtype=np.float64)[:, 0]
+    return rho, np.zeros_like(rho)
+
+
+def _sphere_panel(ax, brdf, light, q, background):
+    """The engine's sphere; for a delta model, the one point where R_l = v is marked."""
+    show_image(ax, sphere_rgb8(Material(brdf), [light], q.sphere_px, background=background))
+    if brdf.is_delta:
+        # The only place a viewer on +z sees a directional light in a mirror: n = h = (l + v)/|l + v|.
+        h = light.direction + np.array([0.0, 0.0, 1.0])
+        h = h / np.linalg.norm(h)
+        px = q.sphere_px
+        x, y = (h[0] / 1.08 + 1) / 2 * px - 0.5, (1 - h[1] / 1.08) / 2 * px - 0.5
+        ax.plot(x, y, "o", ms=9, mfc="none", mec="#F0E442", mew=1.8)
+        line = {"arrowstyle": "-", "color": "#F0E442", "lw": 1.0}
+        ax.annotate("R = v\nonly here", (x, y), xytext=(x + 0.18 * px, y + 0.45 * px), color="#F0E442",
+                    fontsize=10.5, ha="center", arrowprops=line)  # fmt: skip
+
+
+def _polar_panel(ax, brdf, theta_l_deg, q):
+    """The slice f_r(l, v) for the light at θ_l, linear radial scale up to the model's own peak."""
+    th = math.radians(theta_l_deg)
+    lx, ly = -math.sin(th), math.cos(th)  # the light's side is on the left
+    if brdf.is_delta:
+        r = float(np.asarray(brdf.reflectance(math.cos(th)))[0])
+        half_disc(ax, 1.0, label=False)
+        ax.annotate("", xy=(0.92 * math.sin(th), 0.92 * math.cos(th)), xytext=(0, 0),
+                    arrowprops={"arrowstyle": "-|>", "color": PALETTE[1], "lw": 2.6, "mutation_scale": 16})  # fmt: skip
+        ax.text(0.98 * math.sin(th) + 0.1, 0.8 * math.cos(th), "δ", color=PALETTE[1], fontsize=20, va="center")
+        ax.plot([0, lx], [0, ly], color=VEC["l"], ls=":", lw=1.6)
+        ax.set_title(f"spike along R, weight R = {r:.3g}", fontsize=11, pad=1)
+        return {"peak_angle_deg": theta_l_deg, "peak_value": None, "delta_weight": r}
+    s = polar_slice(brdf, th, n=q.polar_n, channel=0)
+    peak = float(s.values.max())
+    rmax = 1.1 * peak if peak > 0 else 1.0
+    half_disc(ax, rmax)
+    x, y = s.xy.T
+    ax.fill(x, y, color=PALETTE[0], alpha=0.18, lw=0)
+    ax.plot(x, y, color=PALETTE[0], lw=1.8)
+    ax.plot([0, rmax * lx], [0, rmax * ly], color=VEC["l"], ls=":", lw=1.6)
+    i = int(np.argmax(s.values))
+    inner = s.values[np.abs(s.angles) < math.radians(89.0)]
+    if float(inner.max() - inner.min()) <= 1e-9 * peak:
+        ax.set_title(f"constant {peak:.3g}/sr", fontsize=11, pad=1)
+    else:
+        ax.set_title(f"peak {peak:.3g}/sr at {math.degrees(float(s.angles[i])):+.0f}°", fontsize=11, pad=1)
+    return {"peak_angle_deg": math.degrees(float(s.angles[i])), "peak_value": peak}
+
+
+def _albedo_panel(ax, brdf, q):
+    """ρ(θ_v) with its ±2σ band (the integrator's honest error estimate)."""
+    # Up to 89°: at exactly 90° every albedo is 0 (n·v = 0, the engine's horizon convention), a drop
+    # that would draw a vertical line at the panel's edge and say nothing about the model.
+    step = 5.0 if q.quick else 1.0
+    thetas = np.radians(np.append(np.arange(0.0, 89.0, step), 89.0))
+    if brdf.is_delta:
+        rho, err = _delta_albedo(brdf, thetas)
+        how = "closed form R(cos θ_v)"
+    else:
+        c = albedo_curve(brdf, thetas, 512 if q.quick else 4096)
+        rho, err = c.albedo[:, 0], c.error[:, 0]
+        how = f"max error {float(err.max()):.1g}"
+    deg = np.degrees(thetas)
+    ax.fill_between(deg, rho - 2 * err, rho + 2 * err, color=PALETTE[2], alpha=0.3, lw=0)
+    ax.plot(deg, rho, color=PALETTE[2], lw=2.0)
+    ax.axhline(1.0, color="0.55", ls=":", lw=1.1)
+    top = max(1.1, 1.08 * float(np.max(rho + 2 * err)))
+    ax.set_ylim(0, top)
+    ax.set_xlim(0, 90)
+    ax.set_xticks([0, 30, 60, 89])
+    ax.set_xticklabels(["0", "30", "60", "89"])
+    ax.tick_params(labelsize=10)
+    ax.grid(True)
+    ax.set_xlabel(r"$\theta_v$ (degrees)", fontsize=11, labelpad=1)
+    ax.set_title(f"ρ(0) = {rho[0]:.3f},  {how}", fontsize=11, pad=2)
+    return {"rho0": float(rho[0]), "rho0_error": float(err[0]), "rho_max": float(rho.max()),
+            "max_error": float(err.max())}  # fmt: skip
+
+
+def _gallery(q, family: str, title: str, theta_l_deg: float, light_deg: float, background: float):
+    entries = gallery_entries(family)
+    rows = max(1, math.ceil(len(entries) / COLUMNS))
+    fig = new_figure(18.0, 0.55 + 2.75 * rows)
+    fig.suptitle(f"The model gallery: {title}", fontsize=16)
+    subs = np.atleast_1d(fig.subfigures(rows, COLUMNS, wspace=0.02, hspace=0.02)).reshape(rows, COLUMNS)
+    t = math.radians(light_deg)
+    light = DirectionalLight((-math.sin(t) * math.sqrt(0.5), math.sin(t) * math.sqrt(0.5), math.cos(t)))
+    measured = {}
+    for k, sub in enumerate(subs.flat):
+        if k >= len(entries):
+            sub.set_facecolor("white")
+            continue
+        name, brdf = entries[k]
+        sub.suptitle(f"{name}:  {_param_text(brdf)}", fontsize=11.5, x=0.02, ha="left", linespacing=1.1)
+        gs = sub.add_gridspec(1, 3, width_ratios=[0.85, 1.9, 1.15])
+        a, b, c = sub.add_subplot(gs[0, 0]), sub.add_subplot(gs[0, 1]), sub.add_subplot(gs[0, 2])
+        _sphere_panel(a, brdf, light, q, background)
+        m = _polar_panel(b, brdf, theta_l_deg, q)
+        m.update(_albedo_panel(c, brdf, q))
+        m["delta"] = bool(brdf.is_delta)
+        measured[name] = m
+    return fig, measured
+
+
+_CAPTION = (
+    "Every registered model of this family ({models}) at its default parameters, one card each. Left: the "
+    "engine's sphere under one white directional light {light_deg:g}° from the viewer (upper left), same "
+    "exposure for all, the slides' classic form π f_r (n·l) without ambient light. Middle: the polar slice "
+    "f_r (1/sr) in the plane of incidence for a light at θ_l = {theta_l_deg:g}° (dotted; the normal points "
+    "up, the mirror direction is at +{theta_l_deg:g}°), each on its own linear radial scale up to its peak, so "
+    "that every lobe fills its panel; the peak is printed above. Right: the directional albedo ρ(θ_v) = "
+    "∫ f_r (n·l) dω_l with a ±2σ band of the integrator's error estimate (lighting.integrate.albedo_curve); "
+    "above the dotted line at 1 a model reflects more than it receives."
+)
+
+
+@register(
+    "model_gallery_normal_mirror",
+    title="The model gallery (1): models about the normal or the mirror direction",
+    caption=_CAPTION
+    + (
+        " A delta model (the ideal mirror: f_r is a Dirac delta, eval gives 0) is drawn as a spike δ along the "
+        "mirror direction with its weight R, and its albedo is R(cos θ_v) exactly; under a point or "
+        "directional light it shows nothing but the one point where R = v (circled). Oren–Nayar at σ = 0 "
+        "equals Lambert (albedo difference {on_sigma0_difference:.1g}); Oren–Nayar's ρ(0) = k_d A "
+        "({on_rho0:.6f})."
+    ),
+    slides="UBC: BRDF measurements/plots; Materials: diffuse, glossy, specular. CMSC 435: Plotting BRDFs; Models",
+    theta_l_deg=45.0,
+    light_deg=45.0,
+    background=0.03,
+)
+def model_gallery_normal_mirror(q, *, theta_l_deg, light_deg, background):
+    """The gallery's first figure: diffuse, mirror-direction and delta models.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    theta_l_deg : float
+        Light angle from the normal in the polar slices, in degrees.
+    light_deg : float
+        Angle of the spheres' directional light from the view direction, in degrees.
+    background : float
+        Linear grey behind the spheres (a black sphere stays visible).
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: per model ``rho0`` (ρ at normal view), its error, the slice's peak angle
+        and value, and the closed-form checks of the albedo integrator (Lambert, Oren–Nayar at σ = 0).
+
+    Notes
+    -----
+    Oren–Nayar's qualitative model at normal view (β = 0, so tan β = 0) keeps only its constant term:
+    ρ(0) = k_d A, A = 1 − σ²/(2 (σ² + 0.33)) (Oren & Nayar 1994).
+
+    References
+    ----------
+    M. Oren and S. K. Nayar, "Generalization of Lambert's reflectance model", SIGGRAPH 1994.
+    """
+    fig, measured = _gallery(q, "normal", FAMILIES["model_gallery_normal_mirror"][1], theta_l_deg, light_deg,
+                             background)  # fmt: skip
+    thetas = np.radians(np.arange(0.0, 90.0 + 1e-9, 10.0))
+    on0 = directional_albedo(OrenNayar(0.8, 0.0), thetas, 512)[:, 0]
+    lam = directional_albedo(Lambert(0.8), thetas, 512)[:, 0]
+    on = create_model("oren-nayar")
+    extra = {
+        "on_sigma0_difference": float(np.max(np.abs(on0 - lam))),
+        "on_rho0": measured.get("oren-nayar", {}).get("rho0", float("nan")),
+        "on_default_kd": float(np.asarray(on.kd).reshape(-1)[0]),
+        "on_default_sigma": float(on.sigma),
+        "lambert_default_kd": float(np.asarray(create_model("lambert").kd).reshape(-1)[0]),
+    }
+    caption = {"models": ", ".join(measured), "theta_l_deg": theta_l_deg, "light_deg": light_deg}
+    return fig, {"models": measured, **extra, **caption}
+
+
+@register(
+    "model_gallery_half_vector",
+    title="The model gallery (2): half-vector models — Blinn–Phong and the microfacet family",
+    caption=_CAPTION
+    + (
+        " The integrator's check: Cook–Torrance with GGX, height-correlated Smith G, α = 1 and F = 1 has "
+        "ρ(0) = 1 − ln 2 = 0.306853 exactly; measured {ggx_rho0:.6f} ± {ggx_rho0_error:.1g}."
+    ),
+    slides="CMSC 435: Specular microfacets; Cook–Torrance; Blinn–Phong (normalized); Plotting BRDFs",
+    theta_l_deg=45.0,
+    light_deg=45.0,
+    background=0.03,
+)
+def model_gallery_half_vector(q, *, theta_l_deg, light_deg, background):
+    """The gallery's second figure: Blinn–Phong and the microfacet models.
+
+    Parameters
+    ----------
+    q : explorer.figures.base.Quality
+        Image sizes and sample counts (full or quick).
+    theta_l_deg : float
+        Light angle from the normal in the polar slices, in degrees.
+    light_deg : float
+        Angle of the spheres' directional light from the view direction, in degrees.
+    background : float
+        Linear grey behind the spheres.
+
+    Returns
+    -------
+    tuple
+        ``(figure, measured)``: per model ``rho0``, its error, the slice's peak angle and value, and the
+        albedo integrator's closed-form check.
+
+    Notes
+    -----
+    With the height-correlated Smith term, ``α = 1`` GGX and ``F = 1``, the albedo at normal view is
+    ``1 − ln 2`` (Λ(v) = 0 there, and the remaining integral has a closed form; Heitz 2014).
+
+    References
+    ----------
+    E. Heitz, "Understanding the masking-shadowing function in microfacet-based BRDFs", JCGT 3(2), 2014.
+    """
+    fig, measured = _gallery(q, "half", FAMILIES["model_gallery_half_vector"][1], theta_l_deg, light_deg,
+                             background)  # fmt: skip
+    est = directional_albedo(CookTorrance(1.0, 1.0, 1.0, ndf="ggx", geometry="smith-correlated"), 0.0,
+                             1024 if q.quick else 4096, return_error=True)  # fmt: skip
+    caption = {"models": ", ".join(measured), "theta_l_deg": theta_l_deg, "light_deg": light_deg}
+    return fig, {"models": measured, "ggx_rho0": float(est.value[0]), "ggx_rho0_error": float(est.error[0]),
+                 **caption}  # fmt: skip
