@@ -123,6 +123,7 @@ class AshikhminShirley(BRDF):
     """
 
     name = "ashikhmin-shirley"
+    own_diffuse = True  # the coupled diffuse term beside the specular lobe
     parameters = (
         Parameter("rd", "color", 0.5, slider=(0.0, 1.0), description="diffuse colour R_d"),
         Parameter("rs", "color", 0.05, high=1.0, slider=(0.0, 1.0),

@@ -216,6 +216,8 @@ class BRDF:
     variants: dict = {}
     #: ``f_r`` is the constant ``diffuse_albedo / π``: shading and integration may use closed forms.
     lambertian = False
+    #: A diffuse term of its own beside its ``term`` (Disney, Ashikhmin–Shirley): front ends add no Lambert part.
+    own_diffuse = False
     #: ``f_r`` is a Dirac delta (the ideal mirror): ``eval`` is 0 for every finite pair of directions,
     #: and integrators, plots and the explorer must treat the reflected direction apart
     #: (see :class:`~lighting.models.mirror.Mirror`, ``reflectance(cos_theta)``).

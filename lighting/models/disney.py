@@ -274,6 +274,7 @@ class Disney(BRDF):
     """
 
     name = "disney"
+    own_diffuse = True  # the Burley diffuse (and sheen) beside the specular lobes
     stackable = False
     parameters = (
         Parameter("base_color", "color", 0.8, high=1.0, slider=(0.0, 1.0),
