@@ -8,6 +8,10 @@ the fraction of light from a uniform sky that the surface sends toward ``v``
 (equivalently, by reciprocity, the fraction of a beam from ``v`` that is
 reflected at all).  A model conserves energy when ``ρ(v) <= 1`` for every ``v``.
 
+An ideal mirror (a part with ``is_delta``, :class:`~lighting.models.mirror.Mirror`) reflects into the
+one direction ``R_v``: its albedo is its ``reflectance(cos θ_v)``, added exactly (zero error) whatever the
+method, while the smooth parts of a sum are integrated as usual.
+
 Every function takes ``samples`` (its cost: BRDF evaluations per result) and a ``method`` of
 :data:`METHODS`: ``"quadrature"`` (:mod:`lighting.integrate.quadrature`, deterministic) or one of the
 Monte Carlo methods of :mod:`lighting.integrate.montecarlo`; with ``return_error=True`` an
@@ -25,6 +29,7 @@ import numpy as np
 from .._numeric import _fmt, check_bool, check_budget, check_choice, check_count, real_array, working_dtype
 from ..models.brdf import BRDF
 from ._checks import _NODE_BUDGET, _check_brdf, _out, _replicates, _samples
+from ._delta import delta_albedo, split_delta
 from .estimate import _ROUNDING, Estimate, _combine
 from .montecarlo import _mc_estimates, _probe_count
 from .quadrature import _gl01, _lobe_rule, _split
@@ -99,17 +104,25 @@ def _albedo_batch(brdf, v, method, samples, rng, replicates, want_error):
 
 
 def _albedo(brdf, theta, method, samples, rng, reps, want_error):
-    """Albedo, standard error and rule-of-three term ``(T, 3)`` for flat view angles ``theta`` (T,)."""
+    """Albedo, standard error and rule-of-three term ``(T, 3)`` for flat view angles ``theta`` (T,).
+
+    Delta parts (the ideal mirror) give ``R(cos θ_v)`` exactly, with no error and no sample; the smooth
+    remainder goes through ``method``.  A model with delta parts only spends one evaluation per angle.
+    """
     v = _view_local(theta)
-    val = np.zeros(v.shape[:-1] + (3,))
+    smooth, deltas = split_delta(brdf)
+    val = delta_albedo(deltas, v[:, 2])
     se = np.zeros_like(val)
     rare = np.zeros_like(val)
+    if smooth is None:
+        return val, se, rare, 1
     used = samples
-    per_view = samples + (_probe_count(brdf) if want_error and method != "quadrature" else 0)
+    per_view = samples + (_probe_count(smooth) if want_error and method != "quadrature" else 0)
     chunk = max(1, _NODE_BUDGET // per_view)
     for i in range(0, v.shape[0], chunk):
         sl = slice(i, i + chunk)
-        val[sl], se[sl], rare[sl], used = _albedo_batch(brdf, v[sl], method, samples, rng, reps, want_error)
+        a, se[sl], rare[sl], used = _albedo_batch(smooth, v[sl], method, samples, rng, reps, want_error)
+        val[sl] += a
     return val, se, rare, used
 
 
@@ -129,7 +142,9 @@ def directional_albedo(
     ----------
     brdf : BRDF
         Any model of :mod:`lighting.models.brdf` (sums included: each part is
-        integrated with its own rule, or sampled by a mixture).
+        integrated with its own rule, or sampled by a mixture).  A delta part
+        (``is_delta``: the ideal mirror) adds its ``reflectance(cos θ_v)`` exactly,
+        with zero error, under every method.
     theta_v : float or array_like, radians in [0, π/2]
         The viewer's angle from the normal (isotropic models: the azimuth does
         not matter).  At exactly π/2 the albedo is 0 (``n·v = 0``).
@@ -178,6 +193,10 @@ def directional_albedo(
     >>> est = directional_albedo(Lambert(0.5), [0.0, 1.0], 256, "cosine", seed=1, return_error=True)
     >>> est.value.shape, float(est.error.max()) < 1e-12  # cosine sampling is exact for Lambert
     ((2, 3), True)
+    >>> from lighting.models.mirror import Mirror
+    >>> est = directional_albedo(Mirror(1.0, 0.04, "schlick"), 0.0, return_error=True)
+    >>> est.value.round(12).tolist(), est.error.tolist()  # the delta: F0 exactly, no error
+    ([0.04, 0.04, 0.04], [0.0, 0.0, 0.0])
     """
     t0 = time.perf_counter()
     brdf = _check_brdf(brdf)
@@ -210,7 +229,8 @@ def albedo_curve(
     Parameters
     ----------
     brdf : BRDF
-        Any model of :mod:`lighting.models` (sums included).
+        Any model of :mod:`lighting.models` (sums included; delta parts exactly, as in
+        :func:`directional_albedo`).
     thetas : array_like, 1-D, radians in [0, π/2], optional
         View angles; default 0°, 1°, …, 90° (in radians).
     samples, method, seed, replicates
@@ -253,7 +273,8 @@ def hemispherical_albedo(
 
     the fraction of light from a uniform sky that is reflected at all.  The
     ``μ`` integral is ``view_samples``-point Gauss–Legendre (exact for ``ρ``
-    polynomial of degree < 2·view_samples − 1 in μ).  The reported error adds
+    polynomial of degree < 2·view_samples − 1 in μ: a mirror's ``k_s`` from one
+    node, Schlick's ``F_0 + (1 − F_0)/21`` from four).  The reported error adds
     the ``μ`` rule's own error — its difference to the rule with half the
     nodes (or with two for a single node), plus ``μ₁² max ρ`` for the sliver
     below the smallest node ``μ₁`` that neither rule sees (a lobe cut by the

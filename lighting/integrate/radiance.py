@@ -15,9 +15,12 @@ Methods besides those of :mod:`lighting.integrate.albedo`:
     Directions drawn from the environment's own density, or half from the BRDF and half from the
     environment combined with the balance heuristic of multiple importance sampling (Veach & Guibas
     1995; Veach 1997, ch. 9).
-``"sh"`` (Lambertian models)
+``"sh"`` (Lambertian models, plus mirrors)
     Nine spherical-harmonic coefficients of the environment and the irradiance formula of
     Ramamoorthi & Hanrahan (2001) (:mod:`lighting.integrate.sh`).
+
+Delta parts (the ideal mirror, ``is_delta``) are never sampled: each adds ``R(n·v) L_i(R_v)``, exact,
+before the smooth parts reach any of these methods (:mod:`lighting.integrate._delta`).
 
 Every point is integrated in its own shading frame (``z`` the normal, :func:`lighting.vec.orthonormal_basis`).
 
@@ -51,6 +54,7 @@ from ..lights.environment import SmallPatchEnvironment, as_environment
 from ..models.brdf import BRDF
 from ..vec import orthonormal_basis
 from ._checks import _NODE_BUDGET, _check_brdf, _out, _replicates, _samples, _unit_rows
+from ._delta import delta_radiance, split_delta
 from .albedo import METHODS
 from .estimate import _ROUNDING, Estimate, _combine, _mean_err, _ratio, _terms, _weight_range
 from .montecarlo import _ENV_PROBES, _lobe_probes, _method_sampler, _probe_count, _sampled_mean
@@ -75,9 +79,7 @@ def _frames(normals, view_dirs):
     try:
         shape = np.broadcast_shapes(n.shape, v.shape)
     except ValueError:
-        raise ValueError(
-            f"normals and view_dirs must broadcast together; got shapes {n.shape} and {v.shape}"
-        ) from None
+        raise ValueError(f"normals and view_dirs must broadcast together; got shapes {n.shape} and {v.shape}") from None
     check_budget("normals", math.prod(shape) * 8 * 16, what=f"{math.prod(shape) // 3} shading points")
     n, nlen = _unit_rows(np.broadcast_to(n, shape).reshape(-1, 3), np.array([0.0, 0.0, 1.0]))
     v, vlen = _unit_rows(np.broadcast_to(v, shape).reshape(-1, 3), np.array([0.0, 0.0, 1.0]))
@@ -172,7 +174,10 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
         if not want_error:
             return val, se, np.zeros_like(se), 2 * n_env
         lo, hi = _weight_range(
-            integrand, lambda l: env_pdf(l) + sampler._pdf(l, vv), probes(), np.concatenate([wa, wb], axis=1)  # noqa: E741
+            integrand,
+            lambda l: env_pdf(l) + sampler._pdf(l, vv),
+            probes(),
+            np.concatenate([wa, wb], axis=1),  # noqa: E741
         )
         # A pair's sum z = w(l_e) + w(l_b) lies in [2 lo, 2 hi].
         return (val, *_terms(val, se, n_env, 2 * lo, 2 * hi), 2 * n_env)
@@ -203,7 +208,9 @@ def outgoing_radiance(
     Parameters
     ----------
     brdf : BRDF
-        Any model of :mod:`lighting.models` (sums included).
+        Any model of :mod:`lighting.models` (sums included).  A delta part (``is_delta``:
+        the ideal mirror) adds ``reflectance(n·v) · L_env(R_v)``, ``R_v = 2 n (n·v) − v``,
+        exactly and with zero error, whatever the method; the other parts are integrated by it.
     environment : Environment, scalar/RGB radiance or callable
         A :class:`lighting.lights.environment.Environment`; a constant radiance or a
         function of direction is wrapped.
@@ -215,7 +222,7 @@ def outgoing_radiance(
         environment that is black outside a small cap
         (:class:`~lighting.lights.environment.SmallPatchEnvironment`) — on the cap.
         ``"sh"`` needs a Lambertian model (a :class:`~lighting.models.brdf.Lambert`
-        or a sum of them): ``L_o = k_d/π · E(n)`` with ``E`` from
+        or a sum of them, plus mirrors): ``L_o = k_d/π · E(n)`` with ``E`` from
         :func:`sh_irradiance` (an approximation, about 1 % for typical
         environments, up to ~9 % for a single small light).
     samples : int
@@ -260,28 +267,34 @@ def outgoing_radiance(
     check_budget("sh_samples", sh_samples * BYTES_PER_SAMPLE * 4, what=f"{sh_samples} sphere nodes")
     return_error = check_bool("return_error", return_error)
     rng = as_generator(seed)
-    if method == "sh":
-        kd = _lambertian_albedo(brdf)
+    # Delta parts (the ideal mirror) exactly: R(cos θ_v) L(R_v), no error; the smooth rest by `method`.
+    smooth, deltas = split_delta(brdf)
+    val = delta_radiance(deltas, env, vl, lambda d: _to_world(d, t, b, n))
+    err = np.zeros_like(val)
+    used = 1
+    if smooth is None:
+        pass
+    elif method == "sh":
+        kd = _lambertian_albedo(smooth)
         coeffs = sh_coefficients(env, sh_samples, return_error=True)
         e = sh_irradiance(coeffs.value, n)
         e_err = _sh_error_bound(coeffs.error, n) + _sh_truncation_error(env, coeffs.value, n, sh_samples)
-        val = np.where((valid & (vl[:, 2] > 0))[:, None], kd / math.pi * e, 0.0)
+        val += np.where((valid & (vl[:, 2] > 0))[:, None], kd / math.pi * e, 0.0)
         err = np.where((valid & (vl[:, 2] > 0))[:, None], kd / math.pi * e_err, 0.0)
         used = coeffs.samples
     else:
-        val = np.zeros((n.shape[0], 3))
-        err = np.zeros_like(val)
         used = samples
         probing = return_error and method != "quadrature"
-        chunk = max(1, _NODE_BUDGET // (samples + (_probe_count(brdf, env) if probing else 0)))
+        chunk = max(1, _NODE_BUDGET // (samples + (_probe_count(smooth, env) if probing else 0)))
         for i in range(0, n.shape[0], chunk):
             sl = slice(i, i + chunk)
             a, se, rare, used = _radiance_batch(
-                brdf, env, n[sl], t[sl], b[sl], vl[sl], method, samples, rng, reps, return_error
+                smooth, env, n[sl], t[sl], b[sl], vl[sl], method, samples, rng, reps, return_error
             )
-            val[sl], err[sl] = a, _combine(se, rare)
-        val = np.where(valid[:, None], val, 0.0)
-        err = np.where(valid[:, None], err, 0.0)
+            val[sl] += a
+            err[sl] = _combine(se, rare)
+    val = np.where(valid[:, None], val, 0.0)
+    err = np.where(valid[:, None], err, 0.0)
     value = _out(val.reshape(shape + (3,)), dt)
     if not return_error:
         return value
@@ -291,8 +304,8 @@ def outgoing_radiance(
 def _lambertian_albedo(brdf: BRDF) -> np.ndarray:
     if not all(p.lambertian for p in brdf.parts):
         raise ValueError(
-            f"method 'sh' (spherical-harmonic irradiance) needs a Lambertian model (Lambert or a sum of them); "
-            f"got {brdf!r}"
+            f"method 'sh' (spherical-harmonic irradiance) needs a Lambertian model (Lambert or a sum of them, "
+            f"mirrors allowed); got {brdf!r}"
         )
     return sum((p.kd for p in brdf.parts), np.zeros(3))
 
@@ -327,7 +340,12 @@ def point_light_limit(
     Parameters
     ----------
     brdf : BRDF
-        Any model of :mod:`lighting.models`.
+        Any model of :mod:`lighting.models`.  A delta part (the ideal mirror) contributes 0 to the
+        point-light term, as every point, directional or spot light gives it (its ``eval`` is 0: the
+        light would be seen only where ``R_l = v`` exactly), but ``R(n·v) L`` to the patch's radiance
+        when ``R_v`` falls inside the patch, however small: the mirror image of a light keeps its
+        radiance, so for a mirror the relative difference does not fall with ``Ω`` — a point light
+        has no image in a mirror.
     light_dir, normal, view_dir : 3-vectors, nonzero (world frame)
         Direction toward the patch centre, the surface normal and the direction toward the viewer
         (need not be unit length).

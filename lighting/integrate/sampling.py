@@ -55,6 +55,7 @@ from .._numeric import (
 from ..models.brdf import BRDF, Geometry
 from ..models.lambert import CosineSampler, cosine_hemisphere_pdf, square_to_cosine_hemisphere
 from ..models.microfacet_sampling import MicrofacetSampler
+from ..models.mirror import MirrorSampler
 from ..models.phong import PhongSampler
 from ..models.sampler import (  # noqa: F401  (BYTES_PER_SAMPLE, _check_size: the integrators' memory estimates)
     BYTES_PER_SAMPLE,
@@ -69,6 +70,7 @@ from ..models.sampler import (  # noqa: F401  (BYTES_PER_SAMPLE, _check_size: th
     square_to_uniform_hemisphere,
     uniform_hemisphere_pdf,
 )
+from ._delta import _DeltaSum
 
 __all__ = [
     "Samples",
@@ -118,7 +120,6 @@ def as_generator(seed=None) -> np.random.Generator:
     if seed < 0:
         raise ValueError(f"seed must be {allowed}; got {_fmt(seed)}")
     return np.random.default_rng(int(seed))
-
 
 
 def jittered(count: int, seed=None) -> np.ndarray:
@@ -178,7 +179,6 @@ def jittered_batch(batch: tuple, count: int, seed=None) -> np.ndarray:
     return (cells + rng.random(tuple(batch) + cells.shape)) / np.array([kx, ky], dtype=np.float64)
 
 
-
 def sample_uniform(count: int, seed=None) -> Samples:
     """``count`` independent uniform hemisphere directions (see :func:`square_to_uniform_hemisphere`).
 
@@ -229,7 +229,6 @@ def sample_stratified(count: int, seed=None, warp: str = "cosine") -> Samples:
     if warp == "cosine":
         return square_to_cosine_hemisphere(u)
     return square_to_uniform_hemisphere(u)
-
 
 
 class MixtureSampler(Sampler):
@@ -390,7 +389,14 @@ def importance_sampler(brdf: BRDF) -> Sampler:
     * :class:`~lighting.models.cook_torrance.CookTorrance` → its NDF's ``D(h)(n·h)``;
     * a sum → :class:`MixtureSampler` of the parts' samplers, weighted by each
       part's albedo, tabulated over ``cos θ_v`` and interpolated (at least 1 %
-      each, so no part with nonzero reflectance is starved).
+      each, so no part with nonzero reflectance is starved);
+    * :class:`~lighting.models.mirror.Mirror` (``is_delta``) → its
+      :class:`~lighting.models.mirror.MirrorSampler` (``delta = True``: every draw is ``R_v``,
+      ``pdf`` 1 as a discrete probability, ``weight(v)`` its reflectance); a sum of delta parts only → one
+      such sampler with their reflectances added.  In a sum with smooth parts the delta parts are left
+      out of the mixture (their density is 0 at every direction the others draw, and they would add
+      nothing to ``f (n·l)/p``): the sampler is the smooth parts', and the integrators add the delta
+      parts exactly (:mod:`lighting.integrate._delta`).
 
     Parameters
     ----------
@@ -407,6 +413,11 @@ def importance_sampler(brdf: BRDF) -> Sampler:
     MixtureSampler([CosineSampler(), PhongSampler(20.0)])
     """
     parts = _check_brdf(brdf).parts
+    smooth = tuple(p for p in parts if not p.is_delta)
+    if not smooth:
+        # Delta parts only: they share the one direction R_v, and their weights add.
+        return _part_sampler(parts[0]) if len(parts) == 1 else MirrorSampler(_DeltaSum(parts))
+    parts = smooth
     if len(parts) == 1:
         return _part_sampler(parts[0])
     samplers = [_part_sampler(p) for p in parts]

@@ -15,7 +15,7 @@ from __future__ import annotations
 from . import protocol, microfacet, fresnel, geometry, base, sampler
 from . import lambert, phong, microfacet_sampling, blinn_phong, cook_torrance, brdf
 # Beyond the slides, in the order lecturers compare them: diffuse, then glossy, then the principled model.
-from . import oren_nayar, ward, ashikhmin_shirley, disney
+from . import oren_nayar, ward, ashikhmin_shirley, disney, mirror  # noqa: F401  (mirror: registers "mirror")
 
 # isort: on
 from .brdf import *  # noqa: F403

@@ -16,6 +16,12 @@ and at every choice of every choice parameter:
 and for each distinct importance sampler (``model.sampler()``) of those settings: its density
 integrates to 1 over the sphere (quadrature, for a few views) and a χ² test of ``sample`` against
 ``pdf`` passes (seeded).
+
+A delta model (``is_delta``: the ideal mirror) has no density and no function to compare against;
+its laws are the delta's own: ``eval``, ``eval_cos`` and ``classic`` are 0 for every pair; its
+directional albedo is ``reflectance(cos θ_v)`` exactly (zero error) under every method; its sampler
+(``delta = True``) returns the mirror direction ``R_v`` for every point of the square with
+probability 1 and weight ``reflectance(cos θ_v)``, and its ``pdf`` is 0 at every direction.
 """
 
 from __future__ import annotations
@@ -28,6 +34,8 @@ import pytest
 from chi2 import chi2_pvalue
 from quadrature import hemisphere
 
+from lighting.integrate import directional_albedo
+from lighting.integrate.albedo import METHODS
 from lighting.models import Lobe, model_variants
 from lighting.models.base import _combine
 from lighting.models.geometry import Geometry
@@ -90,6 +98,9 @@ def test_eval_eval_cos_and_classic_agree_and_keep_the_dtype(cls, kwargs, dtype):
     assert f.shape == fc.shape == cl.shape == (len(n), 3)
     for x in (f, fc, cl):
         assert np.all(np.isfinite(x)) and np.all(x >= 0)
+    if model.is_delta:  # the delta is not a function: every finite pair of directions sees 0
+        for x in (f, fc, cl):
+            assert np.all(x == 0)
     eps = np.finfo(dtype).eps
     tiny = np.finfo(dtype).tiny
     nl = np.clip(np.sum(n.astype(np.float64) * l, axis=-1), 0, None)[:, None]
@@ -193,10 +204,40 @@ def _sphere_integral(func, axis):
     return total
 
 
+DELTA_CASES = [case for case in CASES if case.values[0].is_delta]
+
+
+@pytest.mark.parametrize("cls, kwargs", DELTA_CASES)
+def test_delta_albedo_is_the_reflectance_exactly_under_every_method(cls, kwargs):
+    model = _model(cls, kwargs)
+    theta = np.radians([0.0, 30.0, 60.0, 85.0, 89.9, 90.0])
+    want = model.reflectance(np.where(theta < math.pi / 2, np.cos(theta), 0.0))
+    for method in METHODS:
+        est = directional_albedo(model, theta, 64, method, seed=3, return_error=True)
+        np.testing.assert_array_equal(est.value, want, err_msg=method)
+        np.testing.assert_array_equal(est.error, 0.0, err_msg=method)
+
+
+def _check_delta_sampler(model, sampler, v):
+    """A delta sampler: ``R_v`` for every ``u``, probability 1, weight = reflectance, density 0 everywhere."""
+    assert sampler.delta is True
+    u = np.random.default_rng(7).random((1000, 2))
+    s = sampler.sample(u, v)
+    np.testing.assert_allclose(s.directions, np.broadcast_to([-v[0], -v[1], v[2]], (1000, 3)), rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(s.pdf, 1.0)
+    np.testing.assert_allclose(sampler.weight(v), model.reflectance(v[2]), rtol=1e-15, atol=0)
+    # No density at any direction, R_v included (as eval): another strategy's samples give it no share.
+    probe = np.concatenate([s.directions[:1], _unit(np.random.default_rng(8).normal(size=(200, 3)))])
+    np.testing.assert_array_equal(sampler.pdf(probe, v), 0.0)
+
+
 @pytest.mark.parametrize("model, sampler", SAMPLERS)
 @pytest.mark.parametrize("theta_v", VIEWS_DEG)
 def test_sampler_density_integrates_to_one(model, sampler, theta_v):
     v = _view(theta_v)
+    if getattr(sampler, "delta", False):  # a discrete choice of R_v: its probability is 1, its density 0
+        _check_delta_sampler(model, sampler, v)
+        return
     lobe = model.lobe()
     # The quadrature's nodes crowd toward the axis: the mirror direction for a mirror lobe; for half-vector
     # lobes −v, where p(l) = D(h)(n·h)/(4|v·h|) has an integrable 1/|l + v| point.
@@ -207,5 +248,11 @@ def test_sampler_density_integrates_to_one(model, sampler, theta_v):
 
 @pytest.mark.parametrize("model, sampler", SAMPLERS)
 def test_sampler_chi_square(model, sampler):
+    if getattr(sampler, "delta", False):
+        # Every one of the χ² test's 60 000 draws falls on R_v: the whole histogram is that one point.
+        v = _view(40.0)
+        d = sampler.sample(np.random.default_rng(2024).random((60_000, 2)), v).directions
+        assert np.all(d == d[0]) and np.allclose(d[0], [-v[0], -v[1], v[2]], rtol=0, atol=1e-15)
+        return
     # Mitsuba-style χ² test over (cos θ, φ) cells of the sphere (tests/chi2.py).
     assert chi2_pvalue(sampler, _view(40.0)) > 1e-3
