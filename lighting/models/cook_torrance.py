@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from .._numeric import check_choice, check_positive, saturate_to
+from .._numeric import check_bool, check_choice, check_positive, saturate_to
 from . import fresnel as _fresnel
 from . import microfacet as _mf
 from .base import _UNIT_RGB, BRDF, _color, _color_text, _combine
@@ -72,6 +72,18 @@ class CookTorrance(BRDF):
         azimuth φ.  The tangent comes from ``eval(..., tangent=t)``; without one the frame of
         :attr:`lighting.models.geometry.Geometry.t`.  ``α_x = α_y`` is the isotropic model bit for bit
         (the isotropic code, with that α); an anisotropic model is not :attr:`stackable`.
+    energy_compensation : bool
+        Add Kulla and Conty's (2017) multiple-scattering lobe (:mod:`lighting.models.energy`), which gives
+        back the light that single scattering loses to shadowing on rough surfaces::
+
+            f_ms = k_s F_ms (1 − E(n·v)) (1 − E(n·l)) / (π (1 − E_avg)),
+            F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg)),
+
+        ``E(μ)`` the directional albedo of this lobe with ``F = 1`` (a table in ``(μ, √α)``, ``α`` clamped
+        to 1), ``E_avg = 2 ∫ E μ dμ``, ``F_avg = 2 ∫ F μ dμ`` (``f0 + (1 − f0)/21`` for Schlick).  With
+        ``F = 1`` the directional albedo is then 1 at every view up to 85° (within the table's 2e-3).
+        Only for the Smith geometries with a GGX or Beckmann ``D``, the denominator 4 and an isotropic
+        ``α`` (``ValueError`` otherwise).  False (the default) is the single-scattering model, bit for bit.
 
     Notes
     -----
@@ -124,6 +136,8 @@ class CookTorrance(BRDF):
                   description="α along the tangent t (anisotropic GGX/Beckmann); None: roughness"),
         Parameter("alpha_y", "float", None, slider=(1e-3, 1.0), log=True, low_open=True,
                   description="α along the bitangent b = n × t; None: roughness"),
+        Parameter("energy_compensation", "bool", False,
+                  description="add the multiple-scattering lobe of Kulla and Conty (Smith GGX/Beckmann)"),
     )
 
     #: The class default; an instance with α_x ≠ α_y sets its own ``stackable = False`` (the stacked fast
@@ -141,6 +155,7 @@ class CookTorrance(BRDF):
         denominator="4",
         alpha_x=None,
         alpha_y=None,
+        energy_compensation=False,
     ):
         self.ks = _color("ks", ks)
         self.roughness = check_positive("roughness", roughness)
@@ -166,6 +181,29 @@ class CookTorrance(BRDF):
         if self.anisotropic:
             self.stackable = False
         self._exponent = float(_mf.blinn_phong_exponent(self._alpha))
+        self.energy_compensation = check_bool("energy_compensation", energy_compensation)
+        #: The multiple-scattering lobe (:class:`lighting.models.energy.MultipleScattering`), or None.
+        self._ms = self._multiple_scattering() if self.energy_compensation else None
+
+    def _multiple_scattering(self):
+        """Kulla and Conty's lobe for this model; refuses the settings it has no table or meaning for."""
+        from . import energy  # the tables are made on first use, not at import
+
+        refuse = []
+        if self.geometry == "v-cavity":
+            refuse.append("geometry 'smith' or 'smith-correlated' (got 'v-cavity')")
+        if self.ndf not in energy.NDFS:
+            refuse.append(f"ndf 'ggx' or 'beckmann' (got {self.ndf!r}, whose Smith term is Beckmann's)")
+        if self.denominator != "4":
+            refuse.append(f"denominator '4' (got {self.denominator!r}, which reflects up to 4/π too much)")
+        if self.anisotropic:
+            refuse.append(f"alpha_x = alpha_y (got {self._ax:g} and {self._ay:g}; the tables are isotropic)")
+        if refuse:
+            raise ValueError("energy_compensation=True needs " + "; ".join(refuse))
+        table = energy.albedo_table(self.ndf, self.geometry)
+        f_avg = energy.fresnel_average(self.fresnel, self.f0)
+        colour = self.ks * energy.multiple_scattering_colour(f_avg, table.E_avg(self._alpha))
+        return energy.MultipleScattering(table, self._alpha, colour)
 
     def lobe(self):
         """See :meth:`BRDF.lobe`.
@@ -196,8 +234,34 @@ class CookTorrance(BRDF):
             (separable) or ``F G2 / G1(v)`` (height-correlated), at most ``F``.  Otherwise
             ``MicrofacetSampler(ndf, roughness)``: half vectors drawn from ``D(h)(n·h)``.  Anisotropic
             models (any geometry) take ``VisibleNormalSampler(ndf, α_x, alpha_y=α_y)``, whose local frame
-            has ``x`` along the tangent ``t`` and ``y`` along ``b``.
+            has ``x`` along the tangent ``t`` and ``y`` along ``b``.  With :attr:`energy_compensation`, a
+            ``MixtureSampler`` of that sampler and the cosine-weighted one (for ``f_ms ∝ (1 − E(n·l))``),
+            the cosine's share ``m (1 − E(μ_o)) / (s E(μ_o) + m (1 − E(μ_o)))`` at most 0.9 (``s``, ``m``
+            the channel means of ``k_s F_avg`` and of the lobe's colour: each lobe's albedo, roughly).
         """
+        if self._ms is not None:
+            return self._mixture_sampler()
+        return self._single_sampler()
+
+    def _mixture_sampler(self):
+        from ..integrate.sampling import MixtureSampler  # the integrators import the models
+        from .energy import fresnel_average
+        from .lambert import CosineSampler
+
+        ms = self._ms
+        s = float(np.mean(self.ks * fresnel_average(self.fresnel, self.f0)))
+        m = float(np.mean(ms.colour))
+
+        def weights(v):
+            mu = np.clip(np.asarray(v, dtype=np.float64)[..., 2], 0.0, 1.0)
+            lost = ms.albedo(mu) * m
+            total = s * (1.0 - ms.loss(mu)) + lost
+            share = np.clip(np.where(total > 0, lost / np.where(total > 0, total, 1.0), 0.0), 0.0, 0.9)
+            return np.stack([1.0 - share, share], axis=-1)
+
+        return MixtureSampler([self._single_sampler(), CosineSampler()], weights)
+
+    def _single_sampler(self):
         if self.anisotropic:
             return VisibleNormalSampler(self.ndf, self._ax, alpha_y=self._ay)
         if self.geometry != "v-cavity" and self.ndf != "blinn-phong":
@@ -211,15 +275,17 @@ class CookTorrance(BRDF):
         -------
         str
             For example ``"ks=1 α=0.3 beckmann/v-cavity schlick f0=0.04 /4(n·v)(n·l)"`` (``F=1`` for
-            ``fresnel="none"``).
+            ``fresnel="none"``; ``" +ms"`` appended with :attr:`energy_compensation`).
         """
         f = "F=1" if self.fresnel == "none" else f"{self.fresnel} f0={_color_text(self.f0)}"
         den = "4(n·v)(n·l)" if self.denominator == "4" else "π(n·v)(n·l)"
         alpha = f"αx={self._ax:g} αy={self._ay:g}" if self.anisotropic else f"α={self._alpha:g}"
-        return f"ks={_color_text(self.ks)} {alpha} {self.ndf}/{self.geometry} {f} /{den}"
+        ms = " +ms" if self.energy_compensation else ""
+        return f"ks={_color_text(self.ks)} {alpha} {self.ndf}/{self.geometry} {f} /{den}{ms}"
 
     def to_dict(self):
-        """See :meth:`BRDF.to_dict`; ``alpha_x`` and ``alpha_y`` appear only when given (not None).
+        """See :meth:`BRDF.to_dict`; ``alpha_x`` and ``alpha_y`` appear only when given (not None),
+        ``energy_compensation`` only when True (the tables of older scenes stay as they were).
 
         Returns
         -------
@@ -228,17 +294,21 @@ class CookTorrance(BRDF):
         d = {"model": self.name}
         for p in self.parameters:
             value = getattr(self, p.name)
-            if value is None:
+            if value is None or (p.kind == "bool" and not value):
                 continue
             if p.kind == "color":
                 value = [float(x) for x in np.asarray(value, dtype=np.float64).reshape(-1)]
             elif p.kind == "float":
                 value = float(value)
+            elif p.kind == "bool":
+                value = bool(value)
             d[p.name] = value
         return d
 
     def _params(self):
         extra = {k: getattr(self, k) for k in ("alpha_x", "alpha_y") if getattr(self, k) is not None}
+        if self.energy_compensation:
+            extra["energy_compensation"] = True
         return {
             "ks": self.ks,
             "roughness": self.roughness,
@@ -410,13 +480,19 @@ class CookTorrance(BRDF):
         dv = np.where(g.above & ~np.isnan(dv), dv, 0.0)
         s = np.minimum(dv / self._den_const(), np.finfo(np.float64).max)
         if self.fresnel == "none":
-            return [(s, self.ks)]
+            return [(s, self.ks)] + self._ms_terms(g, with_n_dot_l)
         if self.fresnel == "schlick":
             # F = f0 + (1 − f0)(1 − v·h)^5: two lobes with colours k_s f0 and k_s (1 − f0).
             m = (1.0 - np.clip(g.v_dot_h.astype(np.float64), 0.0, 1.0)) ** 5
-            return [(s, self.ks * self.f0), (s * m, self.ks * (1.0 - self.f0))]
+            return [(s, self.ks * self.f0), (s * m, self.ks * (1.0 - self.f0))] + self._ms_terms(g, with_n_dot_l)
         fr = _fresnel._dielectric_from_f0(g.v_dot_h, self.f0)  # float64, not rounded to the dtype first
-        return [(s * fr[..., i], self.ks * _UNIT_RGB[i]) for i in range(3)]
+        return [(s * fr[..., i], self.ks * _UNIT_RGB[i]) for i in range(3)] + self._ms_terms(g, with_n_dot_l)
+
+    def _ms_terms(self, g, with_n_dot_l: bool):
+        """Kulla and Conty's lobe as one more separable term (``f_ms``, or ``f_ms (n·l)`` for the cosine forms)."""
+        if self._ms is None:
+            return []
+        return [(self._ms.field(g.n_dot_v, g.n_dot_l, g.above, times_n_dot_l=not with_n_dot_l), self._ms.colour)]
 
     def _f(self, g):
         return saturate_to(_combine(self._separable(g, True), np.float64), g.dtype)
