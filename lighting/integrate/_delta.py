@@ -30,11 +30,13 @@ class _DeltaSum:
         self.parts = tuple(parts)
 
     def _reflectance(self, c):
-        return sum(p._reflectance(c) for p in self.parts)
+        return delta_albedo(self.parts, c)
 
     def reflectance(self, cos_theta):
         """``Σ_k R_k(cos θ)`` over the parts, shape ``(..., 3)`` (see :meth:`Mirror.reflectance`)."""
-        return sum(p.reflectance(cos_theta) for p in self.parts)
+        with np.errstate(over="ignore"):  # saturates below: huge k_s of several parts may overflow
+            total = sum(p.reflectance(cos_theta) for p in self.parts)
+        return np.minimum(total, np.finfo(total.dtype).max)
 
     def __repr__(self):
         return " + ".join(repr(p) for p in self.parts)
@@ -58,8 +60,9 @@ def split_delta(brdf: BRDF):
 def delta_albedo(deltas, cos_v: np.ndarray) -> np.ndarray:
     """``Σ R_k(cos θ_v)`` for float64 cosines ``(...)``: float64 ``(..., 3)`` (zeros without delta parts)."""
     out = np.zeros(np.shape(cos_v) + (3,))
-    for p in deltas:
-        out = out + p._reflectance(cos_v)
+    with np.errstate(over="ignore"):  # huge k_s of several parts: inf here, saturated by the caller's _out
+        for p in deltas:
+            out = out + p._reflectance(cos_v)
     return out
 
 

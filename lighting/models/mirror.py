@@ -283,7 +283,7 @@ class MirrorSampler(Sampler):
             float64.
         """
         v = check_vectors("v", v, dtype=np.float64)
-        return self._weight(v)
+        return np.minimum(self._weight(v), np.finfo(np.float64).max)  # a sum of huge k_s saturates
 
     def _weight(self, v):
         return self.source._reflectance(normalize(np.asarray(v, dtype=np.float64))[..., 2])

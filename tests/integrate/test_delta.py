@@ -23,6 +23,7 @@ from lighting.integrate import (
     albedo_curve,
     directional_albedo,
     hemispherical_albedo,
+    importance_sampler,
     outgoing_radiance,
     point_light_limit,
 )
@@ -205,3 +206,15 @@ def test_cook_torrance_ggx_tends_to_the_mirror_as_alpha_goes_to_0(fresnel):
         ct = CookTorrance(ks, a, f0, ndf="ggx", geometry="smith", fresnel=fresnel)
         err = _relative(outgoing_radiance(ct, SKY, N, VIEWS, samples=4096), want)
         assert np.all(err < 10 * a * a * math.log(1 / a)), (a, err)  # measured up to 9.2 α² ln(1/α)
+
+
+def test_huge_reflectances_saturate_without_a_warning():
+    # Two mirrors of k_s = 1e308 overflow float64 when added: finite in, finite out (the largest value).
+    m = Mirror(1e308) + Mirror(1e308)
+    for theta in (np.array([0.0, 1.0]), np.float32([0.0, 1.0])):
+        got = directional_albedo(m, theta)
+        np.testing.assert_array_equal(got, np.finfo(got.dtype).max)
+    np.testing.assert_array_equal(outgoing_radiance(m, 1e300, N, (0.6, 0.0, 0.8)), np.finfo(np.float64).max)
+    sampler = importance_sampler(m)
+    np.testing.assert_array_equal(sampler.weight([0.0, 0.0, 1.0]), np.finfo(np.float64).max)
+    np.testing.assert_array_equal(sampler.source.reflectance(np.float32(0.5)), np.finfo(np.float32).max)
