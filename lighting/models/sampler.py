@@ -151,6 +151,9 @@ class Sampler:
     """
 
     name = "sampler"
+    #: The sampler draws a Dirac delta (the ideal mirror's): ``pdf`` of a sample is a probability, not a
+    #: density, and ``pdf(l, v)`` is 0 for every pair (see :class:`~lighting.models.mirror.MirrorSampler`).
+    delta = False
 
     def sample(self, u, v) -> Samples:
         """Directions and densities for unit-square points ``u`` and viewers ``v``.
