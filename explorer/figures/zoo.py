@@ -244,7 +244,7 @@ def _gallery(q, family: str, title: str, theta_l_deg: float, light_deg: float, b
 
 
 _CAPTION = (
-    "Every registered model of this family ({models}) at its default parameters, one card each. Left: the "
+    "Every registered model of this family ({model_list}) at its default parameters, one card each. Left: the "
     "engine's sphere under one white directional light {light_deg:g}° from the viewer (upper left), same "
     "exposure for all, the slides' classic form π f_r (n·l) without ambient light. Middle: the polar slice "
     "f_r (1/sr) in the plane of incidence for a light at θ_l = {theta_l_deg:g}° (dotted; the normal points "
@@ -313,7 +313,7 @@ def model_gallery_normal_mirror(q, *, theta_l_deg, light_deg, background):
         "on_default_sigma": float(on.sigma),
         "lambert_default_kd": float(np.asarray(create_model("lambert").kd).reshape(-1)[0]),
     }
-    caption = {"models": ", ".join(measured), "theta_l_deg": theta_l_deg, "light_deg": light_deg}
+    caption = {"model_list": ", ".join(measured), "theta_l_deg": theta_l_deg, "light_deg": light_deg}
     return fig, {"models": measured, **extra, **caption}
 
 
@@ -361,8 +361,9 @@ def model_gallery_half_vector(q, *, theta_l_deg, light_deg, background):
     """
     fig, measured = _gallery(q, "half", FAMILIES["model_gallery_half_vector"][1], theta_l_deg, light_deg,
                              background)  # fmt: skip
-    est = directional_albedo(CookTorrance(1.0, 1.0, 1.0, ndf="ggx", geometry="smith-correlated"), 0.0,
-                             1024 if q.quick else 4096, return_error=True)  # fmt: skip
-    caption = {"models": ", ".join(measured), "theta_l_deg": theta_l_deg, "light_deg": light_deg}
+    est = directional_albedo(
+        CookTorrance(1.0, 1.0, 1.0, ndf="ggx", geometry="smith-correlated"), 0.0, 4096, return_error=True
+    )  # one angle: cheap even in quick mode
+    caption = {"model_list": ", ".join(measured), "theta_l_deg": theta_l_deg, "light_deg": light_deg}
     return fig, {"models": measured, "ggx_rho0": float(est.value[0]), "ggx_rho0_error": float(est.error[0]),
                  **caption}  # fmt: skip
