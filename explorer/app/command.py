@@ -79,11 +79,15 @@ def add_options(p) -> None:
     g.add_argument("--model", choices=MODELS, help=h["model"])
     g.add_argument("--kd", help="diffuse albedo: one number (times --color) or r,g,b")
     g.add_argument("--color", help=h["color"])
-    g.add_argument("--ks", type=float, help=h["ks"])
-    g.add_argument("--shininess", type=float, help=h["shininess"])
-    g.add_argument("--roughness", type=float, help=h["roughness"])
-    g.add_argument("--f0", type=float, help=h["f0"])
-    g.add_argument("--ndf", choices=NDFS, help=h["ndf"])
+    g.add_argument("--ks", type=float, help="the model's specular coefficient k_s (a parameter of most models)")
+    g.add_argument("--shininess", type=float, help="the Phong / Blinn-Phong exponent e")
+    g.add_argument("--roughness", type=float, help="the roughness (Cook-Torrance's α, Disney's r)")
+    g.add_argument("--f0", type=float, help="Cook-Torrance's Fresnel reflectance at normal incidence F0")
+    g.add_argument("--ndf", choices=NDFS, help="Cook-Torrance's normal distribution")
+    g.add_argument("--param", action="append", metavar="NAME=VALUE",
+                   help="any parameter of the model, e.g. --param sigma=0.3 (repeat for more)")  # fmt: skip
+    g.add_argument("--phi", type=float, help=h["phi"])
+    g.add_argument("--lock", action=argparse.BooleanOptionalAction, default=None, help=h["lock"])
     g = p.add_argument_group("light")
     g.add_argument("--light", choices=LIGHT_TYPES, help=h["light"])
     g.add_argument("--elevation", type=float, help=h["elevation"])
@@ -153,7 +157,8 @@ def run(args) -> int:
     try:
         if args.screenshot is not None:  # checked before the window is built: no work for a file we cannot write
             check_output_path(args.screenshot, flag="--screenshot", kinds=("rgb8",))
-        values = {k: v for k, v in vars(args).items() if k in CONTROLS or k in ("kd", "scene")}
+        model_params = ("ks", "shininess", "roughness", "f0", "ndf", "param")
+        values = {k: v for k, v in vars(args).items() if k in CONTROLS or k in ("kd", "scene") + model_params}
         state = AppState.from_args(values)
     except (ValueError, OSError) as exc:
         print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)

@@ -53,7 +53,7 @@ class DrawingMixin:
             share = 100 * sv.clipped / max(int(sv.coverage.sum()), 1)
             share = f"{share:.0f}%" if share >= 0.5 else "under 1%"
             clipped = f"{share} of the sphere above 1: clipped (lower the exposure)\n" if sv.clipped else ""
-            self._set_text("sphere_legend", f"{where} · arrow: the light")
+            self._set_text("sphere_legend", f"{where} · arrow: the light" + self._delta_note())
             self._set_text("sphere_info", clipped + self._light_summary())
         if views & {"sphere", "lobe"} or not self._glyphs_placed:
             self._update_light_glyphs()
@@ -88,8 +88,13 @@ class DrawingMixin:
         if "polar" in views:
             self.polar_plot.set_data(m["polar"], channel=s.channel, label=label)
             self.polar_plot.render()
-            theta_in = math.degrees(m["polar"].theta_in)
-            self._set_text("polar_title", f"Polar slice, plane of incidence, θ_l = {theta_in:.0f}°")
+            pv_ = m["polar"]
+            theta_in = math.degrees(pv_.theta_in)
+            plane = f"θ_l = {theta_in:.0f}°, φ_l = {pv_.phi_deg:.0f}°"
+            title = (
+                f"Retro-reflection f(d, d) (view lock), φ = {pv_.phi_deg:.0f}°" if pv_.lock else f"Polar slice, {plane}"
+            )
+            self._set_text("polar_title", title)
             self._set_text("polar_note", "light below the horizon:\nnothing reflected" if m["polar"].below_horizon
                            else "")  # fmt: skip
             scale = self.polar_plot.captions.get("scale", "")
@@ -108,6 +113,13 @@ class DrawingMixin:
         """The albedo readout: ``ρ(θ_v) = value ± error``, flagged "unconverged" above 2 % relative error."""
         self._set_text("polar_albedo", albedo_caption(av))
         self.captions["polar_albedo"].GetTextProperty().SetColor(*(SCANLINE if av.unconverged else MUTED))
+
+    def _delta_note(self) -> str:
+        """What an ideal mirror (a Dirac delta, ``is_delta``) shows under the explorer's lights, said on screen."""
+        if not any(getattr(p, "is_delta", False) for p in self.state.brdf().parts):
+            return ""
+        return ("\nideal mirror (δ): a point or directional light shows only where R = v\n"
+                "exactly, a single point: the sphere is black but for ambient and k_d")  # fmt: skip
 
     def _light_summary(self) -> str:
         s = self.state
@@ -142,6 +154,11 @@ class DrawingMixin:
         if lv is not None:
             self.lobe_light.user_matrix = _arrow_matrix(1.3 * lv.light, 0.03 * lv.light)
             self.lobe_mirror.user_matrix = _arrow_matrix(0.03 * lv.mirror, 1.3 * lv.mirror)
+            # An ideal mirror's delta: a spike along the mirror direction, its height R in the lobe's scale.
+            if lv.spike > 0:
+                d = lv.spike_direction
+                self.lobe_spike.user_matrix = _arrow_matrix(0.0 * d, max(lv.spike * lv.scale, 0.05) * d)
+            self.lobe_spike.SetVisibility(lv.spike > 0)
 
     def _replace_coarse_mesh(self, tessellation):
         new = self._coarse_poly(tessellation)
@@ -164,11 +181,13 @@ class DrawingMixin:
             poly.Modified()
         top = lv.peak if lv.peak > 0 else 1.0
         self.lobe_actor.mapper.scalar_range = (0.0, top)
-        theta = math.degrees(math.atan2(-lv.light[0], lv.light[2]))
-        self._set_text("lobe_title", f"3D lobe: {label}")
-        extra = " · light below the horizon" if lv.below_horizon else ""
+        theta = math.degrees(math.atan2(math.hypot(lv.light[0], lv.light[1]), lv.light[2]))
+        kind = "retro-reflection lobe f(d, d), view lock" if lv.lock else "3D lobe"
+        self._set_text("lobe_title", f"{kind}: {label}")
+        extra = " · light below the horizon" if lv.below_horizon and not lv.lock else ""
+        delta = f"\nδ spike: ideal mirror, R = {lv.spike:.3g}" if lv.spike > 0 else ""
         self._set_text(
             "lobe_info",
-            f"light l at θ_l = {theta:.0f}° (yellow), mirror direction (red)\n"
-            f"peak {lv.peak:.3g}, radius scaled to fit{extra}",
+            f"light l at θ_l = {theta:.0f}°, φ_l = {self.state.phi:.0f}° (yellow), mirror (red); t = +x\n"
+            f"peak {lv.peak:.3g}, radius scaled to fit{extra}{delta}",
         )

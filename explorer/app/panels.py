@@ -180,6 +180,11 @@ class PanelsMixin:
         base = pv.Arrow(start=(0, 0, 0), direction=(1, 0, 0), tip_length=0.16, tip_radius=0.045, shaft_radius=0.012)
         self.lobe_light = self.plotter.add_mesh(base.copy(), color=ACCENT, lighting=False)  # l: yellow everywhere
         self.lobe_mirror = self.plotter.add_mesh(base.copy(), color=(1.0, 0.42, 0.42), lighting=False)
+        spike = pv.Arrow(start=(0, 0, 0), direction=(1, 0, 0), tip_length=0.12, tip_radius=0.05, shaft_radius=0.022)
+        self.lobe_spike = self.plotter.add_mesh(spike, color=(1.0, 0.42, 0.42), lighting=False)  # a mirror's δ
+        self.lobe_spike.SetVisibility(False)
+        # The tangent t (+x), the azimuth origin of φ_l and of anisotropic lobes, drawn on the disc.
+        self.plotter.add_mesh(pv.Line((0, 0, 0), (1.28, 0, 0)), color=MUTED, line_width=1.5, lighting=False)
         self.lobe_poly = pv.PolyData(np.zeros((3, 3)), np.array([3, 0, 1, 2]))
         self.lobe_poly.point_data["value"] = np.zeros(3)
         # Coloured by the plotted value through a perceptual colour map (what the value is: the caption).

@@ -373,11 +373,16 @@ class PolarPlot(BlitFigure):
             [], [], color=COLOURS["muted"], lw=1.0, ls=(0, (4, 2)), label="f(v fixed, l swept)"
         )
         fig.legend(loc="lower center", bbox_to_anchor=(0.5, 0.0), ncol=2, handlelength=1.6, columnspacing=0.8)
+        # An ideal mirror's Dirac delta: a spike at the mirror direction, as tall as the reflected fraction R.
+        (self.spike,) = ax.plot([], [], color=COLOURS["mirror"], lw=2.6, solid_capstyle="butt")
+        (self.spike_head,) = ax.plot([], [], color=COLOURS["mirror"], marker="^", ms=6, ls="none")
+        self.spike_label = ax.text(0.0, 0.0, "", color=COLOURS["mirror"], fontsize=8, ha="left", va="bottom")
         self._caption("title", fig.text(0.5, 0.955, "", ha="center", va="center", fontsize=8.5))
         self._caption("note", fig.text(0.5, 0.5, "", ha="center", va="center", fontsize=9, color=COLOURS["mirror"]))
 
     def _data_artists(self):
-        return [self.light_ray, self.mirror_ray, self.fixed_light, self.fixed_view]
+        return [self.light_ray, self.mirror_ray, self.fixed_light, self.fixed_view, self.spike, self.spike_head,
+                self.spike_label]  # fmt: skip
 
     def set_data(self, polar, *, channel="luminance", label="f_r"):
         """Show a :class:`~explorer.app.views.PolarView`.
@@ -398,7 +403,8 @@ class PolarPlot(BlitFigure):
         self.fixed_light.set_color(COLOURS.get(channel, COLOURS["luminance"]))
         # The scale follows the main slice; the swapped one (dashed) may leave the plot where a
         # non-reciprocal model (Phong's 1/(n·l)) grows toward grazing light.
-        peak = float(a.max(initial=0.0))
+        spike = float(getattr(polar, "spike", 0.0))
+        peak = max(float(a.max(initial=0.0)), spike)
         lo, hi = self.ax.get_ylim()
         current = hi if getattr(self.ax, "_explorer_auto", False) else None
         top = hysteresis_limit(peak, current)
@@ -411,6 +417,16 @@ class PolarPlot(BlitFigure):
         t = polar.theta_in
         self.light_ray.set_data([-t, -t], [0.0, top])
         self.mirror_ray.set_data([t, t], [0.0, top])
+        if spike > 0:
+            s_at = float(getattr(polar, "spike_angle", t))
+            self.spike.set_data([s_at, s_at], [0.0, spike])
+            self.spike_head.set_data([s_at], [spike])
+            self.spike_label.set_position((s_at, spike))
+            self.spike_label.set_text(f"  δ: R = {spike:.3g}")
+        else:
+            self.spike.set_data([], [])
+            self.spike_head.set_data([], [])
+            self.spike_label.set_text("")
         self._set_caption("title", f"Polar slice, plane of incidence: {label}   θ_l = {math.degrees(t):.0f}°")
         self._set_caption("note", "light below the horizon: no reflection" if polar.below_horizon else "")
 

@@ -13,7 +13,8 @@ import numpy as np
 from lighting import AmbientLight, DirectionalLight, Material
 from lighting.lights import PointLight, SpotLight, attenuation_polynomial
 
-from .state import ATTENUATIONS, CONTROLS, MODEL_CONTROLS, MODELS, TERM_NAMES, AppState
+from .params import diffuse_parameter, offered_parameters
+from .state import ATTENUATIONS, MODELS, TERM_NAMES, AppState
 
 __all__ = ["state_from_scene"]
 
@@ -75,48 +76,47 @@ def state_from_scene(path) -> AppState:
 
 
 def _apply_material(state: AppState, material: Material, source: str):
-    """Set the material controls from a material's parts, through the model protocol.
+    """Set the model, its parameters and ``kd``/``color`` from a material's parts, through the model protocol.
 
     The Lambertian parts (``part.lambertian``) add up to ``kd × color``; the first other part gives
     the model (its registered ``name``, or the variant of ``part.variants`` whose fixed arguments its
-    :meth:`~lighting.models.brdf.BRDF.to_dict` matches) and the controls of
-    :data:`~explorer.app.state.MODEL_CONTROLS` its table names (colours by their largest channel,
-    numbers above a control's range at its top).
+    :meth:`~lighting.models.brdf.BRDF.to_dict` matches) and every parameter the explorer offers for it
+    (:func:`~explorer.app.params.offered_parameters`); a model with its own diffuse colour gives
+    ``kd``/``color`` from that colour.  Colours keep their RGB values.
     """
-    kd = np.zeros(3)
-    spec = None
-    for p in material.brdf.parts:
-        if p.lambertian:
-            kd = kd + p.diffuse_albedo
-        elif spec is None:
-            spec = p
-    top = float(kd.max())
-    values = {"kd": min(top, 1.0)}
-    if top > 0:
-        values["color"] = tuple(np.minimum(kd / top, 1.0))
+    parts = material.brdf.parts
+    kd = sum((p.diffuse_albedo for p in parts if p.lambertian), np.zeros(3))
+    spec = next((p for p in parts if not p.lambertian), None)
+    values, params = {}, {}
     if spec is None:
         values["model"] = "lambert"
+        spec_table = {}
     else:
         try:
-            table = spec.to_dict()
+            spec_table = spec.to_dict()
         except ValueError:
-            table = {}
-        if table.get("model") not in MODELS:
+            spec_table = {}
+        if spec_table.get("model") not in MODELS:
             raise ValueError(f"{source}: the explorer cannot show the model {type(spec).__name__}")
-        values["model"] = table["model"]
+        values["model"] = spec_table["model"]
         for variant, fixed in spec.variants.items():
-            if all(table.get(k) == v for k, v in fixed.items()):
+            if all(spec_table.get(k) == v for k, v in fixed.items()):
                 values["model"] = variant
-        for p in spec.parameters:
-            if p.name not in MODEL_CONTROLS or p.name == "kd":
+        for p in offered_parameters(values["model"]):
+            value = spec_table.get(p.name)
+            if value is None and p.default is not None:
                 continue
-            value = table[p.name]
-            if p.kind == "color":
-                value = float(np.max(value))
-            if p.kind in ("color", "float"):
-                value = min(value, CONTROLS[p.name].hi)
-            values[p.name] = value
-    state.update(**values)
+            if isinstance(value, list):  # a colour: grey as one number, as the slider shows it
+                value = float(value[0]) if all(x == value[0] for x in value) else tuple(value)
+            params[p.name] = value
+    colour = diffuse_parameter(type(spec)) if spec is not None else "kd"
+    if colour is not None and colour in spec_table:
+        kd = np.broadcast_to(np.asarray(spec_table[colour], dtype=np.float64), (3,))
+    top = float(kd.max())
+    values["kd"] = min(top, 1.0)
+    if top > 0:
+        values["color"] = tuple(np.minimum(kd / top, 1.0))
+    state.update(params=params, **values)
 
 
 def _apply_lights(state: AppState, lights, camera, centre, gl_light_type):

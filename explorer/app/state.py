@@ -1,28 +1,31 @@
 r"""The explorer's controls: every control value with validated assignment, and the engine objects they make.
 
-:class:`AppState` holds one field per control (model, its parameters, the light, shading options,
-plot options) with validated assignment: a bad value raises ``ValueError`` naming the control, the
-value and what is allowed.  :data:`CONTROLS` is the table they are validated by (and the command
-line's help).  The model list is the engine's registry (:func:`lighting.models.model_variants`):
-a model registered anywhere appears here, and the specular part is built from its class and the
-values of the controls its parameter table names.  Nothing here imports PyVista or Matplotlib.
+:class:`AppState` holds one value per control (the model, the light, shading and plot options) and the
+parameters of every model, each validated on assignment: a bad value raises ``ValueError`` naming the
+control or parameter, the value and what is allowed, and leaves the state as it was.  :data:`CONTROLS`
+is the table the controls are validated by (and the command line's help); a model's parameters are
+validated by its own parameter table (:mod:`explorer.app.params`).  The model list is the engine's
+registry (:func:`lighting.models.model_variants`): a model registered anywhere appears here, with
+controls generated from its table.  Nothing here imports PyVista or Matplotlib.
 
 Example
 -------
 >>> state = AppState(model="phong", shininess=20.0, elevation=60.0)
->>> state.specular_model()
+>>> state.model_brdf()
 Phong(ks=0.5, shininess=20.0)
 >>> state.shininess = -1
 Traceback (most recent call last):
 ...
-ValueError: shininess must be a number in [0, 1000000]; got -1
+ValueError: shininess must be a number in [0, inf); got -1
+>>> state.model = "ward"; state.model = "phong"; state.shininess  # parameters persist per model
+20.0
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, fields
+from collections.abc import Mapping
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -33,10 +36,21 @@ from lighting.models import model_variants
 from lighting.render import SHADING_MODES
 from lighting.vec import direction_from_elevation
 
+from .params import (
+    MODEL_LABELS,
+    MODELS,
+    carries_diffuse,
+    model_choices,
+    model_label,
+    offered_parameters,
+    parameter_defaults,
+    validate_parameter,
+)
+
 __all__ = [
     "MODELS",
     "MODEL_LABELS",
-    "MODEL_CONTROLS",
+    "DEFAULTS",
     "LIGHT_TYPES",
     "ATTENUATIONS",
     "CHANNELS",
@@ -54,95 +68,6 @@ __all__ = [
 ]
 
 
-def model_choices() -> tuple[str, ...]:
-    """The explorer's model list now: every registered model and named variant, in registration order.
-
-    Returns
-    -------
-    tuple of str
-        ``tuple(MODELS)``, e.g. ``("lambert", "phong", "blinn-phong", "blinn-phong-normalized",
-        "cook-torrance")`` for the built-in models.
-    """
-    return tuple(model_variants())
-
-
-def model_label(name: str) -> str:
-    """The label a model list shows for a registered model or variant name.
-
-    Each word of the model's own name is capitalized (``"cook-torrance"`` → ``"Cook-Torrance"``);
-    a variant adds the rest of its name in words (``"blinn-phong-normalized"`` →
-    ``"Blinn-Phong normalized"``).
-
-    Parameters
-    ----------
-    name : str
-        A name of :func:`lighting.models.model_variants`.
-
-    Returns
-    -------
-    str
-        The label.
-
-    Examples
-    --------
-    >>> [model_label(m) for m in ("lambert", "blinn-phong", "blinn-phong-normalized")]
-    ['Lambert', 'Blinn-Phong', 'Blinn-Phong normalized']
-    """
-    entry = model_variants().get(name)
-    base = entry[0].name if entry is not None and entry[0].name else name
-    if name != base and name.startswith(base + "-"):
-        return model_label(base) + " " + name[len(base) + 1 :].replace("-", " ")
-    return "-".join(word[:1].upper() + word[1:] for word in name.split("-"))
-
-
-class _ModelList(Sequence):
-    """The names of the registered models and variants, read from the registry at each use.
-
-    A model registered after the explorer was imported is in the list (and so among the choices of
-    the ``model`` control, the command line's ``--model`` and the ``m`` key) from then on.
-    """
-
-    def __getitem__(self, index):
-        return tuple(model_variants())[index]
-
-    def __len__(self) -> int:
-        return len(model_variants())
-
-    def __contains__(self, name) -> bool:
-        return name in model_variants()
-
-    def __eq__(self, other):
-        return tuple(self) == (tuple(other) if isinstance(other, Sequence) else other)
-
-    def __hash__(self):
-        return hash(tuple(self))
-
-    def __repr__(self) -> str:
-        return repr(tuple(self))
-
-
-class _ModelLabels(Mapping):
-    """:func:`model_label` of every name of :data:`MODELS`, as a mapping (read from the registry at each use)."""
-
-    def __getitem__(self, name):
-        if name not in MODELS:
-            raise KeyError(name)
-        return model_label(name)
-
-    def __iter__(self):
-        return iter(MODELS)
-
-    def __len__(self) -> int:
-        return len(MODELS)
-
-
-#: The model list: every registered model and named variant, in registration order
-#: (:func:`lighting.models.model_variants`; the built-in ones in the lectures' order).
-MODELS = _ModelList()
-MODEL_LABELS = _ModelLabels()
-#: Controls that fill the specular model's parameters of the same name (its other parameters keep
-#: their defaults).  ``kd`` passes the diffuse albedo ``kd × color``.
-MODEL_CONTROLS = ("kd", "ks", "shininess", "roughness", "f0", "ndf")
 LIGHT_TYPES = ("directional", "point", "spot", "ambient")
 # ATTENUATIONS (imported above) are the engine's falloff presets: (a, b, c) of 1 / (a r² + b r + c).
 #: Cost of the albedo readout (BRDF evaluations of the quadrature, fine and coarse rule together).
@@ -180,14 +105,11 @@ class Control:
 
 
 CONTROLS: dict[str, Control] = {
-    "model": Control("choice", choices=MODELS, help="reflectance model of the specular part (plus Lambert)"),
+    "model": Control(
+        "choice", choices=MODELS, help="reflectance model (plus Lambert k_d unless it has its own diffuse)"
+    ),
     "kd": Control("float", 0.0, 1.0, help="diffuse albedo k_d (times the surface colour)"),
     "color": Control("rgb", 0.0, 1.0, help="surface colour (hue of k_d), r,g,b in [0, 1]"),
-    "ks": Control("float", 0.0, 1.0, help="specular coefficient k_s"),
-    "shininess": Control("float", 0.0, 1e6, log=True, help="Phong / Blinn-Phong exponent e"),
-    "roughness": Control("float", 1e-6, 1.0, log=True, help="Cook-Torrance roughness α"),
-    "f0": Control("float", 0.0, 1.0, help="Cook-Torrance Fresnel reflectance at normal incidence F0"),
-    "ndf": Control("choice", choices=NDFS, help="Cook-Torrance normal distribution"),
     "light": Control("choice", choices=LIGHT_TYPES, help="key light type (ambient: ambient light only)"),
     "elevation": Control("float", -90.0, 90.0, help="light elevation above the image plane, degrees"),
     "azimuth": Control("float", -180.0, 180.0, help="light azimuth in the image plane from +x toward +y, degrees"),
@@ -207,6 +129,10 @@ CONTROLS: dict[str, Control] = {
     "times_cos": Control("bool", help="plot f_r·(n·l) instead of f_r"),
     "exposure": Control("float", -8.0, 8.0, help="display exposure in stops"),
     "scanline": Control("float", 0.02, 0.98, help="scan line height, fraction of the image from the top"),
+    "phi": Control(
+        "float", -180.0, 180.0, help="azimuth φ_l of the light in the BRDF views, from the tangent t, degrees"
+    ),
+    "lock": Control("bool", help="view lock: the view follows the light (θ_v = θ_l, φ_v = φ_l), the retro-reflection"),
 }
 
 
@@ -299,112 +225,247 @@ def _parse_text(name: str, text: str):
 
 
 # =============================================================================== state
-@dataclass
-class AppState:
-    """Every control of the explorer, with validated assignment and defaults that look good.
+#: Every control's default: the explorer's starting look.
+DEFAULTS = {
+    "model": "blinn-phong",
+    "kd": 0.8,
+    "color": (1.0, 0.42, 0.3),
+    "light": "directional",
+    "elevation": 45.0,
+    "azimuth": 135.0,
+    "intensity": 1.0,
+    "light_color": (1.0, 1.0, 1.0),
+    "ambient": 0.08,
+    "distance": 4.0,
+    "attenuation": "inverse-square",
+    "cutoff": 12.0,
+    "spot_exponent": 8.0,
+    "mode": "phong",
+    "form": "classic",
+    "terms": TERM_NAMES,
+    "tessellation": 8,
+    "channel": "luminance",
+    "log": False,
+    "times_cos": False,
+    "exposure": 0.0,
+    "scanline": 0.4,
+    "phi": 180.0,
+    "lock": False,
+}
+#: Controls that wrap into (−180°, 180°].
+_ANGLES = ("azimuth", "phi")
 
-    Assigning a field validates it (``state.kd = 2`` raises ``ValueError``:
+
+class AppState:
+    """Every control of the explorer, with validated assignment, and the parameters of every model.
+
+    Assigning a control validates it (``state.kd = 2`` raises ``ValueError``:
     "kd must be a number in [0, 1]; got 2").  Choices accept any case and ``_``
     for ``-``; colours accept one number (grey) or ``r,g,b``; ``terms`` accepts
-    ``"ambient,specular"``.  The azimuth wraps into ``(-180, 180]``.
+    ``"ambient,specular"``.  The azimuth and φ wrap into ``(-180, 180]``.
 
-    The surface's diffuse albedo is ``kd × color``; the specular part is white
-    (``ks``).  Point and spot lights sit at ``distance`` from the sphere centre in the
-    direction given by elevation and azimuth (a spot aims at the centre); their
-    intensity is set so that ``intensity`` is the irradiance they deliver at the
-    nearest point of the sphere, whatever the falloff.
+    The model's parameters are kept per model (switching from Phong to Ward and back finds Phong's
+    values again): :attr:`params` are the current model's, :meth:`set_param` changes one, validated by
+    its table row (:mod:`explorer.app.params`) and then by the model's constructor.  A parameter whose
+    name is no control (``shininess``, ``sigma``, ``alpha_x``) may also be read and assigned as an
+    attribute, and given to the constructor and :meth:`update`; ``form`` and ``kd`` are controls, so
+    Oren–Nayar's ``form`` goes through ``params={"form": "full"}`` or :meth:`set_param`.
+
+    The surface's diffuse albedo is ``kd × color``: the explorer adds ``Lambert(kd × color)`` to a model
+    without a diffuse part of its own, and fills the diffuse colour of one that has it
+    (:func:`~explorer.app.params.diffuse_parameter`).  Point and spot lights sit at ``distance`` from
+    the sphere centre in the direction given by elevation and azimuth (a spot aims at the centre); their
+    intensity is set so that ``intensity`` is the irradiance they deliver at the nearest point of the
+    sphere, whatever the falloff.
+
+    Parameters
+    ----------
+    **values
+        Controls and parameters of the (new) model, applied with :meth:`update`.
     """
 
-    model: str = "blinn-phong"
-    kd: float = 0.8
-    color: tuple = (1.0, 0.42, 0.3)
-    ks: float = 0.5
-    shininess: float = 40.0
-    roughness: float = 0.25
-    f0: float = 0.5
-    ndf: str = "beckmann"
-    light: str = "directional"
-    elevation: float = 45.0
-    azimuth: float = 135.0
-    intensity: float = 1.0
-    light_color: tuple = (1.0, 1.0, 1.0)
-    ambient: float = 0.08
-    distance: float = 4.0
-    attenuation: str = "inverse-square"
-    cutoff: float = 12.0
-    spot_exponent: float = 8.0
-    mode: str = "phong"
-    form: str = "classic"
-    terms: tuple = TERM_NAMES
-    tessellation: int = 8
-    channel: str = "luminance"
-    log: bool = False
-    times_cos: bool = False
-    exposure: float = 0.0
-    scanline: float = 0.4
+    def __init__(self, **values):
+        object.__setattr__(self, "_values", dict(DEFAULTS))
+        object.__setattr__(self, "_params", {})
+        if values:
+            self.update(**values)
+
+    # ------------------------------------------------------------------ attributes
+    def __getattr__(self, name):
+        values = self.__dict__.get("_values")
+        if values is None:
+            raise AttributeError(name)
+        if name in values:
+            return values[name]
+        params = self._model_params(values["model"])
+        if name in params:
+            return params[name]
+        raise AttributeError(f"AppState has no control {name!r}; controls: {', '.join(CONTROLS)}; "
+                             f"parameters of {values['model']}: {', '.join(params) or 'none'}")  # fmt: skip
 
     def __setattr__(self, name, value):
-        if name not in CONTROLS:
-            raise AttributeError(f"AppState has no control {name!r}; controls: {', '.join(CONTROLS)}")
-        number = isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)
-        if name == "azimuth" and number and math.isfinite(value):
-            value = (float(value) + 180.0) % 360.0 - 180.0
-            value = 180.0 if value == -180.0 else value  # (−180, 180]: "from the left" reads 180°
-        object.__setattr__(self, name, _validate(name, value))
+        if name in CONTROLS:
+            self.update(**{name: value})
+            return
+        if name in self._model_params(self.model):
+            self.set_param(name, value)
+            return
+        self._unknown(name, value, self.model)
+
+    def _unknown(self, name, value, model):
+        if any(name in cls_params for cls_params in _all_parameter_names()):
+            have = ", ".join(p.name for p in offered_parameters(model)) or "none"
+            raise ValueError(f"{name} must be a parameter of the model {model}, which has {have}; "
+                             f"got {name}={abbreviate(repr(value))}")  # fmt: skip
+        raise AttributeError(f"AppState has no control {name!r}; controls: {', '.join(CONTROLS)}")
+
+    def __eq__(self, other):
+        return isinstance(other, AppState) and self.to_dict() == other.to_dict()
+
+    def __repr__(self):
+        return f"AppState(model={self.model!r}, params={self.params!r})"
+
+    def _model_params(self, model: str) -> dict:
+        """The stored parameters of ``model`` (its defaults the first time it is asked for)."""
+        if model not in self._params:
+            self._params[model] = parameter_defaults(model) if model in MODELS else {}
+        return self._params[model]
+
+    # ------------------------------------------------------------------ parameters
+    @property
+    def params(self) -> dict:
+        """The current model's parameters (a copy): name → value, the offered rows of its table."""
+        return dict(self._model_params(self.model))
+
+    def param(self, name: str):
+        """One parameter of the current model.
+
+        Parameters
+        ----------
+        name : str
+            A row of :func:`~explorer.app.params.offered_parameters`.
+
+        Returns
+        -------
+        object
+            Its value.
+        """
+        params = self._model_params(self.model)
+        if name not in params:
+            raise ValueError(f"{name} must be a parameter of the model {self.model}: {', '.join(params) or 'none'}")
+        return params[name]
+
+    def set_param(self, name: str, value) -> set[str]:
+        """Change one parameter of the current model (validated; on error nothing changes).
+
+        Parameters
+        ----------
+        name : str
+            A parameter of the model.
+        value
+            Its new value.
+
+        Returns
+        -------
+        set of str
+            ``{"params"}`` when the value changed, else empty.
+        """
+        return self.update(params={name: value})
 
     # ------------------------------------------------------------------ bulk operations
     def to_dict(self) -> dict:
-        """Every control value, by name.
+        """Every control value by name, and ``params``: every model's parameters seen so far.
 
         Returns
         -------
         dict
-            Control name → value.
+            Control name → value; ``"params"`` → {model → {parameter → value}}.
         """
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        d = dict(self._values)
+        # Only the models whose parameters were changed: reading a model's defaults changes nothing.
+        d["params"] = {m: dict(p) for m, p in self._params.items() if m in MODELS and p != parameter_defaults(m)}
+        return d
 
     def update(self, **values) -> set[str]:
-        """Assign several controls (all validated first: on error nothing changes); returns the names that changed.
+        """Assign several controls and parameters, all validated first (on error nothing changes).
+
+        ``model`` is set first; ``params`` (a dict) and names that are parameters of the model, not
+        controls, then set its parameters; the model is built once to let its constructor check them.
 
         Parameters
         ----------
         **values
-            Control name → new value.
+            Control name → new value; ``params`` → {parameter → value} of the (new) model.
 
         Returns
         -------
         set of str
-            The names whose value changed.
+            The names of the controls whose value changed, and ``"params"`` if a parameter of the
+            current model did (or the model changed).
         """
-        checked = {}
-        trial = AppState(**self.to_dict())
+        values = dict(values)
+        every = values.pop("params", None)
+        if every is not None and not isinstance(every, Mapping):
+            raise ArgumentTypeError(f"params must be a mapping of parameter names to values; got "
+                                    f"{type(every).__name__} {abbreviate(repr(every))}")  # fmt: skip
+        new = dict(self._values)
+        if "model" in values:
+            new["model"] = _validate("model", values.pop("model"))
+        model = new["model"]
+        table = {p.name: p for p in offered_parameters(model)}
+        given = dict(every or {})
+        for k in [k for k in values if k not in CONTROLS]:
+            if k not in table:
+                self._unknown(k, values[k], model)
+            given[k] = values.pop(k)
         for k, v in values.items():
-            setattr(trial, k, v)
-            checked[k] = getattr(trial, k)
-        changed = {k for k, v in checked.items() if getattr(self, k) != v}
-        for k, v in checked.items():
-            setattr(self, k, v)
+            number = isinstance(v, (int, float, np.floating, np.integer)) and not isinstance(v, bool)
+            if k in _ANGLES and number and math.isfinite(v):
+                v = (float(v) + 180.0) % 360.0 - 180.0
+                v = 180.0 if v == -180.0 else v  # (−180, 180]: "from the left" reads 180°
+            new[k] = _validate(k, v)
+        params = dict(self._model_params(model))
+        for k, v in given.items():
+            if k not in table:
+                raise ValueError(f"{k} must be a parameter of the model {model}: {', '.join(table) or 'none'}; "
+                                 f"got {k}={abbreviate(repr(v))}")  # fmt: skip
+            params[k] = validate_parameter(table[k], v)
+        if given:
+            _build(model, params, new)  # the constructor's own checks (e.g. combinations)
+        changed = {k for k, v in new.items() if self._values[k] != v}
+        if model != self.model or params != self._model_params(model):
+            changed.add("params")
+        self._values.update(new)
+        self._params[model] = params
         return changed
 
     def reset(self) -> set[str]:
-        """Back to the defaults; returns the names that changed.
+        """Back to the defaults, every model's parameters too; returns the names that changed.
 
         Returns
         -------
         set of str
             The names whose value changed.
         """
-        return self.update(**AppState().to_dict())
+        before = self.to_dict()
+        self._params.clear()
+        changed = self.update(**DEFAULTS)
+        if before["params"].get(self.model, self.params) != self.params:
+            changed.add("params")
+        return changed
 
     def copy(self) -> AppState:
-        """A copy of the state.
+        """A copy of the state (every model's parameters included).
 
         Returns
         -------
         AppState
             An independent state with the same values.
         """
-        return AppState(**self.to_dict())
+        other = AppState()
+        other._values.update(self._values)
+        other._params.update({m: dict(p) for m, p in self._params.items()})
+        return other
 
     @classmethod
     def from_args(cls, args=None, **overrides) -> AppState:
@@ -413,6 +474,8 @@ class AppState:
         ``scene`` (a path) is loaded first with :func:`state_from_scene`; explicit
         options then override it.  ``kd`` may be one number or an RGB triple: a
         triple sets ``kd`` to its largest entry and ``color`` to the triple divided by it.
+        ``param`` is a list of ``"NAME=VALUE"`` texts for the model's parameters (``--param sigma=0.3``);
+        ``ks``, ``shininess``, ``roughness``, ``f0`` and ``ndf`` are parameters too.
 
         Parameters
         ----------
@@ -430,6 +493,8 @@ class AppState:
         --------
         >>> AppState.from_args({"model": "Cook_Torrance", "kd": (0.6, 0.3, 0.0)}).color
         (1.0, 0.5, 0.0)
+        >>> AppState.from_args({"model": "oren-nayar", "param": ["sigma=0.5", "form=full"]}).params
+        {'sigma': 0.5, 'form': 'full'}
         """
         values = dict(vars(args) if args is not None and not isinstance(args, dict) else (args or {}))
         values.update(overrides)
@@ -445,8 +510,13 @@ class AppState:
         kd = values.pop("kd", None)
         if kd is not None:
             values.update(_split_kd(kd))
+        model = values.get("model", state.model)
+        table = {p.name: p for p in offered_parameters(_validate("model", model))}
+        params = {k: values.pop(k) for k in list(values) if k in table and k not in CONTROLS}
+        for text in values.pop("param", None) or ():
+            params.update(_parse_param(text, table))
         # A command-line namespace carries window options too (size, screenshot, ...): those are not controls.
-        state.update(**{k: v for k, v in values.items() if k in CONTROLS})
+        state.update(params=params, **{k: v for k, v in values.items() if k in CONTROLS})
         return state
 
     # ------------------------------------------------------------------ engine objects
@@ -455,32 +525,36 @@ class AppState:
         """``k_d`` as RGB: ``kd × color``."""
         return self.kd * np.asarray(self.color, dtype=np.float64)
 
-    def specular_model(self):
-        """The specular part of the model (None for a Lambertian model, whose only part is the diffuse one).
+    @property
+    def own_diffuse(self) -> bool:
+        """Whether the model carries its own diffuse reflection (then the explorer adds no Lambert part)."""
+        return carries_diffuse(model_variants()[self.model][0]) if self.model in MODELS else False
 
-        The class comes from the registry (:func:`lighting.models.model_variants`: the model's class
-        and a variant's fixed arguments); the parameters its table names after a control of
-        :data:`MODEL_CONTROLS` take that control's value, the others their defaults.
+    def model_brdf(self):
+        """The chosen model with its parameters (and ``kd × color`` as its diffuse colour, if it has one).
+
+        Returns
+        -------
+        BRDF
+            E.g. ``Phong(ks, shininess)`` for ``model = "phong"``.
+        """
+        return _build(self.model, self._model_params(self.model), self._values)
+
+    def specular_model(self):
+        """The model's part beside the explorer's Lambert: :meth:`model_brdf`, or None for Lambert itself.
 
         Returns
         -------
         BRDF or None
-            E.g. ``Phong(ks, shininess)`` for ``model = "phong"``.
         """
-        entry = model_variants().get(self.model)
-        if entry is None:  # unregistered since it was chosen
-            raise ValueError(f"model {self.model!r} is not registered; models: {', '.join(MODELS)}")
-        cls, fixed = entry
-        if cls.lambertian:
-            return None
-        values = {p.name: self._model_value(p.name) for p in cls.parameters if p.name in MODEL_CONTROLS}
-        return cls(**{**values, **fixed})
-
-    def _model_value(self, name: str):
-        return self.diffuse_albedo if name == "kd" else getattr(self, name)
+        brdf = self.model_brdf()
+        return None if brdf.lambertian else brdf
 
     def brdf(self, parts=("diffuse", "specular")):
-        """``Lambert(k_d)`` plus the specular model, restricted to ``parts`` (zero Lambert if none).
+        """The surface's BRDF restricted to the terms ``parts`` (zero Lambert if none).
+
+        The explorer's ``Lambert(k_d × colour)`` is the diffuse part of a model without one of its own;
+        the model is its ``term`` (``"diffuse"`` for Lambert and Oren–Nayar), as the renderer splits them.
 
         Parameters
         ----------
@@ -493,11 +567,11 @@ class AppState:
             The model (a sum when both parts are present).
         """
         out = []
-        if "diffuse" in parts:
+        model = self.model_brdf()
+        if "diffuse" in parts and not self.own_diffuse:
             out.append(Lambert(self.diffuse_albedo))
-        spec = self.specular_model() if "specular" in parts else None
-        if spec is not None:
-            out.append(spec)
+        if model.term in parts:
+            out.append(model)
         if not out:
             return Lambert(0.0)
         return out[0] if len(out) == 1 else out[0] + out[1]
@@ -513,14 +587,14 @@ class AppState:
         return self.brdf(self.terms)
 
     def material(self) -> Material:
-        """The surface; its ambient coefficient is the diffuse albedo (``k_a = k_d``).
+        """The surface; its ambient coefficient is the diffuse albedo (``k_a = k_d × colour``).
 
         Returns
         -------
         Material
-            ``Material(self.brdf())``.
+            ``Material(self.brdf(), ambient=kd × color)``.
         """
-        return Material(self.brdf())
+        return Material(self.brdf(), ambient=self.diffuse_albedo)
 
     def light_direction(self) -> np.ndarray:
         """Unit vector from the sphere centre toward the light (view frame: x right, y up, z to the viewer).
@@ -637,3 +711,38 @@ def _split_kd(kd):
             return {"kd": top, "color": tuple(arr / top)}
         return {"kd": top}
     return {"kd": kd}
+
+
+def _build(model: str, params: dict, values: dict):
+    """The model ``model`` with ``params`` (and ``kd × color`` as its diffuse colour); its constructor checks them."""
+    from .params import diffuse_parameter
+
+    cls, fixed = model_variants()[model]
+    kwargs = {k: v for k, v in params.items()}
+    colour = diffuse_parameter(cls)
+    if colour is not None:
+        kwargs[colour] = values["kd"] * np.asarray(values["color"], dtype=np.float64)
+    return cls(**{**kwargs, **fixed})
+
+
+def _all_parameter_names():
+    return [{p.name for p in cls.parameters} for cls, _ in model_variants().values()]
+
+
+def _parse_param(text, table) -> dict:
+    """``"NAME=VALUE"`` from the command line: the value as the parameter's kind reads it."""
+    if not isinstance(text, str) or "=" not in text:
+        raise ValueError(f"param must be NAME=VALUE with NAME one of {', '.join(table) or 'none'}; "
+                         f"got {abbreviate(repr(text))}")  # fmt: skip
+    name, value = (x.strip() for x in text.split("=", 1))
+    p = table.get(name)
+    if p is None:
+        raise ValueError(f"param must name a parameter of the model: {', '.join(table) or 'none'}; got {name!r}")
+    if p.kind in ("float", "color"):
+        value = None if value.lower() == "none" and p.default is None else _parse_text(name, value)
+    elif p.kind == "bool":
+        low = value.lower()
+        if low not in ("true", "false", "1", "0", "on", "off", "yes", "no"):
+            raise ValueError(f"{name} must be true or false; got {abbreviate(repr(value))}")
+        value = low in ("true", "1", "on", "yes")
+    return {name: value}

@@ -48,7 +48,7 @@ Example
 >>> state.shininess = -1
 Traceback (most recent call last):
 ...
-ValueError: shininess must be a number in [0, 1000000]; got -1
+ValueError: shininess must be a number in [0, inf); got -1
 """
 
 from __future__ import annotations
@@ -196,6 +196,9 @@ class LobeView:
     mirror: np.ndarray
     peak_direction: np.ndarray
     below_horizon: bool
+    spike: float = 0.0  # an ideal mirror's reflected fraction, drawn as a δ spike (in plotted units)
+    spike_direction: np.ndarray | None = None
+    lock: bool = False  # the retro-reflection lobe f_r(d, d)
 
 
 @dataclass(frozen=True, eq=False)
@@ -213,6 +216,10 @@ class PolarView:
     view_angles: np.ndarray
     theta_in: float
     below_horizon: bool
+    phi_deg: float = 180.0  # the plane's azimuth φ_l about the tangent t
+    lock: bool = False  # the view follows the light: the retro-reflection slice
+    spike: float = 0.0  # an ideal mirror's reflected fraction R(θ), drawn as a δ spike
+    spike_angle: float = 0.0  # where the spike stands (signed angle of the slice)
 
 
 @dataclass(frozen=True, eq=False)
@@ -259,7 +266,8 @@ class AlbedoView:
     samples: int
 
 
-MATERIAL_FIELDS = frozenset({"model", "kd", "color", "ks", "shininess", "roughness", "f0", "ndf"})
+#: ``params``: the current model's parameters (:attr:`AppState.params`).
+MATERIAL_FIELDS = frozenset({"model", "kd", "color", "params"})
 LIGHT_FIELDS = frozenset(
     {"light", "elevation", "azimuth", "intensity", "light_color", "ambient", "distance", "attenuation", "cutoff"}
     | {"spot_exponent"}
@@ -268,6 +276,8 @@ LIGHT_FIELDS = frozenset(
 #: (isotropic models; the plots are drawn in the plane of incidence), so turning the light about the
 #: viewing axis (azimuth) re-shades the images but leaves the plots as they are.
 INCIDENT_FIELDS = frozenset({"incidence"})
+#: The BRDF views' own frame: the light's azimuth φ_l about the tangent t, and the view lock.
+FRAME_FIELDS = frozenset({"phi", "lock"})
 PLOT_FIELDS = frozenset({"channel", "log", "times_cos"})
 SHADING_FIELDS = MATERIAL_FIELDS | LIGHT_FIELDS | {"form", "terms", "exposure", "tessellation"}
 
@@ -276,18 +286,34 @@ VIEW_DEPENDENCIES = {
     "sphere": SHADING_FIELDS | {"mode"},
     "coarse": SHADING_FIELDS,
     "profile": SHADING_FIELDS | {"scanline", "channel"},
-    "lobe": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
-    "polar": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
-    "theta_v": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
-    "theta_h": MATERIAL_FIELDS | INCIDENT_FIELDS | PLOT_FIELDS | {"terms"},
-    "theta_d": MATERIAL_FIELDS | PLOT_FIELDS | {"terms"},
-    "halfdiff": MATERIAL_FIELDS | PLOT_FIELDS | {"terms"},
+    "lobe": MATERIAL_FIELDS | INCIDENT_FIELDS | FRAME_FIELDS | PLOT_FIELDS | {"terms"},
+    "polar": MATERIAL_FIELDS | INCIDENT_FIELDS | FRAME_FIELDS | PLOT_FIELDS | {"terms"},
+    "theta_v": MATERIAL_FIELDS | INCIDENT_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
+    "theta_h": MATERIAL_FIELDS | INCIDENT_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
+    "theta_d": MATERIAL_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
+    "halfdiff": MATERIAL_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
     "albedo": MATERIAL_FIELDS | INCIDENT_FIELDS | {"terms", "channel"},
 }
 VIEWS = tuple(VIEW_DEPENDENCIES)
 #: The views that follow a slider while it is dragged: the engine's images, cheap and where the eye
 #: is.  The scan-line profile, the lobe and the plots wait for the release (``update(only=...)``).
 LIVE_VIEWS = frozenset({"sphere", "coarse"})
+
+
+def _delta_height(brdf, cos_theta: float, state) -> float:
+    """The reflected fraction ``R(θ)`` of the delta parts (ideal mirrors) of ``brdf``, in the plotted channel.
+
+    A Dirac delta has no height to plot: ``eval`` is 0 everywhere, and all it reflects, the fraction
+    ``brdf.reflectance(cos θ)`` of the incident light, leaves in the one mirror direction.  The views draw
+    that fraction as a spike (``log10(1 + R)`` with the log option); 0 for a model without a delta part.
+    """
+    parts = [p for p in brdf.parts if getattr(p, "is_delta", False)]
+    if not parts or not cos_theta > 0:
+        return 0.0
+    rgb = sum(np.asarray(p.reflectance(float(cos_theta)), dtype=np.float64).reshape(-1) for p in parts)
+    rgb = np.broadcast_to(rgb, (3,))
+    value = float(rgb @ LUMA) if state.channel == "luminance" else float(rgb["rgb".index(state.channel)])
+    return math.log1p(value) / math.log(10.0) if state.log else value
 
 
 def _encode(image, coverage, exposure):
@@ -407,6 +433,7 @@ class ExplorerModel:
     # ------------------------------------------------------------------ updates
     def _inputs(self) -> dict:
         d = self.state.to_dict()
+        d["params"] = tuple(self.state.params.items())  # the current model's: others' do not show
         d["incidence"] = round(self.state.theta_l, 12)
         return d
 
@@ -487,24 +514,25 @@ class ExplorerModel:
             opts = s.plot_options()
             theta = min(s.theta_l, 0.5 * math.pi)
             below = s.theta_l >= 0.5 * math.pi
+            phi = math.radians(s.phi)
             if "lobe" in views:
                 self.views["lobe"] = self._lobe_view(brdf, theta, below, opts)
             if "polar" in views:
                 self.views["polar"] = self._polar_view(brdf, theta, below, opts)
             if "theta_v" in views:
-                c = theta_v_curve(brdf, theta, n=181, **opts)
+                c = theta_v_curve(brdf, theta, phi_l=phi, n=181, **opts)
                 self.views["theta_v"] = CurveView("theta_v", c.angles, c.values, (-theta, theta), c.params)
             if "theta_h" in views:
-                c = theta_h_curve(brdf, theta_d=theta, n=181, **opts)
+                c = theta_h_curve(brdf, theta_d=theta, phi_h=phi, n=181, **opts)
                 self.views["theta_h"] = CurveView("theta_h", c.angles, c.values, (0.0,), c.params)
             if "theta_d" in views:
-                c = theta_d_curve(brdf, theta_h=0.0, n=181, **opts)
+                c = theta_d_curve(brdf, theta_h=0.0, phi_h=phi, n=181, **opts)
                 self.views["theta_d"] = CurveView("theta_d", c.angles, c.values, (theta,), c.params)
             elif "theta_d" in self.views and "theta_v" in views:
                 old = self.views["theta_d"]
                 self.views["theta_d"] = CurveView("theta_d", old.angles, old.values, (theta,), old.params)
             if "halfdiff" in views:
-                im = half_diff_image(brdf, n_h=91, n_d=91, **opts)
+                im = half_diff_image(brdf, n_h=91, n_d=91, phi_h=phi, **opts)
                 peak = float(im.values.max())
                 self.views["halfdiff"] = HalfDiffView(im.theta_h, im.theta_d, im.values, peak, (0.0, theta))
             elif "halfdiff" in self.views and "theta_v" in views:
@@ -590,16 +618,22 @@ class ExplorerModel:
 
     def _lobe_view(self, brdf, theta, below, opts) -> LobeView:
         s = self.state
-        l_plot = spherical_direction(theta, math.pi)  # the light on the −x side, exactly on the horizon at π/2
-        m = lobe_mesh(brdf, l_plot, resolution=self.lobe_resolution, cosine=s.times_cos, channel=s.channel)
+        # The light at azimuth φ_l about t = +x (180°: on the −x side), exactly on the horizon at π/2.
+        l_plot = spherical_direction(theta, math.radians(s.phi))
+        m = lobe_mesh(brdf, l_plot, resolution=self.lobe_resolution, cosine=s.times_cos, channel=s.channel,
+                      lock=s.lock)  # fmt: skip
         values = m.values.astype(np.float64)
+        mirror = np.array([-l_plot[0], -l_plot[1], l_plot[2]])
+        spike = _delta_height(brdf, 1.0 if s.lock else l_plot[2], s) if not below or s.lock else 0.0
         if s.log:
             values = np.log1p(values) / math.log(10.0)
         peak = float(values.max()) if values.size else 0.0
-        scale = 1.0 / peak if peak > 0 else 1.0
+        top = max(peak, spike)
+        scale = 1.0 / top if top > 0 else 1.0
         vertices = (values * scale)[:, None] * m.directions.astype(np.float64)
-        mirror = np.array([-l_plot[0], 0.0, l_plot[2]])
-        return LobeView(vertices, m.faces, values, peak, scale, l_plot, mirror, m.peak.astype(np.float64), below)
+        spike_dir = np.array([0.0, 0.0, 1.0]) if s.lock else mirror
+        return LobeView(vertices, m.faces, values, peak, scale, l_plot, mirror, m.peak.astype(np.float64), below,
+                        spike, spike_dir, s.lock)  # fmt: skip
 
     def _albedo_view(self, brdf, theta) -> AlbedoView:
         # Quadrature on the lobe's nodes: deterministic, with an error estimate.
@@ -618,5 +652,9 @@ class ExplorerModel:
                           int(est.samples))  # fmt: skip
 
     def _polar_view(self, brdf, theta, below, opts) -> PolarView:
-        a, b = reciprocity_pair(brdf, theta, n=361, **opts)
-        return PolarView(a.angles, a.values, b.values, b.angles, theta, below)
+        s = self.state
+        phi = math.radians(s.phi)
+        a, b = reciprocity_pair(brdf, theta, n=361, phi_in=phi, lock=s.lock, **opts)
+        spike = _delta_height(brdf, 1.0 if s.lock else math.cos(theta), s) if not below or s.lock else 0.0
+        return PolarView(a.angles, a.values, b.values, b.angles, theta, below, s.phi, s.lock, spike,
+                         0.0 if s.lock else theta)  # fmt: skip

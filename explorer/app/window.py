@@ -50,9 +50,9 @@ from .layout import (
     _font_file,
 )
 from .panels import PanelsMixin
-from .state import LIGHT_COLOURS, AppState
+from .state import AppState
 from .views import LIVE_VIEWS, ExplorerModel
-from .widgets import SLIDERS, WidgetsMixin
+from .widgets import WidgetsMixin
 
 __all__ = ["ExplorerApp"]
 
@@ -82,7 +82,7 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         self.pv = pv
         self.window_size = (int(window_size[0]), int(window_size[1]))
         w, h = self.window_size
-        row_w, col_w = (1.16, 1.0, 0.72), (1.12, 1.0, 1.0, 1.05)
+        row_w, col_w = (1.1, 0.95, 0.95), (1.12, 1.0, 1.0, 1.05)
         self._row_frac = [x / sum(row_w) for x in row_w]
         self._col_frac = [x / sum(col_w) for x in col_w]
         # Engine images at about one texel per screen pixel of their panels.
@@ -152,7 +152,7 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
 
     # ------------------------------------------------------------------ handlers
     def on_slider(self, name: str, raw: float, *, render=False, live=False) -> set[str]:
-        """What a slider calls: ``raw`` in slider units (log10 for log sliders, an index for choices).
+        """What a slider calls: ``raw`` in slider units (log10 for log sliders).
 
         The slider widget renders the window itself after calling back, so by default
         this only updates the scene (``render=True`` renders too).  ``live=True`` is a
@@ -161,7 +161,8 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         Parameters
         ----------
         name : str
-            The control (a key of :data:`~explorer.app.widgets.SLIDERS`).
+            The control (a key of :data:`~explorer.app.widgets.SLIDERS`), or ``"param:NAME"`` for a
+            parameter of the model.
         raw : float
             The slider position.
         render : bool
@@ -174,13 +175,15 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         set of str
             The names of the views recomputed.
         """
-        spec = SLIDERS[name]
+        spec = self.slider_spec(name)
         value = spec.from_slider(raw)
-        if name == "light_color":
-            if value == "custom":
-                return set()
-            value = LIGHT_COLOURS[value]
-        views = self.set_control(name, value, sync=False, render=render, live=live)
+        if name.startswith("param:"):
+            views = self.set_control("params", {name[6:]: value}, sync=False, render=render, live=live)
+            none_box = self.checkboxes.get("none:" + name[6:])
+            if none_box is not None:  # a None row (α_y = α_x) takes a number from its slider: the lock opens
+                none_box.GetRepresentation().SetState(0)
+        else:
+            views = self.set_control(name, value, sync=False, render=render, live=live)
         self.sliders[name].GetRepresentation().SetTitleText(spec.title(self._state_value(name)))
         return views
 
@@ -215,8 +218,8 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         if not changed:
             return set()
         views = self.refresh(render=False, live=live)
-        if sync:
-            self._sync_widgets()
+        if sync or self._params_model != self.state.model:
+            self._sync_widgets()  # a new model: its own controls replace the last one's
         if render:
             self._render(all_panels=not live)
         return views

@@ -23,7 +23,7 @@ from explorer.app.layout import (
 )
 from explorer.app.plots import COLOURS
 from explorer.app.scenes import state_from_scene
-from explorer.app.state import CHANNELS, CONTROLS, MODELS, TERM_NAMES, AppState
+from explorer.app.state import CONTROLS, MODELS, TERM_NAMES, AppState
 from explorer.app.views import LIVE_VIEWS, VIEWS, ExplorerModel
 from explorer.app.widgets import SLIDERS
 from lighting import BlinnPhong, CookTorrance, Lambert, Phong
@@ -69,6 +69,13 @@ def central(crop, keep=0.7):
     return crop[dh : h - dh, dw : w - dw]
 
 
+def _click(app, group, option):
+    """A click on a button of a group: the button turns on, then tells its observers (as VTK does)."""
+    widget = app.buttons[group][option]
+    widget.GetRepresentation().SetState(1)
+    widget.InvokeEvent("StateChangedEvent")
+
+
 def luminance8(rgb):
     return np.asarray(rgb, dtype=np.float64)[..., :3] @ LUMA
 
@@ -78,8 +85,8 @@ def test_state_validates_every_control_and_names_it():
     s = AppState()
     for name, bad, allowed in [
         ("kd", 2, "[0, 1]"),
-        ("shininess", -1, "[0, 1000000]"),
-        ("roughness", 0.0, "[1e-06, 1]"),
+        ("shininess", -1, "[0, inf)"),
+        ("model", "torrance", "lambert, phong"),
         ("model", "torrance", "lambert, phong"),
         ("terms", "ambient,glow", "ambient, diffuse, specular"),
         ("light_color", (1, 2, 0), "[0, 1]"),
@@ -298,7 +305,7 @@ def test_slider_drag_shows_the_images_at_once_and_the_plots_on_release(fresh):
 
 def test_a_resting_slider_brings_the_plots_up_to_date(fresh):
     app = fresh
-    _drag(app.sliders["shininess"], (2.0,))
+    _drag(app.sliders["param:shininess"], (2.0,))
     assert app.stale_views == set(VIEWS) - LIVE_VIEWS
     iren = app.plotter.iren.interactor
     iren.InvokeEvent("TimerEvent")  # too soon after the move: nothing yet
@@ -306,16 +313,20 @@ def test_a_resting_slider_brings_the_plots_up_to_date(fresh):
     app._last_drag -= 2e-3 * app_mod.IDLE_MS  # ... IDLE_MS later, the timer set by the drag goes off
     iren.InvokeEvent("TimerEvent")
     assert app.stale_views == set() and app.state.shininess == 100.0
-    ref = polar_slice(app.state.plot_brdf(), app.state.theta_l, n=361, channel="luminance")
+    ref = polar_slice(app.state.plot_brdf(), app.state.theta_l, n=361, channel="luminance", phi_in=math.pi)
     np.testing.assert_allclose(app.model.views["polar"].light_fixed, ref.values, rtol=1e-12, atol=0)
     assert np.array_equal(app.polar_plot.fixed_light.get_ydata(), ref.values)  # and the plot shows it
 
 
 def test_a_drag_that_changes_no_image_updates_the_plots_at_once(fresh):
     app = fresh
-    _drag(app.sliders["channel"], (float(CHANNELS.index("g")),))
-    assert app.state.channel == "g" and app.stale_views == set()
-    ref = polar_slice(app.state.plot_brdf(), app.state.theta_l, n=361, channel="g")
+    _click(app, "channel", "g")
+    app.set_control("model", "ward")
+    app.set_control("params", {"alpha_x": 0.05, "alpha_y": 0.4})
+    image = app.model.views["sphere"]
+    _drag(app.sliders["phi"], (90.0,))  # the BRDF views' azimuth: no image changes, the plots follow at once
+    assert app.state.phi == 90.0 and app.stale_views == set() and app.model.views["sphere"] is image
+    ref = polar_slice(app.state.plot_brdf(), app.state.theta_l, n=361, channel="g", phi_in=math.pi / 2)
     np.testing.assert_allclose(app.model.views["polar"].light_fixed, ref.values, rtol=1e-12, atol=0)
     assert app.polar_plot.fixed_light.get_color() == COLOURS["g"]  # drawn in the channel's colour
 
@@ -323,7 +334,7 @@ def test_a_drag_that_changes_no_image_updates_the_plots_at_once(fresh):
 def test_gouraud_shows_mach_bands_and_loses_the_highlight(fresh):
     app = fresh
     app.set_control("model", "phong")
-    app.on_slider("shininess", math.log10(200.0))
+    app.on_slider("param:shininess", math.log10(200.0))
     app.on_slider("tessellation", 6)
     c, p = app.model.views["coarse"], app.model.views["profile"]
     assert c.n_triangles == 2 * 12 * 5
@@ -342,7 +353,7 @@ def test_gouraud_shows_mach_bands_and_loses_the_highlight(fresh):
     ph = luminance8(central(panel_pixels(app, img, PHONG))).max()
     assert ph > g + 20
     # Switching the lit sphere to Gouraud shows the engine's Gouraud image of the coarse sphere.
-    app.on_slider("mode", 1)
+    _click(app, "mode", "gouraud")
     sv = app.model.views["sphere"]
     assert (app.state.mode, sv.geometry) == ("gouraud", "120 triangles")
     ref = app.model.mesh_renderer(6, app.model.sphere_size).render(s.material(), s.lights(), mode="gouraud")
@@ -367,10 +378,10 @@ def _half_width(angles, values, centre):
 def test_shininess_narrows_the_lobe(fresh):
     app = fresh
     app.set_control("terms", ("specular",))
-    app.on_slider("model", MODELS.index("blinn-phong-normalized"))
+    _click(app, "model", "blinn-phong-normalized")
     widths, peaks = [], []
     for e in (20.0, 200.0):
-        app.on_slider("shininess", math.log10(e))
+        app.on_slider("param:shininess", math.log10(e))
         lv, pol = app.model.views["lobe"], app.model.views["polar"]
         widths.append(_half_width(pol.angles, pol.light_fixed, pol.theta_in))
         # The 3D lobe: angular half-width about its peak.
@@ -388,17 +399,17 @@ def test_shininess_narrows_the_lobe(fresh):
 @pytest.mark.parametrize("model", ["lambert", "phong", "blinn-phong", "blinn-phong-normalized", "cook-torrance"])
 def test_model_switch_shows_that_models_polar_slice(fresh, model):
     app = fresh
-    app.on_slider("model", MODELS.index(model))
+    _click(app, "model", model)
     app.on_slider("elevation", 35.0)
     s = app.state
     kd = s.diffuse_albedo
     spec = {
-        "lambert": None,
-        "phong": Phong(s.ks, s.shininess),
-        "blinn-phong": BlinnPhong(s.ks, s.shininess),
-        "blinn-phong-normalized": BlinnPhong(s.ks, s.shininess, normalized=True),
-        "cook-torrance": CookTorrance(s.ks, s.roughness, s.f0),
-    }[model]
+        "lambert": lambda: None,
+        "phong": lambda: Phong(s.ks, s.shininess),
+        "blinn-phong": lambda: BlinnPhong(s.ks, s.shininess),
+        "blinn-phong-normalized": lambda: BlinnPhong(s.ks, s.shininess, normalized=True),
+        "cook-torrance": lambda: CookTorrance(s.ks, s.roughness, s.f0),
+    }[model]()
     brdf = Lambert(kd) if spec is None else Lambert(kd) + spec
     ref = polar_slice(brdf, math.radians(55.0), n=361, channel="luminance")
     pol = app.model.views["polar"]
@@ -413,7 +424,7 @@ def test_channel_switch(fresh):
     lum = app.model.views["polar"].light_fixed.copy()
     per = {}
     for ch in ("r", "g", "b"):
-        app.on_slider("channel", CHANNELS.index(ch))
+        _click(app, "channel", ch)
         per[ch] = app.model.views["polar"].light_fixed.copy()
     kd = app.state.diffuse_albedo
     # Lambert: each channel is k_d[c]/π over the upper hemisphere, luminance their Rec. 709 mix.
@@ -466,8 +477,11 @@ def test_keys(fresh):
     app = fresh
     app.on_key("m")
     assert app.state.model == MODELS[(MODELS.index("blinn-phong") + 1) % len(MODELS)]
-    slider = app.sliders["model"].GetRepresentation()
-    assert slider.GetValue() == MODELS.index(app.state.model)  # the slider follows the key
+    buttons = app.buttons["model"]
+    assert [b.GetRepresentation().GetState() for b in buttons.values()] == [
+        int(m == app.state.model) for m in buttons
+    ]  # the buttons follow the key: the new model's is the one on
+    assert "param:shininess" in app.sliders or app.state.model not in ("phong", "blinn-phong-normalized")
     row = app.model.views["profile"].row
     app.on_key("Down")
     assert app.model.views["profile"].row > row
@@ -599,7 +613,8 @@ def test_light_at_or_below_the_horizon_reflects_nothing_in_every_view(model, ele
     # Item 2: at elevation 0 the lobe showed "peak 2.6e+15" (Phong) while the polar slice said "nothing
     # reflected": the direction came from cos(90°) = 6.1e-17.  Now every view agrees: exactly 0.
     for options in ({}, {"times_cos": True, "log": True}):
-        s = AppState(model=model, elevation=elevation, shininess=1e6 if "phong" in model else 40.0, **options)
+        sharp = {"shininess": 1e6} if "phong" in model else {}
+        s = AppState(model=model, elevation=elevation, **sharp, **options)
         assert s.light_direction()[2] == 0.0 if elevation == 0.0 else s.light_direction()[2] < 0
         assert s.key_light().direction[2] == s.light_direction()[2]
         m = ExplorerModel(s, sphere_size=32, mesh_size=32, lobe_resolution=8)
@@ -793,7 +808,7 @@ def test_albedo_readout_with_its_error_and_the_unconverged_flag(fresh):
     caption = app.captions["polar_albedo"].GetInput()
     assert caption.startswith("albedo ρ(θ_v = 60°) = ") and "±" in caption and "unconverged" not in caption
     # A mirror-like Cook–Torrance lobe: the quadrature's own error estimate is above 2 %.
-    app.state.update(model="cook-torrance", roughness=1e-6)
+    app.state.update(model="cook-torrance", roughness=1e-6, f0=1.0)
     app.refresh(render=False)
     av = app.model.views["albedo"]
     assert av.unconverged and av.relative_error > 0.02

@@ -1,0 +1,335 @@
+r"""A model's controls, generated from its parameter table (as BRDF Explorer builds sliders from a file's block).
+
+Every registered model describes its constructor's keywords in ``cls.parameters``
+(:class:`lighting.models.protocol.Parameter`: kind ``float``/``color``/``bool``/``choice``, range, slider
+range, log scale, unit, description).  The explorer offers one control per row:
+
+* ``float`` — a slider over ``Parameter.control_range`` (log10 of it when ``log``); a parameter whose
+  default is ``None`` (``alpha_y``: "None = α_x") also gets a check box that sets ``None`` back;
+* ``color`` — a slider for a grey value (RGB values from a scene file or the command line are kept
+  until the slider moves);
+* ``bool`` — a check box; ``choice`` — a row of buttons, one of them on.
+
+Two rows are not offered: the fixed arguments of a variant (``blinn-phong-normalized`` fixes
+``normalized``), and the *diffuse colour* of a model that carries its own diffuse reflection
+(:func:`carries_diffuse`), which the explorer's ``k_d`` and surface colour fill — for such a model the
+explorer adds no Lambert part of its own (Oren–Nayar, Disney and Ashikhmin–Shirley would otherwise
+count diffuse twice).  Nothing here imports PyVista or Matplotlib.
+
+Example
+-------
+>>> [p.name for p in offered_parameters("oren-nayar")]
+['sigma', 'form']
+>>> validate_parameter(parameter_table("phong")["shininess"], -1)
+Traceback (most recent call last):
+...
+ValueError: shininess must be a number in [0, inf); got -1
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from lighting._numeric import ArgumentTypeError, abbreviate, check_bool, real_array
+from lighting.models import model_variants
+
+__all__ = [
+    "MODELS",
+    "MODEL_LABELS",
+    "model_choices",
+    "model_label",
+    "carries_diffuse",
+    "diffuse_parameter",
+    "parameter_table",
+    "offered_parameters",
+    "parameter_defaults",
+    "validate_parameter",
+    "slider_range",
+    "none_label",
+]
+
+
+def model_choices() -> tuple[str, ...]:
+    """The explorer's model list now: every registered model and named variant, in registration order.
+
+    Returns
+    -------
+    tuple of str
+        ``tuple(MODELS)``, e.g. ``("lambert", "phong", "blinn-phong", "blinn-phong-normalized",
+        "cook-torrance")`` for the built-in models.
+    """
+    return tuple(model_variants())
+
+
+def model_label(name: str) -> str:
+    """The label a model list shows for a registered model or variant name.
+
+    Each word of the model's own name is capitalized (``"cook-torrance"`` → ``"Cook-Torrance"``);
+    a variant adds the rest of its name in words (``"blinn-phong-normalized"`` →
+    ``"Blinn-Phong normalized"``).
+
+    Parameters
+    ----------
+    name : str
+        A name of :func:`lighting.models.model_variants`.
+
+    Returns
+    -------
+    str
+        The label.
+
+    Examples
+    --------
+    >>> [model_label(m) for m in ("lambert", "blinn-phong", "blinn-phong-normalized")]
+    ['Lambert', 'Blinn-Phong', 'Blinn-Phong normalized']
+    """
+    entry = model_variants().get(name)
+    base = entry[0].name if entry is not None and entry[0].name else name
+    if name != base and name.startswith(base + "-"):
+        return model_label(base) + " " + name[len(base) + 1 :].replace("-", " ")
+    return "-".join(word[:1].upper() + word[1:] for word in name.split("-"))
+
+
+class _ModelList(Sequence):
+    """The names of the registered models and variants, read from the registry at each use.
+
+    A model registered after the explorer was imported is in the list (and so among the choices of
+    the ``model`` control, the command line's ``--model`` and the ``m`` key) from then on.
+    """
+
+    def __getitem__(self, index):
+        return tuple(model_variants())[index]
+
+    def __len__(self) -> int:
+        return len(model_variants())
+
+    def __contains__(self, name) -> bool:
+        return name in model_variants()
+
+    def __eq__(self, other):
+        return tuple(self) == (tuple(other) if isinstance(other, Sequence) else other)
+
+    def __hash__(self):
+        return hash(tuple(self))
+
+    def __repr__(self) -> str:
+        return repr(tuple(self))
+
+
+class _ModelLabels(Mapping):
+    """:func:`model_label` of every name of :data:`MODELS`, as a mapping (read from the registry at each use)."""
+
+    def __getitem__(self, name):
+        if name not in MODELS:
+            raise KeyError(name)
+        return model_label(name)
+
+    def __iter__(self):
+        return iter(MODELS)
+
+    def __len__(self) -> int:
+        return len(MODELS)
+
+
+#: The model list: every registered model and named variant, in registration order
+#: (:func:`lighting.models.model_variants`; the built-in ones in the lectures' order).
+MODELS = _ModelList()
+MODEL_LABELS = _ModelLabels()
+
+
+def _entry(model: str):
+    entry = model_variants().get(model)
+    if entry is None:
+        raise ValueError(f"model {model!r} is not registered; models: {', '.join(model_variants())}")
+    return entry
+
+
+def carries_diffuse(cls) -> bool:
+    """Whether a model class reflects diffusely itself, so that the explorer adds no Lambert part to it.
+
+    True for a diffuse model (``term == "diffuse"``: Lambert, Oren–Nayar) and for one that declares its
+    own diffuse term (``own_diffuse``: Disney, Ashikhmin–Shirley's coupled diffuse).
+
+    Parameters
+    ----------
+    cls : type
+        A :class:`~lighting.models.brdf.BRDF` subclass.
+
+    Returns
+    -------
+    bool
+    """
+    return cls.term == "diffuse" or bool(getattr(cls, "own_diffuse", False))
+
+
+def diffuse_parameter(cls) -> str | None:
+    """The colour parameter the explorer's ``k_d × colour`` fills: a diffuse model's first colour row.
+
+    Parameters
+    ----------
+    cls : type
+        A model class.
+
+    Returns
+    -------
+    str or None
+        ``"kd"`` (Lambert, Oren–Nayar), ``"base_color"`` (Disney), ``"rd"`` (Ashikhmin–Shirley); ``None``
+        for a model that does not carry its own diffuse (the explorer adds ``Lambert(k_d × colour)``).
+    """
+    if not carries_diffuse(cls):
+        return None
+    return next((p.name for p in cls.parameters if p.kind == "color"), None)
+
+
+def parameter_table(model: str) -> dict:
+    """A model's (or variant's) parameter table by name.
+
+    Parameters
+    ----------
+    model : str
+        A name of :func:`lighting.models.model_variants`.
+
+    Returns
+    -------
+    dict of str to Parameter
+    """
+    cls, _ = _entry(model)
+    return {p.name: p for p in cls.parameters}
+
+
+def offered_parameters(model: str) -> tuple:
+    """The rows of a model's table the explorer offers as controls, in the table's order.
+
+    Parameters
+    ----------
+    model : str
+        A model or variant name.
+
+    Returns
+    -------
+    tuple of Parameter
+        The table without the variant's fixed arguments and the diffuse colour (:func:`diffuse_parameter`).
+    """
+    cls, fixed = _entry(model)
+    skip = set(fixed) | {diffuse_parameter(cls)}
+    return tuple(p for p in cls.parameters if p.name not in skip)
+
+
+def parameter_defaults(model: str) -> dict:
+    """The offered parameters' starting values: the table's defaults (``None`` stays ``None``).
+
+    Parameters
+    ----------
+    model : str
+        A model or variant name.
+
+    Returns
+    -------
+    dict
+        Parameter name → default.
+    """
+    return {p.name: _plain(p.default) for p in offered_parameters(model)}
+
+
+def _plain(value):
+    if isinstance(value, np.ndarray):
+        value = value.reshape(-1).tolist()
+    if isinstance(value, (list, tuple)):
+        return tuple(float(x) for x in value)
+    if isinstance(value, (np.floating, np.integer)) and not isinstance(value, np.bool_):
+        return float(value)
+    return value
+
+
+def _interval(p) -> str:
+    lo, hi = p.low, p.high
+    left = "(" if p.low_open else "["
+    right = ")" if math.isinf(hi) else "]"
+    return f"{left}{lo:g}, {'inf' if math.isinf(hi) else f'{hi:g}'}{right}"
+
+
+def _in_range(p, x: np.ndarray) -> bool:
+    above = np.all(x > p.low) if p.low_open else np.all(x >= p.low)
+    return bool(above and np.all(x <= p.high))
+
+
+def validate_parameter(p, value):
+    """``value`` checked for the parameter ``p``; a ``ValueError`` naming it, the value and what is allowed.
+
+    Numbers are numbers (text, bytes and bools are refused: :class:`~lighting._numeric.ArgumentTypeError`,
+    a TypeError and a ValueError); colours are one number (grey) or three; choices accept any case and
+    ``_`` for ``-``.
+
+    Parameters
+    ----------
+    p : Parameter
+        The table row.
+    value
+        The value given.
+
+    Returns
+    -------
+    float, tuple of float, bool, str or None
+        The value as the state keeps it (a colour: a float for grey, else a 3-tuple).
+    """
+    name, given = p.name, abbreviate(repr(value))
+    if p.kind == "bool":
+        return check_bool(name, value)
+    if p.kind == "choice":
+        allowed = f"one of {', '.join(p.choices)}"
+        if not isinstance(value, str):
+            raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {given}")
+        key = value.strip().lower().replace("_", "-").replace(" ", "-")
+        if key not in p.choices:
+            raise ValueError(f"{name} must be {allowed}; got {given}")
+        return key
+    if p.kind == "float" and value is None and p.default is None:
+        return None
+    kind = "a number" if p.kind == "float" else "one number or three numbers r,g,b"
+    allowed = f"{kind} in {_interval(p)}" + (" or None" if p.default is None else "")
+    try:
+        arr = real_array(name, value, allowed=allowed).astype(np.float64).reshape(-1)
+    except ArgumentTypeError:
+        raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {given}") from None
+    except ValueError:  # NaN or inf
+        raise ValueError(f"{name} must be {allowed}; got {given}") from None
+    if arr.size not in ((1,) if p.kind == "float" else (1, 3)) or not _in_range(p, arr):
+        raise ValueError(f"{name} must be {allowed}; got {given}")
+    return float(arr[0]) if arr.size == 1 else tuple(float(x) for x in arr)
+
+
+def slider_range(p) -> tuple[float, float]:
+    """The positions a slider of a number or colour row spans: ``control_range``, in log10 for log rows.
+
+    A range without an end gets one: ``[low, low + 1]`` (no row of the registered models needs it).  A log
+    slider cannot reach 0: it starts at the range's low end if positive, else six decades below its top
+    (``shininess`` 1 … 1e6, ``nu`` 0.01 … 1e4).
+
+    Parameters
+    ----------
+    p : Parameter
+        A ``float`` or ``color`` row.
+
+    Returns
+    -------
+    (float, float)
+        The slider's ends (log10 of the value's ends for a log row).
+    """
+    lo, hi = p.control_range
+    if not math.isfinite(hi):
+        hi = lo + 1.0
+    if p.log:
+        lo = lo if lo > 0 else hi * 1e-6
+        return math.log10(lo), math.log10(hi)
+    return float(lo), float(hi)
+
+
+def none_label(p) -> str:
+    """What ``None`` means for a row whose default is ``None``, from its description ("None: = α_x")."""
+    text = p.description
+    k = text.find("None:")
+    meaning = text[k + 5 :].strip(" )") if k >= 0 else "default"
+    return meaning.split(",")[0].strip() or "default"
