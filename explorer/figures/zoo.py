@@ -45,6 +45,12 @@ def family_of(brdf) -> str:
     -------
     str
         ``"half"`` or ``"normal"`` (diffuse, mirror-direction, delta or unknown lobes).
+
+    Examples
+    --------
+    >>> from lighting.models import create_model
+    >>> family_of(create_model("lambert")), family_of(create_model("cook-torrance"))
+    ('normal', 'half')
     """
     lobe = brdf.lobe()
     return "half" if lobe is not None and lobe.axis == "half" else "normal"
@@ -62,6 +68,11 @@ def gallery_entries(family: str) -> list[tuple[str, object]]:
     -------
     list of (str, BRDF)
         The registered name and the model.
+
+    Examples
+    --------
+    >>> [name for name, _ in gallery_entries("half")][:2]
+    ['blinn-phong', 'blinn-phong-normalized']
     """
     out = []
     for name in model_variants():
@@ -116,6 +127,15 @@ def half_disc(ax, rmax: float, *, ticks: int = 2, label: bool = True) -> None:
     Returns
     -------
     None
+
+    Examples
+    --------
+    >>> from lighting import Phong
+    >>> from lighting.analysis import polar_slice
+    >>> from explorer.figures.base import new_figure
+    >>> ax = new_figure(4, 2).add_subplot()
+    >>> half_disc(ax, 1.0)
+    >>> lines = ax.plot(*polar_slice(Phong(1.0, 20), 0.7, n=91, channel=0).xy.T)
     """
     from .base import _fmt_tick, _nice_ticks
 
