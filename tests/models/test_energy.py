@@ -345,3 +345,18 @@ def test_sampled_furnace_is_unbiased():
     ct = _model("ggx", "smith-correlated", 1.0)
     est = directional_albedo(ct, math.radians(60.0), 20000, "importance", seed=4, return_error=True)
     assert abs(float(est.value[0]) - 1.0) <= max(3 * float(est.error[0]), 3e-3)
+
+
+def test_scene_file_carries_the_flag():
+    from lighting.scene import scene_to_toml
+    from lighting.scene.load import parse_scene
+
+    part = '{model = "cook-torrance", roughness = 0.5, f0 = 1, ndf = "ggx", geometry = "smith", ' + (
+        "energy_compensation = true}"
+    )
+    text = f'[camera]\neye = [0, 0, 5]\n[[objects]]\ntype = "sphere"\nmaterial = {{parts = [{part}]}}\n'
+    scene = parse_scene(text)
+    assert scene.objects[0].material.brdf.parts[0].energy_compensation is True
+    assert parse_scene(scene_to_toml(scene)).to_dict() == scene.to_dict()
+    with pytest.raises(ValueError, match="energy_compensation"):
+        parse_scene(text.replace('"smith"', '"v-cavity"'))
