@@ -84,7 +84,8 @@ def benchmark_handlers(repeat: int = 15, window_size=DEFAULT_WINDOW_SIZE) -> dic
         out["release_ms"] = timed(lambda k: app.flush(render=False), repeat, frame=True, before=elevation)
         out["elevation_full_ms"] = timed(elevation_full, repeat)
         out["elevation_full_frame_ms"] = timed(elevation_full, repeat, frame=True)
-        out["shininess_ms"] = timed(lambda k: app.on_slider("shininess", 1.0 + 0.05 * (k % 20 + 1), live=True), repeat)
+        shininess = "param:shininess"  # a slider of the model's own controls
+        out["shininess_ms"] = timed(lambda k: app.on_slider(shininess, 1.0 + 0.05 * (k % 20 + 1), live=True), repeat)
         app.flush(render=False)
         seq = [t for t in range(5, 41) if not app.model.is_rasterized(t, app.model.mesh_size)]
         n_new = min(repeat, len(seq), 8)  # within the renderer cache (12), so they stay rasterized

@@ -53,8 +53,8 @@ class DrawingMixin:
             share = 100 * sv.clipped / max(int(sv.coverage.sum()), 1)
             share = f"{share:.0f}%" if share >= 0.5 else "under 1%"
             clipped = f"{share} of the sphere above 1: clipped (lower the exposure)\n" if sv.clipped else ""
-            self._set_text("sphere_legend", f"{where} · arrow: the light" + self._delta_note())
-            self._set_text("sphere_info", clipped + self._light_summary())
+            self._set_text("sphere_legend", f"{where} · arrow: the light")
+            self._set_text("sphere_info", clipped + self._delta_note() + self._light_summary())
         if views & {"sphere", "lobe"} or not self._glyphs_placed:
             self._update_light_glyphs()
         if "coarse" in views:
@@ -118,8 +118,8 @@ class DrawingMixin:
         """What an ideal mirror (a Dirac delta, ``is_delta``) shows under the explorer's lights, said on screen."""
         if not any(getattr(p, "is_delta", False) for p in self.state.brdf().parts):
             return ""
-        return ("\nideal mirror (δ): a point or directional light shows only where R = v\n"
-                "exactly, a single point: the sphere is black but for ambient and k_d")  # fmt: skip
+        return ("ideal mirror (δ): a point or directional light shows only\n"
+                "where R = v exactly (one point): black but for ambient and k_d\n")  # fmt: skip
 
     def _light_summary(self) -> str:
         s = self.state

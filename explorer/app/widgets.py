@@ -367,6 +367,12 @@ class WidgetsMixin(ModelControlsMixin):
 
         return snap
 
+    def _refused(self, exc):
+        """A click the model refuses (a combination its constructor does not allow): say so, show the state."""
+        self._set_text("hint", f"not applied: {exc}"[:150])
+        self.captions["hint"].GetTextProperty().SetColor(1.0, 0.42, 0.42)
+        self._sync_widgets()
+
     def _radio_callback(self, name, option):
         def callback(flag):
             if self._building:
@@ -380,7 +386,10 @@ class WidgetsMixin(ModelControlsMixin):
                     return
                 self.set_control(name, LIGHT_COLOURS[option], render=False)
             elif name.startswith("param:"):
-                self.set_control("params", {name[6:]: option}, render=False)
+                try:
+                    self.set_control("params", {name[6:]: option}, render=False)
+                except ValueError as exc:
+                    self._refused(exc)
             else:
                 self.set_control(name, option, render=False)
 
@@ -400,7 +409,10 @@ class WidgetsMixin(ModelControlsMixin):
                 value = None if flag else self._param_specs[f"param:{name}"].linked_value(self.state)
                 self.set_control("params", {name: value}, render=False)
             elif key.startswith("param:"):
-                self.set_control("params", {key[6:]: bool(flag)}, render=False)
+                try:
+                    self.set_control("params", {key[6:]: bool(flag)}, render=False)
+                except ValueError as exc:
+                    self._refused(exc)
             else:
                 self.set_control(key, bool(flag), render=False)
 

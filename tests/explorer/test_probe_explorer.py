@@ -16,7 +16,7 @@ After each event, once the views are up to date (a drag leaves the plots for the
   every BRDF view — the lobe, both polar slices, the θ_v and θ_h curves, the albedo;
 * item 3: otherwise the 3D lobe, the polar slice and the θ_v curve report the same peak (stated
   bound: 1e-6 relative; the issue allowed 1 %);
-* the sliders and check boxes show the state;
+* the sliders, button groups and check boxes show the state (the model's own controls included);
 * an invalid value or slider position raises a ValueError (or ArgumentTypeError) naming the
   control, and leaves the state and every view unchanged.
 """
@@ -30,15 +30,15 @@ import numpy as np
 import pytest
 
 from explorer import app as app_mod
+from explorer.app.params import offered_parameters
 from explorer.app.state import CONTROLS, MODELS, AppState
 from explorer.app.views import LIVE_VIEWS, ExplorerModel
-from explorer.app.widgets import SLIDERS
 
 pv = pytest.importorskip("pyvista")
 
 SEED = 20241114
 PEAK_RTOL = 1e-6
-APP_EVENTS = 150
+APP_EVENTS = 200
 MODEL_EVENTS = 260
 KEYS = ("m", "M", "t", "i", "c", "f", "1", "2", "3", "l", "n", "Up", "Down", "Left", "Right", "r", "h", "e")
 
@@ -47,8 +47,18 @@ INVALID = {
     "float": [b"1", "0.5", None, float("nan"), float("inf"), -float("inf"), 1j, True, [0.5], {}, object()],
     "int": [7.5, "8", b"8", None, float("nan"), True, 8 + 0j, [8]],
     "choice": ["bogus", b"phong", 0, None, ("phong",)],
-    "rgb": [b"1", "1,0,0", (1.0, 2.0, 0.0), (0.5, 0.5), (float("nan"), 0.0, 0.0), None, (True, False, True), -0.1,
-            (b"1", 0.0, 0.0), {"r": 1.0}],  # fmt: skip
+    "rgb": [
+        b"1",
+        "1,0,0",
+        (1.0, 2.0, 0.0),
+        (0.5, 0.5),
+        (float("nan"), 0.0, 0.0),
+        None,
+        (True, False, True),
+        -0.1,
+        (b"1", 0.0, 0.0),
+        {"r": 1.0},
+    ],  # fmt: skip
     "terms": [{}, {"ambient": 1}, "glow", b"ambient", 3, ("ambient", 1), None],
     "bool": ["yes", 1, None, 0.0, b"1"],
 }
@@ -75,6 +85,18 @@ def _finite(views) -> bool:
     return True
 
 
+def _isotropic(brdf) -> bool:
+    """Whether turning l and v together about the normal leaves f_r as it is (five random pairs, 1e-9)."""
+    rng = np.random.default_rng(5)
+    d = rng.normal(size=(2, 5, 3))
+    d[..., 2] = np.abs(d[..., 2]) + 0.1
+    c, s_ = math.cos(0.7), math.sin(0.7)
+    turn = np.array([[c, -s_, 0.0], [s_, c, 0.0], [0.0, 0.0, 1.0]])
+    n = (0.0, 0.0, 1.0)
+    a, b = brdf.eval(n, d[0], d[1]), brdf.eval(n, d[0] @ turn.T, d[1] @ turn.T)
+    return bool(np.allclose(a, b, rtol=1e-9, atol=1e-300))
+
+
 def _check_laws(model, failures: Counter) -> None:
     views = model.views
     if not _finite(views):
@@ -82,6 +104,8 @@ def _check_laws(model, failures: Counter) -> None:
     if model.pending:
         return  # the plots wait for the release; the laws hold once they follow
     s = model.state
+    if s.lock:
+        return  # the retro-reflection views do not depend on the light: the laws below are the light's
     lobe, polar, curve = views["lobe"], views["polar"], views["theta_v"]
     if s.theta_l >= 0.5 * math.pi:
         dark = (
@@ -97,7 +121,7 @@ def _check_laws(model, failures: Counter) -> None:
         )
         if not dark:
             failures["horizon: a view reflects light from below"] += 1
-    else:
+    elif s.phi % 90.0 == 0.0 or _isotropic(s.plot_brdf()):  # off the axes an anisotropic lobe leaves the plane
         a, b = float(polar.light_fixed.max()), float(curve.values.max())
         top = lobe.peak
         if not (abs(a - top) <= PEAK_RTOL * top and abs(b - top) <= PEAK_RTOL * top):
@@ -107,10 +131,18 @@ def _check_laws(model, failures: Counter) -> None:
 def _widgets_show_state(app) -> bool:
     """Every slider at the position of its control's value (clamped to its range), every box as its flag."""
     for name, widget in app.sliders.items():
-        spec = SLIDERS[name]
+        spec = app.slider_spec(name)
         want = spec.to_slider(app._state_value(name))
         if not math.isclose(widget.GetRepresentation().GetValue(), want, rel_tol=1e-9, abs_tol=1e-9):
             return False
+    for name, group in app.buttons.items():
+        value = app._state_value(name)
+        if [w.GetRepresentation().GetState() for w in group.values()] != [int(o == value) for o in group]:
+            return False
+    if {n[6:] for n in app.sliders if n.startswith("param:")} | {
+        n[6:] for n in app.buttons if n.startswith("param:")
+    } | {n[6:] for n in app.checkboxes if n.startswith("param:")} != set(app.state.params):
+        return False  # the model's own controls are its parameters, no more, no fewer
     return all(
         widget.GetRepresentation().GetState() == (1 if app._checkbox_value(key) else 0)
         for key, widget in app.checkboxes.items()
@@ -160,16 +192,18 @@ def test_event_storm_over_every_control_of_the_window(app):
     names = list(app.sliders)
     dragging = None
     for _ in range(APP_EVENTS):
-        kind = rng.choice(["drag", "drag", "drag", "release", "key", "checkbox", "invalid", "slider-invalid"])
+        kind = rng.choice(["drag", "drag", "drag", "release", "key", "checkbox", "button", "button", "invalid",
+                           "param-invalid", "slider-invalid"])  # fmt: skip
         events[kind] += 1
         try:
             if kind == "drag":
                 # Like the mouse: the widget's float position (VTK clamps it to the range), then its callback.
-                name = dragging if dragging is not None and rng.random() < 0.6 else str(rng.choice(names))
-                if dragging not in (None, name):
+                names = list(app.sliders)  # the model's own sliders change with the model
+                name = dragging if dragging in names and rng.random() < 0.6 else str(rng.choice(names))
+                if dragging not in (None, name) and dragging in app.sliders:
                     app.sliders[dragging].InvokeEvent("EndInteractionEvent")
                 dragging = name
-                spec = SLIDERS[name]
+                spec = app.slider_spec(name)
                 raw = float(rng.uniform(spec.lo - 0.1 * (spec.hi - spec.lo), spec.hi + 0.1 * (spec.hi - spec.lo)))
                 if rng.random() < 0.2:  # near the horizon, where the views used to disagree
                     raw = float(rng.choice([0.0, 1e-6, -1e-6, 0.3, 90.0, -90.0])) if name == "elevation" else raw
@@ -178,8 +212,33 @@ def test_event_storm_over_every_control_of_the_window(app):
                 widget.InvokeEvent("InteractionEvent")
                 if app.model.pending & LIVE_VIEWS:
                     failures["drag: live views left behind"] += 1
+            elif kind == "button":  # a click on a button of a group (the model's, a choice parameter's, ...)
+                if dragging is not None and dragging in app.sliders:
+                    app.sliders[dragging].InvokeEvent("EndInteractionEvent")
+                dragging = None
+                group = str(rng.choice(list(app.buttons)))
+                option = str(rng.choice(list(app.buttons[group])))
+                widget = app.buttons[group][option]
+                rep = widget.GetRepresentation()
+                rep.SetState(1 - rep.GetState())
+                widget.InvokeEvent("StateChangedEvent")
+                if option != "custom" and app._state_value(group) != option:
+                    failures["button: state does not follow"] += 1
+            elif kind == "param-invalid":  # a bad value for one of the model's parameters
+                params = offered_parameters(app.state.model)
+                if not params:
+                    continue
+                p = params[int(rng.integers(len(params)))]
+                value = [float("nan"), -1e300, "x", b"1", object(), [1, 2]][int(rng.integers(6))]
+                if p.kind == "bool":
+                    value = "yes"
+                invalid += 1
+                before = sum(failures.values())
+                _invalid_event(lambda n, v: app.set_control("params", {n: v}), p.name, value, app.state,
+                               app.model.views, failures, f"{p.name} must ")  # fmt: skip
+                named += sum(failures.values()) == before
             elif kind == "release":
-                if dragging is not None:
+                if dragging is not None and dragging in app.sliders:
                     app.sliders[dragging].InvokeEvent("EndInteractionEvent")
                     dragging = None
                 else:
@@ -189,6 +248,9 @@ def test_event_storm_over_every_control_of_the_window(app):
             elif kind == "key":
                 app.on_key(str(rng.choice(KEYS)))
             elif kind == "checkbox":
+                if dragging is not None and dragging in app.sliders:
+                    app.sliders[dragging].InvokeEvent("EndInteractionEvent")
+                dragging = None
                 key = str(rng.choice(list(app.checkboxes)))
                 rep = app.checkboxes[key].GetRepresentation()
                 rep.SetState(1 - rep.GetState())
@@ -204,7 +266,7 @@ def test_event_storm_over_every_control_of_the_window(app):
                 _invalid_event(app.set_control, name, value, app.state, app.model.views, failures, f"{name} must ")
                 named += sum(failures.values()) == before
             else:  # an impossible slider position: NaN, inf, text
-                name = str(rng.choice(names))
+                name = str(rng.choice(list(app.sliders)))
                 value = [float("nan"), float("inf"), "0.5", None][int(rng.integers(4))]
                 invalid += 1
                 before = sum(failures.values())
@@ -217,12 +279,12 @@ def test_event_storm_over_every_control_of_the_window(app):
         _check_laws(app.model, failures)
         if dragging is None and not _widgets_show_state(app):
             failures["widgets do not show the state"] += 1
-    if dragging is not None:
+    if dragging is not None and dragging in app.sliders:
         app.sliders[dragging].InvokeEvent("EndInteractionEvent")
     _check_laws(app.model, failures)
     print("\n" + _summary("explorer window", events, failures, named, invalid))
     assert not failures, dict(failures)
-    assert events["drag"] > 30 and invalid > 20
+    assert events["drag"] > 30 and events["button"] > 15 and invalid > 20
 
 
 # ----------------------------------------------------------------------------- the model
@@ -254,7 +316,7 @@ def test_event_storm_over_the_model():
     named = invalid = 0
     plain = [n for n in CONTROLS if n not in ("tessellation", "mode", "scanline", "exposure")]
     for _ in range(MODEL_EVENTS):
-        kind = rng.choice(["set", "set", "set", "burst", "extreme", "invalid"])
+        kind = rng.choice(["set", "set", "set", "burst", "extreme", "param", "param", "invalid"])
         events[kind] += 1
         try:
             if kind == "set":
@@ -264,12 +326,39 @@ def test_event_storm_over_the_model():
                 chosen = rng.choice(plain, size=4, replace=False)
                 model.state.update(**{str(n): _random_value(rng, str(n)) for n in chosen})
             elif kind == "extreme":
+                name = str(rng.choice(MODELS))
+                extreme = {
+                    "shininess": float(rng.choice([0.0, 1.0, 1e6])), "roughness": float(rng.choice([1e-6, 1e-3, 1.0])),
+                    "f0": float(rng.choice([0.0, 1.0])), "sigma": float(rng.choice([0.0, 1.5])),
+                    "alpha_x": float(rng.choice([1e-3, 1.0])), "alpha_y": rng.choice([None, 1e-3, 1.0]),
+                    "nu": float(rng.choice([0.0, 1e4])), "nv": float(rng.choice([0.0, 1e4])),
+                    "anisotropic": float(rng.choice([0.0, 1.0])),
+                }  # fmt: skip
+                offered = {p.name for p in offered_parameters(name)}
                 model.state.update(
-                    model=str(rng.choice(MODELS)), shininess=float(rng.choice([0.0, 1.0, 1e6])),
-                    roughness=float(rng.choice([1e-6, 1e-3, 1.0])),
-                    elevation=float(rng.choice([0.0, 1e-6, 40.3, -5.0])),
-                    times_cos=bool(rng.random() < 0.5), log=bool(rng.random() < 0.5), f0=float(rng.choice([0.0, 1.0])),
+                    model=name, params={k: v for k, v in extreme.items() if k in offered},
+                    elevation=float(rng.choice([0.0, 1e-6, 40.3, -5.0])), phi=float(rng.choice([180.0, 90.0, 37.0])),
+                    times_cos=bool(rng.random() < 0.5), log=bool(rng.random() < 0.5), lock=bool(rng.random() < 0.2),
                 )  # fmt: skip
+            elif kind == "param":  # one of the model's own parameters, anywhere in its control range
+                params = offered_parameters(model.state.model)
+                if params:
+                    p = params[int(rng.integers(len(params)))]
+                    if p.kind == "choice":
+                        value = str(rng.choice(p.choices))
+                    elif p.kind == "bool":
+                        value = bool(rng.random() < 0.5)
+                    else:
+                        lo, hi = p.control_range
+                        lo = max(lo, 1e-6) if p.low_open else lo
+                        value = float(rng.uniform(lo, hi if math.isfinite(hi) else lo + 1.0))
+                    before = model.state.to_dict()
+                    try:
+                        model.state.set_param(p.name, value)
+                    except ValueError:  # a combination the model's constructor refuses (it names it)
+                        events["param refused"] += 1
+                        if model.state.to_dict() != before:
+                            failures["param refused: state changed"] += 1
             else:
                 name = str(rng.choice(list(CONTROLS)))
                 values = _invalid_values(name)
