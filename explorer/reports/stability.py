@@ -47,6 +47,12 @@ MODEL_ORDER = (
     "CT Beckmann",
     "CT GGX",
     "CT Blinn-Phong NDF",
+    "Oren-Nayar",
+    "Ward",
+    "Ashikhmin-Shirley",
+    "Disney",
+    "CT correlated",
+    "CT anisotropic",
     "Point light",
     "Spot light",
 )

@@ -231,6 +231,11 @@ def cook_torrance_fr(model, q, legacy=frozenset()):
     ndarray, shape (..., 3)
         In the dtype of ``q``.
     """
+    if model.geometry not in ("v-cavity", "smith") or getattr(model, "anisotropic", False):
+        raise ValueError(
+            f"the transcription covers the isotropic V-cavity and separable Smith forms; got geometry="
+            f"{model.geometry!r}{', anisotropic' if getattr(model, 'anisotropic', False) else ''}"
+        )
     wide = np.float32 if "float32" in legacy else np.float64
     d = ndf(model, q, q.dtype) if legacy & {"d-dtype", "float32"} else ndf(model, q, np.float64)
     c = 4.0 if model.denominator == "4" else math.pi

@@ -265,7 +265,9 @@ def _legacy_engine(name, specs, cols, n, l, v):  # noqa: E741
             if form != "eval":  # f_r itself carries every rearranged formula; the other forms share them
                 continue
             model = specs[si].model
-            if model.name not in rr.models:
+            # The transcriptions are of the slides' forms; the models on the general reference path
+            # (correlated and anisotropic Cook–Torrance among them) are not rearranged there.
+            if model.name not in rr.models or specs[si].general:
                 continue
             f = rr.variant(model, q, n, l, v)
             if f is not None:

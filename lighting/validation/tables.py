@@ -11,6 +11,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from .cases import DELTA, LIGHT_FORMS, REFERENCE_DPS, ModelSpec, brdf_specs, light_specs
+from .general import general_table
 from .reference import _brdf_gradients, _constant, _light_gradients, _mp
 
 
@@ -45,9 +46,16 @@ def _ref_table(kind: str, dtname: str, inputs: Sequence, dps: int = REFERENCE_DP
     mp = _mp()
     import mpmath.libmp as _libmp
 
+    general_cols: list = []
     if kind == "brdf":
         specs = brdf_specs()
-        cols = [specs[si].terms[form] for si, form in _columns(specs, _brdf_forms)]
+        all_cols = _columns(specs, _brdf_forms)
+        # The models with a whole-f_r reference (ModelSpec.general) come last: the factor columns keep
+        # their places, and the general ones are appended (lighting.validation.general).
+        factor_cols = [(si, form) for si, form in all_cols if not specs[si].general]
+        general_cols = [(si, form) for si, form in all_cols if specs[si].general]
+        assert all_cols == factor_cols + general_cols
+        cols = [specs[si].terms[form] for si, form in factor_cols]
         preds = PREDICATES
     else:
         lspecs = light_specs()
@@ -87,7 +95,7 @@ def _ref_table(kind: str, dtname: str, inputs: Sequence, dps: int = REFERENCE_DP
     is_d = np.array(
         [
             kind == "brdf" and form == "D"
-            for _, form in (_columns(specs, _brdf_forms) if kind == "brdf" else [(0, f) for f in LIGHT_FORMS])
+            for _, form in (factor_cols if kind == "brdf" else [(0, f) for f in LIGHT_FORMS])
         ]
     )
 
@@ -163,4 +171,8 @@ def _ref_table(kind: str, dtname: str, inputs: Sequence, dps: int = REFERENCE_DP
                 out["nz"][r, c] = True
                 out["kappa"][r, c] = kap[c]
                 out["logref"][r, c] = logs[c]
+    if general_cols:
+        gen = general_table(specs, general_cols, inputs, dps)
+        for key, arr in gen.items():
+            out[key] = np.concatenate([out[key], arr], axis=1)
     return out
