@@ -170,7 +170,7 @@ def test_dpi_sets_the_pixel_size(tmp_path):
     ("argv", "message"),
     [
         (["--only", "lambert_cosine"], "unknown figure 'lambert_cosine'; did you mean 'lambert_cosine_law'?"),
-        (["--only", "nothing_like_it"], "unknown figure 'nothing_like_it'; available: lambert_cosine_law"),
+        (["--only", "nothing_like_it"], "unknown figure 'nothing_like_it'; available: local_vs_global"),
         (["--format", "png,gif"], "unknown format 'gif'; allowed: png, svg, pdf"),
         (["--dpi", "3"], "dpi must be an integer >= 10; got 3"),
         (["--dpi", "many"], "argument --dpi: invalid int value: 'many'"),
@@ -300,8 +300,8 @@ def test_lecture_order_does_not_depend_on_which_module_is_imported_first():
     import subprocess
     import sys
 
-    code = ("import explorer.figures.rendering, explorer.figures.brdf, explorer.figures.lights\n"
+    code = ("import explorer.figures.rendering, explorer.figures.zoo, explorer.figures.brdf, explorer.figures.lights\n"
             "from explorer.figures import figure_names\nprint(','.join(figure_names()))")  # fmt: skip
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out.split(",") == figures.figure_names()
-    assert out.split(",")[0] == "lambert_cosine_law" and out.split(",")[-1] == "accuracy"
+    assert out.split(",")[0] == "local_vs_global" and out.split(",")[-1] == "accuracy"
