@@ -216,7 +216,7 @@ def _albedo_panel(ax, brdf, q):
     thetas = np.radians(np.append(np.arange(0.0, 89.0, step), 89.0))
     if brdf.is_delta:
         rho, err = _delta_albedo(brdf, thetas)
-        how = "closed form R(cos θ_v)"
+        how = "exact: R(cos θ)"
     else:
         c = albedo_curve(brdf, thetas, 512 if q.quick else 4096)
         rho, err = c.albedo[:, 0], c.error[:, 0]
