@@ -70,19 +70,24 @@ def _azimuths(b: int, n_phi: int, eps):
     return phi, np.concatenate([dd, dd, dd, dd], axis=1)
 
 
-def _star(c, t1, t2, psi_max, width, n_r: int, n_phi: int, breaks=None, eps=None, power=None, min_order=1):
+def _star(c, t1, t2, psi_max, width, n_r: int, n_phi: int, breaks=None, eps=None, power=None, min_order=1,
+          azimuths=None):  # fmt: skip
     """Polar rule about ``c`` (rays in directions ``cos φ t1 + sin φ t2``), each ray on ``[0, ψ_max(φ)]``.
 
     ``c, t1, t2`` are ``(B, 3)``; ``psi_max`` is a callable ``φ (B, n_phi) → (B, n_phi)``;
     ``breaks`` (optional) a callable ``φ → (B, n_phi, K)`` of radii where the
     integrand has a kink, which become panel boundaries of a composite rule;
-    ``eps`` grades the azimuths (:func:`_azimuths`).  With ``power = e`` the radius
+    ``eps`` grades the azimuths (:func:`_azimuths`), unless ``azimuths`` gives them
+    (``(φ, weights)``, each ``(B, n_phi)``).  ``width`` is one radial scale, or one per ray
+    ``(B, n_phi)`` (an elliptical lobe).  With ``power = e`` the radius
     is ``y = 1 − cos^{e+1} ψ`` instead (for a ``cos^e ψ`` lobe about ``c``, which is
     then constant in ``y``: ``cos^e ψ sin ψ dψ = dy/(e+1)``).
     Returns directions ``(B, n_phi n_r, 3)`` and solid-angle weights ``(B, n_phi n_r)``.
     """
     b = c.shape[0]
-    phi, wphi = _azimuths(b, n_phi, eps)
+    phi, wphi = _azimuths(b, n_phi, eps) if azimuths is None else azimuths
+    if np.ndim(width):
+        width = width[..., None]  # (B, n_phi, 1), beside the radii
     pm = np.clip(psi_max(phi), 0.0, math.pi)[..., None]  # (B, n_phi, 1)
     if power is not None:
         k = power + 1.0
@@ -100,7 +105,14 @@ def _star(c, t1, t2, psi_max, width, n_r: int, n_phi: int, breaks=None, eps=None
     a = None if width is None else np.arcsinh(pm / width)
     # Panel boundaries (in ψ): a few multiples of the lobe width, so the lobe always gets
     # panels of its own however far the ray reaches, and the kinks of the integrand.
-    marks = [] if width is None else [m * width for m in (2.0, 8.0, 32.0) if m * width < math.pi / 4]
+    if width is None:
+        marks = []
+    elif np.ndim(width):
+        # Per ray: a mark beyond π/4 goes to the ray's end (an empty panel), as the scalar rule leaves it out.
+        marks = [np.where(m * width < math.pi / 4, m * width, pm) for m in (2.0, 8.0, 32.0)
+                 if np.any(m * width < math.pi / 4)]  # fmt: skip
+    else:
+        marks = [m * width for m in (2.0, 8.0, 32.0) if m * width < math.pi / 4]
     cuts = [np.broadcast_to(np.float64(m), pm.shape) for m in marks]
     if breaks is not None:
         kinks = breaks(phi)
@@ -183,6 +195,8 @@ def _lobe_rule(part: BRDF, v: np.ndarray, n_r: int, n_phi: int, min_order: int =
         width = lobe.rule_width
         d, w = _star(r, t1, t2, pm, width, n_r, n_phi, eps=_cot(r[:, 2]), power=e, min_order=min_order)
         return _Rule(d, w)
+    if lobe is not None and lobe.axis == "half" and lobe.rule_widths[0] != lobe.rule_widths[1]:
+        return _elliptical_half_rule(lobe, v, n_r, n_phi, min_order)
     if lobe is not None and lobe.axis == "half":
         width = lobe.rule_width
         # Half-vector space: rays from n at azimuth φ measured from v's azimuth.
@@ -214,6 +228,87 @@ def _lobe_rule(part: BRDF, v: np.ndarray, n_r: int, n_phi: int, min_order: int =
     # A lobe about the normal (Lambert, e = 0) or none known: polar about the normal over the whole hemisphere.
     d, w = _star(n, x, y, lambda phi: np.full(phi.shape, math.pi / 2), None, n_r, n_phi, min_order=min_order)
     return _Rule(d, w)
+
+
+def _half_horizon(sin_v, cos_v):
+    """``θ_h,max(Δφ)``: how far from ``n`` a half vector at azimuth ``Δφ`` from the viewer's may lean.
+
+    ``n·l = 2 (v·h)(n·h) − n·v = A cos(2α − β)`` with ``β = atan2(sin θ_v cos Δφ, cos θ_v)``
+    vanishes at ``α = (β + π/2)/2``: the horizon, where the rules along half-vector rays stop.
+    """
+
+    def hmax(dphi):
+        beta = np.arctan2(sin_v[:, None] * np.cos(dphi), np.maximum(cos_v[:, None], 0.0))
+        return 0.5 * (beta + math.pi / 2)
+
+    return hmax
+
+
+def _stretched_azimuths(b: int, n_phi: int, qt: float, qb: float, phi_v, sin_v, cos_v):
+    """Azimuths ``φ`` (from ``t``), their weights and the ellipse's radius along each, ``(B, n_phi)`` each.
+
+    A lobe ``exp(−tan²θ_h (cos²φ/q_t² + sin²φ/q_b²))`` is round in the stretched slopes
+    ``(tan θ_h cos φ/q_t, tan θ_h sin φ/q_b)``, so it holds an equal part of its mass in equal steps of
+    the stretched azimuth ``φ̃ = atan2(q_t sin φ, q_b cos φ)``: at 1000:1 that is where the rays must go
+    (equal steps of ``φ`` miss the thin ellipse between two of them).  The nodes are those of
+    :func:`_azimuths` in ``φ̃``, mapped back by ``φ = atan2(q_b sin φ̃, q_t cos φ̃)`` with
+    ``dφ/dφ̃ = q_t q_b / ρ²``, ``ρ(φ̃) = √(q_t² cos²φ̃ + q_b² sin²φ̃)`` the ellipse's radius along the ray.
+    The horizon cut turns sharply (over ``cot θ_v`` in ``φ``) where it sweeps past ``n``, at ``φ_v ± π/2``:
+    the graded panels meet at the images of those azimuths, the turn's width carried over by ``dφ̃/dφ``.
+    """
+    turn = phi_v + math.pi / 2
+    ct, st = np.cos(turn), np.sin(turn)
+    turn_s = np.arctan2(qt * st, qb * ct)
+    stretch = qt * qb / (qb * qb * ct * ct + qt * qt * st * st)  # dφ̃/dφ at the turn
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cot = np.where(sin_v > 0, np.maximum(cos_v, 0.0) / np.where(sin_v > 0, sin_v, 1.0), np.inf)
+        eps = np.minimum(cot * stretch, 10.0)
+    phi_s, w_s = _azimuths(b, n_phi, eps)
+    phi_s = phi_s + (turn_s - math.pi / 2)[:, None]
+    cs, ss = np.cos(phi_s), np.sin(phi_s)
+    rho2 = qt * qt * cs * cs + qb * qb * ss * ss
+    return np.arctan2(qb * ss, qt * cs), w_s * (qt * qb / rho2), np.sqrt(rho2)
+
+
+def _elliptical_half_rule(lobe, v: np.ndarray, n_r: int, n_phi: int, min_order: int) -> _Rule:
+    """The half-vector rule of an anisotropic lobe: rays from ``n`` at stretched azimuths, scaled per ray.
+
+    As the round half-vector rule (radius ``ψ = w sinh(A u)`` on panels, stopping at the horizon),
+    with the azimuths of :func:`_stretched_azimuths` and, along each, the ellipse's own radius ``w``.
+    The ellipse's first axis lies at the azimuth ``lobe.orientation`` of the local frame (0: ``t = x̂``).
+    """
+    b = v.shape[0]
+    qt, qb = lobe.rule_widths
+    o = lobe.orientation
+    n = np.broadcast_to(np.array([0.0, 0.0, 1.0]), (b, 3))
+    x = np.broadcast_to(np.array([math.cos(o), math.sin(o), 0.0]), (b, 3))
+    y = np.broadcast_to(np.array([-math.sin(o), math.cos(o), 0.0]), (b, 3))
+    sv = np.sqrt(v[:, 0] ** 2 + v[:, 1] ** 2)
+    cos_v = v[:, 2]
+    phi_v = np.arctan2(v[:, 1], v[:, 0]) - o
+    phi, wphi, widths = _stretched_azimuths(b, n_phi, qt, qb, phi_v, sv, cos_v)
+    from_v = _half_horizon(sv, cos_v)
+
+    def hmax(phi):
+        return from_v(phi - phi_v[:, None])
+
+    breaks = None
+    if lobe.horizon == "v-cavity":
+        kinks = _vcavity_kinks(sv, cos_v, from_v)
+
+        def breaks(phi):
+            return kinks(phi - phi_v[:, None])
+
+    elif lobe.horizon == "smith":
+
+        def breaks(phi):
+            top = hmax(phi)[..., None]
+            return np.maximum(top - widths[..., None] * np.array([0.5, 2.0, 8.0]), 0.0)
+
+    h, w = _star(n, x, y, hmax, widths, n_r, n_phi, breaks, min_order=min_order, azimuths=(phi, wphi))
+    vh = np.einsum("bk,bmk->bm", v, h)
+    l = 2 * vh[..., None] * h - v[:, None, :]  # noqa: E741
+    return _Rule(l, w * 4 * np.maximum(vh, 0.0))
 
 
 def _vcavity_kinks(sin_v, cos_v, hmax):

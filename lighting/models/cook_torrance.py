@@ -212,7 +212,9 @@ class CookTorrance(BRDF):
         -------
         Lobe
             A ``"half"`` lobe of width ``α/√2`` (``inf`` when ``ks`` is 0), quadrature width ``α`` and
-            ``horizon`` ``"v-cavity"`` or ``"smith"`` (both Smith forms) after :attr:`geometry`.
+            ``horizon`` ``"v-cavity"`` or ``"smith"`` (both Smith forms) after :attr:`geometry`.  Anisotropic:
+            width ``√(α_x α_y)/√2`` and quadrature width ``min(α_x, α_y)``, with ``widths`` ``(α_x/√2, α_y/√2)``
+            and ``quadrature_widths`` ``(α_x, α_y)`` along ``t`` and ``b``, the ellipse quadrature follows.
         """
         # Beckmann's exp(−tan²θ_h/α²) has standard deviation α/√2 about n; quadrature scales by α.
         # Anisotropic: the geometric mean for the width, the narrower α for the quadrature's scale.
@@ -220,6 +222,10 @@ class CookTorrance(BRDF):
         width = alpha / math.sqrt(2.0) if np.any(self.ks > 0) else math.inf
         horizon = "v-cavity" if self.geometry == "v-cavity" else "smith"
         quad = min(self._ax, self._ay) if self.anisotropic else self._alpha
+        if self.anisotropic and width < math.inf:
+            axes = (self._ax, self._ay)
+            widths = (axes[0] / math.sqrt(2.0), axes[1] / math.sqrt(2.0))
+            return Lobe("half", width, quadrature_width=quad, horizon=horizon, widths=widths, quadrature_widths=axes)
         return Lobe("half", width, quadrature_width=quad, horizon=horizon)
 
     def sampler(self):

@@ -109,6 +109,34 @@ class Lobe:
     horizon : {None, "v-cavity", "smith"}
         What the shadowing term does near the horizon: the V-cavity ``min(1, G_v, G_l)`` has kinks;
         Smith's ``G1`` falls to 0 within about the roughness of it.  Quadrature places panel breaks there.
+    widths : (float, float), optional
+        An anisotropic lobe's widths along the tangent ``t`` and the bitangent ``b`` (the principal axes
+        of its elliptical cross-section; ``width`` is then their geometric mean).  ``None``: round.
+        Only ``"half"`` lobes may be anisotropic.
+    quadrature_widths : (float, float), optional
+        The radial scales of a quadrature rule along ``t`` and ``b`` (defaults to ``widths``, else
+        ``rule_width`` both ways); a rule whose two scales differ follows the ellipse
+        (:mod:`lighting.integrate.quadrature`).
+    orientation : float
+        The azimuth (radians, from ``x̂`` toward ``ŷ`` in the local frame) of the axis ``widths[0]``
+        lies along: 0 for a model oriented by its tangent (the local frame's ``t`` is ``x̂``); a wrapper
+        that turns the tangent it passes on turns its lobe with it.
+
+    Notes
+    -----
+    A lobe whose half vectors spread as ``exp(−tan²θ_h (cos²φ/α_t² + sin²φ/α_b²))`` (Ward,
+    anisotropic Beckmann; GGX and Ashikhmin–Shirley alike near the peak) is round in the stretched
+    slopes ``(tan θ_h cos φ/α_t, tan θ_h sin φ/α_b)``: along the azimuth ``φ`` its radial scale is the
+    ellipse's radius ``1/√(cos²φ/α_t² + sin²φ/α_b²)``, and equal steps of the stretched azimuth
+    ``φ̃ = atan2(α_t sin φ, α_b cos φ)`` hold equal parts of it.  ``(α_t, α_b)`` are the
+    ``quadrature_widths``; the engine's local frame has ``t = x̂``, ``b = ŷ``.
+
+    Examples
+    --------
+    >>> Lobe("half", 0.1, quadrature_widths=(0.3, 0.001)).rule_widths
+    (0.3, 0.001)
+    >>> Lobe("half", 0.1).isotropic, Lobe("half", 0.1, quadrature_widths=(0.3, 0.001)).isotropic
+    (True, False)
     """
 
     axis: str = "normal"
@@ -116,17 +144,52 @@ class Lobe:
     quadrature_width: float | None = None
     power: float | None = None
     horizon: str | None = None
+    widths: tuple[float, float] | None = None
+    quadrature_widths: tuple[float, float] | None = None
+    orientation: float = 0.0
 
     def __post_init__(self):
         if self.axis not in ("normal", "mirror", "half"):
             raise ValueError(f"Lobe axis must be 'normal', 'mirror' or 'half'; got {self.axis!r}")
         if self.horizon not in (None, "v-cavity", "smith"):
             raise ValueError(f"Lobe horizon must be None, 'v-cavity' or 'smith'; got {self.horizon!r}")
+        for name in ("widths", "quadrature_widths"):
+            pair = getattr(self, name)
+            if pair is None:
+                continue
+            try:
+                ok = len(pair) == 2 and all(0 < float(x) < math.inf for x in pair)
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise ValueError(f"Lobe {name} must be None or two finite positive widths (along t, along b); "
+                                 f"got {pair!r}")  # fmt: skip
+            if self.axis != "half" and pair[0] != pair[1]:
+                raise ValueError(f"Lobe {name}: only a 'half' lobe may be anisotropic; got {pair!r} on {self.axis!r}")
+            object.__setattr__(self, name, (float(pair[0]), float(pair[1])))
+        if not math.isfinite(self.orientation):
+            raise ValueError(f"Lobe orientation must be a finite angle in radians; got {self.orientation!r}")
 
     @property
     def rule_width(self) -> float:
         """The scale quadrature uses: ``quadrature_width``, else ``width``."""
         return self.width if self.quadrature_width is None else self.quadrature_width
+
+    @property
+    def rule_widths(self) -> tuple[float, float]:
+        """The quadrature scales along ``t`` and ``b``: ``quadrature_widths``, else ``widths``, else ``rule_width``."""
+        if self.quadrature_widths is not None:
+            return self.quadrature_widths
+        if self.widths is not None:
+            return self.widths
+        return (self.rule_width, self.rule_width)
+
+    @property
+    def isotropic(self) -> bool:
+        """Round about its axis: the widths and the quadrature scales are equal along ``t`` and ``b``."""
+        w = self.widths is None or self.widths[0] == self.widths[1]
+        q = self.rule_widths
+        return w and q[0] == q[1]
 
 
 # --------------------------------------------------------------------------- the registry

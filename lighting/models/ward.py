@@ -184,11 +184,16 @@ class Ward(BRDF):
         Lobe
             A ``"half"`` lobe (``inf`` width when ``ks`` is 0): ``exp(−tan²θ_h/α²)`` is Beckmann's
             lobe, so as :class:`~lighting.models.cook_torrance.CookTorrance` the width is ``α/√2``
-            and the quadrature width ``α``, with ``α = √(α_x α_y)`` the geometric mean.
+            and the quadrature width ``α``, with ``α = √(α_x α_y)`` the geometric mean; along ``t`` and
+            ``b``: ``widths`` ``(α_x/√2, α_y/√2)`` and ``quadrature_widths`` ``(α_x, α_y)``, the ellipse
+            that quadrature follows (equal, a round lobe, when isotropic).
         """
         a = self.alpha
-        width = a / math.sqrt(2.0) if np.any(self.ks > 0) else math.inf
-        return Lobe("half", width, quadrature_width=a)
+        if not np.any(self.ks > 0):
+            return Lobe("half", math.inf, quadrature_width=a)
+        r2 = math.sqrt(2.0)
+        axes = (self.alpha_x, self.alpha_y)
+        return Lobe("half", a / r2, quadrature_width=a, widths=(axes[0] / r2, axes[1] / r2), quadrature_widths=axes)
 
     def sampler(self):
         """See :meth:`BRDF.sampler`.
