@@ -27,6 +27,12 @@ rasterizer covers no pixel with them.  A vertex whose weighted sum vanishes
 (two faces back to back) takes the normal of its largest incident face; a vertex
 with no non-degenerate face (isolated) keeps the zero normal.  No NaN anywhere.
 
+Tangents
+--------
+Per-vertex unit ``tangents`` ``(V, 3)`` perpendicular to the normals orient anisotropic
+models: given (the spheres: ``∂p/∂φ`` about their polar axis ``+y``), else along ``∂p/∂u``
+from texture coordinates ``uvs``, else the models' default frame (:mod:`lighting.render.tangents`).
+
 Examples
 --------
 >>> m = icosphere(2)
@@ -46,6 +52,7 @@ import numpy as np
 
 from .._numeric import BudgetError, abbreviate, check_budget, check_choice, check_count, check_positive
 from ..vec import normalize
+from .tangents import default_tangents, orthonormal_tangents, sphere_tangents, uv_tangents
 
 __all__ = [
     "TriangleMesh",
@@ -90,6 +97,12 @@ class TriangleMesh:
         Per-vertex normals (normalized on input; zero rows stay zero and are
         replaced by computed ones).  When omitted they are computed on first use
         with :meth:`vertex_normals` (angle-weighted).
+    tangents : array_like, shape (V, 3), optional
+        Per-vertex tangents that orient anisotropic models (made unit and perpendicular to the
+        normals on first use; a zero row, or one along the normal, takes the default frame).
+        When omitted: from ``uvs`` if given, else the default frame (:attr:`tangents`).
+    uvs : array_like, shape (V, 2), optional
+        Texture coordinates ``(u, v)`` per vertex; the tangents follow ``∂p/∂u``.
 
     Notes
     -----
@@ -102,7 +115,7 @@ class TriangleMesh:
     ([[0.0, 0.0, 1.0]], [0.5])
     """
 
-    def __init__(self, vertices, faces, normals=None):
+    def __init__(self, vertices, faces, normals=None, tangents=None, uvs=None):
         v = _as_points("vertices", vertices, "an array of shape (V, 3)")
         try:
             f = np.array(faces)
@@ -139,6 +152,22 @@ class TriangleMesh:
             self._normals = None
         self._normals_given = normals is not None
         self._face_columns = None
+        self._tangents_given = None
+        if tangents is not None:
+            t = _as_points("tangents", tangents, f"an array of shape ({len(v)}, 3)")
+            if t.shape != v.shape:
+                raise ValueError(f"tangents must have the shape of vertices {v.shape}; got {t.shape}")
+            self._tangents_given = _readonly(t)
+        self._uvs = None
+        if uvs is not None:
+            allowed = f"an array of shape ({len(v)}, 2) of finite numbers"
+            try:
+                uv = np.array(uvs, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise ValueError(f"uvs must be {allowed}; got {uvs!r}") from None
+            if uv.shape != (len(v), 2) or not np.all(np.isfinite(uv)):
+                raise ValueError(f"uvs must be {allowed}; got shape {uv.shape}")
+            self._uvs = _readonly(uv)
 
     # ------------------------------------------------------------------ data
     @property
@@ -157,6 +186,28 @@ class TriangleMesh:
         if self._normals is None:
             self._normals = self.vertex_normals("angle")
         return self._normals
+
+    @property
+    def tangents(self) -> np.ndarray:
+        """Unit per-vertex tangents ``(V, 3)`` ``⊥`` :attr:`normals`: given, from :attr:`uvs`, or the default frame.
+
+        See :mod:`lighting.render.tangents`; the default frame is ``ẑ × n / |ẑ × n|`` (``x̂`` where ``n``
+        is along ±z), what a model uses when given no tangent.
+        """
+        if "tangents" not in self._cache:
+            if self._tangents_given is not None:
+                t = orthonormal_tangents(self._tangents_given, self.normals)
+            elif self._uvs is not None:
+                t = uv_tangents(self._vertices, self._faces, self._uvs, self.normals, self.corner_angles())
+            else:
+                t = default_tangents(self.normals)
+            self._cache["tangents"] = _readonly(np.ascontiguousarray(t, dtype=np.float64))
+        return self._cache["tangents"]
+
+    @property
+    def uvs(self) -> np.ndarray | None:
+        """Texture coordinates ``(V, 2)`` float64 (read-only), or ``None``."""
+        return self._uvs
 
     @property
     def face_columns(self) -> list[np.ndarray]:
@@ -316,7 +367,8 @@ class TriangleMesh:
         Returns
         -------
         TriangleMesh
-            A new mesh; normals given with this mesh are transformed, computed ones are recomputed.
+            A new mesh; normals given with this mesh are transformed, computed ones are recomputed;
+            given tangents map by ``A`` (they are directions along the surface), texture coordinates stay.
 
         Examples
         --------
@@ -352,7 +404,8 @@ class TriangleMesh:
         if self._normals_given:  # computed normals are recomputed on the new geometry instead
             # row vectors: (A^{-T} n)^T = n^T A^{-1}; the positive scale drops out when normalized
             n = self._normals @ np.linalg.inv(A / scale)
-        return TriangleMesh(v, f, n)
+        t = None if self._tangents_given is None else self._tangents_given @ (A / scale).T
+        return TriangleMesh(v, f, n, tangents=t, uvs=self._uvs)
 
 
 # ---------------------------------------------------------------------- generators
@@ -371,7 +424,7 @@ def _sphere_mesh(unit: np.ndarray, faces: np.ndarray, radius, center) -> Triangl
     c = np.asarray(center, dtype=np.float64)
     if c.shape != (3,) or not np.all(np.isfinite(c)):
         raise ValueError(f"center must be a finite 3-vector; got {center!r}")
-    return TriangleMesh(c + r * unit, faces, normals=unit)
+    return TriangleMesh(c + r * unit, faces, normals=unit, tangents=sphere_tangents(unit))
 
 
 def uv_sphere(n_lat: int, n_lon: int, radius: float = 1.0, center=(0.0, 0.0, 0.0)) -> TriangleMesh:
@@ -384,7 +437,8 @@ def uv_sphere(n_lat: int, n_lon: int, radius: float = 1.0, center=(0.0, 0.0, 0.0
     bands are quads split in two: ``F = 2 n_lon (n_lat - 1)``.
 
     Vertex ``(sin θ sin φ, cos θ, sin θ cos φ)`` scaled by ``radius`` around
-    ``center``; normals are the exact sphere normals.
+    ``center``; normals are the exact sphere normals, tangents ``∂p/∂φ`` normalized
+    (``ŷ × n / |ŷ × n|``, along the parallels; the default frame at the poles).
 
     Parameters
     ----------
@@ -499,7 +553,9 @@ def icosphere(level: int, radius: float = 1.0, center=(0.0, 0.0, 0.0)) -> Triang
     Level ``k`` has ``F = 20·4^k`` faces, ``E = 30·4^k`` edges and
     ``V = 10·4^k + 2`` vertices (Euler: ``V − E + F = 2``).  Triangles are
     nearly equilateral, so an icosphere approximates the sphere more uniformly
-    than a uv sphere with as many triangles.  Normals are the exact sphere normals.
+    than a uv sphere with as many triangles.  Normals are the exact sphere normals, tangents
+    ``∂p/∂φ`` about ``+y`` as on :func:`uv_sphere` (so that either of :func:`sphere_for_triangles`'
+    spheres orients an anisotropic lobe the same way).
 
     Parameters
     ----------
@@ -602,7 +658,8 @@ def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
 
     A scene (GLB with several nodes) is flattened into one mesh with each
     node's transform applied.  Vertex normals stored in the file are used
-    (normalized); otherwise they are computed angle-weighted.  Without file
+    (normalized); otherwise they are computed angle-weighted.  Texture coordinates of a
+    single-mesh file orient the tangents (``∂p/∂u``); without them, the default frame.  Without file
     normals, exactly coincident vertices are merged first (``weld=True``) so that
     STL files, which store every triangle separately, shade smoothly.
     Degenerate triangles are kept (they are harmless, see the module notes).
@@ -653,7 +710,7 @@ def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
     except Exception as e:  # trimesh raises many kinds on corrupt input
         raise ValueError(f"mesh file {name} could not be read as {ext[1:].upper()}: {type(e).__name__}: {e}") from e
 
-    normals = None
+    normals = uvs = None
     if isinstance(loaded, trimesh.Scene):
         parts = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh) and len(g.faces)]
         if not loaded.geometry:
@@ -671,6 +728,7 @@ def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
                 normals = np.asarray(loaded._cache["vertex_normals"], dtype=np.float64)
         except Exception:  # pragma: no cover - trimesh internals changed
             normals = None
+        uvs = getattr(getattr(loaded, "visual", None), "uv", None)
     else:
         raise ValueError(f"mesh file {name} contains no triangles (it holds a {type(loaded).__name__})")
 
@@ -686,9 +744,16 @@ def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
         raise ValueError(f"mesh file {name} has face indices out of range: index {worst} with {len(vertices)} vertices")
     if normals is not None and (normals.shape != vertices.shape or not np.all(np.isfinite(normals))):
         normals = None
+    if uvs is not None:
+        uvs = np.asarray(uvs, dtype=np.float64)
+        if uvs.shape != (len(vertices), 2) or not np.all(np.isfinite(uvs)):
+            uvs = None
     if normals is None and weld:
+        n_before = len(vertices)
         vertices, faces = _weld(vertices, faces)
-    mesh = TriangleMesh(vertices, faces, normals)
+        if len(vertices) != n_before:
+            uvs = None  # a merged vertex has no one texture coordinate (the seams): the default frame
+    mesh = TriangleMesh(vertices, faces, normals, uvs=uvs)
     if not np.any(mesh.face_areas > 0):
         raise ValueError(f"mesh file {name}: all {mesh.n_triangles} triangles are degenerate (zero area)")
     return mesh

@@ -43,7 +43,7 @@ from ..shading.inputs import FORMS, TERMS, Samples, ShadeOptions, check_lights, 
 from ..shading.material import Material, check_material
 from ..vec import length
 from .mesh import TriangleMesh
-from .renderer import SHADING_MODES, AnalyticSphere, Renderer
+from .renderer import SHADING_MODES, AnalyticSphere, Renderer, needs_tangents
 
 _BIG64 = float(np.finfo(np.float64).max)
 
@@ -211,10 +211,13 @@ class Plan:
         if self.strategy == "diffuse-directional":
             return self._diffuse_directional(renderer, nrm)
         v, dist = renderer.sample_view(mode)
+        material = Material(BRDFSum(*self.kept_parts), self.material.ambient, self.material.emission)
+        # Tangents for anisotropic parts; a group of renderers without them leaves each model its default frame.
+        tangents = getattr(renderer, "sample_tangents", None)
+        tangents = tangents(mode) if tangents is not None and needs_tangents(material) else None
         return shade_prepared(
-            renderer.sample_points(mode), nrm, v, Material(BRDFSum(*self.kept_parts), self.material.ambient,
-            self.material.emission), self.kept_lights + [AmbientLight(self._ambient_colour(), 1.0)],
-            eye_distance=dist, form=self.form, terms=self.terms,
+            renderer.sample_points(mode), nrm, v, material, self.kept_lights + [AmbientLight(self._ambient_colour(),
+            1.0)], eye_distance=dist, form=self.form, terms=self.terms, tangents=tangents,
         )  # fmt: skip
 
     def _ambient_colour(self):
@@ -439,5 +442,7 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     else:
         v, dist = view_vectors(pts, view_dir=-cam.forward, dtype=renderer.dtype)
     options = ShadeOptions(form, "light", tuple(terms), prune=False)
-    acc = accumulate(Samples(pts, nrm, v, dist), material, lights, options, summed=True, dtype=renderer.dtype)
+    tangents = renderer.sample_tangents(mode) if needs_tangents(material) else None
+    samples = Samples(pts, nrm, v, dist, tangents)
+    acc = accumulate(samples, material, lights, options, summed=True, dtype=renderer.dtype)
     return renderer.spread(mode, acc["total"].total())

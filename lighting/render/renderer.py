@@ -17,6 +17,14 @@ classic / physical forms work in every mode.
 The geometry is a :class:`lighting.render.mesh.TriangleMesh` or an :class:`AnalyticSphere`
 (ray-cast, exact per-pixel normals: the ground truth that tessellated renderings
 are measured against; it supports only per-pixel shading).
+
+Anisotropic models are oriented by the surface tangents (:mod:`lighting.render.tangents`): the
+mesh's vertex tangents, interpolated like the normals and made unit and perpendicular to the
+interpolated normal per pixel (phong), the vertex tangents themselves (gouraud), or the tangent at
+each triangle's centroid made perpendicular to its geometric normal (flat); on the analytic sphere
+the exact ``∂p/∂φ`` about ``+y``, as on the generated spheres.  They are computed only for a
+material with a part whose :meth:`~lighting.models.brdf.BRDF.lobe` is anisotropic (or unknown):
+isotropic models never read them, and their images do not change.
 """
 
 from __future__ import annotations
@@ -44,8 +52,9 @@ from .gbuffer import GBuffer, check_image_budget
 from .mesh import TriangleMesh
 from .raster import rasterize
 from .raycast import raycast_sphere
+from .tangents import orthonormal_tangents, sphere_tangents
 
-__all__ = ["SHADING_MODES", "AnalyticSphere", "Renderer", "render"]
+__all__ = ["SHADING_MODES", "AnalyticSphere", "Renderer", "render", "needs_tangents"]
 
 SHADING_MODES = ("flat", "gouraud", "phong")
 
@@ -327,11 +336,56 @@ class Renderer:
 
         return self._cached(("pixel samples", "phong"), make)
 
-    def _samples(self, mode: str, lights=None):
-        """Points, normals, view vectors and eye distances; points are ``None`` when ``lights`` need none."""
+    def sample_tangents(self, mode: str) -> np.ndarray:
+        """Unit tangents ``⊥`` :meth:`sample_normals` that orient anisotropic models (see the module notes).
+
+        Parameters
+        ----------
+        mode : {"flat", "gouraud", "phong"}
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3)`` Fortran-ordered, in the renderer's dtype, row for row with :meth:`sample_points`:
+            interpolated and re-orthonormalized per lit pixel (phong; the exact ``∂p/∂φ`` on the analytic
+            sphere), the mesh's vertex tangents (gouraud) or the centroid's tangent made perpendicular to
+            the face normal (flat).  Cached: do not modify.
+        """
+        mode = check_choice("mode", mode, SHADING_MODES)
+
+        def make():
+            dt = self.dtype
+            if mode == "phong":
+                normals = self.sample_normals(mode)
+                gb = self.gbuffer
+                if gb.mesh is None:  # the analytic sphere: its exact ∂p/∂φ about +y
+                    return np.asfortranarray(sphere_tangents(normals), dtype=dt)
+                vertex_tangents = gb.mesh.tangents.astype(dt)
+                rows = self._subset
+                out = np.empty(normals.shape, dtype=dt, order="F")
+
+                def fill(sl):
+                    # Interpolated like the normals, then made unit and perpendicular to the pixel's normal.
+                    raw = gb.interpolate_covered(vertex_tangents, sl if rows is None else rows[sl])
+                    out[sl] = orthonormal_tangents(raw, normals[sl])
+
+                each_chunk(len(normals), fill)
+                return out
+            mesh = self._need_mesh(mode)
+            if mode == "gouraud":
+                return np.asfortranarray(mesh.tangents, dtype=dt)
+            centroid = mesh.tangents[mesh.faces].mean(axis=1)
+            return np.asfortranarray(orthonormal_tangents(centroid, mesh.face_normals), dtype=dt)
+
+        return self._cached(("tangents", mode), make)
+
+    def _samples(self, mode: str, lights=None, material=None):
+        """Points, normals, view vectors, eye distances and tangents; points are ``None`` when ``lights`` need
+        none, tangents when no part of ``material`` reads them."""
         v, dist = self.sample_view(mode)
         pts = self.sample_points(mode) if lights is None or _needs_points(lights) else None
-        return pts, self.sample_normals(mode), v, dist
+        tangents = self.sample_tangents(mode) if material is not None and needs_tangents(material) else None
+        return pts, self.sample_normals(mode), v, dist, tangents
 
     def _take(self, compact: np.ndarray) -> np.ndarray:
         return compact if self._subset is None else compact[self._subset]
@@ -436,8 +490,9 @@ class Renderer:
         """
         mode = check_choice("mode", mode, SHADING_MODES)
         lights = check_lights(lights)
-        pts, nrm, v, dist = self._samples(mode, lights)
-        colours = shade_prepared_terms(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)
+        pts, nrm, v, dist, tan = self._samples(mode, lights, material)
+        colours = shade_prepared_terms(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
+                                       tangents=tan)  # fmt: skip
         return {name: self.spread(mode, c) for name, c in colours.items()}
 
     def render(
@@ -474,15 +529,16 @@ class Renderer:
         bg = check_color("background", background)
         mode = check_choice("mode", mode, SHADING_MODES)
         lights = check_lights(lights)
-        pts, nrm, v, dist = self._samples(mode, lights)
+        pts, nrm, v, dist, tan = self._samples(mode, lights, material)
         if mode == "phong":
             img, put = self._image_sink()
             shade_prepared_into(
                 put, pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
-                view_cache=self._cached(("view terms", mode), dict),
+                view_cache=self._cached(("view terms", mode), dict), tangents=tan,
             )  # fmt: skip
         else:
-            colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms)
+            colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
+                                     tangents=tan)  # fmt: skip
             img = self.spread(mode, colours)
         if np.any(bg):
             img = np.where(self.gbuffer.coverage[..., None], img, bg.astype(self.dtype))
@@ -493,6 +549,26 @@ def _check_geometry(geometry) -> None:
     if not isinstance(geometry, (TriangleMesh, AnalyticSphere)):
         raise ArgumentTypeError(f"geometry must be a TriangleMesh or an AnalyticSphere; got {type(geometry).__name__} "
                                 f"{_fmt(geometry)}")  # fmt: skip
+
+
+def needs_tangents(material: Material) -> bool:
+    """Whether shading ``material`` may read surface tangents: a part's lobe is anisotropic, or unknown.
+
+    Parameters
+    ----------
+    material : Material
+
+    Returns
+    -------
+    bool
+        False when every part describes an isotropic lobe (:attr:`lighting.models.protocol.Lobe.isotropic`):
+        such models never read a tangent, so a renderer need not interpolate any.
+    """
+    for part in material.brdf.parts:
+        lobe = part.lobe()
+        if lobe is None or not lobe.isotropic:
+            return True
+    return False
 
 
 def _needs_points(lights) -> bool:

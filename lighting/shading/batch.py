@@ -210,7 +210,7 @@ def accumulate(samples: Samples, material, lights, options: ShadeOptions, *, sum
     dict of str to ChannelSums
         ``{term: sums}`` for each wanted term, or ``{"total": sums}`` when ``summed``.
     """
-    p, n, v, eye_dist = samples
+    p, n, v, eye_dist, tangents = samples
     form, attenuation_distance, wanted, prune, dt = (options.form, options.attenuation_distance, options.terms,
                                                       options.prune, dtype)  # fmt: skip
     shape = n.shape[:-1] if p is None else np.broadcast_shapes(p.shape, n.shape)[:-1]
@@ -249,7 +249,7 @@ def accumulate(samples: Samples, material, lights, options: ShadeOptions, *, sum
             if stack and np.ndim(inc.direction) == 1 and np.ndim(inc.scale) == 0:
                 uniform.append(inc)
                 continue
-            g = Geometry(n, inc.direction, v, unit=True, dtype=dt)
+            g = Geometry(n, inc.direction, v, unit=True, dtype=dt, tangent=tangents)
             if not prune:
                 # The textbook loop: every vector of the slides at every sample, whether a model uses it or not.
                 g.h, g.n_dot_h, g.v_dot_h, g.one_minus_n_dot_h, g.one_minus_r_dot_v, g.above  # noqa: B018
@@ -296,7 +296,8 @@ def _run(samples: Samples, material, lights, options: ShadeOptions, *, view_cach
             return x if x is None or np.ndim(x) < ndim or x.shape[0] != n_rows else x[sl]
 
         cache = None if view_cache is None else view_cache.setdefault((sl.start, sl.stop), {})
-        chunk = Samples(part(points), part(unit_normals), part(samples.view), part(samples.eye_distance, ndim=1))
+        chunk = Samples(part(points), part(unit_normals), part(samples.view), part(samples.eye_distance, ndim=1),
+                        part(samples.tangents))  # fmt: skip
         out = finish(accumulate(chunk, material, lights, options, summed=summed, dtype=dt, view_cache=cache))
         return out if sink is None else sink(sl, out)
 
@@ -311,7 +312,8 @@ def _run(samples: Samples, material, lights, options: ShadeOptions, *, view_cach
 
 
 def shade_prepared(points, unit_normals, view, material, lights, *, eye_distance=None, form="classic",
-                   attenuation_distance="light", terms=TERMS, view_cache=None) -> np.ndarray:  # fmt: skip
+                   attenuation_distance="light", terms=TERMS, view_cache=None,
+                   tangents=None) -> np.ndarray:  # fmt: skip
     """:func:`~lighting.shading.equation.shade` on inputs a caller has prepared once and reuses for many lights.
 
     ``unit_normals`` must be unit (or zero) and ``view`` the unit view vectors
@@ -336,6 +338,10 @@ def shade_prepared(points, unit_normals, view, material, lights, *, eye_distance
         A dict the caller keeps (empty at first) holding quantities of the normals and view
         vectors alone (``n·v``, ``n × v``) between calls; valid only while ``unit_normals`` and
         ``view`` stay the same.
+    tangents : numpy.ndarray, (N, 3), optional
+        Surface tangents in the working dtype, passed to every model (``Geometry(..., tangent=)``):
+        anisotropic ones orient their lobe by them, isotropic ones never read them.  ``None``: each
+        model's default frame.
 
     Returns
     -------
@@ -343,7 +349,7 @@ def shade_prepared(points, unit_normals, view, material, lights, *, eye_distance
         Colours ``(N, 3)`` in the working dtype.
     """
     options = ShadeOptions.checked(form, attenuation_distance, terms)
-    samples = Samples(points, unit_normals, view, eye_distance)
+    samples = Samples(points, unit_normals, view, eye_distance, tangents)
     results = _run(samples, material, lights, options, view_cache=view_cache, summed=True,
                    finish=lambda acc: acc["total"].total())  # fmt: skip
     return results[0] if len(results) == 1 else np.concatenate(results, axis=0)
@@ -351,13 +357,13 @@ def shade_prepared(points, unit_normals, view, material, lights, *, eye_distance
 
 def shade_prepared_terms(
     points, unit_normals, view, material, lights, *, eye_distance=None, form="classic", attenuation_distance="light",
-    terms=TERMS, view_cache=None,
+    terms=TERMS, view_cache=None, tangents=None,
 ) -> dict[str, np.ndarray]:  # fmt: skip
     """Each term of the illumination equation separately, on prepared inputs.
 
     Parameters
     ----------
-    points, unit_normals, view, material, lights, eye_distance, form, attenuation_distance, terms, view_cache
+    points, unit_normals, view, material, lights, eye_distance, form, attenuation_distance, terms, view_cache, tangents
         As :func:`shade_prepared`.
 
     Returns
@@ -366,7 +372,7 @@ def shade_prepared_terms(
         One ``(N, 3)`` array per requested term (like :func:`~lighting.shading.equation.shade_terms`).
     """
     options = ShadeOptions.checked(form, attenuation_distance, terms)
-    samples = Samples(points, unit_normals, view, eye_distance)
+    samples = Samples(points, unit_normals, view, eye_distance, tangents)
     results = _run(samples, material, lights, options, view_cache=view_cache, summed=False,
                    finish=lambda acc: {t: acc[t].total() for t in options.terms})  # fmt: skip
     if len(results) == 1:
@@ -375,7 +381,7 @@ def shade_prepared_terms(
 
 
 def shade_prepared_into(sink, points, unit_normals, view, material, lights, *, eye_distance=None, form="classic",
-                        attenuation_distance="light", terms=TERMS, view_cache=None) -> None:  # fmt: skip
+                        attenuation_distance="light", terms=TERMS, view_cache=None, tangents=None) -> None:  # fmt: skip
     """:func:`shade_prepared`, handing each chunk of rows to ``sink`` as channel planes.
 
     Each chunk is handed over as ``sink(row_slice, planes)``, ``planes`` of shape ``(3, m)``,
@@ -386,7 +392,7 @@ def shade_prepared_into(sink, points, unit_normals, view, material, lights, *, e
     ----------
     sink : callable
         ``sink(row_slice, planes)``; called once per disjoint slice of rows, possibly concurrently.
-    points, unit_normals, view, material, lights, eye_distance, form, attenuation_distance, terms, view_cache
+    points, unit_normals, view, material, lights, eye_distance, form, attenuation_distance, terms, view_cache, tangents
         As :func:`shade_prepared`.
 
     Returns
@@ -394,7 +400,7 @@ def shade_prepared_into(sink, points, unit_normals, view, material, lights, *, e
     None
     """
     options = ShadeOptions.checked(form, attenuation_distance, terms)
-    samples = Samples(points, unit_normals, view, eye_distance)
+    samples = Samples(points, unit_normals, view, eye_distance, tangents)
     _run(samples, material, lights, options, view_cache=view_cache, summed=True,
          finish=lambda acc: acc["total"].channels(), sink=sink)  # fmt: skip
 

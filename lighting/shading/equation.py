@@ -35,7 +35,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from .batch import shade_prepared, shade_prepared_terms
-from .inputs import FORMS, TERMS, prepare, view_vectors
+from .inputs import FORMS, TERMS, prepare, prepare_tangents, view_vectors
 from .material import Material
 
 __all__ = ["Material", "shade", "shade_terms", "shade_prepared", "view_vectors", "TERMS", "FORMS"]
@@ -52,6 +52,7 @@ def shade_terms(
     form: str = "classic",
     attenuation_distance: str = "light",
     terms: Iterable[str] = TERMS,
+    tangents=None,
 ) -> dict[str, np.ndarray]:
     """Each term of the illumination equation separately, as ``{name: (..., 3)}``.
 
@@ -74,6 +75,11 @@ def shade_terms(
         literal "distance to the light plus distance to the viewer".
     terms : iterable of {"emission", "ambient", "diffuse", "specular"}
         Which terms to compute; the others are not evaluated at all.
+    tangents : array_like, (..., 3), optional
+        Surface tangents (broadcasting with ``normals``) that orient anisotropic models (Ward,
+        anisotropic Cook–Torrance, Ashikhmin–Shirley, Disney): each is made unit and perpendicular to
+        its normal by the model.  ``None``: each model's default frame
+        (:attr:`lighting.models.geometry.Geometry.t`).  Isotropic models ignore them.
 
     Returns
     -------
@@ -82,7 +88,8 @@ def shade_terms(
     """
     p, n, v, eye_dist, lights = prepare(points, normals, material, eye, view_dir, lights)
     return shade_prepared_terms(p, n, v, material, lights, eye_distance=eye_dist, form=form,
-                                attenuation_distance=attenuation_distance, terms=terms)  # fmt: skip
+                                attenuation_distance=attenuation_distance, terms=terms,
+                                tangents=prepare_tangents(tangents, n))  # fmt: skip
 
 
 def shade(
@@ -96,6 +103,7 @@ def shade(
     form="classic",
     attenuation_distance="light",
     terms=TERMS,
+    tangents=None,
 ) -> np.ndarray:
     """Colour of surface points under lights: the slides' illumination equation.
 
@@ -103,7 +111,7 @@ def shade(
 
     Parameters
     ----------
-    points, normals, material, lights, eye, view_dir, form, attenuation_distance, terms
+    points, normals, material, lights, eye, view_dir, form, attenuation_distance, terms, tangents
         As :func:`shade_terms`.
 
     Returns
@@ -123,4 +131,5 @@ def shade(
     """
     p, n, v, eye_dist, lights = prepare(points, normals, material, eye, view_dir, lights)
     return shade_prepared(p, n, v, material, lights, eye_distance=eye_dist, form=form,
-                          attenuation_distance=attenuation_distance, terms=terms)  # fmt: skip
+                          attenuation_distance=attenuation_distance, terms=terms,
+                          tangents=prepare_tangents(tangents, n))  # fmt: skip

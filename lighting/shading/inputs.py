@@ -18,7 +18,8 @@ from ..lights.punctual import AmbientLight, DirectionalLight, Light
 from ..vec import length, normalize
 from .material import check_material
 
-__all__ = ["TERMS", "FORMS", "ShadeOptions", "Samples", "view_vectors", "check_lights", "check_terms", "prepare"]
+__all__ = ["TERMS", "FORMS", "ShadeOptions", "Samples", "view_vectors", "check_lights", "check_terms", "prepare",
+           "prepare_tangents"]  # fmt: skip
 
 TERMS = ("emission", "ambient", "diffuse", "specular")
 FORMS = ("classic", "physical")
@@ -151,13 +152,15 @@ class Samples(NamedTuple):
 
     ``points`` ``(N, 3)`` or ``None`` (only ambient and directional lights), ``unit_normals`` unit or
     zero, ``view`` unit view vectors (or one shared direction), ``eye_distance`` float64 distances to
-    the eye (``None`` for a distant viewer).
+    the eye (``None`` for a distant viewer), ``tangents`` the surface tangents that orient anisotropic
+    models (``None``: each model's default frame; isotropic models never read them).
     """
 
     points: np.ndarray | None
     unit_normals: np.ndarray
     view: np.ndarray
     eye_distance: np.ndarray | None = None
+    tangents: np.ndarray | None = None
 
 
 def view_vectors(points, *, eye=None, view_dir=None, dtype=None):
@@ -279,3 +282,36 @@ def prepare(points, normals, material, eye, view_dir, lights):
     return p, n, v, eye_dist, lights
 
 
+
+
+def prepare_tangents(tangents, normals: np.ndarray):
+    """Check the ``tangents=`` of :func:`~lighting.shading.equation.shade` against the prepared normals.
+
+    Parameters
+    ----------
+    tangents : array_like, (..., 3), or None
+        Surface tangents: finite, real, broadcasting with the normals (any length: a model makes its
+        tangent unit and perpendicular to ``n``, and takes its default frame where it cannot).
+    normals : numpy.ndarray, (..., 3)
+        The prepared unit normals (their dtype is the working dtype).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        The tangents in the normals' dtype, or ``None``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``tangents``: NaN or infinite entries, a last axis other than 3, a shape that does not
+        broadcast with the normals (``ArgumentTypeError`` for text, complex, booleans).
+    """
+    if tangents is None:
+        return None
+    t = check_vectors("tangents", tangents)
+    try:
+        np.broadcast_shapes(t.shape, normals.shape)
+    except ValueError:
+        raise ValueError(f"tangents must broadcast with the normals (shapes (..., 3)); got tangents {t.shape}, "
+                         f"normals {normals.shape}") from None  # fmt: skip
+    return as_float(t, normals.dtype.type)

@@ -24,13 +24,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..lights.punctual import AmbientLight
-from .inputs import ShadeOptions, prepare
+from .inputs import ShadeOptions, prepare, prepare_tangents
 
 __all__ = ["shade_reference"]
 
 
 def shade_reference(points, normals, material, lights, *, eye=None, view_dir=None, form="classic",
-                    attenuation_distance="light") -> np.ndarray:  # fmt: skip
+                    attenuation_distance="light", tangents=None) -> np.ndarray:  # fmt: skip
     """The illumination equation as a loop over lights, in float64 (the oracle of the tests).
 
     Parameters
@@ -45,6 +45,9 @@ def shade_reference(points, normals, material, lights, *, eye=None, view_dir=Non
     form : {"classic", "physical"}
     attenuation_distance : {"light", "light+viewer"}
         As :func:`~lighting.shading.equation.shade`.
+    tangents : array_like, (N, 3), optional
+        Surface tangents for anisotropic models (``tangent=`` of their ``classic``/``eval_cos``);
+        ``None``: each model's default frame.
 
     Returns
     -------
@@ -60,7 +63,9 @@ def shade_reference(points, normals, material, lights, *, eye=None, view_dir=Non
     """
     options = ShadeOptions.checked(form, attenuation_distance)
     p, n, v, eye_dist, lights = prepare(points, normals, material, eye, view_dir, lights)
+    t = prepare_tangents(tangents, n)
     n, v = n.astype(np.float64), v.astype(np.float64)
+    t = None if t is None else t.astype(np.float64)
     p = np.zeros_like(n) if p is None else p.astype(np.float64)
     term = material.brdf.classic if options.form == "classic" else material.brdf.eval_cos
     extra = eye_dist if options.attenuation_distance == "light+viewer" else None
@@ -70,5 +75,5 @@ def shade_reference(points, normals, material, lights, *, eye=None, view_dir=Non
         if isinstance(light, AmbientLight):
             continue
         for inc in light.incident(p, dtype=np.float64, extra_distance=extra):
-            colour += term(n, inc.direction, v) * inc.irradiance
+            colour += term(n, inc.direction, v, tangent=t) * inc.irradiance
     return colour

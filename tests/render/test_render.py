@@ -231,7 +231,7 @@ def test_directional_lights_need_no_interpolated_positions():
     expected = shade(gb.position[cov], gb.normal[cov], MAT, positional, eye=CAM.eye)
     np.testing.assert_allclose(img[cov], expected, rtol=1e-12, atol=1e-14)
     # points=None is refused, naming the light, when a light depends on the point.
-    _, nrm, v, dist = r._samples("phong")
+    _, nrm, v, dist, _ = r._samples("phong")
     with pytest.raises(ValueError, match="points=None.*PointLight"):
         shade_prepared(None, nrm, v, MAT, positional, eye_distance=dist)
 
