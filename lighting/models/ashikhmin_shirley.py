@@ -153,11 +153,18 @@ class AshikhminShirley(BRDF):
         Lobe
             A ``"half"`` lobe: ``(n·h)^E ≈ exp(−E θ_h²/2)``, so the width is ``1/√(√(n_u n_v))`` (the
             geometric mean of the two axes' standard deviations; at most 1 rad), and the
-            quadrature width ``1/√(max(n_u, n_v) + 1)`` resolves the narrower axis.
+            quadrature width ``1/√(max(n_u, n_v) + 1)`` resolves the narrower axis.  Along ``t`` and
+            ``b`` (``E = n_u cos²φ + n_v sin²φ``): ``widths`` ``(1/√n_u, 1/√n_v)`` (each at most 1 rad).
+            The quadrature stays round (equal ``quadrature_widths``): the ellipse's azimuths crowd toward
+            the lobe's long axis and starve the coupled diffuse term, which shares the part (measured at
+            ``n_u = 10⁴``, ``n_v = 1``, ``R_d = 0.5``: 4 % off with the ellipse, 2.7e-4 round), and one rule
+            with and without the diffuse term keeps their difference exact.
         """
         g = math.sqrt(self.nu) * math.sqrt(self.nv)
         width = min(1.0 / math.sqrt(g), 1.0) if g > 0 else 1.0
-        return Lobe("half", width, quadrature_width=1.0 / math.sqrt(max(self.nu, self.nv) + 1.0))
+        axes = tuple(min(1.0 / math.sqrt(e), 1.0) if e > 0 else 1.0 for e in (self.nu, self.nv))
+        quad = 1.0 / math.sqrt(max(self.nu, self.nv) + 1.0)
+        return Lobe("half", width, quadrature_width=quad, widths=axes, quadrature_widths=(quad, quad))
 
     def sampler(self):
         """See :meth:`BRDF.sampler`.
@@ -204,8 +211,19 @@ class AshikhminShirley(BRDF):
 
     @property
     def diffuse_albedo(self):
-        # Not Lambertian: the coupled diffuse term is not a constant k_d/π.
-        return np.zeros(3)
+        """The diffuse term's albedo at normal incidence (:attr:`BRDF.diffuse_albedo`): ``(31/32) R_d (1 − R_s)``.
+
+        ``ρ_d(v) = R_d (1 − R_s) (1 − (1 − n·v/2)⁵)`` (the 28/(23π) normalization makes the ``l``
+        integral 1), at ``n·v = 1``; zeros without the diffuse term.  Not :attr:`lambertian`: the coupled
+        term is not a constant.
+
+        Returns
+        -------
+        numpy.ndarray, (3,)
+        """
+        if not self.diffuse:
+            return np.zeros(3)
+        return self.rd * (1.0 - self.rs) * (31.0 / 32.0)
 
     # -- evaluation -----------------------------------------------------------------------
     def _fields(self, g, cos: bool):

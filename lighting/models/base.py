@@ -468,7 +468,20 @@ class BRDF:
 
     @property
     def diffuse_albedo(self) -> np.ndarray:
-        """The Lambertian ``k_d`` of this model (zeros for a purely specular one)."""
+        """The model's diffuse reflectance at normal incidence: the ``k_d`` its ambient term ``k_a = k_d`` uses.
+
+        The directional albedo ``ρ_d(v = n) = ∫ f_d (n·l) dω_l`` of the part of ``f_r`` that carries the
+        surface's diffuse colour, for a viewer along the normal: Lambert's ``k_d`` (at every view),
+        Oren–Nayar's ``k_d A`` (+ ``k_d² R`` in the full form), Ashikhmin–Shirley's
+        ``(31/32) R_d (1 − R_s)``, Disney's base-colour diffuse and subsurface terms; zeros for a
+        purely specular model.  A :class:`~lighting.shading.material.Material` without ``ambient=`` takes
+        it as ``k_a``, and a :attr:`lambertian` model's ``f_r`` is ``diffuse_albedo / π``.
+
+        Returns
+        -------
+        numpy.ndarray, (3,)
+            RGB, float64, >= 0.
+        """
         return np.zeros(3)
 
     def __repr__(self) -> str:

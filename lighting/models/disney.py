@@ -372,6 +372,34 @@ class Disney(BRDF):
                         widths=(axes[0] / r2, axes[1] / r2), quadrature_widths=axes)  # fmt: skip
         return Lobe("half", width, quadrature_width=min(scales), horizon="smith")
 
+    @property
+    def diffuse_albedo(self):
+        """The base-colour terms' albedo at normal incidence (:attr:`BRDF.diffuse_albedo`).
+
+        ``(1 − metallic) base_color ρ₁`` with ``ρ₁ = 2 ∫₀¹ f₁(μ) μ dμ`` the albedo at ``v = n`` of the
+        diffuse and subsurface mix for a white base (``π f_r`` of those terms: ``f₁``), which is round
+        about ``n`` there (``cos θ_d = cos(θ_l/2)``).  ``f₁`` is this model's own value with the base
+        white minus its value with the base black (sheen, specular and clearcoat set to 0, so nothing
+        else differs), on 32 Gauss–Legendre nodes in ``μ = n·l`` (a polynomial of degree 7 and
+        ``1/(1 + μ)``: exact to rounding).  The sheen is not counted (a white grazing lobe, not the
+        surface's colour).
+
+        Returns
+        -------
+        numpy.ndarray, (3,)
+        """
+        if "_diffuse_albedo" not in self.__dict__:
+            x, w = np.polynomial.legendre.leggauss(32)
+            mu, w = 0.5 * (x + 1.0), 0.5 * w
+            l = np.stack([np.sqrt((1 - mu) * (1 + mu)), np.zeros_like(mu), mu], axis=-1)  # noqa: E741
+            n = np.array([0.0, 0.0, 1.0])
+            kw = {"subsurface": self.subsurface, "roughness": self.roughness, "specular": 0.0, "sheen": 0.0}
+            white = Disney(base_color=1.0, **kw).eval(n, l, n)[:, 0]
+            black = Disney(base_color=0.0, **kw).eval(n, l, n)[:, 0]
+            rho1 = 2.0 * math.pi * float(np.sum(w * (white - black) * mu))
+            self.__dict__["_diffuse_albedo"] = (1.0 - self.metallic) * self.base_color * rho1
+        return self.__dict__["_diffuse_albedo"].copy()
+
     def sampler(self):
         """See :meth:`BRDF.sampler`.
 

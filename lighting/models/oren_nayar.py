@@ -247,13 +247,21 @@ class OrenNayar(BRDF):
 
     @property
     def diffuse_albedo(self):
-        """``k_d``, the facet albedo: a :class:`~lighting.shading.material.Material`'s default ambient ``k_a``.
+        """The directional albedo at normal incidence (:attr:`BRDF.diffuse_albedo`): ``k_d A``, full ``k_d A + k_d² R``.
 
-        ``f_r`` is not the constant ``k_d/π`` for σ > 0, so :attr:`lambertian` is False and no closed form
-        of Lambert's is applied to this model; the ambient term (``I_a k_a``) shows the surface's colour
-        as it does for Lambert.
+        For ``v = n``, ``β = 0``: the ``B``, ``C2`` and ``C3`` terms vanish and ``f_r = k_d A/π`` (plus the
+        interreflection's ``k_d² R/π``, whose ``cos Δφ`` part has the factor ``β²``).  At σ = 0 it is
+        ``k_d`` (Lambert's).  ``f_r`` is not the constant ``k_d/π`` for σ > 0, so :attr:`lambertian` is
+        False and no closed form of Lambert's is applied to this model.
+
+        Returns
+        -------
+        numpy.ndarray, (3,)
         """
-        return self.kd
+        rho = self.kd * self._A
+        if self.form == "full":
+            rho = rho + self.kd * self.kd * self._R
+        return rho
 
     # -- the values ----------------------------------------------------------------------
     def factors(self, g: Geometry):
