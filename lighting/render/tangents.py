@@ -55,8 +55,8 @@ def default_tangents(normals) -> np.ndarray:
 
     Examples
     --------
-    >>> default_tangents(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])).tolist()
-    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    >>> default_tangents(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])).tolist()
+    [[1.0, 0.0, 0.0], [-0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]
     """
     n = np.asarray(normals)
     dt = n.dtype.type if n.dtype.kind == "f" else np.float64
