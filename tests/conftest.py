@@ -31,6 +31,8 @@ SLOW_FILES = frozenset(
         # sweep's 80-digit references of the new models (about 10 s).
         "test_ndf_laws.py",
         "test_model_references.py",
+        # Anisotropic quadrature against 250 000-node references, every microfacet form (about 60 s).
+        "test_quadrature_aniso_full.py",
     }
 )
 

@@ -54,7 +54,7 @@ from .._numeric import (
 )
 from ..models.brdf import BRDF, Geometry
 from ..models.lambert import CosineSampler, cosine_hemisphere_pdf, square_to_cosine_hemisphere
-from ..models.microfacet_sampling import MicrofacetSampler
+from ..models.microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
 from ..models.mirror import MirrorSampler
 from ..models.phong import PhongSampler
 from ..models.sampler import (  # noqa: F401  (BYTES_PER_SAMPLE, _check_size: the integrators' memory estimates)
@@ -89,6 +89,8 @@ __all__ = [
     "CosineSampler",
     "PhongSampler",
     "MicrofacetSampler",
+    "VisibleNormalSampler",
+    "MirrorSampler",
     "MixtureSampler",
     "importance_sampler",
     "sample_brdf",

@@ -460,6 +460,10 @@ class _GroupSamples:
     def sample_normals(self, mode):
         return np.asfortranarray(np.concatenate([r.sample_normals(mode) for r in self.renderers]))
 
+    def sample_tangents(self, mode):
+        # Asked for only when a material is anisotropic; each object keeps its own tangent field.
+        return np.asfortranarray(np.concatenate([r.sample_tangents(mode) for r in self.renderers]))
+
     def sample_view(self, mode):
         views = [r.sample_view(mode) for r in self.renderers]
         if views[0][0].ndim == 1:  # a distant viewer: one direction for all
