@@ -72,7 +72,7 @@ from lighting.analysis import (
 )
 from lighting.analysis.machband import LUMA
 from lighting.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo
-from lighting.render import AnalyticSphere, Renderer, sphere_camera, uv_sphere
+from lighting.render import AnalyticSphere, Renderer, needs_tangents, sphere_camera, uv_sphere
 from lighting.shading import shade
 from lighting.vec import spherical_direction
 
@@ -586,7 +586,10 @@ class ExplorerModel:
         opts = {"form": s.form, "terms": s.terms}
         # The engine's lighting at every vertex: what Gouraud shading interpolates (the renderer's
         # Gouraud image interpolates exactly these colours; orthographic view: v = +z everywhere).
-        vertex = shade(mesh.vertices, mesh.normals, material, lights, view_dir=(0.0, 0.0, 1.0), **opts)
+        # Anisotropic models are oriented by the mesh's tangents (along φ), as in the renderer's images.
+        tangents = mesh.tangents if needs_tangents(material) else None
+        vertex = shade(mesh.vertices, mesh.normals, material, lights, view_dir=(0.0, 0.0, 1.0), tangents=tangents,
+                       **opts)  # fmt: skip
         phong = r.render(material, lights, mode="phong", **opts)
         vertex8, _ = encode8(vertex[None], exposure=s.exposure)
         gb = r.gbuffer

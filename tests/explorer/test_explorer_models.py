@@ -230,3 +230,22 @@ def test_an_ideal_mirror_is_a_spike_of_its_reflectance(delta):
     state.update(lock=False, elevation=-5.0)
     views = ExplorerModel(state, sphere_size=32, mesh_size=32, lobe_resolution=8).compute()
     assert views["polar"].spike == 0.0 and views["lobe"].spike == 0.0
+
+
+def test_anisotropic_vertex_colours_are_the_ones_the_gouraud_image_interpolates():
+    """The window draws the coarse sphere's vertex colours; the engine's Gouraud image interpolates its own.
+    With an anisotropic model both must be oriented by the mesh's tangents: every Gouraud pixel lies between
+    the colours of its triangle's three vertices."""
+    from explorer.app.views import ExplorerModel
+
+    model = ExplorerModel()
+    model.state.model = "ward"
+    model.state.set_param("alpha_x", 0.4)
+    model.state.set_param("alpha_y", 0.05)
+    coarse = model.compute()["coarse"]
+    tri = coarse.triangle_id[coarse.coverage]
+    corners = coarse.vertex_colors[coarse.faces[tri]]  # (P, 3 vertices, 3 channels)
+    pixels = coarse.gouraud[coarse.coverage]
+    slack = 1e-5 * corners.max()
+    assert np.all(pixels >= corners.min(axis=1) - slack)
+    assert np.all(pixels <= corners.max(axis=1) + slack)
