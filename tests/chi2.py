@@ -1,40 +1,249 @@
-"""The χ² test of a sampler against its density (Mitsuba style), shared by the model tests."""
+r"""The χ² test of a sampler against its density (Mitsuba style), shared by the model tests.
+
+Cells in the half vector, not in ``l``
+--------------------------------------
+A half-vector sampler draws ``h`` and reflects the view, ``l = 2 (v·h) h − v``, so its density of ``l``,
+``p(l) = D(h)(n·h) / (4 |v·h|)``, has an integrable ``1/|l + v|`` point at ``l = −v``, and at a grazing
+view its lobe is pressed against the horizon: a fixed grid of cells in ``(cos θ_l, φ_l)`` with a fixed
+Gauss rule per cell cannot integrate it (at θ_v = 85° the cells miss more than 0.5 % of the mass).
+
+Every direction ``l ≠ −v`` is the reflection of ``v`` about exactly one unit ``h`` of the upper hemisphere,
+``h = ±(l + v)/|l + v|`` with ``h_z > 0``, and ``dω_l = 4 |v·h| dω_h`` (Walter et al. 2007, eq. 14).  A
+cell of ``h`` is therefore a cell of ``l``, and the sampler's own density over ``h``,
+
+    q(h) = p(l(h), v) · 4 |v·h|,
+
+is bounded: ``D(h)(n·h)`` for the half-vector samplers (view-independent), ``G1(v) D(h) max(v·h, 0)/(n·v)``
+for the visible-normal ones, ``4 |v·h| max(l_z, 0)/π`` for the cosine.  Histogramming ``h`` of the drawn
+``l`` against cell integrals of ``q`` is the χ² test of ``sample`` against ``pdf`` on the whole sphere of
+``l``, for every sampler (half-vector or not) and at every view.
+
+Cells that follow the lobe, integrals that converge
+---------------------------------------------------
+The cells are polar in ``h`` about the normal: ``rings`` rings between ``θ_h``-quantiles and, in each
+ring, ``sectors`` sectors between ``φ_h``-quantiles, both taken from a separate pilot run (another seed),
+so each cell expects about the same count whatever the lobe's width, anisotropy or view.  The cells are
+fixed before the tested samples are drawn, so the statistic is still χ² distributed.
+
+Each cell's expected mass ``∫ q(h) sin θ dθ dφ`` is computed by adaptive tensor Gauss–Legendre (as
+Mitsuba's χ² test integrates the pdf over each cell with an adaptive rule): a rectangle of ``(θ, φ)`` is
+accepted when the rule on it and the sum of the rule on its four quarters agree to ``1e-7`` relative
+(``1e-10`` absolute); otherwise it is split, to at most ``max_depth`` levels.  The kinks and jumps of
+``q`` (``v·h = 0``, ``l_z = 0``, the Phong lobe's rim) are resolved by the splitting.  The test asserts
+that the total mass is 1 to ``mass_tol`` (1e-5; a pdf that does not integrate to 1 shows here) and that
+the error estimate of the rectangles left at the depth limit is below it too.  Convergence study (every
+registered sampler, θ_v = 0, 60, 85, 89°, against the same cells integrated with order 10, tolerance
+1e-10, depth 14): the default rule's total mass is within 1.9e-7 of the finer rule's, which is within
+2e-8 of 1; no cell's expected count at 100 000 samples moves by more than 6e-4 of its standard deviation
+``√E``.
+
+The sparsest cells are pooled into one bin of at least 50 expected samples (Mitsuba pools below 5); the
+p-value is that of the χ² statistic with ``bins − 1`` degrees of freedom.  A family of ``m`` tests at
+level ``α`` asserts each ``p > 1 − (1 − α)^{1/m}`` (Šidák), :func:`sidak`.
+"""
+
+from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 import pytest
 from scipy import stats
 
 
-def chi2_pvalue(sampler, v, count=60_000, nt=16, nph=32, seed=2024):
-    """p-value of ``count`` samples at view ``v`` over (cos θ, φ) cells of the sphere, against the density.
+class Chi2Result(NamedTuple):
+    """``p`` the χ² p-value, ``mass`` the cells' total expected mass (1 for a density), ``unresolved`` the
+    error estimate of the rectangles left at the depth limit, ``bins`` the bins after pooling, ``chi2`` the
+    statistic."""
 
-    The density is integrated over each cell with 6 × 6 Gauss–Legendre points; the sparsest cells are
-    pooled into one bin of at least 50 expected samples.  Also asserts that the density integrates to 1
-    over the cells (to 0.5 %).
+    p: float
+    mass: float
+    unresolved: float
+    bins: int
+    chi2: float
+
+
+def sidak(alpha: float, tests: int) -> float:
+    """Per-test significance level for ``tests`` independent tests at family-wise level ``alpha`` (Šidák)."""
+    return 1.0 - (1.0 - alpha) ** (1.0 / tests)
+
+
+def _half_vectors(l, v):  # noqa: E741
+    """``h = ±(l + v)/|l + v|`` with ``h_z >= 0``: the normal that reflects ``v`` to ``l``."""
+    s = l + v
+    h = s / np.linalg.norm(s, axis=-1, keepdims=True)
+    return np.where(h[..., 2:3] < 0, -h, h)
+
+
+def _polar(h):
+    theta = np.arccos(np.clip(h[..., 2], -1.0, 1.0))
+    phi = np.mod(np.arctan2(h[..., 1], h[..., 0]), 2 * math.pi)
+    return theta, phi
+
+
+def _edges(x, lo, hi, k):
+    """``k`` cells of ``[lo, hi]`` between the sample quantiles of ``x`` (ends fixed, strictly increasing)."""
+    inner = np.quantile(x, np.arange(1, k) / k) if len(x) >= 4 * k else lo + (hi - lo) * np.arange(1, k) / k
+    e = np.concatenate([[lo], inner, [hi]])
+    # Ties (a finite pilot) must not make empty cells of zero width.
+    floor = (hi - lo) * 1e-9
+    for i in range(1, k + 1):
+        e[i] = max(e[i], e[i - 1] + floor)
+    e[-1] = hi
+    return e
+
+
+class _Cells:
+    """Rings in ``θ_h`` and, per ring, sectors in ``φ_h``; ``index(h)`` maps half vectors to cell numbers."""
+
+    def __init__(self, pilot_h, rings, sectors):
+        th, ph = _polar(pilot_h)
+        self.theta = _edges(th, 0.0, math.pi / 2, rings)
+        ring = np.clip(np.searchsorted(self.theta, th, side="right") - 1, 0, rings - 1)
+        self.phi = np.stack([_edges(ph[ring == i], 0.0, 2 * math.pi, sectors) for i in range(rings)])
+        self.rings, self.sectors = rings, sectors
+
+    def index(self, h):
+        th, ph = _polar(h)
+        i = np.clip(np.searchsorted(self.theta, th, side="right") - 1, 0, self.rings - 1)
+        j = np.empty_like(i)
+        for r in range(self.rings):
+            sel = i == r
+            j[sel] = np.clip(np.searchsorted(self.phi[r], ph[sel], side="right") - 1, 0, self.sectors - 1)
+        return i * self.sectors + j
+
+    def rectangles(self):
+        """``(θ0, θ1, φ0, φ1, cell)`` of every cell, as arrays."""
+        t0 = np.repeat(self.theta[:-1], self.sectors)
+        t1 = np.repeat(self.theta[1:], self.sectors)
+        return t0, t1, self.phi[:, :-1].ravel(), self.phi[:, 1:].ravel(), np.arange(self.rings * self.sectors)
+
+
+def _cell_masses(q, cells, order=8, rel_tol=1e-7, abs_tol=1e-10, min_depth=1, max_depth=12, max_rects=4_000_000):
+    """Adaptive tensor Gauss–Legendre of ``q(h) sin θ`` over each cell: (masses, unresolved error estimate)."""
+    x, w = np.polynomial.legendre.leggauss(order)
+    x, w = (x + 1) / 2, w / 2  # on [0, 1]
+    ww = (w[:, None] * w[None, :]).ravel()
+
+    def rule(t0, t1, p0, p1):
+        dt, dp = t1 - t0, p1 - p0
+        tt = t0[:, None, None] + dt[:, None, None] * x[None, :, None]
+        pp = p0[:, None, None] + dp[:, None, None] * x[None, None, :]
+        tt, pp = np.broadcast_arrays(tt, pp)
+        st = np.sin(tt)
+        h = np.stack([st * np.cos(pp), st * np.sin(pp), np.cos(tt)], -1).reshape(-1, 3)
+        # In slices of 2^17 nodes: the samplers refuse arrays over their memory budget.
+        f = np.concatenate([q(h[i : i + (1 << 17)]) for i in range(0, len(h), 1 << 17)] or [np.zeros(0)])
+        return ((f * st.ravel()).reshape(len(t0), -1) @ ww) * dt * dp
+
+    t0, t1, p0, p1, cell = cells.rectangles()
+    mass = np.zeros(cells.rings * cells.sectors)
+    unresolved = 0.0
+    coarse = rule(t0, t1, p0, p1)
+    for depth in range(max_depth + 1):
+        tm, pm = (t0 + t1) / 2, (p0 + p1) / 2
+        kids = [(t0, tm, p0, pm), (tm, t1, p0, pm), (t0, tm, pm, p1), (tm, t1, pm, p1)]
+        parts = [rule(*k) for k in kids]
+        fine = sum(parts)
+        ok = (np.abs(fine - coarse) <= np.maximum(abs_tol, rel_tol * np.abs(fine))) & (depth >= min_depth)
+        if depth == max_depth or len(t0) * 4 > max_rects:
+            unresolved += float(np.sum(np.abs(fine - coarse)[~ok]))
+            ok[:] = True
+        np.add.at(mass, cell[ok], fine[ok])
+        if np.all(ok):
+            break
+        bad = ~ok
+        t0 = np.concatenate([k[0][bad] for k in kids])
+        t1 = np.concatenate([k[1][bad] for k in kids])
+        p0 = np.concatenate([k[2][bad] for k in kids])
+        p1 = np.concatenate([k[3][bad] for k in kids])
+        coarse = np.concatenate([part[bad] for part in parts])
+        cell = np.tile(cell[bad], 4)
+    return mass, unresolved
+
+
+def _setup(sampler, v, rings, sectors, pilot_seed, pilot):
+    """The cells (from the pilot), the density over the cells' coordinates, the map ``h → g`` and the draw."""
+    v = np.asarray(v, dtype=np.float64)
+    v = v / np.linalg.norm(v)
+
+    def draw(n, s):
+        l = sampler.sample(np.random.default_rng(s).random((n, 2)), v).directions  # noqa: E741
+        with np.errstate(invalid="ignore", divide="ignore"):
+            h = _half_vectors(l, v)
+        # l = −v exactly (no half vector) has probability 0; such a draw would be a defect of the warp.
+        assert np.all(np.isfinite(h)), "a sample at l = −v"
+        return h
+
+    pilot_h = draw(pilot, pilot_seed)
+    # Stretch the slopes so that an anisotropic lobe is round: g ∝ (h_x/s_x, h_y/s_y, h_z), the pilot's
+    # median |slopes| (a fixed map, chosen before the tested draw), dω_h = s_x s_y/|(s_x g_x, s_y g_y, g_z)|³ dω_g.
+    up = pilot_h[:, 2] > 1e-12
+    sx, sy = (float(np.median(np.abs(pilot_h[up, k] / pilot_h[up, 2]))) for k in (0, 1))
+    sx, sy = (max(x, 1e-300) for x in (sx, sy))
+    stretch = np.array([1 / sx, 1 / sy, 1.0])
+
+    def to_g(h):
+        g = h * stretch
+        return g / np.linalg.norm(g, axis=-1, keepdims=True)
+
+    cells = _Cells(to_g(pilot_h), rings, sectors)
+
+    def q(g):
+        m = g / stretch
+        r = np.linalg.norm(m, axis=-1)
+        h = m / r[..., None]
+        vh = h @ v
+        l = 2 * vh[..., None] * h - v  # noqa: E741
+        return sampler.pdf(l, v) * 4 * np.abs(vh) * (sx * sy / r**3)
+
+    return cells, q, to_g, draw
+
+
+def density_mass(sampler, v, rings=16, sectors=32, pilot_seed=7, pilot=32_000, **rule) -> float:
+    """``∫ pdf(l, v) dω_l`` over the sphere, as the adaptive rule over the half-vector cells of :func:`chi2_test`.
+
+    ``rule``: ``order``, ``rel_tol``, ``abs_tol``, ``min_depth``, ``max_depth`` of the cell integration.
     """
-    d = sampler.sample(np.random.default_rng(seed).random((count, 2)), v).directions
-    ti = np.minimum(((1 - d[:, 2]) / 2 * nt).astype(int), nt - 1)
-    pj = np.minimum((np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * math.pi) / (2 * math.pi) * nph).astype(int), nph - 1)
-    counts = np.bincount(ti * nph + pj, minlength=nt * nph).astype(float)
-    x, w = np.polynomial.legendre.leggauss(6)
-    z_edges = 1 - 2 * np.arange(nt + 1) / nt
-    p_edges = np.arange(nph + 1) * 2 * math.pi / nph
-    zc = (z_edges[:-1, None] + z_edges[1:, None]) / 2 + (z_edges[1:, None] - z_edges[:-1, None]) / 2 * x
-    pc = (p_edges[:-1, None] + p_edges[1:, None]) / 2 + (p_edges[1:, None] - p_edges[:-1, None]) / 2 * x
-    zz, pp = zc[:, None, :, None], pc[None, :, None, :]
-    r = np.sqrt(np.clip(1 - zz**2, 0, None))
-    dirs = np.stack(np.broadcast_arrays(r * np.cos(pp), r * np.sin(pp), zz), -1)
-    dens = sampler.pdf(dirs, v)
-    cell = (2 / nt) * (2 * math.pi / nph) / 4
-    expected = count * np.sum(dens * w[:, None] * w[None, :], axis=(-2, -1)).ravel() * cell
+    v = np.asarray(v, dtype=np.float64)
+    cells, q = _setup(sampler, v / np.linalg.norm(v), rings, sectors, pilot_seed, pilot)[:2]
+    masses, unresolved = _cell_masses(q, cells, **rule)
+    return float(masses.sum())
+
+
+def chi2_test(sampler, v, count=100_000, rings=16, sectors=32, seed=2024, pilot_seed=7, pilot=32_000,
+              mass_tol=1e-5, min_depth=1) -> Chi2Result:  # fmt: skip
+    """χ² test of ``count`` samples of ``sampler`` at view ``v`` against its ``pdf``, cells in the half vector.
+
+    Asserts that the cells' expected masses sum to 1 within ``mass_tol`` (and that the adaptive rule's
+    unresolved error is below it).  ``min_depth`` is the number of times every cell is split before the
+    rule may accept it: 2 for lobes of 10:1 seen at grazing views, whose thin wedges can hide between the
+    nodes of both the coarse and the fine rule (mass off by 2.5e-5 at depth 1 for GGX α = (0.05, 0.5) at
+    89° across the tangent, 6.7e-6 at depth 2).  See the module docstring.
+    """
+    v = np.asarray(v, dtype=np.float64)
+    v = v / np.linalg.norm(v)
+    cells, q, to_g, draw = _setup(sampler, v, rings, sectors, pilot_seed, pilot)
+    counts = np.bincount(cells.index(to_g(draw(count, seed))), minlength=rings * sectors).astype(float)
+    masses, unresolved = _cell_masses(q, cells, min_depth=min_depth)
+    mass = float(masses.sum())
+    assert unresolved <= mass_tol, f"cell integrals unresolved by {unresolved:.3g}"
+    assert mass == pytest.approx(1.0, abs=mass_tol), f"the density's mass over the cells is {mass!r}"
+    expected = count * masses
     order = np.argsort(expected)
     e_sorted, c_sorted = expected[order], counts[order]
     small = np.cumsum(e_sorted) < 50
     e_bins = np.r_[e_sorted[small].sum(), e_sorted[~small]]
     c_bins = np.r_[c_sorted[small].sum(), c_sorted[~small]]
     keep = e_bins > 0
-    chi2 = np.sum((c_bins[keep] - e_bins[keep]) ** 2 / e_bins[keep])
-    assert expected.sum() == pytest.approx(count, rel=5e-3)
-    return stats.chi2.sf(chi2, keep.sum() - 1)
+    # A draw where the density says none can be is a failure outright.
+    assert np.sum(c_bins[~keep]) == 0, "samples in cells of zero density"
+    chi2 = float(np.sum((c_bins[keep] - e_bins[keep]) ** 2 / e_bins[keep]))
+    p = float(stats.chi2.sf(chi2, keep.sum() - 1))
+    return Chi2Result(p, mass, unresolved, int(keep.sum()), chi2)
+
+
+def chi2_pvalue(sampler, v, count=60_000, seed=2024, **kwargs) -> float:
+    """The p-value of :func:`chi2_test` (which asserts the density's mass over the cells)."""
+    return chi2_test(sampler, v, count=count, seed=seed, **kwargs).p
