@@ -750,7 +750,7 @@ def plausibility_table(q):
     ax.axis("off")
     tab = ax.table(cellText=cells, colLabels=head, cellColours=colours, cellLoc="left", colLoc="left",
                    bbox=[0, 0, 1, 1],
-                   colWidths=[0.125, 0.25, 0.05, 0.085, 0.06, 0.055, 0.06, 0.05, 0.265])  # fmt: skip
+                   colWidths=[0.16, 0.26, 0.045, 0.075, 0.055, 0.05, 0.055, 0.045, 0.255])  # fmt: skip
     tab.auto_set_font_size(False)
     tab.set_fontsize(12)
     for (row, col), cell in tab.get_celld().items():

@@ -331,7 +331,7 @@ def beyond_slides_cases() -> list[AuditCase]:
                   "ρ(0) = 1 − ln 2, as the separable G"),
         AuditCase("C-T beckmann/correlated α=0.5", m("cook-torrance", ks=1.0, roughness=0.5, f0=1.0,
                                                      geometry="smith-correlated", fresnel="none"), ""),
-        AuditCase("C-T ggx/correlated αx=0.05 αy=0.5", m("cook-torrance", ks=1.0, f0=1.0, ndf="ggx",
+        AuditCase("C-T ggx/correlated aniso", m("cook-torrance", ks=1.0, f0=1.0, ndf="ggx",
                                                          geometry="smith-correlated", fresnel="none",
                                                          alpha_x=0.05, alpha_y=0.5), "anisotropic"),
         AuditCase("Mirror", m("mirror", ks=1.0), "delta: ρ = reflectance(cos θ) = 1"),
