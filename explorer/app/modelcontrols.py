@@ -26,7 +26,22 @@ _LABELS = {"alpha_x": "α_x", "alpha_y": "α_y", "sigma": "σ", "shininess": "sh
 
 
 def button_width(label: str, scale: float, box: bool = True) -> float:
-    """Pixels a button and its label take in a row (DejaVu Sans at 8.5 pt is about 5.3 px a character)."""
+    """Pixels a button and its label take in a row (DejaVu Sans at 8.5 pt is about 5.3 px a character).
+
+    Parameters
+    ----------
+    label : str
+        The button's text.
+    scale : float
+        The window's scale (1 at 1280 × 768).
+    box : bool
+        Whether a check box is drawn before the label.
+
+    Returns
+    -------
+    float
+        The width in pixels.
+    """
     return (17.0 if box else 4.0) * scale + 4.7 * scale * len(label) + 8.0 * scale
 
 
@@ -48,7 +63,18 @@ class ParamSliderSpec:
         return float(np.max(value))
 
     def linked_value(self, state) -> float:
-        """A number for a ``None`` row when its lock is released: the slider's current position's value."""
+        """A number for a ``None`` row when its lock is released: the value at the slider's middle.
+
+        Parameters
+        ----------
+        state : AppState
+            The explorer's state (unused: the slider's range decides).
+
+        Returns
+        -------
+        float
+            The value, within the row's ``[low, high]``.
+        """
         return min(max(self.from_slider(0.5 * (self.lo + self.hi)), self.p.low), self.p.high)
 
     def to_slider(self, value) -> float:

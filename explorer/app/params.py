@@ -328,7 +328,18 @@ def slider_range(p) -> tuple[float, float]:
 
 
 def none_label(p) -> str:
-    """What ``None`` means for a row whose default is ``None``, from its description ("None: = α_x")."""
+    """What ``None`` means for a row whose default is ``None``, from its description ("None: = α_x").
+
+    Parameters
+    ----------
+    p : Parameter
+        A row of a parameter table.
+
+    Returns
+    -------
+    str
+        The text after ``None:`` up to a comma (``"default"`` if the description says nothing).
+    """
     text = p.description
     k = text.find("None:")
     meaning = text[k + 5 :].strip(" )") if k >= 0 else "default"

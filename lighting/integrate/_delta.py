@@ -46,6 +46,18 @@ def split_delta(brdf: BRDF):
     """``(smooth, deltas)``: the parts without a delta as one model (``None`` if there are none), the delta parts.
 
     A model without delta parts comes back as itself, so the smooth path is unchanged bit for bit.
+
+    Parameters
+    ----------
+    brdf : BRDF
+        A model or a sum of models.
+
+    Returns
+    -------
+    smooth : BRDF or None
+        The parts that are functions (one model or their sum); ``None`` if every part is a delta.
+    deltas : tuple of BRDF
+        The parts with ``is_delta``.
     """
     parts = brdf.parts
     deltas = tuple(p for p in parts if p.is_delta)
@@ -58,7 +70,20 @@ def split_delta(brdf: BRDF):
 
 
 def delta_albedo(deltas, cos_v: np.ndarray) -> np.ndarray:
-    """``Σ R_k(cos θ_v)`` for float64 cosines ``(...)``: float64 ``(..., 3)`` (zeros without delta parts)."""
+    """``Σ R_k(cos θ_v)``: the fraction the delta parts reflect into the mirror direction.
+
+    Parameters
+    ----------
+    deltas : sequence of BRDF
+        Delta parts (each with ``_reflectance``).
+    cos_v : numpy.ndarray
+        float64 cosines ``n·v``, any shape ``(...)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        float64 ``(..., 3)``; zeros without delta parts.
+    """
     out = np.zeros(np.shape(cos_v) + (3,))
     with np.errstate(over="ignore"):  # huge k_s of several parts: inf here, saturated by the caller's _out
         for p in deltas:
@@ -70,6 +95,22 @@ def delta_radiance(deltas, env, vl: np.ndarray, to_world) -> np.ndarray:
     """``Σ R_k(cos θ_v) L_env(R_v)`` for local viewers ``vl`` ``(B, 3)``; ``to_world`` maps local ``(B, 1, 3)``.
 
     The environment is looked up only where some part reflects (a viewer above the horizon).
+
+    Parameters
+    ----------
+    deltas : sequence of BRDF
+        Delta parts.
+    env : Environment
+        The environment (``radiance(directions)`` in the world frame).
+    vl : numpy.ndarray
+        float64 local view directions ``(B, 3)`` (``n = ẑ``).
+    to_world : callable
+        Maps local directions ``(B, 1, 3)`` to the world frame.
+
+    Returns
+    -------
+    numpy.ndarray
+        float64 ``(B, 3)``: the delta parts' outgoing radiance.
     """
     out = np.zeros(vl.shape[:-1] + (3,))
     if not deltas:

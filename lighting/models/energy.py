@@ -305,7 +305,18 @@ class AlbedoTable:
         return np.asarray((1 - ta) * self.average[j] + ta * self.average[j + 1], dtype=dt)
 
     def row(self, alpha: float) -> np.ndarray:
-        """``E`` at every ``μ`` node for one roughness (float64, ``(M,)``): what a model interpolates in ``μ``."""
+        """``E`` at every ``μ`` node for one roughness: what a model interpolates in ``μ``.
+
+        Parameters
+        ----------
+        alpha : float
+            The roughness (clamped to the table's range).
+
+        Returns
+        -------
+        numpy.ndarray
+            float64 ``(M,)``, one value per ``μ`` node of the table.
+        """
         (j,), (ta,) = self._alpha_cell(np.array([float(alpha)]))
         return (1 - ta) * self.values[j] + ta * self.values[j + 1]
 
@@ -468,7 +479,18 @@ class MultipleScattering:
         self._scale = 1.0 / (math.pi * loss) if loss > 0 else 0.0
 
     def loss(self, mu) -> np.ndarray:
-        """``1 − E(μ)`` at this roughness (float64; ``μ`` clamped to [0, 1])."""
+        """``1 − E(μ)`` at this roughness: the energy single scattering loses.
+
+        Parameters
+        ----------
+        mu : array_like
+            Cosines ``μ`` (clamped to [0, 1]).
+
+        Returns
+        -------
+        numpy.ndarray
+            float64, the shape of ``mu``.
+        """
         return np.interp(np.asarray(mu, dtype=np.float64), self.table.mu, self._row)
 
     def field(self, n_dot_v, n_dot_l, above, *, times_n_dot_l: bool = True) -> np.ndarray:
@@ -495,5 +517,16 @@ class MultipleScattering:
         return np.where(above, s, 0.0)
 
     def albedo(self, mu) -> np.ndarray:
-        """``∫ f_ms μ_i dω_i / colour = (1 − E(μ_o)) (1 − E_avg^table)/(1 − E_avg) = 1 − E(μ_o)`` (float64)."""
+        """The lobe's directional albedo without its colour: ``∫ f_ms μ_i dω_i = 1 − E(μ_o)``.
+
+        Parameters
+        ----------
+        mu : array_like
+            Cosines ``μ_o`` of the view.
+
+        Returns
+        -------
+        numpy.ndarray
+            float64, the shape of ``mu`` (0 where the table has no loss to give back).
+        """
         return self.loss(mu) * (1.0 if self._scale > 0 else 0.0)
