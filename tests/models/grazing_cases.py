@@ -5,7 +5,9 @@ choice and every flag of its parameter table (one at a time), and the Cook–Tor
 with and without energy compensation; a combination the constructor refuses is listed with the
 constructor's ValueError (the tests skip it with that reason).  Models sharing a sampler keep one entry
 each, so Oren–Nayar's cosine sampler is tested under its own name.  The anisotropic samplers are tested
-with the view along the tangent (φ_v = 0) and across it (φ_v = 90°).
+with the view along the tangent (φ_v = 0) and across it (φ_v = 90°).  Within the last degree, the samplers
+whose model files tested them there: Ward at 89.5° and 89.99°, Ashikhmin–Shirley at 89.9°, the cosine
+sampler 1e-4° from the horizon (:func:`last_degree`).
 """
 
 from __future__ import annotations
@@ -108,4 +110,26 @@ def roughness_range():
         ("disney-gloss", create_model("disney", roughness=0.05, metallic=1.0, clearcoat=1.0).sampler()),
         ("phong(1000)", create_model("phong", shininess=1000).sampler()),
     ]
+    return out
+
+
+def last_degree():
+    """``(id, sampler, θ_v, φ_v)``: views within a degree of the horizon, at the parameters the model files used.
+
+    Ward at θ_v = 89.5° (φ_v = 90°) and 89.99° (φ_v = 200°), isotropic and 4:1 to 10:1 lobes from α = 0.01
+    to 0.5; Ashikhmin–Shirley at 89.9° (φ_v = 90°), specular alone and the mixture with the cosine lobe,
+    isotropic and anisotropic; Oren–Nayar's cosine sampler at 90° − 1e-4°.
+    """
+    out = []
+    for ax, ay in ((0.2, 0.2), (0.5, 0.5), (0.1, 0.4), (0.4, 0.15), (0.02, 0.02), (0.01, 0.1)):
+        sampler = create_model("ward", alpha_x=ax, alpha_y=ay).sampler()
+        out += [(f"ward({ax},{ay})@{t:g}", sampler, t, p) for t, p in ((89.5, 90.0), (89.99, 200.0))]
+    for label, kwargs in (
+        ("as-specular(20,20)", {"nu": 20, "nv": 20, "diffuse": False}),
+        ("as-specular(60,3)", {"nu": 60, "nv": 3, "diffuse": False}),
+        ("as-mixture(8,40)", {"rd": 0.5, "rs": 0.05, "nu": 8, "nv": 40}),
+        ("as-mixture(15,15)", {"rd": 0.5, "rs": 0.5, "nu": 15, "nv": 15}),
+    ):
+        out.append((f"{label}@89.9", create_model("ashikhmin-shirley", **kwargs).sampler(), 89.9, 90.0))
+    out.append(("oren-nayar@90-1e-4", create_model("oren-nayar", kd=0.8, sigma=0.5).sampler(), 90.0 - 1e-4, 0.0))
     return out
