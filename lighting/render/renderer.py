@@ -45,7 +45,7 @@ from .._numeric import (
 )
 from ..shading.batch import each_chunk, shade_prepared, shade_prepared_into, shade_prepared_terms
 from ..shading.inputs import TERMS, check_lights, positional_lights, view_vectors
-from ..shading.material import Material
+from ..shading.material import Material, check_material
 from ..vec import normalize
 from .camera import Camera, check_camera
 from .gbuffer import GBuffer, check_image_budget
@@ -564,7 +564,8 @@ def needs_tangents(material: Material) -> bool:
         False when every part describes an isotropic lobe (:attr:`lighting.models.protocol.Lobe.isotropic`):
         such models never read a tangent, so a renderer need not interpolate any.
     """
-    for part in material.brdf.parts:
+    # Checked here because the renderer asks before it shades: a wrong material gets the shading path's named error.
+    for part in check_material(material).brdf.parts:
         lobe = part.lobe()
         if lobe is None or not lobe.isotropic:
             return True
