@@ -35,6 +35,8 @@ SLOW_FILES = frozenset(
         "test_quadrature_aniso_full.py",
         # Every sampler's χ² at 0°, 60°, 85° and 89° (about 4 min); test_sampler_grazing.py is the fast subset.
         "test_sampler_grazing_full.py",
+        # The stability sweep's quick run covers 205 model variants against 80-digit references (about 25 s).
+        "test_stability.py",
     }
 )
 

@@ -332,6 +332,8 @@ def test_sampler_is_the_visible_normal_and_cosine_mixture(ndf, geo, alpha, theta
     assert float(hemisphere(lambda d: cosine.pdf(d, v))) == pytest.approx(1.0, abs=1e-12)
 
 
+# About 10 s in all: in the slow set; the contract test runs the compensated sampler's χ² in the fast loop.
+@pytest.mark.slow
 @pytest.mark.parametrize("ndf, geo, alpha", SAMPLER_CASES)
 def test_sampler_chi_square(ndf, geo, alpha):
     sampler = _model(ndf, geo, alpha).sampler()
