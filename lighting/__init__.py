@@ -11,6 +11,7 @@ shading     the illumination equation (classic and physical), plans, the OpenGL 
 render      meshes, cameras, the rasterizer, flat / Gouraud / Phong images, image files
 integrate   the rendering equation: sampling, quadrature, albedo, SH irradiance
 analysis    BRDFs as data: slices, lobes, the plausibility audit, Mach bands
+files       BRDFs read from files: ``load_brdf`` (MERL ``.binary``, BRDF Explorer ``.brdf``)
 scene       scene files (TOML) and the example scenes
 validation  the accuracy and stability studies (not loaded by ``import lighting``)
 =========== ==============================================================================
@@ -21,10 +22,11 @@ public contract (``lighting.brdf``, ``lighting.microfacet``, ``lighting.fresnel`
 working; the first five are re-export modules.
 """
 
-from . import analysis, integrate, lights, models, render, shading, vec
+from . import analysis, files, integrate, lights, models, render, shading, vec
 from .analysis import audit, machband  # noqa: F401  (old module paths, kept as attributes)
 from .integrate import sampling  # noqa: F401
 from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight, environment  # noqa: F401
+from .files import load_brdf
 from .models import BlinnPhong, CookTorrance, Lambert, Phong, brdf, fresnel, microfacet  # noqa: F401
 from .render import camera, mesh, raster  # noqa: F401
 from .shading import Material, shade, shade_terms
@@ -53,4 +55,5 @@ __all__ = [
     "Material",
     "shade",
     "shade_terms",
+    "load_brdf",
 ]
