@@ -24,9 +24,9 @@ working; the first five are re-export modules.
 
 from . import analysis, files, integrate, lights, models, render, shading, vec
 from .analysis import audit, machband  # noqa: F401  (old module paths, kept as attributes)
+from .files import load_brdf
 from .integrate import sampling  # noqa: F401
 from .lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight, environment  # noqa: F401
-from .files import load_brdf
 from .models import BlinnPhong, CookTorrance, Lambert, Phong, brdf, fresnel, microfacet  # noqa: F401
 from .render import camera, mesh, raster  # noqa: F401
 from .shading import Material, shade, shade_terms
@@ -42,6 +42,7 @@ __all__ = [
     "render",
     "integrate",
     "analysis",
+    "files",
     "Lambert",
     "Phong",
     "BlinnPhong",
