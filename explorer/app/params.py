@@ -33,7 +33,6 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from lighting._numeric import ArgumentTypeError, abbreviate, check_bool, real_array
 from lighting.models import model_variants
 
 __all__ = [
@@ -244,24 +243,8 @@ def _plain(value):
     return value
 
 
-def _interval(p) -> str:
-    lo, hi = p.low, p.high
-    left = "(" if p.low_open else "["
-    right = ")" if math.isinf(hi) else "]"
-    return f"{left}{lo:g}, {'inf' if math.isinf(hi) else f'{hi:g}'}{right}"
-
-
-def _in_range(p, x: np.ndarray) -> bool:
-    above = np.all(x > p.low) if p.low_open else np.all(x >= p.low)
-    return bool(above and np.all(x <= p.high))
-
-
 def validate_parameter(p, value):
-    """``value`` checked for the parameter ``p``; a ``ValueError`` naming it, the value and what is allowed.
-
-    Numbers are numbers (text, bytes and bools are refused: :class:`~lighting._numeric.ArgumentTypeError`,
-    a TypeError and a ValueError); colours are one number (grey) or three; choices accept any case and
-    ``_`` for ``-``.
+    """``value`` checked for the parameter ``p`` (:meth:`lighting.models.protocol.Parameter.check`).
 
     Parameters
     ----------
@@ -275,30 +258,7 @@ def validate_parameter(p, value):
     float, tuple of float, bool, str or None
         The value as the state keeps it (a colour: a float for grey, else a 3-tuple).
     """
-    name, given = p.name, abbreviate(repr(value))
-    if p.kind == "bool":
-        return check_bool(name, value)
-    if p.kind == "choice":
-        allowed = f"one of {', '.join(p.choices)}"
-        if not isinstance(value, str):
-            raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {given}")
-        key = value.strip().lower().replace("_", "-").replace(" ", "-")
-        if key not in p.choices:
-            raise ValueError(f"{name} must be {allowed}; got {given}")
-        return key
-    if p.kind == "float" and value is None and p.default is None:
-        return None
-    kind = "a number" if p.kind == "float" else "one number or three numbers r,g,b"
-    allowed = f"{kind} in {_interval(p)}" + (" or None" if p.default is None else "")
-    try:
-        arr = real_array(name, value, allowed=allowed).astype(np.float64).reshape(-1)
-    except ArgumentTypeError:
-        raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {given}") from None
-    except ValueError:  # NaN or inf
-        raise ValueError(f"{name} must be {allowed}; got {given}") from None
-    if arr.size not in ((1,) if p.kind == "float" else (1, 3)) or not _in_range(p, arr):
-        raise ValueError(f"{name} must be {allowed}; got {given}")
-    return float(arr[0]) if arr.size == 1 else tuple(float(x) for x in arr)
+    return p.check(value)
 
 
 def slider_range(p) -> tuple[float, float]:

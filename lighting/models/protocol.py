@@ -80,6 +80,68 @@ class Parameter:
         if self.kind == "choice" and self.default not in self.choices:
             raise ValueError(f"Parameter {self.name!r}: the default {self.default!r} is not among {self.choices}")
 
+    def check(self, value):
+        """``value`` checked for this row; a ``ValueError`` naming the parameter, the value and what is allowed.
+
+        Numbers are numbers (text, bytes and bools are refused with
+        :class:`~lighting._numeric.ArgumentTypeError`, both a TypeError and a ValueError); colours are one
+        number (grey) or three; choices accept any case and ``_`` for ``-``.  Constructors may check more
+        (combinations of parameters); this is what the table alone says.
+
+        Parameters
+        ----------
+        value
+            The value given.
+
+        Returns
+        -------
+        float, tuple of float, bool, str or None
+            The value in plain form: a colour is a float for grey, else a 3-tuple.
+
+        Examples
+        --------
+        >>> Parameter("sigma", "float", 0.3, low=0.0, high=1.5).check(1)
+        1.0
+        >>> Parameter("sigma", "float", 0.3, low=0.0, high=1.5).check(2)
+        Traceback (most recent call last):
+        ...
+        ValueError: sigma must be a number in [0, 1.5]; got 2
+        """
+        from .._numeric import ArgumentTypeError, abbreviate, check_bool, real_array
+
+        name, given = self.name, abbreviate(repr(value))
+        if self.kind == "bool":
+            return check_bool(name, value)
+        if self.kind == "choice":
+            allowed = f"one of {', '.join(self.choices)}"
+            if not isinstance(value, str):
+                raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {given}")
+            key = value.strip().lower().replace("_", "-").replace(" ", "-")
+            if key not in self.choices:
+                raise ValueError(f"{name} must be {allowed}; got {given}")
+            return key
+        if self.kind == "float" and value is None and self.default is None:
+            return None
+        kind = "a number" if self.kind == "float" else "one number or three numbers r,g,b"
+        allowed = f"{kind} in {self.interval}" + (" or None" if self.default is None else "")
+        try:
+            arr = real_array(name, value, allowed=allowed).astype(float).reshape(-1)
+        except ArgumentTypeError:
+            raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {given}") from None
+        except ValueError:  # NaN or inf
+            raise ValueError(f"{name} must be {allowed}; got {given}") from None
+        above = (arr > self.low) if self.low_open else (arr >= self.low)
+        if arr.size not in ((1,) if self.kind == "float" else (1, 3)) or not (above.all() and (arr <= self.high).all()):
+            raise ValueError(f"{name} must be {allowed}; got {given}")
+        return float(arr[0]) if arr.size == 1 else tuple(float(x) for x in arr)
+
+    @property
+    def interval(self) -> str:
+        """The allowed range as text: ``"[0, 1]"``, ``"(0, inf)"``."""
+        left = "(" if self.low_open else "["
+        right = ")" if math.isinf(self.high) else "]"
+        return f"{left}{self.low:g}, {'inf' if math.isinf(self.high) else f'{self.high:g}'}{right}"
+
     @property
     def control_range(self) -> tuple[float, float]:
         """The range an interactive control offers: ``slider``, else ``[low, high]``."""
