@@ -16,6 +16,8 @@ from . import protocol, microfacet, fresnel, geometry, base, sampler
 from . import lambert, phong, microfacet_sampling, blinn_phong, cook_torrance, brdf
 # Beyond the slides, in the order lecturers compare them: diffuse, then glossy, then the principled model.
 from . import oren_nayar, ward, ashikhmin_shirley, disney, mirror  # noqa: F401  (mirror: registers "mirror")
+from . import custom
+from .custom import define_brdf
 
 # isort: on
 from .brdf import *  # noqa: F403
@@ -44,6 +46,9 @@ __all__ = [
     "ward",
     "ashikhmin_shirley",
     "disney",
+    "mirror",
+    "custom",
+    "define_brdf",
     *protocol.__all__,
     *microfacet.__all__,
     *fresnel.__all__,
