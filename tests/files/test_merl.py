@@ -1,0 +1,271 @@
+"""MERL ``.binary`` files: format, lookup, missing bins, bad files (lighting.files.merl)."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+import lighting
+from lighting.analysis.halfdiff import half_diff_to_dirs
+from lighting.brdf import BlinnPhong, CookTorrance, Lambert
+from lighting.files.merl import (
+    BINS,
+    DIMS,
+    SCALE,
+    MerlBRDF,
+    bin_centres,
+    read_merl,
+    tabulate_merl,
+    write_merl,
+)
+
+N = (0.0, 0.0, 1.0)
+SIZE = 12 + 8 * 3 * BINS
+# Reciprocal models only: the table folds φ_d by π, i.e. stores f(l, v) = f(v, l).  (The slides'
+# unnormalized Blinn–Phong divides by n·l and is not reciprocal.)
+BLINN = Lambert(0.5) + BlinnPhong(0.4, 30, normalized=True)
+COOK = CookTorrance((0.5, 0.4, 0.3), 0.3, 0.04) + Lambert(0.3)
+
+
+@pytest.fixture(scope="module")
+def blinn_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("merl") / "blinn.binary"
+    table = tabulate_merl(BLINN)
+    write_merl(path, table)
+    return path, table
+
+
+def _directions(rng, count, min_z):
+    x = rng.normal(size=(count, 3))
+    x /= np.linalg.norm(x, axis=1, keepdims=True)
+    x[:, 2] = np.abs(x[:, 2])
+    return x[x[:, 2] > min_z]
+
+
+def _pairs(seed, count=20_000, min_z=0.35):
+    rng = np.random.default_rng(seed)
+    l, v = _directions(rng, count, min_z), _directions(rng, count, min_z)  # noqa: E741
+    m = min(len(l), len(v))
+    return l[:m], v[:m]
+
+
+# -- format and round trips --------------------------------------------------------------------
+
+
+def test_lambert_table_is_kd_over_pi_after_the_scales(tmp_path):
+    kd = np.array([0.8, 0.5, 0.2])
+    path = tmp_path / "lambert.binary"
+    write_merl(path, tabulate_merl(Lambert(kd)))
+    assert os.path.getsize(path) == SIZE
+    data = path.read_bytes()
+    assert np.frombuffer(data[:12], "<i4").tolist() == [90, 90, 180]
+    raw = np.frombuffer(data[12:], "<f8").reshape(3, BINS)
+    above = raw[0] != 0  # centres below the horizon are 0
+    assert above.mean() > 0.5
+    for c in range(3):
+        np.testing.assert_allclose(raw[c][above], kd[c] / np.pi / SCALE[c], rtol=1e-15)
+    m = read_merl(path)
+    l, v = _pairs(1)  # noqa: E741
+    np.testing.assert_allclose(m.eval(N, l, v), np.broadcast_to(kd / np.pi, (len(l), 3)), rtol=1e-15)
+
+
+def test_round_trip_is_bitwise(blinn_file, tmp_path):
+    path, table = blinn_file
+    m = read_merl(path)
+    np.testing.assert_array_equal(m.raw, (table.reshape(3, BINS) / SCALE[:, None]).reshape(3, *DIMS))
+    np.testing.assert_allclose(m.table, table, rtol=2e-16, atol=0)
+    again = tmp_path / "again.binary"
+    write_merl(again, m)
+    assert again.read_bytes() == path.read_bytes()
+    assert not [p for p in os.listdir(tmp_path) if p.endswith(".tmp")]  # the temporary file is gone
+
+
+def test_load_brdf_reads_binary_with_options(blinn_file):
+    path, _ = blinn_file
+    m = lighting.load_brdf(str(path), interpolation="linear")
+    assert isinstance(m, MerlBRDF) and m.interpolation == "linear" and m.name is None
+    with pytest.raises(ValueError, match=r"blinn\.binary.*no parameter 'roughness'"):
+        lighting.load_brdf(str(path), roughness=0.2)
+
+
+# -- lookup ------------------------------------------------------------------------------------
+
+
+def _centre_directions(step=7):
+    th, td, pd = (a[::step, ::step, ::step] for a in bin_centres())
+    l, v = half_diff_to_dirs(th, 0.3, td, pd)  # noqa: E741  (any φ_h: the table is isotropic)
+    keep = (l[..., 2] > 1e-3) & (v[..., 2] > 1e-3)
+    idx = np.argwhere(keep) * step
+    return l[keep], v[keep], idx
+
+
+@pytest.mark.parametrize("interpolation", ["nearest", "linear"])
+def test_bin_centres_give_the_stored_values(blinn_file, interpolation):
+    path, table = blinn_file
+    m = read_merl(path, interpolation=interpolation)
+    l, v, idx = _centre_directions()  # noqa: E741
+    got = m.eval(N, l, v)
+    stored = m.table[:, idx[:, 0], idx[:, 1], idx[:, 2]].T
+    if interpolation == "nearest":
+        np.testing.assert_array_equal(got, stored)
+    else:  # at a node, the trilinear weights are 1 and 0 up to the angles' rounding
+        np.testing.assert_allclose(got, stored, rtol=1e-9)
+    np.testing.assert_allclose(stored, BLINN.eval(N, l, v), rtol=1e-12)
+
+
+@pytest.mark.parametrize(("model", "tol_nearest", "tol_linear"), [(BLINN, 0.07, 3e-3), (COOK, 0.07, 4e-3)])
+def test_random_directions_match_the_model(model, tol_nearest, tol_linear):
+    table = tabulate_merl(model)
+    l, v = _pairs(2)  # noqa: E741
+    ref = model.eval(N, l, v)
+    for interpolation, tol in (("nearest", tol_nearest), ("linear", tol_linear)):
+        got = MerlBRDF(table, interpolation=interpolation).eval(N, l, v)
+        err = np.max(np.abs(got - ref) / ref)
+        assert err < tol, (interpolation, err)
+    # Linear is the better estimate: an order of magnitude on the median.
+    lin = np.median(np.abs(MerlBRDF(table, interpolation="linear").eval(N, l, v) - ref) / ref)
+    near = np.median(np.abs(MerlBRDF(table).eval(N, l, v) - ref) / ref)
+    assert lin < near / 10
+
+
+@pytest.mark.parametrize("interpolation", ["nearest", "linear"])
+def test_reciprocity(blinn_file, interpolation):
+    m = read_merl(blinn_file[0], interpolation=interpolation)
+    l, v = _pairs(3, min_z=0.0)  # noqa: E741
+    a, b = m.eval(N, l, v), m.eval(N, v, l)
+    if interpolation == "nearest":  # a bin edge within rounding of a random pair has probability ~1e-12
+        np.testing.assert_array_equal(a, b)
+    else:
+        np.testing.assert_allclose(a, b, rtol=1e-9)
+
+
+def test_horizon_dtype_and_cos(blinn_file):
+    m = read_merl(blinn_file[0], interpolation="linear")
+    l, v = _pairs(4)  # noqa: E741
+    below = l * np.array([1, 1, -1])
+    assert np.all(m.eval(N, below, v) == 0) and np.all(m.eval(N, l, below) == 0)
+    assert np.all(m.eval(N, (0, 0, 0), v) == 0)
+    f64 = m.eval(N, l, v)
+    f32 = m.eval(np.float32(N), l.astype(np.float32), v.astype(np.float32))
+    assert f64.dtype == np.float64 and f32.dtype == np.float32
+    np.testing.assert_allclose(f32, f64, rtol=1e-4)
+    np.testing.assert_allclose(m.eval_cos(N, l, v), f64 * l[:, 2:3], rtol=1e-14)
+    np.testing.assert_allclose(m.classic(N, l, v), np.pi * f64 * l[:, 2:3], rtol=1e-12)
+    # Broadcasting: one normal and light, many views.
+    assert m.eval(N, l[0], v[:5]).shape == (5, 3)
+
+
+# -- missing bins ------------------------------------------------------------------------------
+
+
+def test_missing_bins_take_the_nearest_measured_phi_d():
+    table = np.zeros((3, *DIMS))
+    table[:, :, :, :] = np.arange(DIMS[2])[None, None, None, :] + 1.0  # value = φ_d bin + 1
+    table[:, 5, 7, 10:14] = -1.0  # 10, 11 take bin 9 (value 10); 12, 13 take bin 14 (value 15)
+    table[:, 5, 8, [178, 179, 0]] = -1.0  # across the wrap: 178 ← 177; 179 a tie (177 or 1) → 177; 0 ← 1
+    table[1, 6, 9, :] = -1.0  # a whole row missing: 0
+    m = MerlBRDF(table)
+    assert m.missing == 3 * 4 + 3 * 3 + 180
+    lut = m._lut.reshape(*DIMS, 3)
+    np.testing.assert_allclose(lut[5, 7, 10:14, 0], [10.0, 10.0, 15.0, 15.0], rtol=1e-15)
+    np.testing.assert_allclose(lut[5, 8, [178, 179, 0], 0], [178.0, 178.0, 2.0], rtol=1e-15)
+    assert np.all(lut[6, 9, :, 1] == 0) and np.all(lut[6, 9, :, 0] > 0)
+    np.testing.assert_allclose(m.table, table, rtol=3e-16)  # the table as given keeps its marks
+
+
+# -- bad files ---------------------------------------------------------------------------------
+
+
+def _header(dims=DIMS):
+    return np.asarray(dims, dtype="<i4").tobytes()
+
+
+def _one_error(path, match):
+    with pytest.raises(ValueError, match=match) as info:
+        read_merl(path)
+    assert os.fspath(path) in str(info.value)
+    assert info.value.__cause__ is None and not isinstance(info.value, TypeError)
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "match"),
+    [
+        ("empty", b"", r"byte 0: the file ends inside the 12-byte header"),
+        ("short_header", b"\x5a\x00\x00\x00\x5a", r"byte 5: the file ends inside the 12-byte header"),
+        ("zero_dim", _header((90, 0, 180)), r"byte 4: dimension 0"),
+        ("negative_dim", _header((-90, -90, 180)), r"byte 0: dimension -90"),
+        ("product", _header((90, 90, 90)), r"product 729000"),
+        ("order", _header((180, 90, 90)), r"dimensions \(180, 90, 90\); allowed: 90 90 180"),
+        ("header_only", _header(), r"byte 12: the file is truncated"),
+        ("truncated", _header() + bytes(8 * 1000 + 3), r"byte 8015: the file is truncated"),
+    ],
+)
+def test_bad_headers_and_sizes(tmp_path, name, content, match):
+    path = tmp_path / f"{name}.binary"
+    path.write_bytes(content)
+    _one_error(path, match)
+
+
+def test_extra_bytes_nan_inf(tmp_path, blinn_file):
+    good = blinn_file[0].read_bytes()
+    extra = tmp_path / "extra.binary"
+    extra.write_bytes(good + b"\x00")
+    _one_error(extra, rf"byte {SIZE}: 1 extra bytes")
+    for bad, label in ((np.nan, "nan"), (np.inf, "inf"), (-np.inf, "inf")):
+        data = bytearray(good)
+        at = 12 + 8 * (BINS + 5 + 180 * 3)  # green, θ_h bin 0, θ_d bin 3, φ_d bin 5
+        data[at : at + 8] = np.float64(bad).tobytes()
+        path = tmp_path / f"{label}.binary"
+        path.write_bytes(bytes(data))
+        _one_error(path, rf"byte {at}: value -?{label} \(channel G, θ_h bin 0, θ_d bin 3, φ_d bin 5\)")
+
+
+def test_missing_file_and_directory(tmp_path):
+    _one_error(tmp_path / "nope.binary", "no such file")
+    folder = tmp_path / "dir.binary"
+    folder.mkdir()
+    _one_error(folder, "directory|not a regular file")
+
+
+def test_budget_is_checked_before_reading(blinn_file):
+    from lighting._budget import set_memory_budget
+
+    old = set_memory_budget(10_000_000)
+    try:
+        with pytest.raises(ValueError, match="over the memory budget"):
+            read_merl(blinn_file[0])
+    finally:
+        set_memory_budget(old)
+
+
+def test_fuzz_only_value_errors(tmp_path, blinn_file):
+    rng = np.random.default_rng(17)
+    good = blinn_file[0].read_bytes()
+    path = tmp_path / "fuzz.binary"
+    for trial in range(40):
+        kind = trial % 4
+        if kind == 0:  # random bytes of random length
+            data = rng.bytes(int(rng.integers(0, 200)))
+        elif kind == 1:  # a good file truncated anywhere
+            data = good[: int(rng.integers(0, SIZE))]
+        elif kind == 2:  # random header on a right-sized body
+            data = rng.bytes(12) + good[12:]
+        else:  # random bytes of exactly the right size (NaNs or infinities are nearly certain)
+            data = good[:12] + rng.bytes(SIZE - 12)
+        path.write_bytes(data)
+        try:
+            read_merl(path)
+        except ValueError as e:
+            assert str(path) in str(e)
+        # Anything else propagates and fails the test.
+
+
+def test_table_argument_checks():
+    with pytest.raises(ValueError, match="shape"):
+        MerlBRDF(np.zeros((3, 10)))
+    with pytest.raises(ValueError, match="finite"):
+        MerlBRDF(np.full((3, *DIMS), np.nan))
+    with pytest.raises(ValueError, match="interpolation"):
+        MerlBRDF(np.zeros((3, *DIMS)), interpolation="cubic")
