@@ -159,7 +159,11 @@ def _parameter(line, lineno, filename, params):
         if nums[0] not in (0.0, 1.0):
             raise error(filename, lineno, words[2][1], f"expected 0 or 1 for {name}, got {words[2][0]!r}")
         return Parameter(name, "bool", bool(nums[0]))
-    return Parameter(name, "color", tuple(nums), -math.inf, math.inf)
+    if min(nums) < 0:
+        raise error(
+            filename, lineno, ncol, f"expected r, g, b >= 0 for {name}, got {' '.join(t for t, _ in words[2:])}"
+        )
+    return Parameter(name, "color", tuple(nums))
 
 
 class FileBRDF(BRDF):
@@ -241,8 +245,14 @@ class FileBRDF(BRDF):
             e = min(m, s + chunk)
             it = Interpreter(self.program, self.filename, e - s, dt, self._uniforms(dt), check)
             args = [Value("vec3", a[s:e]) for a in (l, v, n, x, y)]
-            with np.errstate(all="ignore"):
-                result, _ = it.call("BRDF", args, _main(self.program))
+            try:
+                with np.errstate(all="ignore"):
+                    result, _ = it.call("BRDF", args, _main(self.program))
+            except RecursionError:  # nesting within the parser's bounds, times calls within theirs
+                at = it.last or _main(self.program)
+                raise error(
+                    self.filename, at.line, at.col, "expected less deeply nested expressions and calls"
+                ) from None
             out[s:e] = np.broadcast_to(result.a, (e - s, 3))
         return out
 
@@ -401,8 +411,10 @@ def _checked(filename, p: Parameter, value):
     if p.kind == "color":
         if arr.shape == ():
             arr = np.repeat(arr, 3)
-        if arr.shape != (3,) or not np.isfinite(arr).all():
-            raise ValueError(f"{filename}: parameter {p.name!r} must be a finite scalar or RGB triple; got {value!r}")
+        if arr.shape != (3,) or not np.isfinite(arr).all() or (arr < 0).any():
+            raise ValueError(
+                f"{filename}: parameter {p.name!r} must be a finite scalar or RGB triple >= 0; got {value!r}"
+            )
         return tuple(float(x) for x in arr)
     if arr.shape != () or not (p.low <= float(arr) <= p.high):
         raise ValueError(f"{filename}: parameter {p.name!r} must be a number in [{p.low:g}, {p.high:g}]; got {value!r}")

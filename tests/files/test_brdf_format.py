@@ -196,6 +196,13 @@ def test_data_dependent_loop_per_lane():
 # --------------------------------------------------------------------------- errors: one ValueError, file:line:col
 ERRORS = [
     (
+        brdf_file("return vec3(f());", pre="void f() { }"),
+        r"m\.brdf:8:13: expected a value, got a call of the void function 'f'",
+    ),
+    (brdf_file("return;"), r"m\.brdf:8:1: expected a vec3 value after return, got ';'"),
+    (brdf_file("return L;", params="color k -1 0 0\n"), r"m\.brdf:4:7: expected r, g, b >= 0 for k, got -1 0 0"),
+    (brdf_file("return vec3(" + "+".join(["1.0"] * 300) + ");"), r"m\.brdf:8:\d+: expected at most 200 levels"),
+    (
         "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return L; }\n",
         r"m\.brdf:1:1: expected '::end shader'",
     ),

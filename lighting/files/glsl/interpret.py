@@ -92,6 +92,7 @@ class Interpreter:
             self.functions.setdefault(f.name, []).append(f)
         self.depth = 0
         self.steps = 0
+        self.last = None
         self.functions_stack: list[str] = []
         self.globals = dict(uniforms)
         frame = _Frame(n)
@@ -111,6 +112,7 @@ class Interpreter:
         return Value(type_, np.asarray(x, self.dt))
 
     def tick(self, node):
+        self.last = node  # where a RecursionError is reported
         self.steps += 1
         if self.steps > MAX_STEPS:
             self.fail(node, f"expected at most {MAX_STEPS} statements executed per evaluation")
@@ -130,7 +132,7 @@ class Interpreter:
     def call(self, name, args: list[Value], node, mask=None):
         """Call the user function ``name`` (overloads by argument types) with values; built-ins if none."""
         mask = np.ones(self.n, bool) if mask is None else mask
-        f, exact = self.resolve(name, args, node)
+        f = self.resolve(name, args, node)
         if f is None:
             return None
         self.depth += 1
@@ -155,16 +157,16 @@ class Interpreter:
     def resolve(self, name, args, node):
         cands = self.functions.get(name)
         if not cands:
-            return None, False
+            return None
         types = [a.type for a in args]
         for f in cands:
             if [p.type for p in f.params] == types:
-                return f, True
+                return f
         for f in cands:  # GLSL's one implicit conversion: int to float
             if len(f.params) == len(args) and all(
                 p.type == t or (p.type == "float" and t == "int") for p, t in zip(f.params, types, strict=True)
             ):
-                return f, False
+                return f
         sigs = "; ".join(f"{name}(" + ", ".join(p.type for p in f.params) + ")" for f in cands)
         self.fail(node, f"expected arguments matching {sigs}, got {name}(" + ", ".join(types) + ")")
 
@@ -194,9 +196,14 @@ class Interpreter:
         if isinstance(s, Decl):
             self.declare(frame, s, mask)
         elif isinstance(s, ExprStmt):
-            self.expr(frame, s.expr, mask)
+            if isinstance(s.expr, Call):
+                self.call_expr(frame, s.expr, mask, statement=True)
+            else:
+                self.expr(frame, s.expr, mask)
         elif isinstance(s, Return):
             if s.value is None:
+                if self.functions_stack and self.functions_stack[-1] != "void":
+                    self.fail(s, f"expected a {self.functions_stack[-1]} value after return, got ';'")
                 frame.returned = frame.returned | mask
                 return
             v = self.expr(frame, s.value, mask)
@@ -370,7 +377,7 @@ class Interpreter:
                 r = np.trunc(r)
         return Value(ty, np.asarray(r, self.dt))
 
-    def call_expr(self, frame, e, mask) -> Value:
+    def call_expr(self, frame, e, mask, statement=False) -> Value:
         args = [self.expr(frame, a, mask) for a in e.args]
         user = self.call(e.name, args, e, mask)
         if user is not None:
@@ -380,6 +387,8 @@ class Interpreter:
                     if not isinstance(arg_node, (Var, Swizzle)):
                         self.fail(arg_node, "expected a variable for an out/inout argument")
                     self.store(frame, arg_node, out, mask)
+            if result.type == "void" and not statement:
+                self.fail(e, f"expected a value, got a call of the void function {e.name!r}")
             return result
         if e.name in TYPES:
             return self.construct(e, args)
@@ -392,8 +401,6 @@ class Interpreter:
 
     def construct(self, e, args) -> Value:
         size = TYPES[e.name]
-        if any(a.type == "bool" for a in args) and e.name != "bool":
-            self.fail(e, f"type mismatch: expected numbers in {e.name}(...), got bool")
         if size == 1:
             if len(args) != 1:
                 self.fail(e, f"expected 1 argument to {e.name}, got {len(args)}")

@@ -339,11 +339,14 @@ class _Parser:
 
     def binary(self, min_prec: int) -> Node:
         left = self.unary()
+        depth = self.depth
         while self.tok.kind == "op" and _BINARY.get(self.tok.text, 0) >= min_prec:
             op = self.tok
             self.i += 1
+            self.nest(op)  # a chain a + b + c + ... is a left-deep tree the interpreter walks recursively
             right = self.binary(_BINARY[op.text] + 1)  # left-associative
             left = Binary(op.line, op.col, op.text, left, right)
+        self.depth = depth
         return left
 
     def unary(self) -> Node:
