@@ -187,6 +187,13 @@ def test_return_in_one_branch_is_per_lane():
     assert out.tolist() == [[1.0, 1.0, 1.0], [5.0, 2.0, 2.0]]
 
 
+def test_short_circuit_side_effects_per_lane():
+    body = "float k = 0.0; bool t = L.x > 0.0 && (k += 1.0) > 0.0; bool u = L.x > 0.0 || (k += 10.0) > 0.0;\n"
+    body += "return vec3(k, t ? 1.0 : 0.0, u ? 1.0 : 0.0);"
+    out = from_text(brdf_file(body)).eval((0, 0, 1.0), [(0.6, 0, 0.8), (-0.6, 0, 0.8)], (0, 0, 1.0))
+    assert out.tolist() == [[1.0, 1.0, 1.0], [10.0, 0.0, 1.0]]
+
+
 def test_data_dependent_loop_per_lane():
     body = "float s = 0.0; for (int i = 0; float(i) < 10.0 * L.x; ++i) s += 1.0; return vec3(s);"
     out = from_text(brdf_file(body)).eval((0, 0, 1.0), [(0.6, 0, 0.8), (0.0, 0.6, 0.8)], (0, 0, 1.0))

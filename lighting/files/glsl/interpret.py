@@ -332,8 +332,15 @@ class Interpreter:
             return Value(a.type, np.where(m, a.a, b.a).astype(self.dt, copy=False))
         if isinstance(e, Binary):
             if e.op in ("&&", "||", "^^"):
-                a, b = self.expr(frame, e.left, mask), self.expr(frame, e.right, mask)
-                if a.type != "bool" or b.type != "bool":
+                a = self.expr(frame, e.left, mask)
+                if a.type != "bool":
+                    self.fail(e, f"type mismatch: expected bool operands of {e.op!r}, got {a.type} on the left")
+                # GLSL evaluates the right side of && only where the left holds (of || where it fails):
+                # side effects there happen in those lanes only.
+                left = np.broadcast_to(a.a != 0, (self.n,))
+                sub = mask & left if e.op == "&&" else mask & ~left if e.op == "||" else mask
+                b = self.expr(frame, e.right, sub)
+                if b.type != "bool":
                     self.fail(e, f"type mismatch: expected bool operands of {e.op!r}, got {a.type} and {b.type}")
                 x, y = a.a != 0, b.a != 0
                 r = x & y if e.op == "&&" else (x | y if e.op == "||" else x ^ y)
