@@ -37,6 +37,8 @@ SLOW_FILES = frozenset(
         "test_sampler_grazing_full.py",
         # The stability sweep's quick run covers 205 model variants against 80-digit references (about 25 s).
         "test_stability.py",
+        # Fits three models to a tabulated MERL table (about 4 s).
+        "test_figure_fitting.py",
     }
 )
 
