@@ -193,6 +193,21 @@ class MerlBRDF(BRDF):
     def _params(self):
         return {"source": self.source, "interpolation": self.interpolation}
 
+    def sampler(self):
+        """The importance sampler of this table: binned half vectors mixed with 15 % cosine.
+
+        Returns
+        -------
+        lighting.files.merl_sampler.MerlSampler
+            One instance per model, so its per-view tables are built once (:mod:`lighting.files.merl_sampler`).
+        """
+        from .merl_sampler import MerlSampler
+
+        s = self.__dict__.get("_sampler")
+        if s is None:
+            s = self.__dict__["_sampler"] = MerlSampler(self)
+        return s
+
 
 def _clamped(u, n):
     """Lower node and weight of a clamped linear interpolation over nodes ``0 .. n-1``."""
