@@ -377,8 +377,16 @@ class _Parser:
                 if not _is_lvalue(expr):
                     self.fail("a variable before " + repr(tok.text), tok)
                 expr = IncDec(tok.line, tok.col, tok.text, expr, False)
-            elif self.peek("["):
-                self.fail("an operator (indexing with [] is not in the subset; use a swizzle)")
+            elif self.accept("["):
+                # A vector's component by a constant index, as BRDF Explorer's files write colour[0]: the
+                # swizzle of that letter (arrays and matrices are not in the subset; the type check says so).
+                k = self.tok
+                text = k.text.rstrip("uU")
+                if k.kind != "num" or not text.isdigit() or int(text) > 3:
+                    self.fail("a constant index 0, 1, 2 or 3 (only vector components can be indexed)")
+                self.i += 1
+                self.expect("]")
+                expr = Swizzle(k.line, k.col, expr, "xyzw"[int(text)])
             else:
                 return expr
 
