@@ -39,6 +39,8 @@ SLOW_FILES = frozenset(
         "test_stability.py",
         # Fits three models to a tabulated MERL table (about 4 s).
         "test_figure_fitting.py",
+        # The MERL table sampler's χ², variance and mass checks (about 15 s).
+        "test_merl_sampler.py",
     }
 )
 
