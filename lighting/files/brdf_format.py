@@ -184,12 +184,22 @@ class FileBRDF(BRDF):
     """
 
     name = None
+    own_diffuse = True  # a file's BRDF is the whole material, as in BRDF Explorer: front ends add no Lambert term
 
     def __init__(self, filename, program, parameters, values):
         self.filename, self.program = filename, program
         self.parameters = tuple(parameters)
         self.values = dict(values)
         self._size = sum(1 for _ in _walk(program))
+
+    def __getattr__(self, name):
+        values = self.__dict__.get("values")
+        if values is not None and name in values:  # the parameters read as attributes, as a built-in model's
+            return values[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def _params(self):
+        return dict(self.values)
 
     def __repr__(self):
         return (
@@ -333,6 +343,11 @@ def load(path, **params):
     [0.3183, 0.1592, 0.0796]
     """
     filename = os.fspath(path)
+    return from_text(_read_text(filename), filename, **params)
+
+
+def _read_text(filename: str) -> str:
+    """The file's text: a regular file of at most :data:`MAX_FILE_BYTES` bytes of UTF-8."""
     try:
         size = os.stat(filename).st_size
         if not os.path.isfile(filename):
@@ -344,12 +359,11 @@ def load(path, **params):
     with open(filename, "rb") as fh:
         data = fh.read(MAX_FILE_BYTES + 1)
     try:
-        text = data.decode("utf-8")
+        return data.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ValueError(
             f"{filename}: byte {exc.start}: expected UTF-8 text, got byte 0x{data[exc.start]:02x}"
         ) from None
-    return from_text(text, filename, **params)
 
 
 def from_text(text: str, filename: str = "<string>", **params) -> FileBRDF:
@@ -376,6 +390,14 @@ def from_text(text: str, filename: str = "<string>", **params) -> FileBRDF:
     >>> from_text(src).eval((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0)).tolist()
     [1.0, 1.0, 1.0]
     """
+    table, program = _compile(text, filename)
+    brdf = FileBRDF(filename, program, table, _values(filename, table, params))
+    _probe(brdf)
+    return brdf
+
+
+def _compile(text: str, filename: str):
+    """The parameter table and the parsed shader of a file's text, its ``BRDF`` function checked."""
     table, shader, first = parse_file(text, filename)
     program = parse(tokenize(shader, filename, first), filename)
     mains = [f for f in program.functions if f.name == "BRDF"]
@@ -387,6 +409,11 @@ def from_text(text: str, filename: str = "<string>", **params) -> FileBRDF:
         f = mains[0]
         got = f"{f.type} BRDF(" + ", ".join(f"{p.qualifier} {p.type}" for p in f.params) + ")"
         raise error(filename, f.line, f.col, f"expected vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y), got {got}")
+    return table, program
+
+
+def _values(filename, table, params) -> dict:
+    """Every parameter's value: the file's defaults, then ``params`` by name, each checked."""
     values = {p.name: p.default for p in table}
     names = {p.name: p for p in table}
     for key, value in params.items():
@@ -394,9 +421,39 @@ def from_text(text: str, filename: str = "<string>", **params) -> FileBRDF:
             listed = ", ".join(names) or "(none)"
             raise ValueError(f"{filename}: unknown parameter {key!r}; the file's parameters are {listed}")
         values[key] = _checked(filename, names[key], value)
-    brdf = FileBRDF(filename, program, table, values)
-    _probe(brdf)
-    return brdf
+    return values
+
+
+def model_class(path) -> type:
+    """A model class from a ``.brdf`` file: read and parsed once, each instance setting the parameters.
+
+    What :func:`lighting.files.file_model` calls for ``.brdf`` files.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (as :func:`load`).
+
+    Returns
+    -------
+    type
+        A :class:`FileBRDF` subclass whose ``parameters`` are the file's block; ``cls(**values)``
+        checks the values as :func:`load` does, and shares the parsed shader.
+
+    Raises
+    ------
+    ValueError
+        As :func:`load`.
+    """
+    filename = os.fspath(path)
+    table, program = _compile(_read_text(filename), filename)
+    _probe(FileBRDF(filename, program, table, _values(filename, table, {})))
+
+    def __init__(self, **values):
+        FileBRDF.__init__(self, filename, program, table, _values(filename, table, values))
+
+    return type("BRDFFileModel", (FileBRDF,), {"parameters": tuple(table), "__init__": __init__,
+                                                "__doc__": f"The model of {filename!r}."})  # fmt: skip
 
 
 def _checked(filename, p: Parameter, value):

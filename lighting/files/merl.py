@@ -49,6 +49,7 @@ from .._budget import check_budget
 from .._numeric import check_choice, saturate_to
 from ..analysis.halfdiff import _HORIZON_TOL, dirs_to_half_diff, half_diff_to_dirs
 from ..models.base import BRDF
+from ..models.protocol import Parameter
 
 __all__ = ["MerlBRDF", "read_merl", "write_merl", "tabulate_merl", "bin_centres", "load", "DIMS", "SCALE"]
 
@@ -451,6 +452,39 @@ def tabulate_merl(brdf: BRDF) -> np.ndarray:
         f = brdf.eval(np.array([0.0, 0.0, 1.0]), l, v)
         out[:, s : s + step] = np.moveaxis(np.where(valid[..., None], f, 0.0), -1, 0)
     return out
+
+
+def model_class(path) -> type:
+    """A model class from a MERL file: read once, each instance choosing the lookup.
+
+    What :func:`lighting.files.file_model` calls for ``.binary`` files.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (as :func:`read_merl`).
+
+    Returns
+    -------
+    type
+        A :class:`MerlBRDF` subclass with one parameter, ``interpolation`` (a choice); its instances
+        share the table read here (about 70 MB: the stored values and the filled RGB table).
+
+    Raises
+    ------
+    ValueError
+        A bad file (:func:`read_merl`).
+    """
+    read = read_merl(path)
+
+    def __init__(self, interpolation: str = "nearest"):
+        self.interpolation = check_choice("interpolation", interpolation, _INTERPOLATIONS)
+        self.source, self._raw, self._lut = read.source, read._raw, read._lut
+
+    lookup = Parameter("interpolation", "choice", "nearest", choices=_INTERPOLATIONS,
+                       description="nearest bin (the reference reader) or trilinear in the bin coordinates")  # fmt: skip
+    return type("MerlFileModel", (MerlBRDF,), {"parameters": (lookup,), "__init__": __init__,
+                                              "__doc__": f"The measured BRDF of {read.source!r}."})  # fmt: skip
 
 
 def load(path, **params) -> MerlBRDF:
