@@ -482,7 +482,7 @@ def model_class(path) -> type:
         self.source, self._raw, self._lut = read.source, read._raw, read._lut
 
     lookup = Parameter("interpolation", "choice", "nearest", choices=_INTERPOLATIONS,
-                       description="nearest bin (the reference reader) or trilinear in the bin coordinates")  # fmt: skip
+                       description="nearest bin (as the reference reader) or trilinear in bin coordinates")  # fmt: skip
     return type("MerlFileModel", (MerlBRDF,), {"parameters": (lookup,), "__init__": __init__,
                                               "__doc__": f"The measured BRDF of {read.source!r}."})  # fmt: skip
 

@@ -28,6 +28,7 @@ class _Ctx:
     def __init__(self, source: str, base_dir: str):
         self.source, self.base_dir = source, base_dir
         self.meshes: dict[str, TriangleMesh] = {}
+        self.brdf_files: dict[str, type] = {}  # absolute path → model class (a table read once per scene)
         self.held_bytes = 0  # estimated memory of the geometry built so far (see _charge)
 
     def charge(self, path: str, nbytes, what: str, *, held: bool = True):

@@ -17,14 +17,25 @@ import numpy as np
 
 from .. import vec
 from .._numeric import BudgetError, abbreviate, check_color
+from ..files import file_model, reader_extensions
 from ..models import model_class
 from ..render.camera import Camera
 from ..render.mesh import icosphere, load_mesh, uv_sphere
 from ..render.renderer import AnalyticSphere
 from ..shading import opengl as gl
 from ..shading.equation import Material
-from .budget import BYTES_PER_MESH_FILE_BYTE, BYTES_PER_TRIANGLE, _charge_file
-from .checks import MAX_NESTING, _check_dict_nesting, _check_text_nesting, _choice, _Ctx, _is_number, _table
+from .budget import BRDF_FILE_BYTES, BYTES_PER_MESH_FILE_BYTE, BYTES_PER_TRIANGLE, _charge_file
+from .checks import (
+    MAX_NESTING,
+    REQUIRED,
+    _check_dict_nesting,
+    _check_text_nesting,
+    _choice,
+    _Ctx,
+    _is_number,
+    _string,
+    _table,
+)
 from .errors import SceneBudgetError, SceneError, _describe, _fmt_value, _join, _norm_name, _suggest
 from .model import GLLight, ImageOptions, OpenGLOptions, RenderOptions, Scene, SceneObject, _gl_lit
 from .schema import (
@@ -39,6 +50,7 @@ from .schema import (
     OPENGL_KEYS,
     RENDER_KEYS,
     TOP_KEYS,
+    _parameter_check,
     model_keys,
 )
 
@@ -248,17 +260,62 @@ def _material(ctx, path, table):
     brdf = None
     for i, part in enumerate(m["parts"]):
         ppath = _join(_join(path, "parts"), i)
-        if "model" not in part:
-            ctx.fail(_join(ppath, "model"), f"is required: one of {', '.join(map(repr, models))}")
-        name = _choice(tuple(models))(ctx, _join(ppath, "model"), part["model"])
-        params = _table(ctx, ppath, part, models[name], f"a {name!r} model")
-        params.pop("model")
-        model = ctx.build(ppath, model_class(name), params)
+        if "file" in part:
+            model = _file_part(ctx, ppath, part)
+        else:
+            if "model" not in part:
+                ctx.fail(_join(ppath, "model"), f"is required: one of {', '.join(map(repr, models))} "
+                                                "(or file = 'NAME.brdf' / 'NAME.binary')")  # fmt: skip
+            name = _choice(tuple(models))(ctx, _join(ppath, "model"), part["model"])
+            params = _table(ctx, ppath, part, models[name], f"a {name!r} model")
+            params.pop("model")
+            model = ctx.build(ppath, model_class(name), params)
         brdf = model if brdf is None else brdf + model
     kwargs = {"brdf": brdf, "emission": m["emission"]}
     if "ambient" in m:
         kwargs["ambient"] = m["ambient"]
     return ctx.build(path, Material, kwargs)
+
+
+def _file_part(ctx, path, part):
+    """A part ``{file = "paint.brdf", name = value, ...}``: the model a BRDF file describes, its parameters by name.
+
+    The path is relative to the scene file's folder; the file is read once per scene (parts naming it share
+    the table) after its memory is charged (:data:`~lighting.scene.budget.BRDF_FILE_BYTES`).
+    """
+    if "model" in part:
+        ctx.fail(path, "a part has either model = NAME (a registered model) or file = PATH (a BRDF file), not both")
+    spec = part["file"]
+    if not isinstance(spec, str) or not spec.strip() or "\0" in spec:
+        ctx.fail(_join(path, "file"), f"must be the path of a BRDF file ({', '.join(reader_extensions())}), relative "
+                                      f"to the scene's folder; got {_describe(spec)}")  # fmt: skip
+    p = os.path.normpath(os.path.join(ctx.base_dir, os.path.expanduser(spec)))
+    ext = os.path.splitext(p)[1].lower()
+    if ext not in BRDF_FILE_BYTES:
+        ctx.fail(_join(path, "file"), f"{_fmt_value(spec)} is not a BRDF file; allowed extensions: "
+                                      f"{', '.join(reader_extensions())}")  # fmt: skip
+    if p not in ctx.brdf_files:
+        if not os.path.isfile(p):
+            what = "does not exist" if not os.path.exists(p) else "is not a regular file"
+            ctx.fail(_join(path, "file"), f"{_fmt_value(spec)} ({abbreviate(p)}) {what}; a BRDF file must be an "
+                                          "existing file, relative to the scene's folder")  # fmt: skip
+        per_byte, fixed = BRDF_FILE_BYTES[ext]
+        size = os.stat(p).st_size
+        ctx.charge(_join(path, "file"), fixed + per_byte * size, f"reading a BRDF file of {size} bytes")
+        try:
+            ctx.brdf_files[p] = file_model(p)
+        except ValueError as e:
+            ctx.fail(_join(path, "file"), str(e))
+    cls = ctx.brdf_files[p]
+    keys = {"file": (_string, REQUIRED), **{q.name: (_parameter_check(q), q.default) for q in cls.parameters}}
+    params = _table(ctx, path, part, keys, f"the BRDF file {os.path.basename(p)!r}")
+    params.pop("file")
+    for q in cls.parameters:  # the table's own check names the key (a file's messages start with its name)
+        try:
+            q.check(params[q.name])
+        except ValueError as e:
+            ctx.fail(_join(path, q.name), str(e))
+    return ctx.build(path, cls, params)
 
 
 def _light(ctx, path, table):
