@@ -52,6 +52,7 @@ import numpy as np
 
 from .._numeric import BudgetError, abbreviate, check_budget, check_choice, check_count, check_positive
 from ..vec import normalize
+from .obj import read_obj
 from .tangents import default_tangents, orthonormal_tangents, sphere_tangents, uv_tangents
 
 __all__ = [
@@ -654,7 +655,7 @@ def _weld(vertices: np.ndarray, faces: np.ndarray):
 
 
 def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
-    """Read a triangle mesh from an OBJ, PLY, STL, GLB/glTF or OFF file (via trimesh).
+    """Read a triangle mesh from an OBJ (NumPy, :mod:`lighting.render.obj`), PLY, STL, GLB/glTF or OFF file (trimesh).
 
     A scene (GLB with several nodes) is flattened into one mesh with each
     node's transform applied.  Vertex normals stored in the file are used
@@ -703,6 +704,15 @@ def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
         check_budget(f"mesh file {name}", st.st_size * BYTES_PER_FILE_BYTE, what=f"{st.st_size} bytes to read")
     except BudgetError as e:
         raise BudgetError(str(e)) from None
+    if ext == ".obj":  # NumPy alone: no trimesh import (seconds) for the format scenes use most
+        vertices, faces, normals, uvs = read_obj(p)
+    else:
+        vertices, faces, normals, uvs = _load_with_trimesh(p, name, ext)
+    return _checked_mesh(name, vertices, faces, normals, uvs, weld)
+
+
+def _load_with_trimesh(p: str, name: str, ext: str):
+    """``(vertices, faces, normals or None, uvs or None)`` of a PLY, STL, GLB/glTF or OFF file, read by trimesh."""
     import trimesh  # heavy: only when a file is actually loaded
 
     try:
@@ -731,7 +741,11 @@ def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
         uvs = getattr(getattr(loaded, "visual", None), "uv", None)
     else:
         raise ValueError(f"mesh file {name} contains no triangles (it holds a {type(loaded).__name__})")
+    return vertices, faces, normals, uvs
 
+
+def _checked_mesh(name, vertices, faces, normals, uvs, weld) -> TriangleMesh:
+    """The mesh of what a reader returned, every array checked (module notes on welding and normals)."""
     if len(vertices) == 0:
         raise ValueError(f"mesh file {name} contains no vertices")
     if len(faces) == 0:
