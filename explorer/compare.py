@@ -22,7 +22,8 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import itertools
+from dataclasses import dataclass, field
 
 from lighting.models.base import BRDF
 
@@ -33,14 +34,24 @@ __all__ = ["COMPARE_COLOURS", "Entry", "BRDFList"]
 COMPARE_COLOURS = ("#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7")
 
 
+#: Serial numbers of entries' models (see :attr:`Entry.key`).
+_KEYS = itertools.count(1)
+
+
 @dataclass
 class Entry:
-    """One BRDF of a :class:`BRDFList`: the model, its label, its colour and whether it is shown."""
+    """One BRDF of a :class:`BRDFList`: the model, its label, its colour and whether it is shown.
+
+    ``key`` is a number no other entry's model has had in this process; :meth:`BRDFList.replace` gives
+    the entry a new one.  Plots that cache what they computed for an entry key their caches by it
+    (the model's ``id()`` may be reused once a removed model is freed).
+    """
 
     brdf: BRDF
     label: str
     colour: str
     visible: bool = True
+    key: int = field(default_factory=lambda: next(_KEYS), compare=False)
 
 
 class BRDFList:
@@ -140,6 +151,8 @@ class BRDFList:
     def replace(self, index: int, brdf: BRDF, label: str | None = None) -> Entry:
         """Put another model in an entry, keeping its colour and visibility (e.g. after a parameter changed).
 
+        The entry gets a new :attr:`Entry.key`.
+
         Parameters
         ----------
         index : int
@@ -155,6 +168,7 @@ class BRDFList:
             raise TypeError(f"brdf must be a BRDF model; got {type(brdf).__name__}")
         entry = self.entries[self._index(index)]
         entry.brdf = brdf
+        entry.key = next(_KEYS)
         if label is not None:
             entry.label = str(label)
         return entry

@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 import numpy as np
 
+from ..compare import BRDFList
+from .comparing import MAX_ENTRIES
 from .display import display_problem, no_display_message
 from .layout import DEFAULT_WINDOW_SIZE
-from .state import ATTENUATIONS, CHANNELS, CONTROLS, FORMS, LIGHT_TYPES, MODELS, NDFS, AppState
+from .state import ATTENUATIONS, CHANNELS, CONTROLS, FIT_MODELS, FORMS, LIGHT_TYPES, MODELS, NDFS, AppState
 
 __all__ = ["add_parser", "build_parser", "run", "main"]
 
@@ -110,6 +113,15 @@ def add_options(p) -> None:
                    help=h["times_cos"])  # fmt: skip
     g.add_argument("--exposure", type=float, help=h["exposure"])
     g.add_argument("--scanline", type=float, help=h["scanline"])
+    g = p.add_argument_group("comparing BRDFs")
+    g.add_argument("--brdf", action="append", metavar="FILE",
+                   help="open a BRDF file (.brdf: BRDF Explorer's format; .binary: MERL data) as a model; the first "
+                        "becomes the current model, the others entries of the Compare list (repeat for more)")
+    g.add_argument("--panel", choices=("angles", "albedo"), help=h["panel"])
+    g.add_argument("--split", action=argparse.BooleanOptionalAction, default=None, help=h["split"])
+    g.add_argument("--fit", choices=tuple(FIT_MODELS), help=h["fit"] + " (default ggx)")
+    g.add_argument("--fit-now", dest="fit_now", action="store_true",
+                   help="fit that model to the current one at start and add it to the Compare list")
     g = p.add_argument_group("window")
     g.add_argument("--scene", help="start from a scene file (TOML): its first object's material and its lights")
     g.add_argument("--size", type=_window_size, default=DEFAULT_WINDOW_SIZE, help="window size WIDTHxHEIGHT")
@@ -159,7 +171,19 @@ def run(args) -> int:
             check_output_path(args.screenshot, flag="--screenshot", kinds=("rgb8",))
         model_params = ("ks", "shininess", "roughness", "f0", "ndf", "param")
         values = {k: v for k, v in vars(args).items() if k in CONTROLS or k in ("kd", "scene") + model_params}
+        files = list(getattr(args, "brdf", None) or ())
+        classes = []
+        if files:
+            # Each file becomes a registered model (the reader's one-line error names a bad file); the
+            # first is the current model, so its parameters (--param) are read against its own table.
+            from lighting.files import file_model
+
+            classes = [file_model(path, register=True) for path in files]
+            values["model"] = values.get("model") or classes[0].name
         state = AppState.from_args(values)
+        compare = BRDFList(max_entries=MAX_ENTRIES)
+        for path, cls in zip(files[1:], classes[1:], strict=True):
+            compare.add(cls(), os.path.basename(path))
     except (ValueError, OSError) as exc:
         print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
         return 2
@@ -176,7 +200,13 @@ def run(args) -> int:
         return 2
     if off_screen:
         pv.OFF_SCREEN = True
-    app = ExplorerApp(state, window_size=args.size, off_screen=off_screen)
+    try:
+        app = ExplorerApp(state, window_size=args.size, off_screen=off_screen, compare=compare)
+        if getattr(args, "fit_now", False):
+            app.fit(render=False)
+    except ValueError as exc:
+        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        return 2
     if args.screenshot is not None:
         try:
             rgb8 = np.ascontiguousarray(app.image(), dtype=np.uint8)

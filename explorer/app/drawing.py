@@ -12,6 +12,12 @@ from .state import CHANNEL_LABELS, MODEL_LABELS
 __all__ = ["albedo_caption", "DrawingMixin"]
 
 
+def _rgb(colour) -> tuple:
+    from matplotlib.colors import to_rgb
+
+    return tuple(float(c) for c in to_rgb(colour)) if colour else MUTED
+
+
 def albedo_caption(av) -> str:
     """The text of the albedo readout of an :class:`~explorer.app.views.AlbedoView`.
 
@@ -54,6 +60,11 @@ class DrawingMixin:
             share = f"{share:.0f}%" if share >= 0.5 else "under 1%"
             clipped = f"{share} of the sphere above 1: clipped (lower the exposure)\n" if sv.clipped else ""
             self._set_text("sphere_legend", f"{where} · arrow: the light")
+            if sv.split:
+                self._set_text("sphere_legend", f"split: left current · right ▸ {sv.split}\n"
+                                                f"{where} · arrow: the light")  # fmt: skip
+                self.split_line.prop.color = _rgb(sv.split_colour)
+            self.split_line.SetVisibility(bool(sv.split))
             self._set_text("sphere_info", clipped + self._delta_note() + self._light_summary())
         if views & {"sphere", "lobe"} or not self._glyphs_placed:
             self._update_light_glyphs()
@@ -98,16 +109,41 @@ class DrawingMixin:
             self._set_text("polar_note", "light below the horizon:\nnothing reflected" if m["polar"].below_horizon
                            else "")  # fmt: skip
             scale = self.polar_plot.captions.get("scale", "")
-            self._set_text("polar_quantity", f"{label} · {scale}" if scale else label)
+            quantity = f"{label} · {scale}" if scale else label
+            if pv_.overlays:
+                quantity += " · colours: Compare list"
+            self._set_text("polar_quantity", quantity)
         if "albedo" in views:
             self._show_albedo(m["albedo"])
-        if views & {"theta_v", "theta_h", "theta_d", "halfdiff"}:
+        switched = self._panel_shown != s.panel
+        self._panel_shown = s.panel
+        if s.panel == "albedo":
+            if "albedo" in views or switched:
+                self._show_albedo_curves(m["albedo"], switched)
+        elif views & {"theta_v", "theta_h", "theta_d", "halfdiff"} or switched:
             self.angle_plots.set_data(
                 m["theta_v"], m["theta_h"], m["theta_d"], m["halfdiff"], channel=s.channel, label=label
             )
+            if switched:
+                self.angle_plots.invalidate()
             self.angle_plots.render()
-            self._set_text("angles_title", f"{MODEL_LABELS[s.model]}: {label} against θ_v, θ_h, θ_d (Rusinkiewicz)")
+            white = " (white; colours: Compare list)" if m["theta_v"].overlays else ""
+            self._set_text("angles_title", f"{MODEL_LABELS[s.model]}{white}: {label} against θ_v, θ_h, θ_d "
+                                           "(Rusinkiewicz)")  # fmt: skip
             self._set_text("angles_peak", self.angle_plots.captions.get("peak", ""))
+            self.captions["angles_peak"].GetTextProperty().SetColor(*MUTED)
+
+    def _show_albedo_curves(self, av, switched=False):
+        """The albedo panel: ρ(θ_v) of the current model and each shown entry, errors and flags."""
+        self.albedo_plot.set_data(av.curves, channel=self.state.channel)
+        if switched:
+            self.albedo_plot.invalidate()
+        self.albedo_plot.render()
+        self._set_text("angles_title", f"{self.albedo_plot.captions.get('title', '')}  "
+                                       f"[{CHANNEL_LABELS[self.state.channel]}]")  # fmt: skip
+        flagged = any(bool(c.unconverged.any()) for c in av.curves)
+        self._set_text("angles_peak", self.albedo_plot.captions.get("flags", ""))
+        self.captions["angles_peak"].GetTextProperty().SetColor(*(SCANLINE if flagged else MUTED))
 
     def _show_albedo(self, av):
         """The albedo readout: ``ρ(θ_v) = value ± error``, flagged "unconverged" above 2 % relative error."""

@@ -24,6 +24,10 @@ HELP_TEXT = """ lighting-explorer: keys and mouse
    l           plots: log10(1 + x) on or off
    n           plots: × n·l on or off
    e           triangle edges on the coarse spheres on or off
+   p           pin the current model to the Compare list
+   F           fit the chosen analytic model to the current one (seconds)
+   a           right panel: angle curves / albedo ρ(θ_v)
+   v           split lit sphere: current | first shown entry
    Up / Down   move the scan line
    Left/Right  coarser / finer coarse sphere
    q           quit
@@ -123,6 +127,14 @@ class KeysMixin:
             return self.set_control("terms", tuple(terms))
         if key == "l":
             return self.set_control("log", not s.log)
+        if key == "a":
+            return self.set_control("panel", "angles" if s.panel == "albedo" else "albedo")
+        if key == "v":
+            return self.set_control("split", not s.split)
+        if key == "p":
+            return set() if self.pin() is None else self.last_views
+        if key == "F":
+            return set() if self.fit() is None else self.last_views
         if key == "n":
             return self.set_control("times_cos", not s.times_cos)
         if key in ("Up", "Down"):
@@ -159,7 +171,7 @@ class KeysMixin:
     def _bind_keys(self):
         pl = self.plotter
         keys = ["m", "M", "t", "i", "c", "f", "1", "2", "3", "l", "n", "Up", "Down", "Left", "Right", "r", "h"]
-        keys += ["e", "s"]
+        keys += ["e", "s", "p", "F", "a", "v"]
         for key in keys:
             pl.clear_events_for_key(key, raise_on_missing=False)
             pl.add_key_event(key, self._key_callback(key))

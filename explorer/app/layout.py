@@ -36,7 +36,7 @@ PANEL_VIEWS = {
     PROFILE: frozenset({"profile"}),
     LOBE: frozenset({"lobe"}),
     POLAR: frozenset({"polar"}),
-    ANGLES: frozenset({"theta_v", "theta_h", "theta_d", "halfdiff"}),
+    ANGLES: frozenset({"theta_v", "theta_h", "theta_d", "halfdiff", "albedo"}),  # albedo: the albedo curves
 }
 
 

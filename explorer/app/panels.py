@@ -116,6 +116,10 @@ class PanelsMixin:
         self.light_bulb = self.plotter.add_mesh(bulb, color=ACCENT, lighting=False)
         self.sphere_plane = self._image_plane(self.model.sphere_size)
         self._ortho_camera(SPHERE_SCALE)
+        # The split sphere's dividing line (left: the current model, right: a comparison entry).
+        self.split_line = self.plotter.add_mesh(pv.Line((0.0, -1.12, 0.5), (0.0, 1.12, 0.5)), color=MUTED,
+                                                line_width=2.0, lighting=False)  # fmt: skip
+        self.split_line.SetVisibility(False)
         self._text(SPHERE, "sphere_title", "", 0.025, 0.98, size=11.5, bold=True)
         self._text(SPHERE, "sphere_legend", "", 0.025, 0.91, size=9.5, color=MUTED)
         self._text(SPHERE, "sphere_info", "", 0.025, 0.02, size=9.5, color=MUTED, valign="bottom")
@@ -208,7 +212,7 @@ class PanelsMixin:
         self._text(LOBE, "lobe_info", "", 0.025, 0.905, size=9.5, color=MUTED)
 
     def _build_charts(self):
-        from .plots import AnglePlots, PolarPlot, ProfilePlot
+        from .plots import AlbedoPlot, AnglePlots, PolarPlot, ProfilePlot
 
         pv = self.pv
         w, h = self.window_size
@@ -216,6 +220,9 @@ class PanelsMixin:
         self.profile_plot = ProfilePlot(self._panel_px(PROFILE, 0.92), dpi=dpi, captions=False)
         self.polar_plot = PolarPlot(self._panel_px(POLAR, 0.92), dpi=dpi, captions=False)
         self.angle_plots = AnglePlots(self._panel_px(ANGLES, 0.92, cols=2), dpi=dpi, captions=False)
+        # The albedo curves take the angle plots' place when the ``panel`` control says "albedo".
+        self.albedo_plot = AlbedoPlot(self._panel_px(ANGLES, 0.92, cols=2), dpi=dpi, captions=False)
+        self._panel_shown = None
         self.charts = {}
         for panel, plot, key in (
             (PROFILE, self.profile_plot, "profile"),
@@ -228,6 +235,8 @@ class PanelsMixin:
             self.plotter.add_chart(chart)
             plot.on_image = self._chart_pusher(chart)
             self.charts[key] = chart
+            if key == "angles":
+                self.albedo_plot.on_image = plot.on_image  # one chart, fed by whichever figure is shown
             self._text(panel, f"{key}_title", "", 0.025 if panel != ANGLES else 0.012, 0.98, size=11.5, bold=True)
         self._text(PROFILE, "profile_metric", "", 0.025, 0.905, size=9.5, color=MUTED)
         self._text(POLAR, "polar_quantity", "", 0.025, 0.905, size=9.5, color=MUTED)
@@ -256,6 +265,9 @@ class PanelsMixin:
                 chart.SetImage(image)
             holder["pixels"][:] = rgba[::-1].reshape(-1, 4)
             image.Modified()
+            # ChartMPL puts a copy of the figure into the chart at each full Matplotlib draw (its
+            # draw_event callback): without this the chart would keep that copy and miss every blit.
+            chart.SetImage(image)
             chart.Modified()
 
         return push

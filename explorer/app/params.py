@@ -176,10 +176,12 @@ def diffuse_parameter(cls) -> str | None:
     -------
     str or None
         ``"kd"`` (Lambert, Oren–Nayar), ``"base_color"`` (Disney), ``"rd"`` (Ashikhmin–Shirley); ``None``
-        for a model that does not carry its own diffuse (the explorer adds ``Lambert(k_d × colour)``).
+        for a model that does not carry its own diffuse (the explorer adds ``Lambert(k_d × colour)``) and
+        for a model read from a BRDF file (:func:`lighting.files.file_model`: every colour of its block
+        is a control of its own; ``k_d × colour`` is then only the ambient coefficient).
     """
-    if not carries_diffuse(cls):
-        return None
+    if not carries_diffuse(cls) or getattr(cls, "file_path", None):
+        return None  # a BRDF file's colours are its own parameters (its file says what they mean)
     return next((p.name for p in cls.parameters if p.kind == "color"), None)
 
 

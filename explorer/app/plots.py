@@ -25,7 +25,8 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, MaxNLocator
 
-__all__ = ["BlitFigure", "ProfilePlot", "PolarPlot", "AnglePlots", "nice_ceiling", "hysteresis_limit", "COLOURS"]
+__all__ = ["BlitFigure", "ProfilePlot", "PolarPlot", "AnglePlots", "AlbedoPlot", "nice_ceiling", "hysteresis_limit",
+           "COLOURS", "OVERLAY_SLOTS"]
 
 COLOURS = {
     "gouraud": "#ffa94d",
@@ -62,6 +63,8 @@ STYLE = {
 }
 
 
+#: Curves of comparison entries each BRDF plot can draw (explorer.app.comparing.MAX_ENTRIES).
+OVERLAY_SLOTS = 6
 #: Half-range of the profile's relative second-difference axis.
 D2_LIMIT = 2.0
 #: Angles (degrees) beyond which the θ_h / θ_d plots do not set their scale (see AnglePlots.set_data).
@@ -131,6 +134,23 @@ def hysteresis_limit(peak: float, current: float | None, margin: float = 1.05) -
 def _finite(a) -> np.ndarray:
     a = np.asarray(a, dtype=np.float64)
     return np.where(np.isfinite(a), a, 0.0)
+
+
+def _set_overlays(lines, overlays, degrees=False):
+    """Put the comparison entries' curves into the line slots (in their colours); returns their peak."""
+    peak = 0.0
+    for k, line in enumerate(lines):
+        if k < len(overlays):
+            o = overlays[k]
+            v = _finite(o.values)
+            line.set_data(np.degrees(o.angles) if degrees else o.angles, v)
+            line.set_color(o.colour)
+            line.set_visible(True)
+            peak = max(peak, float(v.max(initial=0.0)))
+        else:
+            line.set_data([], [])
+            line.set_visible(False)
+    return peak
 
 
 class BlitFigure:
@@ -372,6 +392,8 @@ class PolarPlot(BlitFigure):
         (self.fixed_view,) = ax.plot(
             [], [], color=COLOURS["muted"], lw=1.0, ls=(0, (4, 2)), label="f(v fixed, l swept)"
         )
+        # The comparison entries' light-fixed slices, each in its entry's colour, under the current model's.
+        self.overlay_lines = [ax.plot([], [], lw=1.3, zorder=1.5)[0] for _ in range(OVERLAY_SLOTS)]
         fig.legend(loc="lower center", bbox_to_anchor=(0.5, 0.0), ncol=2, handlelength=1.6, columnspacing=0.8)
         # An ideal mirror's Dirac delta: a spike at the mirror direction, as tall as the reflected fraction R.
         (self.spike,) = ax.plot([], [], color=COLOURS["mirror"], lw=2.6, solid_capstyle="butt")
@@ -381,8 +403,8 @@ class PolarPlot(BlitFigure):
         self._caption("note", fig.text(0.5, 0.5, "", ha="center", va="center", fontsize=9, color=COLOURS["mirror"]))
 
     def _data_artists(self):
-        return [self.light_ray, self.mirror_ray, self.fixed_light, self.fixed_view, self.spike, self.spike_head,
-                self.spike_label]  # fmt: skip
+        return [self.light_ray, self.mirror_ray, *self.overlay_lines, self.fixed_light, self.fixed_view, self.spike,
+                self.spike_head, self.spike_label]  # fmt: skip
 
     def set_data(self, polar, *, channel="luminance", label="f_r"):
         """Show a :class:`~explorer.app.views.PolarView`.
@@ -395,8 +417,12 @@ class PolarPlot(BlitFigure):
             The plotted channel (its colour).
         label : str
             What the values are (:meth:`~explorer.app.state.AppState.quantity_label`).
+
+        The shown comparison entries' slices (``polar.overlays``) are drawn in their colours; the
+        radial scale follows them and the current model's solid curve.
         """
         a = _finite(polar.light_fixed)
+        overlay_peak = _set_overlays(self.overlay_lines, getattr(polar, "overlays", ()))
         b = _finite(polar.view_fixed)
         self.fixed_light.set_data(polar.angles, a)
         self.fixed_view.set_data(polar.view_angles, b)
@@ -404,7 +430,7 @@ class PolarPlot(BlitFigure):
         # The scale follows the main slice; the swapped one (dashed) may leave the plot where a
         # non-reciprocal model (Phong's 1/(n·l)) grows toward grazing light.
         spike = float(getattr(polar, "spike", 0.0))
-        peak = max(float(a.max(initial=0.0)), spike)
+        peak = max(float(a.max(initial=0.0)), spike, overlay_peak)
         lo, hi = self.ax.get_ylim()
         current = hi if getattr(self.ax, "_explorer_auto", False) else None
         top = hysteresis_limit(peak, current)
@@ -444,7 +470,9 @@ class AnglePlots(BlitFigure):
         for ax, title in zip(axs, titles, strict=True):
             ax.set_title(title, pad=3)
             ax.grid(True)
+        self.overlay_lines = []
         for ax in axs[:3]:
+            self.overlay_lines.append([ax.plot([], [], lw=1.2)[0] for _ in range(OVERLAY_SLOTS)])
             (line,) = ax.plot([], [], color=COLOURS["luminance"])
             self.curves.append(line)
         axs[0].set_xlim(-90, 90)
@@ -478,7 +506,8 @@ class AnglePlots(BlitFigure):
         )
 
     def _data_artists(self):
-        return self.curves + self.markers + [self.image, self.im_marker]
+        return [line for lines in self.overlay_lines for line in lines] + self.curves + self.markers + [
+            self.image, self.im_marker]  # fmt: skip
 
     def set_data(self, theta_v, theta_h, theta_d, halfdiff, *, channel="luminance", label="f_r"):
         """Show three :class:`~explorer.app.views.CurveView` and a :class:`~explorer.app.views.HalfDiffView`.
@@ -486,7 +515,8 @@ class AnglePlots(BlitFigure):
         Parameters
         ----------
         theta_v, theta_h, theta_d : CurveView
-            The three angle curves.
+            The three angle curves (their ``overlays``, the comparison entries', drawn in their colours;
+            the axes follow them too).
         halfdiff : HalfDiffView
             The half/difference image.
         channel : str
@@ -506,7 +536,13 @@ class AnglePlots(BlitFigure):
             line.set_data(deg, v)
             line.set_color(colour)
             scaled = v if k == 0 else v[deg <= (GRAZING_DEG if k == 1 else reach)]
-            self._ylim(ax, float(scaled.max(initial=0.0)))
+            top = float(scaled.max(initial=0.0))
+            overlays = getattr(c, "overlays", ())
+            _set_overlays(self.overlay_lines[k], overlays, degrees=True)
+            for o in overlays:
+                od, ov = np.degrees(o.angles), _finite(o.values)
+                top = max(top, float((ov if k == 0 else ov[od <= (GRAZING_DEG if k == 1 else reach)]).max(initial=0.0)))
+            self._ylim(ax, top)
         self.markers[0].set_xdata([-tl, -tl])
         self.markers[1].set_xdata([tl, tl])
         self.markers[2].set_xdata([0.0, 0.0])
@@ -528,4 +564,95 @@ class AnglePlots(BlitFigure):
         self._set_caption(
             "title",
             f"{label} against the Rusinkiewicz angles (θ_h at θ_d = θ_l, θ_d at θ_h = 0, image at φ_d = 90°)",
+        )
+
+
+class AlbedoPlot(BlitFigure):
+    """The directional albedo ``ρ(θ_v)`` of the current model and of each shown comparison entry.
+
+    Each curve is drawn in its colour (the current model white) with its error as a band (``± error``;
+    at the quadrature's usual 1e-5 thinner than the line), and every value whose relative error is
+    above 2 % (:attr:`lighting.integrate.AlbedoCurve.unconverged`) is circled in red.  The legend names
+    the curves.
+    """
+
+    def _build(self):
+        fig = self.fig
+        ax = fig.add_subplot()
+        fig.subplots_adjust(left=0.07, right=0.6, top=0.9, bottom=0.2)
+        ax.set_xlim(0, 90)
+        ax.set_xticks([0, 15, 30, 45, 60, 75, 90])
+        ax.set_xlabel("view angle θ_v (degrees)", labelpad=1)
+        ax.set_ylabel("albedo ρ(θ_v)", labelpad=2)
+        ax.grid(True)
+        self.ax = ax
+        n = 1 + OVERLAY_SLOTS
+        self.bands = [ax.fill_between([0.0], [0.0], [0.0], alpha=0.35, lw=0) for _ in range(n)]
+        self.lines = [ax.plot([], [], lw=1.5, marker=".", ms=3)[0] for _ in range(n)]
+        (self.flags,) = ax.plot([], [], ls="none", marker="o", ms=7, mfc="none", mec=COLOURS["mirror"], mew=1.4)
+        self._labels: tuple = ()
+        self._legend = None
+        self._caption("title", fig.text(0.5, 0.94, "", ha="center", va="center", fontsize=8.5))
+        self._caption("flags", fig.text(0.62, 0.05, "", ha="left", va="bottom", fontsize=7, color=COLOURS["mirror"]))
+
+    def _data_artists(self):
+        return [*self.bands, *self.lines, self.flags]
+
+    def set_data(self, curves, *, channel="luminance"):
+        """Show the :class:`~explorer.app.comparing.AlbedoCurveView` of each BRDF (the current model first).
+
+        Parameters
+        ----------
+        curves : sequence of AlbedoCurveView
+            The curves (``colour`` None: the current model, drawn in the channel's colour).
+        channel : str
+            The plotted channel.
+        """
+        peak, flagged, worst = 0.0, 0, 0.0
+        fx, fy = [], []
+        handles = []
+        for k, (line, band) in enumerate(zip(self.lines, self.bands, strict=True)):
+            if k >= len(curves):
+                line.set_visible(False)
+                band.set_visible(False)
+                continue
+            c = curves[k]
+            colour = c.colour or COLOURS.get(channel, COLOURS["luminance"])
+            deg = np.degrees(c.theta)
+            v, e = _finite(c.value), _finite(c.error)
+            line.set_data(deg, v)
+            line.set_color(colour)
+            line.set_visible(True)
+            band.set_verts([np.column_stack([np.concatenate([deg, deg[::-1]]), np.concatenate([v - e, (v + e)[::-1]])])])
+            band.set_facecolor(colour)
+            band.set_visible(True)
+            peak = max(peak, float((v + e).max(initial=0.0)))
+            flags = np.asarray(c.unconverged, dtype=bool)
+            fx += list(deg[flags])
+            fy += list(v[flags])
+            flagged += int(flags.sum())
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rel = np.where(np.abs(v) > 0, e / np.abs(v), 0.0)
+            worst = max(worst, float(rel.max(initial=0.0)))
+            handles.append(line)
+        self.flags.set_data(fx, fy)
+        self._ylim(self.ax, max(peak, 0.1))
+        labels = tuple((c.label, c.colour) for c in curves) + (channel,)
+        if labels != self._labels:
+            if self._legend is not None:
+                self._legend.remove()
+            with matplotlib.rc_context(STYLE):
+                self._legend = self.fig.legend(handles, [c.label for c in curves], loc="center left",
+                                               bbox_to_anchor=(0.61, 0.5),
+                                               handlelength=1.4, fontsize=6.5)  # fmt: skip
+            for text, h in zip(self._legend.get_texts(), handles, strict=True):
+                text.set_color(h.get_color())
+            self._labels = labels
+            self._dirty = True
+        samples = curves[0].samples if curves else 0
+        self._set_caption("title", f"Albedo ρ(θ_v) = ∫ f_r (n·l) dω_l by quadrature ({samples} nodes), band ± error")
+        self._set_caption(
+            "flags",
+            f"○ {flagged} value{'s' if flagged != 1 else ''} unconverged (error > 2 %)" if flagged
+            else f"all converged (largest error {100 * worst:.2g} %)",
         )

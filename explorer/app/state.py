@@ -36,6 +36,7 @@ from lighting.models import model_variants
 from lighting.render import SHADING_MODES
 from lighting.vec import direction_from_elevation
 
+from .comparing import FIT_MODELS, PANELS
 from .params import (
     MODEL_LABELS,
     MODELS,
@@ -60,6 +61,8 @@ __all__ = [
     "LIGHT_COLOURS",
     "NDFS",
     "ALBEDO_SAMPLES",
+    "FIT_MODELS",
+    "PANELS",
     "Control",
     "CONTROLS",
     "AppState",
@@ -133,6 +136,11 @@ CONTROLS: dict[str, Control] = {
         "float", -180.0, 180.0, help="azimuth φ_l of the light in the BRDF views, from the tangent t, degrees"
     ),
     "lock": Control("bool", help="view lock: the view follows the light (θ_v = θ_l, φ_v = φ_l), the retro-reflection"),
+    "panel": Control("choice", choices=PANELS, help="the right BRDF panel: angle curves, or the albedo ρ(θ_v) of each"),
+    "split": Control(
+        "bool", help="lit sphere split: left half the current model, right half the solo or first shown comparison"
+    ),
+    "fit": Control("choice", choices=tuple(FIT_MODELS), help="the analytic model the fit action fits to the current"),
 }
 
 
@@ -251,6 +259,9 @@ DEFAULTS = {
     "scanline": 0.4,
     "phi": 180.0,
     "lock": False,
+    "panel": "angles",
+    "split": False,
+    "fit": "ggx",
 }
 #: Controls that wrap into (−180°, 180°].
 _ANGLES = ("azimuth", "phi")

@@ -73,9 +73,10 @@ from lighting.analysis import (
 from lighting.analysis.machband import LUMA
 from lighting.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo
 from lighting.render import AnalyticSphere, Renderer, needs_tangents, sphere_camera, uv_sphere
-from lighting.shading import shade
+from lighting.shading import Material, shade
 from lighting.vec import spherical_direction
 
+from .comparing import AlbedoCurveView, CompareMixin, Overlay
 from .encode import encode8
 from .state import ALBEDO_SAMPLES, AppState
 
@@ -92,6 +93,8 @@ __all__ = [
     "CurveView",
     "HalfDiffView",
     "AlbedoView",
+    "AlbedoCurveView",
+    "Overlay",
 ]
 
 
@@ -110,6 +113,8 @@ class SphereView:
     mode: str
     geometry: str
     clipped: int  # pixels clipped by the encoding
+    split: str = ""  # the label of the comparison entry on the right half ("" when not split)
+    split_colour: str = ""
 
     @cached_property
     def brightest(self) -> tuple[int, int]:
@@ -220,6 +225,7 @@ class PolarView:
     lock: bool = False  # the view follows the light: the retro-reflection slice
     spike: float = 0.0  # an ideal mirror's reflected fraction R(θ), drawn as a δ spike
     spike_angle: float = 0.0  # where the spike stands (signed angle of the slice)
+    overlays: tuple = ()  # Overlay: the light-fixed slice of each shown comparison entry
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,6 +237,7 @@ class CurveView:
     values: np.ndarray
     markers: tuple
     params: dict
+    overlays: tuple = ()  # Overlay: the same curve of each shown comparison entry
 
 
 @dataclass(frozen=True, eq=False)
@@ -264,6 +271,7 @@ class AlbedoView:
     rgb_error: np.ndarray
     method: str
     samples: int
+    curves: tuple = ()  # AlbedoCurveView: ρ(θ_v) of the current model and each shown entry (albedo panel)
 
 
 #: ``params``: the current model's parameters (:attr:`AppState.params`).
@@ -280,19 +288,21 @@ INCIDENT_FIELDS = frozenset({"incidence"})
 FRAME_FIELDS = frozenset({"phi", "lock"})
 PLOT_FIELDS = frozenset({"channel", "log", "times_cos"})
 SHADING_FIELDS = MATERIAL_FIELDS | LIGHT_FIELDS | {"form", "terms", "exposure", "tessellation"}
+#: Pseudo-field: the shown entries of the comparison list (their keys, colours and labels).
+COMPARE_FIELDS = frozenset({"compare"})
 
 #: Which controls each view depends on.
 VIEW_DEPENDENCIES = {
-    "sphere": SHADING_FIELDS | {"mode"},
+    "sphere": SHADING_FIELDS | {"mode", "split_target"},  # split_target: the entry on the split sphere's right
     "coarse": SHADING_FIELDS,
     "profile": SHADING_FIELDS | {"scanline", "channel"},
     "lobe": MATERIAL_FIELDS | INCIDENT_FIELDS | FRAME_FIELDS | PLOT_FIELDS | {"terms"},
-    "polar": MATERIAL_FIELDS | INCIDENT_FIELDS | FRAME_FIELDS | PLOT_FIELDS | {"terms"},
-    "theta_v": MATERIAL_FIELDS | INCIDENT_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
-    "theta_h": MATERIAL_FIELDS | INCIDENT_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
-    "theta_d": MATERIAL_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
+    "polar": MATERIAL_FIELDS | INCIDENT_FIELDS | FRAME_FIELDS | PLOT_FIELDS | {"terms"} | COMPARE_FIELDS,
+    "theta_v": MATERIAL_FIELDS | INCIDENT_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"} | COMPARE_FIELDS,
+    "theta_h": MATERIAL_FIELDS | INCIDENT_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"} | COMPARE_FIELDS,
+    "theta_d": MATERIAL_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"} | COMPARE_FIELDS,
     "halfdiff": MATERIAL_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
-    "albedo": MATERIAL_FIELDS | INCIDENT_FIELDS | {"terms", "channel"},
+    "albedo": MATERIAL_FIELDS | INCIDENT_FIELDS | {"terms", "channel", "panel"} | COMPARE_FIELDS,
 }
 VIEWS = tuple(VIEW_DEPENDENCIES)
 #: The views that follow a slider while it is dragged: the engine's images, cheap and where the eye
@@ -325,7 +335,7 @@ def _coarse_camera(size: int):
     return sphere_camera(size)
 
 
-class ExplorerModel:
+class ExplorerModel(CompareMixin):
     """Computes every view of the explorer from the engine, recomputing only what a change affects.
 
     Parameters
@@ -342,6 +352,9 @@ class ExplorerModel:
         Rings of the lobe mesh (:func:`lighting.analysis.lobe_mesh`).
     dtype : float32 or float64
         Shading precision (float32: faster, relative error of a few 1e-7).
+    compare : explorer.compare.BRDFList, optional
+        The comparison list (default: an empty one of :data:`~explorer.app.comparing.MAX_ENTRIES`);
+        see :mod:`explorer.app.comparing` for what the views draw of it.
 
     Attributes
     ----------
@@ -350,10 +363,14 @@ class ExplorerModel:
         ``"profile"`` :class:`ProfileView`, ``"lobe"`` :class:`LobeView`, ``"polar"``
         :class:`PolarView`, ``"theta_v"``, ``"theta_h"``, ``"theta_d"``
         :class:`CurveView`, ``"halfdiff"`` :class:`HalfDiffView`, ``"albedo"`` :class:`AlbedoView`.
+    compare : explorer.compare.BRDFList
+        The comparison list; after changing it, :meth:`update` redraws what shows it.
     """
 
-    def __init__(self, state=None, *, sphere_size=360, mesh_size=256, lobe_resolution=40, dtype=np.float32):
+    def __init__(self, state=None, *, sphere_size=360, mesh_size=256, lobe_resolution=40, dtype=np.float32,
+                 compare=None):  # fmt: skip
         self.state = state if state is not None else AppState()
+        self._init_compare(compare)
         for name, v in (("sphere_size", sphere_size), ("mesh_size", mesh_size)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 16 <= v <= 4096:
                 raise ValueError(f"{name} must be an integer in [16, 4096]; got {v!r}")
@@ -435,12 +452,15 @@ class ExplorerModel:
         d = self.state.to_dict()
         d["params"] = tuple(self.state.params.items())  # the current model's: others' do not show
         d["incidence"] = round(self.state.theta_l, 12)
+        d.update(self._compare_inputs())
         return d
 
     def changed_fields(self) -> set[str]:
         """Controls whose value differs from the last :meth:`update` (all of them before the first).
 
-        Includes the pseudo-field ``"incidence"`` when the incident polar angle changed.
+        Includes the pseudo-fields ``"incidence"`` when the incident polar angle changed, ``"compare"``
+        when the shown entries of the comparison list did and ``"split_target"`` when the entry on the
+        split sphere's right half did.
 
         Returns
         -------
@@ -521,16 +541,20 @@ class ExplorerModel:
                 self.views["polar"] = self._polar_view(brdf, theta, below, opts)
             if "theta_v" in views:
                 c = theta_v_curve(brdf, theta, phi_l=phi, n=181, **opts)
-                self.views["theta_v"] = CurveView("theta_v", c.angles, c.values, (-theta, theta), c.params)
+                self.views["theta_v"] = CurveView("theta_v", c.angles, c.values, (-theta, theta), c.params,
+                                                  self._overlays("theta_v", theta, opts))  # fmt: skip
             if "theta_h" in views:
                 c = theta_h_curve(brdf, theta_d=theta, phi_h=phi, n=181, **opts)
-                self.views["theta_h"] = CurveView("theta_h", c.angles, c.values, (0.0,), c.params)
+                self.views["theta_h"] = CurveView("theta_h", c.angles, c.values, (0.0,), c.params,
+                                                  self._overlays("theta_h", theta, opts))  # fmt: skip
             if "theta_d" in views:
                 c = theta_d_curve(brdf, theta_h=0.0, phi_h=phi, n=181, **opts)
-                self.views["theta_d"] = CurveView("theta_d", c.angles, c.values, (theta,), c.params)
+                self.views["theta_d"] = CurveView("theta_d", c.angles, c.values, (theta,), c.params,
+                                                  self._overlays("theta_d", theta, opts))  # fmt: skip
             elif "theta_d" in self.views and "theta_v" in views:
                 old = self.views["theta_d"]
-                self.views["theta_d"] = CurveView("theta_d", old.angles, old.values, (theta,), old.params)
+                self.views["theta_d"] = CurveView("theta_d", old.angles, old.values, (theta,), old.params,
+                                                  old.overlays)  # fmt: skip
             if "halfdiff" in views:
                 im = half_diff_image(brdf, n_h=91, n_d=91, phi_h=phi, **opts)
                 peak = float(im.values.max())
@@ -576,8 +600,18 @@ class ExplorerModel:
             geometry = f"{r.geometry.n_triangles} triangles"
         img = r.render(material, lights, mode=s.mode, form=s.form, terms=s.terms)
         cov = r.gbuffer.coverage
+        target = self.split_target() if s.split else None
+        if target is not None:
+            # The same lights, ambient coefficient, form and terms: only the BRDF differs between the halves.
+            other = r.render(Material(target.brdf, ambient=s.diffuse_albedo), lights, mode=s.mode, form=s.form,
+                             terms=s.terms)  # fmt: skip
+            img = np.array(img, copy=True)
+            half = img.shape[1] // 2
+            img[:, half:] = other[:, half:]
         rgb8, clipped = _encode(img, cov, s.exposure)
-        return SphereView(img, rgb8, cov, s.mode, geometry, clipped)
+        if target is None:
+            return SphereView(img, rgb8, cov, s.mode, geometry, clipped)
+        return SphereView(img, rgb8, cov, s.mode, geometry, clipped, target.label, target.colour)
 
     def _coarse_view(self, material, lights) -> CoarseView:
         s = self.state
@@ -651,8 +685,9 @@ class ExplorerModel:
             k = "rgb".index(ch)
             value, error = float(rgb[k]), float(err[k])
         rel = error / abs(value) if value != 0 else (math.inf if error > 0 else 0.0)
+        curves = self._albedo_curves(brdf) if self.state.panel == "albedo" else ()
         return AlbedoView(theta, value, error, rel, bool(rel > UNCONVERGED_RELATIVE_ERROR), rgb, err, est.method,
-                          int(est.samples))  # fmt: skip
+                          int(est.samples), curves)  # fmt: skip
 
     def _polar_view(self, brdf, theta, below, opts) -> PolarView:
         s = self.state
@@ -660,4 +695,4 @@ class ExplorerModel:
         a, b = reciprocity_pair(brdf, theta, n=361, phi_in=phi, lock=s.lock, **opts)
         spike = _delta_height(brdf, 1.0 if s.lock else math.cos(theta), s) if not below or s.lock else 0.0
         return PolarView(a.angles, a.values, b.values, b.angles, theta, below, s.phi, s.lock, spike,
-                         0.0 if s.lock else theta)  # fmt: skip
+                         0.0 if s.lock else theta, self._overlays("polar", theta, opts))  # fmt: skip

@@ -17,9 +17,10 @@ import numpy as np
 
 from lighting._numeric import check_range
 
+from .comparepanel import ComparePanelMixin
 from .layout import ACCENT, CONTROLS_PANEL, MUTED, TEXT
 from .modelcontrols import ModelControlsMixin, ParamSliderSpec, button_width
-from .state import ATTENUATIONS, CHANNELS, CONTROLS, FORMS, LIGHT_COLOURS, LIGHT_TYPES, MODELS
+from .state import ATTENUATIONS, CHANNELS, CONTROLS, FIT_MODELS, FORMS, LIGHT_COLOURS, LIGHT_TYPES, MODELS
 
 __all__ = ["SliderSpec", "ParamSliderSpec", "PANEL", "SLIDERS", "BUTTON_GROUPS", "CHECKBOXES", "WidgetsMixin"]
 
@@ -113,29 +114,32 @@ BUTTON_GROUPS = {
     "mode": ("lit sphere", ("flat", "gouraud", "phong"), {"flat": "flat", "gouraud": "Gouraud", "phong": "Phong"}),
     "form": ("form", FORMS, {"classic": "classic I", "physical": "physical I/π"}),
     "channel": ("plots", CHANNELS, {"luminance": "Y", "r": "R", "g": "G", "b": "B"}),
+    "fit": ("fit", tuple(FIT_MODELS), None),
+    "panel": ("right", ("angles", "albedo"), {"angles": "angles", "albedo": "albedo ρ"}),
 }
 
 #: The fixed part of the control panel: columns (left edge, right edge, header, items).  An item is
 #: ``("slider", SliderSpec)``, ``("buttons", control)`` or ``("checks", ((key, label), ...))``; the
-#: model's own controls fill the column whose items are ``("model controls",)``.
+#: model's own controls fill the column whose items are ``("model controls",)``, the comparison list's rows
+#: the column whose last item is ``("compare list",)``.
 PANEL = (
-    (0.0, 0.145, "Model", (("buttons", "model"),)),
-    (0.145, 0.335, "Light", (
+    (0.0, 0.125, "Model", (("buttons", "model"),)),
+    (0.125, 0.295, "Light", (
         ("buttons", "light"),
         ("slider", SliderSpec("elevation", "elevation", -90, 90, fmt="{:.0f}", unit="°")),
         ("slider", SliderSpec("azimuth", "azimuth", -180, 180, fmt="{:.0f}", unit="°")),
         ("slider", SliderSpec("intensity", "intensity", 0, 4, fmt="{:.2f}")),
         ("buttons", "light_color"),
     )),
-    (0.335, 0.49, "Ambient, point and spot", (
+    (0.295, 0.425, "Ambient, point and spot", (
         ("slider", SliderSpec("ambient", "ambient I_a", 0, 1, fmt="{:.2f}")),
         ("slider", SliderSpec("distance", "point/spot distance", 1.5, 12, fmt="{:.1f}")),
         ("buttons", "attenuation"),
         ("slider", SliderSpec("cutoff", "spot cutoff", 0, 90, fmt="{:.0f}", unit="°")),
         ("slider", SliderSpec("spot_exponent", "spot exponent", 0, 128, fmt="{:.0f}")),
     )),
-    (0.49, 0.775, "Material", (("model controls",),)),
-    (0.775, 1.0, "Shading and plots", (
+    (0.425, 0.665, "Material", (("model controls",),)),
+    (0.665, 0.825, "Shading and plots", (
         ("buttons", "mode"),
         ("buttons", "form"),
         ("slider", SliderSpec("tessellation", "coarse sphere bands", fmt="{:.0f}")),  # the control's range, 3 … 64
@@ -144,6 +148,13 @@ PANEL = (
         ("slider", SliderSpec("phi", "BRDF views: light azimuth φ_l", -180, 180, fmt="{:.0f}", unit="°")),
         ("checks", (("lock", "view lock (retro)"), ("log", "log10(1+x)"), ("times_cos", "× n·l"))),
         ("checks", (("ambient", "ambient"), ("diffuse", "diffuse"), ("specular", "specular"))),
+    )),
+    (0.825, 1.0, "Compare", (
+        ("actions", (("pin", "pin"), ("fit", "fit"))),
+        ("checks", (("split", "split sphere"),)),
+        ("buttons", "fit"),
+        ("buttons", "panel"),
+        ("compare list",),
     )),
 )  # fmt: skip
 #: The ``k_d`` slider heads the model's column: the explorer's diffuse albedo (or the model's own diffuse colour).
@@ -164,7 +175,7 @@ def _light_colour_name(rgb) -> str:
     return "custom"
 
 
-class WidgetsMixin(ModelControlsMixin):
+class WidgetsMixin(ModelControlsMixin, ComparePanelMixin):
     """The control panel's widgets: built from :data:`PANEL`, kept in step with the state."""
 
     def _build_controls(self):
@@ -184,6 +195,11 @@ class WidgetsMixin(ModelControlsMixin):
                     y = self._place_buttons(rest[0], x0, x1, y)
                 elif kind == "checks":
                     y = self._place_checks(rest[0], x0, x1, y)
+                elif kind == "actions":
+                    y = self._place_actions(rest[0], x0, x1, y)
+                elif kind == "compare list":
+                    self._compare_column = (x0, x1, y)
+                    self._build_compare_rows()
                 else:
                     self._model_column = (x0, x1, y)
                     self._build_model_controls()
@@ -443,3 +459,4 @@ class WidgetsMixin(ModelControlsMixin):
             if rep.GetState() != want:
                 rep.SetState(want)
         self._set_text("header3", f"Material: {self._model_title()}")
+        self._sync_compare_rows()

@@ -73,10 +73,17 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         Pixels of the engine images (default: about the size of their panels).
     lobe_resolution : int
         Rings of the lobe mesh.
+    brdf_files : sequence of path, optional
+        BRDF files to open (``.brdf``, MERL ``.binary``), each registered as a model
+        (:func:`lighting.files.file_model`): the first becomes the current model, the others
+        entries of the comparison list.  A bad file raises ``ValueError`` naming it (before any
+        window is built).
+    compare : explorer.compare.BRDFList, optional
+        The comparison list to start with (default: an empty one).
     """
 
     def __init__(self, state=None, *, window_size=DEFAULT_WINDOW_SIZE, off_screen=False, sphere_size=None,
-                 mesh_size=None, lobe_resolution=40):  # fmt: skip
+                 mesh_size=None, lobe_resolution=40, brdf_files=(), compare=None):  # fmt: skip
         import pyvista as pv
 
         self.pv = pv
@@ -92,7 +99,10 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         if mesh_size is None:
             # 0.8 texel per pixel: the coarse images are drawn slightly magnified, to keep a slider move fast.
             mesh_size = int(min(max(round(0.8 * row0 * HALF / COARSE_SCALE / 8) * 8, 96), 1024))
-        self.model = ExplorerModel(state, sphere_size=sphere_size, mesh_size=mesh_size, lobe_resolution=lobe_resolution)
+        self.model = ExplorerModel(state, sphere_size=sphere_size, mesh_size=mesh_size, lobe_resolution=lobe_resolution,
+                                   compare=compare)  # fmt: skip
+        for k, path in enumerate(brdf_files or ()):
+            self.model.open_brdf(path, current=k == 0)
         #: Text and plot scale: 1 at the default height, so every window size has the same layout.
         self.ui_scale = h / DESIGN_HEIGHT
         self.off_screen = bool(off_screen)

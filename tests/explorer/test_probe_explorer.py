@@ -67,7 +67,7 @@ INVALID = {
 def _invalid_values(name):
     spec = CONTROLS[name]
     values = list(INVALID[spec.kind])
-    if spec.kind in ("float", "int") and name != "azimuth":  # the azimuth wraps: 361° is 1°
+    if spec.kind in ("float", "int") and name not in ("azimuth", "phi"):  # the angles wrap: 361° is 1°
         values += [spec.lo - 1.0 - abs(spec.lo), spec.hi + 1.0 + abs(spec.hi)]
         if spec.kind == "int":
             values = [int(v) if isinstance(v, float) and v.is_integer() else v for v in values]

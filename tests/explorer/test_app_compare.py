@@ -1,0 +1,350 @@
+"""The explorer's comparison list: overlays, show/hide/solo, albedo curves, BRDF files, fitting, the split sphere."""
+
+import math
+
+import numpy as np
+import pytest
+
+from explorer import app as app_mod
+from explorer.app import comparing
+from explorer.app.command import main
+from explorer.app.comparing import ALBEDO_ANGLES_DEG, restrict
+from explorer.app.layout import ANGLES
+from explorer.app.state import AppState
+from explorer.app.views import ExplorerModel
+from lighting import Lambert, Phong
+from lighting.analysis import polar_slice, theta_d_curve, theta_h_curve, theta_v_curve
+
+pv = pytest.importorskip("pyvista")
+SIZE = (1200, 720)
+PI = "const float PI = 3.14159265358979323846;\n"
+SIG = "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)"
+LAMBERT = f"::begin parameters\ncolor kd 0.8 0.5 0.2\n::end parameters\n::begin shader\n{PI}{SIG} {{ return kd / PI; }}\n::end shader\n"
+PHONG = (
+    "::begin parameters\ncolor ks 0.5 0.4 0.3\nfloat n 0 1000 20\n::end parameters\n::begin shader\n" + PI + SIG
+    + "{\n vec3 R = reflect(-L, N);\n return ks * pow(max(dot(R, V), 0.0), n) / (PI * dot(N, L));\n}\n::end shader\n"
+)  # fmt: skip
+#: Cook-Torrance GGX, height-correlated Smith, Schlick: the explorer's default fit, written as a file.
+GGX = (
+    "::begin parameters\ncolor ks 1 1 1\nfloat roughness 0.01 1 0.25\ncolor f0 0.9 0.6 0.3\n::end parameters\n"
+    "::begin shader\n" + PI
+    + "float lam(float c, float a) { float t2 = (1.0 - c * c) / (c * c); return 0.5 * (sqrt(1.0 + a * a * t2) - 1.0); }\n"
+    + SIG + "\n{\n vec3 H = normalize(L + V);\n float nh = dot(N, H), nv = dot(N, V), nl = dot(N, L), vh = dot(V, H);\n"
+    " float a2 = roughness * roughness; float d = nh * nh * (a2 - 1.0) + 1.0;\n"
+    " float G = 1.0 / (1.0 + lam(nv, roughness) + lam(nl, roughness));\n"
+    " vec3 F = f0 + (vec3(1.0) - f0) * pow(1.0 - vh, 5.0);\n"
+    " return ks * a2 / (PI * d * d) * G * F / (4.0 * nv * nl);\n}\n::end shader\n"
+)  # fmt: skip
+
+
+def pairs(n=300, seed=1):
+    rng = np.random.default_rng(seed)
+    l, v = rng.normal(size=(2, n, 3))
+    return np.array([0.0, 0.0, 1.0]), l / np.linalg.norm(l, axis=-1, keepdims=True), v / np.linalg.norm(v, axis=-1,
+                                                                                                      keepdims=True)
+
+
+def small_model(**values):
+    return ExplorerModel(AppState(**values), sphere_size=48, mesh_size=48, lobe_resolution=8)
+
+
+@pytest.fixture(scope="module")
+def app():
+    old = pv.OFF_SCREEN
+    pv.OFF_SCREEN = True
+    a = app_mod.ExplorerApp(window_size=SIZE, off_screen=True)
+    yield a
+    a.close()
+    pv.OFF_SCREEN = old
+
+
+@pytest.fixture
+def fresh(app):
+    app.reset()
+    while len(app.model.compare):
+        app.remove_entry(0)
+    app.set_solo(None)
+    yield app
+    app.reset()
+    while len(app.model.compare):
+        app.remove_entry(0)
+
+
+# ----------------------------------------------------------------------------- overlays
+def test_overlays_are_each_entrys_slices_and_curves():
+    m = small_model(model="phong", shininess=20.0, elevation=60.0)
+    m.pin()
+    m.state.update(model="cook-torrance", roughness=0.2, terms=("diffuse", "specular"))
+    m.pin()
+    m.state.update(model="blinn-phong", terms=("specular",), phi=150.0)
+    m.update()
+    s = m.state
+    theta, phi = min(s.theta_l, math.pi / 2), math.radians(s.phi)
+    opts = s.plot_options()
+    assert [o.label for o in m.views["polar"].overlays] == [e.label for e in m.compare]
+    for o, e in zip(m.views["polar"].overlays, m.compare, strict=True):
+        brdf = restrict(e.brdf, s.terms)
+        assert len(brdf.parts) == 1 and brdf.term == "specular"  # the diffuse part is switched off, as for the current
+        want = polar_slice(brdf, theta, fixed="light", phi_in=phi, n=361, **opts)
+        np.testing.assert_array_equal(o.angles, want.angles)
+        np.testing.assert_array_equal(o.values, want.values)
+        assert o.colour == e.colour and o.values.max() > 0
+    for name, curve in (("theta_v", lambda b: theta_v_curve(b, theta, phi_l=phi, n=181, **opts)),
+                        ("theta_h", lambda b: theta_h_curve(b, theta_d=theta, phi_h=phi, n=181, **opts)),
+                        ("theta_d", lambda b: theta_d_curve(b, theta_h=0.0, phi_h=phi, n=181, **opts))):  # fmt: skip
+        for o, e in zip(m.views[name].overlays, m.compare, strict=True):
+            np.testing.assert_array_equal(o.values, curve(restrict(e.brdf, s.terms)).values)
+
+
+def test_a_pinned_entry_keeps_its_parameters_and_changing_the_list_recomputes_only_its_views():
+    m = small_model(model="phong", shininess=20.0)
+    m.update()
+    entry = m.pin()
+    assert entry.label == "Phong e=20 k_s=0.5"
+    n, l, v = pairs()
+    want = (Lambert(m.state.diffuse_albedo) + Phong(0.5, 20.0)).eval(n, l, v)
+    np.testing.assert_array_equal(entry.brdf.eval(n, l, v), want)
+    assert m.update() == {"polar", "theta_v", "theta_h", "theta_d", "albedo"}  # not the images, lobe or half/diff
+    m.state.shininess = 300.0
+    m.update()
+    np.testing.assert_array_equal(entry.brdf.eval(n, l, v), want)  # the controls moved on, the entry did not
+    m.compare.set_visible(0, False)
+    assert m.update() == {"polar", "theta_v", "theta_h", "theta_d", "albedo"}
+    assert m.views["polar"].overlays == ()
+    m.state.split = True  # nothing shown: nothing for the right half
+    assert "sphere" not in m.update()
+
+
+def _drawn(lines):
+    return [(line.get_color(), line.get_ydata().copy()) for line in lines if line.get_visible()]
+
+
+def test_hide_and_solo_change_what_is_drawn(fresh):
+    app = fresh
+    app.set_control("model", "phong")
+    for e in (10.0, 60.0, 400.0):
+        app.set_control("params", {"shininess": e})
+        app.pin()
+    app.set_control("params", {"shininess": 2.0})
+    colours = [e.colour for e in app.model.compare]
+    assert len(set(colours)) == 3
+    drawn = _drawn(app.polar_plot.overlay_lines)
+    assert [c for c, _ in drawn] == colours
+    for (c, y), o in zip(drawn, app.model.views["polar"].overlays, strict=True):
+        np.testing.assert_array_equal(y, o.values)
+    # Hidden: the curve goes, the colour stays with its entry.
+    box = app.compare_boxes[1]["show"]
+    box.GetRepresentation().SetState(0)
+    box.InvokeEvent("StateChangedEvent")  # as a click on the row's coloured box
+    assert not app.model.compare[1].visible
+    assert [c for c, _ in _drawn(app.polar_plot.overlay_lines)] == [colours[0], colours[2]]
+    for lines in app.angle_plots.overlay_lines:
+        assert [c for c, _ in _drawn(lines)] == [colours[0], colours[2]]
+    # Solo: that one alone, even if hidden; then back to the boxes.
+    app.set_solo(1)
+    assert [c for c, _ in _drawn(app.polar_plot.overlay_lines)] == [colours[1]]
+    np.testing.assert_array_equal(_drawn(app.angle_plots.overlay_lines[0])[0][1],
+                                  app.model.views["theta_v"].overlays[0].values)  # fmt: skip
+    solo = app.compare_boxes[1]["solo"]
+    assert solo.GetRepresentation().GetState() == 1
+    solo.GetRepresentation().SetState(0)
+    solo.InvokeEvent("StateChangedEvent")
+    assert app.model.compare.solo is None
+    assert [c for c, _ in _drawn(app.polar_plot.overlay_lines)] == [colours[0], colours[2]]
+    # Remove: its row's ×.
+    remove = app.compare_boxes[0]["remove"]
+    remove.GetRepresentation().SetState(1)
+    remove.InvokeEvent("StateChangedEvent")
+    assert [e.colour for e in app.model.compare] == colours[1:]
+    assert [c for c, _ in _drawn(app.polar_plot.overlay_lines)] == [colours[2]]
+
+
+def test_the_chart_shows_each_blit_and_the_pin_key(fresh):
+    """After a full Matplotlib draw the chart shows later blits too (ChartMPL replaced the chart's image)."""
+    app = fresh
+    app.set_control("model", "cook-torrance")
+    app.set_control("params", {"roughness": 0.1})
+
+    def crop():
+        img = app.image()
+        x0, y0, x1, y1 = app.panel_viewport(ANGLES)
+        h, w = img.shape[:2]
+        return img[int((1 - y1) * h) + 3 : int((1 - y0) * h) - 3, int(x0 * w) + 3 : int(x1 * w) - 3].astype(int)
+
+    assert app.on_key("p") >= {"polar", "theta_v"} and len(app.model.compare) == 1
+    app.set_control("params", {"roughness": 0.5})
+    a = crop()
+    blits = app.angle_plots.blits
+    app.set_control("params", {"roughness": 0.3})
+    b = crop()
+    assert app.angle_plots.blits == blits + 1  # no axis changed: only the curves were drawn
+    assert int((np.abs(a - b).sum(-1) > 30).sum()) > 500
+
+
+# ----------------------------------------------------------------------------- albedo curves
+def test_albedo_curves_of_lambert_are_kd_and_entries_are_cached(monkeypatch):
+    m = small_model(model="lambert", kd=0.6, color=(1.0, 1.0, 1.0), panel="albedo")
+    m.update()
+    entry = m.pin()
+    m.state.kd = 0.3
+    m.update()
+    current, pinned = m.views["albedo"].curves
+    np.testing.assert_allclose(current.theta, np.radians(ALBEDO_ANGLES_DEG))
+    assert current.theta.max() < math.pi / 2  # 90° is the horizon, where every BRDF is 0
+    np.testing.assert_allclose(current.value, 0.3, atol=1e-6)
+    np.testing.assert_allclose(pinned.value, 0.6, atol=1e-6)
+    assert pinned.colour == entry.colour and current.colour is None
+    for c in (current, pinned):
+        assert c.error.max() < 1e-6 and not c.unconverged.any()
+    calls = []
+    real = comparing.albedo_curve
+    monkeypatch.setattr(comparing, "albedo_curve", lambda *a, **k: calls.append(a[0]) or real(*a, **k))
+    for elevation in (20.0, 70.0, 5.0):  # the light moves: no curve depends on it
+        m.state.elevation = elevation
+        assert "albedo" in m.update()
+    m.state.channel = "r"
+    m.update()
+    assert calls == []
+    m.pin()  # a new entry: that one alone is integrated
+    m.update()
+    assert len(calls) == 1
+    np.testing.assert_allclose(m.views["albedo"].curves[2].value, 0.3, atol=1e-6)
+    m.state.panel = "angles"  # the angle curves shown: no albedo curves at all
+    m.update()
+    assert m.views["albedo"].curves == ()
+
+
+def test_a_sharp_lobe_is_flagged_unconverged():
+    # A mirror-like lobe beside a Lambert part: the quadrature's nodes cannot resolve both (4 % error).
+    m = small_model(model="cook-torrance", roughness=1e-6, f0=1.0, panel="albedo")
+    m.update()
+    (c,) = m.views["albedo"].curves
+    assert c.unconverged.any()
+    rel = c.error[c.unconverged] / np.abs(c.value[c.unconverged])
+    assert (rel > 0.02).all()
+
+
+def test_albedo_panel_draws_each_curve_and_its_flags(fresh):
+    app = fresh
+    app.set_control("model", "cook-torrance")
+    app.set_control("params", {"roughness": 1e-6, "f0": 1.0})
+    app.pin()
+    app.set_control("params", {"roughness": 0.3})
+    app.on_key("a")
+    assert app.state.panel == "albedo"
+    curves = app.model.views["albedo"].curves
+    lines = [line for line in app.albedo_plot.lines if line.get_visible()]
+    assert len(lines) == len(curves) == 2
+    for line, c in zip(lines, curves, strict=True):
+        np.testing.assert_array_equal(line.get_ydata(), c.value)
+    flags = curves[1].unconverged
+    assert flags.any() and not curves[0].unconverged.any()
+    np.testing.assert_allclose(app.albedo_plot.flags.get_xdata(), ALBEDO_ANGLES_DEG[flags], atol=1e-12)
+    assert "unconverged" in app.captions["angles_peak"].GetInput()
+    app.on_key("a")
+    assert app.state.panel == "angles"
+
+
+# ----------------------------------------------------------------------------- files from the command line
+class _FakeWindow:
+    made = []
+
+    def __init__(self, state, **kwargs):
+        self.state, self.kwargs = state, kwargs
+        _FakeWindow.made.append(self)
+
+    def image(self):
+        return np.zeros((8, 8, 3), np.uint8)
+
+    def close(self):
+        pass
+
+
+def test_brdf_option_opens_files_as_models(tmp_path, monkeypatch, capsys):
+    (tmp_path / "my lambert.brdf").write_text(LAMBERT)
+    (tmp_path / "phong.brdf").write_text(PHONG)
+    monkeypatch.setattr(app_mod, "ExplorerApp", _FakeWindow)
+    _FakeWindow.made.clear()
+    out = tmp_path / "shot.png"
+    argv = ["--brdf", str(tmp_path / "my lambert.brdf"), "--brdf", str(tmp_path / "phong.brdf"), "--screenshot",
+            str(out)]  # fmt: skip
+    assert main(argv) == 0 and out.exists()
+    (window,) = _FakeWindow.made
+    state, compare = window.state, window.kwargs["compare"]
+    assert state.model == "my-lambert" and [p.name for p in app_mod.state.offered_parameters(state.model)] == ["kd"]
+    n, l, v = pairs()
+    # The file's own model, its colour its own (no Lambert added, k_d × colour does not replace it).
+    np.testing.assert_allclose(state.brdf().eval(n, l, v), Lambert((0.8, 0.5, 0.2)).eval(n, l, v), rtol=1e-6,
+                               atol=1e-12)  # fmt: skip
+    (entry,) = list(compare)
+    assert entry.label == "phong.brdf"
+    np.testing.assert_allclose(entry.brdf.eval(n, l, v), Phong((0.5, 0.4, 0.3), 20).eval(n, l, v), rtol=1e-6,
+                               atol=1e-12)  # fmt: skip
+
+
+def test_brdf_option_refuses_a_bad_file_in_one_line(tmp_path, capsys):
+    bad = tmp_path / "broken.brdf"
+    bad.write_text("::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return L +; }\n::end shader\n")
+    assert main(["--brdf", str(bad), "--off-screen"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "broken.brdf" in err and "Traceback" not in err
+    assert main(["--brdf", str(tmp_path / "missing.binary"), "--off-screen"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "missing.binary" in err
+
+
+def test_brdf_option_opens_merl_data(tmp_path, monkeypatch):
+    from lighting.files.merl import tabulate_merl, write_merl
+
+    path = tmp_path / "grey.binary"
+    write_merl(path, tabulate_merl(Lambert(0.5)))
+    monkeypatch.setattr(app_mod, "ExplorerApp", _FakeWindow)
+    _FakeWindow.made.clear()
+    assert main(["--brdf", str(path), "--screenshot", str(tmp_path / "shot.png")]) == 0
+    state = _FakeWindow.made[0].state
+    assert state.model == "grey" and getattr(app_mod.state.model_variants()["grey"][0], "file_path", None)
+    n, l, v = pairs(50)
+    got = state.brdf().eval(n, l, v)
+    lit = (l[:, 2] > 0) & (v[:, 2] > 0)
+    np.testing.assert_allclose(got[lit], 0.5 / math.pi, rtol=1e-6)  # a constant table: every lookup is 0.5/π
+
+
+# ----------------------------------------------------------------------------- fitting and the split sphere
+def test_fit_recovers_the_roughness_of_a_ggx_file_and_the_split_sphere_shows_both(tmp_path):
+    path = tmp_path / "ggx.brdf"
+    path.write_text(GGX)
+    m = small_model()
+    name = m.open_brdf(path)
+    assert m.state.model == name and m.state.params == {"ks": (1.0, 1.0, 1.0), "roughness": 0.25,
+                                                        "f0": (0.9, 0.6, 0.3)}  # fmt: skip
+    m.state.update(params={"roughness": 0.4})
+    entry, result = m.fit()
+    assert abs(result.parameters["roughness"] / 0.4 - 1) < 0.03 and result.relative_rms < 0.01
+    assert entry.label.startswith("GGX fit α=0.4") and "rel. rms" in entry.label
+
+
+def test_split_sphere_halves_are_the_single_model_renders():
+    m = small_model(model="cook-torrance", roughness=0.15, elevation=30.0, azimuth=160.0)
+    m.update()
+    pinned_alone = m.views["sphere"].image.copy()
+    entry = m.pin()
+    m.state.update(model="phong", shininess=8.0)
+    m.update()
+    current_alone = m.views["sphere"].image.copy()
+    m.state.split = True
+    assert "sphere" in m.update()
+    split = m.views["sphere"]
+    half = split.image.shape[1] // 2
+    assert split.split == entry.label and split.split_colour == entry.colour
+    np.testing.assert_array_equal(split.image[:, :half], current_alone[:, :half])
+    np.testing.assert_array_equal(split.image[:, half:], pinned_alone[:, half:])
+    assert not np.array_equal(current_alone[:, half:], pinned_alone[:, half:])
+    # The solo entry takes the right half; a drag re-shades both halves (a live view).
+    m.pin()
+    m.compare.set_solo(1)
+    m.state.elevation = 50.0
+    assert m.update(only={"sphere"}) == {"sphere"}
+    m.state.split = False
+    m.update()
+    np.testing.assert_array_equal(m.views["sphere"].image[:, half:], m.views["sphere"].image[:, half:])
+    assert m.views["sphere"].split == ""
