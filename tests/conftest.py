@@ -49,3 +49,19 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if item.path.name in SLOW_FILES:
             item.add_marker(pytest.mark.slow)
+
+
+@pytest.fixture(autouse=True)
+def _model_registry_restored():
+    """Each test leaves the model registry as it found it.
+
+    Tests register models (plug-ins, ``--brdf`` files, ``define_brdf``); one left behind would appear in
+    every model list afterwards, e.g. in the registry-generated figure galleries of later tests.
+    """
+    from lighting.models import protocol
+
+    before = dict(protocol._REGISTRY)
+    yield
+    if protocol._REGISTRY != before:
+        protocol._REGISTRY.clear()
+        protocol._REGISTRY.update(before)

@@ -258,8 +258,8 @@ class ComparePanelMixin:
             rgb = _rgb(e.colour)
             dim = tuple(0.3 * c for c in rgb)
             show = self._button(self._entry_callback("show", i), e.visible, left, y_px, rgb, dim)
-            solo = self._button(self._entry_callback("solo", i), self.model.compare.solo == i, right - solo_w - remove_w,
-                                y_px)  # fmt: skip
+            solo = self._button(self._entry_callback("solo", i), self.model.compare.solo == i,
+                                right - solo_w - remove_w, y_px)  # fmt: skip
             remove = self._button(self._entry_callback("remove", i), False, right - remove_w, y_px)
             self.compare_boxes[i] = {"show": show, "solo": solo, "remove": remove}
             self._compare_widgets += [show, solo, remove]

@@ -19,7 +19,8 @@ pv = pytest.importorskip("pyvista")
 SIZE = (1200, 720)
 PI = "const float PI = 3.14159265358979323846;\n"
 SIG = "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)"
-LAMBERT = f"::begin parameters\ncolor kd 0.8 0.5 0.2\n::end parameters\n::begin shader\n{PI}{SIG} {{ return kd / PI; }}\n::end shader\n"
+LAMBERT = (f"::begin parameters\ncolor kd 0.8 0.5 0.2\n::end parameters\n::begin shader\n{PI}{SIG} "
+           "{ return kd / PI; }\n::end shader\n")  # fmt: skip
 PHONG = (
     "::begin parameters\ncolor ks 0.5 0.4 0.3\nfloat n 0 1000 20\n::end parameters\n::begin shader\n" + PI + SIG
     + "{\n vec3 R = reflect(-L, N);\n return ks * pow(max(dot(R, V), 0.0), n) / (PI * dot(N, L));\n}\n::end shader\n"
@@ -28,7 +29,8 @@ PHONG = (
 GGX = (
     "::begin parameters\ncolor ks 1 1 1\nfloat roughness 0.01 1 0.25\ncolor f0 0.9 0.6 0.3\n::end parameters\n"
     "::begin shader\n" + PI
-    + "float lam(float c, float a) { float t2 = (1.0 - c * c) / (c * c); return 0.5 * (sqrt(1.0 + a * a * t2) - 1.0); }\n"
+    + "float lam(float c, float a) { float t2 = (1.0 - c * c) / (c * c);\n"
+    " return 0.5 * (sqrt(1.0 + a * a * t2) - 1.0); }\n"
     + SIG + "\n{\n vec3 H = normalize(L + V);\n float nh = dot(N, H), nv = dot(N, V), nl = dot(N, L), vh = dot(V, H);\n"
     " float a2 = roughness * roughness; float d = nh * nh * (a2 - 1.0) + 1.0;\n"
     " float G = 1.0 / (1.0 + lam(nv, roughness) + lam(nl, roughness));\n"
@@ -130,7 +132,7 @@ def test_hide_and_solo_change_what_is_drawn(fresh):
     assert len(set(colours)) == 3
     drawn = _drawn(app.polar_plot.overlay_lines)
     assert [c for c, _ in drawn] == colours
-    for (c, y), o in zip(drawn, app.model.views["polar"].overlays, strict=True):
+    for (_, y), o in zip(drawn, app.model.views["polar"].overlays, strict=True):
         np.testing.assert_array_equal(y, o.values)
     # Hidden: the curve goes, the colour stays with its entry.
     box = app.compare_boxes[1]["show"]
