@@ -3,10 +3,11 @@ Phong-interpolated rendering, plans, image files."""
 
 from __future__ import annotations
 
-from . import camera, gbuffer, image, mesh, plan, raster, raycast, renderer, sphere
+from . import camera, gbuffer, image, linear_image, mesh, plan, raster, raycast, renderer, sphere
 from .camera import *  # noqa: F403
 from .gbuffer import *  # noqa: F403
 from .image import *  # noqa: F403
+from .linear_image import *  # noqa: F403
 from .mesh import *  # noqa: F403
 from .plan import *  # noqa: F403
 from .raster import *  # noqa: F403
@@ -18,6 +19,7 @@ __all__ = list(
     dict.fromkeys(
         [
             "image",
+            "linear_image",
             "mesh",
             "camera",
             "gbuffer",
@@ -27,6 +29,7 @@ __all__ = list(
             "sphere",
             "plan",
             *image.__all__,
+            *linear_image.__all__,
             *mesh.__all__,
             *camera.__all__,
             *gbuffer.__all__,

@@ -49,6 +49,7 @@ from ..shading.material import Material, check_material
 from ..vec import normalize
 from .camera import Camera, check_camera
 from .gbuffer import GBuffer, check_image_budget
+from .linear_image import LinearImage
 from .mesh import TriangleMesh
 from .raster import rasterize
 from .raycast import raycast_sphere
@@ -523,8 +524,9 @@ class Renderer:
 
         Returns
         -------
-        numpy.ndarray
-            ``(H, W, 3)`` linear RGB in the renderer's dtype.
+        LinearImage
+            ``(H, W, 3)`` linear RGB in the renderer's dtype (an ``ndarray`` that shows itself
+            sRGB-encoded in Jupyter; ``np.asarray(img)`` is the plain array).
         """
         bg = check_color("background", background)
         mode = check_choice("mode", mode, SHADING_MODES)
@@ -542,7 +544,7 @@ class Renderer:
             img = self.spread(mode, colours)
         if np.any(bg):
             img = np.where(self.gbuffer.coverage[..., None], img, bg.astype(self.dtype))
-        return img.astype(self.dtype, copy=False)
+        return LinearImage(img.astype(self.dtype, copy=False))
 
 
 def _check_geometry(geometry) -> None:
@@ -591,8 +593,8 @@ def render(geometry, camera: Camera, material: Material, lights, **kwargs) -> np
 
     Returns
     -------
-    numpy.ndarray
-        The ``(H, W, 3)`` linear RGB image.
+    LinearImage
+        The ``(H, W, 3)`` linear RGB image (:class:`~lighting.render.linear_image.LinearImage`).
     """
     dtype = kwargs.pop("dtype", np.float64)
     return Renderer(geometry, camera, dtype=dtype).render(material, lights, **kwargs)

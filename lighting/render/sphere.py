@@ -51,8 +51,9 @@ def render_sphere(material: Material, lights, *, size: int = 256, form: str = "c
 
     Returns
     -------
-    numpy.ndarray
-        ``(size, size, 3)`` linear RGB, ``float64``; pixels off the sphere hold ``background``.
+    LinearImage
+        ``(size, size, 3)`` linear RGB, ``float64``; pixels off the sphere hold ``background``.  An
+        ``ndarray`` that shows itself sRGB-encoded in Jupyter (``np.asarray(img)``: the plain array).
     """
     size = check_count("size", size, 1, MAX_IMAGE_SIDE)
     check_budget("size", size * size * RENDER_BYTES_PER_PIXEL, what=f"a {size}x{size} image")

@@ -14,6 +14,7 @@ import numpy as np
 
 from ..render.camera import Camera
 from ..render.image import encode_srgb8
+from ..render.linear_image import LinearImage
 from ..render.renderer import Renderer
 from ..shading import opengl as gl
 from .budget import check_scene_budget
@@ -385,8 +386,9 @@ class SceneRenderer:
 
         Returns
         -------
-        image : numpy.ndarray, shape (H, W, 3)
-            Linear RGB in the renderer's dtype.
+        image : LinearImage, shape (H, W, 3)
+            Linear RGB in the renderer's dtype, carrying the scene's ``[image]`` exposure and tone
+            map for display (an ``ndarray``; ``np.asarray(image)`` is the plain array).
         info : dict
             The summary above.
         """
@@ -415,7 +417,7 @@ class SceneRenderer:
             "rasterized": self.rasterizations - before,
             "seconds": time.perf_counter() - t0,
         }
-        return image, info
+        return LinearImage(image, exposure=scene.image.exposure, tonemap=scene.image.tonemap), info
 
     def encode(self, image, *, exposure=None, tonemap=None):
         """8-bit sRGB of a rendered image with the scene's (or the given) exposure and tone map.
@@ -485,8 +487,9 @@ def render_scene(scene: Scene):
 
     Returns
     -------
-    image : numpy.ndarray, shape (H, W, 3)
-        Linear RGB.
+    image : LinearImage, shape (H, W, 3)
+        Linear RGB with the scene's exposure and tone map (shows itself sRGB-encoded in Jupyter;
+        ``np.asarray(image)`` is the plain array).
     info : dict
         The summary of :meth:`SceneRenderer.render`.
     """
