@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from lighting import DirectionalLight, Lambert, Material, Phong
-from lighting.render import LinearImage, Renderer, AnalyticSphere, render_sphere, sphere_camera
+from lighting.render import AnalyticSphere, LinearImage, Renderer, render_sphere, sphere_camera
 
 PIL = pytest.importorskip("PIL.Image")
 
