@@ -220,7 +220,8 @@ def format_report(r: dict) -> str:
     row("rasterize only (geometry buffer)", "raster_ms")
     row("rasterize + shade (float64)", "raster_shade_ms", "<= 1")
     row("rasterize + shade (float32)", "raster_shade_f32_ms", "<= 1")
-    lines.append(f"{'VTK off-screen render + read-back':44s} {vtk:8.2f}" if vtk else "VTK: not installed")
+    no_vtk = "VTK: not installed (pip install 'lighting-explorer[app]')"
+    lines.append(f"{'VTK off-screen render + read-back':44s} {vtk:8.2f}" if vtk else no_vtk)
     return "\n".join(lines)
 
 

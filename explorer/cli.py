@@ -43,8 +43,16 @@ class OneLineParser(argparse.ArgumentParser):
     """
 
     def __init__(self, *args, own_name: bool = False, **kwargs):
+        kwargs.setdefault("formatter_class", DefaultsHelpFormatter)
         super().__init__(*args, **kwargs)
         self.own_name = own_name
+
+    def _check_value(self, action, value):
+        # argparse's own check, with the closest choice suggested ('rendr' -> 'render', 'phong' typos, reports).
+        if action.choices is not None and value not in action.choices:
+            choices = ", ".join(repr(c) for c in action.choices)
+            hint = did_you_mean(str(value), [str(c) for c in action.choices])
+            raise argparse.ArgumentError(action, f"invalid choice: {_fmt(value)}{hint} (choose from {choices})")
 
     def error(self, message):
         """Raise the refusal as a :class:`UsageError` (argparse calls this instead of printing usage).
@@ -63,9 +71,253 @@ class OneLineParser(argparse.ArgumentParser):
 
         # argparse quotes the whole value it refused: a 100,000-character one is cut short.
         message = re.sub(r"'[^']{81,}'", lambda m: abbreviate(m.group(0)), message)
+        # A type check that names its flag itself: "argument --size: --size must be …" says it once.
+        message = re.sub(r"^argument (\S+?)(?:/\S+)?: (\1 )", r"\2", message)
         if self.own_name:
             raise UsageError(message, prog=self.prog)
         raise UsageError(f"{message} (see {self.prog} --help)")
+
+
+class DefaultsHelpFormatter(argparse.HelpFormatter):
+    """Help text with each option's default: ``(default: 384)``, unless the text already states it.
+
+    Unlike :class:`argparse.ArgumentDefaultsHelpFormatter`, an option whose default is ``None`` or
+    ``False`` (a flag, or "keep what the scene or the control says") gets no ``(default: None)``;
+    a ``(width, height)`` pair shows as ``WxH``.
+    """
+
+    def _format_action(self, action):
+        text = super()._format_action(action)
+        if isinstance(action, argparse._SubParsersAction):  # the commands, one line each, without a "COMMAND" line
+            return "".join(text.splitlines(keepends=True)[1:])
+        return text
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        default = action.default
+        if (
+            "default" in text.lower()
+            or default is None
+            or default is False
+            or default is argparse.SUPPRESS
+            or default == []
+            or not action.option_strings
+            or isinstance(action, argparse._VersionAction)
+        ):
+            return text
+        if isinstance(default, tuple) and len(default) == 2 and all(isinstance(v, int) for v in default):
+            shown = f"{default[0]}x{default[1]}"
+        elif isinstance(default, (list, tuple)):
+            shown = ",".join(str(v) for v in default)
+        else:
+            shown = str(default)
+        return f"{text} (default: {shown.replace('%', '%%')})"
+
+
+def did_you_mean(word: str, candidates) -> str:
+    """``"; did you mean 'render'?"`` for the candidate closest to ``word`` (:mod:`difflib`), else ``""``.
+
+    Parameters
+    ----------
+    word : str
+        What the user typed.
+    candidates : iterable of str
+        The names allowed.
+
+    Returns
+    -------
+    str
+        The hint, to append to a message, or an empty string when nothing is close.
+
+    Examples
+    --------
+    >>> did_you_mean("spotlite", ["cube", "spotlight"])
+    "; did you mean 'spotlight'?"
+    >>> did_you_mean("zzz", ["cube", "spotlight"])
+    ''
+    """
+    import difflib
+
+    names = [str(c) for c in candidates]
+    folded = {n.lower().replace("_", "-"): n for n in names}
+    close = difflib.get_close_matches(str(word).lower().replace("_", "-"), list(folded), n=1, cutoff=0.6)
+    return f"; did you mean {folded[close[0]]!r}?" if close else ""
+
+
+def size_type(flag: str = "--size", *, minimum=(1, 1), maximum=None, example: str = "640x480 or 512"):
+    """The argparse ``type`` of every ``--size``: ``WxH`` (``640x480``, ``640×480``) or ``N`` for ``NxN``.
+
+    Parameters
+    ----------
+    flag : str
+        The flag named in the error.
+    minimum, maximum : (int, int), optional
+        Smallest and largest ``(width, height)`` allowed (default: at least 1x1, no upper bound).
+    example : str
+        Examples shown in the error.
+
+    Returns
+    -------
+    callable
+        ``text -> (width, height)``, raising ``argparse.ArgumentTypeError`` with one line naming the
+        flag, what is allowed and what was given.
+
+    Examples
+    --------
+    >>> parse = size_type()
+    >>> parse("640x480"), parse("512"), parse(" 3 X 2 ")
+    ((640, 480), (512, 512), (3, 2))
+    """
+
+    def parse(text: str):
+        m = re.fullmatch(r"\s*(\d{1,9})\s*(?:[xX×]\s*(\d{1,9})\s*)?", str(text))
+        size = (int(m.group(1)), int(m.group(2) or m.group(1))) if m else None
+        ok = size is not None and size[0] >= minimum[0] and size[1] >= minimum[1]
+        if ok and maximum is not None:
+            ok = size[0] <= maximum[0] and size[1] <= maximum[1]
+        if not ok:
+            lo = "both >= 1" if tuple(minimum) == (1, 1) else f"at least {minimum[0]}x{minimum[1]}"
+            hi = f" and at most {maximum[0]}x{maximum[1]}" if maximum is not None else ""
+            raise argparse.ArgumentTypeError(
+                f"{flag} must be WIDTHxHEIGHT or N (a square) in pixels, {lo}{hi} (e.g. {example}); got {_fmt(text)}"
+            )
+        return size
+
+    return parse
+
+
+def resolve_scene(arg: str, flag: str = "SCENE") -> str:
+    """The scene file a command line names: a file, or the name of a shipped example (``spotlight``).
+
+    Parameters
+    ----------
+    arg : str
+        A path, or an example's name (with or without ``.toml``).
+    flag : str
+        The argument named in the error (``SCENE``, ``--scene``).
+
+    Returns
+    -------
+    str
+        The path to load (a path with a folder in it is returned as given: the loader reports it if missing).
+
+    Raises
+    ------
+    ValueError
+        A bare name that is neither a file nor an example: the closest example and the list.
+
+    Examples
+    --------
+    >>> resolve_scene("spotlight").endswith("spotlight.toml")
+    True
+    """
+    import os
+
+    from lighting.scene import example_path, list_examples
+
+    arg = str(arg)
+    if os.path.exists(arg) or os.sep in arg or "/" in arg:
+        return arg
+    stem = arg[:-5] if arg.endswith(".toml") else arg
+    names = list_examples()
+    if stem in names:
+        return example_path(stem)
+    hint = did_you_mean(stem, names)
+    if not hint and arg.endswith(".toml"):
+        return arg  # a file name: the loader says that it does not exist
+    raise ValueError(f"{flag}: no scene file or example scene named {_fmt(arg)}{hint} (examples: {', '.join(names)})")
+
+
+#: Optional modules → (what to call them, the extra that installs them).  A command that needs one says
+#: so in one line (:func:`require`; :func:`main` turns any other missing one into the same line).
+EXTRAS = {
+    "matplotlib": ("Matplotlib", "figures"),
+    "cycler": ("Matplotlib", "figures"),
+    "kiwisolver": ("Matplotlib", "figures"),
+    "contourpy": ("Matplotlib", "figures"),
+    "fontTools": ("Matplotlib", "figures"),
+    "pyparsing": ("Matplotlib", "figures"),
+    "dateutil": ("Matplotlib", "figures"),
+    "trimesh": ("trimesh", "figures"),
+    "mpmath": ("mpmath", "figures"),
+    "pyvista": ("PyVista", "app"),
+    "vtk": ("PyVista", "app"),
+    "vtkmodules": ("PyVista", "app"),
+    "ipywidgets": ("ipywidgets", "notebook"),
+}
+
+
+class MissingExtra(UsageError):
+    """An optional module a command needs is not installed: one line naming the extra, exit status 2."""
+
+
+def missing_extra(command: str, module: str) -> MissingExtra:
+    """The error for ``command`` needing the missing ``module``.
+
+    Parameters
+    ----------
+    command : str
+        The sub-command (``figures``, ``explore``, ``report stability``, …).
+    module : str
+        The module that could not be imported (its top-level package is looked up in :data:`EXTRAS`).
+
+    Returns
+    -------
+    MissingExtra
+        ``lighting-explorer figures: error: needs Matplotlib: pip install 'lighting-explorer[figures]'``.
+
+    Examples
+    --------
+    >>> str(missing_extra("explore", "pyvista.plotting"))
+    "needs PyVista: pip install 'lighting-explorer[app]'"
+    """
+    top = str(module or "").split(".")[0]
+    prog = f"{PROG} {command}".strip()
+    if top in EXTRAS:
+        label, extra = EXTRAS[top]
+        return MissingExtra(f"needs {label}: pip install '{PROG}[{extra}]'", prog=prog)
+    return MissingExtra(f"needs the Python module {top!r}, which is not installed", prog=prog)
+
+
+def require(command: str, *modules: str) -> None:
+    """Import ``modules`` now, so that a missing extra is reported before any work, in one line.
+
+    Parameters
+    ----------
+    command : str
+        The sub-command that needs them.
+    *modules : str
+        Module names (``"matplotlib"``, ``"pyvista"``).
+
+    Raises
+    ------
+    MissingExtra
+        The first one that cannot be imported (also when one of its own dependencies is missing).
+    """
+    import importlib
+
+    for name in modules:
+        try:
+            importlib.import_module(name)
+        except ImportError as exc:
+            missing = getattr(exc, "name", None) or name
+            raise missing_extra(command, missing if missing.split(".")[0] in EXTRAS else name) from None
+
+
+def package_version() -> str:
+    """The installed version of ``lighting-explorer`` (package metadata), or ``"unknown"`` when not installed.
+
+    Returns
+    -------
+    str
+        E.g. ``"0.1.0"``.
+    """
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version(PROG)
+    except PackageNotFoundError:  # pragma: no cover - a source tree that was never installed
+        return "unknown"
 
 
 def error_line(exc: BaseException) -> str:
@@ -110,8 +362,8 @@ COMMANDS = {
 #: its messages name no sub-command (``lighting-explorer: …``, usage ``lighting-explorer [options]``); a bare
 #: ``report`` lists the reports and exits 0, where a required argparse sub-command would exit 2.
 DELEGATES = {
-    "report": ("explorer.reports", "accuracy reports: 'report accuracy' (error vs run time), 'report stability'"),
-    "explore": ("explorer.app", "the interactive explorer window (the default with no sub-command)"),
+    "report": ("explorer.reports", "'report accuracy' and 'report stability'"),
+    "explore": ("explorer.app", "the explorer window (the default: no sub-command)"),
 }
 
 
@@ -130,10 +382,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = OneLineParser(
         prog=PROG,
-        description="Explore local illumination models. With no sub-command, opens the explorer window. "
-        "--memory-budget SIZE (e.g. 4G, 512M; default 2G) raises or lowers the memory any one request may use.",
+        description="Explore local illumination models. With no sub-command, opens the explorer window.",
+        epilog=f"'{PROG} COMMAND --help' lists a command's options and their defaults. --memory-budget SIZE "
+        "(anywhere on the line; e.g. 4G, 512M; default 2G) raises or lowers the memory any one request may use.",
     )
-    sub = p.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
+    p.add_argument("--version", action="version", version=f"{PROG} {package_version()}")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=OneLineParser, metavar="COMMAND",
+                           title="commands")  # fmt: skip
     for name, module in COMMANDS.items():
         if module is None:
             sub.add_parser(name, help=DELEGATES[name][1])
@@ -194,6 +449,10 @@ def run_alone(name: str, argv=None) -> int:
         return args.func(args)
     except SystemExit as exc:  # --help
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    except ImportError as exc:
+        exc = missing_extra(name, getattr(exc, "name", None) or "")
+        print(f"{exc.prog}: error: {exc}", file=sys.stderr)
+        return 2
     except (ValueError, OSError, MemoryError, RecursionError) as exc:
         print(f"{getattr(exc, 'prog', PROG)}: error: {error_line(exc)}", file=sys.stderr)
         return 2
@@ -285,8 +544,17 @@ def _take_memory_budget(argv: list[str]):
     return rest, budget
 
 
+def _command_of(argv: list[str]) -> str:
+    """The sub-command a command line runs (``report stability`` with its report), for a missing-extra line."""
+    if not argv or argv[0].startswith("-"):
+        return "explore" if not argv or argv[0] not in ("-h", "--help", "--version") else ""
+    if argv[0] == "report" and len(argv) > 1 and not argv[1].startswith("-"):
+        return f"report {argv[1]}"
+    return argv[0]
+
+
 def _dispatch(argv: list[str]) -> int:
-    if not argv or (argv[0].startswith("--") and argv[0] != "--help"):
+    if not argv or (argv[0].startswith("--") and argv[0] not in ("--help", "--version")):
         # No sub-command: open the explorer window (its own options, e.g. --off-screen --screenshot x.png).
         argv = ["explore", *argv]
     if argv[0] in DELEGATES:
@@ -327,6 +595,10 @@ def main(argv=None) -> int:
             return status
         except SystemExit as exc:  # --help, or a sub-command's own argparse
             return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+        except ImportError as exc:  # an optional module missing deep inside: still one line naming the extra
+            exc = missing_extra(_command_of(argv), getattr(exc, "name", None) or "")
+            print(f"{exc.prog}: error: {exc}", file=sys.stderr)
+            return 2
         except KeyboardInterrupt:
             print(f"{PROG}: interrupted", file=sys.stderr)
             return 130

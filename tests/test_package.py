@@ -95,7 +95,7 @@ def _one_error_line(err: str) -> str:
     ("argv", "expected", "absent"),
     [
         (["--size", "100000"], ["--size 100000 needs about", "GiB", "memory budget of 2.0 GiB"], []),
-        (["--size", "0"], ["--size must be an integer >= 1; got 0"], []),
+        (["--size", "0"], ["--size must be WIDTHxHEIGHT or N (a square) in pixels, both >= 1 (e.g. 384 or 640x480); got '0'"], []),
         (["--exposure", "1e308"], ["--exposure must be a finite number >= -100 and <= 100; got 1e+308"], []),
         (["--kd", "red"], ["--kd must be one number or three comma-separated numbers", "'red'"], ["_rgb"]),
         (["--kd", "1,2"], ["--kd must be one number or three"], []),
@@ -310,7 +310,7 @@ def test_memory_budget_flag_sets_the_budget_for_the_command_and_restores_it(tmp_
 
 def test_unknown_report_and_bad_bench_options_are_one_line(capsys):
     assert main(["report", "nonsense"]) == 2
-    assert "unknown report 'nonsense'; choose accuracy or stability" in _one_error_line(capsys.readouterr().err)
+    assert "unknown report 'nonsense' (choose from accuracy, stability)" in _one_error_line(capsys.readouterr().err)
     for argv, text in ((["--repeat", "0"], "--repeat must be an integer in [1, 10000]; got 0"),
                        (["--repeat", "x"], "argument --repeat: invalid int value: 'x'")):  # fmt: skip
         assert main(["bench", *argv]) == 2

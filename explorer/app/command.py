@@ -12,19 +12,21 @@ from ..compare import BRDFList
 from .comparing import MAX_ENTRIES
 from .display import display_problem, no_display_message
 from .layout import DEFAULT_WINDOW_SIZE
-from .state import ATTENUATIONS, CHANNELS, CONTROLS, FIT_MODELS, FORMS, LIGHT_TYPES, MODELS, NDFS, AppState
+from .state import ATTENUATIONS, CHANNELS, CONTROLS, DEFAULTS, FIT_MODELS, FORMS, LIGHT_TYPES, MODELS, NDFS, AppState
+
+#: Smallest and largest window the explorer lays out.
+MIN_WINDOW, MAX_WINDOW = (640, 400), (8192, 8192)
+
+
+def _shown(value) -> str:
+    if isinstance(value, bool):
+        return "on" if value else "off"
+    if isinstance(value, (tuple, list)):
+        return ",".join(_shown(v) for v in value)
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
 
 __all__ = ["add_parser", "build_parser", "run", "main"]
-
-
-def _window_size(text: str):
-    try:
-        w, h = (int(x) for x in text.lower().replace("×", "x").split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT in pixels, e.g. 1280x768; got {text!r}") from None
-    if not (640 <= w <= 8192 and 400 <= h <= 8192):
-        raise argparse.ArgumentTypeError(f"window size must be at least 640x400 and at most 8192x8192; got {text!r}")
-    return (w, h)
 
 
 DESCRIPTION = (
@@ -62,7 +64,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         The ``explore`` parser (its ``func`` default is :func:`run`).
     """
     p = subparsers.add_parser(
-        "explore", help="the interactive explorer window (the default with no sub-command)", description=DESCRIPTION
+        "explore", help="the explorer window (the default: no sub-command)", description=DESCRIPTION
     )
     add_options(p)
     p.set_defaults(func=run)
@@ -77,16 +79,28 @@ def add_options(p) -> None:
     p : argparse.ArgumentParser
         The parser to add them to.
     """
-    h = {name: spec.help for name, spec in CONTROLS.items()}
+    from ..cli import size_type
+
+    # The options default to None ("keep the control's starting value"); the help states that value.
+    h = {
+        name: f"{spec.help} (default: {_shown(DEFAULTS[name])})" if name in DEFAULTS else spec.help
+        for name, spec in CONTROLS.items()
+    }
     g = p.add_argument_group("material")
     g.add_argument("--model", choices=MODELS, help=h["model"])
-    g.add_argument("--kd", help="diffuse albedo: one number (times --color) or r,g,b")
+    g.add_argument(
+        "--kd", help=f"diffuse albedo: one number (times --color) or r,g,b (default: {_shown(DEFAULTS['kd'])})"
+    )
     g.add_argument("--color", help=h["color"])
-    g.add_argument("--ks", type=float, help="the model's specular coefficient k_s (a parameter of most models)")
-    g.add_argument("--shininess", type=float, help="the Phong / Blinn-Phong exponent e")
-    g.add_argument("--roughness", type=float, help="the roughness (Cook-Torrance's α, Disney's r)")
-    g.add_argument("--f0", type=float, help="Cook-Torrance's Fresnel reflectance at normal incidence F0")
-    g.add_argument("--ndf", choices=NDFS, help="Cook-Torrance's normal distribution")
+    g.add_argument("--ks", type=float, help="the model's specular coefficient k_s (default: the model's own)")
+    g.add_argument("--shininess", type=float, help="the Phong / Blinn-Phong exponent e (default: the model's own)")
+    g.add_argument(
+        "--roughness", type=float, help="the roughness, Cook-Torrance's α or Disney's r (default: the model's)"
+    )
+    g.add_argument(
+        "--f0", type=float, help="Cook-Torrance's Fresnel reflectance F0 at normal incidence (default: the model's)"
+    )
+    g.add_argument("--ndf", choices=NDFS, help="Cook-Torrance's normal distribution (default: the model's)")
     g.add_argument("--param", action="append", metavar="NAME=VALUE",
                    help="any parameter of the model, e.g. --param sigma=0.3 (repeat for more)")  # fmt: skip
     g.add_argument("--phi", type=float, help=h["phi"])
@@ -105,7 +119,7 @@ def add_options(p) -> None:
     g = p.add_argument_group("shading and plots")
     g.add_argument("--mode", choices=("flat", "gouraud", "phong"), help=h["mode"])
     g.add_argument("--form", choices=FORMS, help=h["form"])
-    g.add_argument("--terms", help="terms shown, comma-separated from ambient,diffuse,specular")
+    g.add_argument("--terms", help=f"terms shown, comma-separated from {_shown(DEFAULTS['terms'])} (default: all)")
     g.add_argument("--tessellation", type=int, help=h["tessellation"])
     g.add_argument("--channel", choices=CHANNELS, help=h["channel"])
     g.add_argument("--log", action=argparse.BooleanOptionalAction, default=None, help=h["log"])
@@ -114,17 +128,36 @@ def add_options(p) -> None:
     g.add_argument("--exposure", type=float, help=h["exposure"])
     g.add_argument("--scanline", type=float, help=h["scanline"])
     g = p.add_argument_group("comparing BRDFs")
-    g.add_argument("--brdf", action="append", metavar="FILE",
-                   help="open a BRDF file (.brdf: BRDF Explorer's format; .binary: MERL data) as a model; the first "
-                        "becomes the current model, the others entries of the Compare list (repeat for more)")
+    g.add_argument(
+        "--brdf",
+        action="append",
+        metavar="FILE",
+        help="open a BRDF file (.brdf: BRDF Explorer's format; .binary: MERL data) as a model; the first "
+        "becomes the current model, the others entries of the Compare list (repeat for more)",
+    )
     g.add_argument("--panel", choices=("angles", "albedo"), help=h["panel"])
     g.add_argument("--split", action=argparse.BooleanOptionalAction, default=None, help=h["split"])
     g.add_argument("--fit", choices=tuple(FIT_MODELS), help=h["fit"] + " (default ggx)")
-    g.add_argument("--fit-now", dest="fit_now", action="store_true",
-                   help="fit that model to the current one at start and add it to the Compare list")
+    g.add_argument(
+        "--fit-now",
+        dest="fit_now",
+        action="store_true",
+        help="fit that model to the current one at start and add it to the Compare list",
+    )
     g = p.add_argument_group("window")
-    g.add_argument("--scene", help="start from a scene file (TOML): its first object's material and its lights")
-    g.add_argument("--size", type=_window_size, default=DEFAULT_WINDOW_SIZE, help="window size WIDTHxHEIGHT")
+    g.add_argument(
+        "--scene",
+        metavar="SCENE",
+        help="start from a scene file (TOML) or an example scene (render --list): its first object's "
+        "material and its lights",
+    )
+    g.add_argument(
+        "--size",
+        type=size_type("--size", minimum=MIN_WINDOW, maximum=MAX_WINDOW, example="1280x768"),
+        default=DEFAULT_WINDOW_SIZE,
+        metavar="WxH",
+        help="window size in pixels, WIDTHxHEIGHT or N for a square",
+    )
     g.add_argument("--off-screen", dest="off_screen", action="store_true", help="render without a window")
     g.add_argument("--screenshot", metavar="PATH",
                    help="render the window to an image (.png; .jpg .tif .webp with Pillow) and exit "
@@ -162,7 +195,7 @@ def run(args) -> int:
     int
         The exit status, as :func:`main`.
     """
-    from ..cli import PROG, error_line
+    from ..cli import PROG, error_line, require, resolve_scene
     from ..output import check_output_path, write_image
     from . import ExplorerApp  # through the package, so that a test can stand in for the window
 
@@ -171,6 +204,8 @@ def run(args) -> int:
             check_output_path(args.screenshot, flag="--screenshot", kinds=("rgb8",))
         model_params = ("ks", "shininess", "roughness", "f0", "ndf", "param")
         values = {k: v for k, v in vars(args).items() if k in CONTROLS or k in ("kd", "scene") + model_params}
+        if values.get("scene"):  # a file, or an example's name as ``render NAME`` takes it
+            values["scene"] = resolve_scene(values["scene"], flag="--scene")
         files = list(getattr(args, "brdf", None) or ())
         classes = []
         if files:
@@ -187,17 +222,18 @@ def run(args) -> int:
     except (ValueError, OSError) as exc:
         print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
         return 2
+    try:
+        require("explore", "pyvista")  # the window is VTK's: the one line names the extra to install
+    except ValueError as exc:
+        print(f"{exc.prog}: error: {exc}", file=sys.stderr)
+        return 2
+    import pyvista as pv
+
     off_screen = bool(args.off_screen or args.screenshot)
     problem = None if off_screen else display_problem()
     if problem:
         print(no_display_message(problem), file=sys.stderr)
         return 1
-    try:
-        import pyvista as pv
-    except ImportError:
-        print("lighting-explorer: error: the window needs PyVista (pip install 'lighting-explorer[explorer]')",
-              file=sys.stderr)  # fmt: skip
-        return 2
     if off_screen:
         pv.OFF_SCREEN = True
     try:

@@ -30,11 +30,12 @@ def add_parser(subparsers):
         The new sub-parser (its ``func`` default is :func:`run`).
     """
     p = subparsers.add_parser(
-        "bench", help="time re-shading, rasterizing and VTK rendering side by side (--json, --plan)",
-        description="Time the engine's re-shading and rasterizing against VTK rendering the same scene, in one run.",
+        "bench", help="time the engine's shading against VTK rendering",
+        description="Time the engine's re-shading and rasterizing against VTK rendering the same scene, in one run "
+        "(the VTK row needs PyVista: pip install 'lighting-explorer[app]').",
     )  # fmt: skip
     p.add_argument("--json", action="store_true", help="print one JSON line instead of the table")
-    p.add_argument("--repeat", type=int, default=15,
+    p.add_argument("--repeat", type=int, default=15, metavar="N",
                    help=f"timed runs per measurement, 1 to {MAX_REPEAT} (median reported)")  # fmt: skip
     p.add_argument("--plan", action="store_true", help="planned vs nothing-skipped evaluation of every example scene")
     p.set_defaults(func=run)

@@ -36,16 +36,16 @@ def add_parser(subparsers):
         The new sub-parser (its ``func`` default is :func:`run`); its errors name ``lighting-explorer figures``.
     """
     p = subparsers.add_parser(
-        "figures", help="write the lecture-note figure set (--out DIR, --format, --only, --dpi, --quick)",
+        "figures", help="the lecture-note figures with their captions",
         description="Write the lecture-note figures (PNG/SVG/PDF, each with a JSON sidecar).", own_name=True,
     )  # fmt: skip
-    p.add_argument("--out", "-o", default=os.path.join("out", "figures"), help="output folder (default: out/figures)")
-    p.add_argument("--format", default="png", help="comma-separated formats among png, svg, pdf (default: png)")
+    p.add_argument("--out", "-o", default=os.path.join("out", "figures"), metavar="DIR", help="output folder")
+    p.add_argument("--format", default="png", metavar="FORMATS", help="comma-separated formats among png, svg, pdf")
     p.add_argument("--only", nargs="+", metavar="NAME",
                    help="draw only these figures (see --list); figures.json keeps the other entries")  # fmt: skip
-    p.add_argument("--dpi", type=int, help="raster resolution (default 150; 50 with --quick)")
+    p.add_argument("--dpi", type=int, metavar="N", help="raster resolution (default: 150; 50 with --quick)")
     p.add_argument("--quick", action="store_true", help="low resolution and sample counts: the whole set in seconds")
-    p.add_argument("--jobs", "-j", type=int, default=None,
+    p.add_argument("--jobs", "-j", type=int, default=None, metavar="N",
                    help=f"worker processes, 1 to {MAX_JOBS} (default: up to 4, one per core)")  # fmt: skip
     p.add_argument("--accuracy-csv", metavar="FILE",
                    help="draw the 'accuracy' figure from this accuracy.csv (lighting-explorer report accuracy) "
@@ -68,10 +68,17 @@ def run(args) -> int:
     int
         0 done, 1 a file could not be written, 2 a bad request (one line on standard error).
     """
+    from ..cli import PROG, require
+
+    try:
+        require("figures", "matplotlib")  # before the figure modules import it: one line naming the extra
+    except ValueError as exc:
+        print(f"{exc.prog}: error: {exc}", file=sys.stderr)
+        return 2
     from .. import figures
     from ..progress import Progress
 
-    prog = figures.PROG
+    prog = f"{PROG} figures"
     try:
         if args.list:
             for name, spec in figures._load_registry().items():

@@ -1,7 +1,7 @@
 """``lighting-explorer render``: render a scene file to a PNG, headless.
 
-    lighting-explorer render scene.toml -o out.png [--size WxH] [--exposure STOPS]
-                             [--tonemap clamp|reinhard] [--explain]
+    lighting-explorer render SCENE [-o OUT.png] [--size WxH|N] [-D KEY=VALUE ...]
+                             [--exposure STOPS] [--tonemap clamp|reinhard] [--explain]
     lighting-explorer render --list
 
 ``SCENE`` is a scene file (format: ``docs/scenes.md``) or the name of a scene
@@ -18,27 +18,20 @@ from __future__ import annotations
 
 import argparse
 import os
-import re
 import sys
 import time
 
 __all__ = ["add_parser", "run", "main"]
 
 PROG = "lighting-explorer render"
-DESCRIPTION = "Render a scene file (TOML, see docs/scenes.md) to a PNG image."
+DESCRIPTION = (
+    "Render a scene file (TOML, see docs/scenes.md) or an example scene (--list) to an image; "
+    "-D KEY=VALUE changes a value of the scene first."
+)
 
 
 class _UsageError(Exception):
     pass
-
-
-def _size(text: str):
-    m = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text)
-    if not m or int(m.group(1)) < 1 or int(m.group(2)) < 1:
-        raise argparse.ArgumentTypeError(
-            f"--size must be WIDTHxHEIGHT in pixels, both >= 1 (e.g. 640x480); got {_short(text)}"
-        )
-    return int(m.group(1)), int(m.group(2))
 
 
 def _finite(text: str) -> float:
@@ -71,30 +64,51 @@ def add_parser(subparsers):
     argparse.ArgumentParser
         The new sub-parser (its ``func`` default is :func:`run`).
     """
+    from ..cli import size_type
+
     p = subparsers.add_parser(
-        "render", help="render a scene file (or an example scene) to an image (--explain shows the plan)",
+        "render",
+        help="a scene file or an example scene to an image",
         description=DESCRIPTION,
-    )  # fmt: skip
-    p.add_argument("scene", nargs="?", help="scene file, or the name of a shipped example scene")
-    p.add_argument("-o", "--out", help="output PNG (default: [image].output of the scene, else SCENE-NAME.png)")
-    p.add_argument("--size", type=_size, metavar="WxH", help="image size override, e.g. 640x480")
-    p.add_argument("--exposure", type=_exposure, help="exposure override in stops")
-    p.add_argument("--tonemap", choices=("clamp", "reinhard"), help="tone map override")
-    p.add_argument("--explain", action="store_true", help="print the evaluation plan (what the scene needs)")
-    p.add_argument("--list", action="store_true", help="list the example scenes shipped with the package")
+    )
+    p.add_argument("scene", nargs="?", metavar="SCENE", help="scene file, or the name of an example scene (--list)")
+    p.add_argument(
+        "-o",
+        "--out",
+        help="output image: .png; .jpg .tif .webp (with Pillow); the linear image as "
+        ".npy .pfm (.exr with OpenEXR) (default: the scene's [image].output, else SCENE-NAME.png)",
+    )
+    p.add_argument(
+        "--size",
+        type=size_type("--size"),
+        metavar="WxH",
+        help="image size in pixels, WIDTHxHEIGHT or N for a square (default: the scene's [image] size)",
+    )
+    p.add_argument(
+        "-D",
+        dest="defines",
+        action="append",
+        metavar="KEY=VALUE",
+        default=[],
+        help="override a value of the scene: a dotted key into its TOML and a TOML value, e.g. "
+        "-D image.width=320, -D lights[0].intensity=2, -D materials.red.parts[0].kd=[0.9,0.1,0.1] "
+        "(repeat for more)",
+    )
+    p.add_argument(
+        "--exposure",
+        type=_exposure,
+        metavar="STOPS",
+        help="exposure in stops, -100 to 100 (default: the scene's [image].exposure)",
+    )
+    p.add_argument("--tonemap", choices=("clamp", "reinhard"), help="tone map (default: the scene's [image].tonemap)")
+    p.add_argument(
+        "--explain",
+        action="store_true",
+        help="print the evaluation plan (what the scene needs) and stop; with -o, also render and write",
+    )
+    p.add_argument("--list", action="store_true", help="list the example scenes with their descriptions")
     p.set_defaults(func=run)
     return p
-
-
-def _resolve_scene(arg: str) -> str:
-    from lighting.scene import example_path, list_examples
-
-    if os.path.exists(arg) or os.sep in arg or "/" in arg:
-        return arg
-    stem = arg[:-5] if arg.endswith(".toml") else arg
-    if stem in list_examples():
-        return example_path(stem)
-    return arg  # load_scene reports the missing file
 
 
 def _short(text) -> str:
@@ -103,36 +117,106 @@ def _short(text) -> str:
     return abbreviate(repr(text))
 
 
-def _run(args) -> int:
-    from lighting.scene import SceneRenderer, check_scene_budget, list_examples, load_scene, scene_output_path
+def examples() -> list[tuple[str, str]]:
+    """The example scenes shipped with the package and the one-line ``description`` each file gives.
 
+    Returns
+    -------
+    list of (str, str)
+        ``(name, description)``, sorted by name (the description is empty if the file gives none).
+    """
+    import tomllib
+
+    from lighting.scene import example_path, list_examples
+
+    out = []
+    for name in list_examples():
+        with open(example_path(name), "rb") as f:
+            description = tomllib.load(f).get("description", "")
+        out.append((name, " ".join(str(description).split())))
+    return out
+
+
+def load_with_defines(path: str, defines=()):
+    """Load a scene file, with ``-D KEY=VALUE`` overrides applied to its TOML before the checks.
+
+    Parameters
+    ----------
+    path : str
+        The scene file.
+    defines : sequence of str
+        ``KEY=VALUE`` overrides (:mod:`explorer.commands.defines`).
+
+    Returns
+    -------
+    lighting.scene.Scene
+        The scene, every value (given or overridden) checked as the loader checks a file.
+
+    Raises
+    ------
+    ValueError
+        The file's own problem as the loader reports it; a malformed ``-D``; or a value the overrides made
+        wrong, reported by the loader and followed by the ``-D`` given (``… (with -D image.width=0)``).
+    """
+    import tomllib
+
+    from lighting.scene import load_scene, parse_scene
+
+    from .defines import apply_defines, parse_define
+
+    parsed = [parse_define(d) for d in defines]  # a malformed -D is refused before the file is read
+    scene = load_scene(path)  # the file as written: its own errors are named as its own
+    if not parsed:
+        return scene
+    with open(path, "rb") as f:  # read and checked just above
+        data = tomllib.load(f)
+    apply_defines(data, parsed)
+    try:
+        return parse_scene(data, source=path, base_dir=os.path.dirname(os.path.abspath(path)))
+    except ValueError as exc:
+        from lighting._numeric import abbreviate
+
+        given = " ".join(f"-D {abbreviate(d.text)}" for d in parsed)
+        raise ValueError(f"{exc} (with {given})") from None
+
+
+def _run(args) -> int:
+    from lighting.scene import SceneRenderer, check_scene_budget, scene_output_path
+
+    from ..cli import resolve_scene
     from ..output import check_output_path, write_image
 
     if args.list:
-        for name in list_examples():
-            print(name)
+        rows = examples()
+        width = max(len(name) for name, _ in rows)
+        for name, description in rows:
+            print(f"{name:{width}s}  {description}".rstrip())
         return 0
     if not args.scene:
-        raise _UsageError("the following arguments are required: scene (a scene file or an example name)")
-    path = _resolve_scene(args.scene)
+        raise _UsageError("the following arguments are required: SCENE (a scene file or an example name; see --list)")
+    path = resolve_scene(args.scene, flag="SCENE")
     t0 = time.perf_counter()
-    scene = load_scene(path)
+    scene = load_with_defines(path, args.defines)
     if args.size:
         scene = scene.with_size(*args.size)
     check_scene_budget(scene, size_flag=f"--size {args.size[0]}x{args.size[1]}" if args.size else None)
-    flag = "-o" if args.out is not None else "[image].output"
-    if args.out is not None:  # the user's own choice: anywhere (an empty -o is refused below, not replaced)
-        out = shown = args.out
-    elif scene.image.output is not None:  # the scene file's: only inside its folder or the current one
-        shown = scene.image.output
-        out = scene_output_path(shown, path)
-    else:
-        out = shown = os.path.splitext(os.path.basename(path))[0] + ".png"
-    check_output_path(out, flag=flag)  # format, folder and permissions before any rendering
+    write = not args.explain or args.out is not None
+    if write:
+        flag = "-o" if args.out is not None else "[image].output"
+        if args.out is not None:  # the user's own choice: anywhere (an empty -o is refused below, not replaced)
+            out = shown = args.out
+        elif scene.image.output is not None:  # the scene file's: only inside its folder or the current one
+            shown = scene.image.output
+            out = scene_output_path(shown, path)
+        else:
+            out = shown = os.path.splitext(os.path.basename(path))[0] + ".png"
+        check_output_path(out, flag=flag)  # format, folder and permissions before any rendering
     renderer = SceneRenderer(scene)
-    image, info = renderer.render()
     if args.explain:
         print(renderer.explain())
+        if not write:  # the plan only: nothing rendered, nothing written
+            return 0
+    image, info = renderer.render()
     rgb8, report = renderer.encode(image, exposure=args.exposure, tonemap=args.tonemap)
     write_image(out, rgb8=rgb8, linear=image, flag=flag)
     seconds = time.perf_counter() - t0

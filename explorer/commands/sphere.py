@@ -2,7 +2,7 @@
 
 ::
 
-    lighting-explorer sphere [-o OUT] [--size N] [--kd R,G,B] [--ks KS] [--shininess E] [--ambient I_A]
+    lighting-explorer sphere [-o OUT] [--size WxH|N] [--kd R,G,B] [--ks KS] [--shininess E] [--ambient I_A]
                              [--elevation DEG] [--azimuth DEG] [--exposure STOPS] [--tonemap clamp|reinhard]
 
 The material is Lambert plus Blinn–Phong (ambient colour = ``--kd``), lit by an ambient light and one
@@ -18,7 +18,6 @@ from lighting._numeric import (
     _fmt,
     check_budget,
     check_color,
-    check_count,
     check_nonnegative,
     check_range,
 )
@@ -57,20 +56,44 @@ def add_parser(subparsers):
     argparse.ArgumentParser
         The new sub-parser (its ``func`` default is :func:`run`).
     """
+    from ..cli import size_type
+
     s = subparsers.add_parser(
-        "sphere", help="render one lit sphere with the engine and save it (PNG and other formats)"
+        "sphere",
+        help="one lit sphere rendered by the engine, to an image",
+        description="Render the exact (ray-cast) unit sphere with Lambert(kd) + BlinnPhong(ks, shininess) under "
+        "ambient light and one directional light, and write it. Every value is checked before rendering.",
     )
-    s.add_argument("-o", "--out", default="sphere.png",
-                   help="output image: .png; .jpg .tif .webp (with Pillow); the linear image as .npy .pfm "
-                        "(.exr with OpenEXR) (default: sphere.png)")  # fmt: skip
-    s.add_argument("--size", type=int, default=384, help="image width and height in pixels")
-    s.add_argument("--kd", default="0.8,0.25,0.2", help="diffuse colour, e.g. 0.8,0.25,0.2")
-    s.add_argument("--ks", default="0.5", help="specular coefficient (one number or r,g,b)")
-    s.add_argument("--shininess", type=float, default=40.0, help="Blinn-Phong exponent")
-    s.add_argument("--ambient", type=float, default=0.1, help="ambient intensity I_a")
-    s.add_argument("--elevation", type=float, default=45.0, help="light elevation in degrees, -90 to 90")
-    s.add_argument("--azimuth", type=float, default=135.0, help="light azimuth in degrees")
-    s.add_argument("--exposure", type=float, default=0.0, help="exposure in stops, -100 to 100 (8-bit formats)")
+    s.add_argument(
+        "-o",
+        "--out",
+        default="sphere.png",
+        help="output image: .png; .jpg .tif .webp (with Pillow); the linear image as .npy .pfm (.exr with OpenEXR)",
+    )
+    s.add_argument(
+        "--size",
+        type=size_type("--size", example="384 or 640x480"),
+        default=(384, 384),
+        metavar="WxH",
+        help="image size in pixels, WIDTHxHEIGHT or N for a square; the sphere fills the shorter side",
+    )
+    s.add_argument(
+        "--kd", default="0.8,0.25,0.2", metavar="R,G,B", help="diffuse colour: one number or r,g,b, each >= 0"
+    )
+    s.add_argument("--ks", default="0.5", metavar="KS", help="specular coefficient: one number or r,g,b, each >= 0")
+    s.add_argument("--shininess", type=float, default=40.0, metavar="E", help="Blinn-Phong exponent, >= 0")
+    s.add_argument("--ambient", type=float, default=0.1, metavar="I_A", help="ambient intensity I_a, >= 0")
+    s.add_argument("--elevation", type=float, default=45.0, metavar="DEG", help="light elevation in degrees, -90 to 90")
+    s.add_argument(
+        "--azimuth",
+        type=float,
+        default=135.0,
+        metavar="DEG",
+        help="light azimuth in degrees, in the image plane from +x toward +y",
+    )
+    s.add_argument(
+        "--exposure", type=float, default=0.0, metavar="STOPS", help="exposure in stops, -100 to 100 (8-bit formats)"
+    )
     s.add_argument("--tonemap", choices=("clamp", "reinhard"), default="clamp", help="tone map (8-bit formats)")
     s.set_defaults(func=run)
     return s
@@ -94,6 +117,8 @@ def run(args) -> int:
     ValueError
         A bad value, named by its flag (the command prints it as one line and exits with 2).
     """
+    import numpy as np
+
     from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
     from lighting.render.image import MAX_EXPOSURE, encode_srgb8
     from lighting.render.sphere import render_sphere
@@ -102,8 +127,9 @@ def run(args) -> int:
 
     # Every value is checked, in the words of its flag, before anything is allocated or rendered.
     check_output_path(args.out, flag="-o")
-    size = check_count("--size", args.size, 1)
-    check_budget(f"--size {size}", SPHERE_BYTES_PER_PIXEL * size * size, what=f"a {size}x{size} sphere image")
+    width, height = args.size
+    shown = f"{width}x{height}" if width != height else str(width)
+    check_budget(f"--size {shown}", SPHERE_BYTES_PER_PIXEL * width * height, what=f"a {width}x{height} sphere image")
     kd = _rgb("--kd", args.kd)
     ks = _rgb("--ks", args.ks)
     shininess = check_nonnegative("--shininess", args.shininess)
@@ -114,11 +140,17 @@ def run(args) -> int:
 
     material = Material(Lambert(kd) + BlinnPhong(ks, shininess), ambient=kd)
     lights = [AmbientLight(intensity=ambient), DirectionalLight.from_angles(elevation, azimuth)]
-    img = render_sphere(material, lights, size=size)
+    side = min(width, height)
+    img = render_sphere(material, lights, size=side)
+    if (width, height) != (side, side):  # centred on the background (0) of the wider or taller image
+        framed = np.zeros((height, width, img.shape[2]), dtype=img.dtype)
+        top, left = (height - side) // 2, (width - side) // 2
+        framed[top : top + side, left : left + side] = img
+        img = framed
     rgb8, report = encode_srgb8(img, exposure=exposure, tonemap=args.tonemap)
     fmt = write_image(args.out, rgb8=rgb8, linear=img, flag="-o")
     kind = f"linear {img.dtype}" if fmt in ("npy", "pfm", "exr") else fmt.upper()
-    print(f"wrote {args.out} ({size}x{size}, {kind}); {report}")
+    print(f"wrote {args.out} ({width}x{height}, {kind}); {report}")
     return 0
 
 

@@ -67,12 +67,16 @@ def main(argv=None) -> int:
     """
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or argv[0] in ("-h", "--help") or argv[0] not in REPORTS:
-        lines = ["usage: lighting-explorer report {accuracy,stability} [--quick] [--out DIR] ...", ""]
+        lines = ["usage: lighting-explorer report {accuracy,stability} [options]", "", "reports:"]
         lines += [f"  {name:10s} {text}" for name, (_, text) in REPORTS.items()]
+        lines += ["", "'lighting-explorer report NAME --help' lists a report's options and their defaults."]
         if argv and argv[0] not in ("-h", "--help"):
             from lighting._numeric import _fmt
 
-            print(f"lighting-explorer: error: unknown report {_fmt(argv[0])}; choose accuracy or stability",
+            from ..cli import did_you_mean
+
+            hint = did_you_mean(argv[0], REPORTS)
+            print(f"lighting-explorer: error: unknown report {_fmt(argv[0])}{hint} (choose from accuracy, stability)",
                   file=sys.stderr)  # fmt: skip
             return 2
         print("\n".join(lines))

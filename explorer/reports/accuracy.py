@@ -203,10 +203,11 @@ def add_arguments(p):
     argparse.ArgumentParser
         ``p``.
     """
-    p.add_argument("--quick", action="store_true", help="small sample counts and images (seconds, for tests)")
-    p.add_argument("--out", default=os.path.join("out", "accuracy"), help="output folder (default: out/accuracy)")
-    p.add_argument("--no-figure", action="store_true", help="skip the Matplotlib figure")
-    p.add_argument("--only", nargs="+", choices=STUDY_NAMES, help="run only these studies")
+    p.add_argument("--quick", action="store_true", help="small sample counts and images (about 5 s; for tests)")
+    p.add_argument("--out", metavar="DIR", default=os.path.join("out", "accuracy"), help="output folder")
+    p.add_argument("--no-figure", action="store_true", help="skip the figure (then Matplotlib is not needed)")
+    p.add_argument("--only", nargs="+", choices=STUDY_NAMES, metavar="STUDY",
+                   help=f"run only these studies, from {', '.join(STUDY_NAMES)} (default: all)")  # fmt: skip
     return p
 
 
@@ -275,13 +276,15 @@ def run(args) -> int:
     int
         0 on success, 2 for a bad ``--out`` (one line on stderr).
     """
-    from ..cli import PROG, error_line
+    from ..cli import PROG, error_line, require
     from ..output import check_output_dir
 
     try:
+        if not args.no_figure:
+            require("report accuracy", "matplotlib")
         check_output_dir(args.out, flag="--out")
     except ValueError as exc:
-        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
+        print(f"{getattr(exc, 'prog', PROG)}: error: {error_line(exc)}", file=sys.stderr)
         return 2
     os.makedirs(args.out, exist_ok=True)
     t0 = time.perf_counter()

@@ -24,7 +24,7 @@ def test_the_tree_lists_the_commands_in_order_with_their_options():
     sub = next(a for a in parser._actions if a.dest == "command")
     assert list(sub.choices) == list(cli.COMMANDS)
     args = cli.parse(["sphere", "--size", "12"])
-    assert args.command == "sphere" and args.size == 12 and args.func.__module__ == "explorer.commands.sphere"
+    assert args.command == "sphere" and args.size == (12, 12) and args.func.__module__ == "explorer.commands.sphere"
     args = cli.parse(["render", "spotlight", "--size", "40x30"])
     assert args.scene == "spotlight" and args.size == (40, 30)
     args = cli.parse(["figures", "--only", "falloff", "-j", "1"])
