@@ -140,7 +140,11 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
             pl.show(auto_close=False)  # off-screen: renders once and returns, after which render() works
 
     def _make_plotter(self, row_w, col_w):
+        # notebook=False: in Jupyter, PyVista would otherwise show a trame view of the whole window as a side
+        # effect of the off-screen show() below, in which the VTK sliders do nothing (explorer.notebook is the
+        # notebook's front end).
         return self.pv.Plotter(
+            notebook=False,
             shape=(3, 4),
             groups=[(1, np.s_[2:]), (2, np.s_[:])],
             row_weights=row_w,
