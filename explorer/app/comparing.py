@@ -139,7 +139,7 @@ def restrict(brdf, terms):
     --------
     >>> from lighting import Phong
     >>> restrict(Lambert(0.5) + Phong(0.5, 20.0), ("specular",))
-    Phong(ks=0.5, shininess=20.0)
+    Phong(ks=0.5, shininess=20)
     """
     parts = [p for p in brdf.parts if p.term in terms]
     if len(parts) == len(brdf.parts):

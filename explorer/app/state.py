@@ -12,7 +12,7 @@ Example
 -------
 >>> state = AppState(model="phong", shininess=20.0, elevation=60.0)
 >>> state.model_brdf()
-Phong(ks=0.5, shininess=20.0)
+Phong(ks=0.5, shininess=20)
 >>> state.shininess = -1
 Traceback (most recent call last):
 ...

@@ -55,7 +55,7 @@ def _r2_sequence(n: int, seed: int | None) -> np.ndarray:
     return (shift + k * a) % 1.0
 
 
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, repr=False)
 class AreaLight(Light):
     r"""Base of lights with an extent, integrated by sampling.
 
@@ -135,7 +135,7 @@ class AreaLight(Light):
             yield Incidence(l.astype(dt), saturate_to(g, dt), radiant)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class RectLight(AreaLight):
     """A rectangular area light: ``center ± edge_u/2 ± edge_v/2``, facing ``edge_u × edge_v``.
 
@@ -201,7 +201,7 @@ class RectLight(AreaLight):
         return self.center + uv[:, :1] * self.edge_u + uv[:, 1:] * self.edge_v
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class DiskLight(AreaLight):
     """A disk-shaped area light of ``radius`` at ``center``, facing ``normal_dir``."""
 

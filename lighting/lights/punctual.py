@@ -24,7 +24,8 @@ position receives nothing, because no direction toward the light exists there.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
+from functools import cache
 from typing import NamedTuple
 
 import numpy as np
@@ -168,6 +169,57 @@ def _real_array_any(name: str, value, dtype=None) -> np.ndarray:
     return real_array(name, value, dtype=dtype)
 
 
+#: Fields a light's repr always shows (where it is and how strong); the others only when not at their default.
+_ALWAYS_SHOWN = ("position", "center", "direction", "normal_dir", "edge_u", "edge_v", "radius", "cutoff_deg")
+
+
+@cache
+def _default_light(cls):
+    return cls()
+
+
+def _repr_value(name: str, value) -> str:
+    if isinstance(value, (bool, np.bool_)) or value is None:
+        return repr(value if value is None else bool(value))
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return f"{float(value):.6g}"
+    a = np.asarray(value, dtype=np.float64).reshape(-1)
+    if name == "color" and a.size and np.all(a == a[0]):
+        return f"{a[0]:.6g}"  # a grey light: one number, as the constructor takes it
+    return "(" + ", ".join(f"{x:.6g}" for x in a) + ")"
+
+
+def light_repr(light) -> str:
+    """One short line for a light: ``PointLight(position=(2, 2, 3), intensity=20)``.
+
+    Where the light is (position, direction, extent, spot cutoff) first, then its intensity and every
+    other field that differs from its default, in the constructor's order; numbers to 6 significant
+    digits, a grey colour as one number.
+
+    Parameters
+    ----------
+    light : AmbientLight or Light
+        A light dataclass.
+
+    Returns
+    -------
+    str
+    """
+    cls = type(light)
+    default = _default_light(cls)
+    names = [f.name for f in fields(cls)]
+    shown = [n for n in names if n in _ALWAYS_SHOWN]  # where the light is, first
+    for n in names:
+        if n in shown:
+            continue
+        v, d = getattr(light, n), getattr(default, n)
+        same = v == d if v is None or d is None or isinstance(v, (bool, int)) else np.array_equal(v, d)
+        if n == "intensity" or not same:
+            shown.append(n)
+    text = ", ".join(f"{n}={_repr_value(n, getattr(light, n))}" for n in shown)
+    return f"{cls.__name__}({text})"
+
+
 class Light:
     """Base class of lights that arrive from directions (everything but ambient)."""
 
@@ -212,8 +264,11 @@ class Light:
         """:meth:`incident` on checked inputs (the shading loop's path: no per-call validation)."""
         raise NotImplementedError
 
+    def __repr__(self) -> str:
+        return light_repr(self)
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, repr=False)
 class AmbientLight:
     """Ambient light: the slides' ``I_a``, the same everywhere and from everywhere.
 
@@ -239,8 +294,11 @@ class AmbientLight:
     def is_black(self) -> bool:
         return not np.any(self.radiant > 0)
 
+    def __repr__(self) -> str:
+        return light_repr(self)
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, repr=False)
 class DirectionalLight(Light):
     """Parallel light from infinitely far away (OpenGL's position ``(x, y, z, 0)``).
 
@@ -402,7 +460,7 @@ def _directions_and_distances(position: np.ndarray, points: np.ndarray):
     return l, dist
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PointLight(Light):
     r"""Light from a point, falling off with distance.
 
@@ -457,7 +515,7 @@ class PointLight(Light):
         yield Incidence(l.astype(dt), saturate_to(scale, dt), saturate_to(self.radiant, dt))
 
 
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, repr=False)
 class SpotLight(PointLight):
     r"""A point light restricted to a cone (OpenGL semantics).
 

@@ -485,8 +485,24 @@ class BRDF:
         return np.zeros(3)
 
     def __repr__(self) -> str:
-        fields = ", ".join(f"{k}={_short(v)}" for k, v in self._params().items())
-        return f"{type(self).__name__}({fields})"
+        """One short line: ``Phong(ks=0.5, shininess=32)``, numbers to 6 significant digits.
+
+        Options (``choice`` and ``bool`` rows of :attr:`parameters`) appear only when they differ from
+        their default, and so do the numbers of a model with more than four of them (Disney) but the
+        first, so the line stays short; a grey colour is one number.  ``summary()`` gives the audit's notation.
+        """
+        table = {p.name: p for p in getattr(type(self), "parameters", ())}
+        params = self._params()
+        numbers = [k for k in params if k in table and table[k].kind in ("float", "color")]
+        many = len(numbers) > 4
+        fields = []
+        for k, v in params.items():
+            p = table.get(k)
+            optional = p is not None and (p.kind in ("choice", "bool") or (many and k != numbers[0]))
+            if optional and _same(v, p.default):
+                continue
+            fields.append(f"{k}={_short(v)}")
+        return f"{type(self).__name__}({', '.join(fields)})"
 
     def _params(self) -> dict:
         return {}
@@ -501,12 +517,40 @@ def _color_text(c) -> str:
     return "(" + ",".join(f"{float(x):g}" for x in c) + ")"
 
 
+def _num(x) -> str:
+    """A number in a repr: 6 significant digits, integers without a decimal point (``32``, ``0.5``)."""
+    return f"{float(x):.6g}"
+
+
 def _short(v):
-    if isinstance(v, np.ndarray):
-        if np.all(v == v.flat[0]):
-            return repr(float(v.flat[0]))
-        return "(" + ", ".join(f"{x:g}" for x in v) + ")"
+    """A parameter value in a repr: a number, a grey colour as one number, an RGB triple, else ``repr``."""
+    if isinstance(v, (bool, np.bool_)) or v is None or isinstance(v, str):
+        return repr(v if not isinstance(v, np.bool_) else bool(v))
+    if isinstance(v, (int, float, np.integer, np.floating)):
+        return _num(v)
+    if isinstance(v, (np.ndarray, tuple, list)):
+        try:
+            a = np.asarray(v, dtype=np.float64).reshape(-1)
+        except (TypeError, ValueError):
+            return repr(v)
+        if a.size and np.all(a == a[0]):
+            return _num(a[0])
+        return "(" + ", ".join(_num(x) for x in a) + ")"
     return repr(v)
+
+
+def _same(value, default) -> bool:
+    """Whether a parameter's value is its table default (a colour compared as RGB, ``None`` only to ``None``)."""
+    if value is None or default is None:
+        return value is None and default is None
+    if isinstance(value, str) or isinstance(default, str):
+        return value == default
+    try:
+        a = np.broadcast_to(np.asarray(value, dtype=np.float64), (3,))
+        b = np.broadcast_to(np.asarray(default, dtype=np.float64), (3,))
+    except (TypeError, ValueError):
+        return False
+    return bool(np.array_equal(a, b))
 
 
 

@@ -335,7 +335,7 @@ def compile_plan(
       evaluate: constant emission + ambient = [0.16, 0.16, 0.16]
       evaluate: k_d (n·l) per pixel for 1 directional light(s): one dot product per light and sample
       left out: emission term — the material emits nothing (k_e = 0)
-      left out: Phong(ks=0.0, shininess=10.0) — its coefficient is zero
+      left out: Phong(ks=0, shininess=10) — its coefficient is zero
       left out: view vectors and half vectors — a diffuse surface needs only the sign of n·v
       left out: per-sample light vectors and attenuation — every light is directional: one l per light
     """

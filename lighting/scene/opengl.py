@@ -33,7 +33,7 @@ def gl_material_to_engine(material: gl.Material) -> Material:
     --------
     >>> m = gl_material_to_engine(gl.Material(diffuse=(0.5, 0.5, 0.5), specular=(1, 1, 1), shininess=20))
     >>> m.brdf
-    Lambert(kd=0.5) + BlinnPhong(ks=1.0, shininess=20.0, normalized=False)
+    Lambert(kd=0.5) + BlinnPhong(ks=1, shininess=20)
     """
     if not isinstance(material, gl.Material):
         raise ValueError(f"material must be a lighting.shading.opengl.Material; got {type(material).__name__}")
