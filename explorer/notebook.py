@@ -447,7 +447,8 @@ class NotebookExplorer:
             plot = plots["angles"]
             plot.set_data(m["theta_v"], m["theta_h"], m["theta_d"], m["halfdiff"], channel=s.channel, label=label)
             self.images["angles"].value = png_of(plot.render())
-            self._caption("angles", [plot.captions.get(k, "") for k in sorted(plot.captions)])
+            rest = [t for k, t in plot.captions.items() if k != "title"]
+            self._caption("angles", [plot.captions.get("title", "")] + rest)
         if "albedo" in views:
             self.albedo.value = f"<b>{model_label(s.model)}</b>: {albedo_caption(m['albedo'])}"
 
@@ -486,7 +487,7 @@ class LobePicture:
         ax.set_xlim(-1, 1)
         ax.set_ylim(-1, 1)
         ax.set_zlim(0, 1.4)
-        ax.set_box_aspect((2, 2, 1.4))
+        ax.set_box_aspect((2, 2, 1.4), zoom=1.35)
         ax.view_init(elev=18, azim=-70)
         ax.set_axis_off()
         self.ax = ax
