@@ -4,9 +4,10 @@
 figures (``explorer.figures.generate``) into ``build/gallery`` — or reuses the set
 already there when its manifest was drawn from the same sources — and adds every PNG
 to the site under ``gallery/``; the page ``gallery.md`` gets one section per figure
-(title, image, caption, the slides it illustrates, its parameters) in place of the
-line ``<!-- figures -->``.  So ``mkdocs build`` is the one command, and the gallery can
-never list a figure the set does not have.
+(title, image linked to its full-size file, caption, the slides it illustrates, its
+parameters) in place of the line ``<!-- figures -->``, and the plausibility audit's section
+also gets the audit itself as an HTML table, computed during the build.  So ``mkdocs build``
+is the one command, and the gallery can never list a figure the set does not have.
 
 Environment:
 
@@ -19,6 +20,7 @@ Environment:
 from __future__ import annotations
 
 import hashlib
+import html
 import json
 import os
 import sys
@@ -26,6 +28,8 @@ import sys
 # explorer/figures/mkdocs_hook.py → the checkout
 _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 _MARKER = "<!-- figures -->"
+# Formats a figure links to when the figure folder has them (the docs build itself writes PNG only).
+_LINKED_FORMATS = ("png", "svg", "pdf")
 _state: dict = {}
 
 
@@ -123,30 +127,102 @@ def on_files(files, config, **kwargs):
     from mkdocs.structure.files import File
 
     for rec in _state["manifest"]["figures"]:
-        png = rec["files"].get("png")
-        if png:
-            files.append(File.generated(config, f"gallery/{png}", abs_src_path=os.path.join(_state["folder"], png)))
+        for fmt in _LINKED_FORMATS:
+            name = rec["files"].get(fmt)
+            if name and os.path.isfile(os.path.join(_state["folder"], name)):
+                files.append(
+                    File.generated(config, f"gallery/{name}", abs_src_path=os.path.join(_state["folder"], name))
+                )
     return files
 
 
 def _section(rec) -> str:
     params = ", ".join(f"{k} = {json.dumps(v, ensure_ascii=False)}" for k, v in rec["parameters"].items())
     w, h = rec["size_px"]
+    png = f"gallery/{rec['files']['png']}"
+    # The picture is shown at column width and is itself the link to the full-size file.
+    links = [f"[PNG]({png}) ({w}×{h} px)"]
+    for fmt in ("svg", "pdf"):
+        name = rec["files"].get(fmt)
+        if name and os.path.isfile(os.path.join(_state["folder"], name)):
+            links.append(f"[{fmt.upper()}](gallery/{name})")
     lines = [
         f"### {rec['title']} {{#{rec['name']}}}",
         "",
-        f"![{rec['title']}](gallery/{rec['files']['png']})",
+        f'[![{rec["title"]}]({png}){{ .gallery-img loading=lazy }}]({png} "Open the full-size figure")',
         "",
         rec["caption"],
         "",
+        f"*Full size:* {' · '.join(links)}.  ",
         f"*Illustrates:* {rec['slides']}.  ",
-        f"*Name:* `{rec['name']}` — `lighting-explorer figures --only {rec['name']}` ({w}×{h} px"
-        + ("" if rec["deterministic"] else f"; not pixel-reproducible: {rec['nondeterministic_reason']}")
-        + ").  ",
+        f"*Name:* `{rec['name']}` — `lighting-explorer figures --only {rec['name']}`"
+        + ("" if rec["deterministic"] else f" (not pixel-reproducible: {rec['nondeterministic_reason']})")
+        + ".  ",
         f"*Parameters:* {params or '—'}",
         "",
     ]
+    if rec["name"] == "plausibility_table":
+        lines += [audit_markdown(1024 if _state["manifest"].get("quick") else 4096), ""]
     return "\n".join(lines)
+
+
+def _cell(text: str) -> str:
+    return html.escape(str(text)).replace("|", "&#124;")
+
+
+def audit_markdown(samples: int = 4096) -> str:
+    """The plausibility audit of the default cases as an HTML table, computed now.
+
+    Parameters
+    ----------
+    samples : int
+        Quadrature nodes per view angle for the albedo (as :func:`lighting.analysis.audit.audit`).
+
+    Returns
+    -------
+    str
+        A short introduction and a ``<table class="audit">``: one row per model with the smallest
+        value of ``f_r``, the reciprocity error, the albedo at normal incidence, its minimum and
+        maximum over view angles (with the integration error) and the three verdicts.
+    """
+    from lighting.analysis.audit import audit
+
+    table = audit(samples=samples)
+    s = table.settings
+    head = ["model", "parameters", "min f<sub>r</sub>", "recip. err", "ρ(0°)", "ρ min (θ)",
+            "ρ max (θ) ± err", "positive", "reciprocal", "energy", "note"]  # fmt: skip
+    rows = []
+    for r in table:
+        cells = [
+            f"<td>{_cell(r.label)}</td>",
+            f"<td><code>{_cell(r.params)}</code></td>",
+            f'<td class="num">{r.min_value:.3g}</td>',
+            f'<td class="num">{r.reciprocity:.1e}</td>',
+            f'<td class="num">{r.albedo_normal:.4f}</td>',
+            f'<td class="num">{r.albedo_min:.4f} ({r.theta_min_deg:g}°)</td>',
+            f'<td class="num">{r.albedo_max:.4f} ({r.theta_max_deg:g}°) ± {r.albedo_error:.0e}</td>',
+        ]
+        for ok in (r.positive, r.reciprocal, r.energy):
+            cells.append(f'<td class="{"pass" if ok else "fail"}">{"pass" if ok else "FAIL"}</td>')
+        cells.append(f"<td>{_cell(r.note)}</td>")
+        rows.append("<tr>" + "".join(cells) + "</tr>")
+    intro = (
+        "**The audit as a table** (`lighting.analysis.audit.audit()`, computed while this page was built): "
+        r"$\rho$ is the directional albedo $\int f_r\,(\mathbf n\cdot\mathbf l)\,d\omega_l$, the largest over RGB, "
+        f"by {s.get('method', 'quadrature')} "
+        f"with {s.get('samples')} nodes per angle over {s.get('view_angles')} view angles; reciprocity is "
+        f"checked over {s.get('pairs')} direction pairs; energy fails when ρ max − err > 1 + {s.get('energy_tol')}. "
+        "The figure above is the same audit drawn for slides."
+    )
+    return (
+        intro
+        + "\n\n"
+        + '<table class="audit">\n<thead><tr>'
+        + "".join(f"<th>{h}</th>" for h in head)
+        + "</tr></thead>\n<tbody>\n"
+        + "\n".join(rows)
+        + "\n</tbody>\n</table>"
+    )
 
 
 def on_page_markdown(markdown, page, config, files, **kwargs):
