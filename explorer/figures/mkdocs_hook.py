@@ -181,7 +181,7 @@ def audit_markdown(samples: int = 4096) -> str:
     Returns
     -------
     str
-        A short introduction and a ``<table class="audit">``: one row per model with the smallest
+        A short introduction and a ``<table>`` (in a ``<div class="audit-table">``): one row per model with the smallest
         value of ``f_r``, the reciprocity error, the albedo at normal incidence, its minimum and
         maximum over view angles (with the integration error) and the three verdicts.
     """
@@ -217,11 +217,12 @@ def audit_markdown(samples: int = 4096) -> str:
     return (
         intro
         + "\n\n"
-        + '<table class="audit">\n<thead><tr>'
+        # Material styles tables without a class: the class goes on the wrapper, which scrolls sideways.
+        + '<div class="audit-table md-typeset__scrollwrap"><div class="md-typeset__table">\n<table>\n<thead><tr>'
         + "".join(f"<th>{h}</th>" for h in head)
         + "</tr></thead>\n<tbody>\n"
         + "\n".join(rows)
-        + "\n</tbody>\n</table>"
+        + "\n</tbody>\n</table>\n</div></div>"
     )
 
 

@@ -76,6 +76,8 @@ def to_mathml(latex: str, display: bool) -> str:
     unknown = re.search(r"<m[io][^>]*>(\\[A-Za-z]+)</m[io]>", out)
     if unknown:  # latex2mathml shows a command it does not know as text: a typo, or not supported
         raise ValueError(f"formula '{latex.strip()}': unknown command {unknown.group(1)}")
+    if "<mi>&</mi>" in out:  # latex2mathml's aligned environment keeps '&' as text; split and cases work
+        raise ValueError(f"formula '{latex.strip()}': '&' outside split, cases, array or matrix")
     alt = html.escape(" ".join(latex.split()), quote=True)
     return out.replace("<math ", f'<math alttext="{alt}" ', 1)
 

@@ -76,6 +76,8 @@ def test_bad_formula_is_a_one_line_error_naming_it():
         mkdocs_math.to_mathml("a^", display=False)
     with pytest.raises(ValueError, match=r"formula '\\fracc\{1\}\{2\}': unknown command \\fracc"):
         mkdocs_math.to_mathml("\\fracc{1}{2}", display=True)
+    with pytest.raises(ValueError, match="'&' outside split"):
+        mkdocs_math.to_mathml("\\begin{aligned} a &= b \\\\ &= c \\end{aligned}", display=True)
 
 
 # --------------------------------------------------------------------------- the built site
@@ -216,7 +218,9 @@ def test_gallery_enlargeable_and_audit_as_table(site):
         png = f"gallery/{rec['files']['png']}"
         # the picture is a link to its own full-size file
         assert re.search(rf'<a href="{re.escape(png)}"[^>]*><img [^>]*src="{re.escape(png)}"', html), rec["name"]
-    table = re.search(r'<table class="audit">(.*?)</table>', html, re.S).group(1)
+    table = re.search(
+        r'<div class="audit-table[^"]*"><div class="md-typeset__table">\s*<table>(.*?)</table>', html, re.S
+    ).group(1)
     rows = {
         re.sub("<[^>]+>", "", r[0]): [re.sub("<[^>]+>", "", c) for c in r]
         for r in (re.findall(r"<td[^>]*>(.*?)</td>", row) for row in re.findall(r"<tr>(.*?)</tr>", table))
