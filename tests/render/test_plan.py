@@ -104,7 +104,7 @@ def test_describe_names_what_was_left_out():
     text = plan.describe()
     assert "per vertex" in text
     assert "light 1 (DirectionalLight) — its colour × intensity is zero" in text
-    assert "Phong(ks=0.0, shininess=10.0) — its coefficient is zero" in text
+    assert "Phong(ks=0, shininess=10) — its coefficient is zero" in text
     assert "view vectors and half vectors" in text
     ambient_only = compile_plan(Material(Lambert(0.5)), [AmbientLight()])
     assert ambient_only.strategy == "constant"
