@@ -95,7 +95,8 @@ def _one_error_line(err: str) -> str:
     ("argv", "expected", "absent"),
     [
         (["--size", "100000"], ["--size 100000 needs about", "GiB", "memory budget of 2.0 GiB"], []),
-        (["--size", "0"], ["--size must be WIDTHxHEIGHT or N (a square) in pixels, both >= 1 (e.g. 384 or 640x480); got '0'"], []),
+        (["--size", "0"], ["--size must be WIDTHxHEIGHT or N (a square) in pixels, both >= 1 (e.g. 384 or 640x480); "
+                           "got '0'"], []),
         (["--exposure", "1e308"], ["--exposure must be a finite number >= -100 and <= 100; got 1e+308"], []),
         (["--kd", "red"], ["--kd must be one number or three comma-separated numbers", "'red'"], ["_rgb"]),
         (["--kd", "1,2"], ["--kd must be one number or three"], []),
