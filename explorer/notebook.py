@@ -360,7 +360,7 @@ class NotebookExplorer:
         if self._busy:
             return
         t0 = time.perf_counter()
-        if name in self.controls and f"param:{name}:none" in self.controls:
+        if f"param:{name}:none" in self.controls:  # a row whose None has a check box: the slider is off at None
             self.controls[f"param:{name}"].disabled = value is None
         try:
             self.state.set_param(name, value)

@@ -109,10 +109,12 @@ def test_a_none_default_row_has_its_check_box():
     assert sorted(k.split(":")[1] for k in none_rows) == sorted(expected)
     if expected:
         name = expected[0]
+        assert ex.state.param(name) is None and ex.controls[f"param:{name}"].disabled
         ex.controls[f"param:{name}:none"].value = False  # take the slider's value
         assert ex.state.param(name) == pytest.approx(ex.controls[f"param:{name}"].value)
+        assert not ex.controls[f"param:{name}"].disabled
         ex.controls[f"param:{name}:none"].value = True
-        assert ex.state.param(name) is None
+        assert ex.state.param(name) is None and ex.controls[f"param:{name}"].disabled
 
 
 def test_open_brdf_joins_the_model_list(tmp_path):
