@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lighting import AmbientLight, DirectionalLight, PointLight
+from lighting import AmbientLight, DirectionalLight, Material, PointLight
 from lighting.lights import DiskLight, RectLight, SpotLight
 from lighting.models import model_variants
 from lighting.models.ashikhmin_shirley import AshikhminShirley
@@ -87,3 +87,21 @@ def test_every_registered_model_prints_one_short_line():
         text = repr(cls(**fixed))
         assert text.startswith(cls.__name__ + "(") and "\n" not in text and "array" not in text, name
         assert len(text) <= 80, (name, text)
+
+
+@pytest.mark.parametrize(
+    ("material", "text"),
+    [
+        (lambda: Material(Lambert(0.8) + Phong(0.5, 32)), "Material(Lambert(kd=0.8) + Phong(ks=0.5, shininess=32))"),
+        (lambda: Material(Phong(0.5, 32), ambient=0.1, emission=(1, 0, 0)),
+         "Material(Phong(ks=0.5, shininess=32), ambient=0.1, emission=(1, 0, 0))"),
+        (lambda: Material(Lambert((0.8, 0.2, 0.1)), ambient=(0.8, 0.2, 0.1)), "Material(Lambert(kd=(0.8, 0.2, 0.1)))"),
+    ],
+)
+def test_material_repr_leaves_out_its_defaults_and_rebuilds_it(material, text):
+    m = material()
+    assert repr(m) == text
+    again = eval(text, {"Material": Material, "Lambert": Lambert, "Phong": Phong})  # noqa: S307 - our own repr
+    np.testing.assert_array_equal(again.ambient, m.ambient)
+    np.testing.assert_array_equal(again.emission, m.emission)
+    assert repr(again.brdf) == repr(m.brdf)

@@ -76,7 +76,8 @@ def _figures_dir(log) -> str:
     log.info(f"gallery: drawing the figure set into {out}{' (quick)' if quick else ''}")
     # The quick set is done faster in this process than worker processes take to start.
     jobs = 1 if quick else max(1, min(4, os.cpu_count() or 1))
-    generate(out, formats=("png",), quick=quick, jobs=jobs,
+    # PNG for the page; SVG and PDF for a lecturer's slides and notes (linked under each figure).
+    generate(out, formats=("png", "svg", "pdf"), quick=quick, jobs=jobs,
              log=lambda name, sec: log.info(f"gallery: {name} ({sec:.1f} s)"))  # fmt: skip
     from explorer.output import atomic_write
 

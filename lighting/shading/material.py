@@ -4,13 +4,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from .._numeric import ArgumentTypeError, _fmt, check_color
 from ..models.base import BRDF
 
 __all__ = ["Material"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Material:
     """A surface: a reflectance model plus the slides' ambient and emission coefficients.
 
@@ -39,6 +41,21 @@ class Material:
         ka = self.brdf.diffuse_albedo if self.ambient is None else self.ambient
         object.__setattr__(self, "ambient", check_color("ambient", ka))
         object.__setattr__(self, "emission", check_color("emission", self.emission))
+
+    def __repr__(self) -> str:
+        """One line: the model, then ``ambient`` and ``emission`` only where they differ from their defaults.
+
+        ``Material(Lambert(kd=0.8) + Phong(ks=0.5, shininess=32))``; ``ambient`` defaults to the model's
+        diffuse albedo, ``emission`` to 0.
+        """
+        from ..models.base import _short
+
+        fields = [repr(self.brdf)]
+        if not np.array_equal(self.ambient, check_color("ambient", self.brdf.diffuse_albedo)):
+            fields.append(f"ambient={_short(self.ambient)}")
+        if np.any(self.emission != 0):
+            fields.append(f"emission={_short(self.emission)}")
+        return f"Material({', '.join(fields)})"
 
 
 def check_material(material) -> Material:

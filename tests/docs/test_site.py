@@ -218,6 +218,10 @@ def test_gallery_enlargeable_and_audit_as_table(site):
         png = f"gallery/{rec['files']['png']}"
         # the picture is a link to its own full-size file
         assert re.search(rf'<a href="{re.escape(png)}"[^>]*><img [^>]*src="{re.escape(png)}"', html), rec["name"]
+        # and its vector forms, for slides and notes, are linked and shipped with the site
+        for kind in ("svg", "pdf"):
+            link = f"gallery/{rec['files'][kind]}"
+            assert f'href="{link}"' in html and (out / link).stat().st_size > 1000, (rec["name"], kind)
     table = re.search(
         r'<div class="audit-table[^"]*"><div class="md-typeset__table">\s*<table>(.*?)</table>', html, re.S
     ).group(1)
