@@ -32,7 +32,7 @@ from ._checks import _NODE_BUDGET, _check_brdf, _out, _replicates, _samples
 from ._delta import delta_albedo, split_delta
 from .estimate import _ROUNDING, Estimate, _combine
 from .montecarlo import _mc_estimates, _probe_count
-from .quadrature import _gl01, _lobe_rule, _split
+from .quadrature import _coarse_rules, _gl01, _lobe_rule, _split
 from .sampling import _f_cos, as_generator
 
 __all__ = ["METHODS", "AlbedoCurve", "directional_albedo", "albedo_curve", "hemispherical_albedo"]
@@ -86,13 +86,12 @@ def _quad_albedo(brdf: BRDF, v: np.ndarray, samples: int):
     used = 0
     for part in parts:
         vals = []
-        for a, b, k in ((nr, nph, 2), (cr, cph, 1)):
-            rule = _lobe_rule(part, v, a, b, k)
+        for rule in (_lobe_rule(part, v, nr, nph, 2), *_coarse_rules(part, v, cr, cph)):
             f = _f_cos(part, rule.l, np.broadcast_to(v[:, None, :], rule.l.shape))
             vals.append(np.einsum("bm,bmk->bk", rule.w, f))
             used += rule.l.shape[1]
         total += vals[0]
-        err += np.abs(vals[0] - vals[1])
+        err += np.max([np.abs(vals[0] - c) for c in vals[1:]], axis=0)
     return total, np.maximum(err, _ROUNDING * np.abs(total)), used
 
 

@@ -58,7 +58,7 @@ from ._delta import delta_radiance, split_delta
 from .albedo import METHODS
 from .estimate import _ROUNDING, Estimate, _combine, _mean_err, _ratio, _terms, _weight_range
 from .montecarlo import _ENV_PROBES, _lobe_probes, _method_sampler, _probe_count, _sampled_mean
-from .quadrature import _cap_rule, _lobe_rule, _split
+from .quadrature import _cap_rule, _coarse_rules, _lobe_rule, _split
 from .sampling import BYTES_PER_SAMPLE, _f_cos, as_generator, importance_sampler
 from .sh import _sh_error_bound, _sh_truncation_error, sh_coefficients, sh_irradiance
 
@@ -130,13 +130,12 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
         used = 0
         for part in parts:
             vals = []
-            for a, m, k in ((nr, nph, 2), (cr, cph, 1)):
-                rule = _lobe_rule(part, vl, a, m, k)
+            for rule in (_lobe_rule(part, vl, nr, nph, 2), *_coarse_rules(part, vl, cr, cph)):
                 f = _f_cos(part, rule.l, np.broadcast_to(vv, rule.l.shape))
                 vals.append(np.einsum("bm,bmk->bk", rule.w, f * env._radiance(_to_world(rule.l, t, b, n))))
                 used += rule.l.shape[1]
             total += vals[0]
-            err += np.abs(vals[0] - vals[1])
+            err += np.max([np.abs(vals[0] - c) for c in vals[1:]], axis=0)
         err = np.maximum(err, _ROUNDING * np.abs(total))
         return total, err, np.zeros_like(err), used
 
