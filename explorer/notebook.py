@@ -30,11 +30,11 @@ Example
 from __future__ import annotations
 
 import math
-import struct
 import time
-import zlib
 
 import numpy as np
+
+from lighting.render.image import png_bytes
 
 from .app.drawing import albedo_caption
 from .app.layout import BACKGROUND
@@ -63,7 +63,8 @@ def _require():
 def png_of(rgb8) -> bytes:
     """PNG bytes of an 8-bit image ``(H, W, 3)`` or ``(H, W, 4)`` (alpha composited over the window's background).
 
-    Written with the standard library (``zlib`` at its fastest level: a widget image is sent once).
+    Written by the engine's :func:`lighting.render.image.png_bytes` at ``zlib``'s fastest level (a widget
+    image is sent once).
 
     Parameters
     ----------
@@ -85,15 +86,7 @@ def png_of(rgb8) -> bytes:
             w = alpha.astype(np.uint16)
             bg = np.array(_BG8, dtype=np.uint16)
             a = ((a[..., :3].astype(np.uint16) * w + bg * (255 - w) + 127) // 255).astype(np.uint8)
-    a = np.ascontiguousarray(a, dtype=np.uint8)
-    h, w_, _ = a.shape
-    raw = np.concatenate([np.zeros((h, 1), np.uint8), a.reshape(h, 3 * w_)], axis=1).tobytes()
-
-    def chunk(tag: bytes, data: bytes) -> bytes:
-        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
-
-    header = struct.pack(">IIBBBBB", w_, h, 8, 2, 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 1)) + chunk(b"IEND", b"")
+    return png_bytes(np.ascontiguousarray(a, dtype=np.uint8), level=1)
 
 
 def _with_scanline(rgb8: np.ndarray, row: int) -> np.ndarray:

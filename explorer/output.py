@@ -564,13 +564,13 @@ def encode_image(fmt: str, *, rgb8=None, linear=None):
         if fmt == "pfm":
             return _pfm_bytes(a)
         return _exr_writer(a)
-    from lighting.render.image import _png_bytes
+    from lighting.render.image import png_bytes
 
     a = np.asarray(rgb8)
     if a.dtype != np.uint8 or a.ndim != 3 or a.shape[-1] not in (3, 4):
         raise OutputError(f"an 8-bit image must be uint8 of shape (H, W, 3|4); got {a.dtype} {a.shape}")
     if fmt == "png":
-        return _png_bytes(np.ascontiguousarray(a))
+        return png_bytes(np.ascontiguousarray(a))
     from PIL import Image
 
     im = Image.fromarray(np.ascontiguousarray(a))

@@ -29,7 +29,10 @@ from .._numeric import check_choice, check_range
 #: Largest exposure, in stops, either way (2**100 is about 1e30): beyond it nothing is left to see.
 MAX_EXPOSURE = 100.0
 
-__all__ = ["EncodeReport", "linear_to_srgb", "srgb_to_linear", "encode_srgb8", "write_png", "read_png", "file_mode"]
+__all__ = [
+    "EncodeReport", "linear_to_srgb", "srgb_to_linear", "encode_srgb8", "png_bytes", "write_png", "read_png",
+    "file_mode",
+]
 
 
 def linear_to_srgb(x):
@@ -129,7 +132,21 @@ def encode_srgb8(image, *, exposure: float = 0.0, tonemap: str = "clamp"):
     return y, EncodeReport(clipped, x.shape[0] * x.shape[1], peak)
 
 
-def _png_bytes(rgb8: np.ndarray) -> bytes:
+def png_bytes(rgb8: np.ndarray, *, level: int = 6) -> bytes:
+    """A PNG file's bytes for an 8-bit image, written with the standard library (``zlib``) only.
+
+    Parameters
+    ----------
+    rgb8 : numpy.ndarray of uint8, C-contiguous, shape (H, W, 3) or (H, W, 4)
+        The pixels, first row at the top (RGB, or RGBA with straight alpha).
+    level : int
+        ``zlib`` compression level, 0–9 (6: a file; 1: an image sent once, e.g. to a notebook widget).
+
+    Returns
+    -------
+    bytes
+        The PNG file (8 bits per channel, colour type 2 or 6).
+    """
     h, w, c = rgb8.shape
     color_type = {3: 2, 4: 6}[c]
     raw = np.concatenate([np.zeros((h, 1), np.uint8), rgb8.reshape(h, w * c)], axis=1).tobytes()
@@ -138,7 +155,7 @@ def _png_bytes(rgb8: np.ndarray) -> bytes:
         return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
 
     ihdr = struct.pack(">IIBBBBB", w, h, 8, color_type, 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, level)) + chunk(b"IEND", b"")
 
 
 def _umask() -> int:
@@ -192,7 +209,7 @@ def write_png(path, rgb8) -> None:
     a = np.asarray(rgb8)
     if a.dtype != np.uint8 or a.ndim != 3 or a.shape[-1] not in (3, 4):
         raise ValueError(f"write_png needs a uint8 array of shape (H, W, 3|4); got {a.dtype} {a.shape}")
-    data = _png_bytes(np.ascontiguousarray(a))
+    data = png_bytes(np.ascontiguousarray(a))
     path = os.fspath(path)
     target = os.path.realpath(path) if os.path.islink(path) else os.path.abspath(path)
     mode = file_mode(target)

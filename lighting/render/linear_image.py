@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._numeric import check_choice, check_range
-from .image import MAX_EXPOSURE, _png_bytes, encode_srgb8, write_png
+from .image import MAX_EXPOSURE, encode_srgb8, png_bytes, write_png
 
 __all__ = ["LinearImage", "as_linear_image"]
 
@@ -193,7 +193,7 @@ class LinearImage(np.ndarray):
         bytes
             A complete PNG file (8-bit RGB).
         """
-        return _png_bytes(np.ascontiguousarray(self.srgb8(exposure=exposure, tonemap=tonemap)))
+        return png_bytes(np.ascontiguousarray(self.srgb8(exposure=exposure, tonemap=tonemap)))
 
     def save(self, path) -> None:
         """Write the image as a PNG file, sRGB-encoded with this image's exposure and tone map.

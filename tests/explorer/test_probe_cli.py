@@ -107,9 +107,9 @@ def _snapshot(root: Path) -> dict:
 
 
 def _old_png() -> bytes:
-    from lighting.render.image import _png_bytes
+    from lighting.render.image import png_bytes
 
-    return _png_bytes(np.full((2, 2, 3), 7, np.uint8))
+    return png_bytes(np.full((2, 2, 3), 7, np.uint8))
 
 
 def _sandbox(root: Path) -> Path:
