@@ -122,13 +122,14 @@ class MerlBRDF(BRDF):
         self._setup(raw, interpolation, source)
         return self
 
-    def _setup(self, raw, interpolation, source):
+    def _setup(self, raw, interpolation, source, lut=None):
         self.interpolation = check_choice("interpolation", interpolation, _INTERPOLATIONS)
         self.source = source
         self._raw = raw.reshape(3, BINS)  # the stored values, kept bitwise for write_merl
-        # Channel-last f_r with missing bins filled: one gather gives the RGB triple.
-        self._lut = np.ascontiguousarray(_fill_missing(self._raw.reshape(3, -1, DIMS[2])).reshape(3, BINS).T)
-        self._lut *= SCALE
+        if lut is None:  # channel-last f_r with missing bins filled: one gather gives the RGB triple
+            lut = np.ascontiguousarray(_fill_missing(self._raw.reshape(3, -1, DIMS[2])).reshape(3, BINS).T)
+            lut *= SCALE
+        self._lut = lut
 
     @property
     def raw(self) -> np.ndarray:
@@ -478,8 +479,7 @@ def model_class(path) -> type:
     read = read_merl(path)
 
     def __init__(self, interpolation: str = "nearest"):
-        self.interpolation = check_choice("interpolation", interpolation, _INTERPOLATIONS)
-        self.source, self._raw, self._lut = read.source, read._raw, read._lut
+        self._setup(read._raw, interpolation, read.source, lut=read._lut)  # the table read once, shared
 
     lookup = Parameter("interpolation", "choice", "nearest", choices=_INTERPOLATIONS,
                        description="nearest bin (as the reference reader) or trilinear in bin coordinates")  # fmt: skip
