@@ -114,6 +114,38 @@ class DefaultsHelpFormatter(argparse.HelpFormatter):
         return f"{text} (default: {shown.replace('%', '%%')})"
 
 
+class CommandTreeParser(OneLineParser):
+    """The top of the command tree: its help lists the commands, then every command's options.
+
+    ``lighting-explorer --help`` thus shows each option of each command with its default (the
+    sub-commands' own ``--help`` shows the same lines with the command's description).
+    """
+
+    def format_help(self):
+        text = super().format_help()
+        sub = next(a for a in self._actions if isinstance(a, argparse._SubParsersAction))
+        parts = [text]
+        for name, command in _leaf_parsers(sub):
+            formatter = command._get_formatter()
+            formatter.start_section(f"{name} options")
+            for group in command._action_groups:
+                formatter.add_arguments([a for a in group._group_actions if a.option_strings
+                                         and not isinstance(a, argparse._HelpAction)])  # fmt: skip
+            formatter.end_section()
+            parts.append(formatter.format_help())
+        return "\n\n".join(p.strip("\n") for p in parts) + "\n"
+
+
+def _leaf_parsers(sub, prefix=""):
+    """``(name, parser)`` of every runnable command under ``sub`` (``report accuracy``, not ``report``)."""
+    for name, parser in sub.choices.items():
+        nested = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+        if nested:
+            yield from _leaf_parsers(nested[0], f"{prefix}{name} ")
+        else:
+            yield f"{prefix}{name}", parser
+
+
 def did_you_mean(word: str, candidates) -> str:
     """``"; did you mean 'render'?"`` for the candidate closest to ``word`` (:mod:`difflib`), else ``""``.
 
@@ -352,18 +384,9 @@ COMMANDS = {
     "sphere": "explorer.commands.sphere",
     "bench": "explorer.commands.bench",
     "render": "explorer.commands.render",
-    "report": None,
-    "explore": None,
+    "report": "explorer.reports",
+    "explore": "explorer.app.command",
     "figures": "explorer.commands.figures",
-}
-
-#: Sub-commands that keep their own parser, with the help line the tree shows for them; the rest of the
-#: command line goes to the module's ``main(argv)``.  ``explore`` is also what runs with no sub-command, and
-#: its messages name no sub-command (``lighting-explorer: …``, usage ``lighting-explorer [options]``); a bare
-#: ``report`` lists the reports and exits 0, where a required argparse sub-command would exit 2.
-DELEGATES = {
-    "report": ("explorer.reports", "'report accuracy' and 'report stability'"),
-    "explore": ("explorer.app", "the explorer window (the default: no sub-command)"),
 }
 
 
@@ -371,7 +394,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The one argparse tree of ``lighting-explorer``: every sub-command and its options.
 
     Each command module's ``add_parser(subparsers)`` adds its sub-parser (with ``func`` set to its
-    ``run``); the :data:`DELEGATES` appear with their help line only.
+    ``run``).  Building it imports no window, figure or report code: ``render`` stays fast.
 
     Returns
     -------
@@ -380,22 +403,20 @@ def build_parser() -> argparse.ArgumentParser:
     """
     import importlib
 
-    p = OneLineParser(
+    p = CommandTreeParser(
         prog=PROG,
         description="Explore local illumination models. With no sub-command, opens the explorer window.",
-        epilog=f"'{PROG} COMMAND --help' lists a command's options and their defaults. --memory-budget SIZE "
-        "(anywhere on the line; e.g. 4G, 512M; default 2G) raises or lowers the memory any one request may use.",
+        epilog=f"'{PROG} COMMAND --help' lists a command's options and their defaults; they are also listed "
+        "below. --memory-budget SIZE (anywhere on the line; e.g. 4G, 512M; default 2G) raises or lowers the "
+        "memory any one request may use.",
     )
     p.add_argument("--version", action="version", version=f"{PROG} {package_version()}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=OneLineParser, metavar="COMMAND",
                            title="commands")  # fmt: skip
-    for name, module in COMMANDS.items():
-        if module is None:
-            sub.add_parser(name, help=DELEGATES[name][1])
-        else:
-            # An argument the sub-command does not know is reported by the sub-command's parser (see parse).
-            command = importlib.import_module(module).add_parser(sub)
-            command.set_defaults(_parser=command)
+    for module in COMMANDS.values():
+        # An argument the sub-command does not know is reported by the sub-command's parser (see parse).
+        command = importlib.import_module(module).add_parser(sub)
+        command.set_defaults(_parser=command)
     return p
 
 
@@ -459,7 +480,7 @@ def run_alone(name: str, argv=None) -> int:
 
 
 def parse_and_run(build_parser, run, argv=None, *, errors=(ValueError,)) -> int:
-    """A delegated command's ``main(argv)``: parse with its own parser, then ``run(args)``.
+    """A command's standalone ``main(argv)``: parse with its own parser, then ``run(args)``.
 
     A bad value raised while parsing (one of ``errors``) is printed as one line and gives status 2.
 
@@ -555,12 +576,14 @@ def _command_of(argv: list[str]) -> str:
 
 def _dispatch(argv: list[str]) -> int:
     if not argv or (argv[0].startswith("--") and argv[0] not in ("--help", "--version")):
-        # No sub-command: open the explorer window (its own options, e.g. --off-screen --screenshot x.png).
+        # No sub-command: the explorer window, with explore's options (e.g. --off-screen --screenshot x.png).
         argv = ["explore", *argv]
-    if argv[0] in DELEGATES:
-        import importlib
+    if argv[0] == "report" and (len(argv) == 1 or not argv[1].startswith("-")):
+        from .reports import REPORTS
+        from .reports import main as report_main
 
-        return importlib.import_module(DELEGATES[argv[0]][0]).main(argv[1:])
+        if len(argv) == 1 or argv[1] not in REPORTS:  # the list of reports (exit 0), or "unknown report …"
+            return report_main(argv[1:])
     args = parse(argv)
     return args.func(args)
 

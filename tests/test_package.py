@@ -71,13 +71,16 @@ def test_cli_reports_bad_values(tmp_path, capsys):
 
 
 def test_cli_routes_sub_commands(capsys, monkeypatch):
-    import explorer.app
+    import explorer.app.command
     import explorer.cli as cli
 
     seen = []
-    monkeypatch.setattr(explorer.app, "main", lambda argv: seen.append(argv) or 0)
+    monkeypatch.setattr(explorer.app.command, "run", lambda args: seen.append(args) or 0)
     assert cli.main([]) == 0 and cli.main(["--off-screen", "--screenshot", "x.png"]) == 0
-    assert seen == [[], ["--off-screen", "--screenshot", "x.png"]]
+    assert cli.main(["explore", "--model", "phong"]) == 0
+    assert [(a.command, a.off_screen, a.screenshot, a.model) for a in seen] == [
+        ("explore", False, None, None), ("explore", True, "x.png", None), ("explore", False, None, "phong")
+    ]
     assert cli.main(["report"]) == 0
     assert "accuracy" in capsys.readouterr().out
 

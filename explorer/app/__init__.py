@@ -25,18 +25,43 @@ The package, by topic:
   :func:`benchmark_handlers`; :mod:`~explorer.app.command` — the ``explore`` command
   (:func:`main`, :func:`build_parser`, :func:`add_parser`, :func:`run`).
 
-Only the state, views and encoder are imported with the package (NumPy and the engine); PyVista
+Nothing is imported with the package: each public name loads its module on first use, and PyVista
 and Matplotlib load when a window is built.
 """
 
 from __future__ import annotations
 
-from .bench import benchmark_handlers
-from .command import add_parser, build_parser, main, run
-from .display import display_problem, has_display, no_display_message
-from .drawing import albedo_caption
-from .layout import DEFAULT_WINDOW_SIZE, IDLE_MS
-from .window import ExplorerApp
+import importlib
+
+#: Where each public name lives; a name is imported on first use (PEP 562), so ``explorer.app.command``
+#: (the ``explore`` options, built into the command tree for every run) loads no window code.
+_HOMES = {
+    "benchmark_handlers": "bench",
+    "add_parser": "command",
+    "build_parser": "command",
+    "main": "command",
+    "run": "command",
+    "display_problem": "display",
+    "has_display": "display",
+    "no_display_message": "display",
+    "albedo_caption": "drawing",
+    "DEFAULT_WINDOW_SIZE": "layout",
+    "IDLE_MS": "layout",
+    "ExplorerApp": "window",
+}
+
+
+def __getattr__(name):
+    if name not in _HOMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_HOMES[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_HOMES))
+
 
 __all__ = [
     "DEFAULT_WINDOW_SIZE",

@@ -9,10 +9,21 @@ import sys
 import numpy as np
 
 from ..compare import BRDFList
-from .comparing import MAX_ENTRIES
 from .display import display_problem, no_display_message
 from .layout import DEFAULT_WINDOW_SIZE
-from .state import ATTENUATIONS, CHANNELS, CONTROLS, DEFAULTS, FIT_MODELS, FORMS, LIGHT_TYPES, MODELS, NDFS, AppState
+from .state import (
+    ATTENUATIONS,
+    CHANNELS,
+    CONTROLS,
+    DEFAULTS,
+    FIT_MODELS,
+    FORMS,
+    LIGHT_TYPES,
+    MAX_ENTRIES,
+    MODELS,
+    NDFS,
+    AppState,
+)
 
 #: Smallest and largest window the explorer lays out.
 MIN_WINDOW, MAX_WINDOW = (640, 400), (8192, 8192)
@@ -63,9 +74,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     argparse.ArgumentParser
         The ``explore`` parser (its ``func`` default is :func:`run`).
     """
-    p = subparsers.add_parser(
-        "explore", help="the explorer window (the default: no sub-command)", description=DESCRIPTION
-    )
+    # Named as the program: explore is what runs with no sub-command, so its usage and errors say
+    # ``lighting-explorer [options]`` either way.
+    p = subparsers.add_parser("explore", help="the explorer window (the default: no sub-command)",
+                              description=DESCRIPTION, prog="lighting-explorer")  # fmt: skip
     add_options(p)
     p.set_defaults(func=run)
     return p

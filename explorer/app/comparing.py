@@ -50,6 +50,7 @@ from lighting.integrate import albedo_curve
 
 from ..compare import FIT_MODELS, BRDFList
 from .params import model_label, offered_parameters
+from .state import MAX_ENTRIES, PANELS
 
 __all__ = [
     "PANELS",
@@ -64,15 +65,11 @@ __all__ = [
     "CompareMixin",
 ]
 
-#: What the right BRDF panel shows: the angle curves, or the albedo curves.
-PANELS = ("angles", "albedo")
 #: The view angles of the albedo curves, degrees: 0° … 88° in 2° steps and 89°.  At 90° the view is on
 #: the horizon, where every BRDF is 0 by the engine's convention (so ρ = 0 there, for Lambert too).
 ALBEDO_ANGLES_DEG = np.append(np.arange(0.0, 89.0, 2.0), 89.0)
 #: Quadrature nodes per albedo value of the curves (the readout's count).
 CURVE_SAMPLES = 4096
-#: Entries the window's list holds (each is a row of the Compare panel and a curve in every plot).
-MAX_ENTRIES = 6
 #: Short names of parameters in labels (the controls' names, shortened).
 _SHORT = {"shininess": "e", "roughness": "α", "alpha_x": "α_x", "alpha_y": "α_y", "sigma": "σ", "ks": "k_s",
           "f0": "F0", "kd": "k_d", "rs": "R_s", "nu": "n_u", "nv": "n_v"}  # fmt: skip

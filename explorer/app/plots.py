@@ -63,7 +63,7 @@ STYLE = {
 }
 
 
-#: Curves of comparison entries each BRDF plot can draw (explorer.app.comparing.MAX_ENTRIES).
+#: Curves of comparison entries each BRDF plot can draw (explorer.app.state.MAX_ENTRIES).
 OVERLAY_SLOTS = 6
 #: Half-range of the profile's relative second-difference axis.
 D2_LIMIT = 2.0

@@ -36,7 +36,7 @@ from lighting.models import model_variants
 from lighting.render import SHADING_MODES
 from lighting.vec import direction_from_elevation
 
-from .comparing import FIT_MODELS, PANELS
+from ..compare import FIT_MODELS
 from .params import (
     MODEL_LABELS,
     MODELS,
@@ -63,6 +63,7 @@ __all__ = [
     "ALBEDO_SAMPLES",
     "FIT_MODELS",
     "PANELS",
+    "MAX_ENTRIES",
     "Control",
     "CONTROLS",
     "AppState",
@@ -72,6 +73,10 @@ __all__ = [
 
 
 LIGHT_TYPES = ("directional", "point", "spot", "ambient")
+#: What the right BRDF panel shows: the angle curves, or the albedo curves.
+PANELS = ("angles", "albedo")
+#: Entries the window's comparison list holds (each is a row of the Compare panel and a curve in every plot).
+MAX_ENTRIES = 6
 # ATTENUATIONS (imported above) are the engine's falloff presets: (a, b, c) of 1 / (a r² + b r + c).
 #: Cost of the albedo readout (BRDF evaluations of the quadrature, fine and coarse rule together).
 ALBEDO_SAMPLES = 4096

@@ -353,7 +353,7 @@ class ExplorerModel(CompareMixin):
     dtype : float32 or float64
         Shading precision (float32: faster, relative error of a few 1e-7).
     compare : explorer.compare.BRDFList, optional
-        The comparison list (default: an empty one of :data:`~explorer.app.comparing.MAX_ENTRIES`);
+        The comparison list (default: an empty one of :data:`~explorer.app.state.MAX_ENTRIES`);
         see :mod:`explorer.app.comparing` for what the views draw of it.
 
     Attributes

@@ -4,5 +4,6 @@ Every module offers ``add_parser(subparsers)`` (adds the command and its options
 tree, :func:`explorer.cli.build_parser`, with ``func`` set to its ``run``), ``run(args) -> int`` (runs
 it on parsed options and returns the exit status) and ``main(argv) -> int`` (runs it alone).  The
 work itself lives with its topic: the engine (``sphere``, ``render``), :mod:`explorer.bench`,
-:mod:`explorer.figures`.  ``explore`` and ``report`` keep their own parsers (:data:`explorer.cli.DELEGATES`).
+:mod:`explorer.figures`.  ``explore`` (:mod:`explorer.app.command`) and ``report``
+(:mod:`explorer.reports`, its options in :mod:`explorer.reports.options`) are in the same tree.
 """

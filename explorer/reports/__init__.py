@@ -5,12 +5,9 @@ from __future__ import annotations
 import importlib
 import sys
 
-__all__ = ["REPORTS", "add_parser", "run", "main"]
+from .options import REPORTS, add_report
 
-REPORTS = {
-    "accuracy": ("explorer.reports.accuracy", "error against run time wherever the engine trades accuracy for speed"),
-    "stability": ("explorer.reports.stability", "numerical stability on stiff and extreme cases, against mpmath"),
-}
+__all__ = ["REPORTS", "add_parser", "run", "main"]
 
 
 def add_parser(subparsers):
@@ -24,15 +21,15 @@ def add_parser(subparsers):
     Returns
     -------
     argparse.ArgumentParser
-        The ``report`` parser; each report's parser has ``func`` set to that report's ``run``.
+        The ``report`` parser; each report's parser has ``func`` set to :func:`run`, which loads the
+        report's module only then (building the tree loads neither mpmath nor the integrator).
     """
     p = subparsers.add_parser(
         "report", help="accuracy reports: 'report accuracy' (error vs run time), 'report stability'"
     )
-    reports = p.add_subparsers(dest="report", required=True, parser_class=type(p))
-    for module, _ in REPORTS.values():
-        importlib.import_module(module).add_parser(reports)
-    p.set_defaults(func=run)
+    reports = p.add_subparsers(dest="report", required=True, parser_class=type(p), metavar="REPORT", title="reports")
+    for name in REPORTS:
+        add_report(reports, name, run=run)
     return p
 
 
@@ -68,7 +65,7 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or argv[0] in ("-h", "--help") or argv[0] not in REPORTS:
         lines = ["usage: lighting-explorer report {accuracy,stability} [options]", "", "reports:"]
-        lines += [f"  {name:10s} {text}" for name, (_, text) in REPORTS.items()]
+        lines += [f"  {name:10s} {text}" for name, (_, text, *_) in REPORTS.items()]
         lines += ["", "'lighting-explorer report NAME --help' lists a report's options and their defaults."]
         if argv and argv[0] not in ("-h", "--help"):
             from lighting._numeric import _fmt

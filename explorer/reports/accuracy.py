@@ -11,7 +11,7 @@ import time
 from dataclasses import asdict
 
 from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
-from lighting.validation.accuracy import STUDY_NAMES, run_studies, summary
+from lighting.validation.accuracy import run_studies, summary
 
 from ..progress import Progress
 
@@ -187,62 +187,17 @@ def make_figure(studies, path) -> None:
         plt.close(fig)
 
 
-DESCRIPTION = "Measure error against run time wherever the engine trades accuracy for speed."
-
-
-def add_arguments(p):
-    """Add the options of ``report accuracy`` to ``p``.
-
-    Parameters
-    ----------
-    p : argparse.ArgumentParser
-        The parser (standalone or a sub-parser of the command tree).
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        ``p``.
-    """
-    p.add_argument("--quick", action="store_true", help="small sample counts and images (about 5 s; for tests)")
-    p.add_argument("--out", metavar="DIR", default=os.path.join("out", "accuracy"), help="output folder")
-    p.add_argument("--no-figure", action="store_true", help="skip the figure (then Matplotlib is not needed)")
-    p.add_argument("--only", nargs="+", choices=STUDY_NAMES, metavar="STUDY",
-                   help=f"run only these studies, from {', '.join(STUDY_NAMES)} (default: all)")  # fmt: skip
-    return p
-
-
 def build_parser():
-    """The standalone parser of ``lighting-explorer report accuracy``.
+    """The standalone parser of ``lighting-explorer report accuracy`` (its options: :mod:`explorer.reports.options`).
 
     Returns
     -------
     argparse.ArgumentParser
         A :class:`~explorer.cli.OneLineParser` (errors are one-line exceptions, not ``exit(2)``).
     """
-    from ..cli import OneLineParser
+    from .options import add_report
 
-    return add_arguments(OneLineParser(prog="lighting-explorer report accuracy", description=DESCRIPTION))
-
-
-def add_parser(subparsers):
-    """Add ``accuracy`` to ``subparsers`` (the sub-parsers of ``report``) with its options.
-
-    Parameters
-    ----------
-    subparsers : argparse._SubParsersAction
-        Where to add it.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The new sub-parser (its ``func`` default is :func:`run`).
-    """
-    p = subparsers.add_parser(
-        "accuracy", help="error against run time wherever the engine trades accuracy for speed", description=DESCRIPTION
-    )
-    add_arguments(p)
-    p.set_defaults(func=run)
-    return p
+    return add_report(None, "accuracy")
 
 
 def main(argv=None) -> int:
@@ -269,7 +224,7 @@ def run(args) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        The options of :func:`add_arguments`.
+        The options of :func:`explorer.reports.options.add_accuracy_arguments`.
 
     Returns
     -------

@@ -35,7 +35,7 @@ from lighting.validation import stability as st
 from ..output import atomic_write
 from ..progress import Progress
 
-__all__ = ["main", "run", "add_parser", "build_parser", "format_table", "write_csv", "make_figure", "CSV_COLUMNS"]
+__all__ = ["main", "run", "build_parser", "format_table", "write_csv", "make_figure", "CSV_COLUMNS"]
 
 CSV_COLUMNS = [f.name for f in fields(st.SummaryRow)] + ["passed", "u", "bound_factor"]
 
@@ -317,73 +317,17 @@ def make_figure(result: st.StabilityResult, path: Path) -> None:
     atomic_write(path, buf.getvalue(), flag="--out")
 
 
-#: Memory one mpmath reference worker takes (interpreter, NumPy, mpmath, its share of the cases).
-WORKER_BYTES = 128 * 1024**2
-#: More workers than this only cost memory.
-MAX_WORKERS = 64
-
-
-DESCRIPTION = (
-    "Check numerical stability of every model and light on stiff and extreme cases, "
-    "in float32 and float64, against an 80-digit mpmath reference."
-)
-
-
-def add_arguments(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    """Add the options of ``report stability`` to ``p``.
-
-    Parameters
-    ----------
-    p : argparse.ArgumentParser
-        The parser (standalone or a sub-parser of the command tree).
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        ``p``.
-    """
-    p.add_argument("--quick", action="store_true",
-                   help="fewer points per case family (about 45 s on 2 cores, mostly mpmath)")  # fmt: skip
-    p.add_argument("--out", metavar="DIR", default="out/stability", help="output folder")
-    p.add_argument("--no-figure", action="store_true", help="skip the figure (then Matplotlib is not needed)")
-    p.add_argument("--dtype", choices=("float32", "float64", "both"), default="both", help="which float types")
-    p.add_argument("--workers", type=int, default=None,
-                   help=f"processes for the mpmath reference, 1 to {MAX_WORKERS} (default: 2)")  # fmt: skip
-    return p
-
-
 def build_parser() -> argparse.ArgumentParser:
-    """The standalone parser of ``lighting-explorer report stability``.
+    """The standalone parser of ``lighting-explorer report stability`` (its options: :mod:`explorer.reports.options`).
 
     Returns
     -------
     argparse.ArgumentParser
         A :class:`~explorer.cli.OneLineParser` (errors are one-line exceptions, not ``exit(2)``).
     """
-    from ..cli import OneLineParser
+    from .options import add_report
 
-    return add_arguments(OneLineParser(prog="lighting-explorer report stability", description=DESCRIPTION))
-
-
-def add_parser(subparsers) -> argparse.ArgumentParser:
-    """Add ``stability`` to ``subparsers`` (the sub-parsers of ``report``) with its options.
-
-    Parameters
-    ----------
-    subparsers : argparse._SubParsersAction
-        Where to add it.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The new sub-parser (its ``func`` default is :func:`run`).
-    """
-    p = subparsers.add_parser(
-        "stability", help="numerical stability on stiff and extreme cases, against mpmath", description=DESCRIPTION
-    )
-    add_arguments(p)
-    p.set_defaults(func=run)
-    return p
+    return add_report(None, "stability")
 
 
 def check_args(args) -> None:
@@ -402,6 +346,7 @@ def check_args(args) -> None:
     from lighting._numeric import check_budget, check_count
 
     from ..output import check_output_dir
+    from .options import MAX_WORKERS, WORKER_BYTES
 
     if args.workers is not None:
         args.workers = check_count("--workers", args.workers, 1, MAX_WORKERS)
@@ -434,7 +379,7 @@ def run(args) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        The options of :func:`add_arguments`.
+        The options of :func:`explorer.reports.options.add_stability_arguments`.
 
     Returns
     -------

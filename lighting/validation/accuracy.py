@@ -42,7 +42,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_bool, real_array
-from ..integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo, outgoing_radiance
 from ..lights import AmbientLight, DirectionalLight, PointLight, RectLight
 from ..lights.environment import FunctionEnvironment
 from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
@@ -74,6 +73,8 @@ class Point:
     unconverged: bool = False  # estimated (else measured) relative error above 2 %
 
     def __post_init__(self):
+        from ..integrate import UNCONVERGED_RELATIVE_ERROR  # here: the command tree imports STUDY_NAMES cheaply
+
         if not self.unconverged:
             own = self.estimated_error if not math.isnan(self.estimated_error) else self.error
             self.unconverged = bool(own > UNCONVERGED_RELATIVE_ERROR)
@@ -144,6 +145,8 @@ _VIEW = np.array([0.45, 0.0, 0.89])
 
 
 def _integration_points(samples_list, seeds, repeat, progress):
+    from ..integrate import directional_albedo, outgoing_radiance
+
     env = FunctionEnvironment(_glow_sky)
     points = []
     for case, (kind, model, extra, ref_text) in INTEGRATION_CASES.items():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import re
 
 import pytest
 
@@ -10,10 +11,7 @@ from explorer import cli
 
 
 def test_every_command_module_offers_add_parser_run_and_main():
-    for name, module in cli.COMMANDS.items():
-        if module is None:
-            assert name in cli.DELEGATES
-            continue
+    for module in cli.COMMANDS.values():
         mod = importlib.import_module(module)
         for attr in ("add_parser", "run", "main"):
             assert callable(getattr(mod, attr)), (module, attr)
@@ -30,13 +28,42 @@ def test_the_tree_lists_the_commands_in_order_with_their_options():
     args = cli.parse(["figures", "--only", "falloff", "-j", "1"])
     assert args.only == ["falloff"] and args.jobs == 1
     assert cli.parse(["bench", "--repeat", "3"]).repeat == 3
+    args = cli.parse(["explore", "--model", "phong", "--elevation", "30"])
+    assert (args.model, args.elevation) == ("phong", 30.0) and args.func.__module__ == "explorer.app.command"
+    args = cli.parse(["report", "stability", "--dtype", "float32", "--workers", "1"])
+    assert (args.report, args.dtype, args.workers) == ("stability", "float32", 1)
+    assert args.func.__module__ == "explorer.reports"  # which loads the report's module only to run it
 
 
-def test_building_the_tree_loads_no_figure_module_or_matplotlib():
+def test_the_top_level_help_lists_every_command_s_options_with_their_defaults(monkeypatch):
+    monkeypatch.setenv("COLUMNS", "400")
+    text = re.sub(r"\n {20,}", " ", cli.build_parser().format_help())  # a long option's text on its next line
+    sections = re.findall(r"^(\w[\w ]*) options:$", text, re.M)
+    assert sections == ["sphere", "bench", "render", "report accuracy", "report stability", "explore", "figures"]
+    for line in ("--shininess E +Blinn-Phong exponent, >= 0 \\(default: 40\\.0\\)",
+                 "--dtype \\{float32,float64,both\\} +which float types \\(default: both\\)",
+                 "--elevation ELEVATION +light elevation above the image plane, degrees \\(default: 45\\)",
+                 "--out DIR, -o DIR +output folder \\(default: out/figures\\)"):  # fmt: skip
+        assert re.search("^  " + line + "$", text, re.M), line
+    # The same lines as each command's own --help: one definition of each option.
+    parser = cli.build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    for name, command in sub.choices.items():
+        for action in command._actions:
+            if action.option_strings and action.help and action.dest != "help":
+                assert action.option_strings[-1] in text, (name, action.option_strings)
+
+
+def test_building_the_tree_loads_no_figure_window_or_report_code():
     import subprocess
     import sys
 
-    heavy = "('matplotlib', 'explorer.figures', 'pyvista')"
+    # Nor the window, the reports' work or what they need: the tree is built for every run, render's too.
+    heavy = (
+        "('matplotlib', 'explorer.figures', 'pyvista', 'vtk', 'mpmath', 'explorer.app.window', "
+        "'explorer.app.comparing', 'lighting.integrate', 'lighting.analysis', 'lighting.validation.stability', "
+        "'explorer.reports.accuracy', 'explorer.reports.stability')"
+    )
     loaded = f"sorted(m for m in sys.modules if m.startswith({heavy}))"
     code = f"import sys, explorer.cli as c; c.build_parser(); print({loaded})"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
