@@ -65,6 +65,7 @@ __all__ = [
     "uniform_sphere",
     "uniform_sphere_pdf",
     "as_environment",
+    "latlong_lookup",
 ]
 
 _INV_4PI = 1.0 / (4.0 * math.pi)
@@ -253,6 +254,44 @@ def _pixel_rows(h: int) -> np.ndarray:
     return np.cos(np.linspace(0.0, math.pi, h + 1))
 
 
+def latlong_lookup(flat, height: int, width: int, directions) -> np.ndarray:
+    """Bilinear lookup of a lat-long image (the layout of :class:`LatLongEnvironment`) in ``directions``.
+
+    The one home of the lat-long lookup: :class:`LatLongEnvironment` and the prefiltered levels of
+    :mod:`lighting.integrate.prefilter` read their images through it.
+
+    Parameters
+    ----------
+    flat : ndarray, (height * width, C)
+        The image's pixels, row-major.
+    height, width : int
+    directions : ndarray, (..., 3)
+        Directions (need not be unit; the zero vector reads the pixel at ``θ = 0``).
+
+    Returns
+    -------
+    ndarray, (..., C)
+        In the wider of the image's and the directions' float dtypes.
+    """
+    h, w = height, width
+    d = directions
+    theta = np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2])
+    phi = np.mod(np.arctan2(d[..., 1], d[..., 0]), 2 * math.pi)
+    fx = phi * (w / (2 * math.pi)) - 0.5
+    j0 = np.floor(fx)
+    tx = (fx - j0)[..., None]
+    j0 = j0.astype(np.int64) % w
+    j1 = (j0 + 1) % w
+    fy = np.clip(theta * (h / math.pi) - 0.5, 0.0, h - 1)
+    i0 = np.minimum(np.floor(fy).astype(np.int64), max(h - 2, 0))
+    ty = np.clip(fy - i0, 0.0, 1.0)[..., None]
+    i1 = np.minimum(i0 + 1, h - 1)
+    r0, r1 = i0 * w, i1 * w
+    top = np.take(flat, r0 + j0, axis=0) * (1 - tx) + np.take(flat, r0 + j1, axis=0) * tx
+    bot = np.take(flat, r1 + j0, axis=0) * (1 - tx) + np.take(flat, r1 + j1, axis=0) * tx
+    return top * (1 - ty) + bot * ty
+
+
 class LatLongEnvironment(Environment):
     r"""An equirectangular (latitude–longitude) radiance image.
 
@@ -372,22 +411,7 @@ class LatLongEnvironment(Environment):
         return theta, phi
 
     def _radiance(self, d):
-        h, w = self.height, self.width
-        theta, phi = self._angles(d)
-        fx = phi * (w / (2 * math.pi)) - 0.5
-        j0 = np.floor(fx)
-        tx = (fx - j0)[..., None]
-        j0 = j0.astype(np.int64) % w
-        j1 = (j0 + 1) % w
-        fy = np.clip(theta * (h / math.pi) - 0.5, 0.0, h - 1)
-        i0 = np.minimum(np.floor(fy).astype(np.int64), max(h - 2, 0))
-        ty = np.clip(fy - i0, 0.0, 1.0)[..., None]
-        i1 = np.minimum(i0 + 1, h - 1)
-        flat = self._flat
-        r0, r1 = i0 * w, i1 * w
-        top = np.take(flat, r0 + j0, axis=0) * (1 - tx) + np.take(flat, r0 + j1, axis=0) * tx
-        bot = np.take(flat, r1 + j0, axis=0) * (1 - tx) + np.take(flat, r1 + j1, axis=0) * tx
-        return top * (1 - ty) + bot * ty
+        return latlong_lookup(self._flat, self.height, self.width, d)
 
     # -- sampling --------------------------------------------------------------------
     def _build_sampling(self):

@@ -1,0 +1,366 @@
+r"""Prefiltered environments: the environment averaged over a lobe, once, for every roughness.
+
+Real-time image-based lighting (Karis 2013, "split sum") splits the rendering equation of a glossy
+lobe into the lobe's albedo times the environment averaged over the lobe:
+
+.. math::
+
+    L_o(v) = ∫ f_r L_i (n·l)\, dω ≈ \underbrace{∫ f_r (n·l)\, dω}_{ρ(v)}
+             \cdot \underbrace{\frac{∫ K(r·l) L_i(l)\, dω}{∫ K(r·l)\, dω}}_{\bar L(r, σ)},
+
+with ``r`` the lobe's axis (the mirror direction) and ``K`` a kernel as wide as the lobe.  The
+second factor depends on the environment alone, so it is computed once per environment for a
+ladder of widths ``σ`` (:class:`PrefilteredEnvironment`) and looked up per pixel; the first is a
+table of the model (:mod:`lighting.integrate.ibl`).
+
+The kernel is the von Mises–Fisher lobe ``K(ψ) = exp(−κ (1 − cos ψ))``, ``κ = 1/σ²``, which is
+``exp(−ψ²/(2σ²))`` near its axis: a Gaussian of angular standard deviation ``σ``, the width a
+model's :class:`~lighting.models.protocol.Lobe` states.  For Phong's ``(r·l)^e`` it is the lobe
+itself (``κ = e``).
+
+How a level is computed (exactly, for the pixelized map): an image of ``H × 2H`` pixels whose
+centres share their ``φ`` grid with the output, so between one output row ``θ`` and one source
+row ``θ'`` the kernel depends on ``Δφ`` alone,
+
+.. math::
+
+    1 − \cos ψ = 2 \sin^2\frac{θ − θ'}{2} + 2 \sin θ \sin θ' \sin^2\frac{Δφ}{2}
+
+(the cancellation-free form), and the sum over a source row is a circular convolution in ``φ``,
+done by FFT.  Only rows with ``|θ − θ'| <= 6σ`` contribute more than ``e^{−18}`` (the great-circle
+distance is at least the latitude difference, also across a pole).  Each level is computed at the
+coarsest power-of-two height with at least four pixels per ``σ`` (``H >= 4π/σ``), from a source
+averaged down to that height by solid-angle-weighted 2 × 2 blocks; level 0 is the source itself
+(``σ = 0``, the mirror).
+
+The same machinery with the clamped cosine ``max(cos ψ, 0)`` as kernel gives the exact
+irradiance of the pixelized map (:func:`irradiance_map`): the reference that SH9 irradiance is
+measured against.
+
+References
+----------
+B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes (the split sum).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check_vectors, working_dtype
+from ..lights.environment import ConstantEnvironment, Environment, LatLongEnvironment, as_environment, latlong_lookup
+from .sh import _sh_basis
+
+__all__ = ["PREFILTER_SIGMAS", "PrefilteredEnvironment", "prefilter_environment", "irradiance_map"]
+
+#: The lobe widths ``σ`` (radians) of the prefiltered levels: the mirror, then doubling from 0.025.
+#: ``σ = 1.6`` is broader than any glossy lobe (a GGX ``α = 1`` reflects into about ``σ = 1.4``).
+PREFILTER_SIGMAS = (0.0, 0.025, 0.05, 0.1, 0.2, 0.4, 0.8, 1.6)
+#: Kernel support in standard deviations: beyond ``6σ`` the kernel is below ``e^{-18}``.
+_SUPPORT = 6.0
+#: The smallest level height (an 8 × 16 image resolves ``σ = 1.6`` with four pixels per σ).
+_MIN_HEIGHT = 8
+
+
+def _row_bounds(height: int) -> np.ndarray:
+    """``θ`` at the row boundaries of a lat-long image (``height + 1`` values from 0 to π)."""
+    return np.arange(height + 1) * (math.pi / height)
+
+
+def _row_solid_angles(height: int, width: int) -> np.ndarray:
+    """The exact solid angle of one pixel in each row, ``(cos θ_top − cos θ_bottom) 2π / W``."""
+    t = _row_bounds(height)
+    # cos a − cos b = 2 sin((a+b)/2) sin((b−a)/2): no cancellation near the poles.
+    return 2.0 * np.sin((t[:-1] + t[1:]) / 2) * math.sin(math.pi / height / 2) * (2 * math.pi / width)
+
+
+def _halve(image: np.ndarray) -> np.ndarray:
+    """Average 2 × 2 blocks, each pixel weighted by its solid angle (the radiance the block receives)."""
+    h, w = image.shape[:2]
+    omega = _row_solid_angles(h, w)[:, None, None]
+    weighted = (image * omega).reshape(h // 2, 2, w // 2, 2, -1).sum(axis=(1, 3))
+    total = omega.reshape(h // 2, 2, 1, 1).sum(axis=1) * 2
+    return weighted / total
+
+
+def _level_height(sigma: float, source_height: int) -> int:
+    """The coarsest power-of-two height with four pixels per ``σ``, at most the source's."""
+    need = 4 * math.pi / sigma
+    h = _MIN_HEIGHT
+    while h < need and h < source_height:
+        h *= 2
+    return min(h, source_height)
+
+
+def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:
+    r"""``Σ_{θ', φ'} K(ψ) L Ω`` for every pixel of ``image`` ``(H, W, C)``, the kernel a function of ``1 − cos ψ``.
+
+    ``kernel_of(one_minus_cos)`` gives ``K``; only source rows within ``support`` radians in ``θ``
+    are summed.  Also returns ``Σ K Ω`` per row (the normalization; the same for every column).
+    """
+    h, w, c = image.shape
+    theta = (np.arange(h) + 0.5) * (math.pi / h)
+    dphi = np.arange(w) * (2 * math.pi / w)
+    s2phi = np.sin(dphi / 2) ** 2
+    omega = _row_solid_angles(h, w)
+    reach = min(h - 1, int(math.ceil(support / (math.pi / h))))
+    offsets = np.arange(-reach, reach + 1)
+    src = np.fft.rfft(image * omega[:, None, None], axis=1)  # (H, W/2+1, C)
+    out = np.zeros((h, w // 2 + 1, c), dtype=np.complex128)
+    norm = np.zeros(h)
+    rows = np.arange(h)
+    # One offset at a time keeps the kernel block at H × W values however wide the support.
+    for o in offsets:
+        i = rows[(rows + o >= 0) & (rows + o < h)]
+        j = i + o
+        st = np.sin(theta[i]) * np.sin(theta[j])
+        one_minus_cos = 2 * np.sin((theta[i] - theta[j]) / 2)[:, None] ** 2 + 2 * st[:, None] * s2phi[None, :]
+        k = kernel_of(one_minus_cos)  # (len(i), W), symmetric in Δφ: its spectrum is real
+        out[i] += np.fft.rfft(k, axis=1)[:, :, None] * src[j]
+        norm[i] += k.sum(axis=1) * omega[j]
+    return np.fft.irfft(out, n=w, axis=1), norm
+
+
+def _base_image(env: Environment, height: int) -> np.ndarray:
+    """The environment as a lat-long image of power-of-two ``height`` (float64)."""
+    if isinstance(env, LatLongEnvironment) and env.width == 2 * env.height:
+        img = env.image
+        while img.shape[0] > height and img.shape[0] % 2 == 0:
+            img = _halve(img)
+        if img.shape[0] == height:
+            return img
+    d = LatLongEnvironment.pixel_directions(height, 2 * height)
+    return np.broadcast_to(np.asarray(env._radiance(d), dtype=np.float64), (height, 2 * height, 3)).copy()
+
+
+def _source_height(env: Environment, height) -> int:
+    if height is not None:
+        h = check_count("height", height, _MIN_HEIGHT, 8192)
+        if h & (h - 1):
+            raise ValueError(f"height must be a power of two (8, 16, …, 8192); got {_fmt(height)}")
+        return h
+    if isinstance(env, LatLongEnvironment):
+        h = _MIN_HEIGHT
+        while h * 2 <= env.height:
+            h *= 2
+        return min(h, 1024)
+    return 256
+
+
+class PrefilteredEnvironment:
+    """An environment averaged over lobes of widths :attr:`sigmas`, its SH9 projection, and lookups.
+
+    Build one with :func:`prefilter_environment`.  Levels are ``float32`` lat-long images.
+
+    Attributes
+    ----------
+    environment : Environment
+        What was prefiltered (after unwrapping an intensity and rotation, see ``to_base``).
+    sigmas : tuple of float
+        The lobe width ``σ`` of each level, radians; ``sigmas[0] = 0`` is the environment itself.
+    levels : list of ndarray
+        ``(H_k, 2 H_k, 3)`` float32 images.
+    sh : ndarray, (9, 3)
+        The SH9 projection of level 0 (exact sums over its pixels: :func:`lighting.integrate.sh_basis`
+        times radiance times each pixel's solid angle).
+    """
+
+    def __init__(self, environment, sigmas, levels, sh, scale=1.0, to_base=None):
+        self.environment = environment
+        self.sigmas = tuple(float(s) for s in sigmas)
+        self.levels = levels
+        self.sh = sh
+        self._scale = np.broadcast_to(np.asarray(scale, dtype=np.float64), (3,))
+        self._to_base = to_base
+        self._flat = [np.ascontiguousarray(im.reshape(-1, 3)) for im in levels]
+
+    def __repr__(self):
+        h, w = self.levels[0].shape[:2]
+        return f"PrefilteredEnvironment({len(self.levels)} levels from {h}x{w}, σ up to {self.sigmas[-1]:g})"
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes held by the levels."""
+        return sum(im.nbytes for im in self.levels)
+
+    def _base(self, d):
+        return d if self._to_base is None else self._to_base(d)
+
+    def level_of(self, sigma) -> np.ndarray:
+        """The fractional level index of lobe width ``sigma``: linear in ``σ`` below ``sigmas[1]``,
+        linear in ``log σ`` above, clamped to the last level."""
+        s = np.asarray(sigma, dtype=np.float64)
+        sig = self.sigmas
+        if len(sig) == 1:
+            return np.zeros(s.shape)
+        with np.errstate(divide="ignore"):
+            logs = np.log(np.maximum(s, sig[1]))
+        above = np.interp(logs, np.log(sig[1:]), np.arange(1, len(sig)))
+        return np.where(s < sig[1], np.clip(s / sig[1], 0.0, 1.0), above)
+
+    def lookup(self, directions, sigma) -> np.ndarray:
+        r"""``\bar L(r, σ)``: the environment averaged over a lobe of width ``sigma`` about ``directions``.
+
+        Bilinear in each level, linear between the two levels around ``σ``.
+
+        Parameters
+        ----------
+        directions : array_like, (..., 3)
+            Lobe axes (world frame; need not be unit).
+        sigma : array_like, broadcasting to ``(...)``
+            Lobe widths in radians, ``>= 0``.
+
+        Returns
+        -------
+        ndarray, (..., 3)
+            Radiance, in the dtype of ``directions`` (float32 stays float32).
+        """
+        d = check_vectors("directions", directions)
+        dt = working_dtype(d)
+        shape = d.shape[:-1]
+        d = self._base(d.reshape(-1, 3))
+        lf = np.broadcast_to(self.level_of(sigma), shape).reshape(-1)
+        k0 = np.minimum(np.floor(lf).astype(np.int64), len(self.levels) - 1)
+        out = np.zeros((d.shape[0], 3), dtype=dt)
+        for k in np.unique(k0):
+            idx = np.flatnonzero(k0 == k)
+            dk = d[idx]
+            h = self.levels[k].shape[0]
+            val = latlong_lookup(self._flat[k], h, 2 * h, dk).astype(dt, copy=False)
+            if k + 1 < len(self.levels):
+                t = (lf[idx] - k).astype(dt)[:, None]
+                h1 = self.levels[k + 1].shape[0]
+                upper = latlong_lookup(self._flat[k + 1], h1, 2 * h1, dk).astype(dt, copy=False)
+                val = val + t * (upper - val)
+            out[idx] = val
+        return (out * self._scale.astype(dt)).reshape(shape + (3,))
+
+    def irradiance_sh(self, normals) -> np.ndarray:
+        """SH9 irradiance ``E(n)`` (Ramamoorthi & Hanrahan), clamped at 0, in the dtype of ``normals``.
+
+        Parameters
+        ----------
+        normals : array_like, (..., 3)
+            Unit normals, world frame.
+
+        Returns
+        -------
+        ndarray, (..., 3)
+        """
+        from .sh import _irradiance_poly
+
+        n = check_vectors("normals", normals)
+        dt = working_dtype(n)
+        e = _irradiance_poly(self.sh.astype(dt), self._base(n))
+        return (np.maximum(e, 0) * self._scale.astype(dt)).astype(dt, copy=False)
+
+
+def _unwrap(env):
+    """``(base environment, scale, to_base)`` of an environment with an intensity and a rotation."""
+    scale, to_base = 1.0, None
+    base = getattr(env, "base", None)
+    if base is not None and callable(getattr(env, "to_base", None)):
+        scale, to_base = getattr(env, "intensity", 1.0), env.to_base
+        env = base
+    return env, scale, to_base
+
+
+def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) -> PrefilteredEnvironment:
+    r"""Prefilter an environment for the split sum: one lat-long level per lobe width ``σ``.
+
+    Parameters
+    ----------
+    environment : Environment, scalar/RGB radiance or callable
+        A lat-long image is used at the largest power-of-two height it holds (up to 1024, halving by
+        2 × 2 solid-angle-weighted blocks; other sizes are resampled bilinearly); other environments
+        are sampled at ``height`` rows (default 256).  An intensity and rotation
+        (``TransformedEnvironment``) are applied at lookup, not baked in.
+    sigmas : sequence of float
+        Increasing lobe widths in radians, the first 0 (default :data:`PREFILTER_SIGMAS`).
+    height : int, optional
+        The source height, a power of two from 8 to 8192.
+
+    Returns
+    -------
+    PrefilteredEnvironment
+
+    Examples
+    --------
+    >>> from lighting.lights.environment import ConstantEnvironment
+    >>> pre = prefilter_environment(ConstantEnvironment(2.0), height=16)
+    >>> pre.lookup([0.0, 0.0, 1.0], 0.3).round(6).tolist()  # a constant stays constant at every width
+    [2.0, 2.0, 2.0]
+    """
+    env, scale, to_base = _unwrap(as_environment(environment))
+    try:
+        sig = [float(s) for s in sigmas]
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"sigmas must be a sequence of lobe widths in radians; got {_fmt(sigmas)}") from None
+    if not sig or sig[0] != 0.0 or any(not (b > a) for a, b in zip(sig, sig[1:])) or not math.isfinite(sig[-1]):
+        raise ValueError(f"sigmas must start at 0 and increase, finite (radians); got {_fmt(sigmas)}")
+    h0 = _source_height(env, height)
+    check_budget("height", h0 * 2 * h0 * 3 * 8 * 12, what=f"prefiltering a {2 * h0}x{h0} environment")
+    if isinstance(env, ConstantEnvironment):
+        h0 = _MIN_HEIGHT  # constant at every width: no need for detail
+    base = _base_image(env, h0)
+    levels = [base.astype(np.float32)]
+    mips = {h0: base}
+    for s in sig[1:]:
+        h = _level_height(s, h0)
+        while h not in mips:
+            smallest = min(mips)
+            mips[smallest // 2] = _halve(mips[smallest])
+        src = mips[h]
+        kappa = 1.0 / (s * s)
+        conv, norm = _convolve_rows(src, lambda x, kappa=kappa: np.exp(-kappa * x), _SUPPORT * s)
+        levels.append((conv / norm[:, None, None]).astype(np.float32))
+    d = LatLongEnvironment.pixel_directions(h0, 2 * h0)
+    omega = _row_solid_angles(h0, 2 * h0)[:, None]
+    sh = np.einsum("hwj,hwk,hw->jk", _sh_basis(d), base, np.broadcast_to(omega, (h0, 2 * h0)))
+    return PrefilteredEnvironment(env, sig, levels, sh, scale=scale, to_base=to_base)
+
+
+def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatLongEnvironment:
+    r"""The exact irradiance ``E(n) = ∫ L(l) max(n·l, 0) dω`` of the pixelized environment, as a lat-long map.
+
+    Computed with the clamped cosine as the kernel of the row convolution (module notes): the
+    reference SH9 irradiance is measured against.  Look it up with ``.radiance(n)``.
+
+    Parameters
+    ----------
+    environment : Environment, scalar/RGB radiance or callable
+        As :func:`prefilter_environment` (an intensity and a rotation are not supported here: pass
+        the base environment and rotate the normals).
+    height : int
+        Rows of the irradiance map (a power of two, 8 to 1024; ``E`` is smooth, 32 is plenty).
+    source_height : int, optional
+        Rows the environment is sampled at (default: as :func:`prefilter_environment`).
+
+    Returns
+    -------
+    LatLongEnvironment
+        ``E`` at its pixel centres (bilinear between them).
+
+    Examples
+    --------
+    >>> from lighting.lights.environment import ConstantEnvironment
+    >>> E = irradiance_map(ConstantEnvironment(1.0), height=8, source_height=64)
+    >>> round(float(E.radiance([0.0, 0.0, 1.0])[0]), 3)  # π L
+    3.142
+    """
+    env = as_environment(environment)
+    h_src = _source_height(env, source_height)
+    h = check_count("height", height, _MIN_HEIGHT, 1024)
+    if h & (h - 1) or h > h_src:
+        raise ValueError(f"height must be a power of two from 8 to the source height {h_src}; got {_fmt(height)}")
+    check_budget("source_height", h_src * 2 * h_src * 3 * 8 * 12, what=f"irradiance of a {2 * h_src}x{h_src} map")
+    src = _base_image(env, h_src)
+    factor = h_src // h
+    # Each output pixel centre is a source pixel's corner when factor > 1: evaluate on the source grid,
+    # then sample the output centres bilinearly from it (E is smooth).
+    conv, _ = _convolve_rows(src, lambda x: np.maximum(1.0 - x, 0.0), math.pi / 2 + math.pi / h_src)
+    if factor == 1:
+        return LatLongEnvironment(np.maximum(conv, 0.0))
+    full = LatLongEnvironment(np.maximum(conv, 0.0))
+    return LatLongEnvironment(full._radiance(LatLongEnvironment.pixel_directions(h, 2 * h)))
