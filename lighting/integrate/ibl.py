@@ -295,7 +295,8 @@ class ProgressiveRadiance:
         smooth, deltas = split_delta(self.brdf)
         value = np.zeros((count, 3))
         if deltas:  # exact: R(μ_v) L(r), the same every pass
-            value += delta_radiance(deltas, self.environment, self._vl, lambda d: _to_world(d, self._t, self._b, self._n))
+            to_world = lambda d: _to_world(d, self._t, self._b, self._n)  # noqa: E731
+            value += delta_radiance(deltas, self.environment, self._vl, to_world)
         if smooth is not None:
             for i in range(0, count, chunk):
                 sl = slice(i, i + chunk)

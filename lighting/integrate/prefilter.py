@@ -297,7 +297,8 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
         sig = [float(s) for s in sigmas]
     except (TypeError, ValueError):
         raise ArgumentTypeError(f"sigmas must be a sequence of lobe widths in radians; got {_fmt(sigmas)}") from None
-    if not sig or sig[0] != 0.0 or any(not (b > a) for a, b in zip(sig, sig[1:])) or not math.isfinite(sig[-1]):
+    increasing = all(b > a for a, b in zip(sig[:-1], sig[1:], strict=True))
+    if not sig or sig[0] != 0.0 or not increasing or not math.isfinite(sig[-1]):
         raise ValueError(f"sigmas must start at 0 and increase, finite (radians); got {_fmt(sigmas)}")
     h0 = _source_height(env, height)
     check_budget("height", h0 * 2 * h0 * 3 * 8 * 12, what=f"prefiltering a {2 * h0}x{h0} environment")
