@@ -50,9 +50,8 @@ import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check_vectors, working_dtype
 from ..lights.environment import ConstantEnvironment, Environment, LatLongEnvironment, as_environment, latlong_lookup
-from .sh import _sh_basis
 
-__all__ = ["PREFILTER_SIGMAS", "PrefilteredEnvironment", "prefilter_environment", "irradiance_map"]
+__all__ = ["PREFILTER_SIGMAS", "PrefilteredEnvironment", "prefilter_environment", "irradiance_map", "latlong_sh"]
 
 #: The lobe widths ``σ`` (radians) of the prefiltered levels: the mirror, then doubling from 0.025.
 #: ``σ = 1.6`` is broader than any glossy lobe (a GGX ``α = 1`` reflects into about ``σ = 1.4``).
@@ -148,6 +147,70 @@ def _source_height(env: Environment, height) -> int:
     return 256
 
 
+def latlong_sh(image) -> np.ndarray:
+    r"""The nine SH coefficients of a lat-long image taken as constant over each pixel, integrated exactly.
+
+    Each basis function of :func:`lighting.integrate.sh_basis` is a product ``g(θ) h(φ)``, so its
+    integral over a pixel is ``∫ g sin θ dθ · ∫ h dφ``, both in closed form: ``L_lm = Σ_pixels L
+    ∫_pixel Y_lm dω``.  (Summing ``Y`` at pixel centres instead is off by the square of a pixel:
+    0.8 % in the irradiance of a constant sky at 8 rows.)
+
+    Parameters
+    ----------
+    image : ndarray, (H, 2H or any W, 3)
+
+    Returns
+    -------
+    ndarray, (9, 3)
+        Float64 coefficients in :func:`~lighting.integrate.sh_basis` order.
+
+    Examples
+    --------
+    >>> c = latlong_sh(np.ones((4, 8, 3)))
+    >>> round(float(c[0, 0]) / (2 * math.sqrt(math.pi)), 12), float(np.abs(c[1:]).max()) < 1e-15
+    (1.0, True)
+    """
+    img = np.asarray(image, dtype=np.float64)
+    h, w = img.shape[:2]
+    t = _row_bounds(h)
+    t0, t1 = t[:-1], t[1:]
+    z0, z1 = np.cos(t0), np.cos(t1)
+    p = np.arange(w + 1) * (2 * math.pi / w)
+    p0, p1 = p[:-1], p[1:]
+    # ∫ g(θ) sin θ dθ over each row (z = cos θ decreasing from z0 to z1).
+    rows = {
+        "1": z0 - z1,
+        "s": (t1 - t0) / 2 - (np.sin(2 * t1) - np.sin(2 * t0)) / 4,  # ∫ sin²θ dθ
+        "c": (z0 * z0 - z1 * z1) / 2,  # ∫ cos θ sin θ dθ
+        "ss": (z0 - z0**3 / 3) - (z1 - z1**3 / 3),  # ∫ sin³θ dθ
+        "sc": (np.sin(t1) ** 3 - np.sin(t0) ** 3) / 3,  # ∫ sin²θ cos θ dθ
+        "p2": (z0**3 - z0) - (z1**3 - z1),  # ∫ (3cos²θ − 1) sin θ dθ
+    }
+    cols = {
+        "1": p1 - p0,
+        "cos": np.sin(p1) - np.sin(p0),
+        "sin": np.cos(p0) - np.cos(p1),
+        "sincos": (np.sin(p1) ** 2 - np.sin(p0) ** 2) / 2,
+        "cos2": (np.sin(2 * p1) - np.sin(2 * p0)) / 2,
+    }
+    k1, k2, k20, k22 = (math.sqrt(3 / (4 * math.pi)), 0.5 * math.sqrt(15 / math.pi), 0.25 * math.sqrt(5 / math.pi),
+                        0.25 * math.sqrt(15 / math.pi))  # fmt: skip
+    # (constant, row factor, column factor) of Y00, Y1-1 (y), Y10 (z), Y11 (x), Y2-2 (xy), Y2-1 (yz),
+    # Y20 (3z² − 1), Y21 (xz), Y22 (x² − y²).
+    terms = [
+        (0.5 / math.sqrt(math.pi), "1", "1"),
+        (k1, "s", "sin"),
+        (k1, "c", "1"),
+        (k1, "s", "cos"),
+        (k2, "ss", "sincos"),
+        (k2, "sc", "sin"),
+        (k20, "p2", "1"),
+        (k2, "sc", "cos"),
+        (k22, "ss", "cos2"),
+    ]
+    return np.stack([k * np.einsum("i,ijc,j->c", rows[r], img, cols[c]) for k, r, c in terms])
+
+
 class PrefilteredEnvironment:
     """An environment averaged over lobes of widths :attr:`sigmas`, its SH9 projection, and lookups.
 
@@ -162,8 +225,7 @@ class PrefilteredEnvironment:
     levels : list of ndarray
         ``(H_k, 2 H_k, 3)`` float32 images.
     sh : ndarray, (9, 3)
-        The SH9 projection of level 0 (exact sums over its pixels: :func:`lighting.integrate.sh_basis`
-        times radiance times each pixel's solid angle).
+        The SH9 projection of level 0, each pixel's basis integral exact (:func:`latlong_sh`).
     """
 
     def __init__(self, environment, sigmas, levels, sh, scale=1.0, to_base=None):
@@ -316,10 +378,7 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
         kappa = 1.0 / (s * s)
         conv, norm = _convolve_rows(src, lambda x, kappa=kappa: np.exp(-kappa * x), _SUPPORT * s)
         levels.append((conv / norm[:, None, None]).astype(np.float32))
-    d = LatLongEnvironment.pixel_directions(h0, 2 * h0)
-    omega = _row_solid_angles(h0, 2 * h0)[:, None]
-    sh = np.einsum("hwj,hwk,hw->jk", _sh_basis(d), base, np.broadcast_to(omega, (h0, 2 * h0)))
-    return PrefilteredEnvironment(env, sig, levels, sh, scale=scale, to_base=to_base)
+    return PrefilteredEnvironment(env, sig, levels, latlong_sh(base), scale=scale, to_base=to_base)
 
 
 def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatLongEnvironment:

@@ -29,6 +29,7 @@ isotropic models never read them, and their images do not change.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,6 +44,7 @@ from .._numeric import (
     check_positive,
     real_array,
 )
+from ..lights.envlight import split_environment_lights
 from ..shading.batch import each_chunk, shade_prepared, shade_prepared_into, shade_prepared_terms
 from ..shading.inputs import TERMS, check_lights, positional_lights, view_vectors
 from ..shading.material import Material, check_material
@@ -490,11 +492,40 @@ class Renderer:
             One ``(H, W, 3)`` image per requested term.
         """
         mode = check_choice("mode", mode, SHADING_MODES)
+        lights, envs = split_environment_lights(lights)
         lights = check_lights(lights)
         pts, nrm, v, dist, tan = self._samples(mode, lights, material)
         colours = shade_prepared_terms(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
                                        tangents=tan)  # fmt: skip
-        return {name: self.spread(mode, c) for name, c in colours.items()}
+        images = {name: self.spread(mode, c) for name, c in colours.items()}
+        for name, extra in self._environment_terms(material, envs, mode, form, images).items():
+            images[name] = images[name] + extra
+        return images
+
+    def _environment_terms(self, material, envs, mode, form, wanted) -> dict:
+        """The environment lights' diffuse and specular terms as images, for the terms in ``wanted``."""
+        names = [t for t in ("diffuse", "specular") if t in wanted]
+        if not envs or not names:
+            return {}
+        check_material(material)
+        nrm = self.sample_normals(mode)
+        v = np.broadcast_to(self.sample_view(mode)[0], nrm.shape)
+        sums = {t: np.zeros(nrm.shape, dtype=self.dtype) for t in names}
+        for light in envs:
+            parts = light.reflected(material.brdf, nrm, v, split_terms=True)
+            for t in names:
+                sums[t] += parts[t].astype(self.dtype, copy=False)
+        scale = self.dtype(math.pi) if form == "classic" else self.dtype(1)
+        return {t: self.spread(mode, sums[t] * scale).astype(self.dtype, copy=False) for t in names}
+
+    def _environment_background(self, envs, form):
+        """The environment seen along each pixel's camera ray (``(H, W, 3)``), or None without one to show."""
+        shown = [lt for lt in envs if lt.background]
+        if not shown:
+            return None
+        _, dirs = self._camera.rays(dtype=self.dtype)
+        total = sum(lt.radiance(dirs).astype(self.dtype, copy=False) for lt in shown)
+        return total * (self.dtype(math.pi) if form == "classic" else self.dtype(1))
 
     def render(
         self,
@@ -512,6 +543,9 @@ class Renderer:
         ----------
         material : Material
         lights : sequence of lights
+            Punctual and area lights, and environment lights (:class:`~lighting.lights.envlight.EnvironmentLight`: their
+            diffuse and specular terms join the others'; the environment is shown behind the geometry
+            when the light's ``background`` is on, in place of ``background``).
         mode : {"flat", "gouraud", "phong"}
             When lighting is computed: per triangle, per vertex (colours
             interpolated), or per pixel (normals interpolated).
@@ -530,6 +564,7 @@ class Renderer:
         """
         bg = check_color("background", background)
         mode = check_choice("mode", mode, SHADING_MODES)
+        lights, envs = split_environment_lights(lights)
         lights = check_lights(lights)
         pts, nrm, v, dist, tan = self._samples(mode, lights, material)
         if mode == "phong":
@@ -542,7 +577,13 @@ class Renderer:
             colours = shade_prepared(pts, nrm, v, material, lights, eye_distance=dist, form=form, terms=terms,
                                      tangents=tan)  # fmt: skip
             img = self.spread(mode, colours)
-        if np.any(bg):
+        terms = tuple(terms) if not isinstance(terms, str) else (terms,)
+        for extra in self._environment_terms(material, envs, mode, form, terms).values():
+            img = img + extra
+        behind = self._environment_background(envs, form)
+        if behind is not None:
+            img = np.where(self.gbuffer.coverage[..., None], img, behind + bg.astype(self.dtype))
+        elif np.any(bg):
             img = np.where(self.gbuffer.coverage[..., None], img, bg.astype(self.dtype))
         return LinearImage(img.astype(self.dtype, copy=False))
 

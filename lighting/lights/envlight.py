@@ -1,0 +1,203 @@
+r"""The environment as a light of a scene: image-based lighting beside the punctual lights.
+
+An :class:`EnvironmentLight` holds an environment (a lat-long image file, a procedural sky or a
+constant radiance, with an intensity and a rotation about ``+z``) and answers what a renderer
+asks of it: the light reflected at each shaded point, and the radiance seen behind the object.
+
+Two ways to reflect it (``method``):
+
+* ``"split-sum"`` (default): SH9 irradiance for diffuse lobes, the prefiltered environment times
+  the part's albedo for glossy ones (:func:`lighting.integrate.ibl.split_sum_radiance`); the
+  environment is prefiltered once, on first use (about 0.2 s for a 512 × 256 map), then every
+  re-shade is a few lookups per pixel;
+* ``"monte-carlo"``: the reference, multiple importance sampling with ``samples`` directions per
+  point (:class:`lighting.integrate.ibl.ProgressiveRadiance`), seeded, so an image is reproducible.
+
+The radiometric convention is the engine's (conventions.md): the light reflects the radiance
+``L_o = ∫ f_r L_i (n·l) dω``; the classic form of the illumination equation is π times the
+physical one, for this light as for the others (a white Lambert surface under a uniform sky of
+radiance 1 is 1 in the physical form and π in the classic).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._numeric import ArgumentTypeError, _fmt, check_bool, check_choice, check_count
+from .environment import Environment, as_environment
+
+__all__ = ["ENVIRONMENT_METHODS", "EnvironmentLight", "split_environment_lights"]
+
+#: How an :class:`EnvironmentLight` is reflected.
+ENVIRONMENT_METHODS = ("split-sum", "monte-carlo")
+
+
+class EnvironmentLight:
+    """Light from every direction, from an environment; see the module notes.
+
+    Parameters
+    ----------
+    environment : Environment, str, path, float or RGB
+        An :class:`~lighting.lights.environment.Environment`; a file name (``.hdr``, ``.pfm``,
+        ``.npy``, ``.exr``) or a sky name (:data:`lighting.lights.skies.SKIES`), read by
+        :func:`lighting.lights.envfiles.load_environment`; or a constant radiance.
+    intensity : float or RGB
+        Multiplies the environment's radiance.
+    rotation : float
+        Turns the environment about ``+z`` by this many degrees (toward ``+φ``).
+    background : bool
+        Show the environment where the geometry does not cover the image.
+    method : {"split-sum", "monte-carlo"}
+    samples : int
+        Directions per point of ``"monte-carlo"``.
+    seed : int
+        Its seed.
+
+    Examples
+    --------
+    >>> from lighting.models.brdf import Lambert
+    >>> light = EnvironmentLight(1.0)  # the white furnace: a uniform sky of radiance 1
+    >>> light.reflected(Lambert(0.5), [[0, 0, 1.0]], [[0.6, 0, 0.8]]).round(6).tolist()
+    [[0.5, 0.5, 0.5]]
+    """
+
+    is_environment = True
+
+    def __init__(self, environment=1.0, *, intensity=1.0, rotation=0.0, background=True, method="split-sum",
+                 samples=64, seed=0):  # fmt: skip
+        from .envfiles import load_environment
+
+        self.source = environment
+        if isinstance(environment, Environment):
+            env = environment
+            if np.any(np.asarray(intensity) != 1) or rotation != 0:
+                from .envfiles import TransformedEnvironment
+
+                env = TransformedEnvironment(environment, intensity=intensity, rotation=rotation)
+        else:
+            env = load_environment(environment, intensity=intensity, rotation=rotation)
+        self.environment = as_environment(env)
+        self.intensity = intensity
+        self.rotation = float(rotation)
+        self.background = check_bool("background", background)
+        self.method = check_choice("method", method, ENVIRONMENT_METHODS)
+        self.samples = check_count("samples", samples, 2, 1 << 16)
+        if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool):
+            raise ArgumentTypeError(f"seed must be an integer; got {_fmt(seed)}")
+        self.seed = int(seed)
+        self._prefiltered = None
+
+    def __repr__(self):
+        extra = "".join(
+            f", {k}={v!r}"
+            for k, v, default in (
+                ("intensity", self.intensity, 1.0),
+                ("rotation", self.rotation, 0.0),
+                ("background", self.background, True),
+                ("method", self.method, "split-sum"),
+            )
+            if not (np.all(np.asarray(v) == default) if k == "intensity" else v == default)
+        )
+        src = self.source if not isinstance(self.source, Environment) else type(self.source).__name__
+        return f"EnvironmentLight({src!r}{extra})"
+
+    @property
+    def prefiltered(self):
+        """The prefiltered environment (:func:`lighting.integrate.prefilter.prefilter_environment`), made once."""
+        if self._prefiltered is None:
+            from ..integrate.prefilter import prefilter_environment
+
+            self._prefiltered = prefilter_environment(self.environment)
+        return self._prefiltered
+
+    def reflected(self, brdf, normals, view_dirs, *, split_terms: bool = False):
+        """The radiance ``L_o`` a surface reflects toward ``view_dirs`` under this light (physical form).
+
+        Parameters
+        ----------
+        brdf : BRDF
+        normals, view_dirs : array_like, (N, 3)
+            Unit normals and unit view vectors, world frame (``view_dirs`` may be one ``(3,)`` vector).
+        split_terms : bool
+            ``{"diffuse": ..., "specular": ...}`` instead of their sum (``"monte-carlo"`` gives its whole
+            value as ``"specular"`` and zero ``"diffuse"``: the reference does not split).
+
+        Returns
+        -------
+        ndarray, (N, 3) or dict
+            In the dtype of the inputs.
+        """
+        from ..integrate.ibl import ProgressiveRadiance, split_sum_radiance
+
+        if self.method == "split-sum":
+            return split_sum_radiance(brdf, self.prefiltered, normals, view_dirs, split_terms=split_terms)
+        n = np.asarray(normals)
+        v = np.broadcast_to(np.asarray(view_dirs), n.shape)
+        run = ProgressiveRadiance(brdf, self.environment, n, v, seed=self.seed)
+        per_pass = max(2, min(self.samples, 16) // 2 * 2)
+        while run.samples < self.samples:
+            run.add(min(per_pass, max(2, (self.samples - run.samples) // 2 * 2)))
+        value = run.value
+        return {"diffuse": np.zeros_like(value), "specular": value} if split_terms else value
+
+    def radiance(self, directions) -> np.ndarray:
+        """The environment's radiance toward ``-directions``' sources: what a camera ray ``d`` sees behind.
+
+        Parameters
+        ----------
+        directions : array_like, (..., 3)
+            Ray directions, world frame.
+
+        Returns
+        -------
+        ndarray, (..., 3)
+        """
+        return self.environment.radiance(directions)
+
+    def to_dict(self) -> dict:
+        """The light as a scene file's ``[[lights]]`` table (``type = "environment"``).
+
+        Returns
+        -------
+        dict
+        """
+        if isinstance(self.source, Environment):
+            raise ValueError("an EnvironmentLight made from an Environment object cannot be saved to a scene "
+                             "file; make it from a file name, a sky name or a radiance")  # fmt: skip
+        src = self.source
+        out = {"type": "environment"}
+        if isinstance(src, str) or hasattr(src, "__fspath__"):
+            out["source"] = str(src)
+        else:
+            out["radiance"] = np.asarray(src, dtype=float).tolist()
+        if not np.all(np.asarray(self.intensity) == 1):
+            out["intensity"] = np.asarray(self.intensity, dtype=float).tolist()
+        if self.rotation:
+            out["rotation"] = self.rotation
+        if not self.background:
+            out["background"] = False
+        if self.method != "split-sum":
+            out["method"] = self.method
+            out["samples"] = self.samples
+            out["seed"] = self.seed
+        return out
+
+
+def split_environment_lights(lights):
+    """``(other lights, environment lights)`` of a sequence of lights (order kept in each).
+
+    Parameters
+    ----------
+    lights : sequence
+
+    Returns
+    -------
+    list, list
+    """
+    if lights is None or isinstance(lights, (str, bytes, dict)) or not hasattr(lights, "__iter__"):
+        return lights, []
+    items = list(lights)
+    env = [lt for lt in items if getattr(lt, "is_environment", False)]
+    if not env:
+        return lights, []
+    return [lt for lt in items if not getattr(lt, "is_environment", False)], env
