@@ -50,6 +50,7 @@ import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check_vectors, working_dtype
 from ..lights.environment import ConstantEnvironment, Environment, LatLongEnvironment, as_environment, latlong_lookup
+from .sh import SH_CONSTANTS
 
 __all__ = ["PREFILTER_SIGMAS", "PrefilteredEnvironment", "prefilter_environment", "irradiance_map", "latlong_sh"]
 
@@ -236,6 +237,17 @@ class PrefilteredEnvironment:
         self._scale = np.broadcast_to(np.asarray(scale, dtype=np.float64), (3,))
         self._to_base = to_base
         self._flat = [np.ascontiguousarray(im.reshape(-1, 3)) for im in levels]
+        c1, c2, c3, c4, c5 = SH_CONSTANTS
+        L = np.asarray(sh, dtype=np.float64)  # noqa: N806 - the paper's L_lm
+        self._sh_matrices = [
+            np.array([
+                [c1 * L[8, k], c1 * L[4, k], c1 * L[7, k], c2 * L[3, k]],
+                [c1 * L[4, k], -c1 * L[8, k], c1 * L[5, k], c2 * L[1, k]],
+                [c1 * L[7, k], c1 * L[5, k], c3 * L[6, k], c2 * L[2, k]],
+                [c2 * L[3, k], c2 * L[1, k], c2 * L[2, k], c4 * L[0, k] - c5 * L[6, k]],
+            ])
+            for k in range(3)
+        ]  # fmt: skip
 
     def __repr__(self):
         h, w = self.levels[0].shape[:2]
@@ -310,12 +322,17 @@ class PrefilteredEnvironment:
         -------
         ndarray, (..., 3)
         """
-        from .sh import _irradiance_poly
-
         n = check_vectors("normals", normals)
         dt = working_dtype(n)
-        e = _irradiance_poly(self.sh.astype(dt), self._base(n))
-        return (np.maximum(e, 0) * self._scale.astype(dt)).astype(dt, copy=False)
+        shape = n.shape
+        n = self._base(n.reshape(-1, 3)).astype(dt, copy=False)
+        # E = (n, 1)ᵀ M (n, 1) per channel: the matrix form of Ramamoorthi & Hanrahan's eq. 13 (their
+        # eq. 12), three small matrix products instead of nine broadcast terms (sh_irradiance, the reference).
+        n4 = np.concatenate([n, np.ones((n.shape[0], 1), dtype=dt)], axis=1)
+        e = np.empty((n.shape[0], 3), dtype=dt)
+        for c in range(3):
+            e[:, c] = np.einsum("ij,ij->i", n4 @ self._sh_matrices[c].astype(dt), n4)
+        return (np.maximum(e, 0) * self._scale.astype(dt)).reshape(shape).astype(dt, copy=False)
 
 
 def _unwrap(env):
