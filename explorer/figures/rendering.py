@@ -13,6 +13,7 @@ import numpy as np
 from lighting import CookTorrance, DirectionalLight, Lambert, Material
 from lighting.integrate import outgoing_radiance
 from lighting.lights.environment import LatLongEnvironment, SmallPatchEnvironment
+from lighting.lights.skies import SKIES
 from lighting.render.image import encode_srgb8
 from lighting.render.renderer import AnalyticSphere, Renderer
 from lighting.render.sphere import render_sphere, sphere_camera
@@ -24,23 +25,8 @@ _CAM_TO_ENV = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
 
 def _sky(sun_env):
-    """A smooth daylight sky (radiance, linear RGB) around ``sun_env``: blue zenith, bright horizon, brown ground."""
-    s = np.asarray(sun_env, dtype=np.float64) / np.linalg.norm(sun_env)
-
-    def radiance(d):
-        z = d[..., 2]
-        up = np.clip(z, 0.0, 1.0)[..., None]
-        zenith = np.array([0.18, 0.35, 0.85])
-        horizon = np.array([0.85, 0.85, 0.8])
-        ground = np.array([0.2, 0.15, 0.1])
-        sky = horizon + (zenith - horizon) * np.sqrt(up)
-        t = np.clip(0.5 + 4.0 * z, 0.0, 1.0)[..., None]  # a soft horizon, about 15° wide
-        base = ground + (sky - ground) * t
-        c = np.clip(d @ s, 0.0, 1.0)[..., None]
-        glow = np.array([3.0, 2.6, 2.0]) * c**64 + np.array([0.6, 0.45, 0.3]) * c**6
-        return base + glow
-
-    return radiance
+    """The engine's daylight sky (:data:`lighting.lights.skies.SKIES`) around ``sun_env``: radiance function."""
+    return SKIES["daylight"].make(sun=sun_env)
 
 
 def _sphere_frames(size):

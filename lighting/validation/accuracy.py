@@ -104,12 +104,10 @@ def _rel(value, ref) -> float:
 
 # ---------------------------------------------------------------------- integration
 def _glow_sky(direction):
-    """A smooth sky: a uniform floor plus a broad glow around a sun direction (radiance, RGB)."""
-    s = np.array([0.5, 0.3, 0.81])
-    s = s / np.linalg.norm(s)
-    c = np.clip(direction @ s, 0.0, None)
-    base = np.array([0.25, 0.3, 0.4])
-    return base + np.multiply.outer(c**8, np.array([2.0, 1.8, 1.5]))
+    """A smooth sky: a uniform floor plus a broad glow around a sun direction (radiance, RGB); the engine's ``glow``."""
+    from ..lights.skies import SKIES
+
+    return SKIES["glow"](direction)
 
 
 INTEGRATION_CASES = {
