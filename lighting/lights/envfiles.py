@@ -46,7 +46,7 @@ import tempfile
 
 import numpy as np
 
-from .._budget import check_budget
+from .._budget import BudgetError, check_budget
 from .._numeric import ArgumentTypeError, _fmt, check_color, check_count, check_range, cos_sin_deg
 from .environment import ConstantEnvironment, Environment, LatLongEnvironment
 
@@ -374,8 +374,13 @@ def _read_exr(name: str) -> np.ndarray:
         ) from None
     _check_file(name)
     try:
-        if not OpenEXR.isOpenExrFile(name):
-            raise _Bad("not an OpenEXR file", "allowed: a scanline or tiled OpenEXR image")
+        try:
+            with open(name, "rb") as fh:
+                magic = fh.read(4)
+        except OSError as e:
+            raise _Bad(f"cannot be read ({e.strerror})", "allowed: a readable file") from None
+        if magic != b"\x76\x2f\x31\x01":
+            raise _Bad("not an OpenEXR file (no magic number)", "allowed: a scanline or tiled OpenEXR image")
         f = OpenEXR.InputFile(name)
         try:
             header = f.header()
@@ -396,6 +401,8 @@ def _read_exr(name: str) -> np.ndarray:
         return _finish(img, name)
     except _Bad as e:
         raise _error(name, e.what, e.allowed) from None
+    except BudgetError:
+        raise
     except ValueError as e:
         if str(e).startswith(name):
             raise

@@ -4,6 +4,7 @@ import math
 import os
 import re
 import struct
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -278,6 +279,55 @@ def test_exr_without_openexr_names_the_package(tmp_path, monkeypatch):
     p = tmp_path / "sky.exr"
     p.write_bytes(b"v/1\x01")
     _one_line_error(p, r"needs the OpenEXR Python package, which is not installed; allowed here: \.hdr")
+
+
+def _fake_openexr(monkeypatch, planes, channels="RGB"):
+    """Stand-ins for the OpenEXR and Imath modules (legacy API) serving ``planes`` (H, W, C) float32."""
+    import types
+
+    h, w = planes.shape[:2]
+    box = types.SimpleNamespace(min=types.SimpleNamespace(x=0, y=0), max=types.SimpleNamespace(x=w - 1, y=h - 1))
+
+    class InputFile:
+        def __init__(self, name):
+            self.closed = False
+
+        def header(self):
+            return {"dataWindow": box, "channels": dict.fromkeys(channels)}
+
+        def channel(self, c, pt):
+            assert pt == "FLOAT"
+            return np.ascontiguousarray(planes[..., channels.index(c)], dtype=np.float32).tobytes()
+
+        def close(self):
+            self.closed = True
+
+    exr = types.ModuleType("OpenEXR")
+    exr.InputFile = InputFile
+    imath = types.ModuleType("Imath")
+    imath.PixelType = type("PixelType", (), {"FLOAT": "FLOAT", "__new__": lambda cls, v: v})
+    monkeypatch.setitem(sys.modules, "OpenEXR", exr)
+    monkeypatch.setitem(sys.modules, "Imath", imath)
+
+
+def test_exr_channels_are_assembled_and_checked(tmp_path, monkeypatch):
+    rgb = np.random.default_rng(1).random((4, 8, 3)).astype(np.float32)
+    p = tmp_path / "sky.exr"
+    p.write_bytes(b"\x76\x2f\x31\x01" + bytes(16))
+    _fake_openexr(monkeypatch, rgb)
+    np.testing.assert_array_equal(read_environment_image(p), rgb)
+    _fake_openexr(monkeypatch, rgb[..., :1], channels="Y")
+    np.testing.assert_array_equal(read_environment_image(p), np.repeat(rgb[..., :1], 3, axis=-1))
+    _fake_openexr(monkeypatch, rgb[..., :2], channels="RA")
+    _one_line_error(p, r"channels \['A', 'R'\]; allowed: R, G, B \(or Y\)")
+    _fake_openexr(monkeypatch, rgb[:, :4])
+    _one_line_error(p, r"4x4 is not 2:1")
+    bad = rgb.copy()
+    bad[1, 2, 0] = -0.5
+    _fake_openexr(monkeypatch, bad)
+    _one_line_error(p, r"radiance -0\.5 \(negative\) at row 1, column 2")
+    (tmp_path / "fake.exr").write_bytes(b"#?RADIANCE\n")
+    _one_line_error(tmp_path / "fake.exr", r"not an OpenEXR file")
 
 
 def test_budget_is_charged_before_the_pixels_are_decoded(tmp_path, monkeypatch):
