@@ -57,7 +57,7 @@ from .sampling import _check_brdf, as_generator
 
 __all__ = ["ALBEDO_ANGLES", "lobe_albedo", "lobe_sigma", "split_sum_radiance", "ProgressiveRadiance"]
 
-#: View angles (radians) of the albedo tables: 0° to 89.5° in 1.5° steps, and 90° (albedo 0).
+#: View angles (radians) of the albedo tables: 0° to 88.5° in 1.5° steps, and 90° (held at the 88.5° value).
 ALBEDO_ANGLES = np.append(np.radians(np.arange(0.0, 89.6, 1.5)), math.pi / 2)
 #: Albedo tables kept (most recently used first out last).
 _CACHE_SIZE = 64
@@ -136,7 +136,8 @@ def lobe_albedo(part) -> np.ndarray:
     Returns
     -------
     ndarray
-        Float64 RGB albedos; the last row (``θ_v = 90°``) is 0.
+        Float64 RGB albedos; the last row (``θ_v = 90°``) repeats the one at 88.5° (a viewer on the horizon
+        sees nothing, and the shading gives 0 there; just above it a Lambert surface still reflects ``k_d``).
 
     Notes
     -----
@@ -154,7 +155,7 @@ def lobe_albedo(part) -> np.ndarray:
         from .albedo import directional_albedo
 
         table = np.asarray(directional_albedo(part, ALBEDO_ANGLES[:-1]), dtype=np.float64)
-        table = np.concatenate([table, np.zeros((1, 3))])
+        table = np.concatenate([table, table[-1:]])
     table = np.asarray(table, dtype=np.float64)
     table.setflags(write=False)
     _albedo_cache[key] = table

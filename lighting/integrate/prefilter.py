@@ -18,7 +18,7 @@ The kernel is the von Mises–Fisher lobe ``K(ψ) = exp(−κ (1 − cos ψ))``,
 model's :class:`~lighting.models.protocol.Lobe` states.  For Phong's ``(r·l)^e`` it is the lobe
 itself (``κ = e``).
 
-How a level is computed (exactly, for the pixelized map): an image of ``H × 2H`` pixels whose
+How a level is computed (a midpoint rule over the map's pixels, with no sampling noise): an image of ``H × 2H`` pixels whose
 centres share their ``φ`` grid with the output, so between one output row ``θ`` and one source
 row ``θ'`` the kernel depends on ``Δφ`` alone,
 
@@ -29,12 +29,13 @@ row ``θ'`` the kernel depends on ``Δφ`` alone,
 (the cancellation-free form), and the sum over a source row is a circular convolution in ``φ``,
 done by FFT.  Only rows with ``|θ − θ'| <= 6σ`` contribute more than ``e^{−18}`` (the great-circle
 distance is at least the latitude difference, also across a pole).  Each level is computed at the
-coarsest power-of-two height with at least four pixels per ``σ`` (``H >= 4π/σ``), from a source
+coarsest power-of-two height with at least eight pixels per ``σ`` (``H >= 8π/σ``: the bilinear
+lookup between its pixel centres then bends a linear sky by under 0.2 %), from a source
 averaged down to that height by solid-angle-weighted 2 × 2 blocks; level 0 is the source itself
 (``σ = 0``, the mirror).
 
-The same machinery with the clamped cosine ``max(cos ψ, 0)`` as kernel gives the exact
-irradiance of the pixelized map (:func:`irradiance_map`): the reference that SH9 irradiance is
+The same machinery with the clamped cosine ``max(cos ψ, 0)`` as kernel gives the
+irradiance of the pixelized map to the midpoint rule's ``O(pixel²)`` (:func:`irradiance_map`): the reference that SH9 irradiance is
 measured against.
 
 References
@@ -59,8 +60,8 @@ __all__ = ["PREFILTER_SIGMAS", "PrefilteredEnvironment", "prefilter_environment"
 PREFILTER_SIGMAS = (0.0, 0.025, 0.05, 0.1, 0.2, 0.4, 0.8, 1.6)
 #: Kernel support in standard deviations: beyond ``6σ`` the kernel is below ``e^{-18}``.
 _SUPPORT = 6.0
-#: The smallest level height (an 8 × 16 image resolves ``σ = 1.6`` with four pixels per σ).
-_MIN_HEIGHT = 8
+#: The smallest level height (a 16 × 32 image resolves ``σ = 1.6`` with eight pixels per σ).
+_MIN_HEIGHT = 16
 
 
 def _row_bounds(height: int) -> np.ndarray:
@@ -85,8 +86,8 @@ def _halve(image: np.ndarray) -> np.ndarray:
 
 
 def _level_height(sigma: float, source_height: int) -> int:
-    """The coarsest power-of-two height with four pixels per ``σ``, at most the source's."""
-    need = 4 * math.pi / sigma
+    """The coarsest power-of-two height with eight pixels per ``σ``, at most the source's."""
+    need = 8 * math.pi / sigma
     h = _MIN_HEIGHT
     while h < need and h < source_height:
         h *= 2
@@ -399,10 +400,11 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
 
 
 def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatLongEnvironment:
-    r"""The exact irradiance ``E(n) = ∫ L(l) max(n·l, 0) dω`` of the pixelized environment, as a lat-long map.
+    r"""The irradiance ``E(n) = ∫ L(l) max(n·l, 0) dω`` of the pixelized environment, as a lat-long map.
 
-    Computed with the clamped cosine as the kernel of the row convolution (module notes): the
-    reference SH9 irradiance is measured against.  Look it up with ``.radiance(n)``.
+    Computed with the clamped cosine as the kernel of the row convolution (module notes), a midpoint
+    rule over the source's pixels: relative error ``O((π/H)²)``, 6e-5 for a constant sky at 64 source
+    rows, 5e-6 at 256.  The reference SH9 irradiance is measured against.  Look it up with ``.radiance(n)``.
 
     Parameters
     ----------
@@ -428,7 +430,7 @@ def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatL
     """
     env = as_environment(environment)
     h_src = _source_height(env, source_height)
-    h = check_count("height", height, _MIN_HEIGHT, 1024)
+    h = check_count("height", height, 8, 1024)
     if h & (h - 1) or h > h_src:
         raise ValueError(f"height must be a power of two from 8 to the source height {h_src}; got {_fmt(height)}")
     check_budget("source_height", h_src * 2 * h_src * 3 * 8 * 12, what=f"irradiance of a {2 * h_src}x{h_src} map")
