@@ -18,9 +18,9 @@ The kernel is the von Mises–Fisher lobe ``K(ψ) = exp(−κ (1 − cos ψ))``,
 model's :class:`~lighting.models.protocol.Lobe` states.  For Phong's ``(r·l)^e`` it is the lobe
 itself (``κ = e``).
 
-How a level is computed (a midpoint rule over the map's pixels, with no sampling noise): an image of ``H × 2H`` pixels whose
-centres share their ``φ`` grid with the output, so between one output row ``θ`` and one source
-row ``θ'`` the kernel depends on ``Δφ`` alone,
+How a level is computed (a midpoint rule over the map's pixels, with no sampling noise): an image
+of ``H × 2H`` pixels whose centres share their ``φ`` grid with the output, so between one output
+row ``θ`` and one source row ``θ'`` the kernel depends on ``Δφ`` alone,
 
 .. math::
 
@@ -35,8 +35,8 @@ averaged down to that height by solid-angle-weighted 2 × 2 blocks; level 0 is t
 (``σ = 0``, the mirror).
 
 The same machinery with the clamped cosine ``max(cos ψ, 0)`` as kernel gives the
-irradiance of the pixelized map to the midpoint rule's ``O(pixel²)`` (:func:`irradiance_map`): the reference that SH9 irradiance is
-measured against.
+irradiance of the pixelized map to the midpoint rule's ``O(pixel²)`` (:func:`irradiance_map`): the
+reference that SH9 irradiance is measured against.
 
 References
 ----------

@@ -133,8 +133,8 @@ def test_white_furnace_lambert_is_exact_and_every_model_reflects_its_albedo():
     n = _unit(rng, 64)
     v = _unit(rng, 64)
     cos_v = np.einsum("ij,ij->i", n, v)
-    np.testing.assert_allclose(split_sum_radiance(Lambert(0.5), pre, n, v), np.where(cos_v[:, None] > 0, 0.5, np.zeros((64, 3))),
-                               atol=1e-7)  # fmt: skip
+    furnace = np.where(cos_v[:, None] > 0, 0.5, np.zeros((64, 3)))
+    np.testing.assert_allclose(split_sum_radiance(Lambert(0.5), pre, n, v), furnace, atol=1e-7)
     models = [
         (Phong(0.5, 40), 1e-3),
         (BlinnPhong(0.5, 100), 1e-3),
