@@ -53,7 +53,7 @@ from ..lights.environment import as_environment
 from ._delta import delta_albedo, delta_radiance, split_delta
 from .prefilter import PrefilteredEnvironment, prefilter_environment
 from .radiance import _frames, _radiance_batch, _to_world
-from .sampling import _check_brdf, as_generator
+from .sampling import _check_brdf
 
 __all__ = ["ALBEDO_ANGLES", "lobe_albedo", "lobe_sigma", "split_sum_radiance", "ProgressiveRadiance"]
 
@@ -263,8 +263,9 @@ class ProgressiveRadiance:
     environment : Environment, scalar/RGB radiance or callable
     normals, view_dirs : array_like, (N, 3)
         Unit normals and view directions (world frame) of the pixels.
-    seed : int or None
-        The first pass's seed; pass ``k`` uses a stream derived from it, so a run is reproducible.
+    seed : int >= 0 or None
+        Pass ``k``'s chunk ``j`` of pixels draws from ``SeedSequence(seed, spawn_key=(k, j))``, so a run is
+        reproducible whichever thread integrates which chunk (``None``: fresh entropy).
 
     Examples
     --------
@@ -285,7 +286,10 @@ class ProgressiveRadiance:
         v = check_vectors("view_dirs", view_dirs)
         self.dtype = working_dtype(n, v)
         self._shape, self._n, self._t, self._b, self._vl, self._valid = _frames(n, v)
-        self._rng = as_generator(seed)
+        if seed is not None and (not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0):
+            raise ArgumentTypeError(f"seed must be an integer >= 0 or None; got {_fmt(seed)}")
+        # Pass k, chunk j draws from SeedSequence(entropy, (k, j)): the same image whatever thread runs it.
+        self._entropy = np.random.SeedSequence(seed).entropy
         count = self._n.shape[0]
         self._sum = np.zeros((count, 3))
         self._sum_sq = np.zeros((count, 3))
@@ -296,7 +300,7 @@ class ProgressiveRadiance:
     def __repr__(self):
         return f"ProgressiveRadiance({self._n.shape[0]} pixels, {self.samples} samples per pixel)"
 
-    def add(self, samples: int = 8, *, chunk: int = 16384):
+    def add(self, samples: int = 8, *, chunk: int = 4096):
         """Run one more pass of ``samples`` directions per pixel (an even count: half from each sampler).
 
         Parameters
@@ -321,11 +325,23 @@ class ProgressiveRadiance:
             to_world = lambda d: _to_world(d, self._t, self._b, self._n)  # noqa: E731
             value += delta_radiance(deltas, self.environment, self._vl, to_world)
         if smooth is not None:
-            for i in range(0, count, chunk):
+            env, k = self.environment, self.passes
+
+            def run(i):
                 sl = slice(i, i + chunk)
-                val, *_ = _radiance_batch(smooth, self.environment, self._n[sl], self._t[sl], self._b[sl],
-                                          self._vl[sl], "mis", samples, self._rng, 0, want_error=False)  # fmt: skip
+                rng = np.random.default_rng(np.random.SeedSequence(self._entropy, spawn_key=(k, i // chunk)))
+                val, *_ = _radiance_batch(smooth, env, self._n[sl], self._t[sl], self._b[sl], self._vl[sl], "mis",
+                                          samples, rng, 0, want_error=False)  # fmt: skip
                 value[sl] += val
+
+            starts = range(0, count, chunk)
+            if len(starts) == 1:
+                run(0)
+            else:
+                from ..shading.batch import _pool
+
+                for _ in _pool().map(run, starts):  # NumPy releases the GIL: the chunks run on every core
+                    pass
         value = np.where((self._valid & (self._vl[:, 2] > 0))[:, None], value, 0.0)
         self._sum += value
         self._sum_sq += value * value
