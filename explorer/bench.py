@@ -14,6 +14,11 @@ and the ratios of ours to VTK.  The measurements are interleaved: each round
 runs every item once untimed and once timed, so all of them see the same
 machine conditions.
 ``--json`` prints one machine-readable line.
+
+``--ibl`` times image-based lighting instead (:func:`run_ibl`): re-shading a 512² sphere by SH9 and
+the split sum in float32 once the environment is prefiltered, prefiltering a 512×256 map for 8
+lobe widths, and the Monte-Carlo reference at 64 samples per pixel, each beside a reference
+measured in the same run.
 """
 
 from __future__ import annotations
@@ -189,6 +194,111 @@ def _run(repeat: int, size: int) -> dict:
         result["raster_shade_over_vtk"] = result["raster_shade_ms"] / vtk
         result["raster_shade_f32_over_vtk"] = result["raster_shade_f32_ms"] / vtk
     return result
+
+
+#: The ``bench --ibl`` targets, ms.
+IBL_TARGETS = {"ibl_reshade_ms": 50.0, "ibl_prefilter_ms": 2000.0, "ibl_mc64_ms": 5000.0}
+
+
+def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
+    """The timed callables of ``bench --ibl`` (a GGX + Lambert sphere under the ``daylight`` sky).
+
+    Parameters
+    ----------
+    size : int, optional
+        Sphere image width and height in pixels.
+    env_height : int, optional
+        Rows of the lat-long environment (``2 env_height`` columns).
+    model : BRDF, optional
+        Default Lambert + GGX (``α`` = 0.3, F = 1).
+
+    Returns
+    -------
+    dict
+        ``{result key: callable}``: ``ibl_reshade_ms`` (split sum, float32, prefiltered once),
+        ``ibl_reshade_f64_ms`` (the same in float64), ``ibl_prefilter_ms`` (8 levels),
+        ``ibl_mc64_ms`` (:class:`~lighting.integrate.ibl.ProgressiveRadiance`, one 64-sample pass),
+        and ``ibl_pixels`` (the sphere's pixel count, an int).
+    """
+    from lighting import CookTorrance
+    from lighting.integrate.ibl import ProgressiveRadiance, split_sum_radiance
+    from lighting.integrate.prefilter import PREFILTER_SIGMAS, prefilter_environment
+    from lighting.validation.accuracy import ibl_environment, ibl_sphere
+
+    model = model or Lambert(0.3) + CookTorrance(1.0, 0.3, 1.0, ndf="ggx", fresnel="none")
+    env = ibl_environment("daylight", env_height)
+    _, n, v = ibl_sphere(size)
+    n32, v32 = n.astype(np.float32), v.astype(np.float32)
+    pre = prefilter_environment(env, sigmas=PREFILTER_SIGMAS)
+    split_sum_radiance(model, pre, n32, v32)  # albedo tables: once per model, not per frame
+    return {
+        "ibl_reshade_ms": lambda: split_sum_radiance(model, pre, n32, v32),
+        "ibl_reshade_f64_ms": lambda: split_sum_radiance(model, pre, n, v),
+        "ibl_prefilter_ms": lambda: prefilter_environment(env, sigmas=PREFILTER_SIGMAS),
+        "ibl_mc64_ms": lambda: ProgressiveRadiance(model, env, n, v, seed=0).add(64),
+        "ibl_pixels": int(n.shape[0]),
+    }
+
+
+def run_ibl(repeat: int = 3, size: int | None = None) -> dict:
+    """The ``bench --ibl`` measurements (medians in ms, interleaved), their targets and ratios.
+
+    Parameters
+    ----------
+    repeat : int, optional
+        Timed runs per measurement (the Monte-Carlo row takes seconds: keep it small).
+    size : int, optional
+        Sphere image size (default :data:`SIZE`); the environment is always 512×256.
+
+    Returns
+    -------
+    dict
+        ``ibl_*_ms`` medians, ``ibl_reshade_over_f64`` (float32 split sum ÷ float64 split sum),
+        ``ibl_mc64_over_reshade`` (the reference ÷ the fast path), ``targets`` and ``size``, ``pixels``.
+    """
+    fns = ibl_frames(SIZE if size is None else size)
+    pixels = fns.pop("ibl_pixels")
+    r = {"size": SIZE if size is None else size, "pixels": pixels, **_interleaved_ms(fns, repeat)}
+    r["ibl_reshade_over_f64"] = r["ibl_reshade_ms"] / r["ibl_reshade_f64_ms"]
+    r["ibl_mc64_over_reshade"] = r["ibl_mc64_ms"] / r["ibl_reshade_ms"]
+    r["targets"] = dict(IBL_TARGETS)
+    return r
+
+
+def format_ibl(r: dict) -> str:
+    """The table that ``lighting-explorer bench --ibl`` prints.
+
+    Parameters
+    ----------
+    r : dict
+        A result of :func:`run_ibl`.
+
+    Returns
+    -------
+    str
+        One row per measurement: median ms, its target, met or missed.
+    """
+    lines = [
+        f"Image-based lighting: {r['size']}x{r['size']} sphere ({r['pixels']} pixels), Lambert + GGX α=0.3, "
+        "daylight sky 512x256 (median ms)",
+        "",
+        f"{'what':52s} {'ms':>9s} {'target':>8s}  ",
+    ]
+    rows = (
+        ("re-shade, SH9 + split sum, float32 (prefiltered)", "ibl_reshade_ms"),
+        ("re-shade, SH9 + split sum, float64 (same run)", "ibl_reshade_f64_ms"),
+        ("prefilter 512x256, 8 lobe widths", "ibl_prefilter_ms"),
+        ("Monte Carlo MIS reference, 64 spp", "ibl_mc64_ms"),
+    )
+    for label, key in rows:
+        target = r["targets"].get(key)
+        verdict = "" if target is None else ("met" if r[key] <= target else "MISSED")
+        tgt = "" if target is None else f"<= {target:g}"
+        lines.append(f"{label:52s} {r[key]:9.1f} {tgt:>8s}  {verdict}".rstrip())
+    lines.append("")
+    lines.append(f"float32 re-shade ÷ float64 re-shade: {r['ibl_reshade_over_f64']:.2f}")
+    lines.append(f"Monte Carlo 64 spp ÷ float32 re-shade: {r['ibl_mc64_over_reshade']:.0f}x")
+    return "\n".join(lines)
 
 
 def format_report(r: dict) -> str:

@@ -69,14 +69,14 @@ _SAVE_METADATA = {
 
 #: The figure modules in lecture order; within a module, figures keep the order they are defined in.
 LECTURE_MODULES = (
-    "illumination", "models", "lights", "opengl", "brdf", "zoo", "energy", "fitting", "compare", "rendering",
+    "illumination", "models", "lights", "opengl", "brdf", "zoo", "energy", "fitting", "compare", "rendering", "ibl",
 )  # fmt: skip
 
 
 def _load_registry() -> dict[str, FigureSpec]:
     # Registering happens on import, and any module may be imported first (a doctest run, a notebook):
     # the lecture order is imposed here, not left to the order of imports.
-    from . import brdf, compare, energy, fitting, illumination, lights, models, opengl, rendering, zoo  # noqa: F401
+    from . import brdf, compare, energy, fitting, ibl, illumination, lights, models, opengl, rendering, zoo  # noqa: F401
 
     rank = {f"{__package__}.{name}": i for i, name in enumerate(LECTURE_MODULES)}
 

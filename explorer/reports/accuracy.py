@@ -45,22 +45,29 @@ def format_points(studies) -> str:
         for case in cases:
             pts = [p for p in st.points if p.case == case]
             lines.append(f"  {case}  (reference: {pts[0].reference})")
+            image = any(not math.isnan(p.error_p95) for p in pts)  # per-pixel errors: median and 95th percentile
+            extra = f" {'95th pct':>9s} {'ref. err':>9s}" if image else ""
             lines.append(
                 f"    {'method':28s} {'cost':>10s} {'rel. error':>12s} {'± spread':>10s} {'time':>10s}"
-                f" {'estimated':>10s} {'2σ covers':>9s}  flag"
+                f" {'estimated':>10s} {'2σ covers':>9s}{extra}  flag"
             )
             for p in pts:
                 spread = f"{p.error_spread:.1e}" if p.error_spread else ""
                 own = "" if math.isnan(p.estimated_error) else f"{p.estimated_error:.1e}"
                 cover = "" if math.isnan(p.coverage) else f"{100 * p.coverage:.0f} %"
+                if image:
+                    p95 = "" if math.isnan(p.error_p95) else f"{p.error_p95:.2e}"
+                    ref = "" if math.isnan(p.reference_error) else f"{p.reference_error:.1e}"
+                    cover += f" {p95:>9s} {ref:>9s}"
                 lines.append(
                     f"    {p.method:28s} {p.cost:>10d} {p.error:12.2e} {spread:>10s} {_fmt_s(p.seconds):>10s}"
                     f" {own:>10s} {cover:>9s}  {UNCONVERGED_MARK if p.unconverged else ''}".rstrip()
                 )
     lines.append(
         f"\n{UNCONVERGED_MARK}: unconverged, the estimated relative error (the method's own, else the measured one) "
-        f"is above {100 * UNCONVERGED_RELATIVE_ERROR:g} %; '2σ covers': share of seeds whose true error is within "
-        "two reported errors"
+        f"is above {100 * UNCONVERGED_RELATIVE_ERROR:g} %, or the reference's own error is above the measured one; "
+        "'2σ covers': share of seeds (image studies: lit pixels) whose true error is within two reported errors; "
+        "image studies: 'rel. error' is the median over the lit pixels, '95th pct' its 95th percentile"
     )
     return "\n".join(lines)
 
@@ -116,8 +123,33 @@ def write_csv(path, rows, fields) -> None:
     atomic_write(path, fh.getvalue().encode("utf-8"), flag="--out")
 
 
+#: Methods drawn as one marker (not a line over cost) in the figure, and their marker.
+_MARKED = {"split sum": "*", "SH9 irradiance": "s"}
+
+
+def _panels(studies) -> list:
+    """``[(title, [(series label, points)])]``: one panel per case and one series per method, except the
+    ``ibl`` study: one panel per environment and one series per model (its split sum and Monte Carlo)."""
+    panels = []
+    for st in studies:
+        cases = list(dict.fromkeys(p.case for p in st.points))
+        if st.name != "ibl":
+            for case in cases:
+                pts = [p for p in st.points if p.case == case]
+                panels.append(
+                    (case, [(m, [p for p in pts if p.method == m]) for m in dict.fromkeys(p.method for p in pts)])
+                )
+            continue
+        by_env = {}
+        for case in cases:
+            model, _, env = case.rpartition(" · ")
+            by_env.setdefault(env, []).append((model, [p for p in st.points if p.case == case]))
+        panels += [(f"IBL, {env}", series) for env, series in by_env.items()]
+    return panels
+
+
 def make_figure(studies, path) -> None:
-    """One log-log panel per case: relative error against time, one line per method.
+    """One log-log panel per case: relative error against time, one line per method (``ibl``: per environment).
 
     Parameters
     ----------
@@ -135,17 +167,23 @@ def make_figure(studies, path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    panels = [(st, case) for st in studies for case in dict.fromkeys(p.case for p in st.points)]
+    panels = _panels(studies)
     cols = 4 if len(panels) > 4 else len(panels)
     rows = (len(panels) + cols - 1) // cols
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False, constrained_layout=True)
-    methods = list(dict.fromkeys(p.method for st in studies for p in st.points))
-    cmap = plt.get_cmap("tab10")
-    colour = {m: cmap(i % 10) for i, m in enumerate(methods)}
-    for ax, (st, case) in zip(axes.flat, panels, strict=False):
-        pts = [p for p in st.points if p.case == case]
-        for m in dict.fromkeys(p.method for p in pts):
-            mp = sorted((p for p in pts if p.method == m), key=lambda p: p.cost)
+    methods = list(dict.fromkeys(label for _, series in panels for label, _ in series))
+    cmap = plt.get_cmap("tab10" if len(methods) <= 10 else "tab20")
+    colour = {m: cmap(i % cmap.N) for i, m in enumerate(methods)}
+    for ax, (case, series) in zip(axes.flat, panels, strict=False):
+        pts = [p for _, sp in series for p in sp]
+        for m, sp in series:
+            single = [p for p in sp if p.method in _MARKED]
+            for p in single:  # one-point fast approximations of an image study: a star (SH9: a square)
+                ax.plot(p.seconds * 1e3, max(p.error, FLOOR), _MARKED[p.method], ms=8, color=colour[m],
+                        mec="k", mew=0.6, label=m if len(single) == len(sp) else None)  # fmt: skip
+            mp = sorted((p for p in sp if p.method not in _MARKED), key=lambda p: p.cost)
+            if not mp:
+                continue
             t = [p.seconds * 1e3 for p in mp]
             e = [max(p.error, FLOOR) for p in mp]
             ax.plot(t, e, "o-", ms=3.5, lw=1.4, color=colour[m], label=m)
@@ -171,12 +209,17 @@ def make_figure(studies, path) -> None:
         ax.set_xlabel("time per evaluation (ms)")
         ax.set_ylabel("relative error")
         ax.grid(True, which="major", color="0.9", lw=0.6)
-        ax.legend(fontsize=7, loc="best", frameon=False)
+        ax.legend(fontsize=7 if len(series) <= 8 else 5.5, loc="best", frameon=False, ncol=1 if len(series) <= 8 else 2)
     for ax in list(axes.flat)[len(panels) :]:
         ax.axis("off")
     fig.suptitle(
         "Error against run time (dashed: 1 %, dotted: 0.1 %; exact zeros drawn at 1e-16; "
-        "ringed: unconverged, own estimate > 2 %)",
+        "ringed: unconverged, own estimate > 2 %)"
+        + (
+            "\nIBL panels: lines Monte Carlo (MIS) by spp, stars the split sum, squares SH9, one colour per model"
+            if any(st.name == "ibl" for st in studies)
+            else ""
+        ),
         fontsize=12,
     )
     from ..output import atomic_write

@@ -12,7 +12,11 @@ trusted reference and its wall time at increasing cost:
   light, against a 16,384-sample image);
 * **Gouraud vs Phong interpolation** (and flat) by tessellation level, against
   the ray-cast analytic sphere;
-* **float32 vs float64** re-shading of the same geometry buffer.
+* **float32 vs float64** re-shading of the same geometry buffer;
+* **image-based lighting** (``ibl``): SH9 irradiance against the exact irradiance of the pixelized
+  environment, and the split sum (:func:`lighting.integrate.ibl.split_sum_radiance`) and Monte
+  Carlo with MIS at increasing samples per pixel against a Monte-Carlo reference, per model and
+  roughness on a sphere under three environments (:data:`IBL_ENVIRONMENTS`).
 
 Times are medians of repeated runs; errors of stochastic methods are averaged
 over seeds and reported with their spread.  The reference of every case is
@@ -43,7 +47,7 @@ import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_bool, real_array
 from ..lights import AmbientLight, DirectionalLight, PointLight, RectLight
-from ..lights.environment import FunctionEnvironment
+from ..lights.environment import FunctionEnvironment, LatLongEnvironment
 from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 from ..render.camera import Camera
 from ..render.mesh import icosphere
@@ -52,7 +56,7 @@ from ..shading.equation import Material
 
 __all__ = ["Point", "Study", "run_studies", "summary", "STUDY_NAMES"]
 
-STUDY_NAMES = ("integration", "area-light", "tessellation", "precision")
+STUDY_NAMES = ("integration", "area-light", "tessellation", "precision", "ibl")
 
 
 @dataclass
@@ -71,6 +75,8 @@ class Point:
     estimated_error: float = math.nan  # the method's own relative error estimate (mean over seeds)
     coverage: float = math.nan  # fraction of seeds whose true error is within two reported errors
     unconverged: bool = False  # estimated (else measured) relative error above 2 %
+    error_p95: float = math.nan  # 95th percentile of per-pixel relative errors (image studies: ibl)
+    reference_error: float = math.nan  # the reference's own relative error (median over pixels; ibl)
 
     def __post_init__(self):
         from ..integrate import UNCONVERGED_RELATIVE_ERROR  # here: the command tree imports STUDY_NAMES cheaply
@@ -78,6 +84,8 @@ class Point:
         if not self.unconverged:
             own = self.estimated_error if not math.isnan(self.estimated_error) else self.error
             self.unconverged = bool(own > UNCONVERGED_RELATIVE_ERROR)
+        if not math.isnan(self.reference_error) and self.reference_error > self.error:
+            self.unconverged = True  # the reference is too noisy to measure this error
 
 
 @dataclass
@@ -289,6 +297,194 @@ def _precision_points(size, repeat, progress):
     return points
 
 
+# ---------------------------------------------------------------------- image-based lighting
+#: The environments of the ``ibl`` study: label -> procedural sky (:mod:`lighting.lights.skies`).
+IBL_ENVIRONMENTS = {"smooth sky": "glow", "small bright sun": "sunset", "studio": "studio"}
+#: The ``ibl`` study's sphere is seen from the side: camera ``x`` -> world ``x``, camera ``y`` (up in
+#: the image) -> world ``z`` (the sky's zenith), toward the viewer -> world ``−y``.
+IBL_VIEW_ROTATION = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+#: Pixels darker than this fraction of the image's 99th-percentile pixel are not "lit".
+IBL_LIT_FRACTION = 0.02
+_GOLD = (0.95, 0.64, 0.54)
+
+
+def ibl_models(quick: bool = False) -> list:
+    """The ``(label, model)`` pairs of the ``ibl`` study.
+
+    Parameters
+    ----------
+    quick : bool, optional
+        Three models (Lambert, Phong e=50, GGX α=0.2 with F = 1) instead of all sixteen.
+
+    Returns
+    -------
+    list of tuple
+        Lambert, Phong ``e`` = 50 and 500, normalized Blinn–Phong ``e`` = 200, and Cook–Torrance with
+        the Beckmann and GGX distributions at ``α`` = 0.05, 0.2, 0.5, each with ``F = 1`` and with
+        Schlick's Fresnel (a gold ``F_0``).
+    """
+    models = [("Lambert", Lambert(0.8)), ("Phong e=50", Phong(1.0, 50.0))]
+    if quick:
+        return models + [("GGX α=0.2, F=1", CookTorrance(1.0, 0.2, 1.0, ndf="ggx", fresnel="none"))]
+    models += [("Phong e=500", Phong(1.0, 500.0)), ("Blinn-Phong e=200", BlinnPhong(1.0, 200.0, normalized=True))]
+    for ndf, name in (("beckmann", "Beckmann"), ("ggx", "GGX")):
+        for alpha in (0.05, 0.2, 0.5):
+            models.append((f"{name} α={alpha:g}, F=1", CookTorrance(1.0, alpha, 1.0, ndf=ndf, fresnel="none")))
+            models.append((f"{name} α={alpha:g}, Schlick", CookTorrance(1.0, alpha, _GOLD, ndf=ndf, fresnel="schlick")))
+    return models
+
+
+def ibl_environment(name: str, height: int = 256):
+    """A procedural sky of :mod:`lighting.lights.skies` tabulated as a ``height × 2 height`` lat-long image.
+
+    The image *is* the environment of the study: the reference, the prefiltered levels and the
+    exact irradiance are all computed from the same pixels.
+
+    Parameters
+    ----------
+    name : str
+        A sky name (the values of :data:`IBL_ENVIRONMENTS`).
+    height : int, optional
+        Rows of the image.
+
+    Returns
+    -------
+    LatLongEnvironment
+    """
+    from ..lights.skies import SKIES
+
+    return LatLongEnvironment.from_function(SKIES[name].function, height)
+
+
+def ibl_sphere(size: int, dtype=np.float64):
+    """The unit sphere of the ``ibl`` study seen from the side: its pixels' normals and view vectors.
+
+    Parameters
+    ----------
+    size : int
+        Image width and height (:func:`lighting.render.sphere_camera`).
+    dtype : numpy dtype, optional
+
+    Returns
+    -------
+    coverage : ndarray of bool, (size, size)
+        The pixels the sphere covers, row for row with the vectors.
+    normals, views : ndarray, (N, 3)
+        World-frame unit normals and directions toward the viewer (:data:`IBL_VIEW_ROTATION`).
+    """
+    from ..render.sphere import sphere_camera
+
+    r = Renderer(AnalyticSphere(), sphere_camera(size), dtype=dtype)
+    n = np.asarray(r.sample_normals("phong"))
+    v = np.broadcast_to(r.sample_view("phong")[0], n.shape)
+    rot = IBL_VIEW_ROTATION.astype(dtype)
+    return r.gbuffer.coverage, np.ascontiguousarray(n @ rot.T), np.ascontiguousarray(v @ rot.T)
+
+
+def ibl_pixel_errors(value, reference, reference_error=None):
+    """Per-pixel relative errors over the lit pixels: ``max_c |value − ref| / max_c ref``.
+
+    Parameters
+    ----------
+    value, reference : array_like, (N, 3)
+        An estimate and its reference, per pixel.
+    reference_error : array_like, (N, 3), optional
+        The reference's standard error per pixel.
+
+    Returns
+    -------
+    errors : ndarray, (M,)
+        Relative errors of the ``M`` lit pixels (reference brighter than :data:`IBL_LIT_FRACTION`
+        of its 99th percentile).
+    lit : ndarray of bool, (N,)
+    reference_errors : ndarray, (M,) or None
+        ``max_c σ_ref / max_c ref`` of the lit pixels.
+    """
+    value = np.asarray(value, dtype=np.float64)
+    reference = np.asarray(reference, dtype=np.float64)
+    peak = np.max(reference, axis=-1)
+    lit = peak > IBL_LIT_FRACTION * np.percentile(peak, 99)
+    errors = np.max(np.abs(value[lit] - reference[lit]), axis=-1) / peak[lit]
+    own = None
+    if reference_error is not None:
+        own = np.max(np.asarray(reference_error, dtype=np.float64)[lit], axis=-1) / peak[lit]
+    return errors, lit, own
+
+
+def _progressive(model, env, n, v, spp, seed):
+    """Monte Carlo with MIS at ``spp`` samples per pixel, in 4 to 8 passes (more above 4096 spp)."""
+    from ..integrate.ibl import ProgressiveRadiance
+
+    p = ProgressiveRadiance(model, env, n, v, seed=seed)
+    # Eight passes where the count allows (the spread of the passes is the error estimate), more for
+    # large counts so that one pass stays within memory.
+    passes = max(4, min(8, spp // 2), spp // 512)
+    for _ in range(passes):
+        p.add(max(2, 2 * (spp // (2 * passes))), chunk=min(n.shape[0], 4096))
+    return p
+
+
+def _ibl_points(cfg, progress):
+    from ..integrate.ibl import split_sum_radiance
+    from ..integrate.prefilter import irradiance_map, prefilter_environment
+
+    size, subset, repeat = cfg["ibl_size"], cfg["ibl_pixels"], cfg["repeat"]
+    _, n_all, v_all = ibl_sphere(size)
+    front = np.flatnonzero(np.sum(n_all * v_all, axis=-1) > 0)
+    pick = front[np.unique(np.linspace(0, front.size - 1, min(subset, front.size)).astype(np.int64))]
+    n, v = n_all[pick], v_all[pick]
+    n32, v32 = n.astype(np.float32), v.astype(np.float32)
+    where = f"{pick.size} pixels of a {size}² sphere"
+    points = []
+    for e_i, (env_label, sky_name) in enumerate(cfg["ibl_environments"].items()):
+        env = ibl_environment(sky_name, cfg["ibl_env_height"])
+        pre = prefilter_environment(env)
+        # (a) SH9 irradiance against the exact irradiance of the same pixels, at the irradiance map's pixels
+        h = cfg["ibl_irradiance_height"]
+        exact = irradiance_map(env, h).image
+        dirs = LatLongEnvironment.pixel_directions(h, 2 * h)
+        sh9 = pre.irradiance_sh(dirs)
+        rel = np.max(np.abs(sh9 - exact), axis=-1) / np.max(exact, axis=-1)
+        _, t = _median_time(lambda pre=pre: pre.irradiance_sh(n32), repeat)
+        points.append(
+            Point("ibl", f"SH9 irradiance · {env_label}", "SH9 irradiance", 9, "coefficients",
+                  float(np.median(rel)), 0.0, t, f"exact irradiance of the {env.height}x{env.width} map at the "
+                  f"{h}x{2 * h} pixel centres (times: {where}, float32)", error_p95=float(np.percentile(rel, 95)))
+        )  # fmt: skip
+        progress()
+        # (b) the split sum and Monte Carlo at increasing spp against a Monte-Carlo reference
+        for m_i, (label, model) in enumerate(cfg["ibl_models"]):
+            seed = 1000 * e_i + 10 * m_i
+            ref = _progressive(model, env, n, v, cfg["ibl_reference_spp"], seed)
+            ref_value, ref_err = ref.value, ref.error
+            ref_text = f"Monte Carlo with MIS at {ref.samples} spp in {ref.passes} passes ({where})"
+            case = f"{label} · {env_label}"
+            split_sum_radiance(model, pre, n32, v32)  # the albedo tables once, out of the timings
+            fast, t = _median_time(lambda m=model, pre=pre: split_sum_radiance(m, pre, n32, v32), repeat)
+            errs, lit, own_ref = ibl_pixel_errors(fast, ref_value, ref_err)
+            points.append(
+                Point("ibl", case, "split sum", 1, "lookup per lobe", float(np.median(errs)), 0.0, t, ref_text,
+                      error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
+            )  # fmt: skip
+            for spp in cfg["ibl_spp"]:
+                mc = _progressive(model, env, n, v, spp, seed + 1 + spp)
+                errs, _, own_ref = ibl_pixel_errors(mc.value, ref_value, ref_err)
+                own = np.max(mc.error[lit], axis=-1) / np.max(ref_value[lit], axis=-1)
+                both = np.sqrt(np.asarray(mc.error[lit], np.float64) ** 2 + ref_err[lit] ** 2)
+                covered = np.all(np.abs(mc.value[lit] - ref_value[lit]) <= 2 * both, axis=-1)
+                points.append(
+                    Point("ibl", case, "Monte Carlo, MIS", mc.samples, "samples per pixel", float(np.median(errs)),
+                          0.0, mc.seconds, ref_text, float(np.median(own)), float(np.mean(covered)),
+                          error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
+                )  # fmt: skip
+            progress()
+    return points
+
+
+def _ibl_work(cfg):
+    return len(cfg["ibl_environments"]) * (1 + len(cfg["ibl_models"]))
+
+
 # ---------------------------------------------------------------------- driver
 def _settings(quick: bool):
     if quick:
@@ -301,6 +497,14 @@ def _settings(quick: bool):
             "levels": [0, 1, 2, 3],
             "tess_size": 96,
             "precision_size": 128,
+            "ibl_size": 32,
+            "ibl_pixels": 1024,
+            "ibl_env_height": 128,
+            "ibl_irradiance_height": 16,
+            "ibl_reference_spp": 1024,
+            "ibl_spp": [8, 32, 128],
+            "ibl_models": ibl_models(quick=True),
+            "ibl_environments": dict(list(IBL_ENVIRONMENTS.items())[:2]),
         }
     return {
         "samples": [16, 64, 256, 1024, 4096, 16384],
@@ -311,6 +515,14 @@ def _settings(quick: bool):
         "levels": [0, 1, 2, 3, 4, 5],
         "tess_size": 256,
         "precision_size": 512,
+        "ibl_size": 128,
+        "ibl_pixels": 1024,
+        "ibl_env_height": 256,
+        "ibl_irradiance_height": 64,
+        "ibl_reference_spp": 8192,
+        "ibl_spp": [8, 32, 128, 512],
+        "ibl_models": ibl_models(),
+        "ibl_environments": dict(IBL_ENVIRONMENTS),
     }
 
 
@@ -384,6 +596,17 @@ def run_studies(*, quick: bool = False, only=None, progress_factory=None) -> lis
         tick = bar(2, "float32 vs float64")
         pts = _precision_points(cfg["precision_size"], max(cfg["repeat"], 3), tick)
         studies.append(Study("precision", "float32 vs float64 re-shading", pts))
+    if "ibl" in names:
+        tick = bar(_ibl_work(cfg), "image-based lighting")
+        pts = _ibl_points(cfg, tick)
+        studies.append(
+            Study(
+                "ibl",
+                "Image-based lighting: SH9 and the split sum against exact and Monte-Carlo "
+                "references (median relative error over the lit pixels)",
+                pts,
+            )
+        )
     return studies
 
 

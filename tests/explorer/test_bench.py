@@ -57,3 +57,26 @@ def test_tuned_allocator_stops_page_faults_per_frame():
     default, tuned = faults("default"), faults("tune")
     # Every frame's temporaries page-fault anew with glibc's defaults; with the thresholds raised, none do.
     assert tuned < 50 < default
+
+
+def test_bench_ibl_json_line_is_consistent(capsys, monkeypatch):
+    from lighting.render import AnalyticSphere, Renderer, sphere_camera
+
+    monkeypatch.setattr(bench, "SIZE", 32)
+    assert bench.main(["--ibl", "--json", "--repeat", "1"]) == 0
+    r = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    for key in ("ibl_reshade_ms", "ibl_reshade_f64_ms", "ibl_prefilter_ms", "ibl_mc64_ms"):
+        assert r[key] > 0
+    assert np.isclose(r["ibl_reshade_over_f64"], r["ibl_reshade_ms"] / r["ibl_reshade_f64_ms"])
+    assert np.isclose(r["ibl_mc64_over_reshade"], r["ibl_mc64_ms"] / r["ibl_reshade_ms"])
+    # The targets, and the sphere's pixel count as the renderer covers it.
+    assert r["targets"] == {"ibl_reshade_ms": 50.0, "ibl_prefilter_ms": 2000.0, "ibl_mc64_ms": 5000.0}
+    assert r["size"] == 32
+    assert r["pixels"] == int(Renderer(AnalyticSphere(), sphere_camera(32)).gbuffer.coverage.sum())
+    table = bench.format_ibl(r)
+    assert f"{r['ibl_prefilter_ms']:9.1f}" in table and "<= 2000" in table
+
+
+def test_bench_ibl_and_plan_are_exclusive(capsys):
+    assert bench.main(["--ibl", "--plan"]) == 2
+    assert "--plan and --ibl" in capsys.readouterr().err
