@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
+from ..lights.envlight import split_environment_lights
 from ..lights.punctual import AmbientLight, DirectionalLight, SpotLight
 from ..models.brdf import BRDF, BRDFSum
 from ..shading.batch import accumulate, shade_prepared
@@ -156,6 +157,7 @@ class Plan:
     kept_lights: list = field(default_factory=list)
     constant: np.ndarray = field(default_factory=lambda: np.zeros(3))
     skipped: list = field(default_factory=list)
+    environments: list = field(default_factory=list)  # EnvironmentLights reflected by the kept parts
 
     # ------------------------------------------------------------------ words
     def describe(self) -> str:
@@ -177,7 +179,10 @@ class Plan:
             )
         elif self.strategy == "general":
             names = ", ".join(_label(p) for p in self.kept_parts)
-            lines.append(f"  evaluate: {names} {where} under {len(self.kept_lights)} light(s)")
+            under = f"under {len(self.kept_lights)} light(s)" if self.kept_lights else "under the environment alone"
+            lines.append(f"  evaluate: {names} {where} {under}")
+        for light in self.environments:
+            lines.append(f"  evaluate: {_environment_words(light, where)}")
         for s in self.skipped:
             lines.append(f"  left out: {s.what} — {s.why}")
         return "\n".join(lines)
@@ -209,16 +214,22 @@ class Plan:
             return np.broadcast_to(saturate_to(self.constant, dt), (n, 3)).copy()
         nrm = renderer.sample_normals(mode)
         if self.strategy == "diffuse-directional":
-            return self._diffuse_directional(renderer, nrm)
-        v, dist = renderer.sample_view(mode)
-        material = Material(BRDFSum(*self.kept_parts), self.material.ambient, self.material.emission)
-        # Tangents for anisotropic parts; a group of renderers without them leaves each model its default frame.
-        tangents = getattr(renderer, "sample_tangents", None)
-        tangents = tangents(mode) if tangents is not None and needs_tangents(material) else None
-        return shade_prepared(
-            renderer.sample_points(mode), nrm, v, material, self.kept_lights + [AmbientLight(self._ambient_colour(),
-            1.0)], eye_distance=dist, form=self.form, terms=self.terms, tangents=tangents,
-        )  # fmt: skip
+            out = self._diffuse_directional(renderer, nrm)
+            v = renderer.sample_view(mode)[0] if self.environments else None
+        else:
+            v, dist = renderer.sample_view(mode)
+            material = Material(BRDFSum(*self.kept_parts), self.material.ambient, self.material.emission)
+            # Tangents for anisotropic parts; a group of renderers without them leaves each model its default frame.
+            tangents = getattr(renderer, "sample_tangents", None)
+            tangents = tangents(mode) if tangents is not None and needs_tangents(material) else None
+            out = shade_prepared(
+                renderer.sample_points(mode), nrm, v, material, self.kept_lights + [AmbientLight(
+                self._ambient_colour(), 1.0)], eye_distance=dist, form=self.form, terms=self.terms, tangents=tangents,
+            )  # fmt: skip
+        if self.environments:
+            out = out + _environment_reflected(self.environments, BRDFSum(*self.kept_parts), nrm, v, self.form,
+                                               self.terms, dt)  # fmt: skip
+        return out
 
     def _ambient_colour(self):
         # The ambient lights are folded into one with the same total (their sum is all that matters).
@@ -343,6 +354,7 @@ def compile_plan(
     mode = check_choice("mode", mode, SHADING_MODES)
     form = check_choice("form", form, FORMS)
     terms = tuple(check_terms(terms))
+    lights, envs = split_environment_lights(lights)
     lights = check_lights(lights)
     bounds = _check_bounds(bounds)
     skipped: list[Skip] = []
@@ -387,20 +399,29 @@ def compile_plan(
         else:
             direct.append(light)
 
-    plan = Plan(material, lights, mode, form, terms, "general", parts, direct, constant, skipped)
-    if not parts or not direct:
+    kept_envs = []
+    for light in envs:
+        if not parts:
+            skipped.append(Skip(f"the environment light ({_label(light.source)})", "no diffuse or specular part "
+                                "remains to reflect it"))  # fmt: skip
+        else:
+            kept_envs.append(light)
+    plan = Plan(material, lights, mode, form, terms, "general", parts, direct, constant, skipped, kept_envs)
+    if not parts or not (direct or kept_envs):
         plan.strategy = "constant"
         why = "no light reaches the surface directly" if not direct else "no diffuse or specular part remains"
         skipped.append(Skip("normals, view vectors and the light loop", f"{why}: the image is one constant colour"))
         return plan
-    if all(p.lambertian for p in parts) and all(isinstance(lt, DirectionalLight) for lt in direct):
+    if direct and all(p.lambertian for p in parts) and all(isinstance(lt, DirectionalLight) for lt in direct):
         plan.strategy = "diffuse-directional"
         skipped.append(Skip("view vectors and half vectors", "a diffuse surface needs only the sign of n·v"))
         skipped.append(Skip("per-sample light vectors and attenuation", "every light is directional: one l per light"))
         return plan
     if not any(p.term == "specular" for p in parts):
         skipped.append(Skip("half vectors", "no specular part remains"))
-    if all(isinstance(lt, DirectionalLight) for lt in direct):
+    if not direct:
+        skipped.append(Skip("the light loop", "no punctual or area light: the environment lights the surface alone"))
+    elif all(isinstance(lt, DirectionalLight) for lt in direct):
         skipped.append(Skip("per-sample light vectors and attenuation", "every light is directional: one l per light"))
     return plan
 
@@ -428,6 +449,7 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     """
     _check_renderer(renderer)
     check_material(material)
+    lights, envs = split_environment_lights(lights)
     lights = check_lights(lights)
     mode = check_choice("mode", mode, SHADING_MODES)
     form = check_choice("form", form, FORMS)
@@ -445,4 +467,45 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     tangents = renderer.sample_tangents(mode) if needs_tangents(material) else None
     samples = Samples(pts, nrm, v, dist, tangents)
     acc = accumulate(samples, material, lights, options, summed=True, dtype=renderer.dtype)
-    return renderer.spread(mode, acc["total"].total())
+    total = acc["total"].total()
+    if envs:
+        total = total + _environment_reflected(envs, material.brdf, nrm, v, form, terms, renderer.dtype)
+    return renderer.spread(mode, total)
+
+
+def _environment_reflected(envs, brdf, normals, view, form, terms, dtype) -> np.ndarray:
+    """``(N, 3)``: the diffuse and specular terms (those in ``terms``) the environment lights give at the samples.
+
+    The physical form's ``L_o`` of each light (:meth:`~lighting.lights.envlight.EnvironmentLight.reflected`),
+    times π in the classic form (conventions.md), as :class:`~lighting.render.renderer.Renderer` adds them.
+    """
+    names = [t for t in ("diffuse", "specular") if t in terms]
+    out = np.zeros(normals.shape, dtype=dtype)
+    if not names:
+        return out
+    v = np.broadcast_to(view, normals.shape)
+    for light in envs:
+        parts = light.reflected(brdf, normals, v, split_terms=True)
+        for t in names:
+            out += parts[t].astype(dtype, copy=False)
+    return out * dtype(math.pi) if form == "classic" else out
+
+
+def _environment_words(light, where: str) -> str:
+    """One line of :meth:`Plan.describe` for an environment light: its source, method and resolution."""
+    from ..integrate.prefilter import _MIN_HEIGHT, PREFILTER_SIGMAS, _source_height, _unwrap
+    from ..lights.environment import ConstantEnvironment, LatLongEnvironment
+
+    env = _unwrap(light.environment)[0]
+    src = light.source
+    what = f"{src!r}" if isinstance(src, str) else type(src).__name__ if hasattr(src, "radiance") else f"radiance {src}"
+    if isinstance(env, LatLongEnvironment):
+        what += f", a {env.width}x{env.height} image"
+    if light.method == "monte-carlo":
+        return (f"environment light {what}: Monte Carlo reference, {light.samples} samples {where} "
+                f"(importance sampling with MIS, seed {light.seed})")  # fmt: skip
+    h = _MIN_HEIGHT if isinstance(env, ConstantEnvironment) else _source_height(env, None)
+    state = "already prefiltered" if light._prefiltered is not None else "prefiltered once, on first use"
+    return (f"environment light {what}: split sum {where} — SH9 irradiance for diffuse parts, the environment "
+            f"prefiltered at {2 * h}x{h} for {len(PREFILTER_SIGMAS)} lobe widths ({state}) times each glossy "
+            "part's albedo")  # fmt: skip

@@ -12,7 +12,7 @@ from ..render.mesh import TriangleMesh
 from .errors import SceneBudgetError
 from .model import Scene
 
-__all__ = ["scene_estimate", "check_scene_budget"]
+__all__ = ["scene_estimate", "check_scene_budget", "prefilter_size"]
 
 # Measured with tracemalloc on the example scenes and generated spheres (peak bytes of a render):
 #: the renderer's images and buffers, per pixel (270–420 bytes with one to four objects) …
@@ -29,6 +29,13 @@ BYTES_PER_SCENE_FILE_BYTE = 64
 #: its 35 MB and keeps 2.0; a ``.brdf`` file's tokens and syntax tree at 79 times its text, plus about 1 MB for
 #: checking the shader on a few direction pairs).
 BRDF_FILE_BYTES = {".binary": (4, 0), ".brdf": (128, 4 << 20)}
+#: an environment image named by ``[[lights]] source``, per pixel its header declares: reading it (measured: an
+#: RLE ``.hdr`` of 1024 x 512 peaks at 132 bytes per pixel), then holding it (48: the radiance and its sampling
+#: tables), and prefiltering it for the split sum, per pixel of the prefiltered source (measured: 194 at its
+#: peak; a sky is prefiltered at 512 x 256, a lat-long image at its largest power-of-two height up to 1024).
+ENVIRONMENT_BYTES_PER_PIXEL = 144
+ENVIRONMENT_HELD_BYTES_PER_PIXEL = 48
+PREFILTER_BYTES_PER_PIXEL = 200
 #: Work is counted against the same budget: one light sample at one shading point counts as 8 bytes, so the
 #: 2 GiB default allows 268 million light-sample evaluations (docs/scenes.md says how long that takes).
 BYTES_PER_SAMPLE_EVALUATION = 8
@@ -76,7 +83,7 @@ def scene_estimate(scene: Scene) -> dict:
         own = ob.lights is not None
         samples = 0
         for j, lt in enumerate(scene.object_lights(i)):
-            k = int(lt.samples) if isinstance(lt, AreaLight) else 1
+            k = int(lt.samples) if isinstance(lt, AreaLight) or _monte_carlo(lt) else 1
             samples += k
             if k > best[0]:
                 best = (k, f"objects[{i}].lights[{j}].samples" if own else f"lights[{j}].samples")
@@ -86,9 +93,51 @@ def scene_estimate(scene: Scene) -> dict:
         else:
             evaluations += samples * (geo.n_vertices if mode == "gouraud" else geo.n_triangles)
     evaluations += pixels * phong_samples
+    for key, lt in _environment_lights(scene):
+        if lt.method == "split-sum":
+            h, w = prefilter_size(lt)
+            parts.append((key, h * w * PREFILTER_BYTES_PER_PIXEL, f"prefiltering a {w}x{h} environment"))
     if best[0] <= 1:
         best = (best[0], "lights")
     return {"bytes": sum(p[1] for p in parts), "evaluations": evaluations, "parts": parts, "work_key": best[1]}
+
+
+def _monte_carlo(light) -> bool:
+    return getattr(light, "is_environment", False) and light.method == "monte-carlo"
+
+
+def _environment_lights(scene: Scene):
+    """``(key, light)`` of every environment light: the scene's, then each object's own (each light once)."""
+    seen = set()
+    lists = [("lights", scene.lights)] + [(f"objects[{i}].lights", ob.lights) for i, ob in enumerate(scene.objects)
+                                          if ob.lights is not None]  # fmt: skip
+    for path, lights in lists:
+        for j, lt in enumerate(lights):
+            if getattr(lt, "is_environment", False) and id(lt) not in seen:
+                seen.add(id(lt))
+                yield f"{path}[{j}]", lt
+
+
+def prefilter_size(light) -> tuple[int, int]:
+    """``(height, width)`` of the image an environment light's split sum prefilters (before it is made).
+
+    Parameters
+    ----------
+    light : EnvironmentLight
+
+    Returns
+    -------
+    tuple of int
+        What :func:`lighting.integrate.prefilter.prefilter_environment` chooses: a lat-long image at its
+        largest power-of-two height up to 1024, a sky at 256 rows, a constant at the smallest height; width twice
+        the height.
+    """
+    from ..integrate.prefilter import _MIN_HEIGHT, _source_height, _unwrap
+    from ..lights.environment import ConstantEnvironment
+
+    env = _unwrap(light.environment)[0]
+    h = _MIN_HEIGHT if isinstance(env, ConstantEnvironment) else _source_height(env, None)
+    return h, 2 * h
 
 
 def check_scene_budget(scene: Scene, *, size_flag: str | None = None) -> dict:

@@ -36,6 +36,7 @@ from .checks import (
     _string,
     _table,
 )
+from .envlights import check_one_environment, environment_light
 from .errors import SceneBudgetError, SceneError, _describe, _fmt_value, _join, _norm_name, _suggest
 from .model import GLLight, ImageOptions, OpenGLOptions, RenderOptions, Scene, SceneObject, _gl_lit
 from .schema import (
@@ -324,11 +325,13 @@ def _light(ctx, path, table):
     if "type" not in table:
         ctx.fail(_join(path, "type"), f"is required: one of {', '.join(map(repr, LIGHT_KEYS))}")
     kind = _choice(tuple(LIGHT_KEYS))(ctx, _join(path, "type"), table["type"])
-    params = _table(ctx, path, table, LIGHT_KEYS[kind], f"a {kind!r} light")
+    params = _table(ctx, path, table, LIGHT_KEYS[kind], f"{'an' if kind[0] in 'aeiou' else 'a'} {kind!r} light")
     params.pop("type")
     if kind == "opengl":
         space = params.pop("space")
         return GLLight(ctx.build(path, gl.Light, params), space)
+    if kind == "environment":
+        return environment_light(ctx, path, params)
     light = ctx.build(path, _LIGHT_CLASSES[kind], params)
     # The values as written, for writing back: the light keeps only the normalized direction, and
     # normalizing a unit vector again can move its last bit.  The light is frozen, so they stay true.
@@ -340,9 +343,16 @@ def _light(ctx, path, table):
 
 
 def _check_light_mix(ctx, path, lights):
+    check_one_environment(ctx, path, lights)
     gl_idx = [i for i, lt in enumerate(lights) if isinstance(lt, GLLight)]
     if gl_idx and len(gl_idx) != len(lights):
         other = next(i for i, lt in enumerate(lights) if not isinstance(lt, GLLight))
+        if getattr(lights[other], "is_environment", False):
+            ctx.fail(
+                _join(_join(path, other), "type"),
+                f"the OpenGL fixed-function equation has no environment light ({path}[{gl_idx[0]}] has type "
+                "'opengl'): light with engine lights only to use an environment",
+            )
         ctx.fail(
             _join(_join(path, other), "type"),
             f"cannot mix engine lights with OpenGL lights ({path}[{gl_idx[0]}] has type 'opengl'): "

@@ -309,6 +309,24 @@ class SceneRenderer:
             for i, r, c in zip(indices, renderers, parts, strict=True):
                 write(i, *r.spread_pixels(plan.mode, c))
 
+    def environment_background(self):
+        """The scene's environment as the camera sees it behind the objects, or None.
+
+        The radiance of the scene-level environment lights with ``background = true`` along each
+        pixel's camera ray (times π in the classic form, as everything else); the render adds the
+        ``[image]`` background to it.  An object's own environment light lights that object only.
+
+        Returns
+        -------
+        numpy.ndarray, shape (H, W, 3), or None
+        """
+        shown = [lt for lt in self._scene.lights if getattr(lt, "is_environment", False) and lt.background]
+        if not shown:
+            return None
+        _, dirs = self._scene.camera.rays(dtype=self.dtype)
+        total = sum(np.asarray(lt.radiance(dirs), dtype=self.dtype) for lt in shown)
+        return total * self.dtype(np.pi) if self._scene.render.form == "classic" else total
+
     def explain(self) -> str:
         """What the scene needs, in plain words: one plan per group of objects, and what was left out.
 
@@ -334,6 +352,7 @@ class SceneRenderer:
             extra = " — one material, one evaluation for all" if len(indices) > 1 else ""
             lines.append(f"{label} {names}{extra}:")
             lines.extend("  " + ln for ln in plan.describe().splitlines())
+        lines.extend(_environment_budget_lines(scene))
         cached = sum(r is not None and r._gbuffer is not None for r in self._renderers)
         if cached:
             lines.append(f"geometry buffers: {cached} cached; re-rendering with new lights or materials re-uses them")
@@ -399,6 +418,9 @@ class SceneRenderer:
         cam = scene.camera
         image = np.empty((cam.height, cam.width, 3), dtype=self.dtype)
         image[...] = np.asarray(scene.image.background, dtype=self.dtype)
+        behind = self.environment_background()
+        if behind is not None:
+            image += behind
         visible = tuple(int(np.count_nonzero(owner == i)) for i in range(len(scene.objects)))
         if self.plan is True:
             self._planned_composite(image, owner, visible)
@@ -442,6 +464,24 @@ class SceneRenderer:
             exposure=opts.exposure if exposure is None else exposure,
             tonemap=opts.tonemap if tonemap is None else tonemap,
         )
+
+
+def _environment_budget_lines(scene) -> list:
+    """What each environment light costs before the first frame: the prefilter's size and memory estimate."""
+    from .budget import PREFILTER_BYTES_PER_PIXEL, _environment_lights, prefilter_size
+
+    lines = []
+    for key, lt in _environment_lights(scene):
+        shown = "; drawn behind the objects" if lt.background and key.startswith("lights[") else ""
+        if lt.method == "split-sum":
+            h, w = prefilter_size(lt)
+            mib = h * w * PREFILTER_BYTES_PER_PIXEL / 2**20
+            lines.append(f"environment {key}: prefiltering {w}x{h} needs about {mib:.1f} MiB at its peak "
+                         f"(budget estimate){shown}")  # fmt: skip
+        else:
+            lines.append(f"environment {key}: {lt.samples} Monte-Carlo samples per shading point, counted in the "
+                         f"work budget{shown}")  # fmt: skip
+    return lines
 
 
 def _object_name(ob) -> str:

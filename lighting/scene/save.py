@@ -53,6 +53,8 @@ def _light_to_dict(lt) -> dict:
         raise ValueError(f"no scene-file form for the light {type(lt).__name__}")
     d = {"type": kind}
     written = getattr(lt, "_scene_values", None)
+    if kind == "environment" and written is None:  # made in Python: the light writes itself
+        return lt.to_dict()
     if written is not None:
         return {**d, **{k: (list(v) if isinstance(v, (list, tuple)) else v) for k, v in written.items()}}
     for k in LIGHT_KEYS[kind]:

@@ -8,6 +8,7 @@ and each model's ``parameters`` table, so a model registered anywhere is accepte
 from __future__ import annotations
 
 from ..lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
+from ..lights.envlight import ENVIRONMENT_METHODS, EnvironmentLight
 from ..models import model_class, model_names
 from ..render.renderer import SHADING_MODES
 from ..shading.equation import FORMS, TERMS
@@ -159,6 +160,19 @@ LIGHT_KEYS = {
         "radius": (_number, 0.5),
         **_AREA_COMMON,
     },
+    # One of source (an image file or a sky name) and radiance; neither: radiance 1.  samples and seed
+    # belong to method = "monte-carlo" (absent: 64 and 0).  See lighting.scene.envlights.
+    "environment": {
+        "type": _T,
+        "source": (_string, _ABSENT),
+        "radiance": (_color, _ABSENT),
+        "intensity": (_color, 1.0),
+        "rotation": (_number, 0.0),
+        "background": (_boolean, True),
+        "method": (_choice(ENVIRONMENT_METHODS), "split-sum"),
+        "samples": (_integer_check(2, 1 << 16), _ABSENT),
+        "seed": (_integer_check(0), _ABSENT),
+    },
     "opengl": {
         "type": _T,
         "ambient": (_rgba, [0.0, 0.0, 0.0, 1.0]),
@@ -181,6 +195,7 @@ _LIGHT_CLASSES = {
     "spot": SpotLight,
     "rect": RectLight,
     "disk": DiskLight,
+    "environment": EnvironmentLight,  # built by lighting.scene.envlights (a file, a sky or a radiance)
 }
 
 _OBJECT_COMMON = {

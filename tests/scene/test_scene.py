@@ -45,6 +45,8 @@ EXAMPLES = [
     "gouraud_vs_phong",
     "cube",
     "opengl_lights",
+    "environment",
+    "studio",
 ]
 
 
