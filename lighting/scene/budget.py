@@ -31,11 +31,12 @@ BYTES_PER_SCENE_FILE_BYTE = 64
 BRDF_FILE_BYTES = {".binary": (4, 0), ".brdf": (128, 4 << 20)}
 #: an environment image named by ``[[lights]] source``, per pixel its header declares: reading it (measured: an
 #: RLE ``.hdr`` of 1024 x 512 peaks at 132 bytes per pixel), then holding it (48: the radiance and its sampling
-#: tables), and prefiltering it for the split sum, per pixel of the prefiltered source (measured: 194 at its
-#: peak; a sky is prefiltered at 512 x 256, a lat-long image at its largest power-of-two height up to 1024).
+#: tables), and prefiltering it for the split sum, per pixel of the prefiltered source (measured at the peak, the
+#: Gaussian and GGX levels: 345 for a 1024 x 512 file, 392 for a sky, which is prefiltered at 512 x 256; a lat-long
+#: image is prefiltered at its largest power-of-two height up to 1024).
 ENVIRONMENT_BYTES_PER_PIXEL = 144
 ENVIRONMENT_HELD_BYTES_PER_PIXEL = 48
-PREFILTER_BYTES_PER_PIXEL = 200
+PREFILTER_BYTES_PER_PIXEL = 400
 #: Work is counted against the same budget: one light sample at one shading point counts as 8 bytes, so the
 #: 2 GiB default allows 268 million light-sample evaluations (docs/scenes.md says how long that takes).
 BYTES_PER_SAMPLE_EVALUATION = 8
