@@ -240,7 +240,8 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
                 irradiance = pre.irradiance_sh(n) * np.asarray(1 / math.pi, dtype=dt)
             diffuse += rho * irradiance
         else:
-            specular += rho * pre.lookup(_lobe_axis(part.lobe(), n, r), min(sigma, pre.sigmas[-1]))
+            lobe = part.lobe()
+            specular += rho * pre.lookup(_lobe_axis(lobe, n, r), min(sigma, pre.sigmas[-1]), lobe.tails)
     diffuse[~seen] = 0
     specular[~seen] = 0
     out_shape = shape[:-1] + (3,)

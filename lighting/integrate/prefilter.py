@@ -62,6 +62,9 @@ PREFILTER_SIGMAS = (0.0, 0.025, 0.05, 0.1, 0.2, 0.4, 0.8, 1.6)
 _SUPPORT = 6.0
 #: The smallest level height (a 16 × 32 image resolves ``σ = 1.6`` with eight pixels per σ).
 _MIN_HEIGHT = 16
+#: The largest height of a blurred level (σ > 0): at 256 rows the narrowest lobe, σ = 0.025, still spans two
+#: pixels per σ, and the cost of prefiltering stops growing with the source (level 0 keeps the source's detail).
+_MAX_LEVEL_HEIGHT = 256
 
 
 def _row_bounds(height: int) -> np.ndarray:
@@ -86,12 +89,12 @@ def _halve(image: np.ndarray) -> np.ndarray:
 
 
 def _level_height(sigma: float, source_height: int) -> int:
-    """The coarsest power-of-two height with eight pixels per ``σ``, at most the source's."""
+    """The coarsest power-of-two height with eight pixels per ``σ``, at most the source's and 256 rows."""
     need = 8 * math.pi / sigma
     h = _MIN_HEIGHT
-    while h < need and h < source_height:
+    while h < need and h < min(source_height, _MAX_LEVEL_HEIGHT):
         h *= 2
-    return min(h, source_height)
+    return min(h, source_height, max(_MAX_LEVEL_HEIGHT, _MIN_HEIGHT))
 
 
 def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:
@@ -110,17 +113,65 @@ def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:
     src = np.fft.rfft(image * omega[:, None, None], axis=1)  # (H, W/2+1, C)
     out = np.zeros((h, w // 2 + 1, c), dtype=np.complex128)
     norm = np.zeros(h)
-    rows = np.arange(h)
-    # One offset at a time keeps the kernel block at H × W values however wide the support.
+    sin_t = np.sin(theta)
+    # One offset at a time keeps the kernel block at H × W values however wide the support; the rows it
+    # pairs are two contiguous slices (no gather, no scatter).
     for o in offsets:
-        i = rows[(rows + o >= 0) & (rows + o < h)]
-        j = i + o
-        st = np.sin(theta[i]) * np.sin(theta[j])
-        one_minus_cos = 2 * np.sin((theta[i] - theta[j]) / 2)[:, None] ** 2 + 2 * st[:, None] * s2phi[None, :]
-        k = kernel_of(one_minus_cos)  # (len(i), W), symmetric in Δφ: its spectrum is real
-        out[i] += np.fft.rfft(k, axis=1)[:, :, None] * src[j]
+        i = slice(max(0, -o), min(h, h - o))
+        j = slice(i.start + o, i.stop + o)
+        dlat = np.sin((theta[i] - theta[j]) / 2)
+        one_minus_cos = (2 * dlat * dlat)[:, None] + (2 * sin_t[i] * sin_t[j])[:, None] * s2phi[None, :]
+        k = kernel_of(one_minus_cos)  # (rows, W), symmetric in Δφ: its spectrum is real
+        out[i] += np.fft.rfft(k, axis=1).real[:, :, None] * src[j]
         norm[i] += k.sum(axis=1) * omega[j]
     return np.fft.irfft(out, n=w, axis=1), norm
+
+
+def _ggx_kernel(alpha: float):
+    r"""GGX's lobe as a kernel of ``x = 1 − cos ψ`` about the reflected direction (Karis's ``n = v = r``).
+
+    With ``n = v = r``, a half vector ``θ_h`` from ``r`` reflects ``l`` at ``ψ = 2 θ_h``; the prefilter
+    weights ``L(l)`` by ``D(θ_h) (n·l)``, and ``cos²θ_h = 1 − x/2`` gives
+    ``D ∝ 1 / (α² + (x/2)(1 − α²))²``, times ``max(cos ψ, 0) = max(1 − x, 0)``.
+    """
+    a2 = alpha * alpha
+
+    def kernel(x):
+        return np.maximum(1.0 - x, 0.0) / (a2 + 0.5 * x * (1.0 - a2)) ** 2
+
+    return kernel
+
+
+#: Where a GGX level's kernel is split (in σ): the core within it at the level's resolution, the long
+#: tail beyond it on a map eight pixels per core radius.
+_TAIL_START = 6.0
+
+
+def _ggx_level(mip, sigma: float, h0: int) -> np.ndarray:
+    """One level of the GGX-tailed family: ``Σ K L Ω / Σ K Ω`` for the kernel of :func:`_ggx_kernel`.
+
+    GGX's tails reach the horizon, so the kernel is split at ``ψ₁ = 6σ``: ``K − K(max(x, x₁))``, zero
+    beyond ``ψ₁``, at the level's own resolution, and ``K(max(x, x₁))``, flat inside ``ψ₁`` and smooth on
+    the scale of ``ψ₁``, on a coarser map (its sums resampled bilinearly); the two add up to ``K``.
+    """
+    alpha = sigma / math.sqrt(2.0)
+    kernel = _ggx_kernel(alpha)
+    h = _level_height(sigma, h0)
+    psi1 = _TAIL_START * sigma
+    if psi1 >= math.pi / 2:
+        conv, norm = _convolve_rows(mip(h), kernel, math.pi / 2 + math.pi / h)
+        return conv / norm[:, None, None]
+    x1 = 1.0 - math.cos(psi1)
+    conv, norm = _convolve_rows(mip(h), lambda x: kernel(x) - kernel(np.maximum(x, x1)), psi1 + math.pi / h)
+    ht = _MIN_HEIGHT
+    while ht < 8 * math.pi / psi1 and ht < h:
+        ht *= 2
+    tconv, tnorm = _convolve_rows(mip(ht), lambda x: kernel(np.maximum(x, x1)), math.pi / 2 + math.pi / ht)
+    tail = np.concatenate([tconv, np.broadcast_to(tnorm[:, None, None], (ht, 2 * ht, 1))], axis=2)
+    if ht < h:
+        flat = tail.reshape(-1, 4)
+        tail = latlong_lookup(flat, ht, 2 * ht, LatLongEnvironment.pixel_directions(h, 2 * h))
+    return (conv + tail[..., :3]) / (norm[:, None, None] + tail[..., 3:])
 
 
 def _base_image(env: Environment, height: int) -> np.ndarray:
@@ -225,19 +276,25 @@ class PrefilteredEnvironment:
     sigmas : tuple of float
         The lobe width ``σ`` of each level, radians; ``sigmas[0] = 0`` is the environment itself.
     levels : list of ndarray
-        ``(H_k, 2 H_k, 3)`` float32 images.
+        ``(H_k, 2 H_k, 3)`` float32 images, averaged over Gaussian (von Mises–Fisher) lobes.
+    families : dict of str to list of ndarray
+        The levels of each kind of lobe tail (:attr:`lighting.models.protocol.Lobe.tails`):
+        ``"gaussian"`` (:attr:`levels`) and ``"ggx"`` (GGX's own lobe as the kernel, with its long tails).
     sh : ndarray, (9, 3)
         The SH9 projection of level 0, each pixel's basis integral exact (:func:`latlong_sh`).
     """
 
-    def __init__(self, environment, sigmas, levels, sh, scale=1.0, to_base=None):
+    def __init__(self, environment, sigmas, families, sh, scale=1.0, to_base=None):
         self.environment = environment
         self.sigmas = tuple(float(s) for s in sigmas)
-        self.levels = levels
+        self.families = families
+        self.levels = families["gaussian"]
         self.sh = sh
         self._scale = np.broadcast_to(np.asarray(scale, dtype=np.float64), (3,))
         self._to_base = to_base
-        self._flat = [np.ascontiguousarray(im.reshape(-1, 3)) for im in levels]
+        self._flat = {k: [np.ascontiguousarray(im.reshape(-1, 3)) for im in v] for k, v in families.items()}
+        # Each level's value at the zenith and the nadir: the mean of its edge row (every column meets there).
+        self._poles = {k: [(im[0].mean(axis=0), im[-1].mean(axis=0)) for im in v] for k, v in families.items()}
         c1, c2, c3, c4, c5 = SH_CONSTANTS
         L = np.asarray(sh, dtype=np.float64)  # noqa: N806 - the paper's L_lm
         self._sh_matrices = [
@@ -256,8 +313,8 @@ class PrefilteredEnvironment:
 
     @property
     def nbytes(self) -> int:
-        """Bytes held by the levels."""
-        return sum(im.nbytes for im in self.levels)
+        """Bytes held by the levels of every family (level 0 counted once: the families share it)."""
+        return sum(im.nbytes for fam in self.families.values() for im in fam[1:]) + self.levels[0].nbytes
 
     def _base(self, d):
         return d if self._to_base is None else self._to_base(d)
@@ -274,10 +331,11 @@ class PrefilteredEnvironment:
         above = np.interp(logs, np.log(sig[1:]), np.arange(1, len(sig)))
         return np.where(s < sig[1], np.clip(s / sig[1], 0.0, 1.0), above)
 
-    def lookup(self, directions, sigma) -> np.ndarray:
+    def lookup(self, directions, sigma, tails: str = "gaussian") -> np.ndarray:
         r"""``\bar L(r, σ)``: the environment averaged over a lobe of width ``sigma`` about ``directions``.
 
-        Bilinear in each level, linear between the two levels around ``σ``.
+        Bilinear in each level (within half a row of a pole, linear in ``θ`` to the pole's value, the
+        mean of the edge row), linear between the two levels around ``σ``.
 
         Parameters
         ----------
@@ -285,6 +343,8 @@ class PrefilteredEnvironment:
             Lobe axes (world frame; need not be unit).
         sigma : array_like, broadcasting to ``(...)``
             Lobe widths in radians, ``>= 0``.
+        tails : {"gaussian", "ggx"}
+            The family of levels (the lobe's :attr:`~lighting.models.protocol.Lobe.tails`).
 
         Returns
         -------
@@ -292,21 +352,24 @@ class PrefilteredEnvironment:
             Radiance, in the dtype of ``directions`` (float32 stays float32).
         """
         d = check_vectors("directions", directions)
+        if tails not in self.families:
+            raise ValueError(f"tails must be one of {', '.join(map(repr, self.families))}; got {_fmt(tails)}")
+        levels, flat, poles = self.families[tails], self._flat[tails], self._poles[tails]
         dt = working_dtype(d)
         shape = d.shape[:-1]
         d = self._base(d.reshape(-1, 3))
         lf = np.broadcast_to(self.level_of(sigma), shape).reshape(-1)
-        k0 = np.minimum(np.floor(lf).astype(np.int64), len(self.levels) - 1)
+        k0 = np.minimum(np.floor(lf).astype(np.int64), len(levels) - 1)
         out = np.zeros((d.shape[0], 3), dtype=dt)
         for k in np.unique(k0):
             idx = np.flatnonzero(k0 == k)
             dk = d[idx]
-            h = self.levels[k].shape[0]
-            val = latlong_lookup(self._flat[k], h, 2 * h, dk).astype(dt, copy=False)
-            if k + 1 < len(self.levels):
+            h = levels[k].shape[0]
+            val = latlong_lookup(flat[k], h, 2 * h, dk, poles[k]).astype(dt, copy=False)
+            if k + 1 < len(levels):
                 t = (lf[idx] - k).astype(dt)[:, None]
-                h1 = self.levels[k + 1].shape[0]
-                upper = latlong_lookup(self._flat[k + 1], h1, 2 * h1, dk).astype(dt, copy=False)
+                h1 = levels[k + 1].shape[0]
+                upper = latlong_lookup(flat[k + 1], h1, 2 * h1, dk, poles[k + 1]).astype(dt, copy=False)
                 val = val + t * (upper - val)
             out[idx] = val
         return (out * self._scale.astype(dt)).reshape(shape + (3,))
@@ -385,18 +448,23 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
     if isinstance(env, ConstantEnvironment):
         h0 = _MIN_HEIGHT  # constant at every width: no need for detail
     base = _base_image(env, h0)
-    levels = [base.astype(np.float32)]
     mips = {h0: base}
-    for s in sig[1:]:
-        h = _level_height(s, h0)
+
+    def mip(h):
         while h not in mips:
             smallest = min(mips)
             mips[smallest // 2] = _halve(mips[smallest])
-        src = mips[h]
+        return mips[h]
+
+    levels = [base.astype(np.float32)]
+    for s in sig[1:]:
+        src = mip(_level_height(s, h0))
         kappa = 1.0 / (s * s)
         conv, norm = _convolve_rows(src, lambda x, kappa=kappa: np.exp(-kappa * x), _SUPPORT * s)
         levels.append((conv / norm[:, None, None]).astype(np.float32))
-    return PrefilteredEnvironment(env, sig, levels, latlong_sh(base), scale=scale, to_base=to_base)
+    ggx = [levels[0]] + [_ggx_level(mip, s, h0).astype(np.float32) for s in sig[1:]]
+    return PrefilteredEnvironment(env, sig, {"gaussian": levels, "ggx": ggx}, latlong_sh(base), scale=scale,
+                                  to_base=to_base)  # fmt: skip
 
 
 def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatLongEnvironment:

@@ -254,7 +254,7 @@ def _pixel_rows(h: int) -> np.ndarray:
     return np.cos(np.linspace(0.0, math.pi, h + 1))
 
 
-def latlong_lookup(flat, height: int, width: int, directions) -> np.ndarray:
+def latlong_lookup(flat, height: int, width: int, directions, poles=None) -> np.ndarray:
     """Bilinear lookup of a lat-long image (the layout of :class:`LatLongEnvironment`) in ``directions``.
 
     The one home of the lat-long lookup: :class:`LatLongEnvironment` and the prefiltered levels of
@@ -267,6 +267,10 @@ def latlong_lookup(flat, height: int, width: int, directions) -> np.ndarray:
     height, width : int
     directions : ndarray, (..., 3)
         Directions (need not be unit; the zero vector reads the pixel at ``θ = 0``).
+    poles : (ndarray (C,), ndarray (C,)), optional
+        The values at the zenith and the nadir.  Given, a direction within half a row of a pole is
+        interpolated linearly in ``θ`` between the pole and the edge row (whose azimuth there means
+        little: at the pole every column meets); ``None``: the edge row's value, interpolated in ``φ``.
 
     Returns
     -------
@@ -282,14 +286,24 @@ def latlong_lookup(flat, height: int, width: int, directions) -> np.ndarray:
     tx = (fx - j0)[..., None]
     j0 = j0.astype(np.int64) % w
     j1 = (j0 + 1) % w
-    fy = np.clip(theta * (h / math.pi) - 0.5, 0.0, h - 1)
+    raw = theta * (h / math.pi) - 0.5
+    fy = np.clip(raw, 0.0, h - 1)
     i0 = np.minimum(np.floor(fy).astype(np.int64), max(h - 2, 0))
     ty = np.clip(fy - i0, 0.0, 1.0)[..., None]
     i1 = np.minimum(i0 + 1, h - 1)
     r0, r1 = i0 * w, i1 * w
     top = np.take(flat, r0 + j0, axis=0) * (1 - tx) + np.take(flat, r0 + j1, axis=0) * tx
     bot = np.take(flat, r1 + j0, axis=0) * (1 - tx) + np.take(flat, r1 + j1, axis=0) * tx
-    return top * (1 - ty) + bot * ty
+    out = top * (1 - ty) + bot * ty
+    if poles is not None:
+        # Within half a row of a pole: from the pole's value (t = 0) to the edge row's (t = 1), linear in θ.
+        for value, t in ((poles[0], 2 * raw + 1), (poles[1], 2 * (h - 0.5 - raw))):
+            near = t < 1
+            if np.any(near):
+                tt = np.clip(t[near], 0.0, 1.0)[..., None].astype(out.dtype)
+                pole = np.asarray(value, dtype=out.dtype)
+                out[near] = pole + tt * (out[near] - pole)
+    return out
 
 
 class LatLongEnvironment(Environment):

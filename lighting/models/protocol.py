@@ -183,6 +183,10 @@ class Lobe:
         The azimuth (radians, from ``x̂`` toward ``ŷ`` in the local frame) of the axis ``widths[0]``
         lies along: 0 for a model oriented by its tangent (the local frame's ``t`` is ``x̂``); a wrapper
         that turns the tangent it passes on turns its lobe with it.
+    tails : {"gaussian", "ggx"}
+        How the lobe falls off beyond its width: like a Gaussian (Phong, Blinn–Phong, Beckmann, Ward), or
+        with GGX's long tails ``D ∝ (α² + tan²θ_h)^{-2}`` (GGX, Disney's GTR2), which hold about 5 % of the
+        lobe beyond six widths.  Image-based lighting prefilters with a kernel of the same kind.
 
     Notes
     -----
@@ -209,10 +213,13 @@ class Lobe:
     widths: tuple[float, float] | None = None
     quadrature_widths: tuple[float, float] | None = None
     orientation: float = 0.0
+    tails: str = "gaussian"
 
     def __post_init__(self):
         if self.axis not in ("normal", "mirror", "half"):
             raise ValueError(f"Lobe axis must be 'normal', 'mirror' or 'half'; got {self.axis!r}")
+        if self.tails not in ("gaussian", "ggx"):
+            raise ValueError(f"Lobe tails must be 'gaussian' or 'ggx'; got {self.tails!r}")
         if self.horizon not in (None, "v-cavity", "smith"):
             raise ValueError(f"Lobe horizon must be None, 'v-cavity' or 'smith'; got {self.horizon!r}")
         for name in ("widths", "quadrature_widths"):
