@@ -45,7 +45,7 @@ def help_text(argv, capsys, monkeypatch) -> str:
         (["sphere"], r"--tonemap \{clamp,reinhard\} +tone map \(8-bit formats\) \(default: clamp\)"),
         (["render"], r"--size WxH +image size in pixels, WIDTHxHEIGHT or N for a square \(default: the scene's "
                      r"\[image\] size\)"),
-        (["bench"], r"--repeat N +timed runs per measurement, 1 to 10000 \(median reported\) \(default: 15\)"),
+        (["bench"], r"--repeat N +timed runs per measurement, 1 to 10000 \(median; default 15, or 3 with --ibl\)"),
         (["figures"], r"--format FORMATS +comma-separated formats among png, svg, pdf \(default: png\)"),
         (["figures"], r"--out DIR, -o DIR +output folder \(default: out/figures\)"),
         (["explore"], r"--elevation ELEVATION +light elevation above the image plane, degrees \(default: 45\)"),
