@@ -53,7 +53,14 @@ from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check
 from ..lights.environment import ConstantEnvironment, Environment, LatLongEnvironment, as_environment, latlong_lookup
 from .sh import SH_CONSTANTS
 
-__all__ = ["PREFILTER_SIGMAS", "PrefilteredEnvironment", "prefilter_environment", "irradiance_map", "latlong_sh"]
+__all__ = [
+    "PREFILTER_SIGMAS",
+    "PrefilteredEnvironment",
+    "prefilter_environment",
+    "prefilter_height",
+    "irradiance_map",
+    "latlong_sh",
+]
 
 #: The lobe widths ``σ`` (radians) of the prefiltered levels: the mirror, then doubling from 0.025.
 #: ``σ = 1.6`` is broader than any glossy lobe (a GGX ``α = 1`` reflects into about ``σ = 1.4``).
@@ -190,7 +197,7 @@ def _source_height(env: Environment, height) -> int:
     if height is not None:
         h = check_count("height", height, _MIN_HEIGHT, 8192)
         if h & (h - 1):
-            raise ValueError(f"height must be a power of two (8, 16, …, 8192); got {_fmt(height)}")
+            raise ValueError(f"height must be a power of two (16, 32, …, 8192); got {_fmt(height)}")
         return h
     if isinstance(env, LatLongEnvironment):
         h = _MIN_HEIGHT
@@ -262,6 +269,32 @@ def latlong_sh(image) -> np.ndarray:
         (k22, "ss", "cos2"),
     ]
     return np.stack([k * np.einsum("i,ijc,j->c", rows[r], img, cols[c]) for k, r, c in terms])
+
+
+def prefilter_height(environment, height=None) -> int:
+    """The source height :func:`prefilter_environment` uses for ``environment`` (width: twice it).
+
+    A lat-long image: its largest power-of-two height up to 1024; a constant: 16 rows (it is the same at
+    every width); any other environment: 256 rows; an intensity and rotation are looked through.
+
+    Parameters
+    ----------
+    environment : Environment, scalar/RGB radiance or callable
+    height : int, optional
+        Asked for explicitly (a power of two, 16 to 8192; a constant still uses 16).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> prefilter_height(1.0), prefilter_height(lambda d: d[..., 2:3] + 1.0)
+    (16, 256)
+    """
+    env = _unwrap(as_environment(environment))[0]
+    h = _source_height(env, height)
+    return _MIN_HEIGHT if isinstance(env, ConstantEnvironment) else h
 
 
 class PrefilteredEnvironment:
@@ -422,7 +455,7 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
     sigmas : sequence of float
         Increasing lobe widths in radians, the first 0 (default :data:`PREFILTER_SIGMAS`).
     height : int, optional
-        The source height, a power of two from 8 to 8192.
+        The source height, a power of two from 16 to 8192.
 
     Returns
     -------
@@ -443,10 +476,8 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
     increasing = all(b > a for a, b in zip(sig[:-1], sig[1:], strict=True))
     if not sig or sig[0] != 0.0 or not increasing or not math.isfinite(sig[-1]):
         raise ValueError(f"sigmas must start at 0 and increase, finite (radians); got {_fmt(sigmas)}")
-    h0 = _source_height(env, height)
+    h0 = prefilter_height(env, height)
     check_budget("height", h0 * 2 * h0 * 3 * 8 * 12, what=f"prefiltering a {2 * h0}x{h0} environment")
-    if isinstance(env, ConstantEnvironment):
-        h0 = _MIN_HEIGHT  # constant at every width: no need for detail
     base = _base_image(env, h0)
     mips = {h0: base}
 

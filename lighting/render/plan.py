@@ -493,8 +493,8 @@ def _environment_reflected(envs, brdf, normals, view, form, terms, dtype) -> np.
 
 def _environment_words(light, where: str) -> str:
     """One line of :meth:`Plan.describe` for an environment light: its source, method and resolution."""
-    from ..integrate.prefilter import _MIN_HEIGHT, PREFILTER_SIGMAS, _source_height, _unwrap
-    from ..lights.environment import ConstantEnvironment, LatLongEnvironment
+    from ..integrate.prefilter import PREFILTER_SIGMAS, _unwrap, prefilter_height
+    from ..lights.environment import LatLongEnvironment
 
     env = _unwrap(light.environment)[0]
     src = light.source
@@ -504,7 +504,7 @@ def _environment_words(light, where: str) -> str:
     if light.method == "monte-carlo":
         return (f"environment light {what}: Monte Carlo reference, {light.samples} samples {where} "
                 f"(importance sampling with MIS, seed {light.seed})")  # fmt: skip
-    h = _MIN_HEIGHT if isinstance(env, ConstantEnvironment) else _source_height(env, None)
+    h = prefilter_height(light.environment)
     state = "already prefiltered" if light._prefiltered is not None else "prefiltered once, on first use"
     return (f"environment light {what}: split sum {where} — SH9 irradiance for diffuse parts, the environment "
             f"prefiltered at {2 * h}x{h} for {len(PREFILTER_SIGMAS)} lobe widths ({state}) times each glossy "

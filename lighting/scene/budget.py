@@ -133,11 +133,9 @@ def prefilter_size(light) -> tuple[int, int]:
         largest power-of-two height up to 1024, a sky at 256 rows, a constant at the smallest height; width twice
         the height.
     """
-    from ..integrate.prefilter import _MIN_HEIGHT, _source_height, _unwrap
-    from ..lights.environment import ConstantEnvironment
+    from ..integrate.prefilter import prefilter_height
 
-    env = _unwrap(light.environment)[0]
-    h = _MIN_HEIGHT if isinstance(env, ConstantEnvironment) else _source_height(env, None)
+    h = prefilter_height(light.environment)
     return h, 2 * h
 
 
