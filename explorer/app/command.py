@@ -16,12 +16,14 @@ from .state import (
     CHANNELS,
     CONTROLS,
     DEFAULTS,
+    ENVIRONMENTS,
     FIT_MODELS,
     FORMS,
     LIGHT_TYPES,
     MAX_ENTRIES,
     MODELS,
     NDFS,
+    VIEWS_3D,
     AppState,
 )
 
@@ -156,6 +158,20 @@ def add_options(p) -> None:
         action="store_true",
         help="fit that model to the current one at start and add it to the Compare list",
     )
+    g = p.add_argument_group("image-based lighting")
+    names = ", ".join(e for e in ENVIRONMENTS if e != "file")
+    g.add_argument("--environment", metavar="NAME|FILE",
+                   help=f"{h['environment']}: {names}, or an environment image (.hdr .pfm .npy .exr, lat-long) "
+                        f"(default: {DEFAULTS['environment']})")  # fmt: skip
+    g.add_argument("--env-rotation", dest="env_rotation", type=float, help=h["env_rotation"])
+    g.add_argument("--env-intensity", dest="env_intensity", type=float, help=h["env_intensity"])
+    g.add_argument("--view3d", choices=VIEWS_3D, help=h["view3d"])
+    g.add_argument("--reference", action=argparse.BooleanOptionalAction, default=None, help=h["reference"])
+    g.add_argument(
+        "--mesh",
+        metavar="FILE",
+        help="the lit object's mesh (.obj .ply .stl .glb .gltf .off, +y up) (default: a generated blob)",
+    )
     g = p.add_argument_group("window")
     g.add_argument(
         "--scene",
@@ -227,6 +243,21 @@ def run(args) -> int:
 
             classes = [file_model(path, register=True) for path in files]
             values["model"] = values.get("model") or classes[0].name
+        env_file = None
+        env = values.get("environment")
+        if env is not None and env.strip().lower().replace("_", "-") not in ENVIRONMENTS:
+            env_file, values["environment"] = env, "file"  # a file, read (and checked) below
+        elif env is not None and env.strip().lower() == "file":
+            raise ValueError("--environment file needs the file itself: --environment PATH")
+        mesh = None
+        if getattr(args, "mesh", None) is not None:
+            from lighting.render.mesh import load_mesh
+
+            mesh = load_mesh(args.mesh)  # a bad file: its one-line error, before the window is built
+        if env_file is not None:
+            from lighting.lights import load_environment
+
+            env_file = (env_file, load_environment(env_file))
         state = AppState.from_args(values)
         compare = BRDFList(max_entries=MAX_ENTRIES)
         for path, cls in zip(files[1:], classes[1:], strict=True):
@@ -249,7 +280,8 @@ def run(args) -> int:
     if off_screen:
         pv.OFF_SCREEN = True
     try:
-        app = ExplorerApp(state, window_size=args.size, off_screen=off_screen, compare=compare)
+        app = ExplorerApp(state, window_size=args.size, off_screen=off_screen, compare=compare, mesh=mesh,
+                          environment_file=env_file)  # fmt: skip
         if getattr(args, "fit_now", False):
             app.fit(render=False)
     except ValueError as exc:

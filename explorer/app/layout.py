@@ -34,7 +34,7 @@ PANEL_VIEWS = {
     GOURAUD: frozenset({"coarse", "profile"}),  # the red scan line follows the profile
     PHONG: frozenset({"coarse", "profile"}),
     PROFILE: frozenset({"profile"}),
-    LOBE: frozenset({"lobe"}),
+    LOBE: frozenset({"lobe", "object"}),  # the 3D panel: the lobe, or the lit object
     POLAR: frozenset({"polar"}),
     ANGLES: frozenset({"theta_v", "theta_h", "theta_d", "halfdiff", "albedo"}),  # albedo: the albedo curves
 }

@@ -201,7 +201,9 @@ class ModelControlsMixin:
                 c[2] = self._param_buttons(p, c)
         self._param_widgets += [w for k, w in self.sliders.items() if k == "kd" or k.startswith("param:")]
         self._params_model = self.state.model
-        self._set_text("header3", f"Material: {self._model_title()}")
+        from .widgets import MATERIAL_HEADER  # widgets builds on this module
+
+        self._set_text(MATERIAL_HEADER, f"Material: {self._model_title()}")
         self._building = building
 
     def _param_checks(self, checks, c):

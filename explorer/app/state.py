@@ -31,7 +31,7 @@ import numpy as np
 
 from lighting import AmbientLight, DirectionalLight, Lambert, Material
 from lighting._numeric import ArgumentTypeError, abbreviate, check_bool, check_count, check_range, real_array
-from lighting.lights import ATTENUATIONS, PointLight, SpotLight, attenuation_polynomial
+from lighting.lights import ATTENUATIONS, SKIES, PointLight, SpotLight, attenuation_polynomial
 from lighting.models import model_variants
 from lighting.render import SHADING_MODES
 from lighting.vec import direction_from_elevation
@@ -63,6 +63,8 @@ __all__ = [
     "ALBEDO_SAMPLES",
     "FIT_MODELS",
     "PANELS",
+    "ENVIRONMENTS",
+    "VIEWS_3D",
     "MAX_ENTRIES",
     "Control",
     "CONTROLS",
@@ -75,6 +77,11 @@ __all__ = [
 LIGHT_TYPES = ("directional", "point", "spot", "ambient")
 #: What the right BRDF panel shows: the angle curves, or the albedo curves.
 PANELS = ("angles", "albedo")
+#: The environment choices: none (the key and ambient lights only), each procedural sky, or the file of
+#: ``--environment FILE`` (see :mod:`explorer.app.environment`).
+ENVIRONMENTS = ("none", *SKIES, "file")
+#: What the 3D panel shows: the BRDF lobe, or the lit object (a mesh under the environment).
+VIEWS_3D = ("lobe", "object")
 #: Entries the window's comparison list holds (each is a row of the Compare panel and a curve in every plot).
 MAX_ENTRIES = 6
 # ATTENUATIONS (imported above) are the engine's falloff presets: (a, b, c) of 1 / (a r² + b r + c).
@@ -146,6 +153,17 @@ CONTROLS: dict[str, Control] = {
         "bool", help="lit sphere split: left half the current model, right half the solo or first shown comparison"
     ),
     "fit": Control("choice", choices=tuple(FIT_MODELS), help="the analytic model the fit action fits to the current"),
+    "environment": Control(
+        "choice",
+        choices=ENVIRONMENTS,
+        help="environment lighting the sphere and the object (with the key light; it replaces the ambient light)",
+    ),
+    "env_rotation": Control("float", -180.0, 180.0, help="environment turned about its up axis, degrees"),
+    "env_intensity": Control("float", 0.0, 10.0, help="environment radiance multiplier"),
+    "view3d": Control("choice", choices=VIEWS_3D, help="the 3D panel: the BRDF lobe, or the lit object (--mesh)"),
+    "reference": Control(
+        "bool", help="environment by the Monte-Carlo reference, refined while the view rests (off: split sum)"
+    ),
 }
 
 
@@ -267,6 +285,11 @@ DEFAULTS = {
     "panel": "angles",
     "split": False,
     "fit": "ggx",
+    "environment": "none",
+    "env_rotation": 0.0,
+    "env_intensity": 1.0,
+    "view3d": "lobe",
+    "reference": False,
 }
 #: Controls that wrap into (−180°, 180°].
 _ANGLES = ("azimuth", "phi")

@@ -78,6 +78,7 @@ from lighting.vec import spherical_direction
 
 from .comparing import AlbedoCurveView, CompareMixin, Overlay
 from .encode import encode8
+from .environment import ENV_FIELDS, EnvironmentMixin, ObjectView
 from .state import ALBEDO_SAMPLES, AppState
 
 __all__ = [
@@ -94,6 +95,7 @@ __all__ = [
     "HalfDiffView",
     "AlbedoView",
     "AlbedoCurveView",
+    "ObjectView",
     "Overlay",
 ]
 
@@ -293,7 +295,8 @@ COMPARE_FIELDS = frozenset({"compare"})
 
 #: Which controls each view depends on.
 VIEW_DEPENDENCIES = {
-    "sphere": SHADING_FIELDS | {"mode", "split_target"},  # split_target: the entry on the split sphere's right
+    "sphere": SHADING_FIELDS | {"mode", "split_target", "reference"} | ENV_FIELDS,  # split_target: the entry on
+    # the split sphere's right
     "coarse": SHADING_FIELDS,
     "profile": SHADING_FIELDS | {"scanline", "channel"},
     "lobe": MATERIAL_FIELDS | INCIDENT_FIELDS | FRAME_FIELDS | PLOT_FIELDS | {"terms"},
@@ -304,6 +307,9 @@ VIEW_DEPENDENCIES = {
     "halfdiff": MATERIAL_FIELDS | {"phi"} | PLOT_FIELDS | {"terms"},
     "albedo": MATERIAL_FIELDS | INCIDENT_FIELDS | {"terms", "channel", "panel"} | COMPARE_FIELDS,
 }
+#: The lit object (the 3D panel's other face) depends on these; it is no member of :data:`VIEWS`: it is
+#: made only while the panel shows it (``view3d = "object"``), and then updated like the others.
+OBJECT_FIELDS = MATERIAL_FIELDS | LIGHT_FIELDS | {"form", "terms", "exposure", "reference", "view3d"} | ENV_FIELDS
 VIEWS = tuple(VIEW_DEPENDENCIES)
 #: The views that follow a slider while it is dragged: the engine's images, cheap and where the eye
 #: is.  The scan-line profile, the lobe and the plots wait for the release (``update(only=...)``).
@@ -335,7 +341,7 @@ def _coarse_camera(size: int):
     return sphere_camera(size)
 
 
-class ExplorerModel(CompareMixin):
+class ExplorerModel(CompareMixin, EnvironmentMixin):
     """Computes every view of the explorer from the engine, recomputing only what a change affects.
 
     Parameters
@@ -355,6 +361,12 @@ class ExplorerModel(CompareMixin):
     compare : explorer.compare.BRDFList, optional
         The comparison list (default: an empty one of :data:`~explorer.app.state.MAX_ENTRIES`);
         see :mod:`explorer.app.comparing` for what the views draw of it.
+    object_size : (int, int)
+        Width and height in pixels of the lit object's image.
+    mesh : path or TriangleMesh, optional
+        The lit object's mesh or its file (:func:`lighting.render.mesh.load_mesh`; default: a generated blob).
+    environment_file : path or (path, Environment), optional
+        The environment of the ``"file"`` choice (:func:`lighting.lights.load_environment`; a pair: already read).
 
     Attributes
     ----------
@@ -362,13 +374,14 @@ class ExplorerModel(CompareMixin):
         ``"sphere"`` :class:`SphereView`, ``"coarse"`` :class:`CoarseView`,
         ``"profile"`` :class:`ProfileView`, ``"lobe"`` :class:`LobeView`, ``"polar"``
         :class:`PolarView`, ``"theta_v"``, ``"theta_h"``, ``"theta_d"``
-        :class:`CurveView`, ``"halfdiff"`` :class:`HalfDiffView`, ``"albedo"`` :class:`AlbedoView`.
+        :class:`CurveView`, ``"halfdiff"`` :class:`HalfDiffView`, ``"albedo"`` :class:`AlbedoView`,
+        ``"object"`` :class:`~explorer.app.environment.ObjectView` (once the 3D panel shows it).
     compare : explorer.compare.BRDFList
         The comparison list; after changing it, :meth:`update` redraws what shows it.
     """
 
     def __init__(self, state=None, *, sphere_size=360, mesh_size=256, lobe_resolution=40, dtype=np.float32,
-                 compare=None):  # fmt: skip
+                 compare=None, object_size=(320, 224), mesh=None, environment_file=None):  # fmt: skip
         self.state = state if state is not None else AppState()
         self._init_compare(compare)
         for name, v in (("sphere_size", sphere_size), ("mesh_size", mesh_size)):
@@ -384,6 +397,7 @@ class ExplorerModel(CompareMixin):
         self._sphere = Renderer(AnalyticSphere(), sphere_camera(self.sphere_size), dtype=dtype)
         self._meshes: dict = {}
         self._renderers: dict = {}
+        self._init_environment(object_size=object_size, mesh=mesh, environment_file=environment_file)
 
     # ------------------------------------------------------------------ caches
     def mesh(self, tessellation: int):
@@ -491,6 +505,8 @@ class ExplorerModel(CompareMixin):
             views.discard("sphere")  # the exact sphere has no tessellation
         if self._snapshot is None:
             views = set(VIEWS)
+        if self.state.view3d == "object" and (changed & OBJECT_FIELDS or "object" not in self.views):
+            views.add("object")
         return views
 
     def update(self, changed=None, *, only=None) -> set[str]:
@@ -529,6 +545,8 @@ class ExplorerModel(CompareMixin):
                 self.views["coarse"] = self._coarse_view(material, lights)
             if "profile" in views:
                 self.views["profile"] = self._profile_view()
+        if "object" in views:
+            self.views["object"] = self._object_view(s.material())
         if views - {"sphere", "coarse", "profile"}:
             brdf = s.plot_brdf()
             opts = s.plot_options()
@@ -565,6 +583,7 @@ class ExplorerModel(CompareMixin):
             if "albedo" in views:
                 self.views["albedo"] = self._albedo_view(brdf, theta)
         self._snapshot = self._inputs()
+        self._restart_refinement(views)
         return views
 
     def refresh(self) -> set[str]:
@@ -593,6 +612,8 @@ class ExplorerModel(CompareMixin):
     # ------------------------------------------------------------------ view builders
     def _sphere_view(self, material, lights) -> SphereView:
         s = self.state
+        if self.environment_active:
+            return self._env_sphere_view(material)
         if s.mode == "phong":
             r, geometry = self._sphere, "exact sphere"
         else:

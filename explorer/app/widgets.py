@@ -20,7 +20,18 @@ from lighting._numeric import check_range
 from .comparepanel import ComparePanelMixin
 from .layout import ACCENT, CONTROLS_PANEL, MUTED, TEXT
 from .modelcontrols import ModelControlsMixin, ParamSliderSpec, button_width
-from .state import ATTENUATIONS, CHANNELS, CONTROLS, FIT_MODELS, FORMS, LIGHT_COLOURS, LIGHT_TYPES, MODELS
+from .state import (
+    ATTENUATIONS,
+    CHANNELS,
+    CONTROLS,
+    ENVIRONMENTS,
+    FIT_MODELS,
+    FORMS,
+    LIGHT_COLOURS,
+    LIGHT_TYPES,
+    MODELS,
+    VIEWS_3D,
+)
 
 __all__ = ["SliderSpec", "ParamSliderSpec", "PANEL", "SLIDERS", "BUTTON_GROUPS", "CHECKBOXES", "WidgetsMixin"]
 
@@ -116,6 +127,8 @@ BUTTON_GROUPS = {
     "channel": ("plots", CHANNELS, {"luminance": "Y", "r": "R", "g": "G", "b": "B"}),
     "fit": ("fit", tuple(FIT_MODELS), None),
     "panel": ("right", ("angles", "albedo"), {"angles": "angles", "albedo": "albedo ρ"}),
+    "environment": ("", ENVIRONMENTS, {"band-limited": "SH l≤2"}),
+    "view3d": ("3D", VIEWS_3D, None),
 }
 
 #: The fixed part of the control panel: columns (left edge, right edge, header, items).  An item is
@@ -123,23 +136,30 @@ BUTTON_GROUPS = {
 #: model's own controls fill the column whose items are ``("model controls",)``, the comparison list's rows
 #: the column whose last item is ``("compare list",)``.
 PANEL = (
-    (0.0, 0.125, "Model", (("buttons", "model"),)),
-    (0.125, 0.295, "Light", (
+    (0.0, 0.11, "Model", (("buttons", "model"),)),
+    (0.11, 0.26, "Light", (
         ("buttons", "light"),
         ("slider", SliderSpec("elevation", "elevation", -90, 90, fmt="{:.0f}", unit="°")),
         ("slider", SliderSpec("azimuth", "azimuth", -180, 180, fmt="{:.0f}", unit="°")),
         ("slider", SliderSpec("intensity", "intensity", 0, 4, fmt="{:.2f}")),
         ("buttons", "light_color"),
     )),
-    (0.295, 0.425, "Ambient, point and spot", (
+    (0.26, 0.375, "Ambient, point and spot", (
         ("slider", SliderSpec("ambient", "ambient I_a", 0, 1, fmt="{:.2f}")),
         ("slider", SliderSpec("distance", "point/spot distance", 1.5, 12, fmt="{:.1f}")),
         ("buttons", "attenuation"),
         ("slider", SliderSpec("cutoff", "spot cutoff", 0, 90, fmt="{:.0f}", unit="°")),
         ("slider", SliderSpec("spot_exponent", "spot exponent", 0, 128, fmt="{:.0f}")),
     )),
-    (0.425, 0.665, "Material", (("model controls",),)),
-    (0.665, 0.825, "Shading and plots", (
+    (0.375, 0.485, "Environment", (
+        ("buttons", "environment"),
+        ("slider", SliderSpec("env_rotation", "rotation", -180, 180, fmt="{:.0f}", unit="°")),
+        ("slider", SliderSpec("env_intensity", "intensity", 0, 4, fmt="{:.2f}")),
+        ("buttons", "view3d"),
+        ("checks", (("reference", "reference (MC)"),)),
+    )),
+    (0.485, 0.71, "Material", (("model controls",),)),
+    (0.71, 0.87, "Shading and plots", (
         ("buttons", "mode"),
         ("buttons", "form"),
         ("slider", SliderSpec("tessellation", "coarse sphere bands", fmt="{:.0f}")),  # the control's range, 3 … 64
@@ -149,7 +169,7 @@ PANEL = (
         ("checks", (("lock", "view lock (retro)"), ("log", "log10(1+x)"), ("times_cos", "× n·l"))),
         ("checks", (("ambient", "ambient"), ("diffuse", "diffuse"), ("specular", "specular"))),
     )),
-    (0.825, 1.0, "Compare", (
+    (0.87, 1.0, "Compare", (
         ("actions", (("pin", "pin"), ("fit", "fit"))),
         ("checks", (("split", "split sphere"),)),
         ("buttons", "fit"),
@@ -157,6 +177,8 @@ PANEL = (
         ("compare list",),
     )),
 )  # fmt: skip
+#: The caption key of the Material column's header (its text names the model).
+MATERIAL_HEADER = f"header{next(i for i, c in enumerate(PANEL) if c[3] == (('model controls',),))}"
 #: The ``k_d`` slider heads the model's column: the explorer's diffuse albedo (or the model's own diffuse colour).
 KD_SLIDER = SliderSpec("kd", "k_d (diffuse albedo)", 0, 1)
 SLIDERS = {spec.name: spec for *_, items in PANEL for kind, *rest in items if kind == "slider" for spec in rest}
@@ -264,6 +286,8 @@ class WidgetsMixin(ModelControlsMixin, ComparePanelMixin):
         swatches = name == "light_color"
         entries = []
         for option in options:
+            if name == "environment" and option == "file" and self.model.environment_file is None:
+                continue  # the file choice is offered when --environment FILE gave one
             on_colour = ACCENT
             off_colour = (0.25, 0.26, 0.3)
             label = labels.get(option, self._option_label(name, option))
@@ -458,5 +482,5 @@ class WidgetsMixin(ModelControlsMixin, ComparePanelMixin):
             want = 1 if self._checkbox_value(key) else 0
             if rep.GetState() != want:
                 rep.SetState(want)
-        self._set_text("header3", f"Material: {self._model_title()}")
+        self._set_text(MATERIAL_HEADER, f"Material: {self._model_title()}")
         self._sync_compare_rows()

@@ -49,6 +49,7 @@ from .layout import (
     SPHERE_SCALE,
     _font_file,
 )
+from .objectpanel import OBJECT_FILL, ObjectPanelMixin
 from .panels import PanelsMixin
 from .state import AppState
 from .views import LIVE_VIEWS, ExplorerModel
@@ -58,7 +59,7 @@ __all__ = ["ExplorerApp"]
 
 
 # =============================================================================== the window
-class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
+class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin, ObjectPanelMixin):
     """The explorer window around an :class:`~explorer.app.views.ExplorerModel`.
 
     Parameters
@@ -80,10 +81,15 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         window is built).
     compare : explorer.compare.BRDFList, optional
         The comparison list to start with (default: an empty one).
+    mesh : path, optional
+        The lit object's mesh file (default: a generated blob); a bad file raises ``ValueError`` naming it.
+    environment_file : path, optional
+        An environment image (``.hdr``, ``.pfm``, ``.npy``, ``.exr``): the ``"file"`` environment choice.
     """
 
     def __init__(self, state=None, *, window_size=DEFAULT_WINDOW_SIZE, off_screen=False, sphere_size=None,
-                 mesh_size=None, lobe_resolution=40, brdf_files=(), compare=None):  # fmt: skip
+                 mesh_size=None, lobe_resolution=40, brdf_files=(), compare=None, mesh=None,
+                 environment_file=None):  # fmt: skip
         import pyvista as pv
 
         self.pv = pv
@@ -99,8 +105,11 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         if mesh_size is None:
             # 0.8 texel per pixel: the coarse images are drawn slightly magnified, to keep a slider move fast.
             mesh_size = int(min(max(round(0.8 * row0 * HALF / COARSE_SCALE / 8) * 8, 96), 1024))
+        # The lit object fills the 3D panel: its image at the panel's size in pixels.
+        object_size = (max(int(w * self._col_frac[0]), 32), max(int(h * self._row_frac[1] * OBJECT_FILL), 32))
         self.model = ExplorerModel(state, sphere_size=sphere_size, mesh_size=mesh_size, lobe_resolution=lobe_resolution,
-                                   compare=compare)  # fmt: skip
+                                   compare=compare, object_size=object_size, mesh=mesh,
+                                   environment_file=environment_file)  # fmt: skip
         for k, path in enumerate(brdf_files or ()):
             self.model.open_brdf(path, current=k == 0)
         #: Text and plot scale: 1 at the default height, so every window size has the same layout.
@@ -128,6 +137,7 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         self._build_sphere_panel()
         self._build_coarse_panels()
         self._build_lobe_panel()
+        self._build_object_panel()
         self._build_charts()
         self._build_controls()
         self._build_help()
@@ -297,6 +307,7 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         else:
             views = model.update()
         self._display(views)
+        self._display_object(views)
         self._changed_panels |= {panel for panel, shown in PANEL_VIEWS.items() if shown & views}
         if live:
             self._skip_unchanged_panels()
@@ -305,6 +316,7 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
         if model.pending:
             self._last_drag = time.perf_counter()
             self._start_idle_timer()
+        self._start_refine_timer()
         if render:
             self._render(all_panels=not live)
         return views
@@ -359,6 +371,10 @@ class ExplorerApp(PanelsMixin, WidgetsMixin, KeysMixin, DrawingMixin):
 
     def _on_timer(self, iren=None, event=None):
         """A timer went off: after :data:`IDLE_MS` without a move, update the views left behind."""
+        fired = iren.GetTimerEventId() if iren is not None and hasattr(iren, "GetTimerEventId") else None
+        if fired is not None and fired == self._refine_timer:
+            self._on_refine_timer()  # the progressive reference's next tick
+            return
         self._idle_timer = None
         if self.model.pending and time.perf_counter() - self._last_drag >= 0.9e-3 * IDLE_MS:
             self.flush(render=True)

@@ -1,0 +1,504 @@
+r"""Image-based lighting in the explorer: the environment light, the lit object and the progressive reference.
+
+The explorer's view frame has ``+y`` up and ``+z`` toward the viewer; an environment's frame has
+``+z`` up (:mod:`lighting.lights.environment`).  Under an environment the lit sphere and the object
+are rendered in the environment's frame, seen from ``−y``: a direction ``(x, y, z)`` of the view
+frame is ``(x, −z, y)`` there (:data:`VIEW_TO_WORLD`), so the key light keeps the place its
+elevation and azimuth give it on screen, the sky is above the object and the ground below it.
+Mesh files are taken as ``+y`` up (the OBJ and glTF habit) and turned the same way.
+
+Everything is the engine's: the environment is an :class:`lighting.lights.EnvironmentLight` given
+to :meth:`lighting.render.Renderer.render` (split sum), and the reference is
+:class:`lighting.integrate.ibl.ProgressiveRadiance` on the renderer's own per-pixel normals and view
+vectors, its values spread into the image by the renderer (:meth:`~lighting.render.Renderer.spread`).
+With an environment the ambient light is dropped (the environment is the light from everywhere,
+done properly); the key light stays (its intensity slider takes it to 0).
+
+The reference runs in tiles of at most :data:`TILE_PIXELS` pixels, one pass of
+:data:`PASS_SAMPLES` samples per pixel at a time, so each idle tick of the window does a few tens
+of milliseconds of work; :meth:`EnvironmentMixin.refine` adds passes up to a time budget and
+re-composes the images.  Any change of a control that the images depend on starts it again.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from lighting import Lambert, Material
+from lighting.analysis.machband import LUMA
+from lighting.lights import AmbientLight, EnvironmentLight, load_environment
+from lighting.lights.environment import LatLongEnvironment
+from lighting.render import AnalyticSphere, Renderer
+from lighting.render.camera import Camera
+
+from .encode import encode8
+
+__all__ = [
+    "VIEW_TO_WORLD",
+    "ENV_FIELDS",
+    "TILE_PIXELS",
+    "PASS_SAMPLES",
+    "MAX_SAMPLES",
+    "ObjectView",
+    "Refinement",
+    "world_light",
+    "default_mesh",
+    "EnvironmentMixin",
+]
+
+#: View frame → environment frame: ``(x, y, z) ↦ (x, −z, y)`` (a rotation: image up is the sky's up).
+VIEW_TO_WORLD = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+#: The controls of the environment itself.
+ENV_FIELDS = frozenset({"environment", "env_rotation", "env_intensity"})
+#: Pixels per tile of the progressive reference, samples per pixel per pass, and where it stops.
+TILE_PIXELS = 2048
+PASS_SAMPLES = 8
+MAX_SAMPLES = 4096
+#: Rows of the lat-long map a procedural sky is sampled into (the environment importance-samples it).
+SKY_ROWS = 256
+#: Camera of the object panel: eye direction (from the object's centre, environment frame) and field of view.
+OBJECT_EYE = np.array([0.0, -4.6, 0.9])
+OBJECT_TARGET = np.array([0.0, 0.0, 0.12])
+OBJECT_FOV_DEG = 29.0
+
+
+def world_light(light):
+    """A light of the explorer's view frame turned into the environment's frame (:data:`VIEW_TO_WORLD`).
+
+    Parameters
+    ----------
+    light : Light
+        A directional, point or spot light (an ambient light has no direction and is returned as is).
+
+    Returns
+    -------
+    Light
+        The same light, its direction and position turned.
+
+    Examples
+    --------
+    >>> from lighting import DirectionalLight
+    >>> world_light(DirectionalLight((0.0, 0.0, 1.0))).direction.tolist()  # toward the viewer: -y
+    [0.0, -1.0, 0.0]
+    """
+    changes = {}
+    for name in ("direction", "position"):
+        value = getattr(light, name, None)
+        if value is not None and not isinstance(light, AmbientLight):
+            changes[name] = VIEW_TO_WORLD @ np.asarray(value, dtype=np.float64)
+    return dataclasses.replace(light, **changes) if changes else light
+
+
+def default_mesh():
+    """The object shown without ``--mesh``: a smooth blob (an icosphere with three bumps a side), ``+y`` up.
+
+    Its curvature changes everywhere, so a reflection of the sky slides over it as the roughness
+    changes; its normals are the angle-weighted vertex normals (Phong-interpolated in the panel).
+
+    Returns
+    -------
+    TriangleMesh
+        About 5000 triangles inside the unit ball.
+    """
+    from lighting.render.mesh import TriangleMesh, icosphere
+
+    ico = icosphere(4)
+    v = np.asarray(ico.vertices, dtype=np.float64)
+    r = 1.0 + 0.16 * np.sin(3.0 * v[:, 0]) * np.sin(3.0 * v[:, 1] + 0.6) * np.sin(3.0 * v[:, 2] + 1.1)
+    v = v * (r / np.max(r))[:, None]
+    return TriangleMesh(v, ico.faces)
+
+
+def _fitted(mesh):
+    """The mesh centred on its bounding box, scaled into the unit ball and turned ``+y`` up → ``+z`` up."""
+    from lighting.render.mesh import TriangleMesh
+
+    v = np.asarray(mesh.vertices, dtype=np.float64)
+    centre = 0.5 * (v.min(axis=0) + v.max(axis=0))
+    radius = float(np.max(np.linalg.norm(v - centre, axis=1)))
+    v = (v - centre) / (radius if radius > 0 else 1.0)
+    normals = np.asarray(mesh.normals, dtype=np.float64) @ VIEW_TO_WORLD.T
+    return TriangleMesh(v @ VIEW_TO_WORLD.T, mesh.faces, normals=normals)
+
+
+@dataclass(frozen=True, eq=False)
+class ObjectView:
+    """The lit object: linear image (environment behind it), its 8-bit encoding, and how it was lit."""
+
+    image: np.ndarray  # (H, W, 3) linear, background included
+    rgb8: np.ndarray
+    coverage: np.ndarray  # (H, W) bool: the object's pixels
+    triangles: int
+    method: str  # "split sum", "reference" or "key light" (no environment)
+    clipped: int
+
+
+@dataclass
+class _Target:
+    """One image the reference refines: its renderer, the image without the environment, where its rows are."""
+
+    name: str
+    renderer: Renderer
+    mode: str
+    key_image: np.ndarray  # the key light alone (no environment)
+    background: np.ndarray | None  # the environment behind (None: transparent, the lit sphere)
+    rows: slice
+
+
+class Refinement:
+    """The Monte-Carlo reference of the environment term of several images, refined tile by tile.
+
+    Parameters
+    ----------
+    brdf : BRDF
+        The surface's BRDF (the terms shown).
+    environment : Environment
+        The environment light's environment (intensity and rotation applied).
+    normals, view_dirs : ndarray, (N, 3)
+        The pixels' normals and view vectors (environment frame), every image's rows in turn.
+    tile : int
+        Pixels per tile.
+    """
+
+    def __init__(self, brdf, environment, normals, view_dirs, *, tile=TILE_PIXELS):
+        from lighting.integrate.ibl import ProgressiveRadiance
+
+        n = len(normals)
+        self.count = n
+        self.tiles = [
+            ProgressiveRadiance(brdf, environment, normals[i : i + tile], view_dirs[i : i + tile], seed=k)
+            for k, i in enumerate(range(0, n, tile))
+        ]
+        self.seconds = 0.0
+        self.passes = 0
+
+    @property
+    def samples(self) -> int:
+        """Samples per pixel every pixel has (the fewest of the tiles)."""
+        return min((t.samples for t in self.tiles), default=0)
+
+    @property
+    def done(self) -> bool:
+        """Whether every tile has :data:`MAX_SAMPLES` samples per pixel."""
+        return self.samples >= MAX_SAMPLES
+
+    def step(self, budget: float) -> int:
+        """Add passes to the tiles furthest behind for about ``budget`` seconds (at least one pass).
+
+        Parameters
+        ----------
+        budget : float
+            Seconds of work.
+
+        Returns
+        -------
+        int
+            Passes added.
+        """
+        t0 = time.perf_counter()
+        added = 0
+        while not self.done and self.tiles:
+            tile = min(self.tiles, key=lambda t: t.samples)
+            tile.add(PASS_SAMPLES)
+            added += 1
+            if time.perf_counter() - t0 >= budget:
+                break
+        self.passes += added
+        self.seconds += time.perf_counter() - t0
+        return added
+
+    @property
+    def value(self) -> np.ndarray:
+        """``(N, 3)`` float64: the reflected radiance of every pixel (physical form)."""
+        if not self.tiles:
+            return np.zeros((0, 3))
+        return np.concatenate([np.asarray(t.value, dtype=np.float64) for t in self.tiles])
+
+    @property
+    def error(self) -> np.ndarray:
+        """``(N, 3)`` float64: each pixel's standard error (``inf`` before two passes of its tile)."""
+        if not self.tiles:
+            return np.zeros((0, 3))
+        return np.concatenate([np.asarray(t.error, dtype=np.float64) for t in self.tiles])
+
+    def relative_error(self) -> float:
+        """The median over lit pixels of the luminance standard error over the luminance (``inf`` at first).
+
+        Returns
+        -------
+        float
+            E.g. 0.03 for ±3 %.
+        """
+        y = self.value @ LUMA
+        e = self.error @ LUMA  # errors add at worst linearly
+        lit = y > 0
+        if not np.any(lit):
+            return 0.0
+        return float(np.median(e[lit] / y[lit]))
+
+
+class EnvironmentMixin:
+    """The environment views of :class:`~explorer.app.views.ExplorerModel` (the lit sphere under a sky, the object).
+
+    Attributes set by :meth:`_init_environment`: :attr:`environment_file` (``--environment FILE``),
+    :attr:`object_mesh` and :attr:`refinement` (the running reference, or None).
+    """
+
+    def _init_environment(self, *, object_size=(320, 224), mesh=None, environment_file=None):
+        from lighting.render.mesh import TriangleMesh, load_mesh
+
+        self.object_size = (int(object_size[0]), int(object_size[1]))
+        if mesh is None:
+            mesh = default_mesh()
+        self.object_mesh = _fitted(mesh if isinstance(mesh, TriangleMesh) else load_mesh(mesh))
+        self._bases: dict = {}
+        self._prefiltered: dict = {}
+        self.environment_file = None
+        if environment_file is not None:
+            self.open_environment(environment_file)
+        self.refinement: Refinement | None = None
+        self._targets: list = []
+        self._world_sphere = None
+        self._object_renderer = None
+
+    # ------------------------------------------------------------------ the environment
+    def open_environment(self, path):
+        """Read an environment file (``.hdr``, ``.pfm``, ``.npy``, ``.exr``): the ``"file"`` choice shows it.
+
+        Parameters
+        ----------
+        path : str or os.PathLike, or (path, Environment)
+            The file; a bad one raises ``ValueError`` naming it (:func:`lighting.lights.load_environment`).
+            A pair is a file already read.
+        """
+        if isinstance(path, tuple):
+            path, base = path
+        else:
+            base = load_environment(path)
+        self.environment_file = path
+        self._bases["file"] = base
+        self._prefiltered.pop("file", None)
+
+    def _base(self, name):
+        if name not in self._bases:
+            # A sky sampled into a lat-long map: the reference then importance-samples its sun.
+            sky = load_environment(name)
+            self._bases[name] = LatLongEnvironment.from_function(sky.radiance, SKY_ROWS)
+        return self._bases[name]
+
+    @property
+    def environment_active(self) -> bool:
+        """Whether an environment lights the images: one is chosen (and for ``"file"``, a file was read)."""
+        env = self.state.environment
+        return env != "none" and (env != "file" or "file" in self._bases)
+
+    def environment_light(self, *, background=True) -> EnvironmentLight | None:
+        """The chosen environment as a light (intensity and rotation of the controls), or None.
+
+        The environment is prefiltered once per source; turning it or scaling it reuses that (the
+        rotation and the intensity are applied at lookup).
+
+        Parameters
+        ----------
+        background : bool
+            Show it behind the geometry.
+
+        Returns
+        -------
+        EnvironmentLight or None
+        """
+        s = self.state
+        if not self.environment_active:
+            return None
+        from lighting.integrate.prefilter import prefilter_environment
+
+        base = self._base(s.environment)
+        light = EnvironmentLight(base, intensity=s.env_intensity, rotation=s.env_rotation, background=background)
+        pre = self._prefiltered.get(s.environment)
+        if pre is None:
+            pre = self._prefiltered[s.environment] = prefilter_environment(base)
+        env = light.environment
+        if env is not base:
+            # What prefilter_environment(env) makes (the base's levels, the intensity and rotation applied at
+            # lookup), without prefiltering the base again: the engine prefilters once per light, and a
+            # slider makes a new light at every move.
+            pre = copy.copy(pre)
+            pre._scale = np.broadcast_to(np.asarray(env.intensity, dtype=np.float64), (3,))
+            pre._to_base = env.to_base
+        light._prefiltered = pre
+        return light
+
+    def world_lights(self):
+        """The key light in the environment's frame (no ambient light: the environment replaces it)."""
+        key = self.state.key_light()
+        return [] if key is None else [world_light(key)]
+
+    # ------------------------------------------------------------------ renderers
+    def _sphere_renderer_world(self, mode, tessellation):
+        s = self.sphere_size
+        if mode == "phong":
+            if self._world_sphere is None:
+                cam = Camera((0.0, -10.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), projection="orthographic",
+                             ortho_height=2 * 1.08, width=s, height=s)  # fmt: skip
+                self._world_sphere = Renderer(AnalyticSphere(), cam, dtype=self.dtype)
+            return self._world_sphere, "exact sphere"
+        key = ("world", tessellation, s)
+        r = self._renderers.pop(key, None)
+        if r is None:
+            cam = Camera((0.0, -10.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), projection="orthographic",
+                         ortho_height=2 * 1.08, width=s, height=s)  # fmt: skip
+            r = Renderer(self.mesh(tessellation).transformed(_as_4x4(VIEW_TO_WORLD)), cam, dtype=self.dtype)
+        self._renderers[key] = r
+        return r, f"{r.geometry.n_triangles} triangles"
+
+    def object_renderer(self) -> Renderer:
+        """The renderer of the lit object: perspective, the environment's ``+z`` up (rasterized once)."""
+        if self._object_renderer is None:
+            w, h = self.object_size
+            cam = Camera.look_at(OBJECT_EYE, OBJECT_TARGET, (0.0, 0.0, 1.0), fov_y_deg=OBJECT_FOV_DEG, width=w,
+                                 height=h)  # fmt: skip
+            self._object_renderer = Renderer(self.object_mesh, cam, dtype=np.float32)
+        return self._object_renderer
+
+    # ------------------------------------------------------------------ views
+    def _env_sphere_view(self, material):
+        """The lit sphere under the environment (split sum; the reference refines it): a SphereView."""
+        from .views import SphereView
+
+        s = self.state
+        r, geometry = self._sphere_renderer_world(s.mode, s.tessellation)
+        lights = self.world_lights() + [self.environment_light(background=False)]
+        img = r.render(material, lights, mode=s.mode, form=s.form, terms=s.terms)
+        target = self.split_target() if s.split and not s.reference else None
+        if target is not None:
+            other = r.render(Material(target.brdf, ambient=s.diffuse_albedo), lights, mode=s.mode, form=s.form,
+                             terms=s.terms)  # fmt: skip
+            img = np.array(img, copy=True)
+            half = img.shape[1] // 2
+            img[:, half:] = other[:, half:]
+        cov = r.gbuffer.coverage
+        rgb8, clipped = encode8(img, cov, s.exposure)
+        if target is None:
+            return SphereView(img, rgb8, cov, s.mode, geometry, clipped)
+        return SphereView(img, rgb8, cov, s.mode, geometry, clipped, target.label, target.colour)
+
+    def _object_view(self, material) -> ObjectView:
+        s = self.state
+        r = self.object_renderer()
+        env = self.environment_light()
+        if env is None:
+            lights = [AmbientLight(intensity=s.ambient)] + self.world_lights()
+            method = "key light"
+        else:
+            lights = self.world_lights() + [env]
+            method = "split sum"
+        img = r.render(material, lights, mode="phong", form=s.form, terms=s.terms)
+        cov = r.gbuffer.coverage
+        return self._object_record(img, cov, method)
+
+    def _object_record(self, img, cov, method):
+        s = self.state
+        rgb8, _ = encode8(img, None, s.exposure)
+        clipped = int(np.count_nonzero(np.any(np.asarray(img)[cov] * 2.0**s.exposure > 1.0, axis=-1)))
+        return ObjectView(np.asarray(img), rgb8, cov, self.object_mesh.n_triangles, method, clipped)
+
+    # ------------------------------------------------------------------ the reference
+    def _restart_refinement(self, views):
+        """A new reference when the images it refines were recomputed (or it is switched off)."""
+        s = self.state
+        if not (s.reference and self.environment_active):
+            self.refinement, self._targets = None, []
+            return
+        shown = {"sphere"} | ({"object"} if s.view3d == "object" else set())
+        if self.refinement is not None and not (set(views) & shown):
+            return
+        env = self.environment_light()
+        material = s.material()
+        key_only = Material(material.brdf, ambient=material.ambient)
+        normals, views_, targets, start = [], [], [], 0
+        for name in ("sphere", "object"):
+            if name not in shown:
+                continue
+            if name == "sphere":
+                r, _ = self._sphere_renderer_world(s.mode, s.tessellation)
+                mode, bg = s.mode, None
+            else:
+                r, mode = self.object_renderer(), "phong"
+                black = r.render(Material(Lambert(0.0), ambient=0.0), [env], mode=mode, form=s.form)
+                bg = np.asarray(black)
+            n = np.asarray(r.sample_normals(mode), dtype=np.float64)
+            v = np.broadcast_to(np.asarray(r.sample_view(mode)[0], dtype=np.float64), n.shape)
+            key = np.asarray(r.render(key_only, self.world_lights(), mode=mode, form=s.form, terms=s.terms))
+            targets.append(_Target(name, r, mode, key, bg, slice(start, start + len(n))))
+            normals.append(n)
+            views_.append(v)
+            start += len(n)
+        brdf = s.brdf(tuple(t for t in s.terms if t in ("diffuse", "specular")))
+        self.refinement = Refinement(brdf, env.environment, np.concatenate(normals), np.concatenate(views_))
+        self._targets = targets
+
+    @property
+    def refining(self) -> bool:
+        """Whether the reference has passes left to add."""
+        return self.refinement is not None and not self.refinement.done
+
+    def refine(self, budget=0.04) -> set[str]:
+        """Add reference passes for about ``budget`` seconds and re-compose the images it refines.
+
+        Parameters
+        ----------
+        budget : float
+            Seconds of Monte-Carlo work (a pass at least).
+
+        Returns
+        -------
+        set of str
+            The views updated (``"sphere"``, ``"object"``), empty when there is nothing to refine.
+        """
+        if not self.refining:
+            return set()
+        ref = self.refinement
+        ref.step(budget)
+        value = ref.value
+        s = self.state
+        scale = math.pi if s.form == "classic" else 1.0
+        from .views import SphereView
+
+        for t in self._targets:
+            env_img = np.asarray(t.renderer.spread(t.mode, (value[t.rows] * scale).astype(np.float32)))
+            img = t.key_image + env_img
+            cov = t.renderer.gbuffer.coverage
+            if t.background is not None:
+                img = np.where(cov[..., None], img, t.background)
+            if t.name == "sphere":
+                rgb8, clipped = encode8(img, cov, s.exposure)
+                old = self.views["sphere"]
+                self.views["sphere"] = SphereView(img, rgb8, cov, old.mode, old.geometry, clipped)
+            else:
+                self.views["object"] = self._object_record(img, cov, "reference")
+        return {t.name for t in self._targets}
+
+    def refine_caption(self) -> str:
+        """``"reference: N spp, ±x %"`` (median relative standard error), or ``""`` without a reference."""
+        ref = self.refinement
+        if ref is None:
+            return ""
+        spp = ref.samples
+        if spp == 0:
+            return "reference: starting (split sum shown)"
+        rel = ref.relative_error()
+        err = f"±{100 * rel:.2g} %" if math.isfinite(rel) else "± ?"
+        per_pass = 1e3 * ref.seconds / max(ref.passes, 1)
+        return f"reference: {spp} spp, {err} ({per_pass:.0f} ms a pass){'  done' if ref.done else ''}"
+
+
+def _as_4x4(m3):
+    m = np.eye(4)
+    m[:3, :3] = m3
+    return m
