@@ -15,8 +15,8 @@ has two ways of being evaluated per pixel here:
   half vectors about ``n`` (Blinn–Phong, microfacets, width ``σ_h``; the reflected lobe is about
   twice as wide, ``σ = 2 σ_h``) reflects ``ρ(μ_v) · \bar L(r, σ)``: the split sum (Karis 2013), the
   part's directional albedo times the environment averaged over a lobe of that width
-  (:class:`~lighting.integrate.prefilter.PrefilteredEnvironment`); a half-vector lobe's axis leans from
-  ``r`` toward ``n`` as it widens (Lagarde & de Rousiers 2014's dominant direction);
+  (:class:`~lighting.integrate.prefilter.PrefilteredEnvironment`), with GGX's long tails for a lobe
+  that has them (:attr:`~lighting.models.protocol.Lobe.tails`);
 * a delta part (the ideal mirror) reflects ``R(μ_v) L(r)`` exactly.
 
 ``ρ(μ_v)`` is the engine's own directional albedo of the part: the ``E(μ, α)`` table of
@@ -36,8 +36,6 @@ References
 B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes.
 R. Ramamoorthi and P. Hanrahan, "An efficient representation for irradiance environment maps",
 SIGGRAPH 2001.
-S. Lagarde and C. de Rousiers, "Moving Frostbite to Physically Based Rendering", SIGGRAPH 2014 course
-notes, section 4.9.3 (the dominant direction of a rough specular lobe).
 """
 
 from __future__ import annotations
@@ -88,22 +86,6 @@ def lobe_sigma(lobe) -> float:
     if lobe is None or lobe.axis == "normal" or not math.isfinite(lobe.width):
         return math.inf
     return float(lobe.width) * (2.0 if lobe.axis == "half" else 1.0)
-
-
-def _lobe_axis(lobe, n, r):
-    """Where a lobe's reflected light comes from: ``r`` for a mirror lobe; for a half-vector lobe ``r`` leaned
-    toward ``n`` as the lobe widens (Lagarde & de Rousiers 2014, "dominant direction", with ``α = √2 width``).
-
-    A rough microfacet lobe seen at a grazing angle is cut by the horizon and shifted toward the normal; the
-    lean takes a measured part of that into the split sum (GGX ``α = 0.3`` seen at 40° from the normal under a
-    sky with a sun: 24 % low → 11 % high; at 80° it stays far too low, which the accuracy report shows).
-    """
-    if lobe.axis != "half":
-        return r
-    alpha = min(1.0, math.sqrt(2.0) * float(lobe.width))
-    lean = (1 - alpha) * (math.sqrt(1 - alpha) + alpha)
-    d = n + (r - n) * np.asarray(lean, dtype=n.dtype)
-    return d / np.maximum(np.linalg.norm(d, axis=-1, keepdims=True), np.finfo(n.dtype).tiny)
 
 
 def _energy_table_albedo(part):
@@ -241,7 +223,7 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
             diffuse += rho * irradiance
         else:
             lobe = part.lobe()
-            specular += rho * pre.lookup(_lobe_axis(lobe, n, r), min(sigma, pre.sigmas[-1]), lobe.tails)
+            specular += rho * pre.lookup(r, min(sigma, pre.sigmas[-1]), lobe.tails)
     diffuse[~seen] = 0
     specular[~seen] = 0
     out_shape = shape[:-1] + (3,)
