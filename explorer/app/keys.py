@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .layout import ACCENT, TEXT, _font_file
-from .state import CHANNELS, CONTROLS, FORMS, LIGHT_TYPES, MODELS, TERM_NAMES
+from .state import CHANNELS, CONTROLS, ENVIRONMENTS, FORMS, LIGHT_TYPES, MODELS, TERM_NAMES
 
 __all__ = ["HELP_TEXT", "KeysMixin"]
 
@@ -28,6 +28,10 @@ HELP_TEXT = """ lighting-explorer: keys and mouse
    F           fit the chosen analytic model to the current one (seconds)
    a           right panel: angle curves / albedo ρ(θ_v)
    v           split lit sphere: current | first shown entry
+   x           next environment (none, the skies, the file)
+   o           3D panel: BRDF lobe / lit object
+   k           environment by the Monte-Carlo reference (keeps sampling
+               while the view rests) / by the split sum
    Up / Down   move the scan line
    Left/Right  coarser / finer coarse sphere
    q           quit
@@ -131,6 +135,14 @@ class KeysMixin:
             return self.set_control("panel", "angles" if s.panel == "albedo" else "albedo")
         if key == "v":
             return self.set_control("split", not s.split)
+        if key == "x":
+            options = [e for e in ENVIRONMENTS if e != "file" or self.model.environment_file is not None]
+            current = options.index(s.environment) if s.environment in options else -1
+            return self.set_control("environment", options[(current + 1) % len(options)])
+        if key == "o":
+            return self.set_control("view3d", "lobe" if s.view3d == "object" else "object")
+        if key == "k":
+            return self.set_control("reference", not s.reference)
         if key == "p":
             return set() if self.pin() is None else self.last_views
         if key == "F":
@@ -171,7 +183,7 @@ class KeysMixin:
     def _bind_keys(self):
         pl = self.plotter
         keys = ["m", "M", "t", "i", "c", "f", "1", "2", "3", "l", "n", "Up", "Down", "Left", "Right", "r", "h"]
-        keys += ["e", "s", "p", "F", "a", "v"]
+        keys += ["e", "s", "p", "F", "a", "v", "x", "o", "k"]
         for key in keys:
             pl.clear_events_for_key(key, raise_on_missing=False)
             pl.add_key_event(key, self._key_callback(key))

@@ -198,10 +198,35 @@ def test_window_shows_the_object_and_refines_it(app):
     caption = app.captions["object_refine"].GetInput()
     assert caption.startswith(f"reference: {app.model.refinement.samples} spp, ±")
     assert app.model.views["object"].method == "reference"
-    app.set_control("view3d", "lobe")
-    assert not app._object_shown and not app.captions["object_title"].GetVisibility()
+    # The interactor's timer events: the refinement timer's id runs a tick, another id (the idle timer) does not.
+    class Timer:
+        def __init__(self, tid):
+            self.tid = tid
+
+        def GetTimerEventId(self):  # noqa: N802 - VTK's name
+            return self.tid
+
+    app._refine_timer = 7
+    app._on_timer(Timer(7))
+    ticked = ref.passes
+    assert ticked > len(ref.tiles) and app._refine_timer is None
+    app._on_timer(Timer(3))
+    assert ref.passes == ticked
+    app.on_key("k")  # the reference off by its key, and on again: a new run
+    assert app.model.refinement is None
+    app.on_key("k")
+    assert app.model.refinement is not ref and app.model.refinement.samples == 0
+    app.on_key("o")
+    assert app.state.view3d == "lobe" and not app._object_shown and not app.captions["object_title"].GetVisibility()
     assert app.captions["lobe_title"].GetVisibility()
     app.set_control("reference", False)
+    seen = [app.state.environment]
+    for _ in range(len(SKIES) + 1):  # the x key goes round every choice, the file included, and back
+        app.on_key("x")
+        seen.append(app.state.environment)
+    assert seen == ["file", "none", *SKIES]
+    app.on_key("x")
+    assert app.state.environment == "file"
 
 
 def test_command_bad_mesh_or_environment_file_is_one_error_line(tmp_path, capsys):
