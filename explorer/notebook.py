@@ -39,7 +39,7 @@ from lighting.render.image import png_bytes
 from .app.drawing import albedo_caption
 from .app.layout import BACKGROUND
 from .app.params import model_label, none_label, offered_parameters, slider_range
-from .app.state import CHANNEL_LABELS, LIGHT_TYPES, MODELS, TERM_NAMES, AppState
+from .app.state import CHANNEL_LABELS, ENVIRONMENTS, LIGHT_TYPES, MODELS, TERM_NAMES, VIEWS_3D, AppState
 from .app.views import VIEWS, ExplorerModel
 
 __all__ = ["NotebookExplorer", "LobePicture", "png_of", "EXTRA_MESSAGE"]
@@ -121,7 +121,7 @@ class NotebookExplorer:
         The control widgets by control name (parameters of the current model by their names).
     images : dict
         The view widgets (``ipywidgets.Image``) by name: ``sphere``, ``gouraud``, ``phong``, ``profile``,
-        ``lobe``, ``polar``, ``angles``.
+        ``lobe`` (the lobe, or the lit object when ``view3d = "object"``), ``polar``, ``angles``.
     timings : list of (set of str, float)
         For every change: the views recomputed and the seconds from the change to the redrawn images.
     """
@@ -129,13 +129,15 @@ class NotebookExplorer:
     def __init__(self, state=None, *, sphere_size=256, mesh_size=192, lobe_resolution=32, plot_dpi=80.0):
         self._w = _require()
         self.model = ExplorerModel(state if state is not None else AppState(), sphere_size=sphere_size,
-                                   mesh_size=mesh_size, lobe_resolution=lobe_resolution)  # fmt: skip
+                                   mesh_size=mesh_size, lobe_resolution=lobe_resolution,
+                                   object_size=(300, 280))  # fmt: skip
         self.plot_dpi = float(plot_dpi)
         self.timings: list = []
         self.controls: dict = {}
         self.images: dict = {}
         self._busy = False
         self._plots = None
+        self._face = None  # what the lobe image shows: "lobe" or "object"
         self._build()
         self._redraw(self.model.refresh())
 
@@ -192,6 +194,34 @@ class NotebookExplorer:
         self._changed(t0)
         return name
 
+    def refine(self, seconds: float = 2.0) -> int:
+        """Refine the environment's Monte-Carlo reference for ``seconds`` (turning ``reference`` on), then redraw.
+
+        A notebook has no idle timer: this is the window's "keeps sampling while the view rests", on request
+        (the **refine** button).  Without an environment there is nothing to refine.
+
+        Parameters
+        ----------
+        seconds : float
+            Seconds of Monte-Carlo passes.
+
+        Returns
+        -------
+        int
+            Samples per pixel reached (0 without an environment).
+        """
+        if not self.state.reference:
+            self.set(reference=True)
+        t0 = time.perf_counter()
+        views = set()
+        while self.model.refining and time.perf_counter() - t0 < seconds:
+            views |= self.model.refine(0.05)
+        if views:
+            self._redraw(views)
+        ref = self.model.refinement
+        self.status.value = f"<span style='color:#868e96'>{self.model.refine_caption() or 'no environment'}</span>"
+        return 0 if ref is None else ref.samples
+
     def _repr_mimebundle_(self, **kwargs):
         return self.widget._repr_mimebundle_(**kwargs)
 
@@ -242,6 +272,20 @@ class NotebookExplorer:
         material_box = w.VBox([model, slider("kd", 0, 1, 0.01, "k_d"), self._param_box])
         shading_box = w.VBox([mode, w.HBox(terms), slider("tessellation", 3, 64, 1, "bands"),
                               slider("scanline", 0.02, 0.98, 0.01, "scan line")])  # fmt: skip
+        # The "file" environment needs a file: the notebook offers the skies (ExplorerModel.open_environment).
+        env = w.Dropdown(options=[e for e in ENVIRONMENTS if e != "file"] if s.environment != "file"
+                         else list(ENVIRONMENTS), value=s.environment, description="environment", layout=lay,
+                         style=style)  # fmt: skip
+        env.observe(lambda ch: self._on_control("environment", ch["new"]), names="value")
+        self.controls["environment"] = env
+        face = w.ToggleButtons(options=list(VIEWS_3D), value=s.view3d, description="3D panel",
+                               style={"button_width": "70px", "description_width": "60px"})  # fmt: skip
+        face.observe(lambda ch: self._on_control("view3d", ch["new"]), names="value")
+        self.controls["view3d"] = face
+        refine = w.Button(description="refine 2 s (reference)", layout=w.Layout(width="200px"))
+        refine.on_click(lambda _: self.refine(2.0))
+        env_box = w.VBox([env, slider("env_rotation", -180, 180, 1, "rotation °"),
+                          slider("env_intensity", 0, 4, 0.05, "intensity"), face, refine])  # fmt: skip
         self._build_params()
 
         def image(name, width):
@@ -267,7 +311,7 @@ class NotebookExplorer:
                          captioned("polar", image("polar", 320))])  # fmt: skip
         bottom = captioned("angles", image("angles", 720))
         controls = w.HBox([titled("Light", light_box), titled("Material", material_box),
-                           titled("Shading", shading_box)])  # fmt: skip
+                           titled("Shading", shading_box), titled("Environment", env_box)])  # fmt: skip
         self.widget = w.VBox([controls, top, middle, self.albedo, bottom, self.status])
 
     def _build_params(self):
@@ -427,10 +471,18 @@ class NotebookExplorer:
             plot.set_data(m["profile"], CHANNEL_LABELS[s.channel])
             self.images["profile"].value = png_of(plot.render())
             self._caption("profile", [plot.captions.get("title", "")])
-        if "lobe" in views:
+        face = s.view3d
+        if face == "object" and ("object" in views or self._face != face):
+            ov = m["object"]
+            self.images["lobe"].value = png_of(ov.rgb8)
+            env = "no environment" if not self.model.environment_active else f"environment {s.environment}"
+            self._caption("lobe", [f"Lit object: {ov.triangles} triangles, Phong normals", f"{env}, {ov.method}",
+                                   self.model.refine_caption()])  # fmt: skip
+        elif face == "lobe" and ("lobe" in views or self._face != face):
             plot = plots["lobe"]
             self.images["lobe"].value = png_of(plot.render(m["lobe"], label))
             self._caption("lobe", [plot.caption])
+        self._face = face
         if "polar" in views:
             plot = plots["polar"]
             plot.set_data(m["polar"], channel=s.channel, label=label)
