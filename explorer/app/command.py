@@ -161,8 +161,8 @@ def add_options(p) -> None:
     g = p.add_argument_group("image-based lighting")
     names = ", ".join(e for e in ENVIRONMENTS if e != "file")
     g.add_argument("--environment", metavar="NAME|FILE",
-                   help=f"{h['environment']}: {names}, or an environment image (.hdr .pfm .npy .exr, lat-long) "
-                        f"(default: {DEFAULTS['environment']})")  # fmt: skip
+                   help=f"{CONTROLS['environment'].help}: {names}, or an environment image "
+                        f"(.hdr .pfm .npy .exr, lat-long) (default: {DEFAULTS['environment']})")  # fmt: skip
     g.add_argument("--env-rotation", dest="env_rotation", type=float, help=h["env_rotation"])
     g.add_argument("--env-intensity", dest="env_intensity", type=float, help=h["env_intensity"])
     g.add_argument("--view3d", choices=VIEWS_3D, help=h["view3d"])

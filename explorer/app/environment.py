@@ -334,8 +334,14 @@ class EnvironmentMixin:
         light._prefiltered = pre
         return light
 
-    def world_lights(self):
-        """The key light in the environment's frame (no ambient light: the environment replaces it)."""
+    def world_lights(self) -> list:
+        """The key light in the environment's frame (no ambient light: the environment replaces it).
+
+        Returns
+        -------
+        list of Light
+            The key light turned by :func:`world_light`, or an empty list for the "ambient" light type.
+        """
         key = self.state.key_light()
         return [] if key is None else [world_light(key)]
 
@@ -358,7 +364,13 @@ class EnvironmentMixin:
         return r, f"{r.geometry.n_triangles} triangles"
 
     def object_renderer(self) -> Renderer:
-        """The renderer of the lit object: perspective, the environment's ``+z`` up (rasterized once)."""
+        """The renderer of the lit object: perspective, the environment's ``+z`` up (rasterized once).
+
+        Returns
+        -------
+        Renderer
+            Of :attr:`object_mesh` at :attr:`object_size` pixels, float32.
+        """
         if self._object_renderer is None:
             w, h = self.object_size
             cam = Camera.look_at(OBJECT_EYE, OBJECT_TARGET, (0.0, 0.0, 1.0), fov_y_deg=OBJECT_FOV_DEG, width=w,
@@ -412,7 +424,8 @@ class EnvironmentMixin:
     def _restart_refinement(self, views):
         """A new reference when the images it refines were recomputed (or it is switched off)."""
         s = self.state
-        if not (s.reference and self.environment_active):
+        if not (s.reference and self.environment_active) or (self.pending and set(views) & {"sphere", "object"}):
+            # Off, or a drag in progress (views left pending): the reference starts again once it is released.
             self.refinement, self._targets = None, []
             return
         shown = {"sphere"} | ({"object"} if s.view3d == "object" else set())

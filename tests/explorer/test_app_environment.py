@@ -162,6 +162,14 @@ def test_a_control_change_restarts_the_reference_and_others_do_not():
     state.env_rotation = 40.0
     model.update()
     assert model.refinement is not old and model.refinement.samples == 0
+    # A drag (the lit sphere live, the object left pending) stops it; the release starts it again.
+    state.view3d = "object"
+    model.update()
+    state.env_rotation = 50.0
+    assert model.update(only={"sphere", "coarse"}) == {"sphere"} and model.pending == {"object"}
+    assert model.refinement is None and model.refine(0.0) == set()
+    assert model.update() == {"object"} and model.refinement.samples == 0
+    assert model.refine(0.0) == {"sphere", "object"}
     state.reference = False
     model.update()
     assert model.refinement is None and model.refine(0.0) == set()
