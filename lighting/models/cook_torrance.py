@@ -124,40 +124,20 @@ class CookTorrance(BRDF):
     DENOMINATORS = ("4", "pi")
     parameters = (
         Parameter("ks", "color", 1.0, slider=(0.0, 1.0), description="specular coefficient k_s"),
-        Parameter(
-            "roughness", "float", 0.3, slider=(1e-6, 1.0), log=True, low_open=True, description="the NDF's roughness α"
-        ),
+        Parameter("roughness", "float", 0.3, slider=(1e-6, 1.0), log=True, low_open=True,
+                  description="the NDF's roughness α"),
         Parameter("f0", "color", 0.04, high=1.0, description="Fresnel reflectance at normal incidence F0"),
         Parameter("ndf", "choice", "beckmann", choices=NDFS, description="normal distribution D"),
         Parameter("geometry", "choice", "v-cavity", choices=GEOMETRIES, description="shadowing–masking G"),
         Parameter("fresnel", "choice", "schlick", choices=FRESNELS, description="Fresnel term F"),
-        Parameter(
-            "denominator", "choice", "4", choices=DENOMINATORS, description="4 (n·v)(n·l), or the slide's π (n·v)(n·l)"
-        ),
-        Parameter(
-            "alpha_x",
-            "float",
-            None,
-            slider=(1e-3, 1.0),
-            log=True,
-            low_open=True,
-            description="α along the tangent t (anisotropic GGX/Beckmann); None: roughness",
-        ),
-        Parameter(
-            "alpha_y",
-            "float",
-            None,
-            slider=(1e-3, 1.0),
-            log=True,
-            low_open=True,
-            description="α along the bitangent b = n × t; None: roughness",
-        ),
-        Parameter(
-            "energy_compensation",
-            "bool",
-            False,
-            description="add the multiple-scattering lobe of Kulla and Conty (Smith GGX/Beckmann)",
-        ),
+        Parameter("denominator", "choice", "4", choices=DENOMINATORS,
+                  description="4 (n·v)(n·l), or the slide's π (n·v)(n·l)"),
+        Parameter("alpha_x", "float", None, slider=(1e-3, 1.0), log=True, low_open=True,
+                  description="α along the tangent t (anisotropic GGX/Beckmann); None: roughness"),
+        Parameter("alpha_y", "float", None, slider=(1e-3, 1.0), log=True, low_open=True,
+                  description="α along the bitangent b = n × t; None: roughness"),
+        Parameter("energy_compensation", "bool", False,
+                  description="add the multiple-scattering lobe of Kulla and Conty (Smith GGX/Beckmann)"),
     )
 
     #: The class default; an instance with α_x ≠ α_y sets its own ``stackable = False`` (the stacked fast
@@ -194,11 +174,9 @@ class CookTorrance(BRDF):
         self._ax, self._ay = ax, ay
         self.anisotropic = ax != ay
         if self.anisotropic and self.ndf == "blinn-phong":
-            raise ValueError(
-                f"alpha_x and alpha_y must be equal (or None) for ndf 'blinn-phong', which has no "
-                f"anisotropic form; got alpha_x={alpha_x!r}, alpha_y={alpha_y!r} "
-                "(use ndf 'ggx' or 'beckmann')"
-            )
+            raise ValueError(f"alpha_x and alpha_y must be equal (or None) for ndf 'blinn-phong', which has no "
+                             f"anisotropic form; got alpha_x={alpha_x!r}, alpha_y={alpha_y!r} "
+                             "(use ndf 'ggx' or 'beckmann')")
         self._alpha = ax
         if self.anisotropic:
             self.stackable = False
@@ -448,17 +426,11 @@ class CookTorrance(BRDF):
         """``Λ(v) n·v`` and ``Λ(l) n·l`` (float64; 0 below the horizon), anisotropic through the tangent frame."""
         if self.anisotropic:
             vl, ll = g.v_local, g.l_local
-            return tuple(
-                _mf._smith_lambda_cos_aniso(
-                    self.ndf, d[..., 0], d[..., 1], d[..., 2].astype(np.float64), self._ax, self._ay
-                )
-                for d in (vl, ll)
-            )
+            return tuple(_mf._smith_lambda_cos_aniso(self.ndf, d[..., 0], d[..., 1], d[..., 2].astype(np.float64),
+                                                     self._ax, self._ay) for d in (vl, ll))
         lam = self._lambda_cos
-        return (
-            lam(g.n_dot_v.astype(np.float64), self._alpha, g.sin2_v.astype(np.float64)),
-            lam(g.n_dot_l.astype(np.float64), self._alpha, g.sin2_l.astype(np.float64)),
-        )
+        return (lam(g.n_dot_v.astype(np.float64), self._alpha, g.sin2_v.astype(np.float64)),
+                lam(g.n_dot_l.astype(np.float64), self._alpha, g.sin2_l.astype(np.float64)))
 
     def _den_const(self):
         return 4.0 if self.denominator == "4" else math.pi
@@ -565,6 +537,7 @@ class CookTorrance(BRDF):
         """
         with np.errstate(over="ignore"):  # a field near the dtype's largest value times π saturates below
             return [(saturate_to(s * math.pi, g.dtype), c) for s, c in self._separable(g, False)]
+
 
 
 register_model(CookTorrance)

@@ -288,58 +288,26 @@ class Disney(BRDF):
     own_diffuse = True  # the Burley diffuse (and sheen) beside the specular lobes
     stackable = False
     parameters = (
-        Parameter(
-            "base_color",
-            "color",
-            0.8,
-            high=1.0,
-            slider=(0.0, 1.0),
-            description="base colour (linear RGB): diffuse albedo, metal's specular colour",
-        ),
+        Parameter("base_color", "color", 0.8, high=1.0, slider=(0.0, 1.0),
+                  description="base colour (linear RGB): diffuse albedo, metal's specular colour"),
         Parameter("metallic", "float", 0.0, high=1.0, description="0 dielectric, 1 metal"),
-        Parameter(
-            "subsurface",
-            "float",
-            0.0,
-            high=1.0,
-            description="blend of the diffuse toward the Hanrahan–Krueger subsurface shape",
-        ),
-        Parameter(
-            "specular",
-            "float",
-            0.5,
-            high=1.0,
-            description="dielectric specular amount: F0 = 0.08 · specular (0.5: F0 = 0.04)",
-        ),
-        Parameter(
-            "roughness", "float", 0.5, high=1.0, description="perceptual roughness r (GGX α = r², at least 0.001)"
-        ),
-        Parameter(
-            "specular_tint",
-            "float",
-            0.0,
-            high=1.0,
-            description="tints the dielectric specular toward the base colour's hue",
-        ),
-        Parameter(
-            "anisotropic", "float", 0.0, high=1.0, description="specular aspect ratio α_y/α_x = 1 − 0.9 · anisotropic"
-        ),
+        Parameter("subsurface", "float", 0.0, high=1.0,
+                  description="blend of the diffuse toward the Hanrahan–Krueger subsurface shape"),
+        Parameter("specular", "float", 0.5, high=1.0,
+                  description="dielectric specular amount: F0 = 0.08 · specular (0.5: F0 = 0.04)"),
+        Parameter("roughness", "float", 0.5, high=1.0,
+                  description="perceptual roughness r (GGX α = r², at least 0.001)"),
+        Parameter("specular_tint", "float", 0.0, high=1.0,
+                  description="tints the dielectric specular toward the base colour's hue"),
+        Parameter("anisotropic", "float", 0.0, high=1.0,
+                  description="specular aspect ratio α_y/α_x = 1 − 0.9 · anisotropic"),
         Parameter("sheen", "float", 0.0, high=1.0, description="grazing sheen lobe for cloth"),
-        Parameter("sheen_tint", "float", 0.5, high=1.0, description="tints the sheen toward the base colour's hue"),
-        Parameter(
-            "clearcoat",
-            "float",
-            0.0,
-            high=1.0,
-            description="second white specular lobe (GTR1), weight 0.25 · clearcoat",
-        ),
-        Parameter(
-            "clearcoat_gloss",
-            "float",
-            1.0,
-            high=1.0,
-            description="clearcoat gloss: GTR1 α from 0.1 (satin) to 0.001 (gloss)",
-        ),
+        Parameter("sheen_tint", "float", 0.5, high=1.0,
+                  description="tints the sheen toward the base colour's hue"),
+        Parameter("clearcoat", "float", 0.0, high=1.0,
+                  description="second white specular lobe (GTR1), weight 0.25 · clearcoat"),
+        Parameter("clearcoat_gloss", "float", 1.0, high=1.0,
+                  description="clearcoat gloss: GTR1 α from 0.1 (satin) to 0.001 (gloss)"),
     )
 
     def __init__(
@@ -459,10 +427,8 @@ class Disney(BRDF):
             For example ``"base=0.8 metallic=0 r=0.5 specular=0.5"``, followed by the other parameters
             that are not at their defaults.
         """
-        text = (
-            f"base={_color_text(self.base_color)} metallic={self.metallic:g} r={self.roughness:g} "
-            f"specular={self.specular:g}"
-        )
+        text = (f"base={_color_text(self.base_color)} metallic={self.metallic:g} r={self.roughness:g} "
+                f"specular={self.specular:g}")
         for p in self.parameters[5:]:
             value = getattr(self, p.name)
             if value != p.default:
@@ -513,8 +479,7 @@ class Disney(BRDF):
         h_loc = g.h_local.astype(f64)
         ds = gtr2_aniso(h_loc, ax, ay)
         vis = smith_ggx_aniso_over_2cos(g.l_local.astype(f64), ax, ay) * smith_ggx_aniso_over_2cos(
-            g.v_local.astype(f64), ax, ay
-        )
+            g.v_local.astype(f64), ax, ay)
         spec = ds * vis
         terms.append(spec[..., None] * (self.c_spec0 + (1 - self.c_spec0) * fh[..., None]))
         if self.clearcoat > 0:
@@ -683,11 +648,9 @@ class DisneySampler(Sampler):
         self.clearcoat = check_range("clearcoat", clearcoat, 0.0)
 
     def __repr__(self):
-        return (
-            f"DisneySampler(alpha_x={self.alpha_x!r}, alpha_y={self.alpha_y!r}, alpha_c={self.alpha_c!r}, "
-            f"diffuse={self.diffuse!r}, sheen={self.sheen!r}, specular0={self.specular0!r}, "
-            f"clearcoat={self.clearcoat!r})"
-        )
+        return (f"DisneySampler(alpha_x={self.alpha_x!r}, alpha_y={self.alpha_y!r}, alpha_c={self.alpha_c!r}, "
+                f"diffuse={self.diffuse!r}, sheen={self.sheen!r}, specular0={self.specular0!r}, "
+                f"clearcoat={self.clearcoat!r})")
 
     def weights(self, v) -> np.ndarray:
         """Normalized component probabilities ``(w_d, w_s, w_c)`` for viewers ``v`` (local frame).
