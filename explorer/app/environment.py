@@ -22,7 +22,6 @@ re-composes the images.  Any change of a control that the images depend on start
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import math
 import time
@@ -319,19 +318,13 @@ class EnvironmentMixin:
         from lighting.integrate.prefilter import prefilter_environment
 
         base = self._base(s.environment)
-        light = EnvironmentLight(base, intensity=s.env_intensity, rotation=s.env_rotation, background=background)
         pre = self._prefiltered.get(s.environment)
         if pre is None:
             pre = self._prefiltered[s.environment] = prefilter_environment(base)
-        env = light.environment
-        if env is not base:
-            # What prefilter_environment(env) makes (the base's levels, the intensity and rotation applied at
-            # lookup), without prefiltering the base again: the engine prefilters once per light, and a
-            # slider makes a new light at every move.
-            pre = copy.copy(pre)
-            pre._scale = np.broadcast_to(np.asarray(env.intensity, dtype=np.float64), (3,))
-            pre._to_base = env.to_base
-        light._prefiltered = pre
+        # The base's levels, the intensity and rotation applied at lookup: a slider makes a new light at every
+        # move, and prefiltering once per source keeps the drag at a re-shade.
+        light = EnvironmentLight(base, intensity=s.env_intensity, rotation=s.env_rotation, background=background,
+                                 prefiltered=pre)  # fmt: skip
         return light
 
     def world_lights(self) -> list:

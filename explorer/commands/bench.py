@@ -36,7 +36,8 @@ def add_parser(subparsers):
     )  # fmt: skip
     p.add_argument("--json", action="store_true", help="print one JSON line instead of the table")
     p.add_argument("--repeat", type=int, default=None, metavar="N",
-                   help=f"timed runs per measurement, 1 to {MAX_REPEAT} (median; default 15, or 3 with --ibl)")  # fmt: skip
+                   help=f"timed runs per measurement, 1 to {MAX_REPEAT} "
+                        "(median; default 15, or 3 with --ibl)")  # fmt: skip
     p.add_argument("--plan", action="store_true", help="planned vs nothing-skipped evaluation of every example scene")
     p.add_argument("--ibl", action="store_true",
                    help="image-based lighting: split-sum re-shade, prefiltering and the 64-spp Monte-Carlo reference "

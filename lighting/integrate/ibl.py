@@ -2,7 +2,9 @@ r"""Image-based lighting: the fast split-sum approximation beside its Monte-Carl
 
 Under a distant environment the rendering equation (CMSC 435 deck),
 
-.. math::  L_o(v) = ∫_Ω f_r(v, l)\, L_i(l)\, (n·l)\, dω_l,
+.. math::
+
+    L_o(v) = ∫_Ω f_r(v, l)\, L_i(l)\, (n·l)\, dω_l,
 
 has two ways of being evaluated per pixel here:
 
@@ -15,8 +17,9 @@ has two ways of being evaluated per pixel here:
   half vectors about ``n`` (Blinn–Phong, microfacets, width ``σ_h``; the reflected lobe is about
   twice as wide, ``σ = 2 σ_h``) reflects ``ρ(μ_v) · \bar L(r, σ)``: the split sum (Karis 2013), the
   part's directional albedo times the environment averaged over a lobe of that width
-  (:class:`~lighting.integrate.prefilter.PrefilteredEnvironment`), with GGX's long tails for a lobe
-  that has them (:attr:`~lighting.models.protocol.Lobe.tails`);
+  (:class:`~lighting.integrate.prefilter.PrefilteredEnvironment`): the von Mises–Fisher lobe for a
+  mirror lobe, Karis's ``D(h) (n·l)`` with ``n = v = r`` for a half-vector lobe (Beckmann's shape, or
+  GGX's with its long tails: :attr:`~lighting.models.protocol.Lobe.tails`);
 * a delta part (the ideal mirror) reflects ``R(μ_v) L(r)`` exactly.
 
 ``ρ(μ_v)`` is the engine's own directional albedo of the part: the ``E(μ, α)`` table of
@@ -49,7 +52,7 @@ import numpy as np
 from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check_vectors, working_dtype
 from ..lights.environment import as_environment
 from ._delta import delta_albedo, delta_radiance, split_delta
-from .prefilter import PrefilteredEnvironment, prefilter_environment
+from .prefilter import PrefilteredEnvironment, kernel_of_lobe, prefilter_environment
 from .radiance import _frames, _radiance_batch, _to_world
 from .sampling import _check_brdf
 
@@ -223,7 +226,7 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
             diffuse += rho * irradiance
         else:
             lobe = part.lobe()
-            specular += rho * pre.lookup(r, min(sigma, pre.sigmas[-1]), lobe.tails)
+            specular += rho * pre.lookup(r, min(sigma, pre.sigmas[-1]), kernel_of_lobe(lobe))
     diffuse[~seen] = 0
     specular[~seen] = 0
     out_shape = shape[:-1] + (3,)

@@ -45,6 +45,7 @@ B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes (the spl
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -54,6 +55,8 @@ from ..lights.environment import ConstantEnvironment, Environment, LatLongEnviro
 from .sh import SH_CONSTANTS
 
 __all__ = [
+    "KERNELS",
+    "kernel_of_lobe",
     "PREFILTER_SIGMAS",
     "PrefilteredEnvironment",
     "prefilter_environment",
@@ -65,6 +68,8 @@ __all__ = [
 #: The lobe widths ``σ`` (radians) of the prefiltered levels: the mirror, then doubling from 0.025.
 #: ``σ = 1.6`` is broader than any glossy lobe (a GGX ``α = 1`` reflects into about ``σ = 1.4``).
 PREFILTER_SIGMAS = (0.0, 0.025, 0.05, 0.1, 0.2, 0.4, 0.8, 1.6)
+#: The kernels of the prefiltered families (:attr:`PrefilteredEnvironment.families`).
+KERNELS = ("mirror", "beckmann", "ggx")
 #: Kernel support in standard deviations: beyond ``6σ`` the kernel is below ``e^{-18}``.
 _SUPPORT = 6.0
 #: The smallest level height (a 16 × 32 image resolves ``σ = 1.6`` with eight pixels per σ).
@@ -145,6 +150,23 @@ def _ggx_kernel(alpha: float):
 
     def kernel(x):
         return np.maximum(1.0 - x, 0.0) / (a2 + 0.5 * x * (1.0 - a2)) ** 2
+
+    return kernel
+
+
+def _beckmann_kernel(alpha: float):
+    r"""Beckmann's lobe as a kernel of ``x = 1 − cos ψ`` about ``r`` (Karis's ``n = v = r``, as :func:`_ggx_kernel`).
+
+    ``D ∝ exp(−tan²θ_h / α²) / cos⁴θ_h`` with ``θ_h = ψ/2``: ``cos²θ_h = 1 − x/2``, ``tan²θ_h = (x/2)/(1 − x/2)``,
+    times ``max(1 − x, 0)``.  Near its axis it is the Gaussian ``exp(−ψ²/(2σ²))`` of ``σ = √2 α``; away from it
+    the ``n·l`` factor and the NDF's own shape matter (a rough Beckmann lobe under a smooth sky: 9 % median
+    error with the plain Gaussian kernel, 1.7 % with this one).
+    """
+    a2 = alpha * alpha
+
+    def kernel(x):
+        c2 = np.maximum(1.0 - 0.5 * x, 1e-6)  # 0 only at ψ = π, where n·l = 0 anyway
+        return np.exp(-(0.5 * x) / (c2 * a2)) / (c2 * c2) * np.maximum(1.0 - x, 0.0)
 
     return kernel
 
@@ -271,6 +293,24 @@ def latlong_sh(image) -> np.ndarray:
     return np.stack([k * np.einsum("i,ijc,j->c", rows[r], img, cols[c]) for k, r, c in terms])
 
 
+def kernel_of_lobe(lobe) -> str:
+    """The prefiltered family a lobe is looked up in: ``"mirror"`` for a lobe about the mirror direction
+    (Phong), ``"ggx"`` for a half-vector lobe with GGX's tails, ``"beckmann"`` for any other half-vector lobe.
+
+    Parameters
+    ----------
+    lobe : Lobe
+
+    Returns
+    -------
+    str
+        A key of :data:`KERNELS`.
+    """
+    if lobe.axis != "half":
+        return "mirror"
+    return "ggx" if lobe.tails == "ggx" else "beckmann"
+
+
 def prefilter_height(environment, height=None) -> int:
     """The source height :func:`prefilter_environment` uses for ``environment`` (width: twice it).
 
@@ -311,8 +351,9 @@ class PrefilteredEnvironment:
     levels : list of ndarray
         ``(H_k, 2 H_k, 3)`` float32 images, averaged over Gaussian (von Mises–Fisher) lobes.
     families : dict of str to list of ndarray
-        The levels of each kind of lobe tail (:attr:`lighting.models.protocol.Lobe.tails`):
-        ``"gaussian"`` (:attr:`levels`) and ``"ggx"`` (GGX's own lobe as the kernel, with its long tails).
+        The levels of each kernel (:data:`KERNELS`): ``"mirror"`` (:attr:`levels`: the von Mises–Fisher
+        lobe about ``r``, Phong's), ``"beckmann"`` and ``"ggx"`` (the NDF's own lobe with ``n = v = r``,
+        times ``n·l``: Karis's kernel; GGX with its long tails).
     sh : ndarray, (9, 3)
         The SH9 projection of level 0, each pixel's basis integral exact (:func:`latlong_sh`).
     """
@@ -321,7 +362,7 @@ class PrefilteredEnvironment:
         self.environment = environment
         self.sigmas = tuple(float(s) for s in sigmas)
         self.families = families
-        self.levels = families["gaussian"]
+        self.levels = families["mirror"]
         self.sh = sh
         self._scale = np.broadcast_to(np.asarray(scale, dtype=np.float64), (3,))
         self._to_base = to_base
@@ -352,6 +393,33 @@ class PrefilteredEnvironment:
     def _base(self, d):
         return d if self._to_base is None else self._to_base(d)
 
+    def for_environment(self, environment) -> PrefilteredEnvironment:
+        """These levels for ``environment``: the same base turned or scaled (no prefiltering again).
+
+        Parameters
+        ----------
+        environment : Environment
+            :attr:`environment` itself, or a ``TransformedEnvironment`` of it (an intensity and a rotation).
+
+        Returns
+        -------
+        PrefilteredEnvironment
+            Sharing the levels; the intensity and rotation applied at lookup.
+
+        Raises
+        ------
+        ValueError
+            If ``environment`` is not :attr:`environment`, turned or scaled.
+        """
+        base, scale, to_base = _unwrap(as_environment(environment))
+        if base is not self.environment:
+            raise ValueError("prefiltered must be prefilter_environment() of this light's environment (or of the "
+                             f"environment it turns or scales); got one of {self.environment!r}")  # fmt: skip
+        out = copy.copy(self)
+        out._scale = np.broadcast_to(np.asarray(scale, dtype=np.float64), (3,))
+        out._to_base = to_base
+        return out
+
     def level_of(self, sigma) -> np.ndarray:
         """The fractional level index of lobe width ``sigma``: linear in ``σ`` below ``sigmas[1]``,
         linear in ``log σ`` above, clamped to the last level."""
@@ -364,7 +432,7 @@ class PrefilteredEnvironment:
         above = np.interp(logs, np.log(sig[1:]), np.arange(1, len(sig)))
         return np.where(s < sig[1], np.clip(s / sig[1], 0.0, 1.0), above)
 
-    def lookup(self, directions, sigma, tails: str = "gaussian") -> np.ndarray:
+    def lookup(self, directions, sigma, kernel: str = "mirror") -> np.ndarray:
         r"""``\bar L(r, σ)``: the environment averaged over a lobe of width ``sigma`` about ``directions``.
 
         Bilinear in each level (within half a row of a pole, linear in ``θ`` to the pole's value, the
@@ -376,8 +444,8 @@ class PrefilteredEnvironment:
             Lobe axes (world frame; need not be unit).
         sigma : array_like, broadcasting to ``(...)``
             Lobe widths in radians, ``>= 0``.
-        tails : {"gaussian", "ggx"}
-            The family of levels (the lobe's :attr:`~lighting.models.protocol.Lobe.tails`).
+        kernel : {"mirror", "beckmann", "ggx"}
+            The family of levels (:func:`kernel_of_lobe` chooses one for a model's lobe).
 
         Returns
         -------
@@ -385,9 +453,9 @@ class PrefilteredEnvironment:
             Radiance, in the dtype of ``directions`` (float32 stays float32).
         """
         d = check_vectors("directions", directions)
-        if tails not in self.families:
-            raise ValueError(f"tails must be one of {', '.join(map(repr, self.families))}; got {_fmt(tails)}")
-        levels, flat, poles = self.families[tails], self._flat[tails], self._poles[tails]
+        if kernel not in self.families:
+            raise ValueError(f"kernel must be one of {', '.join(map(repr, self.families))}; got {_fmt(kernel)}")
+        levels, flat, poles = self.families[kernel], self._flat[kernel], self._poles[kernel]
         dt = working_dtype(d)
         shape = d.shape[:-1]
         d = self._base(d.reshape(-1, 3))
@@ -493,8 +561,15 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
         kappa = 1.0 / (s * s)
         conv, norm = _convolve_rows(src, lambda x, kappa=kappa: np.exp(-kappa * x), _SUPPORT * s)
         levels.append((conv / norm[:, None, None]).astype(np.float32))
+    beckmann = [levels[0]]
+    for s in sig[1:]:
+        h = _level_height(s, h0)
+        conv, norm = _convolve_rows(mip(h), _beckmann_kernel(s / math.sqrt(2.0)),
+                                    min(_SUPPORT * s, math.pi / 2) + math.pi / h)  # fmt: skip
+        beckmann.append((conv / norm[:, None, None]).astype(np.float32))
     ggx = [levels[0]] + [_ggx_level(mip, s, h0).astype(np.float32) for s in sig[1:]]
-    return PrefilteredEnvironment(env, sig, {"gaussian": levels, "ggx": ggx}, latlong_sh(base), scale=scale,
+    families = {"mirror": levels, "beckmann": beckmann, "ggx": ggx}
+    return PrefilteredEnvironment(env, sig, families, latlong_sh(base), scale=scale,
                                   to_base=to_base)  # fmt: skip
 
 

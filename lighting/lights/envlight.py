@@ -52,6 +52,9 @@ class EnvironmentLight:
         Directions per point of ``"monte-carlo"``.
     seed : int
         Its seed.
+    prefiltered : PrefilteredEnvironment, optional
+        ``prefilter_environment()`` of the environment this light turns or scales (its base): reused,
+        so a slider that makes a new light at every move does not prefilter again.
 
     Examples
     --------
@@ -64,7 +67,7 @@ class EnvironmentLight:
     is_environment = True
 
     def __init__(self, environment=1.0, *, intensity=1.0, rotation=0.0, background=True, method="split-sum",
-                 samples=64, seed=0):  # fmt: skip
+                 samples=64, seed=0, prefiltered=None):  # fmt: skip
         from .envfiles import load_environment
 
         self.source = environment
@@ -85,7 +88,7 @@ class EnvironmentLight:
         if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool):
             raise ArgumentTypeError(f"seed must be an integer; got {_fmt(seed)}")
         self.seed = int(seed)
-        self._prefiltered = None
+        self._prefiltered = None if prefiltered is None else prefiltered.for_environment(self.environment)
 
     def __repr__(self):
         extra = "".join(

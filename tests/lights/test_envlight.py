@@ -110,3 +110,18 @@ def test_docs_section_runs_and_prints_the_furnace(tmp_path, monkeypatch, capsys)
     first = [float(x) for x in out[0].split()]
     assert first[0] == pytest.approx(0.5, rel=1e-9) and first[1] == 1.0
     assert out[1].startswith("64 samples per pixel, median error ")
+
+
+def test_a_light_reuses_the_prefiltered_levels_of_the_environment_it_turns():
+    from lighting.integrate.prefilter import prefilter_environment
+
+    base = LatLongEnvironment(np.random.default_rng(1).random((16, 32, 3)))
+    pre = prefilter_environment(base)
+    r = Renderer(AnalyticSphere(), _camera(32))
+    mat = Material(Lambert(0.3) + CookTorrance(1.0, 0.2, 0.04, ndf="ggx", geometry="smith"))
+    fresh = r.render(mat, [EnvironmentLight(base, intensity=2.0, rotation=30.0)], form="physical")
+    reused_light = EnvironmentLight(base, intensity=2.0, rotation=30.0, prefiltered=pre)
+    assert reused_light.prefiltered.levels is pre.levels  # the same arrays: nothing prefiltered again
+    np.testing.assert_array_equal(r.render(mat, [reused_light], form="physical"), fresh)
+    with pytest.raises(ValueError, match="prefiltered must be prefilter_environment"):
+        EnvironmentLight(LatLongEnvironment(np.ones((16, 32, 3))), prefiltered=pre)
