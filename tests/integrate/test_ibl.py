@@ -231,9 +231,10 @@ def test_progressive_runs_are_reproducible_from_their_seed(sunny):
 
 
 # ----------------------------------------------------------------------------- GGX's long tails
+@pytest.mark.parametrize("kernel", ["beckmann", "ggx"])
 @pytest.mark.parametrize("sigma", [0.025, 0.1, 0.4])
-def test_ggx_levels_are_the_ggx_kernel_average_of_the_map(sunny, sigma):
-    # Brute force over every pixel of the map: Σ K L Ω / Σ K Ω with K = max(cos ψ, 0) / (α² + (x/2)(1 − α²))².
+def test_ndf_levels_are_their_kernel_s_average_of_the_map(sunny, sigma, kernel):
+    # Brute force over every pixel of the map: Σ K L Ω / Σ K Ω, K = D(θ_h = ψ/2) max(cos ψ, 0) (n = v = r).
     env, pre = sunny
     alpha = sigma / math.sqrt(2)
     h = env.height
@@ -242,13 +243,23 @@ def test_ggx_levels_are_the_ggx_kernel_average_of_the_map(sunny, sigma):
     radiance = env.image.reshape(-1, 3)
     for r in ([0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.8, 0.0, -0.6], [-0.3, 0.5, 0.3]):
         r = np.asarray(r) / np.linalg.norm(r)
-        x = 1 - d @ r
-        k = np.maximum(1 - x, 0) / (alpha**2 + 0.5 * x * (1 - alpha**2)) ** 2 * weight
+        c = d @ r
+        cos2h = (1 + c) / 2
+        if kernel == "ggx":
+            ndf = 1 / (alpha**2 * cos2h + (1 - cos2h)) ** 2
+        else:
+            ndf = np.exp(-(1 - cos2h) / (cos2h * alpha**2)) / cos2h**2
+        k = ndf * np.maximum(c, 0) * weight
         expected = (k[:, None] * radiance).sum(0) / k.sum()
-        np.testing.assert_allclose(pre.lookup(r, sigma, "ggx"), expected, rtol=0.01, err_msg=str(r))
+        np.testing.assert_allclose(pre.lookup(r, sigma, kernel), expected, rtol=0.01, err_msg=str(r))
 
 
 def test_ggx_lobes_use_the_long_tailed_levels():
+    from lighting.integrate.prefilter import kernel_of_lobe
+
+    assert kernel_of_lobe(CookTorrance(1.0, 0.2, ndf="ggx").lobe()) == "ggx"
+    assert kernel_of_lobe(CookTorrance(1.0, 0.2, ndf="beckmann").lobe()) == "beckmann"
+    assert kernel_of_lobe(Phong(1.0, 50).lobe()) == "mirror"
     assert CookTorrance(1.0, 0.2, ndf="ggx").lobe().tails == "ggx"
     assert CookTorrance(1.0, 0.2, ndf="beckmann").lobe().tails == "gaussian"
     assert BlinnPhong(1.0, 50).lobe().tails == "gaussian"
