@@ -149,9 +149,8 @@ def lobe_albedo(part) -> np.ndarray:
     return table
 
 
-def _albedo_at(table, cos_v, dt):
-    """``table`` interpolated at the view angles ``arccos(cos_v)`` (linear in ``θ_v``)."""
-    theta = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
+def _albedo_at(table, theta, dt):
+    """``table`` interpolated at the view angles ``theta`` (radians; linear in ``θ_v``)."""
     out = np.stack([np.interp(theta, ALBEDO_ANGLES, table[:, c]) for c in range(3)], axis=-1)
     return out.astype(dt, copy=False)
 
@@ -217,9 +216,10 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
         reflectance = delta_albedo(deltas, np.clip(cos_v, 0, 1).astype(np.float64)).astype(dt)
         specular += reflectance * pre.lookup(r, 0.0)
     irradiance = None
+    theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
     for part in () if smooth is None else smooth.parts:
         sigma = lobe_sigma(part.lobe())
-        rho = _albedo_at(lobe_albedo(part), cos_v, dt)
+        rho = _albedo_at(lobe_albedo(part), theta_v, dt)
         if math.isinf(sigma):
             if irradiance is None:
                 irradiance = pre.irradiance_sh(n) * np.asarray(1 / math.pi, dtype=dt)

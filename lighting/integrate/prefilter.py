@@ -51,7 +51,14 @@ import math
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check_vectors, working_dtype
-from ..lights.environment import ConstantEnvironment, Environment, LatLongEnvironment, as_environment, latlong_lookup
+from ..lights.environment import (
+    ConstantEnvironment,
+    Environment,
+    LatLongEnvironment,
+    as_environment,
+    latlong_angles,
+    latlong_lookup,
+)
 from .sh import SH_CONSTANTS
 
 __all__ = [
@@ -461,16 +468,19 @@ class PrefilteredEnvironment:
         d = self._base(d.reshape(-1, 3))
         lf = np.broadcast_to(self.level_of(sigma), shape).reshape(-1)
         k0 = np.minimum(np.floor(lf).astype(np.int64), len(levels) - 1)
+        angles = latlong_angles(d)
         out = np.zeros((d.shape[0], 3), dtype=dt)
-        for k in np.unique(k0):
-            idx = np.flatnonzero(k0 == k)
-            dk = d[idx]
+        # One width for every direction (a part's σ) is the common case: one group, no gather.
+        groups = [(int(k0[0]), slice(None))] if k0.size and np.all(k0 == k0[0]) else [
+            (int(k), np.flatnonzero(k0 == k)) for k in np.unique(k0)]  # fmt: skip
+        for k, idx in groups:
+            ang = (angles[0][idx], angles[1][idx])
             h = levels[k].shape[0]
-            val = latlong_lookup(flat[k], h, 2 * h, dk, poles[k]).astype(dt, copy=False)
+            val = latlong_lookup(flat[k], h, 2 * h, None, poles[k], angles=ang).astype(dt, copy=False)
             if k + 1 < len(levels):
                 t = (lf[idx] - k).astype(dt)[:, None]
                 h1 = levels[k + 1].shape[0]
-                upper = latlong_lookup(flat[k + 1], h1, 2 * h1, dk, poles[k + 1]).astype(dt, copy=False)
+                upper = latlong_lookup(flat[k + 1], h1, 2 * h1, None, poles[k + 1], angles=ang).astype(dt, copy=False)
                 val = val + t * (upper - val)
             out[idx] = val
         return (out * self._scale.astype(dt)).reshape(shape + (3,))

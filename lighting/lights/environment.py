@@ -66,6 +66,7 @@ __all__ = [
     "uniform_sphere_pdf",
     "as_environment",
     "latlong_lookup",
+    "latlong_angles",
 ]
 
 _INV_4PI = 1.0 / (4.0 * math.pi)
@@ -254,7 +255,22 @@ def _pixel_rows(h: int) -> np.ndarray:
     return np.cos(np.linspace(0.0, math.pi, h + 1))
 
 
-def latlong_lookup(flat, height: int, width: int, directions, poles=None) -> np.ndarray:
+def latlong_angles(directions):
+    """``(θ, φ)`` of ``directions`` ``(..., 3)`` in the lat-long layout: ``θ`` from ``+z``, ``φ ∈ [0, 2π)`` from ``+x``.
+
+    Parameters
+    ----------
+    directions : ndarray, (..., 3)
+
+    Returns
+    -------
+    theta, phi : ndarray, (...)
+    """
+    d = directions
+    return np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2]), np.mod(np.arctan2(d[..., 1], d[..., 0]), 2 * math.pi)
+
+
+def latlong_lookup(flat, height: int, width: int, directions, poles=None, *, angles=None) -> np.ndarray:
     """Bilinear lookup of a lat-long image (the layout of :class:`LatLongEnvironment`) in ``directions``.
 
     The one home of the lat-long lookup: :class:`LatLongEnvironment` and the prefiltered levels of
@@ -267,6 +283,9 @@ def latlong_lookup(flat, height: int, width: int, directions, poles=None) -> np.
     height, width : int
     directions : ndarray, (..., 3)
         Directions (need not be unit; the zero vector reads the pixel at ``θ = 0``).
+    angles : (ndarray, ndarray), optional
+        :func:`latlong_angles` of ``directions``, when the caller has them (several images read at the
+        same directions).
     poles : (ndarray (C,), ndarray (C,)), optional
         The values at the zenith and the nadir.  Given, a direction within half a row of a pole is
         interpolated linearly in ``θ`` between the pole and the edge row (whose azimuth there means
@@ -278,9 +297,7 @@ def latlong_lookup(flat, height: int, width: int, directions, poles=None) -> np.
         In the wider of the image's and the directions' float dtypes.
     """
     h, w = height, width
-    d = directions
-    theta = np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2])
-    phi = np.mod(np.arctan2(d[..., 1], d[..., 0]), 2 * math.pi)
+    theta, phi = latlong_angles(directions) if angles is None else angles
     fx = phi * (w / (2 * math.pi)) - 0.5
     j0 = np.floor(fx)
     tx = (fx - j0)[..., None]
