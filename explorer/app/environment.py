@@ -382,11 +382,9 @@ class EnvironmentMixin:
         img = r.render(material, lights, mode=s.mode, form=s.form, terms=s.terms)
         target = self.split_target() if s.split and not s.reference else None
         if target is not None:
-            other = r.render(Material(target.brdf, ambient=s.diffuse_albedo), lights, mode=s.mode, form=s.form,
-                             terms=s.terms)  # fmt: skip
-            img = np.array(img, copy=True)
-            half = img.shape[1] // 2
-            img[:, half:] = other[:, half:]
+            from .views import split_render  # views imports this module
+
+            img = split_render(r, img, Material(target.brdf, ambient=s.diffuse_albedo), lights, s)
         cov = r.gbuffer.coverage
         rgb8, clipped = encode8(img, cov, s.exposure)
         if target is None:

@@ -341,6 +341,16 @@ def _coarse_camera(size: int):
     return sphere_camera(size)
 
 
+def split_render(renderer, img, material, lights, state):
+    """``img`` with its right half rendered again with ``material`` (the split sphere): the same lights,
+    shading mode, form and terms, so only the BRDF differs between the halves."""
+    other = renderer.render(material, lights, mode=state.mode, form=state.form, terms=state.terms)
+    img = np.array(img, copy=True)
+    half = img.shape[1] // 2
+    img[:, half:] = other[:, half:]
+    return img
+
+
 class ExplorerModel(CompareMixin, EnvironmentMixin):
     """Computes every view of the explorer from the engine, recomputing only what a change affects.
 
@@ -624,11 +634,7 @@ class ExplorerModel(CompareMixin, EnvironmentMixin):
         target = self.split_target() if s.split else None
         if target is not None:
             # The same lights, ambient coefficient, form and terms: only the BRDF differs between the halves.
-            other = r.render(Material(target.brdf, ambient=s.diffuse_albedo), lights, mode=s.mode, form=s.form,
-                             terms=s.terms)  # fmt: skip
-            img = np.array(img, copy=True)
-            half = img.shape[1] // 2
-            img[:, half:] = other[:, half:]
+            img = split_render(r, img, Material(target.brdf, ambient=s.diffuse_albedo), lights, s)
         rgb8, clipped = _encode(img, cov, s.exposure)
         if target is None:
             return SphereView(img, rgb8, cov, s.mode, geometry, clipped)
