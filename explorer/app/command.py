@@ -249,6 +249,10 @@ def run(args) -> int:
             env_file, values["environment"] = env, "file"  # a file, read (and checked) below
         elif env is not None and env.strip().lower() == "file":
             raise ValueError("--environment file needs the file itself: --environment PATH")
+        elif env is None and values.get("scene"):
+            from .scenes import scene_environment_file
+
+            env_file = scene_environment_file(values["scene"])  # the scene's own environment file, if any
         mesh = None
         if getattr(args, "mesh", None) is not None:
             from lighting.render.mesh import load_mesh

@@ -7,6 +7,7 @@ The material's parts map back onto the controls through the model protocol (``pa
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -63,6 +64,7 @@ def state_from_scene(path) -> AppState:
         centre = np.asarray(obj.geometry.vertices, dtype=np.float64).mean(axis=0)
     lights = scene.object_lights(0)
     _apply_lights(state, lights, scene.camera, centre, GLLight)
+    _apply_environment(state, lights)
     if any(isinstance(lt, GLLight) for lt in lights):
         # OpenGL's scene ambient light adds to the lights' own ambient parts.
         state.ambient = min(state.ambient + float(np.mean(scene.opengl.scene_ambient[:3])), 2.0)
@@ -73,6 +75,50 @@ def state_from_scene(path) -> AppState:
         exposure=min(max(scene.image.exposure, -8.0), 8.0),
     )
     return state
+
+
+def _environment_light(lights):
+    return next((lt for lt in lights if getattr(lt, "is_environment", False)), None)
+
+
+def _apply_environment(state: AppState, lights):
+    """A scene's environment light as the environment controls (a file: :func:`scene_environment_file`)."""
+    light = _environment_light(lights)
+    if light is None:
+        return
+    from lighting.lights import SKIES
+
+    intensity = float(np.mean(light.intensity))
+    src = light.source
+    if isinstance(src, str) and src.strip().lower() in SKIES:
+        env = src.strip().lower()
+    elif isinstance(src, str) or hasattr(src, "__fspath__"):
+        env = "file"
+    else:  # a constant radiance: the uniform sky, scaled
+        env, intensity = "uniform", intensity * float(np.mean(src))
+    state.update(environment=env, env_rotation=float(np.clip((light.rotation + 180.0) % 360.0 - 180.0, -180, 180)),
+                 env_intensity=float(np.clip(intensity, 0.0, 10.0)))  # fmt: skip
+
+
+def scene_environment_file(path):
+    """The environment file a scene's first object is lit by (a path from the scene's folder), or None.
+
+    Parameters
+    ----------
+    path : path-like
+        The scene file.
+
+    Returns
+    -------
+    str or None
+    """
+    from lighting.lights import SKIES
+    from lighting.scene import load_scene
+
+    light = _environment_light(load_scene(path).object_lights(0))
+    if light is None or not isinstance(light.source, str) or light.source.strip().lower() in SKIES:
+        return None
+    return os.path.join(os.path.dirname(os.path.abspath(path)), light.source)
 
 
 def _apply_material(state: AppState, material: Material, source: str):

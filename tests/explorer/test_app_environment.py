@@ -6,6 +6,7 @@ environment; the reference's error shrinks like 1/√spp, both as it estimates i
 """
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -284,3 +285,18 @@ def test_notebook_shows_the_object_and_refines_on_request():
     assert nb.model.refinement is None and nb.model.views["object"].method == "key light"
     nb.controls["view3d"].value = "lobe"
     assert nb.images["lobe"].value == lobe_png  # the same lobe picture again
+
+
+def test_a_scene_s_environment_light_becomes_the_environment_controls():
+    from explorer.app.scenes import scene_environment_file
+    from explorer.app.state import AppState
+    from lighting.scene import example_path
+
+    studio = AppState.from_args({"scene": example_path("studio")})
+    assert (studio.environment, studio.env_rotation, studio.env_intensity) == ("studio", 0.0, 1.0)
+    assert scene_environment_file(example_path("studio")) is None  # a sky: nothing to read
+    sky_file = AppState.from_args({"scene": example_path("environment")})
+    assert sky_file.environment == "file"
+    path = scene_environment_file(example_path("environment"))
+    assert path.endswith("daylight_sky.hdr") and os.path.isfile(path)
+    assert AppState.from_args({"scene": example_path("cube")}).environment == "none"
