@@ -13,10 +13,10 @@ the end a manifest ``figures.json`` listing them all in lecture order.
 
 The same inputs give the same pixels — and the same bytes: the figures are
 drawn from fixed parameters and seeds, and the files carry no date, no software
-version stamp and no random SVG ids.  The one exception is ``accuracy``, which
-plots *measured* wall-clock times; given ``--accuracy-csv`` (the ``accuracy.csv``
-written by ``lighting-explorer report accuracy``) it is drawn from that file and
-is reproducible too.
+version stamp and no random SVG ids.  The two exceptions plot *measured* wall-clock
+times: ``accuracy`` (given ``--accuracy-csv``, the ``accuracy.csv`` written by
+``lighting-explorer report accuracy``, it is drawn from that file and is reproducible
+too) and ``ibl_error`` (its bottom panel: the split sum's and Monte Carlo's run times).
 
 Every figure is drawn with Matplotlib (Agg, no window) from numbers the engine
 computed; every sphere and scene is the engine's own image.  ``--quick`` draws
