@@ -55,6 +55,7 @@ __all__ = [
     "MAX_WIDTH",
     "IMAGE_EXTENSIONS",
     "read_environment_image",
+    "declared_image_size",
     "write_hdr",
     "TransformedEnvironment",
     "load_environment",
@@ -135,6 +136,59 @@ def read_environment_image(path) -> np.ndarray:
     return img
 
 
+def declared_image_size(path) -> tuple[int, int] | None:
+    """``(height, width)`` an environment image's header declares, read without reading its pixels.
+
+    The readers' own header parsers, on the file's first bytes: what a scene charges to the memory
+    budget before :func:`read_environment_image` reads the whole file (which checks it again).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.hdr``/``.pic``, ``.pfm``, ``.npy`` or ``.exr`` file (``.exr``: when the ``OpenEXR`` package is
+        installed).
+
+    Returns
+    -------
+    tuple of int, or None
+        None when the header cannot be read or parsed: the reader then names the problem itself.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> p = os.path.join(tempfile.mkdtemp(), "big.hdr")
+    >>> with open(p, "wb") as f:   # a header alone: no pixels follow
+    ...     _ = f.write(b"#?RADIANCE\\nFORMAT=32-bit_rle_rgbe\\n\\n-Y 4096 +X 8192\\n")
+    >>> declared_image_size(p)
+    (4096, 8192)
+    """
+    name = os.fspath(path)
+    ext = os.path.splitext(name)[1].lower()
+    try:
+        if ext == ".exr":
+            import OpenEXR
+
+            f = OpenEXR.InputFile(name)
+            try:
+                return _exr_window(f.header())
+            finally:
+                f.close()
+        with open(name, "rb") as f:
+            if ext == ".npy":
+                shape = _npy_header(f)[0]
+                return int(shape[0]), int(shape[1])
+            head = f.read(_HEADER_LIMIT + 128)
+        if ext in (".hdr", ".pic"):
+            return _rgbe_header(head)[:2]
+        if ext == ".pfm":
+            return _pfm_header(head)[:2]
+    except (_Bad, ImportError, OSError, ValueError):
+        return None
+    except Exception:  # noqa: BLE001 (OpenEXR raises several kinds on corrupt files: the reader names them)
+        return None
+    return None
+
+
 def _check_file(name: str) -> None:
     """Refuse a missing file, a directory or a special file, and a file larger than the budget."""
     try:
@@ -195,7 +249,8 @@ def _finish(img: np.ndarray, name: str, scale: float = 1.0) -> np.ndarray:
 _RES = re.compile(rb"^([-+])([YX]) +(\d{1,9}) +([-+])([YX]) +(\d{1,9})$")
 
 
-def _decode_rgbe(data: bytes, name: str) -> np.ndarray:
+def _rgbe_header(data: bytes):
+    """``(h, w, rows_bottom_up, columns_right_to_left, exposure, offset of the pixels)`` of an RGBE file."""
     if not data.startswith(b"#?"):
         raise _Bad("not a Radiance file (no '#?' signature)", "allowed: an RGBE file starting '#?RADIANCE'")
     end = data.find(b"\n\n", 0, _HEADER_LIMIT)
@@ -231,13 +286,17 @@ def _decode_rgbe(data: bytes, name: str) -> np.ndarray:
             f"resolution line {res[:40].decode('latin-1')!r}",
             "allowed: '-Y H +X W' (or +Y / -X: rows bottom-up / columns right-to-left)",
         )
-    h, w = int(m.group(3)), int(m.group(6))
+    return int(m.group(3)), int(m.group(6)), m.group(1) == b"+", m.group(4) == b"-", exposure, nl + 1
+
+
+def _decode_rgbe(data: bytes, name: str) -> np.ndarray:
+    h, w, bottom_up, right_to_left, exposure, start = _rgbe_header(data)
     # Output float32 RGB, the RGBE bytes and the float64 temporaries of the conversion.
     _check_size(h, w, name, 12 + 4 + 48)
-    rgbe = _rgbe_scanlines(data, nl + 1, h, w)
-    if m.group(1) == b"+":
+    rgbe = _rgbe_scanlines(data, start, h, w)
+    if bottom_up:
         rgbe = rgbe[::-1]
-    if m.group(4) == b"-":
+    if right_to_left:
         rgbe = rgbe[:, ::-1]
     e = rgbe[..., 3].astype(np.int32)
     f = np.where(e > 0, np.ldexp(1.0, e - 136), 0.0)
@@ -298,7 +357,8 @@ def _rgbe_scanlines(data: bytes, pos: int, h: int, w: int) -> np.ndarray:
 _PFM = re.compile(rb"^(P[Ff])\s+(\d{1,9})\s+(\d{1,9})\s+(\S{1,40})\s")
 
 
-def _decode_pfm(data: bytes, name: str) -> np.ndarray:
+def _pfm_header(data: bytes):
+    """``(h, w, channels, scale, offset of the pixels)`` of a PFM file."""
     m = _PFM.match(data[:256])
     if not m:
         raise _Bad("not a PFM header", "allowed: 'PF' or 'Pf', width, height and scale, whitespace-separated")
@@ -312,24 +372,27 @@ def _decode_pfm(data: bytes, name: str) -> np.ndarray:
         raise _Bad(
             f"scale {m.group(4).decode('latin-1')!r}", "allowed: a finite nonzero number (negative: little-endian)"
         )
+    return h, w, channels, scale, m.end()
+
+
+def _decode_pfm(data: bytes, name: str) -> np.ndarray:
+    h, w, channels, scale, start = _pfm_header(data)
     _check_size(h, w, name, 12 + 12 + 4)
     need = h * w * channels * 4
-    body = len(data) - m.end()
+    body = len(data) - start
     if body < need:
         raise _Bad(f"the file is truncated: {body} bytes of pixels", f"allowed: {need} bytes for {w}x{h}x{channels}")
     if body > need:
         raise _Bad(f"{body - need} extra bytes after the pixels", f"allowed: exactly {need} bytes of pixels")
     dt = "<f4" if scale < 0 else ">f4"
-    px = np.frombuffer(data, dtype=dt, count=h * w * channels, offset=m.end()).reshape(h, w, channels)
+    px = np.frombuffer(data, dtype=dt, count=h * w * channels, offset=start).reshape(h, w, channels)
     return _finish(px[::-1], name)
 
 
 # -- NPY ----------------------------------------------------------------------------------
-def _decode_npy(data: bytes, name: str) -> np.ndarray:
-    import io
-
+def _npy_header(f):
+    """``(shape, fortran_order, dtype)`` of the ``.npy`` file object ``f``, checked; ``f`` left at the values."""
     fmt = np.lib.format
-    f = io.BytesIO(data)
     try:
         version = fmt.read_magic(f)
         if version == (1, 0):
@@ -348,6 +411,14 @@ def _decode_npy(data: bytes, name: str) -> np.ndarray:
         raise _Bad(f"dtype {dtype}", allowed)
     if len(shape) not in (2, 3) or (len(shape) == 3 and shape[2] != 3):
         raise _Bad(f"shape {shape}", allowed)
+    return shape, fortran, dtype
+
+
+def _decode_npy(data: bytes, name: str) -> np.ndarray:
+    import io
+
+    f = io.BytesIO(data)
+    shape, fortran, dtype = _npy_header(f)
     h, w = shape[0], shape[1]
     _check_size(h, w, name, 12 + 12 * dtype.itemsize + 4)
     need = math.prod(shape) * dtype.itemsize
@@ -362,6 +433,12 @@ def _decode_npy(data: bytes, name: str) -> np.ndarray:
 
 
 # -- EXR ----------------------------------------------------------------------------------
+def _exr_window(header):
+    """``(h, w)`` of an OpenEXR header's data window."""
+    dw = header["dataWindow"]
+    return dw.max.y - dw.min.y + 1, dw.max.x - dw.min.x + 1
+
+
 def _read_exr(name: str) -> np.ndarray:
     try:
         import Imath
@@ -384,8 +461,7 @@ def _read_exr(name: str) -> np.ndarray:
         f = OpenEXR.InputFile(name)
         try:
             header = f.header()
-            dw = header["dataWindow"]
-            w, h = dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1
+            h, w = _exr_window(header)
             chans = set(header["channels"])
             names = ("R", "G", "B") if {"R", "G", "B"} <= chans else ("Y",) if "Y" in chans else None
             if names is None:

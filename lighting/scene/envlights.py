@@ -8,7 +8,7 @@ the white furnace).  A name with an image file's extension is a file; anything e
 so a scene never reads a file it does not name as one.
 
 An image file is charged to the budget from the size its header declares, before its pixels are
-read (:func:`declared_image_size`, :data:`~lighting.scene.budget.ENVIRONMENT_BYTES_PER_PIXEL`).
+read (:func:`lighting.lights.envfiles.declared_image_size`, :data:`~lighting.scene.budget.ENVIRONMENT_BYTES_PER_PIXEL`).
 
 A light list (the scene's, or an object's own) holds at most one environment light: the
 environment is what the camera sees behind the objects, and two of them would be one sky that is
@@ -18,97 +18,15 @@ their sum (make that sky one image file).
 from __future__ import annotations
 
 import os
-import re
 
 from .._numeric import BudgetError, abbreviate, check_color
-from ..lights.envfiles import IMAGE_EXTENSIONS, load_environment
+from ..lights.envfiles import IMAGE_EXTENSIONS, declared_image_size, load_environment
 from ..lights.envlight import EnvironmentLight
 from ..lights.skies import SKIES
 from .budget import ENVIRONMENT_BYTES_PER_PIXEL, ENVIRONMENT_HELD_BYTES_PER_PIXEL
 from .errors import SceneBudgetError, _fmt_value, _join, _suggest
 
-__all__ = ["declared_image_size", "check_one_environment"]
-
-_HEADER_BYTES = (1 << 16) + 128  # an RGBE header is at most 64 KiB (the reader's own limit), then the resolution
-_RGBE_RES = re.compile(rb"^[-+]Y +(\d{1,9}) +[-+]X +(\d{1,9})$")
-_PFM = re.compile(rb"^P[Ff]\s+(\d{1,9})\s+(\d{1,9})\s")
-
-
-def declared_image_size(path: str) -> tuple[int, int] | None:
-    """``(height, width)`` an environment image's header declares, read without reading its pixels.
-
-    Parameters
-    ----------
-    path : str
-        A ``.hdr``/``.pic`` (the resolution line after the header), ``.pfm`` (the second and third
-        tokens), ``.npy`` (the array header) or ``.exr`` (the data window, when the ``OpenEXR``
-        package is installed) file.
-
-    Returns
-    -------
-    tuple of int, or None
-        None when the header cannot be read or parsed: the reader then names the problem itself
-        (:func:`lighting.lights.envfiles.read_environment_image`, which also checks the size again).
-
-    Examples
-    --------
-    >>> import os, tempfile
-    >>> p = os.path.join(tempfile.mkdtemp(), "big.hdr")
-    >>> with open(p, "wb") as f:   # a header alone: no pixels follow
-    ...     _ = f.write(b"#?RADIANCE\\nFORMAT=32-bit_rle_rgbe\\n\\n-Y 4096 +X 8192\\n")
-    >>> declared_image_size(p)
-    (4096, 8192)
-    """
-    ext = os.path.splitext(path)[1].lower()
-    try:
-        if ext == ".exr":
-            return _exr_size(path)
-        with open(path, "rb") as f:
-            if ext == ".npy":
-                return _npy_size(f)
-            head = f.read(_HEADER_BYTES)
-    except (OSError, ValueError):
-        return None
-    if ext in (".hdr", ".pic"):
-        end = head.find(b"\n\n")
-        if end < 0 or not head.startswith(b"#?"):
-            return None
-        nl = head.find(b"\n", end + 2)
-        m = _RGBE_RES.match(head[end + 2 : nl if nl >= 0 else None].strip())
-        return (int(m.group(1)), int(m.group(2))) if m else None
-    if ext == ".pfm":
-        m = _PFM.match(head[:256])
-        return (int(m.group(2)), int(m.group(1))) if m else None
-    return None
-
-
-def _npy_size(f):
-    import numpy as np
-
-    fmt = np.lib.format
-    try:
-        version = fmt.read_magic(f)
-        read = {(1, 0): fmt.read_array_header_1_0, (2, 0): fmt.read_array_header_2_0}.get(version)
-        shape = read(f)[0] if read else ()
-    except Exception:  # noqa: BLE001 (a header that does not parse: the reader names the problem)
-        return None
-    return (int(shape[0]), int(shape[1])) if len(shape) in (2, 3) else None
-
-
-def _exr_size(path):
-    try:
-        import OpenEXR
-    except ImportError:
-        return None
-    try:
-        f = OpenEXR.InputFile(path)
-        try:
-            dw = f.header()["dataWindow"]
-        finally:
-            f.close()
-        return dw.max.y - dw.min.y + 1, dw.max.x - dw.min.x + 1
-    except Exception:  # noqa: BLE001 (OpenEXR raises several kinds on corrupt files: the reader names them)
-        return None
+__all__ = ["declared_image_size", "check_one_environment"]  # declared_image_size: envfiles', re-exported
 
 
 def _source(ctx, path, spec):
