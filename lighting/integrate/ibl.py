@@ -218,14 +218,14 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
     irradiance = None
     theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
     for part in () if smooth is None else smooth.parts:
-        sigma = lobe_sigma(part.lobe())
+        lobe = part.lobe()
+        sigma = lobe_sigma(lobe)
         rho = _albedo_at(lobe_albedo(part), theta_v, dt)
         if math.isinf(sigma):
             if irradiance is None:
                 irradiance = pre.irradiance_sh(n) * np.asarray(1 / math.pi, dtype=dt)
             diffuse += rho * irradiance
         else:
-            lobe = part.lobe()
             specular += rho * pre.lookup(r, min(sigma, pre.sigmas[-1]), kernel_of_lobe(lobe))
     diffuse[~seen] = 0
     specular[~seen] = 0

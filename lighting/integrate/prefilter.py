@@ -109,11 +109,11 @@ def _halve(image: np.ndarray) -> np.ndarray:
 
 def _level_height(sigma: float, source_height: int) -> int:
     """The coarsest power-of-two height with eight pixels per ``σ``, at most the source's and 256 rows."""
-    need = 8 * math.pi / sigma
+    need, cap = 8 * math.pi / sigma, min(source_height, _MAX_LEVEL_HEIGHT)
     h = _MIN_HEIGHT
-    while h < need and h < min(source_height, _MAX_LEVEL_HEIGHT):
+    while h < need and h < cap:
         h *= 2
-    return min(h, source_height, max(_MAX_LEVEL_HEIGHT, _MIN_HEIGHT))
+    return min(h, source_height)
 
 
 def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:

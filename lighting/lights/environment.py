@@ -436,11 +436,6 @@ class LatLongEnvironment(Environment):
         return np.broadcast_to(((c[:-1] - c[1:]) * (2 * math.pi / self.width))[:, None], (self.height, self.width))
 
     # -- lookup ----------------------------------------------------------------------
-    def _angles(self, d):
-        theta = np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2])
-        phi = np.mod(np.arctan2(d[..., 1], d[..., 0]), 2 * math.pi)
-        return theta, phi
-
     def _radiance(self, d):
         return latlong_lookup(self._flat, self.height, self.width, d)
 
@@ -479,7 +474,7 @@ class LatLongEnvironment(Environment):
         return d, self._density[k]
 
     def _pdf(self, d):
-        theta, phi = self._angles(d)
+        theta, phi = latlong_angles(d)
         i = np.clip(np.floor(theta * (self.height / math.pi)).astype(np.int64), 0, self.height - 1)
         j = np.clip(np.floor(phi * (self.width / (2 * math.pi))).astype(np.int64), 0, self.width - 1)
         return self._density[i * self.width + j]

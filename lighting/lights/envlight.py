@@ -26,7 +26,7 @@ import numpy as np
 from .._numeric import ArgumentTypeError, _fmt, check_bool, check_choice, check_count
 from .environment import Environment, as_environment
 
-__all__ = ["ENVIRONMENT_METHODS", "EnvironmentLight", "split_environment_lights"]
+__all__ = ["ENVIRONMENT_METHODS", "EnvironmentLight", "environment_terms", "split_environment_lights"]
 
 #: How an :class:`EnvironmentLight` is reflected.
 ENVIRONMENT_METHODS = ("split-sum", "monte-carlo")
@@ -71,15 +71,7 @@ class EnvironmentLight:
         from .envfiles import load_environment
 
         self.source = environment
-        if isinstance(environment, Environment):
-            env = environment
-            if np.any(np.asarray(intensity) != 1) or rotation != 0:
-                from .envfiles import TransformedEnvironment
-
-                env = TransformedEnvironment(environment, intensity=intensity, rotation=rotation)
-        else:
-            env = load_environment(environment, intensity=intensity, rotation=rotation)
-        self.environment = as_environment(env)
+        self.environment = as_environment(load_environment(environment, intensity=intensity, rotation=rotation))
         self.intensity = intensity
         self.rotation = float(rotation)
         self.background = check_bool("background", background)
@@ -184,6 +176,45 @@ class EnvironmentLight:
             out["samples"] = self.samples
             out["seed"] = self.seed
         return out
+
+
+def environment_terms(lights, brdf, normals, view, *, form="classic", terms=("diffuse", "specular"), dtype=None):
+    """The diffuse and specular terms environment lights give at shaded samples, as the renderer adds them.
+
+    Each light's physical ``L_o`` (:meth:`EnvironmentLight.reflected`), summed over the lights, times π in
+    the classic form (conventions.md).
+
+    Parameters
+    ----------
+    lights : sequence of EnvironmentLight
+    brdf : BRDF
+    normals : ndarray, (N, 3)
+        Unit normals.
+    view : ndarray, (N, 3) or (3,)
+        Unit view vectors.
+    form : {"classic", "physical"}
+    terms : iterable of str
+        The terms wanted; only ``"diffuse"`` and ``"specular"`` have a part here.
+    dtype : float dtype, optional
+        Of the results (default: the normals').
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``(N, 3)`` per wanted term, in ``("diffuse", "specular")`` order; empty without lights or such terms.
+    """
+    names = [t for t in ("diffuse", "specular") if t in terms]
+    if not lights or not names:
+        return {}
+    dt = np.dtype(normals.dtype if dtype is None else dtype).type
+    v = np.broadcast_to(view, normals.shape)
+    sums = {t: np.zeros(normals.shape, dtype=dt) for t in names}
+    for light in lights:
+        parts = light.reflected(brdf, normals, v, split_terms=True)
+        for t in names:
+            sums[t] += parts[t].astype(dt, copy=False)
+    scale = dt(np.pi) if form == "classic" else dt(1)
+    return {t: sums[t] * scale for t in names}
 
 
 def split_environment_lights(lights):

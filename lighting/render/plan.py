@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
-from ..lights.envlight import split_environment_lights
+from ..lights.envlight import environment_terms, split_environment_lights
 from ..lights.punctual import AmbientLight, DirectionalLight, SpotLight
 from ..models.brdf import BRDF, BRDFSum
 from ..shading.batch import accumulate, shade_prepared
@@ -227,8 +227,9 @@ class Plan:
                 self._ambient_colour(), 1.0)], eye_distance=dist, form=self.form, terms=self.terms, tangents=tangents,
             )  # fmt: skip
         if self.environments:
-            out = out + _environment_reflected(self.environments, BRDFSum(*self.kept_parts), nrm, v, self.form,
-                                               self.terms, dt)  # fmt: skip
+            terms = environment_terms(self.environments, BRDFSum(*self.kept_parts), nrm, v, form=self.form,
+                                      terms=self.terms, dtype=dt)  # fmt: skip
+            out = out + sum(terms.values(), np.zeros(nrm.shape, dtype=dt))
         return out
 
     def _ambient_colour(self):
@@ -469,26 +470,9 @@ def evaluate_full(renderer: Renderer, material: Material, lights, *, mode="phong
     acc = accumulate(samples, material, lights, options, summed=True, dtype=renderer.dtype)
     total = acc["total"].total()
     if envs:
-        total = total + _environment_reflected(envs, material.brdf, nrm, v, form, terms, renderer.dtype)
+        parts = environment_terms(envs, material.brdf, nrm, v, form=form, terms=terms, dtype=renderer.dtype)
+        total = total + sum(parts.values(), np.zeros(nrm.shape, dtype=renderer.dtype))
     return renderer.spread(mode, total)
-
-
-def _environment_reflected(envs, brdf, normals, view, form, terms, dtype) -> np.ndarray:
-    """``(N, 3)``: the diffuse and specular terms (those in ``terms``) the environment lights give at the samples.
-
-    The physical form's ``L_o`` of each light (:meth:`~lighting.lights.envlight.EnvironmentLight.reflected`),
-    times π in the classic form (conventions.md), as :class:`~lighting.render.renderer.Renderer` adds them.
-    """
-    names = [t for t in ("diffuse", "specular") if t in terms]
-    out = np.zeros(normals.shape, dtype=dtype)
-    if not names:
-        return out
-    v = np.broadcast_to(view, normals.shape)
-    for light in envs:
-        parts = light.reflected(brdf, normals, v, split_terms=True)
-        for t in names:
-            out += parts[t].astype(dtype, copy=False)
-    return out * dtype(math.pi) if form == "classic" else out
 
 
 def _environment_words(light, where: str) -> str:

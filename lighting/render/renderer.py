@@ -44,7 +44,7 @@ from .._numeric import (
     check_positive,
     real_array,
 )
-from ..lights.envlight import split_environment_lights
+from ..lights.envlight import environment_terms, split_environment_lights
 from ..shading.batch import each_chunk, shade_prepared, shade_prepared_into, shade_prepared_terms
 from ..shading.inputs import TERMS, check_lights, positional_lights, view_vectors
 from ..shading.material import Material, check_material
@@ -504,19 +504,13 @@ class Renderer:
 
     def _environment_terms(self, material, envs, mode, form, wanted) -> dict:
         """The environment lights' diffuse and specular terms as images, for the terms in ``wanted``."""
-        names = [t for t in ("diffuse", "specular") if t in wanted]
-        if not envs or not names:
+        if not envs:
             return {}
         check_material(material)
         nrm = self.sample_normals(mode)
-        v = np.broadcast_to(self.sample_view(mode)[0], nrm.shape)
-        sums = {t: np.zeros(nrm.shape, dtype=self.dtype) for t in names}
-        for light in envs:
-            parts = light.reflected(material.brdf, nrm, v, split_terms=True)
-            for t in names:
-                sums[t] += parts[t].astype(self.dtype, copy=False)
-        scale = self.dtype(math.pi) if form == "classic" else self.dtype(1)
-        return {t: self.spread(mode, sums[t] * scale).astype(self.dtype, copy=False) for t in names}
+        sums = environment_terms(envs, material.brdf, nrm, self.sample_view(mode)[0], form=form, terms=wanted,
+                                 dtype=self.dtype)  # fmt: skip
+        return {t: self.spread(mode, c).astype(self.dtype, copy=False) for t, c in sums.items()}
 
     def _environment_background(self, envs, form):
         """The environment seen along each pixel's camera ray (``(H, W, 3)``), or None without one to show."""
