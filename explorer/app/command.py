@@ -243,7 +243,7 @@ def run(args) -> int:
 
             classes = [file_model(path, register=True) for path in files]
             values["model"] = values.get("model") or classes[0].name
-        env_file = None
+        env_file = scene_env = None
         env = values.get("environment")
         if env is not None and env.strip().lower().replace("_", "-") not in ENVIRONMENTS:
             env_file, values["environment"] = env, "file"  # a file, read (and checked) below
@@ -252,7 +252,7 @@ def run(args) -> int:
         elif env is None and values.get("scene"):
             from .scenes import scene_environment_file
 
-            env_file = scene_environment_file(values["scene"])  # the scene's own environment file, if any
+            scene_env = scene_environment_file(values["scene"])  # the scene's own environment file, read once
         mesh = None
         if getattr(args, "mesh", None) is not None:
             from lighting.render.mesh import load_mesh
@@ -262,6 +262,8 @@ def run(args) -> int:
             from lighting.lights import load_environment
 
             env_file = (env_file, load_environment(env_file))
+        elif scene_env is not None:
+            env_file = scene_env
         state = AppState.from_args(values)
         compare = BRDFList(max_entries=MAX_ENTRIES)
         for path, cls in zip(files[1:], classes[1:], strict=True):

@@ -101,7 +101,7 @@ def _apply_environment(state: AppState, lights):
 
 
 def scene_environment_file(path):
-    """The environment file a scene's first object is lit by (a path from the scene's folder), or None.
+    """The environment file a scene's first object is lit by, as ``(path, environment)``, or None.
 
     Parameters
     ----------
@@ -110,7 +110,10 @@ def scene_environment_file(path):
 
     Returns
     -------
-    str or None
+    tuple or None
+        The file's path (from the scene's folder) and the environment the scene read from it (without the
+        light's intensity and rotation, which become the controls): ``--environment FILE`` without reading
+        the file again.
     """
     from lighting.lights import SKIES
     from lighting.scene import load_scene
@@ -118,7 +121,8 @@ def scene_environment_file(path):
     light = _environment_light(load_scene(path).object_lights(0))
     if light is None or not isinstance(light.source, str) or light.source.strip().lower() in SKIES:
         return None
-    return os.path.join(os.path.dirname(os.path.abspath(path)), light.source)
+    env = light.environment
+    return os.path.join(os.path.dirname(os.path.abspath(path)), light.source), getattr(env, "base", env)
 
 
 def _apply_material(state: AppState, material: Material, source: str):

@@ -297,6 +297,9 @@ def test_a_scene_s_environment_light_becomes_the_environment_controls():
     assert scene_environment_file(example_path("studio")) is None  # a sky: nothing to read
     sky_file = AppState.from_args({"scene": example_path("environment")})
     assert sky_file.environment == "file"
-    path = scene_environment_file(example_path("environment"))
+    path, env = scene_environment_file(example_path("environment"))
     assert path.endswith("daylight_sky.hdr") and os.path.isfile(path)
+    from lighting.lights import read_environment_image
+
+    np.testing.assert_array_equal(env.image, read_environment_image(path))  # the sky the file holds
     assert AppState.from_args({"scene": example_path("cube")}).environment == "none"
