@@ -147,6 +147,14 @@ def _jsonable(x):
     return x
 
 
+def _smallest_text_pt(fig) -> float | None:
+    """The size in points of the smallest text a drawn figure shows (``None`` when it shows none)."""
+    from matplotlib.text import Text
+
+    sizes = [t.get_fontsize() for t in fig.findobj(Text) if t.get_visible() and t.get_text().strip()]
+    return round(float(min(sizes)), 2) if sizes else None
+
+
 def _png_size(data: bytes) -> tuple[int, int]:
     return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
 
@@ -174,6 +182,7 @@ def make_figure(name: str, *, quick: bool = False, dpi: int | None = None, optio
     """
     import matplotlib
 
+    from . import base
     from .base import STYLE
 
     spec = _load_registry()[name]
@@ -182,8 +191,12 @@ def make_figure(name: str, *, quick: bool = False, dpi: int | None = None, optio
     for k, v in (options or {}).items():
         if k in params:
             params[k] = v
-    with matplotlib.rc_context(STYLE):
-        out = spec.func(q, **params)
+    base._drawing_size[0] = spec.size_in
+    try:
+        with matplotlib.rc_context(STYLE):
+            out = spec.func(q, **params)
+    finally:
+        base._drawing_size[0] = None
     fig, measured = out if isinstance(out, tuple) else (out, {})
     return fig, spec, params, q, measured
 
@@ -206,6 +219,7 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
             fig.savefig(buf, format=fmt, dpi=q.dpi, metadata=_SAVE_METADATA[fmt])
             files[fmt] = f"{name}.{fmt}"
             contents.append((os.path.join(out_dir, files[fmt]), buf.getvalue()))
+    smallest_pt = _smallest_text_pt(fig)
     if "png" in files:
         size = list(_png_size(contents[list(files).index("png")][1]))
     else:
@@ -225,6 +239,7 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
         "files": files,
         "size_px": size,
         "size_in": [round(w_in, 3), round(h_in, 3)],
+        "smallest_text_pt": smallest_pt,
         "deterministic": nondet is None,
         "nondeterministic_reason": nondet,
     }
@@ -236,8 +251,8 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
 
 
 # --------------------------------------------------------------------------- checks before the work
-#: The largest figure of the set, in inches (the accuracy panels and the plausibility table grow with their data).
-LARGEST_FIGURE_IN = (19.0, 12.0)
+#: The size assumed for a figure registered without one, in inches.
+UNDECLARED_FIGURE_IN = (19.0, 12.0)
 #: Peak bytes per raster pixel while saving: Agg's RGBA buffer plus the PNG encoder's copy.
 BYTES_PER_PIXEL = 8
 #: Agg cannot draw an image wider or taller than this many pixels.
@@ -259,14 +274,17 @@ def _check_raster(what: str, w_in: float, h_in: float, dpi: int) -> None:
         raise FigureError(str(exc)) from None
 
 
-def _check_dpi(dpi) -> int | None:
+def _check_dpi(dpi, names) -> int | None:
+    """``--dpi`` checked against the declared size of each figure in ``names``, before any is drawn."""
     if dpi is None:
         return None
     try:
         dpi = check_count("--dpi", dpi, 10)
     except ValueError as exc:
         raise FigureError(str(exc)) from None
-    _check_raster("the largest figure", *LARGEST_FIGURE_IN, dpi)
+    registry = _load_registry()
+    for name in names:
+        _check_raster(name, *(registry[name].size_in or UNDECLARED_FIGURE_IN), dpi)
     return dpi
 
 
@@ -497,7 +515,7 @@ def generate(
     """
     names = _check_names(only)
     formats = _check_formats(formats)
-    dpi = _check_dpi(dpi)
+    dpi = _check_dpi(dpi, names)
     try:
         jobs = _check_jobs(jobs)
         out_dir = check_output_dir(os.fspath(out_dir), flag="--out")

@@ -30,6 +30,7 @@ from lighting.render.sphere import render_sphere
 __all__ = [
     "Quality",
     "FigureSpec",
+    "SLIDE_SIZES",
     "REGISTRY",
     "register",
     "STYLE",
@@ -177,13 +178,33 @@ class FigureSpec:
     parameters: dict = field(default_factory=dict)
     #: Why two runs may differ (measured wall-clock times), or ``None`` when the pixels are reproducible.
     nondeterministic: str | None = None
+    #: The figure's size in inches, ``(width, height)``: a slide's shape (see :data:`SLIDE_SIZES`).
+    size_in: tuple[float, float] | None = None
+
+
+#: The two slide shapes every figure is drawn at, in inches: 1280 pixels across is 96 per inch at 16:9,
+#: so text of 8 points or more stays at least 10 pixels tall when a figure fills a 1280-pixel-wide slide.
+SLIDE_SIZES = {"16:9": (40 / 3, 7.5), "4:3": (10.0, 7.5)}
+
+# The declared size of the figure being drawn (set by :func:`explorer.figures.make_figure`): what
+# :func:`new_figure` uses when it is given no size.
+_drawing_size: list = [None]
 
 
 #: name → :class:`FigureSpec`, in lecture order (registration order).
 REGISTRY: dict[str, FigureSpec] = {}
 
 
-def register(name: str, *, title: str, caption: str, slides: str, nondeterministic: str | None = None, **parameters):
+def register(
+    name: str,
+    *,
+    title: str,
+    caption: str,
+    slides: str,
+    nondeterministic: str | None = None,
+    size: str | tuple[float, float] | None = None,
+    **parameters,
+):
     """Decorator: add a figure function to :data:`REGISTRY` under ``name``.
 
     Parameters
@@ -195,6 +216,10 @@ def register(name: str, *, title: str, caption: str, slides: str, nondeterminist
         what the figure measured).
     nondeterministic : str, optional
         Why two runs may differ, or ``None`` when the pixels are reproducible.
+    size : str or tuple of float, optional
+        The figure's shape, ``"16:9"`` or ``"4:3"`` (:data:`SLIDE_SIZES`), or its size in inches; the
+        command line checks ``--dpi`` against it before anything is drawn, and :func:`new_figure`
+        called without a size draws at it.
     **parameters
         The parameters the function is called with.
 
@@ -207,20 +232,21 @@ def register(name: str, *, title: str, caption: str, slides: str, nondeterminist
     def deco(func):
         if name in REGISTRY:
             raise ValueError(f"figure {name!r} is registered twice")
-        REGISTRY[name] = FigureSpec(name, func, title, caption, slides, dict(parameters), nondeterministic)
+        size_in = SLIDE_SIZES[size] if isinstance(size, str) else (tuple(float(x) for x in size) if size else None)
+        REGISTRY[name] = FigureSpec(name, func, title, caption, slides, dict(parameters), nondeterministic, size_in)
         return func
 
     return deco
 
 
 # --------------------------------------------------------------------------- drawing helpers
-def new_figure(width: float, height: float, **kwargs):
+def new_figure(width: float | None = None, height: float | None = None, **kwargs):
     """A Matplotlib figure (no pyplot: nothing global, safe in worker processes) with constrained layout.
 
     Parameters
     ----------
-    width, height : float
-        Size in inches.
+    width, height : float, optional
+        Size in inches; by default the size the figure being drawn was registered with.
     **kwargs
         Passed to :class:`matplotlib.figure.Figure` (``layout`` defaults to ``"constrained"``).
 
@@ -231,6 +257,10 @@ def new_figure(width: float, height: float, **kwargs):
     """
     from matplotlib.figure import Figure
 
+    if width is None or height is None:
+        if _drawing_size[0] is None:
+            raise ValueError("new_figure() without a size needs a figure registered with a size")
+        width, height = _drawing_size[0]
     kwargs.setdefault("layout", "constrained")
     return Figure(figsize=(width, height), **kwargs)
 

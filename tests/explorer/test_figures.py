@@ -306,3 +306,38 @@ def test_lecture_order_does_not_depend_on_which_module_is_imported_first():
     assert out.split(",") == figures.figure_names()
     # The rendering equation's figures end with the accuracy report's; image-based lighting follows them.
     assert out.split(",")[0] == "local_vs_global" and out.split(",")[-2:] == ["accuracy", "ibl_error"]
+
+
+#: A figure fills a 1280-pixel-wide slide: its smallest text must then be at least this many pixels tall.
+READABLE_PX_AT_1280 = 10.0
+
+
+def test_every_figure_is_slide_shaped_and_readable_at_1280_pixels(quick_set):
+    # The rule a lecturer needs: each figure drops onto a 16:9 or a 4:3 slide as it is, at the size it was
+    # registered with, and its smallest text is legible when the figure is shown 1280 pixels wide.
+    _, _, manifest = quick_set
+    shapes = {16 / 9: "16:9", 4 / 3: "4:3"}
+    for rec in manifest["figures"]:
+        spec = figures.REGISTRY[rec["name"]]
+        w, h = rec["size_in"]
+        assert spec.size_in is not None, f"{rec['name']} is registered without a size"
+        assert (w, h) == pytest.approx(spec.size_in, abs=1e-3), rec["name"]
+        assert any(abs(w / h - r) < 0.005 * r for r in shapes), f"{rec['name']}: {w} x {h} in is not 16:9 or 4:3"
+        px_per_pt = 1280 / (72 * w)
+        assert rec["smallest_text_pt"] * px_per_pt >= READABLE_PX_AT_1280, (
+            f"{rec['name']}: {rec['smallest_text_pt']} pt text is "
+            f"{rec['smallest_text_pt'] * px_per_pt:.1f} px at 1280 px wide"
+        )
+
+
+def test_dpi_is_checked_against_each_selected_figures_own_size(tmp_path, capsys):
+    # A resolution that fits a 4:3 figure but not a 16:9 one is refused for the wider figure only,
+    # from the declared sizes, before anything is drawn or any folder is made.
+    names = figures.figure_names()
+    wide = next(n for n in names if figures.REGISTRY[n].size_in == figures.base.SLIDE_SIZES["16:9"])
+    dpi = int(figures.AGG_MAX_PIXELS / figures.base.SLIDE_SIZES["16:9"][0]) + 1
+    out = tmp_path / "never"
+    rc, res = _run(["--out", str(out), "--only", wide, "--dpi", str(dpi)], capsys)
+    assert rc == 2
+    assert f"--dpi {dpi}" in res.err and wide in res.err and len(res.err.strip().splitlines()) == 1
+    assert not out.exists()
