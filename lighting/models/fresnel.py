@@ -1,6 +1,6 @@
 """Fresnel reflectance: the fraction of light a smooth interface reflects.
 
-Both functions broadcast, keep the float dtype of ``cos_theta`` and take RGB
+The functions broadcast, keep the float dtype of ``cos_theta`` and take RGB
 parameters as a trailing axis of length 3 when given a triple.
 """
 
@@ -10,7 +10,7 @@ import numpy as np
 
 from .._numeric import _fmt, check_budget, real_array, safe_div, working_dtype
 
-__all__ = ["schlick", "dielectric", "f0_from_eta", "eta_from_f0"]
+__all__ = ["schlick", "dielectric", "conductor", "f0_from_eta", "eta_from_f0"]
 
 #: How far a cosine may stray beyond [−1, 1] by rounding (clamped); anything further is refused.
 COS_SLACK = 1e-6
@@ -145,6 +145,79 @@ def dielectric(cos_theta_i, eta) -> np.ndarray:
         r_perp = safe_div(ci - eta * ct, d_perp)
         f = np.where(tir, 1.0, 0.5 * (r_par * r_par + r_perp * r_perp))
     return f.astype(dt, copy=False)
+
+
+def conductor(cos_theta_i, eta, k) -> np.ndarray:
+    """Exact unpolarized Fresnel reflectance of a conductor of complex relative index ``η + i k``.
+
+    With ``ñ = η + i k`` and ``w = sqrt(ñ² − sin²θ_i)`` (the principal root: ``w = ñ cos θ_t``, whose
+    real and imaginary parts are >= 0 for ``k >= 0``), the amplitude reflection coefficients are
+
+        r_perp = (cos θ_i − w) / (cos θ_i + w),
+        r_par  = (ñ² cos θ_i − w) / (ñ² cos θ_i + w),
+
+    and ``F = (|r_par|² + |r_perp|²) / 2``.  At normal incidence
+    ``F = ((η − 1)² + k²) / ((η + 1)² + k²)``; at grazing incidence ``F = 1``.  With ``k = 0`` this is
+    :func:`dielectric` for light arriving from outside (``cos θ_i >= 0``).  A conductor is lit from
+    outside only: ``cos_theta_i`` below 0 is taken as ``|cos θ_i|``.
+
+    Written without dividing by ``ñ`` (``w`` instead of ``cos θ_t``), with ``ñ² − sin²θ_i`` as
+    ``(η − 1)(η + 1) − k² + cos²θ_i + 2iηk`` and with ``|x ∓ w|²`` in real arithmetic, so that the result
+    stays accurate at grazing incidence for indices near 1 and finite for any finite ``η > 0``,
+    ``k >= 0``: where ``|ñ|`` is so large or so small that a coefficient overflows or becomes 0/0, ``F``
+    takes its limit there, 1 (as :func:`dielectric` does at grazing incidence for ``η = 1``).
+
+    Parameters
+    ----------
+    cos_theta_i : array_like
+        Cosines of the angle of incidence in [−1, 1] (rounding up to :data:`COS_SLACK` beyond is
+        tolerated), any shape.
+    eta : float or array_like, shape (3,)
+        The real part of the conductor's index relative to the outside medium, finite and > 0: a scalar
+        or an RGB triple.
+    k : float or array_like, shape (3,)
+        The extinction coefficient (imaginary part), finite and >= 0: a scalar or an RGB triple.
+
+    Returns
+    -------
+    ndarray
+        ``F`` in [0, 1], of ``cos_theta_i``'s shape (plus a trailing axis 3 when ``eta`` or ``k`` is a
+        triple), computed in float64 and returned in the float dtype of ``cos_theta_i``.
+
+    References
+    ----------
+    M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press, 1999, §14.2
+    (reflection from an absorbing medium).
+
+    Examples
+    --------
+    >>> round(float(conductor(1.0, 1.5, 0.0)), 6)   # the dielectric's F0
+    0.04
+    >>> round(float(conductor(1.0, 0.2, 3.0)), 6)   # ((0.2 - 1)^2 + 9) / ((0.2 + 1)^2 + 9)
+    0.923372
+    """
+    dt = working_dtype(cos_theta_i)
+    ci = np.abs(_cosines("cos_theta_i", cos_theta_i))
+    eta = _param("eta", eta, "a finite scalar or RGB triple > 0", lambda a: a > 0)
+    k = _param("k", k, "a finite scalar or RGB triple >= 0", lambda a: a >= 0)
+    if eta.ndim or k.ndim:
+        eta, k = np.broadcast_to(eta, (3,)), np.broadcast_to(k, (3,))
+        ci = ci[..., None]
+    _budget("cos_theta_i", ci, eta)
+    n = eta + 1j * k
+    with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+        n2 = n * n
+        # ñ² − sin²θ_i = (η − 1)(η + 1) − k² + cos²θ_i + 2iηk: no cancellation of 1 − sin²θ_i near grazing.
+        w = np.sqrt(((eta - 1) * (eta + 1) - k * k + ci * ci) + 2j * eta * k)
+        a = n2 * ci
+        # |x − w|² / |x + w|² in real arithmetic: exactly 1 at grazing incidence (x = 0), no complex division.
+        wr, wi = w.real, w.imag
+        r_perp2 = ((ci - wr) ** 2 + wi**2) / ((ci + wr) ** 2 + wi**2)
+        r_par2 = ((a.real - wr) ** 2 + (a.imag - wi) ** 2) / ((a.real + wr) ** 2 + (a.imag + wi) ** 2)
+        f = 0.5 * (r_par2 + r_perp2)
+        # Non-finite only where |ñ| is so large or small, or the incidence so grazing, that F's limit is 1.
+        f = np.where(np.isfinite(f), np.clip(f, 0, 1), 1.0)
+        return f.astype(dt, copy=False)
 
 
 def _dielectric_from_f0(cos_theta_i, f0) -> np.ndarray:
