@@ -20,7 +20,10 @@ constructs that Markdown shows as text.  After the conversion this hook turns
   ``:obj:``, ``:exc:`` into code, linked to the name's entry on the same page when there is one
   (``~a.b.c`` shows ``c``; an unqualified name links when one documented object has it);
 * a ``.. math::`` directive and its indented block into displayed MathML;
-* the ``::`` that introduces a reST literal block into ``:``.
+* the ``::`` that introduces a reST literal block into ``:``;
+* a reST literal (text between double backticks) inside inline code into its text: mkdocstrings
+  shows a parameter's or return value's type as code without reading it as Markdown, so the
+  literal would keep its backticks (code blocks are left as they are).
 """
 
 from __future__ import annotations
@@ -168,6 +171,9 @@ _RST_MATH_RE = re.compile(
 )
 _LITERAL_RE = re.compile(r"(\S)::(</p>\s*<div class=\"(?:language-\w+ )?highlight\")")
 _ID_RE = re.compile(r'\bid="([\w.]+)"')
+_PRE_RE = re.compile(r"(<pre\b.*?</pre>)", re.S)
+_INLINE_CODE_RE = re.compile(r"<code>(.*?)</code>", re.S)
+_LITERAL_SPAN_RE = re.compile(r"``(?!`)(.+?)(?<!`)``")
 
 
 def rest_to_html(content: str) -> str:
@@ -181,13 +187,15 @@ def rest_to_html(content: str) -> str:
     Returns
     -------
     str
-        The HTML with Sphinx roles as (linked) code, ``.. math::`` blocks as MathML and
-        ``word::`` before a code block as ``word:``.
+        The HTML with Sphinx roles as (linked) code, ``.. math::`` blocks as MathML,
+        ``word::`` before a code block as ``word:`` and reST literals inside inline code as their text.
 
     Examples
     --------
     >>> rest_to_html('<h3 id="a.b.f">f</h3><p>see :func:<code>~a.b.f</code></p>')
     '<h3 id="a.b.f">f</h3><p>see <a href="#a.b.f"><code>f</code></a></p>'
+    >>> rest_to_html('<td><code>ndarray, shape ``(N, 3)``</code></td>')
+    '<td><code>ndarray, shape (N, 3)</code></td>'
     """
     ids = set(_ID_RE.findall(content))
     by_last: dict[str, list[str]] = {}
@@ -215,7 +223,15 @@ def rest_to_html(content: str) -> str:
         return f'<div class="math-display">{to_mathml(latex, True)}</div>'
 
     content = _RST_MATH_RE.sub(rst_math, content)
-    return _LITERAL_RE.sub(r"\1:\2", content)
+    content = _LITERAL_RE.sub(r"\1:\2", content)
+    # Inline code only: a code block shows its text as written.
+    def plain_code(m):
+        return "<code>" + _LITERAL_SPAN_RE.sub(r"\1", m.group(1)) + "</code>"
+
+    parts = _PRE_RE.split(content)
+    for i in range(0, len(parts), 2):
+        parts[i] = _INLINE_CODE_RE.sub(plain_code, parts[i])
+    return "".join(parts)
 
 
 def on_page_markdown(markdown, page, config, files, **kwargs):

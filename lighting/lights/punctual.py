@@ -554,7 +554,7 @@ class SpotLight(PointLight):
     def spot_factor(self, cos_angle, one_minus_cos=None) -> np.ndarray:
         r"""The slides' spot factor: ``(−l·ŝ)^e`` inside the cone, 0 outside.
 
-            spot = max(−l·ŝ, 0)^e   if −l·ŝ >= cos(cutoff),   else 0      (``0^0 = 1``)
+            spot = max(−l·ŝ, 0)^e   if −l·ŝ >= cos(cutoff),   else 0      (0^0 = 1)
 
         The one home of the formula; the lights call it with both ``cos ψ = −l·ŝ`` and
         ``1 − cos ψ = |l + ŝ|²/2``, which keeps its digits near the axis where ``cos ψ`` rounds

@@ -273,9 +273,9 @@ class GBuffer:
 
         Returns
         -------
-        ndarray, shape (H, W) or (H, W, k), zero where nothing is covered.
-        Float values come back as float64 if either the buffer or the values
-        are float64, else float32.
+        ndarray, shape (H, W) or (H, W, k)
+            The attribute of each pixel's triangle, zero where nothing is covered. Float values come
+            back as float64 if either the buffer or the values are float64, else float32.
         """
         n_faces = self.mesh.n_triangles if self.mesh is not None else 1
         a = np.asarray(face_values)

@@ -228,6 +228,9 @@ def view_vectors(points, *, eye=None, view_dir=None, dtype=None):
 def prepare(points, normals, material, eye, view_dir, lights):
     """Check every argument once; points, unit normals, view vectors and eye distances in the working dtype.
 
+    ``points`` may be ``None`` only when every light is ambient or directional (they do not depend on
+    where the surface is) and the viewer is at infinity (``view_dir``).
+
     Parameters
     ----------
     points, normals, material, eye, view_dir, lights
@@ -237,9 +240,6 @@ def prepare(points, normals, material, eye, view_dir, lights):
     -------
     tuple
         ``(points or None, unit normals, view vectors, eye distances or None, list of lights)``.
-
-    ``points`` may be ``None`` only when every light is ambient or directional (they do not depend on
-    where the surface is) and the viewer is at infinity (``view_dir``).
     """
     check_material(material)
     lights = check_lights(lights)

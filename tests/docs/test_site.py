@@ -7,6 +7,7 @@ The formula conversion itself is tested directly, in the fast loop.
 
 from __future__ import annotations
 
+import html
 import os
 import re
 import subprocess
@@ -23,6 +24,15 @@ sys.path.insert(0, str(ROOT / "explorer" / "figures"))
 import mkdocs_math  # noqa: E402  (the hook module, imported as MkDocs imports it: by path)
 
 SPHINX_ROLE = re.compile(r":(func|class|meth|mod|attr|data|obj|exc):`")
+# reST a reader would see as text: a role's name, with or without its backticks, and a literal's double backticks.
+REST_RESIDUE = re.compile(
+    r":(?:py:)?(?:func|class|meth|mod|attr|data|obj|exc|const|ref|doc|term|math|any):|``[^`]*?``|``"
+)
+
+
+def rest_residue(text: str) -> list[str]:
+    """Each place where ``text`` shows reST markup, as the markup with up to 40 characters either side."""
+    return [" ".join(text[max(0, m.start() - 40) : m.end() + 40].split()) for m in REST_RESIDUE.finditer(text)]
 
 
 # --------------------------------------------------------------------------- the conversion itself
@@ -71,6 +81,28 @@ def test_rest_roles_and_math_directive_become_html():
     assert '<div class="math-display"><math alttext="E = \\frac{a}{b}"' in out
 
 
+def test_literals_in_inline_code_lose_their_backticks_code_blocks_keep_them():
+    page = (
+        "<td><code>ndarray, shape ``theta_v.shape + (3,)`` (RGB), or Estimate</code></td>"
+        "<td><code>``a`` and ``b``</code> ``c``</td>"
+        '<div class="highlight"><pre><span></span><code>x = "``kept``"</code></pre></div>'
+    )
+    out = mkdocs_math.rest_to_html(page)
+    assert "<code>ndarray, shape theta_v.shape + (3,) (RGB), or Estimate</code>" in out
+    assert "<code>a and b</code>" in out
+    assert '<code>x = "``kept``"</code></pre>' in out
+
+
+def test_rest_residue_names_the_markup_and_passes_plain_text():
+    assert rest_residue("a ``points`` may be ``None``") == ["a ``points`` may be ``None``"] * 2
+    assert rest_residue("an odd `` pair") == ["an odd `` pair"]
+    assert rest_residue("see :func:load_scene, and :py:class:`X`") == [
+        "see :func:load_scene, and :py:class:`X`",
+        "see :func:load_scene, and :py:class:`X`",
+    ]
+    assert rest_residue("a ratio 1:2:3, a label: value, `x` and Note: done") == []
+
+
 def test_bad_formula_is_a_one_line_error_naming_it():
     with pytest.raises(ValueError, match=r"formula 'a\^': latex2mathml cannot read it"):
         mkdocs_math.to_mathml("a^", display=False)
@@ -89,7 +121,10 @@ class _Page(HTMLParser):
     def __init__(self):
         super().__init__(convert_charrefs=True)
         self.ids, self.hrefs, self.srcs, self.text = set(), [], [], []
+        # What a reader sees as text, inline code included (``text`` leaves inline code out).
+        self.visible = []
         self._skip = 0
+        self._block = 0
         self.stack = []
 
     def handle_starttag(self, tag, attrs):
@@ -104,15 +139,23 @@ class _Page(HTMLParser):
             self.srcs.append(a["href"])
         if tag in ("script", "style", "code", "pre", "math"):
             self._skip += 1
+        if tag in ("script", "style", "pre", "math"):
+            self._block += 1
+        elif tag in ("p", "li", "td", "th", "div", "h1", "h2", "h3", "h4", "h5", "h6", "br", "tr"):
+            self.visible.append("\n")
         self.stack.append(tag)
 
     def handle_endtag(self, tag):
         if tag in ("script", "style", "code", "pre", "math") and self._skip:
             self._skip -= 1
+        if tag in ("script", "style", "pre", "math") and self._block:
+            self._block -= 1
 
     def handle_data(self, data):
         if not self._skip:
             self.text.append(data)
+        if not self._block:
+            self.visible.append(data)
 
 
 @pytest.fixture(scope="session")
@@ -151,6 +194,31 @@ def test_models_page_has_typeset_mathematics(site):
     assert "$" not in text and "\\frac" not in text and "\\mathbf" not in text and "MATHTOKEN" not in text
     for page in ("opengl.html", "guide.html", "analysis.html", "stability.html", "api.html"):
         assert '<div class="math-display"><math' in (out / page).read_text(encoding="utf-8"), page
+
+
+@pytest.mark.slow
+def test_no_rest_markup_in_any_pages_visible_text(site):
+    _, pages = site
+    found = [
+        f"{name}: {snippet}" for name, page in sorted(pages.items()) for snippet in rest_residue("".join(page.visible))
+    ]
+    assert found == []
+
+
+@pytest.mark.slow
+def test_long_signatures_are_wrapped(site):
+    # mkdocstrings formats a separate signature only when a formatter (Ruff or Black) is installed:
+    # the docs extra brings Ruff. Unformatted, a signature is one line as long as all its parameters.
+    out, _ = site
+    api = (out / "api.html").read_text(encoding="utf-8")
+    sigs = [
+        html.unescape(re.sub(r"<[^>]+>", "", s))
+        for s in re.findall(r'<div class="doc-signature highlight"><pre>(.*?)</pre>', api, re.S)
+    ]
+    assert len(sigs) > 300
+    widest = max(sigs, key=lambda s: max(len(line) for line in s.splitlines()))
+    assert max(len(line) for line in widest.splitlines()) <= 88, widest
+    assert sum(s.count("\n") > 1 for s in sigs) > 50
 
 
 @pytest.mark.slow
