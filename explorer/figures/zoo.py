@@ -1,8 +1,9 @@
 """The model gallery: every registered model on the same lit sphere, in the same polar slice, with its albedo curve.
 
-The rows are generated from the model registry (:func:`lighting.models.model_variants`: each model and
+The cards are generated from the model registry (:func:`lighting.models.model_variants`: each model and
 each named variant, at its default parameters), never listed by hand, so a model registered later
-appears here by itself.  The gallery is split in two figures by family — the lobe axis each model
+appears here by itself; each figure is one 16:9 slide whose grid of cards (:func:`card_grid`) follows
+the number of models.  The gallery is split in two figures by family — the lobe axis each model
 declares (:meth:`~lighting.models.brdf.BRDF.lobe`): models reflecting about the normal or the mirror
 direction (diffuse, Phong, delta mirrors) and half-vector models (Blinn–Phong and the microfacet family).
 
@@ -29,8 +30,38 @@ FAMILIES = {
     "model_gallery_half_vector": ("half", "half-vector models: Blinn–Phong and the microfacet family"),
 }
 
-#: Cards per row of a gallery figure.
-COLUMNS = 2
+#: The most cards a gallery column holds before the figure takes one more column (16:9 slide).
+MAX_ROWS = 4
+
+
+def card_grid(count: int) -> tuple[int, int]:
+    """Rows and columns of a gallery figure's cards: every card fits one 16:9 slide.
+
+    One column of wide cards for one or two models, two columns up to ``2 * MAX_ROWS`` models, then as
+    many columns as keep at most :data:`MAX_ROWS` rows; the cards shrink, their text does not.
+
+    Parameters
+    ----------
+    count : int
+        How many cards (models).
+
+    Returns
+    -------
+    tuple of int
+        ``(rows, columns)``, with ``rows * columns >= count``.
+
+    Examples
+    --------
+    >>> card_grid(1), card_grid(4), card_grid(6), card_grid(9), card_grid(13)
+    ((1, 1), (2, 2), (3, 2), (3, 3), (4, 4))
+    """
+    count = max(1, int(count))
+    if count <= 2:
+        return count, 1
+    cols = max(2, math.ceil(count / MAX_ROWS))
+    if cols > 2:  # as square a grid as the rows allow
+        cols = math.ceil(count / min(MAX_ROWS, math.ceil(math.sqrt(count))))
+    return math.ceil(count / cols), cols
 
 
 def family_of(brdf) -> str:
@@ -82,8 +113,8 @@ def gallery_entries(family: str) -> list[tuple[str, object]]:
     return out
 
 
-def _param_text(brdf, width: int = 44) -> str:
-    """The model's parameters as ``name value`` pairs, wrapped to at most two lines."""
+def _param_text(brdf, width: int = 44, lead: str = "") -> str:
+    """``lead`` and the model's parameters as ``name value`` pairs, wrapped to at most two lines."""
     import textwrap
 
     items = []
@@ -99,7 +130,7 @@ def _param_text(brdf, width: int = 44) -> str:
         else:
             text = str(value)
         items.append(f"{p.name} {text}")
-    lines = textwrap.wrap(", ".join(items), width)
+    lines = textwrap.wrap(lead + ", ".join(items), width)
     if len(lines) > 2:
         lines = lines[:2]
         lines[1] = lines[1].rstrip(",") + " …"
@@ -157,13 +188,44 @@ def half_disc(ax, rmax: float, *, ticks: int = 2, label: bool = True) -> None:
 
 
 def _delta_albedo(brdf, thetas: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A delta model's albedo ρ(θ_v) = R(cos θ_v) (its own closed form: no quadrature error)."""
+    """A delta model's albedo ρ(θ_v) = reflectance(cos θ_v) (its own closed form: no quadrature error)."""
     c = np.where(thetas >= math.pi / 2, 0.0, np.cos(thetas))
     rho = np.asarray(brdf.reflectance(c), dtype=np.float64)[:, 0]
     return rho, np.zeros_like(rho)
 
 
-def _sphere_panel(ax, brdf, light, q, background):
+def delta_weight_symbol(brdf, angle: str = r"\theta_l") -> str:
+    r"""The name of a delta model's weight (its ``reflectance``) in the model's own parameters, as mathtext.
+
+    The ideal mirror's weight is its parameter ``ks`` (``k_s``), times the Fresnel factor when it has one;
+    any other delta model is named by its method, ``reflectance``.  (Not ``R``: that is the reflection
+    vector ``R_l``.)
+
+    Parameters
+    ----------
+    brdf : lighting.models.brdf.BRDF
+        A delta model (``brdf.is_delta``).
+    angle : str, optional
+        The mathtext angle the Fresnel factor depends on.
+
+    Returns
+    -------
+    str
+        Mathtext, e.g. ``"$k_s$"`` or ``"$k_s\,F(\cos\theta_l)$"``.
+
+    Examples
+    --------
+    >>> from lighting.models import create_model
+    >>> delta_weight_symbol(create_model("mirror")), delta_weight_symbol(create_model("mirror", fresnel="schlick"))
+    ('$k_s$', '$k_s\\,F(\\cos\\theta_l)$')
+    """
+    fresnel = getattr(brdf, "fresnel", None)
+    if getattr(brdf, "ks", None) is None or fresnel is None:
+        return rf"$\mathrm{{reflectance}}(\cos{angle})$"
+    return "$k_s$" if fresnel == "none" else rf"$k_s\,F(\cos{angle})$"
+
+
+def _sphere_panel(ax, brdf, light, q, background, fs):
     """The engine's sphere; for a delta model, the one point where R_l = v is marked."""
     show_image(ax, sphere_rgb8(Material(brdf), [light], q.sphere_px, background=background))
     if brdf.is_delta:
@@ -177,21 +239,25 @@ def _sphere_panel(ax, brdf, light, q, background):
         # measured extent can differ by a pixel between draws (the figures must be bitwise reproducible).
         tx, ty = x + 0.18 * px, y + 0.32 * px
         ax.plot([x + 0.02 * px, tx], [y + 0.04 * px, ty - 0.02 * px], color="#F0E442", lw=1.0)
-        ax.text(tx, ty, "R = v\nonly here", color="#F0E442", fontsize=10.5, ha="center", va="top")
+        ax.text(tx, ty, "$\\mathbf{R}_l = \\mathbf{v}$\nonly here", color="#F0E442", fontsize=fs, ha="center",
+                va="top")  # fmt: skip
 
 
-def _polar_panel(ax, brdf, theta_l_deg, q):
+def _polar_panel(ax, brdf, theta_l_deg, q, fs):
     """The slice f_r(l, v) for the light at θ_l, linear radial scale up to the model's own peak."""
     th = math.radians(theta_l_deg)
     lx, ly = -math.sin(th), math.cos(th)  # the light's side is on the left
     if brdf.is_delta:
         r = float(np.asarray(brdf.reflectance(math.cos(th)))[0])
         half_disc(ax, 1.0, label=False)
-        ax.annotate("", xy=(0.92 * math.sin(th), 0.92 * math.cos(th)), xytext=(0, 0),
+        d = np.array([math.sin(th), math.cos(th)])
+        ax.annotate("", xy=tuple(0.92 * d), xytext=(0, 0),
                     arrowprops={"arrowstyle": "-|>", "color": PALETTE[1], "lw": 2.6, "mutation_scale": 16})  # fmt: skip
-        ax.text(0.98 * math.sin(th) + 0.1, 0.8 * math.cos(th), "δ", color=PALETTE[1], fontsize=20, va="center")
+        # The δ names the spike beside its middle, on the side away from the light, clear of the frame.
+        side = np.array([d[1], -d[0]])
+        ax.text(*(0.5 * d + 0.14 * side), "δ", color=PALETTE[1], fontsize=fs + 7, ha="center", va="center")
         ax.plot([0, lx], [0, ly], color=VEC["l"], ls=":", lw=1.6)
-        ax.set_title(f"spike along R, weight R = {r:.3g}", fontsize=11, pad=1)
+        ax.set_title(rf"δ along $\mathbf{{R}}_l$, weight {delta_weight_symbol(brdf)} = {r:.3g}", fontsize=fs, pad=1)
         return {"peak_angle_deg": theta_l_deg, "peak_value": None, "delta_weight": r}
     s = polar_slice(brdf, th, n=q.polar_n, channel=0)
     peak = float(s.values.max())
@@ -204,21 +270,23 @@ def _polar_panel(ax, brdf, theta_l_deg, q):
     i = int(np.argmax(s.values))
     inner = s.values[np.abs(s.angles) < math.radians(89.0)]
     if float(inner.max() - inner.min()) <= 1e-9 * peak:
-        ax.set_title(f"constant {peak:.3g}/sr", fontsize=11, pad=1)
+        ax.set_title(f"constant {peak:.3g}/sr", fontsize=fs, pad=1)
     else:
-        ax.set_title(f"peak {peak:.3g}/sr at {math.degrees(float(s.angles[i])):+.0f}°", fontsize=11, pad=1)
+        ax.set_title(f"peak {peak:.3g}/sr at {math.degrees(float(s.angles[i])):+.0f}°", fontsize=fs, pad=1)
     return {"peak_angle_deg": math.degrees(float(s.angles[i])), "peak_value": peak}
 
 
-def _albedo_panel(ax, brdf, q):
+def _albedo_panel(ax, brdf, q, fs):
     """ρ(θ_v) with its ±2σ band (the integrator's honest error estimate)."""
+    from matplotlib.ticker import MaxNLocator
+
     # Up to 89°: at exactly 90° every albedo is 0 (n·v = 0, the engine's horizon convention), a drop
     # that would draw a vertical line at the panel's edge and say nothing about the model.
     step = 5.0 if q.quick else 1.0
     thetas = np.radians(np.append(np.arange(0.0, 89.0, step), 89.0))
     if brdf.is_delta:
         rho, err = _delta_albedo(brdf, thetas)
-        how = "exact: R(cos θ)"
+        how = "exact: " + delta_weight_symbol(brdf, r"\theta_v")
     else:
         c = albedo_curve(brdf, thetas, 512 if q.quick else 4096)
         rho, err = c.albedo[:, 0], c.error[:, 0]
@@ -231,21 +299,27 @@ def _albedo_panel(ax, brdf, q):
     ax.set_ylim(0, top)
     ax.set_xlim(0, 90)
     ax.set_xticks([0, 30, 60, 89])
-    ax.set_xticklabels(["0", "30", "60", "89"])
-    ax.tick_params(labelsize=10)
+    ax.set_xticklabels(["0°", "30°", "60°", "89°"])  # the view angle θ_v: the title names the curve
+    ax.yaxis.set_major_locator(MaxNLocator(nbins=3, steps=[1, 2, 2.5, 5, 10]))
+    # As tall as the half disc beside it, whatever the card's height: the panels read as one row.
+    ax.set_box_aspect(0.62)
+    ax.tick_params(labelsize=10, pad=2)
     ax.grid(True)
-    ax.set_xlabel(r"$\theta_v$ (degrees)", fontsize=11, labelpad=1)
-    ax.set_title(f"ρ(0) = {rho[0]:.3f},  {how}", fontsize=11, pad=2)
+    ax.set_title(f"$\\rho(\\theta_v)$:  $\\rho(0)$ = {rho[0]:.3f}\n{how}", fontsize=fs, pad=2, linespacing=1.15)
     return {"rho0": float(rho[0]), "rho0_error": float(err[0]), "rho_max": float(rho.max()),
             "max_error": float(err.max())}  # fmt: skip
 
 
 def _gallery(q, family: str, title: str, theta_l_deg: float, light_deg: float, background: float):
     entries = gallery_entries(family)
-    rows = max(1, math.ceil(len(entries) / COLUMNS))
-    fig = new_figure(18.0, 0.55 + 2.75 * rows)
+    rows, cols = card_grid(len(entries))
+    fig = new_figure()
     fig.suptitle(f"The model gallery: {title}", fontsize=16)
-    subs = np.atleast_1d(fig.subfigures(rows, COLUMNS, wspace=0.02, hspace=0.02)).reshape(rows, COLUMNS)
+    subs = np.atleast_1d(fig.subfigures(rows, cols, wspace=0.03, hspace=0.02)).reshape(rows, cols)
+    # A card's text: 11 pt on cards of a grid up to 3 x 2, 10.5 pt on smaller ones (never below 10).
+    fs = 11.0 if rows <= 3 and cols <= 2 else 10.5
+    card_width_in = fig.get_figwidth() / cols
+    wrap = max(24, int(0.92 * card_width_in * 72 / (0.6 * (fs + 0.5))))  # characters of bold DejaVu Sans a line
     t = math.radians(light_deg)
     light = DirectionalLight((-math.sin(t) * math.sqrt(0.5), math.sin(t) * math.sqrt(0.5), math.cos(t)))
     measured = {}
@@ -254,19 +328,21 @@ def _gallery(q, family: str, title: str, theta_l_deg: float, light_deg: float, b
             sub.set_facecolor("white")
             continue
         name, brdf = entries[k]
-        sub.suptitle(f"{name}:  {_param_text(brdf)}", fontsize=11.5, x=0.02, ha="left", linespacing=1.1)
-        gs = sub.add_gridspec(1, 3, width_ratios=[0.85, 1.9, 1.15])
+        sub.suptitle(_param_text(brdf, wrap, f"{name}:  "), fontsize=fs + 0.5, x=0.01, ha="left", linespacing=1.1,
+                     fontweight="bold")  # fmt: skip
+        gs = sub.add_gridspec(1, 3, width_ratios=[0.9, 1.8, 1.35])
         a, b, c = sub.add_subplot(gs[0, 0]), sub.add_subplot(gs[0, 1]), sub.add_subplot(gs[0, 2])
-        _sphere_panel(a, brdf, light, q, background)
-        m = _polar_panel(b, brdf, theta_l_deg, q)
-        m.update(_albedo_panel(c, brdf, q))
+        _sphere_panel(a, brdf, light, q, background, fs - 0.5)
+        m = _polar_panel(b, brdf, theta_l_deg, q, fs)
+        m.update(_albedo_panel(c, brdf, q, fs))
         m["delta"] = bool(brdf.is_delta)
         measured[name] = m
     return fig, measured
 
 
 _CAPTION = (
-    "Every registered model of this family ({model_list}) at its default parameters, one card each. Left: the "
+    "Every registered model of this family ({model_list}) at its default parameters, one card each (a grid of "
+    "cards whose columns follow the number of models). In each card, left: the "
     "engine's sphere under one white directional light {light_deg:g}° from the viewer (upper left), same "
     "exposure for all, the slides' classic form π f_r (n·l) without ambient light. Middle: the polar slice "
     "f_r (1/sr) in the plane of incidence for a light at θ_l = {theta_l_deg:g}° (dotted; the normal points "
@@ -279,12 +355,14 @@ _CAPTION = (
 
 @register(
     "model_gallery_normal_mirror",
+    size="16:9",
     title="The model gallery (1): models about the normal or the mirror direction",
     caption=_CAPTION
     + (
         " A delta model (the ideal mirror: f_r is a Dirac delta, eval gives 0) is drawn as a spike δ along the "
-        "mirror direction with its weight R, and its albedo is R(cos θ_v) exactly; under a point or "
-        "directional light it shows nothing but the one point where R = v (circled). Oren–Nayar at σ = 0 "
+        "mirror direction with its weight, the reflectance k_s (times the Fresnel factor F(cos θ) when it has "
+        "one), and its albedo is that reflectance exactly, ρ(θ_v) = k_s F(cos θ_v); under a point or directional "
+        "light it shows nothing but the one point where R_l = v (circled). Oren–Nayar at σ = 0 "
         "equals Lambert (albedo difference {on_sigma0_difference:.1g}); Oren–Nayar's ρ(0) = k_d A "
         "({on_rho0:.6f})."
     ),
@@ -341,6 +419,7 @@ def model_gallery_normal_mirror(q, *, theta_l_deg, light_deg, background):
 
 @register(
     "model_gallery_half_vector",
+    size="16:9",
     title="The model gallery (2): half-vector models — Blinn–Phong and the microfacet family",
     caption=_CAPTION
     + (
