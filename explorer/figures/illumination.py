@@ -18,7 +18,7 @@ from lighting.models import model_class, model_names
 from lighting.models.oren_nayar import OrenNayar
 from lighting.render.image import encode_srgb8
 
-from .base import PALETTE, VEC, equation_row, new_figure, register, series_colours, show_image, sphere_rgb8, vector
+from .base import PALETTE, VEC, new_figure, register, series_colours, show_image, sphere_rgb8, vector
 from .brdf import _profile
 from .models import _diagram_axes, _surface
 from .zoo import half_disc
@@ -87,6 +87,7 @@ def _one_bounce(floor_pts, floor_mat, wall_pts, wall_L, cell_area, view):
 
 @register(
     "local_vs_global",
+    size="16:9",
     title="Local vs global illumination",
     caption=(
         "Left: the paths of light. Local illumination follows light → surface → eye only (solid); global "
@@ -161,8 +162,8 @@ def local_vs_global(q, *, light, intensity, floor_kd, wall_kd, wall_height, wall
     ambient = np.full(3, float(np.mean(b)))
     total = direct + b
 
-    fig = new_figure(15.0, 6.6)
-    gs = fig.add_gridspec(2, 2, width_ratios=[1.0, 1.25], height_ratios=[1.0, 1.35])
+    fig = new_figure()
+    gs = fig.add_gridspec(2, 2, width_ratios=[1.15, 1.0], height_ratios=[1.0, 1.35])
     ax = fig.add_subplot(gs[:, 0])
     _diagram_axes(ax, (-0.5, 3.4), (-0.5, 3.0))
     from matplotlib.patches import Rectangle
@@ -229,6 +230,7 @@ def local_vs_global(q, *, light, intensity, floor_kd, wall_kd, wall_height, wall
 # --------------------------------------------------------------------------- one point, several directions
 @register(
     "one_point_many_directions",
+    size="16:9",
     title="One surface point lit from several directions",
     caption=(
         "Illuminate a surface point with a ray of light from different directions: how much light is reflected in "
@@ -265,7 +267,7 @@ def one_point_many_directions(q, *, angles_deg, kd, ks, e):
     cols = series_colours(len(angles_deg), "plasma", 0.8)
     slices = [polar_slice(brdf, math.radians(abs(a)), n=q.polar_n, cosine=True, channel=0) for a in angles_deg]
     rmax = 1.1 * max(float(s.values.max()) for s in slices)
-    fig = new_figure(13.0, 5.6)
+    fig = new_figure()
     gs = fig.add_gridspec(len(angles_deg), 2, width_ratios=[3.2, 1.0])
     ax = fig.add_subplot(gs[:, 0])
     half_disc(ax, rmax, ticks=3)
@@ -282,7 +284,7 @@ def one_point_many_directions(q, *, angles_deg, kd, ks, e):
         values.append(float(s.values[i]))
     _surface(ax, -rmax, rmax, thickness=0.03 * rmax)
     lo = r"$f_r(\mathbf{l}, \mathbf{v})\, E\, (\mathbf{n}\cdot\mathbf{l})$"
-    ax.set_title(f"reflected radiance {lo}, one lobe per incoming direction")
+    ax.set_title(f"reflected radiance {lo}, one lobe per incoming direction", pad=16)
     for i, (a, c) in enumerate(zip(angles_deg, cols, strict=True)):
         sa = fig.add_subplot(gs[i, 1])
         t = math.radians(a)
@@ -304,13 +306,14 @@ def one_point_many_directions(q, *, angles_deg, kd, ks, e):
 # --------------------------------------------------------------------------- diffuse / glossy / specular
 @register(
     "diffuse_glossy_specular",
+    size="16:9",
     title="Diffuse, glossy, specular",
     caption=(
         "The three basic reflectance behaviours for light at θ_l = {theta_deg:g}° (dotted), as polar plots of f_r "
-        "(1/sr) from the engine: diffuse (Lambert, k_d = {kd:g}: the constant {lambert_value:.3f} = k_d/π in "
-        "every direction), glossy (Cook–Torrance GGX, α = {alpha:g}: a lobe about the mirror direction, peak at "
-        "{glossy_peak_deg:.0f}°) and specular ({mirror}: all reflected light leaves along R, a Dirac delta of "
-        "weight R = {mirror_weight:.3g}, drawn as a spike δ)."
+        "(1/sr) from the engine: diffuse (top left; Lambert, k_d = {kd:g}: the constant {lambert_value:.3f} = k_d/π "
+        "in every direction), glossy (top right; Cook–Torrance GGX, α = {alpha:g}: a lobe about the mirror direction, "
+        "peak at {glossy_peak_deg:.0f}°) and specular (below; {mirror}: all reflected light leaves along R, a Dirac "
+        "delta of weight R = {mirror_weight:.3g}, drawn as a spike δ)."
     ),
     slides="UBC: Materials — practical considerations: diffuse, glossy, specular; Physics of specular reflection",
     theta_deg=40.0,
@@ -337,8 +340,10 @@ def diffuse_glossy_specular(q, *, theta_deg, kd, alpha):
         ``(figure, measured)``: Lambert's constant value, the glossy lobe's peak angle, the mirror's weight.
     """
     th = math.radians(theta_deg)
-    fig = new_figure(15.0, 3.5)
-    axes = fig.subplots(1, 3)
+    fig = new_figure()
+    # Two lobes above, the delta below between them: each half disc as wide as half the slide.
+    gs = fig.add_gridspec(2, 4)
+    axes = [fig.add_subplot(gs[0, :2]), fig.add_subplot(gs[0, 2:]), fig.add_subplot(gs[1, 1:3])]
     lam = polar_slice(Lambert(kd), th, n=q.polar_n, channel=0)
     glossy = polar_slice(CookTorrance(1.0, alpha, 1.0, ndf="ggx", geometry="smith"), th, n=q.polar_n, channel=0)
     found = _delta_model()
@@ -379,6 +384,7 @@ def _oren_nayar_pair(kd, sigma, th, n):
 
 @register(
     "chalk_microroughness",
+    size="16:9",
     title="Micro-roughness of a diffuse surface (chalk)",
     caption=(
         "Left: a very rough surface at the microscopic level (a random profile, seed {seed}): the local normals "
@@ -421,7 +427,7 @@ def chalk_microroughness(q, *, seed, sigma, kd, theta_deg, facets):
     """
     rng = np.random.default_rng(seed)
     x, y = _profile(rng, facets, 0.5, math.tan(sigma))
-    fig = new_figure(14.0, 8.4)
+    fig = new_figure()
     gs = fig.add_gridspec(2, 2, height_ratios=[1.0, 1.15], width_ratios=[1.2, 1.0])
     ax = fig.add_subplot(gs[0, :])
     ax2, ax3 = fig.add_subplot(gs[1, 0]), fig.add_subplot(gs[1, 1])
@@ -487,11 +493,12 @@ def chalk_microroughness(q, *, seed, sigma, kd, theta_deg, facets):
 # --------------------------------------------------------------------------- glossy around the mirror
 @register(
     "glossy_around_mirror",
+    size="4:3",
     title="Glossy reflectance around the mirror direction",
     caption=(
         "Most light leaves near the mirror direction R (light at θ_l = {theta_deg:g}°), less as the angle from R "
-        "grows; the falloff sharpens as the exponent grows (Phong, left) or the roughness shrinks (Cook–Torrance "
-        "GGX with Smith G and F = 1, right). Each lobe is f_r (n·l) from the engine divided by its own peak. "
+        "grows; the falloff sharpens as the exponent grows (Phong, above) or the roughness shrinks (Cook–Torrance "
+        "GGX with Smith G and F = 1, below). Each lobe is f_r (n·l) from the engine divided by its own peak. "
         "Phong's half-width at half maximum is arccos(2^(−1/e)) about R: measured {phong_hwhm} degrees. "
         "The rough microfacet lobes peak beyond R, toward grazing (the off-specular peak: {ct_peaks} degrees)."
     ),
@@ -520,8 +527,9 @@ def glossy_around_mirror(q, *, theta_deg, exponents, alphas):
         ``(figure, measured)``: Phong's measured half-widths and the Cook–Torrance peak angles.
     """
     th = math.radians(theta_deg)
-    fig = new_figure(14.0, 4.3)
-    axes = fig.subplots(1, 2)
+    fig = new_figure()
+    # One family per row, its legend to the right of its half disc (stacked, the two lobes fill a 4:3 slide).
+    axes = fig.subplots(2, 1)
     out = {}
     for ax, family, params in ((axes[0], "phong", exponents), (axes[1], "ct", alphas)):
         half_disc(ax, 1.1, label=False)
@@ -545,7 +553,7 @@ def glossy_around_mirror(q, *, theta_deg, exponents, alphas):
             j = i + int(np.argmax(v[i:] < 0.5))
             a0, a1, v0, v1 = s.angles[j - 1], s.angles[j], v[j - 1], v[j]
             hw.append(math.degrees(float(a0 + (0.5 - v0) * (a1 - a0) / (v1 - v0) - s.angles[i])))
-        ax.legend(loc="lower left", fontsize=11.5, bbox_to_anchor=(0.0, 0.04))
+        ax.legend(loc="center left", fontsize=13, bbox_to_anchor=(1.0, 0.45), handlelength=1.6)
         ax.set_title("Phong: growing exponent e" if family == "phong" else "Cook–Torrance GGX: shrinking roughness α")
         if family == "phong":  # a lobe that peaks at the horizon has no far side: only Phong's are kept
             out["phong_half_widths_deg"] = hw
@@ -579,6 +587,7 @@ def _cone_ratio(brdf, l, v, half_angle, nodes=12):  # noqa: E741
 
 @register(
     "brdf_li_to_lo",
+    size="16:9",
     title="The BRDF: how much light reflects from L_i to L_o",
     caption=(
         "The BRDF is a ratio: light arrives from l in a narrow cone dω_i with radiance L_i, giving the surface "
@@ -626,8 +635,9 @@ def brdf_li_to_lo(q, *, theta_l_deg, theta_v_deg, kd, alpha, half_angles_deg):
     diffs = [abs(_cone_ratio(brdf, l3, v3, math.radians(h)) / f - 1) for h in half_angles_deg]
     order = math.log(diffs[-2] / diffs[-1]) / math.log(half_angles_deg[-2] / half_angles_deg[-1])
 
-    fig = new_figure(14.0, 5.4)
-    ax, ax2 = fig.subplots(1, 2, width_ratios=[1.5, 1.0])
+    fig = new_figure()
+    ax, ax2 = fig.subplots(1, 2, width_ratios=[2.2, 1.0])
+    ax2.set_box_aspect(1.15)  # about as tall as the half disc beside it, not a tall strip
     s = polar_slice(brdf, th, n=q.polar_n, channel=0)
     rmax = 1.15 * float(s.values.max())
     half_disc(ax, rmax, label=True, ticks=3)
@@ -663,6 +673,7 @@ def brdf_li_to_lo(q, *, theta_l_deg, theta_v_deg, kd, alpha, half_angles_deg):
 # --------------------------------------------------------------------------- retro-reflection
 @register(
     "retro_reflection",
+    size="16:9",
     title="Decomposing a BRDF: diffuse + specular + retro-reflection",
     caption=(
         "The third, less common part of a decomposed BRDF: retro-reflection, light sent back toward where it came "
@@ -721,8 +732,16 @@ def retro_reflection(q, *, theta_deg, kd, sigma, ks, shininess):
     parts = [("diffuse", s_d.values, PALETTE[0]), ("specular", s_s.values, PALETTE[1]),
              ("retro-reflection", retro, PALETTE[2]), ("sum", s_sum.values, "0.2")]  # fmt: skip
     rmax = 1.1 * float(s_sum.values.max())
-    fig = new_figure(16.0, 3.1)
-    axes = equation_row(fig, "++=", gap=0.1)
+    fig = new_figure()
+    # The sum in two rows, read left to right and down: diffuse + specular / + retro-reflection = sum.
+    gs = fig.add_gridspec(2, 4, width_ratios=[0.14, 1.0, 0.14, 1.0])
+    axes = []
+    for row, ops in ((0, ("", "+")), (1, ("+", "="))):
+        for k, op in enumerate(ops):
+            s_ax = fig.add_subplot(gs[row, 2 * k])
+            s_ax.axis("off")
+            s_ax.text(0.5, 0.4, op, fontsize=32, ha="center", va="center", transform=s_ax.transAxes)
+            axes.append(fig.add_subplot(gs[row, 2 * k + 1]))
     ang = s_on.angles
     for ax, (title, vals, c) in zip(axes, parts, strict=True):
         half_disc(ax, rmax, ticks=2, label=title == "diffuse")

@@ -43,6 +43,7 @@ def _surface(ax, x0, x1, *, thickness=0.12):
 # --------------------------------------------------------------------------- Lambert
 @register(
     "lambert_cosine_law",
+    size="16:9",
     title="Lambert's cosine law",
     caption=(
         "Lambert's cosine law, E_θ = E cos θ. Left: a beam of cross-section A spreads over A / cos θ "
@@ -71,9 +72,10 @@ def lambert_cosine_law(q, *, theta_deg):
     """
     from matplotlib.patches import Polygon
 
-    fig = new_figure(13.0, 5.4)
-    ax, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.25, 1.0]})
-    _diagram_axes(ax, (-0.4, 8.0), (-1.1, 3.9))
+    fig = new_figure()
+    ax, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.5, 1.0]})
+    ax2.set_box_aspect(1.05)
+    _diagram_axes(ax, (-0.4, 8.0), (-1.1, 4.9))
     _surface(ax, -0.3, 7.9)
     beam = "#F5C66B"
     th = math.radians(theta_deg)
@@ -81,21 +83,21 @@ def lambert_cosine_law(q, *, theta_deg):
         half = 0.5 / math.cos(t)  # footprint half-width of a beam of width 1
         d = np.array([-math.sin(t), math.cos(t)])  # toward the light (up and to the left)
         across = np.array([d[1], -d[0]])
-        length = 3.6
+        length = 4.6 if t == 0 else 3.6  # the tilted beam stays clear of the upright one
         foot = [np.array([cx - half, 0.0]), np.array([cx + half, 0.0])]
         top = [f + length * d for f in foot]
         ax.add_patch(Polygon([foot[0], foot[1], top[1], top[0]], closed=True, color=beam, alpha=0.55, lw=0, zorder=1))
         for s in (-0.3, 0.0, 0.3):
-            start = np.array([cx, 0.0]) + s * across + 3.4 * d
+            start = np.array([cx, 0.0]) + s * across + (length - 0.2) * d
             vector(ax, start, start - 1.35 * d, VEC["l"], lw=1.8)
         bracket = {"arrowstyle": "|-|", "color": "0.2", "lw": 1.4, "shrinkA": 0, "shrinkB": 0}
         ax.annotate("", xy=(cx - half, -0.32), xytext=(cx + half, -0.32), arrowprops=bracket)
         vector(ax, (cx, 0.0), (cx, 1.6), VEC["n"], r"$\mathbf{n}$", label_offset=(0.22, 0.05), lw=2.2)
         if t > 0:
             angle_arc(ax, (cx, 0.0), 1.0, 90, 90 + theta_deg, VEC["l"], r"$\theta$", fontsize=17)
-            ax.text(cx, -0.75, "area A / cos θ:  E cos θ", ha="center", va="center", fontsize=14)
+            ax.text(cx, -0.75, "area A / cos θ:  E cos θ", ha="center", va="center", fontsize=15)
         else:
-            ax.text(cx, -0.75, "area A:  E", ha="center", va="center", fontsize=14)
+            ax.text(cx, -0.75, "area A:  E", ha="center", va="center", fontsize=15)
     ax.set_title("The same beam, spread over more area")
 
     # Right: the engine's Lambert term against cos θ.
@@ -121,12 +123,14 @@ def lambert_cosine_law(q, *, theta_deg):
 
 @register(
     "lambert_sphere_angles",
+    size="16:9",
     title="Lambertian sphere from several lighting angles",
     caption=(
         "A Lambertian sphere (k_d = {kd:g}, no ambient light) under a directional light at angle θ from the "
         "viewer, turning toward the top of the picture. Only the angle between n and l matters, so every "
         "picture is the same cosine falloff, moved: the brightest point is where n = l, and the terminator "
-        "(n·l = 0) is a great circle 90° away. Angles from 0° to 90° cover every case up to symmetry."
+        "(n·l = 0) is a great circle 90° away. Angles from 0° to 90° cover every case up to symmetry. Last panel: "
+        "the light directions seen from the side, the viewer on the right."
     ),
     slides="UBC: Diffuse lighting examples (Lambertian sphere from several lighting angles)",
     angles_deg=(0.0, 22.5, 45.0, 67.5, 90.0),
@@ -150,21 +154,40 @@ def lambert_sphere_angles(q, *, angles_deg, kd):
         ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
         (they fill the caption's fields and the sidecar).
     """
-    fig = new_figure(13.0, 3.05)
-    axes = fig.subplots(1, len(angles_deg))
+    fig = new_figure()
+    cols = 3
+    rows = -(-(len(angles_deg) + 1) // cols)  # the spheres, then the side view
+    axes = fig.subplots(rows, cols).ravel()
     mat = Material(Lambert(kd))
-    for ax, a in zip(axes, angles_deg, strict=True):
+    for ax, a in zip(axes, angles_deg, strict=False):
         t = math.radians(a)
         light = DirectionalLight((0.0, math.sin(t), math.cos(t)))
-        show_image(ax, sphere_rgb8(mat, [light], q.sphere_px), f"θ = {a:g}°")
-    axes[0].set_title("θ = 0° (from the viewer)")
-    axes[-1].set_title(f"θ = {angles_deg[-1]:g}° (from above)")
+        show_image(ax, sphere_rgb8(mat, [light], q.sphere_px), f"θ = {a:g}°", fontsize=16)
+    axes[0].set_title("θ = 0° (from the viewer)", fontsize=16)
+    axes[len(angles_deg) - 1].set_title(f"θ = {angles_deg[-1]:g}° (from above)", fontsize=16)
+    for ax in axes[len(angles_deg) + 1 :]:
+        ax.axis("off")
+
+    # The side view: the viewer looks along −z (from the right), the light turns from the viewer to the top.
+    ax = axes[len(angles_deg)]
+    _diagram_axes(ax, (-0.9, 2.4), (-1.15, 2.25))
+    from matplotlib.patches import Circle
+
+    ax.add_patch(Circle((0, 0), 0.55, color="0.8", ec="0.35", lw=1.2))
+    for a in angles_deg:
+        t = math.radians(a)
+        d = np.array([math.cos(t), math.sin(t)])
+        vector(ax, 1.75 * d, 0.62 * d, VEC["l"], lw=2.0)
+        ax.text(*(1.98 * d), f"{a:g}°", color=VEC["l"], fontsize=13, ha="center", va="center")
+    ax.text(0.75, -0.85, "the viewer is far to the right", fontsize=13, ha="center", va="center", color=VEC["v"])
+    ax.set_title("light directions θ, side view", fontsize=16)
     return fig, {"kd": kd}
 
 
 # --------------------------------------------------------------------------- mirror geometry
 @register(
     "reflection_geometry",
+    size="16:9",
     title="Mirror reflection and the important directions",
     caption=(
         "Left: perfect mirror reflection. The reflected ray r makes the same angle α with the normal as "
@@ -199,12 +222,13 @@ def reflection_geometry(q, *, alpha_deg, light_deg, view_deg):
         ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
         (they fill the caption's fields and the sidecar).
     """
-    fig = new_figure(13.0, 5.0)
-    ax, ax2 = fig.subplots(1, 2)
+    fig = new_figure()
+    # Each diagram's width follows its data range, so that both are drawn at one scale, as tall as they fit.
+    ax, ax2 = fig.subplots(1, 2, width_ratios=[4.8, 6.0])
     L = 2.6
     # Left: l, n, r in the plane (x right, y up).
-    _diagram_axes(ax, (-3.0, 3.0), (-0.6, 3.3))
-    _surface(ax, -2.9, 2.9)
+    _diagram_axes(ax, (-2.4, 2.4), (-0.6, 3.3))
+    _surface(ax, -2.3, 2.3)
     ln = _in_plane(-alpha_deg)
     r3 = reflect(ln, N)
     lp, rp = L * ln[[0, 2]], L * r3[[0, 2]]
@@ -218,8 +242,8 @@ def reflection_geometry(q, *, alpha_deg, light_deg, view_deg):
     angle_arc(ax, (0, 0), 0.85, 90, 90 + alpha_deg, VEC["l"], r"$\alpha$")
     angle_arc(ax, (0, 0), 0.85, 90 - alpha_deg, 90, VEC["r"], r"$\alpha$")
     ax.text(0, -0.45, r"$\mathbf{r} = 2\,\mathbf{n}\,(\mathbf{n}\cdot\mathbf{l}) - \mathbf{l}$", ha="center",
-            va="center", fontsize=16)  # fmt: skip
-    ax.set_title("Perfect mirror: angle in = angle out")
+            va="center", fontsize=18)  # fmt: skip
+    ax.set_title("Perfect mirror: angle in = angle out", fontsize=16)
 
     # Right: all the slide vectors for one light and one viewer.
     _diagram_axes(ax2, (-3.0, 3.0), (-0.6, 3.3))
@@ -247,14 +271,15 @@ def reflection_geometry(q, *, alpha_deg, light_deg, view_deg):
     phi = math.degrees(math.acos(float(np.clip(rl3 @ v3, -1, 1))))
     th = math.degrees(math.acos(float(np.clip(h3 @ N, -1, 1))))
     ax2.text(0, -0.45, r"Phong: $(\mathbf{R}_l\cdot\mathbf{v})^e = \cos^e\phi$     Blinn–Phong: "
-             r"$(\mathbf{n}\cdot\mathbf{h})^e = \cos^e\theta_h$", ha="center", va="center", fontsize=13.5)  # fmt: skip
-    ax2.set_title("The important directions")
+             r"$(\mathbf{n}\cdot\mathbf{h})^e = \cos^e\theta_h$", ha="center", va="center", fontsize=15)  # fmt: skip
+    ax2.set_title("The important directions", fontsize=16)
     return fig, {"phi_deg": phi, "theta_h_deg": th}
 
 
 # --------------------------------------------------------------------------- Phong
 @register(
     "phong_falloff",
+    size="16:9",
     title="Phong's angular falloff",
     caption=(
         "Phong lighting, I_specular = k_s I_light (cos φ)^n_s with φ the angle between the mirror "
@@ -294,7 +319,7 @@ def phong_falloff(q, *, exponents, kd, ks, ambient, light):
         ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
         (they fill the caption's fields and the sidecar).
     """
-    fig = new_figure(13.0, 7.6)
+    fig = new_figure()
     gs = fig.add_gridspec(2, len(exponents), height_ratios=[1.25, 1.0])
     ax = fig.add_subplot(gs[0, :])
     cols = series_colours(len(exponents))
@@ -330,10 +355,12 @@ def _floor_renderer(px_w, px_h):
 
 @register(
     "phong_vs_blinn_phong",
+    size="16:9",
     title="Phong vs Blinn–Phong highlights",
     caption=(
         "Phong, k_s (R_l·v)^e, against Blinn–Phong, k_s (n·h)^e, on a sphere lit from {sphere_light_deg:g}° "
-        "off the view direction (left) and on a floor seen at a grazing angle under a point light (right). "
+        "off the view direction (top row) and on a floor seen at a grazing angle under a point light (bottom row), "
+        "one column per model. "
         "Blinn–Phong with 4× the exponent ({e4:g}) gives about the same highlight where l, v and n are close "
         "(φ ≈ 2 θ_h); with the same exponent ({e:g}) its highlight is much larger. At grazing angles the "
         "Blinn–Phong highlight stretches along the direction toward the viewer, Phong's stays round."
@@ -380,8 +407,9 @@ def phong_vs_blinn_phong(q, *, e, kd, ks, sphere_light_deg, floor_kd, floor_ligh
         (f"Blinn–Phong, e = {4 * e:g}", BlinnPhong(ks, 4 * e)),
         (f"Blinn–Phong, e = {e:g}", BlinnPhong(ks, e)),
     ]
-    fig = new_figure(10.6, 10.2)
-    gs = fig.add_gridspec(3, 2, width_ratios=[1.0, 1.7])
+    fig = new_figure()
+    # One column per model: the sphere above, the floor below (the floor image is 1.7 times as wide as tall).
+    gs = fig.add_gridspec(2, len(rows), height_ratios=[1.0, 1.0 / 1.7])
     t = math.radians(sphere_light_deg)
     s_lights = [
         AmbientLight(intensity=0.05),
@@ -392,13 +420,13 @@ def phong_vs_blinn_phong(q, *, e, kd, ks, sphere_light_deg, floor_kd, floor_ligh
     f_lights = [AmbientLight(intensity=0.02), PointLight(floor_light, intensity=floor_light_intensity)]
     for i, (label, spec) in enumerate(rows):
         mat = Material(Lambert(kd) + spec)
-        a = fig.add_subplot(gs[i, 0])
+        a = fig.add_subplot(gs[0, i])
         show_image(a, sphere_rgb8(mat, s_lights, q.sphere_px))
-        a.set_ylabel(label, fontsize=15)
-        b = fig.add_subplot(gs[i, 1])
+        a.set_title(label, fontsize=16)
+        b = fig.add_subplot(gs[1, i])
         img, _ = encode_srgb8(floor.render(Material(Lambert(floor_kd) + spec), f_lights))
         show_image(b, img)
         if i == 0:
-            a.set_title("sphere, light 60° off the view")
-            b.set_title("floor at a grazing angle, point light")
+            a.set_ylabel(f"sphere, light {sphere_light_deg:g}°\noff the view", fontsize=14)
+            b.set_ylabel("floor at a grazing\nangle, point light", fontsize=14)
     return fig, {"sphere_light_deg": sphere_light_deg, "e": e, "e4": 4 * e}
