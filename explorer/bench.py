@@ -1,6 +1,6 @@
 """``lighting-explorer bench``: the engine's image pipeline against VTK, in one run.
 
-These numbers, each the median of repeated runs on this machine:
+These numbers, each the median of repeated runs on the machine that runs the command:
 
 * ``reshade_ms`` — lighting a cached 512×512 geometry buffer of a sphere with
   three lights (Blinn–Phong, Phong interpolation): what a slider move costs;

@@ -1,4 +1,4 @@
-"""MkDocs hook: draw the figure set while the documentation builds, and list it on the gallery page.
+r"""MkDocs hook: draw the figure set while the documentation builds, and list it on the gallery page.
 
 ``mkdocs.yml`` names this file under ``hooks:``.  Before the build the hook writes the
 figures (``explorer.figures.generate``) into ``build/gallery`` — or reuses the set
@@ -8,6 +8,13 @@ to the site under ``gallery/``; the page ``gallery.md`` gets one section per fig
 parameters) in place of the line ``<!-- figures -->``, and the plausibility audit's section
 also gets the audit itself as an HTML table, computed during the build.  So ``mkdocs build``
 is the one command, and the gallery can never list a figure the set does not have.
+
+Every page may quote the figure set instead of copying numbers by hand: ``{{ figures.count }}``
+is the number of figures, and ``{{ figures.NAME.KEY }}`` a value the figure ``NAME`` measured
+while it was drawn (its sidecar's ``measured`` entry; ``KEY.SUBKEY`` reaches into a nested one),
+with an optional format after a colon: ``{{ figures.ibl_error.median_error:.0% }}``.  A
+placeholder that names no figure or no value stops the build with one line naming the page; one
+written with a backslash before it, ``\{{ figures.count }}``, is shown as it is, without the backslash.
 
 Environment:
 
@@ -23,11 +30,13 @@ import hashlib
 import html
 import json
 import os
+import re
 import sys
 
 # explorer/figures/mkdocs_hook.py → the checkout
 _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 _MARKER = "<!-- figures -->"
+_PLACEHOLDER_RE = re.compile(r"(?<!\\)\{\{\s*figures\.([\w.]+?)(?::([^}]*?))?\s*\}\}")
 # Formats a figure links to when the figure folder has them (the docs build itself writes PNG only).
 _LINKED_FORMATS = ("png", "svg", "pdf")
 _state: dict = {}
@@ -106,6 +115,12 @@ def on_pre_build(config, **kwargs):
     with open(os.path.join(folder, "figures.json"), encoding="utf-8") as f:
         _state["manifest"] = json.load(f)
     _state["folder"] = folder
+    # The gallery shows each figure's PNG and links only the other formats that were written.
+    for rec in _state["manifest"]["figures"]:
+        png = rec["files"].get("png")
+        if not png or not os.path.isfile(os.path.join(folder, png)):
+            raise ValueError(f"figure set {folder}: figure '{rec['name']}' has no PNG file; draw it with "
+                             f"'lighting-explorer figures --format png --out {folder}'")  # fmt: skip
 
 
 def on_files(files, config, **kwargs):
@@ -227,8 +242,71 @@ def audit_markdown(samples: int = 4096) -> str:
     )
 
 
+def fill_placeholders(markdown: str, manifest: dict, page: str = "page") -> str:
+    """Replace the figure set's placeholders in a page by the values the set was drawn with.
+
+    Parameters
+    ----------
+    markdown : str
+        The page's Markdown.
+    manifest : dict
+        The figure set's ``figures.json``.
+    page : str
+        The page's name, for the error message.
+
+    Returns
+    -------
+    str
+        The Markdown with ``{{ figures.count }}`` as the number of figures and
+        ``{{ figures.NAME.KEY[:FORMAT] }}`` as the value ``KEY`` of figure ``NAME``'s ``measured``
+        entry, formatted with ``FORMAT`` (Python's format specification) when one is given.
+
+    Raises
+    ------
+    ValueError
+        For a figure or a value the manifest does not have, or a format the value does not take; the
+        message names the page, the placeholder and what is allowed.
+
+    Examples
+    --------
+    >>> m = {"figures": [{"name": "f", "measured": {"err": 0.1234, "by": {"a": 2}}}]}
+    >>> fill_placeholders("{{ figures.count }} figures; {{ figures.f.err:.1% }}, {{ figures.f.by.a }}", m)
+    '1 figures; 12.3%, 2'
+    >>> fill_placeholders(r"write \\{{ figures.count }}", m)
+    'write {{ figures.count }}'
+    """
+    by_name = {rec["name"]: rec for rec in manifest["figures"]}
+
+    def value(m):
+        path, spec = m.group(1).split("."), m.group(2)
+        where = f"{page}: placeholder '{m.group(0)}'"
+        if path == ["count"] and spec is None:
+            return str(len(manifest["figures"]))
+        rec = by_name.get(path[0])
+        if rec is None:
+            raise ValueError(f"{where}: no figure '{path[0]}' in the figure set; allowed: figures.count or "
+                             f"figures.NAME.KEY with NAME one of {', '.join(by_name)}")  # fmt: skip
+        v = rec.get("measured", {})
+        for i, key in enumerate(path[1:], 1):
+            if not isinstance(v, dict) or key not in v:
+                keys = ", ".join(v) if isinstance(v, dict) else "none (not a table)"
+                raise ValueError(f"{where}: figure '{path[0]}' measured no '{'.'.join(path[1:i + 1])}'; "
+                                 f"allowed here: {keys}")  # fmt: skip
+            v = v[key]
+        if len(path) == 1 or isinstance(v, dict):
+            raise ValueError(f"{where}: name one value of figure '{path[0]}' (figures.NAME.KEY)")
+        try:
+            return format(v, spec) if spec else str(v)
+        except (TypeError, ValueError):
+            raise ValueError(f"{where}: format '{spec}' does not apply to {v!r}") from None
+
+    return _PLACEHOLDER_RE.sub(value, markdown).replace("\\{{", "{{")
+
+
 def on_page_markdown(markdown, page, config, files, **kwargs):
-    """MkDocs event: replace ``<!-- figures -->`` on ``gallery.md`` with one section per figure.
+    """MkDocs event: fill the figure set's placeholders on every page, and put the gallery on ``gallery.md``.
+
+    The line ``<!-- figures -->`` of ``gallery.md`` becomes one section per figure.
 
     Parameters
     ----------
@@ -246,8 +324,9 @@ def on_page_markdown(markdown, page, config, files, **kwargs):
     str
         The Markdown, with the gallery in place on ``gallery.md``.
     """
+    m = _state["manifest"]
+    markdown = fill_placeholders(markdown, m, page.file.src_uri)
     if page.file.src_uri != "gallery.md" or _MARKER not in markdown:
         return markdown
-    m = _state["manifest"]
     intro = f"{len(m['figures'])} figures" + (" (quick set: low resolution)" if m.get("quick") else "") + ".\n\n"
     return markdown.replace(_MARKER, intro + "\n".join(_section(r) for r in m["figures"]))

@@ -1,6 +1,5 @@
-"""Evaluation plans: do only the work a scene can use.
+"""Evaluation plans: do only the work a scene can use, and leave out what it does not need.
 
-The user asked that the engine "leave out what a given scene does not need".
 A lecturer's scene is often tiny — one sphere, ambient plus one directional
 light, a diffuse material — and should cost tiny work.  :func:`compile_plan`
 looks at a material, its lights and (optionally) the object's bounding sphere
@@ -10,7 +9,7 @@ possibly use:
 * a light whose colour or intensity is zero, or whose spot cone cannot reach
   the object, is dropped;
 * a model part whose coefficient is zero (``k_d = 0``, ``k_s = 0``) is dropped,
-  and so is a term nobody asked for (``terms=...``);
+  and so is a term left out of ``terms=...``;
 * with no direct light left, the image is the constant ``k_e + I_a k_a`` over the
   covered pixels: no normals, no view vectors, no light loop;
 * with only diffuse (Lambertian) parts and only directional lights, each light

@@ -1,8 +1,9 @@
 """The documentation site as built: typeset mathematics, no reST left as text, every internal link resolves.
 
 The site is built once per session (``mkdocs build --strict`` with ``LIGHTING_DOCS_QUICK=1``, the quick
-figure set) into a temporary folder; the build takes about a minute, so those tests are marked slow.
-The formula conversion itself is tested directly, in the fast loop.
+figure set) into a temporary folder; the build draws that figure set unless ``build/gallery-quick`` already
+holds it for the same sources, so those tests are marked slow (``LIGHTING_DOCS_SITE=DIR`` checks a site
+already built instead). The formula conversion itself is tested directly, in the fast loop.
 """
 
 from __future__ import annotations
