@@ -20,7 +20,7 @@ from lighting import (
     SpotLight,
     shade,
 )
-from lighting.analysis.machband import edge_jump_metric, scanline_profile
+from lighting.analysis.machband import edge_jump_metric, luminance, scanline_profile
 from lighting.render.camera import Camera
 from lighting.render.image import encode_srgb8
 from lighting.render.mesh import TriangleMesh, uv_sphere
@@ -46,11 +46,14 @@ def _diffuse_on_floor(light, x):
 # --------------------------------------------------------------------------- light is linear
 @register(
     "light_is_linear",
+    size="16:9",
     title="Light is linear",
     caption=(
         "Light is linear: the picture under two lights is the sum of the pictures under each. A sphere "
         "(Lambert + Phong) under a warm light from the left, under a cool light from the right, and under "
-        "both; the engine's image under both equals the sum of the two images to {max_difference:.1e}."
+        "both; the engine's image under both equals the sum of the two images to {max_difference:.1e}. Below: the "
+        "luminance along the middle row of each image (dashed line), and the sum of the first two (dots) on the "
+        "third."
     ),
     slides="UBC: Materials (last bit): light is linear",
     warm=((-1.0, 0.6, 0.8), (1.0, 0.75, 0.45)),
@@ -81,23 +84,41 @@ def light_is_linear(q, *, warm, cool):
 
     ia, ib, iab = (render_sphere(mat, lts, size=q.sphere_px) for lts in (a, b, a + b))
     diff = float(np.max(np.abs(ia + ib - iab)))
-    fig = new_figure(13.0, 3.9)
-    axes = equation_row(fig, "+=")
-    for ax, img, title in zip(axes, (ia, ib, iab), ("warm light from the left", "cool light from the right",
-                                                   "both lights"), strict=True):  # fmt: skip
-        show_image(ax, encode_srgb8(img)[0], title)
+    fig = new_figure()
+    gs = fig.add_gridspec(2, 1, height_ratios=[1.6, 1.0])
+    axes = equation_row(fig, "+=", subplotspec=gs[0])
+    row = q.sphere_px // 2
+    names = ("warm light from the left", "cool light from the right", "both lights")
+    colours = (PALETTE[4], PALETTE[0], "0.15")
+    for ax, img, title in zip(axes, (ia, ib, iab), names, strict=True):
+        show_image(ax, encode_srgb8(img)[0], title, fontsize=15)
+        ax.axhline(row, color="white", lw=1.0, ls="--", alpha=0.6)
+    # The middle row of each image: the third curve is the sum of the first two, pixel by pixel.
+    pa = fig.add_subplot(gs[1])
+    cols = np.arange(q.sphere_px)
+    for img, title, c in zip((ia, ib, iab), names, colours, strict=True):
+        pa.plot(cols, luminance(img[row]), color=c, lw=2.2, label=title)
+    step = max(1, q.sphere_px // 40)
+    pa.plot(cols[::step], luminance(ia[row] + ib[row])[::step], "o", color=PALETTE[1], ms=5,
+            label="warm + cool, added")  # fmt: skip
+    pa.set_xlim(0, q.sphere_px - 1)
+    pa.set_ylim(0, None)
+    pa.set_xlabel("pixel column along the middle row")
+    pa.set_ylabel("luminance (linear)")
+    pa.grid(True)
+    pa.legend(loc="center left", bbox_to_anchor=(1.0, 0.5))
     return fig, {"max_difference": diff}
 
 
 # --------------------------------------------------------------------------- light sources
 def _source_panel(ax, kind, light, xs):
+    """Rays from ``light`` to the floor, on the x scale of the plot below (heights drawn a little compressed)."""
     from matplotlib.patches import Polygon, Rectangle
 
-    ax.set_aspect("equal")
-    ax.set_xlim(-4.2, 4.2)
+    ax.set_xlim(-4.0, 4.0)
     ax.set_ylim(-0.35, 3.2)
     ax.axis("off")
-    ax.add_patch(Rectangle((-4.1, -0.12), 8.2, 0.12, color=VEC["surface"], lw=0))
+    ax.add_patch(Rectangle((-4.0, -0.12), 8.0, 0.12, color=VEC["surface"], lw=0))
     ray = {"color": VEC["l"], "lw": 1.5}
     if kind == "point":
         src = light.position[[0, 1]]
@@ -136,12 +157,14 @@ def _source_panel(ax, kind, light, xs):
 
 @register(
     "light_sources",
+    size="16:9",
     title="Point, directional, area and spot lights",
     caption=(
-        "The kinds of light. Top: rays from each source to a planar surface — a point source's rays hit at "
-        "different angles; a directional (parallel) source's all at the same angle; an area source lies in "
-        "between; a spotlight is a point source limited to a cone (cutoff {cutoff:g}°). Bottom: the engine's "
-        "diffuse term k_d (n·l) E along the surface (k_d = 1): a bump under the point light, a constant for "
+        "The kinds of light, one panel each. Above: rays from each source to a planar surface — a point source's "
+        "rays hit at different angles; a directional (parallel) source's all at the same angle; an area source lies "
+        "in between; a spotlight is a point source limited to a cone (cutoff {cutoff:g}°). Below, on the same "
+        "horizontal scale: the engine's diffuse term k_d (n·l) E along the surface (k_d = 1): a bump under the "
+        "point light, a constant for "
         "the directional light, a broader bump for the area light, cut off at the cone's edge for the spot."
     ),
     slides="UBC: Light sources (point, parallel, area, spotlights)",
@@ -184,23 +207,25 @@ def light_sources(q, *, height, cutoff):
     curves = {k: _diffuse_on_floor(lt, x) for k, lt in lights.items()}
     # The area light's radiance is chosen so its peak matches the point light's (1 under the light).
     curves["area"] = curves["area"] / curves["area"].max()
-    fig = new_figure(14.0, 5.0)
-    gs = fig.add_gridspec(2, 4, height_ratios=[1.0, 1.0])
+    fig = new_figure()
+    # A 2 × 2 grid of sources, each its ray diagram above its diffuse term along the surface.
+    outer = fig.add_gridspec(2, 2)
     xs = np.linspace(-3.5, 3.5, 9)
     for i, (k, lt) in enumerate(lights.items()):
-        ax = fig.add_subplot(gs[0, i])
+        cell = outer[i // 2, i % 2].subgridspec(2, 1, height_ratios=[1.6, 1.0])
+        ax = fig.add_subplot(cell[0])
         _source_panel(ax, k, lt, xs)
-        ax.set_title(titles[k])
-        b = fig.add_subplot(gs[1, i])
+        ax.set_title(titles[k], fontsize=15)
+        b = fig.add_subplot(cell[1])
         b.plot(x, curves[k], color=PALETTE[i])
         b.set_ylim(0, 1.1)
         b.set_xlim(-4, 4)
+        b.set_yticks([0, 0.5, 1.0])
         b.grid(True)
-        b.set_xlabel("position on the surface")
-        if i == 0:
+        if i // 2 == 1:
+            b.set_xlabel("position on the surface")
+        if i % 2 == 0:
             b.set_ylabel(r"$k_d\,(\mathbf{n}\cdot\mathbf{l})\,E$")
-        else:
-            b.set_yticklabels([])
     return fig, {"cutoff": cutoff}
 
 
@@ -230,6 +255,7 @@ _LIGHT_SETUPS = {
 
 @register(
     "light_types",
+    size="4:3",
     title="One scene under ambient, directional, point and spot light",
     caption=(
         "The same scene (the example scene 'ambient_only': a floor, two spheres and a cube) under four kinds "
@@ -261,7 +287,7 @@ def light_types(q, *, scene):
     w = int(round(base.image.width * q.scene_scale))
     h = int(round(base.image.height * q.scene_scale))
     base = base.with_size(w, h)
-    fig = new_figure(13.0, 10.6)
+    fig = new_figure()
     axes = fig.subplots(2, 2)
     clipped = {}
     for ax, (title, (lights, note)) in zip(axes.flat, _LIGHT_SETUPS.items(), strict=True):
@@ -291,6 +317,7 @@ def _falloff_floor(px_w, px_h):
 
 @register(
     "falloff",
+    size="16:9",
     title="Light source falloff",
     caption=(
         "Falloff of a point light, I_in = I_0 / (a r² + b r + c). Top: the factor against distance for the "
@@ -321,7 +348,7 @@ def falloff(q, *, light_height, kd):
         ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
         (they fill the caption's fields and the sidecar).
     """
-    fig = new_figure(13.0, 8.2)
+    fig = new_figure()
     gs = fig.add_gridspec(2, len(_FALLOFFS), height_ratios=[1.15, 1.0])
     ax = fig.add_subplot(gs[0, :])
     r = np.linspace(0.2, 6.0, q.curve_n)
@@ -363,12 +390,14 @@ def _triple(c):
 
 @register(
     "light_colour",
+    size="16:9",
     title="Light colour × surface colour",
     caption=(
         "Light has colour, and it interacts with the surface colour channel by channel: I = (I_r k_r, "
         "I_g k_g, I_b k_b). A Lambertian sphere (one directional light plus ambient light of the same colour, "
         "on a grey background). Blue light on a white surface is blue; blue light on a red surface is black, "
-        "and so is red light on a green surface: the surface reflects none of the light's colour."
+        "and so is red light on a green surface: the surface reflects none of the light's colour. Under each "
+        "sphere: light colour × surface colour, channel by channel."
     ),
     slides="UBC: Light (light has colour; blue light on white / red surface); Lighting in OpenGL (red × green)",
     ambient=0.12,
@@ -391,27 +420,37 @@ def light_colour(q, *, ambient, background):
     matplotlib.figure.Figure
         The figure.
     """
-    fig = new_figure(14.0, 4.3)
-    axes = fig.subplots(1, len(_COLOUR_CASES))
-    for ax, (title, light_c, surf) in zip(axes, _COLOUR_CASES, strict=True):
+    fig = new_figure()
+    cols = 3
+    rows = -(-(len(_COLOUR_CASES) + 1) // cols)  # the cases, then the rule they follow
+    axes = fig.subplots(rows, cols).ravel()
+    for ax, (title, light_c, surf) in zip(axes, _COLOUR_CASES, strict=False):
         lights = [AmbientLight(light_c, intensity=ambient), DirectionalLight((-0.6, 0.7, 1.0), color=light_c)]
         show_image(ax, sphere_rgb8(Material(Lambert(surf)), lights, q.sphere_px, background=background), title,
                    fontsize=13)  # fmt: skip
         prod = tuple(a * b for a, b in zip(light_c, surf, strict=True))
-        ax.set_xlabel(f"{_triple(light_c)} × {_triple(surf)}\n= {_triple(prod)}", fontsize=11.5)
+        ax.set_xlabel(f"{_triple(light_c)} × {_triple(surf)}\n= {_triple(prod)}", fontsize=13)
+    for ax in axes[len(_COLOUR_CASES) :]:
+        ax.axis("off")
+    rule = axes[len(_COLOUR_CASES)]
+    rule.text(0.5, 0.5, "light colour × surface colour,\nchannel by channel:\n\n"
+              r"$I = (I_r\,k_r,\ I_g\,k_g,\ I_b\,k_b)$", ha="center", va="center", fontsize=17,
+              transform=rule.transAxes, linespacing=1.4)  # fmt: skip
     return fig
 
 
 # --------------------------------------------------------------------------- illumination equation
 @register(
     "illumination_terms",
+    size="16:9",
     title="The illumination equation, term by term",
     caption=(
         "The illumination equation I = I_a k_a + Σ_p I_p/A(d_p) (k_d (n·l_p) + k_s (r_p·v)^n), one term at a "
         "time: ambient (a flat disc of colour I_a k_a), diffuse (Lambert), specular (Phong, n = {shininess:g}) "
         "and their sum, for one point light (inverse-square falloff) and ambient light {ambient:g}. The engine "
         "computes each term separately (Renderer.render_terms); their sum equals the full render to "
-        "{max_difference:.1e}."
+        "{max_difference:.1e}. Below: the terms' luminance stacked along the row through the highlight (dashed "
+        "line), with the full render's on top."
     ),
     slides="UBC: Illumination equation; Ambient light. CMSC 435: Decomposing BRDFs",
     kd=(0.7, 0.2, 0.12),
@@ -450,8 +489,10 @@ def illumination_terms(q, *, kd, ks, shininess, ambient, light):
     terms = r.render_terms(mat, lights, terms=("ambient", "diffuse", "specular"))
     total = r.render(mat, lights)
     diff = float(np.max(np.abs(terms["ambient"] + terms["diffuse"] + terms["specular"] - total)))
-    fig = new_figure(14.0, 4.0)
-    axes = equation_row(fig, "++=")
+    fig = new_figure()
+    gs = fig.add_gridspec(2, 1, height_ratios=[1.25, 1.0])
+    axes = equation_row(fig, "++=", subplotspec=gs[0])
+    row = int(np.unravel_index(np.argmax(luminance(terms["specular"])), total.shape[:2])[0])
     titles = (
         ("ambient", r"$I_a k_a$"),
         ("diffuse", r"$\sum_p \dfrac{I_p}{A(d_p)}\, k_d\,(\mathbf{n}\cdot\mathbf{l}_p)$"),
@@ -460,19 +501,34 @@ def illumination_terms(q, *, kd, ks, shininess, ambient, light):
     )
     for ax, (key, label) in zip(axes, titles, strict=True):
         img = total if key == "sum" else terms[key]
-        show_image(ax, encode_srgb8(img)[0], key)
+        show_image(ax, encode_srgb8(img)[0], key, fontsize=15)
         ax.set_xlabel(label, fontsize=15)
-    return fig, {"shininess": shininess, "ambient": ambient, "max_difference": diff}
+        ax.axhline(row, color="white", lw=1.0, ls="--", alpha=0.6)
+    # The terms stacked along the row through the highlight: their top is the full render.
+    pa = fig.add_subplot(gs[1])
+    cols = np.arange(total.shape[1])
+    parts = [luminance(terms[k][row]) for k in ("ambient", "diffuse", "specular")]
+    pa.stackplot(cols, *parts, colors=["0.7", PALETTE[0], PALETTE[1]], alpha=0.55,
+                 labels=["ambient", "+ diffuse", "+ specular"])  # fmt: skip
+    pa.plot(cols, luminance(total[row]), color="0.1", lw=2.0, label="full render")
+    pa.set_xlim(0, cols[-1])
+    pa.set_ylim(0, None)
+    pa.set_xlabel("pixel column along the dashed row")
+    pa.set_ylabel("luminance (linear)")
+    pa.grid(True)
+    pa.legend(loc="center left", bbox_to_anchor=(1.0, 0.5))
+    return fig, {"shininess": shininess, "ambient": ambient, "max_difference": diff, "scan_row_px": row}
 
 
 # --------------------------------------------------------------------------- Gouraud vs Phong interpolation
 @register(
     "gouraud_vs_phong",
+    size="16:9",
     title="Gouraud vs Phong interpolation, and Mach bands",
     caption=(
         "When to compute lighting. The same {triangles}-triangle sphere lit per vertex with the colours "
         "interpolated (Gouraud shading) and per pixel with the normals interpolated (Phong interpolation); "
-        "thin lines are the triangle edges, the red line the scan line plotted below (latitude "
+        "thin lines are the triangle edges, the red line the scan line plotted on the right (latitude "
         "{scan_latitude_deg:g}°, midway between two rings of vertices, through the matte part). Gouraud loses "
         "the sharp highlight (it falls between vertices), and its intensity is piecewise linear: the slope "
         "jumps at every edge (dotted lines), which the eye exaggerates into Mach bands. The second difference "
@@ -544,14 +600,15 @@ def gouraud_vs_phong(q, *, n_lat, n_lon, kd, ks, shininess, light, scan_latitude
         for a, b in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0])):
             segs.append([xy[a], xy[b]])
 
-    fig = new_figure(13.0, 10.0)
-    gs = fig.add_gridspec(2, 2, height_ratios=[1.0, 0.9])
+    fig = new_figure()
+    # The two images in the left column, the scan line's profile and its kinks beside them.
+    gs = fig.add_gridspec(2, 2, width_ratios=[1.0, 1.9])
     titles = {"gouraud": "Gouraud: light the vertices, interpolate colours",
               "phong": "Phong: interpolate normals, light every pixel"}  # fmt: skip
     colours = {"gouraud": PALETTE[4], "phong": PALETTE[0]}
     for i, m in enumerate(("gouraud", "phong")):
-        ax = fig.add_subplot(gs[0, i])
-        show_image(ax, encode_srgb8(images[m])[0], titles[m], fontsize=13.5)
+        ax = fig.add_subplot(gs[i, 0])
+        show_image(ax, encode_srgb8(images[m])[0], titles[m], fontsize=13)
         ax.add_collection(LineCollection(segs, colors="white", linewidths=0.6, alpha=0.35))
         ax.axhline(row, color="#ff3b30", lw=1.4)
         ax.set_xlim(-0.5, size - 0.5)
@@ -561,8 +618,8 @@ def gouraud_vs_phong(q, *, n_lat, n_lon, kd, ks, shininess, light, scan_latitude
     tid = gb.triangle_id[row]
     xs = prof["gouraud"].x
     edges = xs[:-1][tid[xs[:-1]] != tid[xs[1:]]] + 0.5
-    ax1 = fig.add_subplot(gs[1, 0])
-    ax2 = fig.add_subplot(gs[1, 1])
+    ax1 = fig.add_subplot(gs[0, 1])
+    ax2 = fig.add_subplot(gs[1, 1], sharex=ax1)
     for e in edges:
         ax1.axvline(e, color="0.75", ls=":", lw=1.0)
         ax2.axvline(e, color="0.75", ls=":", lw=1.0)
@@ -573,16 +630,21 @@ def gouraud_vs_phong(q, *, n_lat, n_lon, kd, ks, shininess, light, scan_latitude
         ax1.plot(p.x, p.intensity, color=colours[m], label=m.capitalize())
         ax2.plot(p.x[1:-1], p.d2 * scale, color=colours[m], lw=1.6,
                  label=f"{m.capitalize()}  (metric {metrics[m]:.2f})")  # fmt: skip
-    ax1.set_xlabel("pixel column along the scan line")
+    ax1.tick_params(labelbottom=False)
+    ax1.set_ylim(0.0, None)
     ax1.set_ylabel("luminance (linear)")
     ax1.set_title("Intensity along the scan line")
     ax1.legend(loc="upper right")
     ax2.set_xlabel("pixel column along the scan line")
     ax2.set_ylabel("second difference / mean slope")
     ax2.set_title("Kinks at the triangle edges")
-    ax2.legend(loc="lower left")
-    lim = float(np.percentile(np.abs(prof["gouraud"].d2 * scale), 99.5)) * 1.3 or 1.0
-    ax2.set_ylim(-lim, lim)
+    ax2.legend(loc="upper left")
+    # Limits from every plotted value, the terminator's spikes included, with a margin.
+    d2 = np.concatenate([prof[m].d2 * scale for m in prof])
+    lo, hi = float(min(d2.min(), 0.0)), float(max(d2.max(), 0.0))
+    pad = 0.08 * (hi - lo) or 1.0
+    ax2.set_ylim(lo - pad, hi + pad)
+    ax2.axhline(0.0, color="0.6", lw=0.8)
     for a in (ax1, ax2):
         a.set_xlim(xs[0], xs[-1])
     return fig, {

@@ -35,6 +35,7 @@ def _diffuse_along_floor(light, xs):
 
 @register(
     "gl_light_position",
+    size="16:9",
     title="OpenGL light positions: w = 0 is a direction, w = 1 a point",
     caption=(
         "glLightfv(GL_LIGHT0, GL_POSITION, (x, y, z, w)). Left: w = 0 makes (x, y, z) a direction toward the "
@@ -75,8 +76,8 @@ def gl_light_position(q, *, direction, point, x_range):
     h = point[1]
     formula = h / np.hypot(h, xs - point[0])
     d = np.asarray(direction, dtype=np.float64)
-    fig = new_figure(14.0, 7.0)
-    gs = fig.add_gridspec(2, 2, height_ratios=[1.3, 1.0])
+    fig = new_figure()
+    gs = fig.add_gridspec(2, 2, height_ratios=[1.0, 1.15])
     for col, w in enumerate((0, 1)):
         ax = fig.add_subplot(gs[0, col])
         ax.set_aspect("equal")
@@ -87,6 +88,8 @@ def gl_light_position(q, *, direction, point, x_range):
         feet = np.linspace(x_range[0] + 0.6, x_range[1] - 0.6, 7)
         if w == 0:
             u = d[:2] / np.linalg.norm(d[:2])
+            shift = 2.9 * u[0] / u[1]  # where a ray starts, relative to its foot: keep every start in the panel
+            feet = np.linspace(x_range[0] + 0.6 - min(shift, 0.0), x_range[1] - 0.6 - max(shift, 0.0), 7)
             for x in feet:
                 vector(ax, np.array([x, 0.0]) + 2.9 / u[1] * u, (x, 0.03), VEC["l"], lw=1.6)
             ax.set_title(f"GL_POSITION = ({d[0]:g}, {d[1]:g}, {d[2]:g}, 0): a direction, parallel rays")
@@ -118,15 +121,16 @@ def gl_light_position(q, *, direction, point, x_range):
 
 @register(
     "gl_spot_parameters",
+    size="4:3",
     title="OpenGL spot light: GL_SPOT_DIRECTION, GL_SPOT_CUTOFF, GL_SPOT_EXPONENT",
     caption=(
-        "Left: a spot light is a point light limited to a cone about GL_SPOT_DIRECTION (ŝ), of half-angle "
+        "Top left: a spot light is a point light limited to a cone about GL_SPOT_DIRECTION (ŝ), of half-angle "
         "GL_SPOT_CUTOFF ({cutoff:g}°); inside it the light falls off as (−VP·ŝ)^GL_SPOT_EXPONENT = cos^e ψ, ψ the "
-        "angle from the axis (rays shaded by that factor, e = {exponent_drawn:g}). Middle: the spot factor for "
+        "angle from the axis (rays shaded by that factor, e = {exponent_drawn:g}). Below: the spot factor for "
         "several exponents: lines from the engine's SpotLight.spot_factor, dots from the OpenGL mode "
         "(lighting.gl.shade_vertices; largest difference {max_difference:.0e}). It is cos^e(cutoff) at the edge "
         "(e = {exponent_drawn:g}: {edge_value:.3f}) and drops to 0 outside: the exponent softens the pool of "
-        "light, the cutoff ends it. Right: the floor under this spot, per vertex in the OpenGL mode."
+        "light, the cutoff ends it. Top right: the floor under this spot, per vertex in the OpenGL mode."
     ),
     slides="UBC: Light sources — OpenGL (spotlight: GL_SPOT_DIRECTION, GL_SPOT_EXPONENT, GL_SPOT_CUTOFF); Spotlights",
     cutoff=30.0,
@@ -156,11 +160,13 @@ def gl_spot_parameters(q, *, cutoff, exponents, exponent_drawn, height):
         ``(figure, measured)``: the largest difference between the engine's spot factor and the OpenGL
         mode's, the factor at the cutoff and just outside it.
     """
-    fig = new_figure(16.0, 5.2)
-    ax, pa, ia = fig.subplots(1, 3, width_ratios=[1.15, 1.2, 0.85])
+    fig = new_figure()
+    # The cone beside the pool of light it makes on the floor; the spot factor's curves across the bottom.
+    gs = fig.add_gridspec(2, 2, height_ratios=[1.15, 1.0], width_ratios=[1.25, 1.0])
+    ax, ia, pa = fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[0, 1]), fig.add_subplot(gs[1, :])
     ax.set_aspect("equal")
     ax.set_xlim(-2.6, 2.6)
-    ax.set_ylim(-0.4, height + 0.6)
+    ax.set_ylim(-1.05, height + 0.6)
     ax.axis("off")
     _floor(ax, -2.5, 2.5)
     src = np.array([0.0, height])
@@ -179,8 +185,8 @@ def gl_spot_parameters(q, *, cutoff, exponents, exponent_drawn, height):
     angle_arc(ax, tuple(src), 1.0, -90.0, -90.0 + cutoff, "0.2", "", fontsize=13)
     ax.text(0.9, height - 0.55, "GL_SPOT_CUTOFF", fontsize=12.5, color="0.2")
     ax.plot(*src, marker="*", ms=24, color="#F0B400", mec="0.2", zorder=6)
-    ax.text(0, -0.33, f"brightness along each ray: cos^e ψ, GL_SPOT_EXPONENT e = {exponent_drawn:g}",
-            ha="center", fontsize=12)  # fmt: skip
+    ax.text(0, -0.33, f"brightness along each ray: cos^e ψ,\nGL_SPOT_EXPONENT e = {exponent_drawn:g}",
+            ha="center", va="top", fontsize=12.5)  # fmt: skip
     ax.set_title("The spot's parameters on its cone")
 
     psi = np.linspace(0.0, 60.0, q.curve_n)
