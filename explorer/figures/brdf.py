@@ -50,12 +50,16 @@ def _incidence_lines(ax, theta_deg, rmax, color, label=None):
 # --------------------------------------------------------------------------- decomposition
 @register(
     "brdf_decomposition",
+    size="16:9",
     title="Decomposing a BRDF: diffuse + specular",
     caption=(
         "The usual breakdown of a BRDF, f_r = f_d + f_s, as polar plots of f_r (1/sr) for a light at "
         "{theta_deg:g}° (dotted; the normal points up): the diffuse part is view independent — a half-disc "
         "of radius k_d/π —, the specular part is a lobe around the mirror direction, and the sum is what a "
-        "surface such as Lambert(k_d = {kd:g}) + Phong(k_s = {ks:g}, e = {e:g}) reflects."
+        "surface such as Lambert(k_d = {kd:g}) + Phong(k_s = {ks:g}, e = {e:g}) reflects. Below: the engine's "
+        "spheres of the two parts and of the sum under one directional light {theta_deg:g}° from the viewer "
+        "(upper left), one exposure for the three, the slides' classic terms k_d (n·l) and k_s (R_l·v)^e: the "
+        "sum's image is the parts' images added (largest difference {sphere_sum_difference:.1e})."
     ),
     slides="CMSC 435: Decomposing BRDFs",
     theta_deg=40.0,
@@ -64,7 +68,7 @@ def _incidence_lines(ax, theta_deg, rmax, color, label=None):
     e=30.0,
 )
 def brdf_decomposition(q, *, theta_deg, kd, ks, e):
-    """Decomposing a BRDF: diffuse + specular, as polar slices and spheres.
+    """Decomposing a BRDF: diffuse + specular, as polar slices (above) and the engine's spheres (below).
 
     Parameters
     ----------
@@ -85,12 +89,26 @@ def brdf_decomposition(q, *, theta_deg, kd, ks, e):
         ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
         (they fill the caption's fields and the sidecar).
     """
+    from lighting import DirectionalLight
+    from lighting.render.sphere import render_sphere
+
     parts = [("diffuse  $f_d$", Lambert(kd)), ("specular  $f_s$", Phong(ks, e)), ("sum  $f_d + f_s$",
              Lambert(kd) + Phong(ks, e))]  # fmt: skip
     slices = [polar_slice(b, math.radians(theta_deg), n=q.polar_n, channel=0) for _, b in parts]
     rmax = 1.08 * max(float(s.values.max()) for s in slices)
-    fig = new_figure(14.0, 3.6)
-    axes = equation_row(fig, "+=", gap=0.12)
+    t = math.radians(theta_deg)
+    light = DirectionalLight((-math.sin(t) * math.sqrt(0.5), math.sin(t) * math.sqrt(0.5), math.cos(t)))
+    # A dim grey behind the spheres shows the outline of their unlit halves.
+    images = [render_sphere(Material(b), [light], size=q.sphere_px, background=0.03) for _, b in parts]
+    exposure = -math.log2(float(np.max(images[2])))  # the sum's brightest pixel at white; the parts alike
+    fig = new_figure()
+    gs = fig.add_gridspec(2, 1, height_ratios=[1.25, 1.0])
+    axes = equation_row(fig, "+=", gap=0.12, subplotspec=gs[0])
+    sphere_axes = equation_row(fig, "+=", gap=0.12, subplotspec=gs[1])
+    terms = (r"$k_d\,(\mathbf{n}\cdot\mathbf{l})$", r"$k_s\,(\mathbf{R}_l\cdot\mathbf{v})^e$",
+             r"$k_d\,(\mathbf{n}\cdot\mathbf{l}) + k_s\,(\mathbf{R}_l\cdot\mathbf{v})^e$")  # fmt: skip
+    for ax, img, term in zip(sphere_axes, images, terms, strict=True):
+        show_image(ax, encode_srgb8(img, exposure=exposure)[0], term, fontsize=14)
     for i, (ax, (title, _), s) in enumerate(zip(axes, parts, slices, strict=True)):
         pos = ax.get_subplotspec()
         ax.remove()
@@ -100,12 +118,16 @@ def brdf_decomposition(q, *, theta_deg, kd, ks, e):
         _incidence_lines(ax, theta_deg, rmax, VEC["l"], r"$\mathbf{l}$")
         polar_half(ax, rmax)
         ax.set_title(title, pad=2)
-    return fig, {"theta_deg": theta_deg, "kd": kd, "ks": ks, "e": e}
+    plain = [render_sphere(Material(b), [light], size=q.sphere_px, background=0.0) for _, b in parts]
+    difference = float(np.max(np.abs(plain[2] - plain[0] - plain[1])))
+    return fig, {"theta_deg": theta_deg, "kd": kd, "ks": ks, "e": e, "sphere_sum_difference": difference,
+                 "exposure_stops": exposure}  # fmt: skip
 
 
 # --------------------------------------------------------------------------- polar plots
 @register(
     "brdf_polar",
+    size="16:9",
     title="BRDF polar plots (2D slices) of every model",
     caption=(
         "2D slices of each model: f_r (1/sr) for a fixed light direction (dotted, at θ_l = 15°, 35°, 55° from "
@@ -135,7 +157,7 @@ def brdf_polar(q, *, theta_deg):
         (they fill the caption's fields and the sidecar).
     """
     models = _models()
-    fig = new_figure(14.0, 8.4)
+    fig = new_figure()
     axes = fig.subplots(2, 3, subplot_kw={"projection": "polar"})
     cols = [PALETTE[0], PALETTE[2], PALETTE[1]]
     peaks = {}
@@ -188,6 +210,7 @@ def _lobe_axes(ax, mesh, title):
 
 @register(
     "brdf_lobes_3d",
+    size="16:9",
     title="BRDF 3D lobe surfaces of every model",
     caption=(
         "The 3D surface plot of each BRDF for one light direction l (θ_l = {theta_deg:g}°): the distance "
@@ -220,7 +243,7 @@ def brdf_lobes_3d(q, *, theta_deg):
 
     t = math.radians(theta_deg)
     light = (-math.sin(t), 0.0, math.cos(t))
-    fig = new_figure(14.0, 8.6)
+    fig = new_figure()
     axes = fig.subplots(2, 3, subplot_kw={"projection": "3d"})
     peaks = {}
     for ax, (name, brdf, params) in zip(axes.flat, _models(), strict=True):
@@ -236,13 +259,14 @@ def brdf_lobes_3d(q, *, theta_deg):
 # --------------------------------------------------------------------------- reciprocity
 @register(
     "reciprocity",
+    size="16:9",
     title="Reciprocity: swapping view and light",
     caption=(
         "The two polar plots of a BRDF: for one light direction showing view directions (solid), and for one "
         "view direction showing light directions (dashed), both fixed at {theta_deg:g}° (dotted). A reciprocal "
-        "BRDF, f_r(l, v) = f_r(v, l), gives the same curve both ways: normalized Blinn–Phong (middle, "
+        "BRDF, f_r(l, v) = f_r(v, l), gives the same curve both ways: normalized Blinn–Phong (bottom left, "
         "largest relative difference {bp_difference:.1e}). The slides' Phong BRDF k_s (R_l·v)^e / (π (n·l)) "
-        "does not (left): dividing by n·l breaks reciprocity, and the two slices differ by exactly the factor "
+        "does not (top left): dividing by n·l breaks reciprocity, and the two slices differ by exactly the factor "
         "(n·v)/(n·l) (right: measured ratio against that formula), and its dashed curve climbs again toward "
         "the horizon, where 1/(n·l) grows without bound."
     ),
@@ -276,13 +300,13 @@ def reciprocity(q, *, theta_deg, phong_e, blinn_e):
         (f"Phong BRDF, e = {phong_e:g}", Phong(1.0, phong_e)),
         (f"Blinn–Phong normalized, e = {blinn_e:g}", BlinnPhong(1.0, blinn_e, normalized=True)),
     ]
-    fig = new_figure(14.0, 5.0)
-    gs = fig.add_gridspec(1, 3, width_ratios=[1.0, 1.0, 1.05])
+    fig = new_figure()
+    gs = fig.add_gridspec(2, 2, width_ratios=[1.2, 1.0])
     measured = {}
     ratios = []
     for i, (title, brdf) in enumerate(cases):
         a, b = reciprocity_pair(brdf, th, n=q.polar_n, channel=0)
-        ax = fig.add_subplot(gs[0, i], projection="polar")
+        ax = fig.add_subplot(gs[i, 0], projection="polar")
         # The scale comes from the slices away from the last degree above the horizon: there the Phong
         # BRDF's 1/(n·l) grows without bound, and the slice (which samples its peak) reaches it; the
         # dashed curve leaves the plot there instead of shrinking every lobe to a dot.
@@ -302,7 +326,7 @@ def reciprocity(q, *, theta_deg, phong_e, blinn_e):
         ratios.append((a, b, ok))
         if i == 0:
             fig.legend(loc="outside lower left", ncol=2)
-    ax = fig.add_subplot(gs[0, 2])
+    ax = fig.add_subplot(gs[:, 1])
     t_deg = np.degrees(ratios[0][0].angles)
     formula = np.cos(ratios[0][0].angles) / math.cos(th)
     ax.plot(t_deg, formula, color="0.3", lw=1.4, label=r"$(\mathbf{n}\cdot\mathbf{v})/(\mathbf{n}\cdot\mathbf{l})$")
@@ -358,13 +382,14 @@ def _blocked(x, y, i, p, d):
 
 @register(
     "microfacets",
+    size="16:9",
     title="Specular microfacets: normal distribution, shadowing, masking",
     caption=(
         "A rough surface as random mirrored microfacets (a 2D profile with Gaussian slopes, σ = {sigma:g}, "
         "seed {seed}), light from {light_deg:g}° on the left, viewer at {view_deg:g}° on the right. Only "
         "facets whose normal is the half vector h reflect l into v (green): how many there are is the normal "
         "distribution D(h). Some of them receive no light — another facet is in the way (shadowing) — or "
-        "cannot be seen from v (masking); the geometry term G is the fraction left. Right: the facets' slope "
+        "cannot be seen from v (masking); the geometry term G is the fraction left. Below, right: the facets' slope "
         "distribution against the Gaussian it was drawn from (Beckmann's model: Gaussian slopes)."
     ),
     slides="CMSC 435: Specular microfacets (NDF, shadowing, masking); Cook–Torrance (Beckmann)",
@@ -433,9 +458,10 @@ def microfacets(q, *, seed, sigma, light_deg, view_deg, facets, tolerance_deg):
         if kinds[-1] in examples:
             examples[kinds[-1]].append((i, mid))
 
-    fig = new_figure(14.0, 5.2)
-    gs = fig.add_gridspec(1, 2, width_ratios=[2.3, 1.0])
-    ax = fig.add_subplot(gs[0, 0])
+    fig = new_figure()
+    # The profile across the slide; below it, the key to its colours and the slope histogram.
+    gs = fig.add_gridspec(2, 2, height_ratios=[1.55, 1.0], width_ratios=[1.0, 1.25])
+    ax = fig.add_subplot(gs[0, :])
     ax.fill_between(x, 0, y, color="0.88", lw=0)
     colour = {"reflect": PALETTE[2], "shadow": "0.35", "mask": PALETTE[3], "other": "0.1"}
     width = {"reflect": 4.5, "shadow": 4.5, "mask": 4.5, "other": 1.6}
@@ -472,7 +498,9 @@ def microfacets(q, *, seed, sigma, light_deg, view_deg, facets, tolerance_deg):
             ("mask", "normal = h, but masked"),
         )  # fmt: skip
     ]
-    ax.legend(handles=handles, loc="upper right", fontsize=11.5)
+    key = fig.add_subplot(gs[1, 0])
+    key.axis("off")
+    key.legend(handles=handles, loc="center", fontsize=13, title="the thick facets", title_fontsize=13)
     ax.set_xlim(-0.2, x[-1] + 0.2)
     ax.set_ylim(0, y.max() + 3.4)
     ax.set_aspect("equal")
@@ -482,7 +510,7 @@ def microfacets(q, *, seed, sigma, light_deg, view_deg, facets, tolerance_deg):
     # Right: the slope distribution of a long profile from the same generator.
     big = _profile(np.random.default_rng(seed + 1), 4000 if q.quick else 40000, 0.5, sigma)
     slopes = np.diff(big[1]) / 0.5
-    b = fig.add_subplot(gs[0, 1])
+    b = fig.add_subplot(gs[1, 1])
     b.hist(slopes, bins=41, range=(-2, 2), density=True, color=PALETTE[5], alpha=0.75, label="facets")
     s = np.linspace(-2, 2, 201)
     b.plot(s, np.exp(-0.5 * (s / sigma) ** 2) / (sigma * math.sqrt(2 * math.pi)), color=PALETTE[0],
@@ -503,6 +531,7 @@ _ALPHAS = (0.1, 0.2, 0.35, 0.6)
 
 @register(
     "cook_torrance_terms",
+    size="16:9",
     title="Cook–Torrance: D, G and F over roughness",
     caption=(
         "The three factors of Cook–Torrance, f_r = D G F / (4 (n·v)(n·l)), over roughness α. D: the normal "
@@ -540,7 +569,7 @@ def cook_torrance_terms(q, *, alphas, theta_deg, f0):
         (they fill the caption's fields and the sidecar).
     """
     cols = series_colours(len(alphas))
-    fig = new_figure(14.0, 9.4)
+    fig = new_figure()
     axes = fig.subplots(2, 2)
     (ad, ag), (af, ar) = axes
     deg = np.linspace(0.0, 89.5, q.curve_n)
@@ -594,6 +623,7 @@ def cook_torrance_terms(q, *, alphas, theta_deg, f0):
 
 @register(
     "cook_torrance_spheres",
+    size="4:3",
     title="Cook–Torrance on a sphere: D, G and the result over roughness",
     caption=(
         "Cook–Torrance's factors on a sphere, per pixel, for a point light at the upper left. Rows: roughness "
@@ -672,7 +702,7 @@ def cook_torrance_spheres(q, *, alphas, f0, kd, light):
     smax = max(float(np.nanmax(x[3])) for x in rows)
     norms = [LogNorm(vmin=dmax * 1e-4, vmax=dmax), Normalize(0.0, 1.0), LogNorm(vmin=smax * 1e-4, vmax=smax)]
     cmaps = ["magma", "viridis", "magma"]
-    fig = new_figure(13.0, 11.2)
+    fig = new_figure()
     gs = fig.add_gridspec(len(alphas) + 1, 4, height_ratios=[1.0] * len(alphas) + [0.06])
     titles = ("D (Beckmann), 1/sr", "G (V-cavity)", r"specular term $\pi f_r (\mathbf{n}\cdot\mathbf{l}) E$",
               "rendered")  # fmt: skip
@@ -708,6 +738,7 @@ def cook_torrance_spheres(q, *, alphas, f0, kd, light):
 # --------------------------------------------------------------------------- plausibility table
 @register(
     "plausibility_table",
+    size="16:9",
     title="Physical plausibility of every model (the audit table)",
     caption=(
         "The plausibility audit (lighting.analysis.audit): for each model and parameter set, whether f_r is positive, "
@@ -736,33 +767,122 @@ def plausibility_table(q):
     """
     table = audit(samples=q.audit_samples)
     head = ["model", "parameters", "ρ(0°)", "ρ max (θ)", "recip. err", "positive", "reciprocal", "energy", "note"]
-    cells, colours = [], []
-    ok, bad, plain = "#d4edda", "#f8d7da", "white"
+    cells, verdicts = [], []
     for r in table:
         params = r.params.replace(" /4(n·v)(n·l)", "").replace(" /π(n·v)(n·l)", " /π(n·v)(n·l)")
         row = [r.label, params, f"{r.albedo_normal:.3f}", f"{r.albedo_max:.3f} ({r.theta_max_deg:g}°)",
                f"{r.reciprocity:.0e}", "pass" if r.positive else "FAIL", "pass" if r.reciprocal else "FAIL",
                "pass" if r.energy else "FAIL", r.note]  # fmt: skip
         cells.append(row)
-        colours.append([plain] * 5 + [ok if f else bad for f in (r.positive, r.reciprocal, r.energy)] + [plain])
-    fig = new_figure(19.0, 0.3 * (len(cells) + 1), layout=None)
-    ax = fig.add_axes([0.004, 0.004, 0.992, 0.992])
-    ax.axis("off")
-    tab = ax.table(cellText=cells, colLabels=head, cellColours=colours, cellLoc="left", colLoc="left",
-                   bbox=[0, 0, 1, 1],
-                   colWidths=[0.16, 0.26, 0.045, 0.075, 0.055, 0.05, 0.055, 0.045, 0.255])  # fmt: skip
-    tab.auto_set_font_size(False)
-    tab.set_fontsize(12)
-    for (row, col), cell in tab.get_celld().items():
-        cell.PAD = 0.04
-        cell.set_edgecolor("0.8")
-        cell.set_linewidth(0.6)
-        if row == 0:
-            cell.set_text_props(fontweight="bold")
-            cell.set_facecolor("#e9ecef")
-        elif col in (5, 6, 7):
-            cell.set_text_props(ha="center", fontweight="bold",
-                                color="#1e6b34" if cell.get_text().get_text() == "pass" else "#a12a33")  # fmt: skip
+        verdicts.append([None] * 5 + [r.positive, r.reciprocal, r.energy] + [None])
+    fig = new_figure(layout=None)
+    font = draw_table(fig, head, cells, verdicts)
     s = table.settings
-    return fig, {"pairs": s["pairs"], "samples": s["samples"], "angles": s["view_angles"],
-                 "failures": [r.label for r in table if not r.plausible]}  # fmt: skip
+    return fig, {"pairs": s["pairs"], "samples": s["samples"], "angles": s["view_angles"], "rows": len(cells),
+                 "font_pt": font, "failures": [r.label for r in table if not r.plausible]}  # fmt: skip
+
+
+#: The table's type: as large as the slide allows, up to :data:`TABLE_MAX_PT`; never below :data:`TABLE_MIN_PT`
+#: (10 pixels at 1280 pixels across a 16:9 slide).
+TABLE_MAX_PT = 12.0
+TABLE_MIN_PT = 7.5
+
+
+def draw_table(fig, head, cells, verdicts, *, margin_in: float = 0.06) -> float:
+    """Draw a table filling ``fig``: columns as wide as their text, type as large as the figure allows.
+
+    The type size is the largest (up to :data:`TABLE_MAX_PT`) at which every column's widest text and
+    every row fit the figure; the rows are spaced 1.45 lines apart (1.25 or 1.15 when that keeps
+    the type at 9 pt or more). Cells
+    holding a verdict are centred in bold on green ("pass") or red ("FAIL").
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        An empty figure without a layout engine (``layout=None``).
+    head : list of str
+        The column titles.
+    cells : list of list of str
+        The rows, one string per column.
+    verdicts : list of list
+        Per cell: ``True`` (pass), ``False`` (FAIL) or ``None`` (plain text).
+    margin_in : float, optional
+        The white margin around the table, in inches.
+
+    Returns
+    -------
+    float
+        The type size used, in points.
+
+    Raises
+    ------
+    ValueError
+        When the rows cannot fit at :data:`TABLE_MIN_PT` (naming the row count and the figure size).
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(40 / 3, 7.5))
+    >>> draw_table(fig, ["model", "energy"], [["Lambert", "pass"]] * 10, [[None, True]] * 10)
+    12.0
+    >>> draw_table(Figure(figsize=(40 / 3, 7.5)), ["model", "energy"], [["Lambert", "pass"]] * 50, [[None, True]] * 50)
+    9.0
+    >>> draw_table(Figure(figsize=(40 / 3, 7.5)), ["model"], [["Lambert"]] * 80, [[None]] * 80)
+    Traceback (most recent call last):
+    ValueError: a table of 80 rows does not fit a 13.3 x 7.5 in figure at 7.5 pt or more
+    """
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.patches import Rectangle
+    from matplotlib.textpath import TextToPath
+
+    ok, bad, plain, header = "#d4edda", "#f8d7da", "white", "#e9ecef"
+    width_pt, height_pt = (x * 72.0 - 2 * margin_in * 72.0 for x in fig.get_size_inches())
+    measure = TextToPath()
+    ref = 10.0  # widths are measured at 10 pt and scale with the type size
+
+    def text_width(text, bold):
+        prop = FontProperties(family="DejaVu Sans", size=ref, weight="bold" if bold else "normal")
+        return measure.get_text_width_height_descent(text, prop, ismath=False)[0]
+
+    ncol = len(head)
+    widths = [text_width(h, True) for h in head]
+    for row, marks in zip(cells, verdicts, strict=True):
+        for j, (text, mark) in enumerate(zip(row, marks, strict=True)):
+            widths[j] = max(widths[j], text_width(text, mark is not None))
+    pad = 0.4  # each side of a cell, in ems
+    by_width = width_pt / (sum(widths) / ref + 2 * pad * ncol)
+    rows = len(cells) + 1
+    for pitch in (1.45, 1.25, 1.15):
+        font = min(TABLE_MAX_PT, by_width, height_pt / (pitch * rows))
+        if font >= 9.0:
+            break
+    font = math.floor(font * 4) / 4  # quarter points: the same size from run to run
+    if font < TABLE_MIN_PT:
+        raise ValueError(f"a table of {len(cells)} rows does not fit a {fig.get_figwidth():.3g} x "
+                         f"{fig.get_figheight():.3g} in figure at {TABLE_MIN_PT:g} pt or more")  # fmt: skip
+    # The width left over goes to every column in proportion to its text.
+    spare = width_pt - (sum(widths) * font / ref + 2 * pad * font * ncol)
+    cols = [w * font / ref + 2 * pad * font + spare * w / sum(widths) for w in widths]
+    row_h = pitch * font
+    x0 = margin_in * 72.0
+    y0 = margin_in * 72.0 + max(0.0, (height_pt - rows * row_h) / 2)  # centred when the width decides
+    ax = fig.add_axes((0, 0, 1, 1))
+    ax.set_xlim(0, fig.get_figwidth() * 72.0)
+    ax.set_ylim(fig.get_figheight() * 72.0, 0)  # points, from the top
+    ax.axis("off")
+    for i, (row, marks) in enumerate([(head, [None] * ncol), *zip(cells, verdicts, strict=True)]):
+        y = y0 + i * row_h
+        x = x0
+        for j, (text, mark) in enumerate(zip(row, marks, strict=True)):
+            face = header if i == 0 else (plain if mark is None else (ok if mark else bad))
+            ax.add_patch(Rectangle((x, y), cols[j], row_h, facecolor=face, edgecolor="0.8", lw=0.6))
+            style = {"fontsize": font, "va": "center", "parse_math": False}
+            if i == 0:
+                ax.text(x + pad * font, y + row_h / 2, text, fontweight="bold", **style)
+            elif mark is None:
+                ax.text(x + pad * font, y + row_h / 2, text, **style)
+            else:
+                ax.text(x + cols[j] / 2, y + row_h / 2, text, ha="center", fontweight="bold",
+                        color="#1e6b34" if mark else "#a12a33", **style)  # fmt: skip
+            x += cols[j]
+    return font
