@@ -16,6 +16,7 @@ from .base import new_figure, register, series_colours
 
 @register(
     "energy_compensation",
+    size="16:9",
     title="Energy compensation: the white furnace before and after",
     caption=(
         "A white furnace test: a surface with F = 1 (a perfect white metal) under a uniform white sky should "
@@ -23,8 +24,8 @@ from .base import new_figure, register, series_colours
         "height-correlated Smith G (dashed) falls with the roughness α, down to {min_uncompensated:.3f} at α = 1 "
         "(1 − ln 2 at normal incidence), because light that hits a second microfacet is dropped. "
         "Kulla and Conty's multiple-scattering lobe f_ms = (1 − E(μ_o))(1 − E(μ_i)) / (π (1 − E_avg)) gives it "
-        "back (solid). Middle: the compensated albedo, magnified, stays within ±1 % (shaded) up to θ_v = 85° "
-        "(largest deviation {max_deviation:.1e}). Right: the table E(μ, α) the lobe is built from (computed by "
+        "back (solid). Top right: the compensated albedo, magnified, stays within ±1 % (shaded) up to θ_v = 85° "
+        "(largest deviation {max_deviation:.1e}). Bottom right: the table E(μ, α) the lobe is built from (computed by "
         "the engine on first use, 32 × 32 nodes in μ and √α)."
     ),
     slides="Beyond the slides: energy conservation of microfacet models (Kulla & Conty, SIGGRAPH 2017)",
@@ -59,8 +60,10 @@ def energy_compensation(q, *, alphas, ndf, geometry):
     samples = 1024 if q.quick else 4096
     colours = series_colours(len(alphas), "viridis", 0.85)
 
-    fig = new_figure(15.5, 4.9)
-    ax, zoom, tab = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.15, 1.0, 0.95]})
+    fig = new_figure()
+    gs = fig.add_gridspec(2, 2, width_ratios=[1.3, 1.0])
+    ax = fig.add_subplot(gs[:, 0])
+    zoom, tab = fig.add_subplot(gs[0, 1]), fig.add_subplot(gs[1, 1])
     deviation = 0.0
     lowest = 1.0
     for alpha, colour in zip(alphas, colours, strict=True):
@@ -80,19 +83,19 @@ def energy_compensation(q, *, alphas, ndf, geometry):
     ax.set_xlabel(r"view angle $\theta_v$ (degrees)")
     ax.set_ylabel(r"directional albedo $\rho(\theta_v)$, F = 1")
     ax.grid(True)
-    ax.legend(loc="lower left", ncol=2, fontsize=10.5)
+    ax.legend(loc="lower left", ncol=2, fontsize=12)
     ax.set_title("White furnace: without (dashed) and with (solid)")
 
     zoom.axhspan(0.99, 1.01, color="#56B4E9", alpha=0.18, lw=0, label="±1 %")
     zoom.axhline(1.0, color="0.4", lw=0.9)
     zoom.axvline(85.0, color="0.6", ls=":", lw=1.2)
     zoom.set_xlim(0, 90)
-    zoom.set_ylim(0.985, 1.015)
+    zoom.set_ylim(0.974, 1.015)  # room under the band for the legend
     zoom.set_xticks(np.arange(0, 91, 15))
     zoom.set_xlabel(r"view angle $\theta_v$ (degrees)")
     zoom.set_ylabel(r"$\rho(\theta_v)$ with compensation")
     zoom.grid(True)
-    zoom.legend(loc="lower left", ncol=2, fontsize=10.5)
+    zoom.legend(loc="lower left", ncol=3, fontsize=11)
     zoom.set_title("With compensation, magnified")
 
     table = albedo_table(ndf, geometry)
@@ -101,7 +104,7 @@ def energy_compensation(q, *, alphas, ndf, geometry):
     e = table.E(mu[None, :], (r * r)[:, None])
     im = tab.imshow(e, origin="lower", extent=(0, 1, 0, 1), aspect="auto", vmin=0.0, vmax=1.0, cmap="viridis")
     cs = tab.contour(mu, r, e, levels=(0.4, 0.6, 0.8, 0.9, 0.95), colors="white", linewidths=0.9)
-    tab.clabel(cs, fmt="%.2f", fontsize=9.5)
+    tab.clabel(cs, fmt="%.2f", fontsize=10.5)
     tab.set_xlabel(r"$\mu = \cos\theta$")
     tab.set_ylabel(r"$\sqrt{\alpha}$")
     tab.set_title(r"Albedo table $E(\mu, \alpha)$ (GGX, Smith corr.)")
