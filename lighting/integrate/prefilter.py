@@ -57,6 +57,7 @@ from ..lights.environment import (
     LatLongEnvironment,
     as_environment,
     latlong_angles,
+    latlong_azimuth,
     latlong_lookup,
 )
 from .sh import SH_CONSTANTS
@@ -264,8 +265,9 @@ def latlong_sh(image) -> np.ndarray:
     t = _row_bounds(h)
     t0, t1 = t[:-1], t[1:]
     z0, z1 = np.cos(t0), np.cos(t1)
-    p = np.arange(w + 1) * (2 * math.pi / w)
-    p0, p1 = p[:-1], p[1:]
+    # Column j spans the azimuths from φ(a = 2π(j+1)/W) up to φ(a = 2πj/W): φ falls as the columns grow.
+    p = latlong_azimuth(np.arange(w + 1) * (2 * math.pi / w))
+    p0, p1 = p[1:], p[:-1]
     # ∫ g(θ) sin θ dθ over each row (z = cos θ decreasing from z0 to z1).
     rows = {
         "1": z0 - z1,

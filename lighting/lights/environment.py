@@ -28,11 +28,20 @@ coordinates, the same as the local shading frame and
 :meth:`lighting.lights.punctual.DirectionalLight.from_angles`): ``+z`` is "up";
 ``θ`` is measured from ``+z``, ``φ`` from ``+x`` toward ``+y``.  Row ``i`` of an
 ``H × W`` image holds ``θ ∈ [iπ/H, (i+1)π/H]`` (row 0 the sky at the zenith,
-the last row the ground at the nadir) and column ``j`` holds
-``φ ∈ [2πj/W, 2π(j+1)/W]``.  Seen from inside the sphere with ``+z`` up, ``φ``
-grows to the *left*, so a photographic panorama (which turns right as its
-columns grow) must be flipped left–right, ``image[:, ::-1]``, to appear
-unmirrored.
+the last row the ground at the nadir; pixel centres at ``θ = (i + ½)π/H``).
+Columns run the other way round from ``φ``: the horizontal image coordinate
+``u ∈ [0, 1)`` (``u = (j + ½)/W`` at the centre of column ``j``) looks along
+
+    φ = π − 2π u,        u = (π − φ) / (2π)  (mod 1),
+
+so the centre column looks along ``+x``, a quarter in from the left along ``+y``, and
+both edges along ``−x``.  This is the common orientation of panoramas: seen from
+inside the sphere with ``+z`` up, the world turns to the right as the columns grow, as
+in a photograph, and Blender's equirectangular world texture (``+z`` up) shows the same
+world at the same azimuths.  Mitsuba 3's ``envmap`` made ``+z``-up by
+``to_world = rotate([1, 0, 0], 90)`` shows the same world turned about ``+z`` by −90°
+(it looks along ``φ = π/2 − 2π u``).  :func:`latlong_angles` gives the column angle
+``2π u``; :func:`latlong_azimuth` turns it back into ``φ``.
 """
 
 from __future__ import annotations
@@ -67,6 +76,7 @@ __all__ = [
     "as_environment",
     "latlong_lookup",
     "latlong_angles",
+    "latlong_azimuth",
 ]
 
 _INV_4PI = 1.0 / (4.0 * math.pi)
@@ -255,8 +265,15 @@ def _pixel_rows(h: int) -> np.ndarray:
     return np.cos(np.linspace(0.0, math.pi, h + 1))
 
 
+#: The azimuth ``φ`` that the left edge of a lat-long image looks along (see the module notes).
+LATLONG_LEFT_EDGE_PHI = math.pi
+
+
 def latlong_angles(directions):
-    """``(θ, φ)`` of ``directions`` ``(..., 3)`` in the lat-long layout: ``θ`` from ``+z``, ``φ ∈ [0, 2π)`` from ``+x``.
+    """``(θ, a)`` of ``directions`` ``(..., 3)`` in the lat-long layout: the image's two coordinates as angles.
+
+    ``θ`` is measured from ``+z`` (rows), ``a = 2π u = (π − φ) mod 2π ∈ [0, 2π)`` is the column
+    angle, growing with the column index (see the module notes for the orientation).
 
     Parameters
     ----------
@@ -264,10 +281,32 @@ def latlong_angles(directions):
 
     Returns
     -------
-    theta, phi : ndarray, (...)
+    theta, a : ndarray, (...)
+
+    Examples
+    --------
+    >>> t, a = latlong_angles(np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]))  # +x: the centre; +y: a quarter in
+    >>> (a / (2 * np.pi)).round(12).tolist()
+    [0.5, 0.25]
     """
     d = directions
-    return np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2]), np.mod(np.arctan2(d[..., 1], d[..., 0]), 2 * math.pi)
+    phi = np.arctan2(d[..., 1], d[..., 0])
+    return np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2]), np.mod(LATLONG_LEFT_EDGE_PHI - phi, 2 * math.pi)
+
+
+def latlong_azimuth(a):
+    """The azimuth ``φ = π − a`` that the column angle ``a = 2π u`` of :func:`latlong_angles` looks along.
+
+    Parameters
+    ----------
+    a : array_like
+
+    Returns
+    -------
+    ndarray
+        ``φ`` in radians (from ``+x`` toward ``+y``; not wrapped).
+    """
+    return LATLONG_LEFT_EDGE_PHI - np.asarray(a)
 
 
 def latlong_lookup(flat, height: int, width: int, directions, poles=None, *, angles=None) -> np.ndarray:
@@ -297,8 +336,8 @@ def latlong_lookup(flat, height: int, width: int, directions, poles=None, *, ang
         In the wider of the image's and the directions' float dtypes.
     """
     h, w = height, width
-    theta, phi = latlong_angles(directions) if angles is None else angles
-    fx = phi * (w / (2 * math.pi)) - 0.5
+    theta, a = latlong_angles(directions) if angles is None else angles
+    fx = a * (w / (2 * math.pi)) - 0.5
     j0 = np.floor(fx)
     tx = (fx - j0)[..., None]
     j0 = j0.astype(np.int64) % w
@@ -327,9 +366,9 @@ class LatLongEnvironment(Environment):
     r"""An equirectangular (latitude–longitude) radiance image.
 
     Pixel ``(i, j)`` of an ``(H, W, 3)`` image is centred on
-    ``θ = (i + ½) π / H`` (from ``+z``) and ``φ = (j + ½) 2π / W`` (from
+    ``θ = (i + ½) π / H`` (from ``+z``) and ``φ = π − (j + ½) 2π / W`` (from
     ``+x`` toward ``+y``), i.e. :func:`lighting.vec.spherical_direction`
-    of those angles; see the module notes for the orientation.
+    of those angles: the common orientation of panoramas, not mirrored (see the module notes).
 
     Lookup is bilinear between pixel centres, wrapping around in ``φ`` and
     clamped to the first and last rows in ``θ`` (so within half a pixel of a pole
@@ -420,7 +459,7 @@ class LatLongEnvironment(Environment):
         """
         height, width = _image_size(height, check_count("width", width, 1))
         th = (np.arange(height) + 0.5) * (math.pi / height)
-        ph = (np.arange(width) + 0.5) * (2 * math.pi / width)
+        ph = latlong_azimuth((np.arange(width) + 0.5) * (2 * math.pi / width))
         st, ct = np.sin(th)[:, None], np.cos(th)[:, None]
         return np.stack(np.broadcast_arrays(st * np.cos(ph), st * np.sin(ph), ct), axis=-1)
 
@@ -469,14 +508,14 @@ class LatLongEnvironment(Environment):
         c = _pixel_rows(h)
         z = c[i] + (c[i + 1] - c[i]) * v
         r = np.sqrt(np.clip((1 - z) * (1 + z), 0.0, None))
-        phi = (j + u[..., 1]) * (2 * math.pi / w)
+        phi = latlong_azimuth((j + u[..., 1]) * (2 * math.pi / w))
         d = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
         return d, self._density[k]
 
     def _pdf(self, d):
-        theta, phi = latlong_angles(d)
+        theta, a = latlong_angles(d)
         i = np.clip(np.floor(theta * (self.height / math.pi)).astype(np.int64), 0, self.height - 1)
-        j = np.clip(np.floor(phi * (self.width / (2 * math.pi))).astype(np.int64), 0, self.width - 1)
+        j = np.clip(np.floor(a * (self.width / (2 * math.pi))).astype(np.int64), 0, self.width - 1)
         return self._density[i * self.width + j]
 
 

@@ -27,6 +27,7 @@ from lighting.lights.environment import (
     FunctionEnvironment,
     LatLongEnvironment,
     SmallPatchEnvironment,
+    latlong_angles,
 )
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -413,9 +414,9 @@ def test_rotation_by_90_degrees_moves_phi_0_to_phi_90():
     # The cap's support turns with it (exactly: cos 90° = 0).
     np.testing.assert_array_equal(env.support[0], [0.0, 1.0, 0.0])
     assert env.support[1] == spot.half_angle
-    # An image: a bright column at φ = 0 appears at φ = 90°.
+    # An image: a bright column at φ = 0 (the image's centre) appears at φ = 90°.
     img = np.zeros((8, 16, 3))
-    img[:, 0] = img[:, 15] = 1.0
+    img[:, 7] = img[:, 8] = 1.0
     env = TransformedEnvironment(LatLongEnvironment(img), rotation=90.0)
     assert env.radiance([0.0, 1.0, 0.0])[0] == 1.0 and env.radiance([1.0, 0.0, 0.0])[0] == 0.0
     np.testing.assert_allclose(env.to_base([[0.0, 1.0, 0.5]]), [[1.0, 0.0, 0.5]], atol=0)
@@ -461,7 +462,7 @@ def test_rotated_image_sampling_is_consistent_with_its_density():
     # χ² of the samples over the base's pixels (turned back into the base frame).
     b = env.to_base(d)
     i = np.minimum((np.arccos(np.clip(b[:, 2], -1, 1)) / math.pi * 6).astype(int), 5)
-    j = np.minimum((np.mod(np.arctan2(b[:, 1], b[:, 0]), 2 * math.pi) / (2 * math.pi) * 12).astype(int), 11)
+    j = np.minimum((latlong_angles(b)[1] / (2 * math.pi) * 12).astype(int), 11)
     counts = np.bincount(i * 12 + j, minlength=72)
     expected = 60000 * base.pdf(LatLongEnvironment.pixel_directions(6, 12)).ravel() * base.solid_angles().ravel()
     keep = expected >= 5
@@ -474,7 +475,8 @@ def test_rotation_by_one_column_equals_rolling_the_image():
     h, w = 16, 32
     img = 0.2 + rng.random((h, w, 3))
     rotated = TransformedEnvironment(LatLongEnvironment(img), rotation=360.0 / w)
-    rolled = LatLongEnvironment(np.roll(img, 1, axis=1))
+    # Turning toward +φ moves the picture one column left: the columns run against φ.
+    rolled = LatLongEnvironment(np.roll(img, -1, axis=1))
     d = _rand_dirs(2000, 5)
     np.testing.assert_allclose(rotated.radiance(d), rolled.radiance(d), rtol=0, atol=1e-12)
     n = _rand_dirs(6, 6)

@@ -13,6 +13,7 @@ from lighting.lights.environment import (
     PointEnvironment,
     SmallPatchEnvironment,
     as_environment,
+    latlong_angles,
     uniform_sphere,
 )
 from lighting.vec import spherical_direction
@@ -55,26 +56,54 @@ def test_latlong_pixel_centres_return_pixel_values():
 
 
 def test_latlong_orientation_matches_engine_spherical_coordinates():
-    # Row i ↔ θ = (i + ½)π/H from +z; column j ↔ φ = (j + ½)2π/W from +x toward +y.
+    # Row i ↔ θ = (i + ½)π/H from +z; column j ↔ φ = π − (j + ½)2π/W from +x toward +y.
     h, w = 6, 12
     env = LatLongEnvironment(_coded_image(h, w))
     for i, j in [(0, 0), (2, 3), (5, 11), (3, 7)]:
-        d = spherical_direction((i + 0.5) * math.pi / h, (j + 0.5) * 2 * math.pi / w)
+        d = spherical_direction((i + 0.5) * math.pi / h, math.pi - (j + 0.5) * 2 * math.pi / w)
         np.testing.assert_allclose(env.radiance(d)[:2], [i, j], atol=1e-12)
     # Zenith reads the top row, nadir the bottom row.
     assert env.radiance(np.array([0.0, 0.0, 1.0]))[0] == 0.0
     assert env.radiance(np.array([0.0, 0.0, -1.0]))[0] == h - 1
 
 
+def test_a_single_bright_pixel_lands_where_blender_and_mitsuba_put_it():
+    # Row 9, column 21 of a 64 x 32 panorama.  Blender's equirectangular world (+z up) reads a direction d
+    # at u = (π − atan2(d_y, d_x)) / 2π; Mitsuba 3's envmap, in its y-up frame, at u = atan2(x, −z) / 2π, and
+    # made +z-up by to_world = rotate([1, 0, 0], 90) its frame's (x, y, z) is the world's (x, z, −y).
+    h, w, i, j = 32, 64, 9, 21
+    img = np.zeros((h, w, 3))
+    img[i, j] = 1.0
+    env = LatLongEnvironment(img)
+    u, v = (j + 0.5) / w, (i + 0.5) / h
+    # Where the engine puts the pixel: its brightest direction on a fine probe, and its samples.
+    probe = LatLongEnvironment.pixel_directions(8 * h, 8 * w).reshape(-1, 3)
+    d = probe[np.argmax(env.radiance(probe)[:, 0])]
+    samples, _ = env.sample(np.random.default_rng(1).random((2000, 2)))
+    # (The sampler draws from the pixel's 3 x 3 neighbourhood, which bilinear lookup reaches.)
+    for (x, y, z), reach in ((d, 0.5), *((s, 1.5) for s in samples)):
+        assert math.acos(z) / math.pi == pytest.approx(v, abs=reach / h)
+        assert ((math.pi - math.atan2(y, x)) / (2 * math.pi)) % 1 == pytest.approx(u, abs=reach / w)  # Blender
+        assert (math.atan2(x, y) / (2 * math.pi)) % 1 == pytest.approx((u - 0.25) % 1, abs=reach / w)  # Mitsuba
+    # The pixel's centre, φ = 180° − 360° u = 59.06° (a mirrored layout would put it at 120.94°).
+    assert math.degrees(math.atan2(d[1], d[0])) == pytest.approx(180 - 360 * u, abs=360 / (8 * w))
+    # Not mirrored: seen from inside with +z up, looking along +x (the image's centre), +y is on the left.
+    a_left = latlong_angles(np.array([0.0, 1.0, 0.0]))[1]
+    a_centre = latlong_angles(np.array([1.0, 0.0, 0.0]))[1]
+    assert a_left < a_centre and a_centre == pytest.approx(math.pi, abs=1e-15)
+
+
 def test_latlong_bilinear_and_wraps_in_phi():
     img = np.zeros((2, 4, 3))
-    img[:, 0] = 1.0  # column 0 centred at φ = π/4; column 3 at φ = 7π/4
+    img[:, 0] = 1.0  # column 0 centred at φ = π − π/4; column 3 at φ = π − 7π/4
     img[:, 3] = 3.0
     env = LatLongEnvironment(img)
-    # φ = 0 lies halfway between the centres of columns 3 and 0 (across the seam).
-    assert env.radiance(spherical_direction(math.pi / 4, 0.0))[0] == pytest.approx(2.0, abs=1e-12)
+    # φ = π (both edges of the image) lies halfway between the centres of columns 3 and 0 (across the seam).
+    assert env.radiance(spherical_direction(math.pi / 4, math.pi))[0] == pytest.approx(2.0, abs=1e-12)
     # A quarter of the way from column 0's centre toward column 1's.
-    assert env.radiance(spherical_direction(math.pi / 4, math.pi / 4 + math.pi / 8))[0] == pytest.approx(0.75)
+    assert env.radiance(spherical_direction(math.pi / 4, math.pi - (math.pi / 4 + math.pi / 8)))[0] == pytest.approx(
+        0.75
+    )
     # Linear in θ between the two row centres (θ = π/4 and 3π/4); clamped beyond them.
     img2 = np.zeros((2, 4, 3))
     img2[1] = 4.0
@@ -115,9 +144,9 @@ def test_latlong_sampling_chi_square_over_pixels():
     n = 60000
     d, _ = env.sample(rng.random((n, 2)))
     theta = np.arccos(np.clip(d[:, 2], -1, 1))
-    phi = np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * math.pi)
+    a = latlong_angles(d)[1]  # the column angle 2πu
     i = np.minimum((theta / math.pi * 6).astype(int), 5)
-    j = np.minimum((phi / (2 * math.pi) * 12).astype(int), 11)
+    j = np.minimum((a / (2 * math.pi) * 12).astype(int), 11)
     counts = np.bincount(i * 12 + j, minlength=72)
     expected = n * env.pdf(LatLongEnvironment.pixel_directions(6, 12)).ravel() * env.solid_angles().ravel()
     keep = expected >= 5

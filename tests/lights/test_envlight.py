@@ -67,7 +67,8 @@ def test_a_rotation_by_whole_columns_is_the_rolled_image():
     r = Renderer(AnalyticSphere(), _camera(40))
     mat = Material(Lambert(0.3) + CookTorrance(1.0, 0.2, 0.04, ndf="ggx", geometry="smith"))
     turned = r.render(mat, [EnvironmentLight(LatLongEnvironment(img), rotation=360 / 64 * 5)], form="physical")
-    rolled = r.render(mat, [EnvironmentLight(LatLongEnvironment(np.roll(img, 5, axis=1)))], form="physical")
+    # Turning toward +φ moves the picture left: the columns run against φ.
+    rolled = r.render(mat, [EnvironmentLight(LatLongEnvironment(np.roll(img, -5, axis=1)))], form="physical")
     np.testing.assert_allclose(turned, rolled, rtol=1e-4, atol=1e-6)
 
 
