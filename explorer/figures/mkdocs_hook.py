@@ -12,7 +12,8 @@ is the one command, and the gallery can never list a figure the set does not hav
 Every page may quote the figure set instead of copying numbers by hand: ``{{ figures.count }}``
 is the number of figures, and ``{{ figures.NAME.KEY }}`` a value the figure ``NAME`` measured
 while it was drawn (its sidecar's ``measured`` entry; ``KEY.SUBKEY`` reaches into a nested one),
-with an optional format after a colon: ``{{ figures.ibl_error.median_error:.0% }}``.  A
+with an optional format after a colon: ``{{ figures.ibl_error.median_error:.0% }}``; the line
+``<!-- audit -->`` becomes the plausibility audit's table, computed once per build.  A
 placeholder that names no figure or no value stops the build with one line naming the page; one
 written with a backslash before it, ``\{{ figures.count }}``, is shown as it is, without the backslash.
 
@@ -36,6 +37,7 @@ import sys
 # explorer/figures/mkdocs_hook.py → the checkout
 _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 _MARKER = "<!-- figures -->"
+_AUDIT_MARKER = "<!-- audit -->"
 _PLACEHOLDER_RE = re.compile(r"(?<!\\)\{\{\s*figures\.([\w.]+?)(?::([^}]*?))?\s*\}\}")
 # Formats a figure links to when the figure folder has them (the docs build itself writes PNG only).
 _LINKED_FORMATS = ("png", "svg", "pdf")
@@ -178,8 +180,15 @@ def _section(rec) -> str:
         "",
     ]
     if rec["name"] == "plausibility_table":
-        lines += [audit_markdown(1024 if _state["manifest"].get("quick") else 4096), ""]
+        lines += [_audit(), "The figure above is the same audit drawn for slides.", ""]
     return "\n".join(lines)
+
+
+def _audit() -> str:
+    """The audit table, computed once per build (at the quick set's node count when the set is quick)."""
+    if "audit" not in _state:
+        _state["audit"] = audit_markdown(1024 if _state["manifest"].get("quick") else 4096)
+    return _state["audit"]
 
 
 def _cell(text: str) -> str:
@@ -227,8 +236,7 @@ def audit_markdown(samples: int = 4096) -> str:
         r"$\rho$ is the directional albedo $\int f_r\,(\mathbf n\cdot\mathbf l)\,d\omega_l$, the largest over RGB, "
         f"by {s.get('method', 'quadrature')} "
         f"with {s.get('samples')} nodes per angle over {s.get('view_angles')} view angles; reciprocity is "
-        f"checked over {s.get('pairs')} direction pairs; energy fails when ρ max − err > 1 + {s.get('energy_tol')}. "
-        "The figure above is the same audit drawn for slides."
+        f"checked over {s.get('pairs')} direction pairs; energy fails when ρ max − err > 1 + {s.get('energy_tol')}."
     )
     return (
         intro
@@ -326,6 +334,8 @@ def on_page_markdown(markdown, page, config, files, **kwargs):
     """
     m = _state["manifest"]
     markdown = fill_placeholders(markdown, m, page.file.src_uri)
+    if _AUDIT_MARKER in markdown:
+        markdown = markdown.replace(_AUDIT_MARKER, _audit())
     if page.file.src_uri != "gallery.md" or _MARKER not in markdown:
         return markdown
     intro = f"{len(m['figures'])} figures" + (" (quick set: low resolution)" if m.get("quick") else "") + ".\n\n"
