@@ -35,6 +35,7 @@ def _measured(roughness: float, noise: float, missing: float, seed: int) -> Merl
 
 @register(
     "fit_to_measured",
+    size="16:9",
     title="Fitting analytic models to measured data",
     caption=(
         "A measured BRDF (here a stand-in: Disney's metallic lobe, roughness {roughness:g}, tabulated in MERL's "
@@ -79,7 +80,7 @@ def fit_to_measured(q, *, roughness, noise, missing, angles_deg):
         result = fit_brdf(name, data, fixed=fixed, n_theta=8 if q.quick else 12, n_phi=12 if q.quick else 16)
         fits.append((name, result, colour))
 
-    fig = new_figure(13.5, 7.2)
+    fig = new_figure()
     grid = fig.add_gridspec(2, 4, height_ratios=(1.15, 1.0))
     light_deg = 45.0
     light = DirectionalLight((-math.sin(math.radians(light_deg)), 0.0, math.cos(math.radians(light_deg))))
@@ -95,9 +96,10 @@ def fit_to_measured(q, *, roughness, noise, missing, angles_deg):
             s = polar_slice(result.model, th, n=q.polar_n, channel=0)
             ax.plot(*s.xy.T, color=colour, lw=2.0, label=f"{_LABEL[name]}  (rel. rms {result.relative_rms:.3f})")
         ax.plot([0, -1.12 * peak * math.sin(th)], [0, 1.12 * peak * math.cos(th)], color=VEC["l"], ls=":", lw=1.6)
-        ax.set_title(f"f_r (1/sr), light at θ_l = {a:g}°", fontsize=12)
+        ax.set_title(rf"$f_r$ (1/sr), light at $\theta_l$ = {a:g}°", fontsize=13)
         if j == 0:
-            ax.legend(loc="upper left", fontsize=10, frameon=False, bbox_to_anchor=(-0.02, 1.02))
+            # Above both slices: inside a half disc the legend would cover its frame and the light's line.
+            fig.legend(loc="outside upper center", ncol=4, fontsize=11, frameon=False, columnspacing=1.5)
     spheres = [("measured", data, "0.15")] + [(_LABEL[name], r.model, c) for name, r, c in fits]
     for k, (label, brdf, colour) in enumerate(spheres):
         ax = fig.add_subplot(grid[1, k])
