@@ -201,8 +201,8 @@ def _no_drawing(monkeypatch):
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--dpi", "100000"], "--dpi 100000 makes the largest figure 1900000x1200000 pixels; Matplotlib draws at most"),
-        (["--dpi", "2000"], "--dpi 2000 needs about 6.8 GiB (the largest figure at 38000x24000 pixels), over the"),
+        (["--dpi", "100000"], "--dpi 100000 makes light_colour 1333334x750000 pixels; Matplotlib draws at most"),
+        (["--dpi", "2000"], "--dpi 2000 needs about 3.0 GiB (light_colour at 26667x15000 pixels), over the"),
         (["--dpi", "0"], "dpi must be an integer >= 10; got 0"),
         (["--jobs", "0"], "--jobs must be an integer in [1, 64]; got 0"),
         (["--jobs", "-1"], "--jobs must be an integer in [1, 64]; got -1"),
