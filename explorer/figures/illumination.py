@@ -289,7 +289,7 @@ def one_point_many_directions(q, *, angles_deg, kd, ks, e):
         sa = fig.add_subplot(gs[i, 1])
         t = math.radians(a)
         img = sphere_rgb8(Material(brdf, ambient=0.0), [DirectionalLight((math.sin(t), 0.0, math.cos(t)))],
-                          q.sphere_px // 2)  # fmt: skip
+                          q.sphere_px)  # fmt: skip
         show_image(sa, img)
         sa.set_ylabel(f"{abs(a):g}°", color=c, fontsize=14, rotation=0, labelpad=18, va="center")
     return fig, {

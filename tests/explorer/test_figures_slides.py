@@ -187,3 +187,23 @@ def test_gl_spot_parameters(measured):
     assert m["edge_value"] == pytest.approx(c ** params["exponent_drawn"], rel=1e-12)
     assert m["outside_value"] == 0.0
     assert m["pool_radius_px"] == pytest.approx(m["pool_radius_expected_px"], rel=0.05)
+
+
+def test_gouraud_vs_phong_plots_everything_inside_its_axes():
+    fig, _, _, _, m = make_figure("gouraud_vs_phong", quick=True)
+    plots = [ax for ax in fig.axes if ax.get_lines() and not ax.images]
+    assert {ax.get_title() for ax in plots} == {"Intensity along the scan line", "Kinks at the triangle edges"}
+    for ax in plots:
+        (x0, x1), (y0, y1) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
+        for line in ax.get_lines():
+            if line.get_transform() != ax.transData:  # guides across the axes: the edges, the zero line
+                continue
+            x, y = (np.asarray(a, dtype=float) for a in line.get_data())
+            assert np.all((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)), (ax.get_title(), line.get_label())
+    # The Mach band kinks stay visible: Gouraud's largest kink spans a good part of the kink panel's height.
+    kinks = next(ax for ax in plots if ax.get_title() == "Kinks at the triangle edges")
+    gouraud = next(line for line in kinks.get_lines() if line.get_label().startswith("Gouraud"))
+    span = abs(np.subtract(*kinks.get_ylim()))
+    assert np.max(np.abs(gouraud.get_ydata())) > 0.25 * span
+    assert m["metric_gouraud"] > 5 * m["metric_phong"]
+    fig.clf()
