@@ -1,7 +1,7 @@
 """The ``lighting-explorer`` command.
 
 Every sub-command answers a bad request with one line on standard error,
-``lighting-explorer…: error: <what, the value given, what is allowed>``, and exit status 2;
+``lighting-explorer: error: <what, the value given, what is allowed>`` (:func:`print_error`), and exit status 2;
 Ctrl-C exits with 130 and ``SIGTERM`` with 143, leaving no temporary file behind (see
 :mod:`explorer.output`).  ``--memory-budget SIZE`` (anywhere on the line) sets the budget that
 image sizes, sample counts, worker counts and scene files are checked against before anything
@@ -18,34 +18,55 @@ from lighting._numeric import _fmt, memory_budget, set_memory_budget
 
 PROG = "lighting-explorer"
 
+#: What every error line starts with, whichever command (or argparse, or a missing extra) reports it.
+ERROR_PREFIX = f"{PROG}: error: "
+
 #: The smallest ``--memory-budget`` accepted.
 MIN_MEMORY_BUDGET = 1024**2
 
 
 class UsageError(ValueError):
-    """A malformed command line (unknown option, missing value): one line, exit status 2.
+    """A malformed command line (unknown option, missing value): one line, exit status 2."""
 
-    ``prog`` is the name the line starts with (``lighting-explorer`` unless the sub-command reports
-    under its own name).
+
+def print_error(error) -> int:
+    """Print one error line on standard error, ``lighting-explorer: error: …``; every command reports through it.
+
+    Parameters
+    ----------
+    error : BaseException or str
+        The error (shown as :func:`error_line` makes it: one line, no traceback) or the text itself.
+
+    Returns
+    -------
+    int
+        2, the exit status of a bad request.
+
+    Examples
+    --------
+    >>> import contextlib, io
+    >>> err = io.StringIO()
+    >>> with contextlib.redirect_stderr(err):
+    ...     status = print_error(ValueError("--size must be WIDTHxHEIGHT   or N; got 'x'"))
+    >>> status, err.getvalue().splitlines()
+    (2, ["lighting-explorer: error: --size must be WIDTHxHEIGHT or N; got 'x'"])
     """
-
-    def __init__(self, message: str, prog: str = PROG):
-        super().__init__(message)
-        self.prog = prog
+    text = error_line(error) if isinstance(error, BaseException) else " ".join(str(error).split())
+    print(ERROR_PREFIX + text, file=sys.stderr)
+    return 2
 
 
 class OneLineParser(argparse.ArgumentParser):
     """An ``ArgumentParser`` whose errors are a :class:`UsageError` instead of usage text and ``exit(2)``.
 
-    The caller prints the one line (``lighting-explorer: error: argument --size: invalid int value: 'x'``).
-    With ``own_name=True`` the line starts with the parser's own name and has no pointer to ``--help``
-    (``lighting-explorer figures: error: argument --dpi: …``), as ``figures`` has always reported.
+    The caller prints the one line with :func:`print_error`
+    (``lighting-explorer: error: argument --dpi: invalid int value: 'x' (see lighting-explorer figures --help)``):
+    every parser of the tree, a sub-command's or a report's, reports under the one prefix.
     """
 
-    def __init__(self, *args, own_name: bool = False, **kwargs):
+    def __init__(self, *args, **kwargs):
         kwargs.setdefault("formatter_class", DefaultsHelpFormatter)
         super().__init__(*args, **kwargs)
-        self.own_name = own_name
 
     def _check_value(self, action, value):
         # argparse's own check, with the closest choice suggested ('rendr' -> 'render', 'phong' typos, reports).
@@ -65,7 +86,7 @@ class OneLineParser(argparse.ArgumentParser):
         Raises
         ------
         UsageError
-            Named after this parser (``prog``) with ``own_name=True``; otherwise ending ``(see PROG --help)``.
+            The message, ending ``(see PROG COMMAND --help)`` with this parser's name.
         """
         from lighting._numeric import abbreviate
 
@@ -73,8 +94,6 @@ class OneLineParser(argparse.ArgumentParser):
         message = re.sub(r"'[^']{81,}'", lambda m: abbreviate(m.group(0)), message)
         # A type check that names its flag itself: "argument --size: --size must be …" says it once.
         message = re.sub(r"^argument (\S+?)(?:/\S+)?: (\1 )", r"\2", message)
-        if self.own_name:
-            raise UsageError(message, prog=self.prog)
         raise UsageError(f"{message} (see {self.prog} --help)")
 
 
@@ -221,43 +240,57 @@ def size_type(flag: str = "--size", *, minimum=(1, 1), maximum=None, example: st
 def resolve_scene(arg: str, flag: str = "SCENE") -> str:
     """The scene file a command line names: a file, or the name of a shipped example (``spotlight``).
 
+    One rule, for every option that takes a scene (``render SCENE``, ``explore --scene``): an argument
+    ending in ``.toml`` or holding a path separator is a file, and must exist; a bare word is the
+    name of a shipped example scene (``render --list``).  A missing file is never taken as a name.
+
     Parameters
     ----------
     arg : str
-        A path, or an example's name (with or without ``.toml``).
+        A path (``my.toml``, ``./scenes/a.toml``), or an example's name.
     flag : str
         The argument named in the error (``SCENE``, ``--scene``).
 
     Returns
     -------
     str
-        The path to load (a path with a folder in it is returned as given: the loader reports it if missing).
+        The path to load (the loader names a shipped example by its name in its messages).
 
     Raises
     ------
     ValueError
-        A bare name that is neither a file nor an example: the closest example and the list.
+        One line: a file that does not exist (naming it as given), or a word that is no example's
+        name (the closest name and the command that lists them).
 
     Examples
     --------
     >>> resolve_scene("spotlight").endswith("spotlight.toml")
     True
+    >>> try:
+    ...     resolve_scene("spotlite")
+    ... except ValueError as e:
+    ...     print(e)
+    SCENE: no example scene named 'spotlite'; did you mean 'spotlight'? (list them: lighting-explorer render --list)
     """
     import os
 
     from lighting.scene import example_path, list_examples
 
     arg = str(arg)
-    if os.path.exists(arg) or os.sep in arg or "/" in arg:
-        return arg
-    stem = arg[:-5] if arg.endswith(".toml") else arg
     names = list_examples()
-    if stem in names:
-        return example_path(stem)
-    hint = did_you_mean(stem, names)
-    if not hint and arg.endswith(".toml"):
-        return arg  # a file name: the loader says that it does not exist
-    raise ValueError(f"{flag}: no scene file or example scene named {_fmt(arg)}{hint} (examples: {', '.join(names)})")
+    if arg.endswith(".toml") or os.sep in arg or "/" in arg or (os.altsep and os.altsep in arg):
+        if os.path.exists(arg):
+            return arg
+        from lighting.scene import SceneError
+
+        stem = os.path.basename(arg)[:-5] if arg.endswith(".toml") else ""
+        hint = f"; for the example scene, give its name alone: {stem}" if stem in names else ""
+        # As the loader names a file ("x.toml: …"), with the option in front when it is one (--scene x.toml: …).
+        raise SceneError(arg if flag == "SCENE" else f"{flag} {arg}", "", f"scene file does not exist{hint}")
+    if arg in names:
+        return example_path(arg)
+    raise ValueError(f"{flag}: no example scene named {_fmt(arg)}{did_you_mean(arg, names)} "
+                     f"(list them: {PROG} render --list)")  # fmt: skip
 
 
 #: Optional modules → (what to call them, the extra that installs them).  A command that needs one says
@@ -296,19 +329,20 @@ def missing_extra(command: str, module: str) -> MissingExtra:
     Returns
     -------
     MissingExtra
-        ``lighting-explorer figures: error: needs Matplotlib: pip install 'lighting-explorer[figures]'``.
+        Its message names the command, what it needs and how to install it (printed as
+        ``lighting-explorer: error: figures needs Matplotlib: pip install 'lighting-explorer[figures]'``).
 
     Examples
     --------
     >>> str(missing_extra("explore", "pyvista.plotting"))
-    "needs PyVista: pip install 'lighting-explorer[app]'"
+    "explore needs PyVista: pip install 'lighting-explorer[app]'"
     """
     top = str(module or "").split(".")[0]
-    prog = f"{PROG} {command}".strip()
+    who = f"{command} needs" if command else "needs"
     if top in EXTRAS:
         label, extra = EXTRAS[top]
-        return MissingExtra(f"needs {label}: pip install '{PROG}[{extra}]'", prog=prog)
-    return MissingExtra(f"needs the Python module {top!r}, which is not installed", prog=prog)
+        return MissingExtra(f"{who} {label}: pip install '{PROG}[{extra}]'")
+    return MissingExtra(f"{who} the Python module {top!r}, which is not installed")
 
 
 def require(command: str, *modules: str) -> None:
@@ -471,12 +505,9 @@ def run_alone(name: str, argv=None) -> int:
     except SystemExit as exc:  # --help
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
     except ImportError as exc:
-        exc = missing_extra(name, getattr(exc, "name", None) or "")
-        print(f"{exc.prog}: error: {exc}", file=sys.stderr)
-        return 2
+        return print_error(missing_extra(name, getattr(exc, "name", None) or ""))
     except (ValueError, OSError, MemoryError, RecursionError) as exc:
-        print(f"{getattr(exc, 'prog', PROG)}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
+        return print_error(exc)
 
 
 def parse_and_run(build_parser, run, argv=None, *, errors=(ValueError,)) -> int:
@@ -503,8 +534,7 @@ def parse_and_run(build_parser, run, argv=None, *, errors=(ValueError,)) -> int:
     try:
         args = build_parser().parse_args(argv)
     except errors as exc:
-        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     return run(args)
 
 
@@ -619,9 +649,7 @@ def main(argv=None) -> int:
         except SystemExit as exc:  # --help, or a sub-command's own argparse
             return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
         except ImportError as exc:  # an optional module missing deep inside: still one line naming the extra
-            exc = missing_extra(_command_of(argv), getattr(exc, "name", None) or "")
-            print(f"{exc.prog}: error: {exc}", file=sys.stderr)
-            return 2
+            return print_error(missing_extra(_command_of(argv), getattr(exc, "name", None) or ""))
         except KeyboardInterrupt:
             print(f"{PROG}: interrupted", file=sys.stderr)
             return 130
@@ -629,8 +657,7 @@ def main(argv=None) -> int:
             print(f"{PROG}: terminated", file=sys.stderr)
             return 143
         except (ValueError, OSError, MemoryError, RecursionError) as exc:
-            print(f"{getattr(exc, 'prog', PROG)}: error: {error_line(exc)}", file=sys.stderr)
-            return 2
+            return print_error(exc)
         finally:
             set_memory_budget(previous)
 

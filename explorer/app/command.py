@@ -223,7 +223,7 @@ def run(args) -> int:
     int
         The exit status, as :func:`main`.
     """
-    from ..cli import PROG, error_line, require, resolve_scene
+    from ..cli import print_error, require, resolve_scene
     from ..output import check_output_path, write_image
     from . import ExplorerApp  # through the package, so that a test can stand in for the window
 
@@ -269,13 +269,11 @@ def run(args) -> int:
         for path, cls in zip(files[1:], classes[1:], strict=True):
             compare.add(cls(), os.path.basename(path))
     except (ValueError, OSError) as exc:
-        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     try:
         require("explore", "pyvista")  # the window is VTK's: the one line names the extra to install
     except ValueError as exc:
-        print(f"{exc.prog}: error: {exc}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     import pyvista as pv
 
     off_screen = bool(args.off_screen or args.screenshot)
@@ -291,8 +289,7 @@ def run(args) -> int:
         if getattr(args, "fit_now", False):
             app.fit(render=False)
     except ValueError as exc:
-        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     if args.screenshot is not None:
         try:
             rgb8 = np.ascontiguousarray(app.image(), dtype=np.uint8)
@@ -301,8 +298,7 @@ def run(args) -> int:
         try:
             write_image(args.screenshot, rgb8=rgb8, flag="--screenshot")
         except ValueError as exc:
-            print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
-            return 2
+            return print_error(exc)
         print(f"lighting-explorer: wrote {args.screenshot} ({rgb8.shape[1]}x{rgb8.shape[0]})")
         return 0
     if off_screen:

@@ -63,7 +63,7 @@ def run(args) -> int:
 
     from .. import bench
     from .._allocator import tune_allocator
-    from ..cli import PROG, error_line
+    from ..cli import print_error
 
     repeat = args.repeat if args.repeat is not None else (3 if getattr(args, "ibl", False) else 15)
     try:
@@ -71,8 +71,7 @@ def run(args) -> int:
         if args.plan and getattr(args, "ibl", False):
             raise ValueError("--plan and --ibl are separate benchmarks: give one of them")
     except ValueError as exc:
-        print(f"{PROG}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     tune_allocator()
     if args.plan:
         rows = bench.time_plans(repeat)

@@ -17,7 +17,7 @@ import tomllib
 
 from lighting._numeric import _fmt
 
-__all__ = ["Define", "parse_define", "apply_defines"]
+__all__ = ["Define", "parse_define", "apply_defines", "key_label"]
 
 _SEGMENT = re.compile(r'(?:([A-Za-z0-9_-]+)|"([^"\\]*)")((?:\[\d{1,6}\])*)')
 _BARE_WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_.+-]*")
@@ -102,10 +102,29 @@ def _describe(value) -> str:
     return kinds.get(type(value), type(value).__name__)
 
 
-def _label(path) -> str:
+def key_label(path) -> str:
+    """A define's key path as the scene loader names keys in its messages.
+
+    Parameters
+    ----------
+    path : list of str or int
+        :attr:`Define.path`.
+
+    Returns
+    -------
+    str
+        E.g. ``"lights[0].intensity"``.
+
+    Examples
+    --------
+    >>> key_label(parse_define("materials.red.parts[0].kd=1").path)
+    'materials.red.parts[0].kd'
+    """
+    from lighting.scene.errors import _join
+
     out = ""
     for p in path:
-        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+        out = _join(out, p)
     return out
 
 
@@ -140,7 +159,7 @@ def apply_defines(data: dict, defines) -> dict:
         node = data
         for i, step in enumerate(d.path):
             last = i == len(d.path) - 1
-            where = _label(d.path[:i]) or "the scene"
+            where = key_label(d.path[:i]) or "the scene"
             if isinstance(step, int):
                 if not isinstance(node, list):
                     raise ValueError(

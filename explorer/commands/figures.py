@@ -6,8 +6,8 @@
                               [--quick] [--jobs N] [--accuracy-csv FILE] [--list]
 
 This module imports no Matplotlib: building the command line (:func:`explorer.cli.build_parser`) costs
-nothing; the figure set is loaded when the command runs.  Its errors start with its own name
-(``lighting-explorer figures: error: …``).
+nothing; the figure set is loaded when the command runs.  Its errors are one line, ``lighting-explorer: error: …``
+(:func:`explorer.cli.print_error`).
 """
 
 from __future__ import annotations
@@ -33,11 +33,11 @@ def add_parser(subparsers):
     Returns
     -------
     argparse.ArgumentParser
-        The new sub-parser (its ``func`` default is :func:`run`); its errors name ``lighting-explorer figures``.
+        The new sub-parser (its ``func`` default is :func:`run`).
     """
     p = subparsers.add_parser(
         "figures", help="the lecture-note figures with their captions",
-        description="Write the lecture-note figures (PNG/SVG/PDF, each with a JSON sidecar).", own_name=True,
+        description="Write the lecture-note figures (PNG/SVG/PDF, each with a JSON sidecar).",
     )  # fmt: skip
     p.add_argument("--out", "-o", default=os.path.join("out", "figures"), metavar="DIR", help="output folder")
     p.add_argument("--format", default="png", metavar="FORMATS", help="comma-separated formats among png, svg, pdf")
@@ -69,17 +69,15 @@ def run(args) -> int:
     int
         0 done, 1 a file could not be written, 2 a bad request (one line on standard error).
     """
-    from ..cli import PROG, require
+    from ..cli import print_error, require
 
     try:
         require("figures", "matplotlib")  # before the figure modules import it: one line naming the extra
     except ValueError as exc:
-        print(f"{exc.prog}: error: {exc}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     from .. import figures
     from ..progress import Progress
 
-    prog = f"{PROG} figures"
     try:
         if args.list:
             for name, spec in figures._load_registry().items():
@@ -93,8 +91,7 @@ def run(args) -> int:
         if args.accuracy_csv is not None:
             options["csv"] = figures.check_accuracy_csv(args.accuracy_csv)
     except ValueError as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     t0 = time.perf_counter()
     try:
         records = figures.generate(
@@ -102,10 +99,9 @@ def run(args) -> int:
             options=options, progress=Progress,
         )  # fmt: skip
     except ValueError as exc:
-        print(f"{prog}: error: {' '.join(str(exc).split())}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     except OSError as exc:
-        print(f"{prog}: error: {exc.strerror or exc}: {exc.filename or args.out}", file=sys.stderr)
+        print_error(f"{exc.strerror or exc}: {exc.filename or args.out}")
         return 1
     n_files = sum(len(r["files"]) for r in records)
     print(

@@ -30,10 +30,6 @@ DESCRIPTION = (
 )
 
 
-class _UsageError(Exception):
-    pass
-
-
 def _finite(text: str) -> float:
     try:
         v = float(text)
@@ -156,13 +152,15 @@ def load_with_defines(path: str, defines=()):
     ------
     ValueError
         The file's own problem as the loader reports it; a malformed ``-D``; or a value the overrides made
-        wrong, reported by the loader and followed by the ``-D`` given (``… (with -D image.width=0)``).
+        wrong, reported by the loader with the scene named as given (a shipped example by its name) and
+        followed by the ``-D`` that set the key at fault, else every ``-D`` given
+        (``spotlight: image.width: … (with -D image.width=0)``).
     """
     import tomllib
 
-    from lighting.scene import load_scene, parse_scene
+    from lighting.scene import SceneError, load_scene, parse_scene, scene_label
 
-    from .defines import apply_defines, parse_define
+    from .defines import apply_defines, key_label, parse_define
 
     parsed = [parse_define(d) for d in defines]  # a malformed -D is refused before the file is read
     scene = load_scene(path)  # the file as written: its own errors are named as its own
@@ -172,18 +170,45 @@ def load_with_defines(path: str, defines=()):
         data = tomllib.load(f)
     apply_defines(data, parsed)
     try:
-        return parse_scene(data, source=path, base_dir=os.path.dirname(os.path.abspath(path)))
+        return parse_scene(data, source=scene_label(path), base_dir=os.path.dirname(os.path.abspath(path)))
     except ValueError as exc:
         from lighting._numeric import abbreviate
 
-        given = " ".join(f"-D {abbreviate(d.text)}" for d in parsed)
+        key = exc.key if isinstance(exc, SceneError) else ""
+        # The -D that set the key at fault (or a table above it, or a value below it); the last one wins.
+        at_fault = [d for d in parsed if _overlaps(key_label(d.path), key)][-1:] or parsed
+        given = " ".join(f"-D {abbreviate(d.text)}" for d in at_fault)
         raise ValueError(f"{exc} (with {given})") from None
 
 
+def _overlaps(a: str, b: str) -> bool:
+    """Whether key paths ``a`` and ``b`` are the same or one holds the other (``lights[0]``, ``lights[0].x``)."""
+    if not a or not b:
+        return False
+    short, long = sorted((a, b), key=len)
+    return long == short or long.startswith(short + ".") or long.startswith(short + "[")
+
+
+def _check_size(size) -> None:
+    """Refuse a ``--size`` before the scene is read: an image of one object over the memory budget, or a side
+    longer than a scene's image may have."""
+    from lighting._numeric import check_budget
+    from lighting.scene import MAX_SCENE_IMAGE_SIDE
+    from lighting.scene.budget import BYTES_PER_PIXEL, BYTES_PER_PIXEL_PER_OBJECT
+
+    width, height = size
+    check_budget(f"--size {width}x{height}: the image", (BYTES_PER_PIXEL + BYTES_PER_PIXEL_PER_OBJECT) * width * height,
+                 what=f"{width}x{height} pixels of one object; more with more objects")  # fmt: skip
+    if max(width, height) > MAX_SCENE_IMAGE_SIDE:  # reached only with a raised --memory-budget
+        side = MAX_SCENE_IMAGE_SIDE
+        raise ValueError(f"--size must be at most {side}x{side} pixels (a scene's largest image); got {width}x{height}")
+
+
 def _run(args) -> int:
+    from lighting._text import plural
     from lighting.scene import SceneRenderer, check_scene_budget, scene_output_path
 
-    from ..cli import resolve_scene
+    from ..cli import UsageError, resolve_scene
     from ..output import check_output_path, write_image
 
     if args.list:
@@ -193,8 +218,11 @@ def _run(args) -> int:
             print(f"{name:{width}s}  {description}".rstrip())
         return 0
     if not args.scene:
-        raise _UsageError("the following arguments are required: SCENE (a scene file or an example name; see --list)")
+        raise UsageError("the following arguments are required: SCENE (a scene file or an example name; see --list) "
+                         f"(see {PROG} --help)")  # fmt: skip
     path = resolve_scene(args.scene, flag="SCENE")
+    if args.size:
+        _check_size(args.size)
     t0 = time.perf_counter()
     scene = load_with_defines(path, args.defines)
     if args.size:
@@ -221,8 +249,8 @@ def _run(args) -> int:
     write_image(out, rgb8=rgb8, linear=image, flag=flag)
     seconds = time.perf_counter() - t0
     print(
-        f"wrote {shown} ({info['width']}x{info['height']}, {info['objects']} objects, {info['lights']} lights, "
-        f"{seconds:.2f} s); {report}"
+        f"wrote {shown} ({info['width']}x{info['height']}, {plural(info['objects'], 'object')}, "
+        f"{plural(info['lights'], 'light')}, {seconds:.2f} s); {report}"
     )
     return 0
 
@@ -240,18 +268,14 @@ def run(args) -> int:
     int
         0 on success, 2 on any error (``lighting-explorer: error: …`` on standard error).
     """
+    from ..cli import print_error
+
     try:
         return _run(args)
-    except _UsageError as e:
-        print(f"lighting-explorer: error: {e} (see {PROG} --help)", file=sys.stderr)
-        return 2
-    except (ValueError, OSError) as e:
-        msg = str(e) if not isinstance(e, OSError) or not e.strerror else f"{e.strerror}: {e.filename}"
-        print(f"lighting-explorer: error: {msg}", file=sys.stderr)
-        return 2
+    except (ValueError, OSError) as exc:
+        return print_error(exc)
     except MemoryError:
-        print("lighting-explorer: error: out of memory (try a smaller --size)", file=sys.stderr)
-        return 2
+        return print_error("out of memory (try a smaller --size)")
 
 
 def main(argv=None) -> int:

@@ -120,6 +120,7 @@ def run(args) -> int:
     import numpy as np
 
     from lighting import AmbientLight, BlinnPhong, DirectionalLight, Lambert, Material
+    from lighting.render.camera import MAX_IMAGE_SIDE
     from lighting.render.image import MAX_EXPOSURE, encode_srgb8
     from lighting.render.sphere import render_sphere
 
@@ -130,6 +131,8 @@ def run(args) -> int:
     width, height = args.size
     shown = f"{width}x{height}" if width != height else str(width)
     check_budget(f"--size {shown}", SPHERE_BYTES_PER_PIXEL * width * height, what=f"a {width}x{height} sphere image")
+    if max(width, height) > MAX_IMAGE_SIDE:  # reached only with a raised --memory-budget
+        raise ValueError(f"--size must be at most {MAX_IMAGE_SIDE}x{MAX_IMAGE_SIDE} pixels; got {width}x{height}")
     kd = _rgb("--kd", args.kd)
     ks = _rgb("--ks", args.ks)
     shininess = check_nonnegative("--shininess", args.shininess)

@@ -29,7 +29,9 @@ def add_parser(subparsers):
     )
     reports = p.add_subparsers(dest="report", required=True, parser_class=type(p), metavar="REPORT", title="reports")
     for name in REPORTS:
-        add_report(reports, name, run=run)
+        # An argument the report does not know is reported by the report's own parser (explorer.cli.parse).
+        parser = add_report(reports, name, run=run)
+        parser.set_defaults(_parser=parser)
     return p
 
 
@@ -50,7 +52,10 @@ def run(args) -> int:
 
 
 def main(argv=None) -> int:
-    """``lighting-explorer report {accuracy,stability} ...``: run one report (0 for help, 2 for an unknown one).
+    """``lighting-explorer report {accuracy,stability} ...``: run one report.
+
+    ``--help`` lists the reports (exit status 0); no report name, or an unknown one, is a bad request:
+    one line on standard error naming the reports, exit status 2.
 
     Parameters
     ----------
@@ -62,23 +67,24 @@ def main(argv=None) -> int:
     int
         The exit status.
     """
+    from ..cli import PROG, did_you_mean, print_error
+
     argv = list(sys.argv[1:] if argv is None else argv)
-    if not argv or argv[0] in ("-h", "--help") or argv[0] not in REPORTS:
-        lines = ["usage: lighting-explorer report {accuracy,stability} [options]", "", "reports:"]
+    if argv and argv[0] in REPORTS:
+        return importlib.import_module(REPORTS[argv[0]][0]).main(argv[1:])
+    if argv and argv[0] in ("-h", "--help"):
+        lines = [f"usage: {PROG} report {{{','.join(REPORTS)}}} [options]", "", "reports:"]
         lines += [f"  {name:10s} {text}" for name, (_, text, *_) in REPORTS.items()]
-        lines += ["", "'lighting-explorer report NAME --help' lists a report's options and their defaults."]
-        if argv and argv[0] not in ("-h", "--help"):
-            from lighting._numeric import _fmt
-
-            from ..cli import did_you_mean
-
-            hint = did_you_mean(argv[0], REPORTS)
-            print(f"lighting-explorer: error: unknown report {_fmt(argv[0])}{hint} (choose from accuracy, stability)",
-                  file=sys.stderr)  # fmt: skip
-            return 2
+        lines += ["", f"'{PROG} report NAME --help' lists a report's options and their defaults."]
         print("\n".join(lines))
         return 0
-    return importlib.import_module(REPORTS[argv[0]][0]).main(argv[1:])
+    if not argv:
+        listed = " or ".join(f"{name} ({text})" for name, (_, text, *_) in REPORTS.items())
+        return print_error(f"report needs the name of a report: {listed}")
+    from lighting._numeric import _fmt
+
+    hint = did_you_mean(argv[0], REPORTS)
+    return print_error(f"unknown report {_fmt(argv[0])}{hint} (choose from {', '.join(REPORTS)})")
 
 
 if __name__ == "__main__":  # pragma: no cover

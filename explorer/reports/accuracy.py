@@ -274,7 +274,7 @@ def run(args) -> int:
     int
         0 on success, 2 for a bad ``--out`` (one line on stderr).
     """
-    from ..cli import PROG, error_line, require
+    from ..cli import print_error, require
     from ..output import check_output_dir
 
     try:
@@ -282,8 +282,7 @@ def run(args) -> int:
             require("report accuracy", "matplotlib")
         check_output_dir(args.out, flag="--out")
     except ValueError as exc:
-        print(f"{getattr(exc, 'prog', PROG)}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     os.makedirs(args.out, exist_ok=True)
     t0 = time.perf_counter()
     studies = run_studies(quick=args.quick, only=args.only, progress_factory=Progress)

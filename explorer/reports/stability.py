@@ -386,14 +386,13 @@ def run(args) -> int:
     int
         0 when every check holds, 1 when one fails, 2 for a bad option (one line on stderr).
     """
-    from ..cli import PROG, error_line, require
+    from ..cli import print_error, require
 
     try:
         require("report stability", "mpmath", *(() if args.no_figure else ("matplotlib",)))
         check_args(args)
     except ValueError as exc:
-        print(f"{getattr(exc, 'prog', PROG)}: error: {error_line(exc)}", file=sys.stderr)
-        return 2
+        return print_error(exc)
     dtypes = (np.float32, np.float64) if args.dtype == "both" else (np.dtype(args.dtype).type,)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

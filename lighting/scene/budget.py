@@ -7,6 +7,7 @@ generated spheres; ``docs/scenes.md`` lists them with what they cover.
 from __future__ import annotations
 
 from .._numeric import BudgetError, check_budget
+from .._text import plural
 from ..lights import AreaLight
 from ..render.mesh import TriangleMesh
 from .errors import SceneBudgetError
@@ -74,7 +75,7 @@ def scene_estimate(scene: Scene) -> dict:
     pixels = cam.width * cam.height
     n = len(scene.objects)
     parts = [("image.width × image.height", pixels * (BYTES_PER_PIXEL + BYTES_PER_PIXEL_PER_OBJECT * n),
-              f"{cam.width}x{cam.height} pixels, {n} object(s)")]  # fmt: skip
+              f"{cam.width}x{cam.height} pixels, {plural(n, 'object')}")]  # fmt: skip
     phong_samples, evaluations = 0, 0
     best = (0, "lights")
     for i, ob in enumerate(scene.objects):

@@ -85,6 +85,19 @@ def _number(ctx, path, v):
     return _finite_number(ctx, path, v)
 
 
+def _number_in(lo: float, hi: float, unit: str = ""):
+    """A finite number in ``[lo, hi]``; a check function (``unit`` is said after the range)."""
+    allowed = f"a number in [{lo:g}, {hi:g}]" + (f" ({unit})" if unit else "")
+
+    def check(ctx, path, v):
+        f = _finite_number(ctx, path, v, allowed)
+        if not lo <= f <= hi:
+            ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}")
+        return f
+
+    return check
+
+
 def _integer_check(minimum=None, maximum=None):
     lo = "" if minimum is None else f" >= {minimum}"
     allowed = f"an integer{lo}" if maximum is None else f"an integer in [{minimum}, {maximum}]"

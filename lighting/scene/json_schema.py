@@ -62,6 +62,8 @@ def _check_schema(check) -> dict:
         if free.get("maximum") is not None:
             out["maximum"] = free["maximum"]
         return out
+    if owner == "_number_in":
+        return {"type": "number", "minimum": free["lo"], "maximum": free["hi"]}
     if owner == "_numbers":
         return _numbers_schema(free["lengths"])
     if owner == "_number_or":

@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 
+from .._text import plural
 from ..render.camera import Camera
 from ..render.image import encode_srgb8
 from ..render.linear_image import LinearImage
@@ -338,8 +339,8 @@ class SceneRenderer:
         scene = self._scene
         owner = self.visibility()
         visible = tuple(int(np.count_nonzero(owner == i)) for i in range(len(scene.objects)))
-        lines = [f"{len(scene.objects)} object(s), {scene.light_count} light(s), {scene.camera.width}x"
-                 f"{scene.camera.height} pixels."]  # fmt: skip
+        lines = [f"{plural(len(scene.objects), 'object')}, {plural(scene.light_count, 'light')}, "
+                 f"{scene.camera.width}x{scene.camera.height} pixels."]  # fmt: skip
         for i, n in enumerate(visible):
             if n == 0:
                 lines.append(f"object {i} ({_object_name(scene.objects[i])}): left out — hidden behind other objects")

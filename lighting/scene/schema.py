@@ -10,6 +10,7 @@ from __future__ import annotations
 from ..lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
 from ..lights.envlight import ENVIRONMENT_METHODS, EnvironmentLight
 from ..models import model_class, model_names
+from ..render.image import MAX_EXPOSURE
 from ..render.renderer import SHADING_MODES
 from ..shading.equation import FORMS, TERMS
 from .checks import (
@@ -21,6 +22,7 @@ from .checks import (
     _color,
     _integer_check,
     _number,
+    _number_in,
     _number_or,
     _numbers,
     _rgba,
@@ -29,10 +31,13 @@ from .checks import (
     _vec3,
 )
 
-__all__ = ["FORMAT_VERSION", "model_keys"]
+__all__ = ["FORMAT_VERSION", "MAX_SCENE_IMAGE_SIDE", "model_keys"]
 
 #: The format version this module reads and writes (``version = 1`` in a file).
 FORMAT_VERSION = 1
+
+#: The largest ``[image]`` width and height, in pixels (``render --size`` is held to the same).
+MAX_SCENE_IMAGE_SIDE = 16384
 
 CAMERA_KEYS = {
     "eye": (_vec3, REQUIRED),
@@ -46,10 +51,10 @@ CAMERA_KEYS = {
 }
 
 IMAGE_KEYS = {
-    "width": (_integer_check(1, 16384), 512),
-    "height": (_integer_check(1, 16384), 512),
+    "width": (_integer_check(1, MAX_SCENE_IMAGE_SIDE), 512),
+    "height": (_integer_check(1, MAX_SCENE_IMAGE_SIDE), 512),
     "background": (_color, 0.0),
-    "exposure": (_number, 0.0),
+    "exposure": (_number_in(-MAX_EXPOSURE, MAX_EXPOSURE, "stops"), 0.0),
     "tonemap": (_choice(("clamp", "reinhard")), "clamp"),
     "output": (_string, _ABSENT),
 }

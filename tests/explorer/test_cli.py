@@ -81,8 +81,15 @@ def test_building_the_tree_loads_no_figure_window_or_report_code():
             ["bench", "extra"],
             "lighting-explorer: error: unrecognized arguments: extra (see lighting-explorer bench --help)",
         ),
-        (["figures", "--bogus"], "lighting-explorer figures: error: unrecognized arguments: --bogus"),
-        (["figures", "--dpi", "many"], "lighting-explorer figures: error: argument --dpi: invalid int value: 'many'"),
+        (
+            ["figures", "--bogus"],
+            "lighting-explorer: error: unrecognized arguments: --bogus (see lighting-explorer figures --help)",
+        ),
+        (
+            ["figures", "--dpi", "many"],
+            "lighting-explorer: error: argument --dpi: invalid int value: 'many' "
+            "(see lighting-explorer figures --help)",
+        ),
         (
             ["render", "x", "--tonemap", "no"],
             "lighting-explorer: error: argument --tonemap: invalid choice: 'no' "

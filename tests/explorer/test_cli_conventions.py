@@ -1,5 +1,5 @@
 """The command line's conventions: help with defaults, --version, one --size, did-you-mean, render --list,
--D overrides, --explain, explore --scene NAME, and one line for a missing extra (issue 18)."""
+-D overrides, --explain, explore --scene NAME, and one line for a missing extra."""
 
 from __future__ import annotations
 
@@ -139,10 +139,10 @@ def test_sphere_wxh_centres_the_square_sphere_on_the_background(tmp_path, capsys
     ("argv", "hint"),
     [
         (["rendr"], "invalid choice: 'rendr'; did you mean 'render'?"),
-        (["render", "spotlite"], "SCENE: no scene file or example scene named 'spotlite'; did you mean 'spotlight'?"),
+        (["render", "spotlite"], "SCENE: no example scene named 'spotlite'; did you mean 'spotlight'?"),
         (["render", "spotlight", "--tonemap", "reinhart"], "invalid choice: 'reinhart'; did you mean 'reinhard'?"),
         (["explore", "--model", "blin-phong"], "invalid choice: 'blin-phong'; did you mean 'blinn-phong'?"),
-        (["explore", "--scene", "cub"], "--scene: no scene file or example scene named 'cub'; did you mean 'cube'?"),
+        (["explore", "--scene", "cub"], "--scene: no example scene named 'cub'; did you mean 'cube'?"),
         (["report", "stabilty"], "unknown report 'stabilty'; did you mean 'stability'?"),
         (["figures", "--only", "faloff", "--out", "unused"], "unknown figure 'faloff'; did you mean 'falloff'?"),
     ],
@@ -152,11 +152,11 @@ def test_every_name_suggests_the_closest_one(argv, hint, capsys):
     assert status == 2 and hint in err
 
 
-def test_an_unknown_scene_name_without_a_close_one_lists_the_examples(capsys):
+def test_an_unknown_scene_name_without_a_close_one_names_the_command_that_lists_the_examples(capsys):
     status, _, err = run(["render", "qqqq"], capsys)
     assert status == 2
-    assert err == ("lighting-explorer: error: SCENE: no scene file or example scene named 'qqqq' "
-                   f"(examples: {', '.join(list_examples())})\n")  # fmt: skip
+    assert err == ("lighting-explorer: error: SCENE: no example scene named 'qqqq' "
+                   "(list them: lighting-explorer render --list)\n")  # fmt: skip
 
 
 # ----------------------------------------------------------------------------- render --list, explore --scene
@@ -271,7 +271,7 @@ def test_explain_prints_the_plan_and_renders_and_writes_nothing(tmp_path, monkey
 def test_explain_with_an_output_also_renders_and_writes(tmp_path, capsys):
     out = tmp_path / "e.png"
     status, text, _ = run(["render", "spotlight", "--explain", "--size", "32x24", "-o", out], capsys)
-    assert status == 0 and out.exists() and text.splitlines()[0] == "2 object(s), 1 light(s), 32x24 pixels."
+    assert status == 0 and out.exists() and text.splitlines()[0] == "2 objects, 1 light, 32x24 pixels."
     assert text.splitlines()[-1].startswith(f"wrote {out} (32x24,")
 
 
@@ -291,19 +291,19 @@ def _without(module: str, argv, cwd):
     ("module", "argv", "line"),
     [
         ("matplotlib", ["figures", "--list"],
-         "lighting-explorer figures: error: needs Matplotlib: pip install 'lighting-explorer[figures]'"),
+         "lighting-explorer: error: figures needs Matplotlib: pip install 'lighting-explorer[figures]'"),
         ("cycler", ["figures", "--list"],
-         "lighting-explorer figures: error: needs Matplotlib: pip install 'lighting-explorer[figures]'"),
+         "lighting-explorer: error: figures needs Matplotlib: pip install 'lighting-explorer[figures]'"),
         ("matplotlib", ["report", "accuracy", "--quick"],
-         "lighting-explorer report accuracy: error: needs Matplotlib: pip install 'lighting-explorer[figures]'"),
+         "lighting-explorer: error: report accuracy needs Matplotlib: pip install 'lighting-explorer[figures]'"),
         ("mpmath", ["report", "stability", "--quick"],
-         "lighting-explorer report stability: error: needs mpmath: pip install 'lighting-explorer[figures]'"),
+         "lighting-explorer: error: report stability needs mpmath: pip install 'lighting-explorer[figures]'"),
         ("pyvista", ["explore", "--off-screen"],
-         "lighting-explorer explore: error: needs PyVista: pip install 'lighting-explorer[app]'"),
+         "lighting-explorer: error: explore needs PyVista: pip install 'lighting-explorer[app]'"),
         ("pyvista", ["--off-screen"],
-         "lighting-explorer explore: error: needs PyVista: pip install 'lighting-explorer[app]'"),
+         "lighting-explorer: error: explore needs PyVista: pip install 'lighting-explorer[app]'"),
         ("trimesh", ["render", "s.toml", "-o", "o.png"],
-         "lighting-explorer render: error: needs trimesh: pip install 'lighting-explorer[figures]'"),
+         "lighting-explorer: error: render needs trimesh: pip install 'lighting-explorer[figures]'"),
     ],
 )  # fmt: skip
 def test_a_missing_extra_is_one_line_naming_it(module, argv, line, tmp_path):
@@ -319,4 +319,4 @@ def test_commands_that_need_no_extra_run_without_them(tmp_path):
         done = _without(module, ["sphere", "--size", "8", "-o", "s.png"], tmp_path)
         assert done.returncode == 0 and done.stdout.startswith("wrote s.png (8x8, PNG)"), done.stderr
         done = _without(module, ["render", "cube", "--size", "8", "-o", "c.png"], tmp_path)  # an OBJ: NumPy reads it
-        assert done.returncode == 0 and done.stdout.startswith("wrote c.png (8x8, 1 objects"), done.stderr
+        assert done.returncode == 0 and done.stdout.startswith("wrote c.png (8x8, 1 object,"), done.stderr

@@ -180,7 +180,7 @@ def test_dpi_sets_the_pixel_size(tmp_path):
 def test_cli_errors_exit_2_with_one_clear_line(tmp_path, capsys, argv, message):
     rc, out = _run(["--out", str(tmp_path / "x"), "--quick", *argv], capsys)
     assert rc == 2
-    assert out.err.startswith("lighting-explorer figures: error: ")
+    assert out.err.startswith("lighting-explorer: error: ")
     assert message in out.err
     assert len(out.err.strip().splitlines()) == 1
     assert not (tmp_path / "x" / "figures.json").exists()
@@ -254,7 +254,7 @@ def test_accuracy_csv_that_is_not_one_is_named_in_one_line(tmp_path, capsys, mon
     rc, out = _run(["--out", str(tmp_path / "x"), "--quick", "--only", "accuracy", "--accuracy-csv", str(path)],
                    capsys)  # fmt: skip
     assert rc == 2
-    assert out.err.startswith(f"lighting-explorer figures: error: --accuracy-csv: {str(path)!r}"), out.err
+    assert out.err.startswith(f"lighting-explorer: error: --accuracy-csv: {str(path)!r}"), out.err
     assert message in out.err and len(out.err.strip().splitlines()) == 1
     assert not (tmp_path / "x").exists()
 

@@ -647,7 +647,7 @@ def test_cli_renders_a_png(tmp_path, capsys):
     assert render_cmd.main(["spotlight", "-o", str(out), "--size", "80x60", "--exposure", "-1"]) == 0
     line = capsys.readouterr().out.strip()
     assert re.fullmatch(
-        rf"wrote {re.escape(str(out))} \(80x60, 2 objects, 1 lights, [0-9.]+ s\); .*pixels clipped.*", line
+        rf"wrote {re.escape(str(out))} \(80x60, 2 objects, 1 light, [0-9.]+ s\); .*pixels clipped.*", line
     )
     img = read_png(out)
     assert img.shape == (60, 80, 3)
@@ -865,7 +865,7 @@ def test_image_size_samples_and_meshes_are_refused_before_allocating(tmp_path, c
         err = budget_error(SMALL.replace('"sphere"', '"mesh"\npath = "sparse.obj"'), tmp_path, capsys)
         assert ": objects[0].path: this value needs about 32.0 GiB (reading a mesh file of 1073741824 bytes)" in err
         err = budget_error(SMALL, tmp_path, capsys, "--size", "20000x20000")
-        assert err.startswith("lighting-explorer: error: --size 20000x20000: the scene needs about 131.1 GiB")
+        assert err.startswith("lighting-explorer: error: --size 20000x20000: the image needs about 131.1 GiB")
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
