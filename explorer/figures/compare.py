@@ -29,7 +29,7 @@ from lighting.models import BlinnPhong, CookTorrance
 from lighting.models.base import BRDF
 
 from ..compare import COMPARE_COLOURS, BRDFList
-from .base import VEC, new_figure, register
+from .base import SLIDE_SIZES, VEC, new_figure, register
 from .zoo import half_disc
 
 __all__ = ["VIEWS", "ComparisonPlot", "plot_brdfs", "albedo_channel", "compare_brdfs"]
@@ -153,9 +153,13 @@ def _axes_for(views, fig, axes):
             raise ValueError(f"axes must hold one Axes per view ({len(views)}); got {len(axes)}")
         return axes[0].figure, dict(zip(views, axes, strict=True))
     if fig is None:
-        fig = new_figure(3.9 * len(views) + 0.6, 3.9)
-    grid = fig.add_gridspec(1, len(views), width_ratios=[1.5 if v == "polar" else 1.0 for v in views])
-    return fig, {v: fig.add_subplot(grid[0, i]) for i, v in enumerate(views)}
+        fig = new_figure(*SLIDE_SIZES["16:9"])
+    # Up to three views in a row; four in two rows of two, so that a new figure is one 16:9 slide.
+    cols = len(views) if len(views) <= 3 else 2
+    rows = math.ceil(len(views) / cols)
+    ratios = [max(1.5 if v == "polar" else 1.0 for v in views[c::cols]) for c in range(cols)]
+    grid = fig.add_gridspec(rows, cols, width_ratios=ratios)
+    return fig, {v: fig.add_subplot(grid[i // cols, i % cols]) for i, v in enumerate(views)}
 
 
 def plot_brdfs(
@@ -218,12 +222,14 @@ def plot_brdfs(
     seed : int, optional
         Random source of the Monte Carlo methods (each entry's curve is drawn with this seed).
     fig : matplotlib.figure.Figure, optional
-        Lay the views out in a row in this figure (default: a new one).
+        Lay the views out in this figure (default: a new 16:9 one); up to three views in a row, four in
+        two rows of two.
     axes : sequence of Axes, optional
         Draw into these, one per view, instead (``fig`` is then ignored).
     legend : bool or Axes, optional
         ``True``: a legend naming each entry (and what the albedo's band and marks mean) to the right of
-        the albedo view, or of the last view; an Axes: there (its frame is switched off); ``False``: none.
+        the albedo view, or of the last view; an Axes: there (its frame is switched off; in an Axes much
+        wider than tall the entries stand side by side, in one row up to three, else two); ``False``: none.
     titles : bool, optional
         Title each view.
 
@@ -361,7 +367,11 @@ def _legend(ax_of, views, shown, where, albedo, width):
         # Outside, to the right: inside, it would cover curves in one view or another.
         return ax.legend(handles=handles, loc="center left", bbox_to_anchor=(1.03, 0.5), frameon=False)
     where.axis("off")
-    return where.legend(handles=handles, loc="center left", frameon=False)
+    if where.bbox.width < 2.5 * where.bbox.height:
+        return where.legend(handles=handles, loc="center left", frameon=False)
+    # A strip: the entries side by side, in one row up to three (their labels fit a slide's width), else two.
+    ncol = len(handles) if len(handles) <= 3 else math.ceil(len(handles) / 2)
+    return where.legend(handles=handles, loc="center", ncol=ncol, frameon=False, columnspacing=1.6)
 
 
 # --------------------------------------------------------------------------- the lecture figure
@@ -398,6 +408,7 @@ _GGX = {"ndf": "ggx", "geometry": "smith-correlated", "fresnel": "schlick"}
 
 @register(
     "compare_brdfs",
+    size="16:9",
     title="Several BRDFs side by side",
     caption=(
         "Four BRDFs in one comparison list (explorer.compare.BRDFList), each in its colour: a measured stand-in "
@@ -481,18 +492,20 @@ def compare_brdfs(q, *, roughness, noise, missing, bp_ks, bp_n, sharp_alpha, sha
         "albedo_method": ["importance", "quadrature", "quadrature", "importance"],
     }  # fmt: skip
 
-    fig = new_figure(16.0, 8.6)
+    fig = new_figure()
     rows = []
     for sub, title in zip(fig.subfigures(2, 1, hspace=0.04), (
         "The list: four BRDFs, the sharp GGX hidden (it keeps its place and colour)",
         "The same list with the sharp GGX solo: the others are not drawn, whatever their check boxes say",
     ), strict=True):  # fmt: skip
-        grid = sub.add_gridspec(1, 5, width_ratios=(2.1, 1.0, 1.0, 1.1, 0.9))
+        # Each row: the four views, and under them a strip with the legend (beside them it would take a
+        # fifth of the slide's width).
+        grid = sub.add_gridspec(2, 4, width_ratios=(1.6, 1.0, 1.0, 1.1), height_ratios=(1.0, 0.13))
         axes = [sub.add_subplot(grid[0, k]) for k in range(4)]
         if rows:
             group.set_solo(3)
-        rows.append(plot_brdfs(group, axes=axes, legend=sub.add_subplot(grid[0, 4]), **options))
-        sub.suptitle(title, x=0.01, ha="left", fontsize=14, fontweight="bold")
+        rows.append(plot_brdfs(group, axes=axes, legend=sub.add_subplot(grid[1, :]), **options))
+        sub.suptitle(title, x=0.01, ha="left", fontsize=13, fontweight="bold")
     top, bottom = rows
 
     def at(curve, deg):
