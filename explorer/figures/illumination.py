@@ -387,10 +387,11 @@ def _oren_nayar_pair(kd, sigma, th, n):
     size="16:9",
     title="Micro-roughness of a diffuse surface (chalk)",
     caption=(
-        "Left: a very rough surface at the microscopic level (a random profile, seed {seed}): the local normals "
+        "Top: a very rough surface at the microscopic level (a random profile, seed {seed}): the local normals "
         "(black) point every way, so parallel incoming light (orange) is scattered by each facet about its own "
-        "normal (blue fans), over the whole hemisphere — the ideal diffuse surface. Right: the difference this "
-        "roughness makes, Oren–Nayar (Lambertian facets with slopes of σ = {sigma:g} rad) against Lambert with "
+        "normal (blue fans), over the whole hemisphere — the ideal diffuse surface. Bottom: the difference this "
+        "roughness makes (left: the two lobes; right: their ratio as the view sweeps), Oren–Nayar (Lambertian "
+        "facets with slopes of σ = {sigma:g} rad) against Lambert with "
         "the same k_d, light at θ_l = {theta_deg:g}°: dimmer seen from above (ratio {ratio_normal:.3f} at θ_v = 0), "
         "brighter looking back toward the light ({ratio_back:.3f} at v = l): rough surfaces back-scatter, "
         "which is why the full moon looks flat."
