@@ -157,3 +157,60 @@ def test_explorer_lists_and_shows_it(minnaert):
     model = ExplorerModel(state)
     views = model.compute()
     assert views  # every panel computed
+
+
+def _smallest_text_pt(fig):
+    from matplotlib.text import Text
+
+    return min(t.get_fontsize() for t in fig.findobj(Text) if t.get_visible() and t.get_text().strip())
+
+
+def test_the_model_gallery_shows_it_on_one_readable_slide(minnaert):
+    pytest.importorskip("matplotlib")
+    from explorer.figures import make_figure
+    from explorer.figures.base import SLIDE_SIZES
+    from explorer.figures.zoo import card_grid, gallery_entries
+
+    fig, _, _, _, m = make_figure("model_gallery_normal_mirror", quick=True)
+    names = [name for name, _ in gallery_entries("normal")]
+    assert "test-minnaert" in names and list(m["models"]) == names
+    # Its card measures Minnaert's albedo at normal view, 2 k_d / (k + 1), with the default k_d = 0.5, k = 2.
+    assert m["models"]["test-minnaert"]["rho0"] == pytest.approx(2 * 0.5 / 3, rel=1e-9)
+    # One more card still fits one 16:9 slide, every card drawn, no text below 10 px at 1280 px across.
+    assert tuple(fig.get_size_inches()) == pytest.approx(SLIDE_SIZES["16:9"])
+    rows, cols = card_grid(len(names))
+    assert len(fig.subfigs) == rows * cols >= len(names)
+    assert sum(1 for sub in fig.subfigs if sub.axes) == len(names)
+    assert _smallest_text_pt(fig) * 1280 / (72 * fig.get_figwidth()) >= 10
+
+
+def test_the_audit_table_with_it_fits_a_slide_every_cell_inside_its_box(minnaert):
+    pytest.importorskip("matplotlib")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
+
+    from explorer.figures.base import SLIDE_SIZES
+    from explorer.figures.brdf import TABLE_MIN_PT, audit_cells, draw_table
+    from lighting.analysis.audit import AuditCase, audit, default_cases
+
+    extra = [AuditCase(f"Minnaert k={k:g}", Minnaert(1.0, k), "2 kd/(k+1) at normal view") for k in (1, 2, 3, 4, 6, 8)]
+    table = audit(default_cases() + extra, samples=256)
+    head, cells, verdicts = audit_cells(table)
+    assert [row[0] for row in cells[-6:]] == [c.label for c in extra]
+    assert [float(row[2]) for row in cells[-6:]] == pytest.approx([2 / (k + 1) for k in (1, 2, 3, 4, 6, 8)], abs=5e-4)
+    fig = Figure(figsize=SLIDE_SIZES["16:9"])
+    font = draw_table(fig, head, cells, verdicts)
+    assert font >= TABLE_MIN_PT and _smallest_text_pt(fig) == font
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    (ax,) = fig.axes
+    boxes = [p.get_window_extent(renderer) for p in ax.patches if isinstance(p, Rectangle)]
+    texts = list(ax.texts)
+    assert len(boxes) == len(texts) == (len(cells) + 1) * len(head)  # one box and one text per cell, header too
+    page = fig.bbox
+    for box, text in zip(boxes, texts, strict=True):
+        inside = text.get_window_extent(renderer)
+        assert box.x0 >= page.x0 - 0.5 and box.x1 <= page.x1 + 0.5 and box.y0 >= page.y0 - 0.5, text.get_text()
+        if text.get_text():
+            assert box.x0 - 0.5 <= inside.x0 and inside.x1 <= box.x1 + 0.5, text.get_text()
+            assert box.y0 - 0.5 <= inside.y0 and inside.y1 <= box.y1 + 0.5, text.get_text()

@@ -766,6 +766,32 @@ def plausibility_table(q):
         (they fill the caption's fields and the sidecar).
     """
     table = audit(samples=q.audit_samples)
+    head, cells, verdicts = audit_cells(table)
+    fig = new_figure(layout=None)
+    font = draw_table(fig, head, cells, verdicts)
+    s = table.settings
+    return fig, {"pairs": s["pairs"], "samples": s["samples"], "angles": s["view_angles"], "rows": len(cells),
+                 "font_pt": font, "failures": [r.label for r in table if not r.plausible]}  # fmt: skip
+
+
+def audit_cells(table):
+    """The plausibility table's text: column titles, one row of cells per audited model, and the verdicts.
+
+    Parameters
+    ----------
+    table : lighting.analysis.audit.AuditTable
+        What :func:`lighting.analysis.audit.audit` returned.
+
+    Returns
+    -------
+    head : list of str
+        The column titles.
+    cells : list of list of str
+        One row per audited model: label, parameters, ρ(0°), ρ max with its angle, reciprocity error, the
+        three verdicts ("pass" / "FAIL") and the note.
+    verdicts : list of list
+        Per cell: ``True`` / ``False`` for the three verdict columns, ``None`` elsewhere (see :func:`draw_table`).
+    """
     head = ["model", "parameters", "ρ(0°)", "ρ max (θ)", "recip. err", "positive", "reciprocal", "energy", "note"]
     cells, verdicts = [], []
     for r in table:
@@ -775,11 +801,7 @@ def plausibility_table(q):
                "pass" if r.energy else "FAIL", r.note]  # fmt: skip
         cells.append(row)
         verdicts.append([None] * 5 + [r.positive, r.reciprocal, r.energy] + [None])
-    fig = new_figure(layout=None)
-    font = draw_table(fig, head, cells, verdicts)
-    s = table.settings
-    return fig, {"pairs": s["pairs"], "samples": s["samples"], "angles": s["view_angles"], "rows": len(cells),
-                 "font_pt": font, "failures": [r.label for r in table if not r.plausible]}  # fmt: skip
+    return head, cells, verdicts
 
 
 #: The table's type: as large as the slide allows, up to :data:`TABLE_MAX_PT`; never below :data:`TABLE_MIN_PT`
