@@ -51,6 +51,14 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(pytest.mark.slow)
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _accuracy_cache_in_a_temporary_folder(tmp_path_factory):
+    """The saved accuracy studies (explorer.reports.cache) go to a folder of this session, never the home folder."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("LIGHTING_EXPLORER_CACHE", str(tmp_path_factory.mktemp("lighting-explorer-cache")))
+        yield
+
+
 @pytest.fixture(autouse=True)
 def _model_registry_restored():
     """Each test leaves the model registry as it found it.

@@ -49,8 +49,8 @@ def add_parser(subparsers):
     p.add_argument("--jobs", "-j", type=int, default=None, metavar="N",
                    help=f"worker processes, 1 to {MAX_JOBS} (default: up to 4, one per core)")  # fmt: skip
     p.add_argument("--accuracy-csv", metavar="FILE",
-                   help="draw the 'accuracy' figure from this accuracy.csv (lighting-explorer report accuracy) "
-                        "instead of measuring now")  # fmt: skip
+                   help="draw the accuracy_* figures from this accuracy.csv (lighting-explorer report accuracy) "
+                        "instead of the studies report accuracy saved, or of measuring now")  # fmt: skip
     p.add_argument("--list", action="store_true", help="list the figures and exit")
     p.set_defaults(func=run)
     return p

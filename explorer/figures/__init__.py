@@ -14,9 +14,10 @@ the end a manifest ``figures.json`` listing them all in lecture order.
 The same inputs give the same pixels — and the same bytes: the figures are
 drawn from fixed parameters and seeds, and the files carry no date, no software
 version stamp and no random SVG ids.  The two exceptions plot *measured* wall-clock
-times: ``accuracy`` (given ``--accuracy-csv``, the ``accuracy.csv`` written by
-``lighting-explorer report accuracy``, it is drawn from that file and is reproducible
-too) and ``ibl_error`` (its bottom panel: the split sum's and Monte Carlo's run times).
+times: the ``accuracy_*`` figures, when they measure their study while drawing (drawn from the
+results ``lighting-explorer report accuracy`` saved, or from an ``accuracy.csv`` given with
+``--accuracy-csv``, they are reproducible too: see :mod:`explorer.figures.accuracy`), and
+``ibl_error`` (the split sum's and Monte Carlo's run times in its titles).
 
 Every figure is drawn with Matplotlib (Agg, no window) from numbers the engine
 computed; every sphere and scene is the engine's own image.  ``--quick`` draws
@@ -69,14 +70,15 @@ _SAVE_METADATA = {
 
 #: The figure modules in lecture order; within a module, figures keep the order they are defined in.
 LECTURE_MODULES = (
-    "illumination", "models", "lights", "opengl", "brdf", "zoo", "energy", "fitting", "compare", "rendering", "ibl",
+    "illumination", "models", "lights", "opengl", "brdf", "zoo", "energy", "fitting", "compare", "rendering",
+    "accuracy", "ibl",
 )  # fmt: skip
 
 
 def _load_registry() -> dict[str, FigureSpec]:
     # Registering happens on import, and any module may be imported first (a doctest run, a notebook):
     # the lecture order is imposed here, not left to the order of imports.
-    from . import brdf, compare, energy, fitting, ibl, illumination, lights, models, opengl, rendering, zoo  # noqa: F401
+    from . import accuracy, brdf, compare, energy, fitting, ibl, illumination, lights, models, opengl, rendering, zoo  # noqa: F401
 
     rank = {f"{__package__}.{name}": i for i, name in enumerate(LECTURE_MODULES)}
 
@@ -226,8 +228,8 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
         size = [int(round(w_in * q.dpi)), int(round(h_in * q.dpi))]
     fig.clf()
     nondet = spec.nondeterministic
-    if name == "accuracy" and params.get("csv"):
-        nondet = None  # drawn from a file: reproducible
+    if measured.get("reproducible"):
+        nondet = None  # a timed figure drawn from saved numbers (a file, a cache): reproducible
     record = {
         "name": name,
         "title": spec.title,
@@ -295,13 +297,13 @@ def _check_jobs(jobs) -> int:
     return jobs
 
 
-#: The columns of ``accuracy.csv`` (``lighting-explorer report accuracy``) the figure reads, and their types.
+#: The columns of ``accuracy.csv`` (``lighting-explorer report accuracy``) the figures read, and their types.
 ACCURACY_COLUMNS = {"study": str, "case": str, "method": str, "cost": int, "cost_unit": str, "error": float,
                     "error_spread": float, "seconds": float, "reference": str}  # fmt: skip
 
 
 def check_accuracy_csv(path) -> str:
-    """Check that ``path`` is an ``accuracy.csv`` the ``accuracy`` figure can draw; returns its absolute path.
+    """Check that ``path`` is an ``accuracy.csv`` the ``accuracy_*`` figures can draw; returns its absolute path.
 
     Parameters
     ----------
@@ -490,7 +492,7 @@ def generate(
     jobs : int, optional
         Worker processes (1 to :data:`MAX_JOBS`); the files are the same either way.
     options : dict, optional
-        ``{"csv": path}`` draws ``accuracy`` from an ``accuracy.csv``.
+        ``{"csv": path}`` draws the ``accuracy_*`` figures from an ``accuracy.csv``.
     progress : callable, optional
         ``progress(total, label)`` returning an object with ``update()``, ``close()`` and ``abort()``
         (e.g. :class:`explorer.progress.Progress`).

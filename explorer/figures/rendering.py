@@ -1,11 +1,10 @@
-"""Figures for the rendering equation and the accuracy report.
+"""The rendering equation: a sphere under a full environment against light from one point.
 
 Registered on import (see :mod:`explorer.figures.base`); drawn by :mod:`explorer.figures`.
 """
 
 from __future__ import annotations
 
-import csv
 import math
 
 import numpy as np
@@ -18,7 +17,7 @@ from lighting.render.image import encode_srgb8
 from lighting.render.renderer import AnalyticSphere, Renderer
 from lighting.render.sphere import render_sphere, sphere_camera
 
-from .base import PALETTE, new_figure, register, show_image
+from .base import new_figure, register, show_image
 
 # Camera frame (x right, y up, z toward the viewer) → environment frame (z up): (x, y, z) ↦ (x, −z, y).
 _CAM_TO_ENV = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
@@ -153,118 +152,3 @@ def rendering_equation(q, *, sun_cam, solid_angle, patch_irradiance, kd, alpha, 
         "alpha": alpha,
         "f0_text": ", ".join(f"{x:g}" for x in f0),
     }
-
-
-# --------------------------------------------------------------------------- accuracy
-def _read_points(path):
-    """Points of an ``accuracy.csv`` written by ``lighting-explorer report accuracy``."""
-    from lighting.validation.accuracy import Point
-
-    pts = []
-    with open(path, newline="", encoding="utf-8") as f:
-        for row in csv.DictReader(f):
-            pts.append(
-                Point(
-                    row["study"],
-                    row["case"],
-                    row["method"],
-                    int(row["cost"]),
-                    row["cost_unit"],
-                    float(row["error"]),
-                    float(row["error_spread"] or 0.0),
-                    float(row["seconds"]),
-                    row["reference"],
-                )  # fmt: skip
-            )
-    return pts
-
-
-_FLOOR = 1e-16  # exact zeros on a log axis
-
-
-@register(
-    "accuracy",
-    title="Error against run time",
-    caption=(
-        "Error against run time wherever the engine trades accuracy for speed ({source}): hemisphere "
-        "integration methods on four cases, area-light sample counts, flat / Gouraud / Phong interpolation "
-        "by tessellation, float32 against float64. Each line is one method at increasing cost; shaded bands "
-        "are ± one standard deviation over seeds for Monte Carlo methods; dashed and dotted lines mark 1 % and "
-        "0.1 % error; exact zeros are drawn at 10⁻¹⁶. Times are medians on the machine that drew the figure."
-    ),
-    slides="Accuracy report (lighting-explorer report accuracy)",
-    nondeterministic="plots measured wall-clock times, which differ from run to run (reproducible with --accuracy-csv)",
-    csv=None,
-)
-def accuracy(q, *, csv):
-    """Error against run time of the engine's approximations (measured now, or read from an accuracy.csv).
-
-    Parameters
-    ----------
-    q : explorer.figures.base.Quality
-        Image sizes and sample counts (full or quick).
-    csv : str or None
-        An ``accuracy.csv`` of ``lighting-explorer report accuracy``; ``None`` measures now.
-
-    Returns
-    -------
-    tuple
-        ``(figure, measured)``: the Matplotlib figure and the numbers measured while drawing it
-        (they fill the caption's fields and the sidecar).
-    """
-    import matplotlib.ticker as mt
-
-    if csv:
-        points = _read_points(csv)
-        source = "read from an accuracy.csv of lighting-explorer report accuracy"
-    else:
-        from lighting.validation.accuracy import run_studies
-
-        points = [p for st in run_studies(quick=q.quick) for p in st.points]
-        source = "measured while drawing, with the settings of lighting-explorer report accuracy" + (
-            " --quick" if q.quick else ""
-        )
-    import textwrap
-
-    panels = list(dict.fromkeys((p.study, p.case) for p in points))
-    methods = list(dict.fromkeys(p.method for p in points))
-    style = {m: (PALETTE[i % len(PALETTE)], "osD^vP*X<>"[i % 10]) for i, m in enumerate(methods)}
-    cols = 4
-    rows = (len(panels) + cols - 1) // cols
-    fig = new_figure(16.0, 4.6 * rows)
-    axes = fig.subplots(rows, cols, squeeze=False)
-    for ax, (study, case) in zip(axes.flat, panels, strict=False):
-        pts = [p for p in points if p.case == case and p.study == study]
-        for m in dict.fromkeys(p.method for p in pts):
-            mp = sorted((p for p in pts if p.method == m), key=lambda p: p.cost)
-            t = np.array([p.seconds * 1e3 for p in mp])
-            e = np.array([max(p.error, _FLOOR) for p in mp])
-            c, mk = style[m]
-            ax.plot(t, e, "-", marker=mk, ms=5, lw=1.6, color=c, label=m)
-            spread = np.array([p.error_spread for p in mp])
-            if np.any(spread > 0):
-                lo = np.maximum(np.maximum(e - spread, e / 10), _FLOOR)
-                ax.fill_between(t, lo, e + spread, color=c, alpha=0.15, lw=0)
-        ax.axhline(1e-2, color="0.45", ls="--", lw=1.0)
-        ax.axhline(1e-3, color="0.45", ls=":", lw=1.0)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        # At least a factor 4 of time on every axis, so a 1-2-5 tick always falls inside it.
-        times = [p.seconds * 1e3 for p in pts]
-        lo, hi = min(times) / 1.3, max(times) * 1.3
-        if hi / lo < 4:
-            mid = math.sqrt(lo * hi)
-            lo, hi = mid / 2, mid * 2
-        ax.set_xlim(lo, hi)
-        ax.xaxis.set_major_locator(mt.LogLocator(base=10, subs=(1.0,) if hi / lo > 100 else (1.0, 2.0, 5.0)))
-        ax.xaxis.set_major_formatter(mt.FuncFormatter(lambda x, _: f"{x:g}"))
-        ax.xaxis.set_minor_formatter(mt.NullFormatter())
-        ax.set_title("\n".join(textwrap.wrap(case, 32)), fontsize=12)
-        ax.set_xlabel("time per evaluation (ms)", fontsize=12)
-        ax.set_ylabel("relative error", fontsize=12)
-        ax.grid(True, which="major")
-        ax.legend(fontsize=9.5, loc="best", ncol=1 if len(set(p.method for p in pts)) < 5 else 2, frameon=True,
-                  framealpha=0.85, edgecolor="none")  # fmt: skip
-    for ax in list(axes.flat)[len(panels) :]:
-        ax.axis("off")
-    return fig, {"source": source, "points": len(points)}

@@ -14,6 +14,10 @@ from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
 from lighting.validation.accuracy import run_studies, summary
 
 from ..progress import Progress
+from .cache import save_study
+
+#: The command that measures the studies, as captions name it.
+REPORT = "lighting-explorer report accuracy"
 
 FLOOR = 1e-16  # errors of exactly 0 are drawn here on the log axis
 #: Marks an unconverged point (relative error estimate above 2 %) in the printed tables.
@@ -262,7 +266,10 @@ def main(argv=None) -> int:
 
 
 def run(args) -> int:
-    """Run the studies for parsed options; print the tables, write the CSVs and the figure.
+    """Run the studies for parsed options; print the tables, write the CSVs and the figure, save the studies.
+
+    Each study run is also saved in the cache of :mod:`explorer.reports.cache` (quick or full), where
+    the ``accuracy_*`` figures find it.
 
     Parameters
     ----------
@@ -286,6 +293,9 @@ def run(args) -> int:
     os.makedirs(args.out, exist_ok=True)
     t0 = time.perf_counter()
     studies = run_studies(quick=args.quick, only=args.only, progress_factory=Progress)
+    # Saved for the lecture-note figures (accuracy_integration, ...), which draw from them instead of
+    # measuring again (explorer.reports.cache).
+    cached = [save_study(st, quick=args.quick, by=f"{REPORT}{' --quick' if args.quick else ''}") for st in studies]
     rows = summary(studies)
     print(format_points(studies))
     print(format_summary(rows))
@@ -300,6 +310,9 @@ def run(args) -> int:
         make_figure(studies, fig_path)
         written.append(fig_path)
     print(f"\nwrote {', '.join(written)} in {time.perf_counter() - t0:.1f} s")
+    if any(cached):
+        print(f"saved {sum(map(bool, cached))} {'study' if sum(map(bool, cached)) == 1 else 'studies'} for "
+              f"'lighting-explorer figures' in {os.path.dirname(next(c for c in cached if c))}")
     return 0
 
 

@@ -205,7 +205,7 @@ def _blinn_phong_rho0(ks, e):
 def test_the_figure_is_registered_after_fitting_and_its_caption_is_measured(figure):
     fig, spec, params, q, m = figure
     names = figure_names()
-    assert names.index("fit_to_measured") < names.index("compare_brdfs") < names.index("accuracy")
+    assert names.index("fit_to_measured") < names.index("compare_brdfs") < names.index("accuracy_integration")
     text = spec.caption.format(**m)
     assert "{" not in text and f"{m['rho0_bp']:.4f}" in text
 
