@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -23,9 +24,12 @@ FITS = tuple((*FIT_MODELS[key][:2], colour) for key, colour in (("ggx", PALETTE[
 _LABEL = {"cook-torrance": "Cook–Torrance GGX", "ward": "Ward", "blinn-phong-normalized": "Blinn–Phong norm."}
 
 
+@functools.lru_cache(maxsize=1)
 def _measured(roughness: float, noise: float, missing: float, seed: int) -> MerlBRDF:
     """A stand-in for measured data: Disney's metallic lobe tabulated in MERL's layout, with relative noise
-    and missing bins (no measured data ships with the package)."""
+    and missing bins (no measured data ships with the package).  Kept for the next call: ``compare_brdfs``
+    draws the same table, and building it (tabulating, filling the missing bins) is most of either figure's
+    work; nothing modifies it once built."""
     table = tabulate_merl(create_model("disney", base_color=(0.9, 0.6, 0.3), metallic=1.0, roughness=roughness))
     rng = np.random.default_rng(seed)
     table = table * (1.0 + noise * rng.standard_normal(table.shape[1:]))  # the same noise in every channel
