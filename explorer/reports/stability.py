@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from lighting._text import plural
 from lighting.validation import stability as st
 
 from ..output import atomic_write
@@ -161,7 +162,7 @@ def format_table(result: st.StabilityResult) -> str:
     nonfinite = sum(r.nonfinite for r in result.rows)
     worst = max(result.rows, key=lambda r: r.max_ratio)
     lines += [
-        f"{total} values in {len(dtypes)} dtype(s): per dtype {result.n_brdf_cases} (n, l, v) inputs x"
+        f"{total} values in {plural(len(dtypes), 'dtype')}: per dtype {result.n_brdf_cases} (n, l, v) inputs x"
         f" {len(st.brdf_specs())} BRDF variants x 3 forms and {result.n_light_cases} light inputs x 2 forms;"
         f" NaN/Inf: {nonfinite}.",
         f"worst err/(max(κ,1) u): {worst.max_ratio:.2f} — {worst.model}, {worst.form}, {worst.dtype},"

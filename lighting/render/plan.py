@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
+from .._text import plural
 from ..lights.envlight import environment_terms, split_environment_lights
 from ..lights.punctual import AmbientLight, DirectionalLight, SpotLight
 from ..models.brdf import BRDF, BRDFSum
@@ -173,12 +174,13 @@ class Plan:
             lines.append(f"  evaluate: constant emission + ambient = {np.round(self.constant, 6).tolist()}")
         if self.strategy == "diffuse-directional":
             lines.append(
-                f"  evaluate: k_d (n·l) {where} for {len(self.kept_lights)} directional light(s): "
+                f"  evaluate: k_d (n·l) {where} for {plural(len(self.kept_lights), 'directional light')}: "
                 "one dot product per light and sample"
             )
         elif self.strategy == "general":
             names = ", ".join(_label(p) for p in self.kept_parts)
-            under = f"under {len(self.kept_lights)} light(s)" if self.kept_lights else "under the environment alone"
+            n = len(self.kept_lights)
+            under = f"under {plural(n, 'light')}" if n else "under the environment alone"
             lines.append(f"  evaluate: {names} {where} {under}")
         for light in self.environments:
             lines.append(f"  evaluate: {_environment_words(light, where)}")
@@ -344,7 +346,7 @@ def compile_plan(
     >>> print(plan.describe())  # doctest: +NORMALIZE_WHITESPACE
     Plan (phong shading, classic form): strategy 'diffuse-directional'.
       evaluate: constant emission + ambient = [0.16, 0.16, 0.16]
-      evaluate: k_d (n·l) per pixel for 1 directional light(s): one dot product per light and sample
+      evaluate: k_d (n·l) per pixel for 1 directional light: one dot product per light and sample
       left out: emission term — the material emits nothing (k_e = 0)
       left out: Phong(ks=0, shininess=10) — its coefficient is zero
       left out: view vectors and half vectors — a diffuse surface needs only the sign of n·v

@@ -256,9 +256,10 @@ def _check_near_plane_reach(ctx, cam, camera, tables, objects):
         else:
             key = _join(path, "path" if table.get("type") == "mesh" else "radius")
             given = ""
-        ctx.fail(key, f"the object's triangles across the near plane reach {reach:.3g} from the eye, more than "
-                      f"{MAX_NEAR_PLANE_REACH:g} times camera.near ({near:.3g}), beyond what clipping holds in "
-                      f"float64: make the object smaller or camera.near larger{given}")  # fmt: skip
+        limit = MAX_NEAR_PLANE_REACH * near
+        ctx.fail(key, f"makes triangles that cross the near plane reach {reach:.3g} from the eye; allowed: at most "
+                      f"{MAX_NEAR_PLANE_REACH:g} x camera.near = {limit:.3g} (beyond it, clipping in float64 loses "
+                      f"every digit): make the object smaller or camera.near larger{given}")  # fmt: skip
 
 
 def _check_view_distance(ctx, cam):

@@ -6,6 +6,7 @@ import os
 
 from .._numeric import abbreviate
 from .errors import SceneError, _describe, _fmt_value
+from .examples import scene_label
 
 __all__ = ["scene_output_path"]
 
@@ -43,25 +44,27 @@ def scene_output_path(output, scene_file, *, key: str = "image.output", cwd=None
     Raises
     ------
     SceneError
-        For a path outside both folders, a symbolic link, a directory or a missing folder.
+        For a path outside both folders, a symbolic link, a directory or a missing folder; it names the
+        scene file as :func:`~lighting.scene.examples.scene_label` does.
     """
     scene_file = os.fspath(scene_file)
+    label = scene_label(scene_file)  # a shipped example by its name, as the loader names it
     cwd = os.getcwd() if cwd is None else os.fspath(cwd)
     folders = [os.path.realpath(os.path.dirname(os.path.abspath(scene_file))), os.path.realpath(cwd)]
     allowed = f"a path inside the scene's folder {folders[0]} or the current folder {folders[1]} " \
               "(give -o on the command line to write elsewhere)"  # fmt: skip
     if not isinstance(output, str) or not output.strip() or "\0" in output:
-        raise SceneError(scene_file, key, f"must be {allowed}; got {_describe(output)}")
+        raise SceneError(label, key, f"must be {allowed}; got {_describe(output)}")
     given = os.path.join(cwd, output)
     if os.path.islink(given):
-        raise SceneError(scene_file, key, f"{_fmt_value(output)} is a symbolic link; a scene may not write "
+        raise SceneError(label, key, f"{_fmt_value(output)} is a symbolic link; a scene may not write "
                                           f"through one: it must be {allowed}")  # fmt: skip
     real = os.path.realpath(given)
     if not any(_within(real, f) for f in folders):
-        raise SceneError(scene_file, key, f"{_fmt_value(output)} resolves to {abbreviate(real)}; it must be {allowed}")
+        raise SceneError(label, key, f"{_fmt_value(output)} resolves to {abbreviate(real)}; it must be {allowed}")
     if os.path.isdir(real):
-        raise SceneError(scene_file, key, f"{_fmt_value(output)} is a directory; it must be a file name, {allowed}")
+        raise SceneError(label, key, f"{_fmt_value(output)} is a directory; it must be a file name, {allowed}")
     if not os.path.isdir(os.path.dirname(real)):
-        raise SceneError(scene_file, key, f"{_fmt_value(output)}: folder {abbreviate(os.path.dirname(real))} does "
+        raise SceneError(label, key, f"{_fmt_value(output)}: folder {abbreviate(os.path.dirname(real))} does "
                                           f"not exist; the output must be {allowed}")  # fmt: skip
     return real
