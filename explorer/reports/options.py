@@ -31,7 +31,8 @@ def add_accuracy_arguments(p):
     argparse.ArgumentParser
         ``p``.
     """
-    p.add_argument("--quick", action="store_true", help="small sample counts and images (about 5 s; for tests)")
+    p.add_argument("--quick", action="store_true",
+                   help="small sample counts and images, for tests (the report prints its run time)")  # fmt: skip
     p.add_argument("--out", metavar="DIR", default=os.path.join("out", "accuracy"), help="output folder")
     p.add_argument("--no-figure", action="store_true", help="skip the figure (then Matplotlib is not needed)")
     p.add_argument("--only", nargs="+", choices=STUDY_NAMES, metavar="STUDY",
@@ -53,7 +54,7 @@ def add_stability_arguments(p):
         ``p``.
     """
     p.add_argument("--quick", action="store_true",
-                   help="fewer points per case family (about 45 s on 2 cores, mostly mpmath)")  # fmt: skip
+                   help="fewer points per case family (the report prints its run time)")  # fmt: skip
     p.add_argument("--out", metavar="DIR", default="out/stability", help="output folder")
     p.add_argument("--no-figure", action="store_true", help="skip the figure (then Matplotlib is not needed)")
     p.add_argument("--dtype", choices=("float32", "float64", "both"), default="both", help="which float types")
