@@ -11,7 +11,7 @@ import numpy as np
 
 from lighting import CookTorrance, DirectionalLight, Lambert, Material
 from lighting.integrate import outgoing_radiance
-from lighting.lights.environment import LatLongEnvironment, SmallPatchEnvironment
+from lighting.lights.environment import LatLongEnvironment, SmallPatchEnvironment, latlong_angles
 from lighting.lights.skies import SKIES
 from lighting.render.image import encode_srgb8
 from lighting.render.renderer import AnalyticSphere, Renderer
@@ -26,6 +26,12 @@ _CAM_TO_ENV = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 def _sky(sun_env):
     """The engine's daylight sky (:data:`lighting.lights.skies.SKIES`) around ``sun_env``: radiance function."""
     return SKIES["daylight"].make(sun=sun_env)
+
+
+#: Side of the integrated spheres at full resolution, in pixels.  A sphere fills about 440 pixels of the
+#: 150-dpi figure and 280 of a 1280-pixel-wide slide; these smooth images, faded at the silhouette, show
+#: no more at 256 pixels, which costs 1.8 times the integration.
+SPHERE_PX = 192
 
 
 def _sphere_frames(size):
@@ -65,6 +71,7 @@ def _image(r, values, fade=True):
         "(k_d = {kd:g}); right: glossy metal (Cook–Torrance α = {alpha:g}, f0 = {f0_text})."
     ),
     slides="CMSC 435: Rendering equation; Rendering equation for point lights; Results",
+    size="16:9",
     sun_cam=(-0.45, 0.55, 0.7),
     solid_angle=2e-3,
     patch_irradiance=2.5,
@@ -103,7 +110,8 @@ def rendering_equation(q, *, sun_cam, solid_angle, patch_irradiance, kd, alpha, 
     h = 48 if q.quick else 192
     env = LatLongEnvironment.from_function(_sky(sun_env), h)
     patch = SmallPatchEnvironment(sun_env, solid_angle, patch_irradiance / solid_angle)
-    r, n_env, v_env = _sphere_frames(q.env_px)
+    px = q.env_px if q.quick else SPHERE_PX
+    r, n_env, v_env = _sphere_frames(px)
     models = [("Lambert", Lambert(kd)), ("glossy metal", CookTorrance(1.0, alpha, f0))]
     rows = []
     # The patch is nearly uniform across its tiny cap: a few nodes on it are exact to display precision.
@@ -117,10 +125,10 @@ def rendering_equation(q, *, sun_cam, solid_angle, patch_irradiance, kd, alpha, 
     sun = [DirectionalLight(sun_cam, intensity=patch_irradiance)]
     diffs = []
     for (_, m), (_, img) in zip(models, rows[1], strict=True):
-        ref = render_sphere(Material(m, ambient=0.0), sun, size=q.env_px, form="physical")
+        ref = render_sphere(Material(m, ambient=0.0), sun, size=px, form="physical")
         diffs.append(float(np.max(np.abs(img - ref)) / np.max(ref)))
 
-    fig = new_figure(14.0, 8.6)
+    fig = new_figure()
     gs = fig.add_gridspec(2, 3, width_ratios=[1.7, 1.0, 1.0])
     env_rgb = encode_srgb8(env.image)[0]
     dark = np.zeros_like(env_rgb)
@@ -128,18 +136,21 @@ def rendering_equation(q, *, sun_cam, solid_angle, patch_irradiance, kd, alpha, 
     for i, (row, env_img) in enumerate(zip(rows, (env_rgb, dark), strict=True)):
         ax = fig.add_subplot(gs[i, 0])
         ax.imshow(env_img, extent=(0, 360, 180, 0), aspect="auto", interpolation="antialiased")
-        ax.set_xticks(np.arange(0, 361, 90))
+        # The image's columns run along a = (180° − φ) mod 360° (lighting.lights.environment.latlong_angles):
+        # the ticks name the azimuth φ each column looks along.
+        ax.set_xticks(np.arange(0, 361, 90), [f"{180 - a:g}" for a in range(0, 361, 90)])
         ax.set_yticks(np.arange(0, 181, 45))
-        ax.set_xlabel("φ (degrees)")
+        ax.set_xlabel("azimuth φ (degrees)")
         ax.set_ylabel("θ from the zenith (degrees)")
         ax.set_title(labels[i], loc="left", fontsize=14.5)
         if i == 1:
-            th = math.degrees(math.acos(sun_env[2]))
-            ph = math.degrees(math.atan2(sun_env[1], sun_env[0])) % 360
-            ax.plot(ph, th, "o", ms=4, color="white")
-            ax.plot(ph, th, "o", ms=22, mfc="none", mec="#F0B400", mew=1.6)
-            ax.annotate(f"Ω = {solid_angle:g} sr", (ph, th), xytext=(18, -14), textcoords="offset points",
-                        color="#F0B400", fontsize=12.5)  # fmt: skip
+            th, col = (math.degrees(float(x)) for x in latlong_angles(sun_env))
+            ax.plot(col, th, "o", ms=4, color="white")
+            ax.plot(col, th, "o", ms=22, mfc="none", mec="#F0B400", mew=1.6)
+            # The label on the side of the map's centre, so that it stays inside the map.
+            side = 1 if col < 180 else -1
+            ax.annotate(f"Ω = {solid_angle:g} sr", (col, th), xytext=(18 * side, -14), textcoords="offset points",
+                        color="#F0B400", fontsize=12.5, ha="left" if side > 0 else "right")  # fmt: skip
         for j, ((img, _), (name, _)) in enumerate(zip(row, models, strict=True)):
             b = fig.add_subplot(gs[i, 1 + j])
             show_image(b, encode_srgb8(img)[0], name if i == 0 else None)
