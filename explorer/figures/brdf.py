@@ -19,7 +19,8 @@ from lighting.render.image import encode_srgb8
 from lighting.render.renderer import AnalyticSphere, Renderer
 from lighting.render.sphere import sphere_camera
 
-from .base import PALETTE, VEC, equation_row, new_figure, polar_half, register, series_colours, show_image
+from .base import PALETTE, VEC, equation_row, new_figure, register, series_colours, show_image
+from .zoo import half_disc
 
 _THETAS_DEG = (15.0, 35.0, 55.0)
 
@@ -41,10 +42,31 @@ def _models():
 
 
 def _incidence_lines(ax, theta_deg, rmax, color, label=None):
-    t = -math.radians(theta_deg)  # the fixed direction sits at −θ_in
-    ax.plot([t, t], [0, rmax], color=color, ls=":", lw=1.6)
-    if label:
-        ax.text(t, rmax * 1.06, label, color=color, fontsize=16, ha="center", va="center")
+    t = -math.radians(theta_deg)  # the fixed direction sits at −θ_in, on the left
+    ax.plot([0, rmax * math.sin(t)], [0, rmax * math.cos(t)], color=color, ls=":", lw=1.6)
+    if label:  # inside the disc, beside the line's outer end, on the side away from the normal
+        d, side = np.array([math.sin(t), math.cos(t)]), np.array([-math.cos(t), math.sin(t)])
+        ax.text(*(rmax * (0.8 * d + 0.1 * side)), label, color=color, fontsize=16, ha="center", va="center")
+
+
+def _slice_axes(ax, rmax):
+    """``ax`` as the upper half disc of radius ``rmax`` (normal up, mirror side right), with its angles and
+    scale; returns the disc, to clip curves to: a Cartesian half disc fills its cell, a polar axes keeps a
+    square box and leaves half of it empty."""
+    from matplotlib.patches import Circle
+
+    half_disc(ax, rmax, ticks=3, angles=True, scale_label=r"$f_r$ (1/sr)", fontsize=10.5)
+    return Circle((0.0, 0.0), rmax, transform=ax.transData)
+
+
+def _slice_plot(ax, s, disc, *, fill=None, **style):
+    """A polar slice ``s`` on a half disc, clipped to the disc (a curve beyond the scale leaves the plot)."""
+    x, y = s.xy.T
+    if fill is not None:
+        ax.fill(x, y, color=fill, alpha=0.2, lw=0, clip_path=disc)
+    (line,) = ax.plot(x, y, **style)
+    line.set_clip_path(disc)
+    return line
 
 
 # --------------------------------------------------------------------------- decomposition
@@ -102,7 +124,7 @@ def brdf_decomposition(q, *, theta_deg, kd, ks, e):
     images = [render_sphere(Material(b), [light], size=q.sphere_px, background=0.03) for _, b in parts]
     exposure = -math.log2(float(np.max(images[2])))  # the sum's brightest pixel at white; the parts alike
     fig = new_figure()
-    gs = fig.add_gridspec(2, 1, height_ratios=[1.25, 1.0])
+    gs = fig.add_gridspec(2, 1, height_ratios=[0.8, 1.0])
     axes = equation_row(fig, "+=", gap=0.12, subplotspec=gs[0])
     sphere_axes = equation_row(fig, "+=", gap=0.12, subplotspec=gs[1])
     terms = (r"$k_d\,(\mathbf{n}\cdot\mathbf{l})$", r"$k_s\,(\mathbf{R}_l\cdot\mathbf{v})^e$",
@@ -110,13 +132,9 @@ def brdf_decomposition(q, *, theta_deg, kd, ks, e):
     for ax, img, term in zip(sphere_axes, images, terms, strict=True):
         show_image(ax, encode_srgb8(img, exposure=exposure)[0], term, fontsize=14)
     for i, (ax, (title, _), s) in enumerate(zip(axes, parts, slices, strict=True)):
-        pos = ax.get_subplotspec()
-        ax.remove()
-        ax = fig.add_subplot(pos, projection="polar")
-        ax.fill_between(s.angles, 0, s.values, color=PALETTE[i], alpha=0.2, lw=0)
-        ax.plot(s.angles, s.values, color=PALETTE[i])
+        disc = _slice_axes(ax, rmax)
+        _slice_plot(ax, s, disc, fill=PALETTE[i], color=PALETTE[i])
         _incidence_lines(ax, theta_deg, rmax, VEC["l"], r"$\mathbf{l}$")
-        polar_half(ax, rmax)
         ax.set_title(title, pad=2)
     plain = [render_sphere(Material(b), [light], size=q.sphere_px, background=0.0) for _, b in parts]
     difference = float(np.max(np.abs(plain[2] - plain[0] - plain[1])))
@@ -158,16 +176,16 @@ def brdf_polar(q, *, theta_deg):
     """
     models = _models()
     fig = new_figure()
-    axes = fig.subplots(2, 3, subplot_kw={"projection": "polar"})
+    axes = fig.subplots(2, 3)
     cols = [PALETTE[0], PALETTE[2], PALETTE[1]]
     peaks = {}
     for ax, (name, brdf, params) in zip(axes.flat, models, strict=True):
         slices = [polar_slice(brdf, math.radians(t), n=q.polar_n, channel=0) for t in theta_deg]
         rmax = 1.1 * max(float(s.values.max()) for s in slices)
+        disc = _slice_axes(ax, rmax)
         for t, s, c in zip(theta_deg, slices, cols, strict=True):
-            ax.plot(s.angles, s.values, color=c, label=rf"light at $\theta_l$ = {t:g}°")
+            _slice_plot(ax, s, disc, color=c, label=rf"light at $\theta_l$ = {t:g}°")
             _incidence_lines(ax, t, rmax, c)
-        polar_half(ax, rmax)
         ax.set_title(f"{name}\n{params}", fontsize=13, pad=0)
         peaks[name] = float(rmax / 1.1)
     handles, labels = axes.flat[1].get_legend_handles_labels()
@@ -264,10 +282,10 @@ def brdf_lobes_3d(q, *, theta_deg):
     caption=(
         "The two polar plots of a BRDF: for one light direction showing view directions (solid), and for one "
         "view direction showing light directions (dashed), both fixed at {theta_deg:g}° (dotted). A reciprocal "
-        "BRDF, f_r(l, v) = f_r(v, l), gives the same curve both ways: normalized Blinn–Phong (bottom left, "
+        "BRDF, f_r(l, v) = f_r(v, l), gives the same curve both ways: normalized Blinn–Phong (top right, "
         "largest relative difference {bp_difference:.1e}). The slides' Phong BRDF k_s (R_l·v)^e / (π (n·l)) "
         "does not (top left): dividing by n·l breaks reciprocity, and the two slices differ by exactly the factor "
-        "(n·v)/(n·l) (right: measured ratio against that formula), and its dashed curve climbs again toward "
+        "(n·v)/(n·l) (bottom: measured ratio against that formula), and its dashed curve climbs again toward "
         "the horizon, where 1/(n·l) grows without bound."
     ),
     slides="CMSC 435: Physically plausible BRDF (reciprocity); Plotting BRDFs; Phong (non-physical)",
@@ -301,22 +319,23 @@ def reciprocity(q, *, theta_deg, phong_e, blinn_e):
         (f"Blinn–Phong normalized, e = {blinn_e:g}", BlinnPhong(1.0, blinn_e, normalized=True)),
     ]
     fig = new_figure()
-    gs = fig.add_gridspec(2, 2, width_ratios=[1.2, 1.0])
+    # The two slices side by side, as large as the slide's height allows; their ratio across the bottom.
+    gs = fig.add_gridspec(2, 2, height_ratios=[1.25, 1.0])
     measured = {}
     ratios = []
     for i, (title, brdf) in enumerate(cases):
         a, b = reciprocity_pair(brdf, th, n=q.polar_n, channel=0)
-        ax = fig.add_subplot(gs[i, 0], projection="polar")
+        ax = fig.add_subplot(gs[0, i])
         # The scale comes from the slices away from the last degree above the horizon: there the Phong
         # BRDF's 1/(n·l) grows without bound, and the slice (which samples its peak) reaches it; the
         # dashed curve leaves the plot there instead of shrinking every lobe to a dot.
         inner = np.abs(a.angles) <= math.radians(89.0)
         scale = max(float(a.values[inner].max()), float(b.values[inner].max()))
         rmax = 1.1 * scale
-        ax.plot(a.angles, a.values, color=PALETTE[0], label="light fixed, view swept")
-        ax.plot(b.angles, b.values, color=PALETTE[1], ls="--", label="view fixed, light swept")
+        disc = _slice_axes(ax, rmax)
+        _slice_plot(ax, a, disc, color=PALETTE[0], label="light fixed, view swept")
+        _slice_plot(ax, b, disc, color=PALETTE[1], ls="--", label="view fixed, light swept")
         _incidence_lines(ax, theta_deg, rmax, "0.4")
-        polar_half(ax, rmax)
         ax.set_title(title, pad=2)
         big = np.maximum(a.values, b.values)
         ok = big > 1e-6 * scale
@@ -325,8 +344,8 @@ def reciprocity(q, *, theta_deg, phong_e, blinn_e):
         measured["phong_plot_scale" if i == 0 else "bp_plot_scale"] = scale
         ratios.append((a, b, ok))
         if i == 0:
-            fig.legend(loc="outside lower left", ncol=2)
-    ax = fig.add_subplot(gs[:, 1])
+            fig.legend(loc="outside upper center", ncol=2)
+    ax = fig.add_subplot(gs[1, :])
     t_deg = np.degrees(ratios[0][0].angles)
     formula = np.cos(ratios[0][0].angles) / math.cos(th)
     ax.plot(t_deg, formula, color="0.3", lw=1.4, label=r"$(\mathbf{n}\cdot\mathbf{v})/(\mathbf{n}\cdot\mathbf{l})$")

@@ -137,7 +137,16 @@ def _param_text(brdf, width: int = 44, lead: str = "") -> str:
     return "\n".join(lines)
 
 
-def half_disc(ax, rmax: float, *, ticks: int = 2, label: bool = True) -> None:
+def half_disc(
+    ax,
+    rmax: float,
+    *,
+    ticks: int = 2,
+    label: bool = True,
+    angles: bool = False,
+    scale_label: str | None = None,
+    fontsize: float = 10.0,
+) -> None:
     """Cartesian axes showing the upper hemisphere as a half disc (normal up, mirror side right).
 
     A Matplotlib polar axes restricted to [−90°, 90°] keeps a square box and leaves its lower half
@@ -154,6 +163,12 @@ def half_disc(ax, rmax: float, *, ticks: int = 2, label: bool = True) -> None:
         About how many radial grid circles.
     label : bool, optional
         Print the radial scale's values along the right half of the baseline.
+    angles : bool, optional
+        Print the angles from the normal, −90° to 90° every 30°, around the rim.
+    scale_label : str, optional
+        What the radial scale measures (e.g. ``"$f_r$ (1/sr)"``), under the baseline's right half.
+    fontsize : float, optional
+        The size of the scale's values; the angles and ``scale_label`` are 1.5 pt larger.
 
     Returns
     -------
@@ -174,16 +189,26 @@ def half_disc(ax, rmax: float, *, ticks: int = 2, label: bool = True) -> None:
     for r in _nice_ticks(rmax, ticks):
         ax.plot(r * np.sin(t), r * np.cos(t), color="0.85", lw=0.7, zorder=0)
         if label and r < 0.97 * rmax:
-            ax.text(r, -0.03 * rmax, _fmt_tick(r), ha="center", va="top", fontsize=10, color="0.35")
+            ax.text(r, -0.03 * rmax, _fmt_tick(r), ha="center", va="top", fontsize=fontsize, color="0.35")
     for deg in (-60, -30, 0, 30, 60):
         a = math.radians(deg)
         ax.plot([0, rmax * math.sin(a)], [0, rmax * math.cos(a)], color="0.85", lw=0.7, zorder=0)
     ax.plot(rmax * np.sin(t), rmax * np.cos(t), color="0.2", lw=1.0, zorder=1)
     ax.plot([-rmax, rmax], [0, 0], color="0.2", lw=1.0, zorder=1)
     ax.text(0.03 * rmax, 0.99 * rmax, "n", ha="left", va="top", fontsize=11, color=VEC["n"], fontweight="bold")
+    if angles:
+        for deg in range(-90, 91, 30):
+            a = math.radians(deg)
+            ha = "center" if deg == 0 else ("left" if deg > 0 else "right")
+            va = "center" if abs(deg) == 90 else "bottom"
+            text = f"{deg}°".replace("-", "−")
+            ax.text(1.04 * rmax * math.sin(a), 1.04 * rmax * math.cos(a), text, ha=ha, va=va, fontsize=fontsize + 1.5)
+    if scale_label:
+        ax.text(0.55 * rmax, -0.13 * rmax, scale_label, ha="center", va="top", fontsize=fontsize + 1.5, color="0.3")
     ax.set_aspect("equal")
-    ax.set_xlim(-1.04 * rmax, 1.04 * rmax)
-    ax.set_ylim(-0.16 * rmax, 1.02 * rmax)
+    wide = 1.22 if angles else 1.04  # room for the angles at the ends of the baseline
+    ax.set_xlim(-wide * rmax, wide * rmax)
+    ax.set_ylim((-0.3 if scale_label else -0.16) * rmax, (1.22 if angles else 1.02) * rmax)
     ax.axis("off")
 
 
