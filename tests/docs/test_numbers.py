@@ -103,3 +103,16 @@ def test_no_hand_copied_time_for_the_figure_set_or_the_docs_build(path):
         f"{path.name}: a time for the figure set or the docs build depends on the machine; say which command "
         "prints it (lighting-explorer figures does) or generate it"
     )
+
+
+def test_every_generated_number_names_a_figure_of_the_set():
+    # The values themselves exist only once the figures are drawn (the docs build stops, naming the page and the
+    # placeholder, when one is missing); here, without drawing, every placeholder must name a registered figure.
+    names = set(figure_names())
+    used = {
+        (path.name, m.group(1).split(".")[0])
+        for path in PAGES
+        for m in re.finditer(r"(?<!\\)\{\{\s*figures\.([\w.]+)", path.read_text(encoding="utf-8"))
+    }
+    assert {page for page, _ in used} >= {"lights.md", "getting-started.md"}
+    assert sorted((page, name) for page, name in used if name != "count" and name not in names) == []
