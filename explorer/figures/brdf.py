@@ -495,7 +495,7 @@ def microfacets(q, *, seed, sigma, light_deg, view_deg, facets, tolerance_deg):
         ax.annotate("", xy=hit, xytext=hit + min(L, (hit[0] + 0.1) / -ld[0] if ld[0] < 0 else L) * ld,
                     arrowprops={"arrowstyle": "-|>", "color": VEC["l"], "lw": 1.6, "ls": "--"})  # fmt: skip
         ax.plot([hit[0], mid[0]], [hit[1], mid[1]], color="0.45", ls=":", lw=1.4)
-        ax.text(hit[0], hit[1] + 0.55, "shadowing", fontsize=12.5, ha="center", color="0.25",
+        ax.text(hit[0] + 0.3, hit[1] + 0.85, "shadowing", fontsize=12.5, ha="center", color="0.25",
                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1})  # fmt: skip
     for i, mid in examples["mask"][:2]:
         hit = _blocked(x, y, i, mid, vd)
