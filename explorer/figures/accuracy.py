@@ -594,7 +594,8 @@ def accuracy_ibl(q, *, csv):
         Line2D([], [], ls="none", marker="*", ms=13, color="0.4", mec="k"),
         Line2D([], [], ls="none", marker="s", ms=8, color=PALETTE[1], mec="k"),
     ]
-    names = [f"{m}: Monte Carlo" for m in lines] + ["split sum", "SH9 irradiance"]
+    names = [f"{m}: Monte Carlo" for m in lines] + ["split sum (hollow: the\nreference cannot tell)",
+                                                      "SH9 irradiance"]
     key = fig.add_subplot(grid[0, -1])
     key.axis("off")
     key.legend(keys, names, loc="center left", fontsize=11, borderaxespad=0.0)

@@ -199,11 +199,10 @@ def test_figures_drawn_from_the_cache_are_bit_identical_and_measure_nothing(fold
     outs = []
     for run in ("a", "b"):
         d = tmp_path / run
-        figures.generate(d, formats=("png", "svg"), only=list(FIGURES.values()), dpi=40)
+        figures.generate(d, formats=("png",), only=list(FIGURES.values()), dpi=40)
         outs.append(d)
     for name in FIGURES.values():
-        for ext in ("png", "svg"):
-            assert (outs[0] / f"{name}.{ext}").read_bytes() == (outs[1] / f"{name}.{ext}").read_bytes(), name
+        assert (outs[0] / f"{name}.png").read_bytes() == (outs[1] / f"{name}.png").read_bytes(), name
         rec = json.loads((outs[0] / f"{name}.json").read_text(encoding="utf-8"))
         assert rec["deterministic"] is True and rec["nondeterministic_reason"] is None, name
         m = rec["measured"]
