@@ -174,9 +174,13 @@ def _error_axis(ax, errors, floor=None, label="relative error") -> None:
 
 def _label_points(ax, xs, ys, labels, colour, *, dx=6, dy=5, fontsize=10.5) -> None:
     """Small cost labels beside the points of one line (``labels`` may hold ``None`` to skip a point)."""
+    import matplotlib.patheffects as pe
+
+    halo = [pe.withStroke(linewidth=3, foreground="white")]  # readable where a line passes under the label
     for x, y, text in zip(xs, ys, labels, strict=True):
         if text is not None:
-            ax.annotate(text, (x, y), textcoords="offset points", xytext=(dx, dy), fontsize=fontsize, color=colour)
+            ax.annotate(text, (x, y), textcoords="offset points", xytext=(dx, dy), fontsize=fontsize, color=colour,
+                        path_effects=halo)  # fmt: skip
 
 
 # --------------------------------------------------------------------------- integration
@@ -567,11 +571,7 @@ def accuracy_ibl(q, *, csv):
             (h,) = ax.plot(t, e, "o-", color=colours[m], ms=5, lw=1.8)
             handles.setdefault(m, h)
             if m == lines[-1]:  # the sample counts once: the same for every model
-                import matplotlib.patheffects as pe
-
-                for x_, y_, p in zip(t, e, mc_pts, strict=True):
-                    ax.annotate(str(p.cost), (x_, y_), textcoords="offset points", xytext=(5, 6), fontsize=10.5,
-                                color="0.2", path_effects=[pe.withStroke(linewidth=3, foreground="white")])  # fmt: skip
+                _label_points(ax, t, e, [str(p.cost) for p in mc_pts], "0.2", dx=5, dy=6)
             ss = next(p for p in mp if p.method == "split sum")
             noisy = ss.reference_error > ss.error
             ax.plot(ss.seconds * 1e3, ss.error, "*", ms=15, color=colours[m], mec=colours[m] if noisy else "k",
