@@ -9,15 +9,17 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 import re
 
 import numpy as np
 
-from .._numeric import BudgetError, check_budget
+from .._numeric import BudgetError, abbreviate, check_budget
 from ..render.mesh import TriangleMesh
 from ..shading.equation import TERMS
 from .budget import _clamp
 from .errors import SceneBudgetError, SceneError, _describe, _fmt_value, _int_text, _join, _norm_name, _suggest
+from .examples import EXAMPLES_DIR
 
 __all__ = ["MAX_NESTING"]
 
@@ -27,6 +29,9 @@ class _Ctx:
 
     def __init__(self, source: str, base_dir: str):
         self.source, self.base_dir = source, base_dir
+        # A shipped example's files are named as the scene names them (cube.obj), not by the package's folder.
+        shipped = os.path.normcase(os.path.abspath(base_dir)) == os.path.normcase(EXAMPLES_DIR)
+        self._folder_shown = EXAMPLES_DIR + os.sep if shipped else None
         self.meshes: dict[str, TriangleMesh] = {}
         self.brdf_files: dict[str, type] = {}  # absolute path → model class (a table read once per scene)
         self.held_bytes = 0  # estimated memory of the geometry built so far (see _charge)
@@ -40,12 +45,20 @@ class _Ctx:
         try:
             check_budget("this value", total, what=what + ("; with the rest of the scene" if self.held_bytes else ""))
         except BudgetError as e:
-            raise SceneBudgetError(self.source, path, str(e)) from None
+            raise SceneBudgetError(self.source, path, self.shown(str(e))) from None
         if held:
             self.held_bytes = total
 
+    def shown(self, detail: str) -> str:
+        """``detail`` as a message shows it: a shipped example's folder left out of the paths in it."""
+        return detail.replace(self._folder_shown, "") if self._folder_shown else detail
+
+    def resolved(self, given: str, path: str) -> str:
+        """`` (path)``: where a file the scene names was looked for, when that says more than the name given."""
+        return "" if self.shown(path) == given else f" ({abbreviate(path)})"
+
     def fail(self, path: str, detail: str):
-        raise SceneError(self.source, path, detail)
+        raise SceneError(self.source, path, self.shown(detail))
 
     def build(self, path: str, factory, kwargs: dict, keymap: dict | None = None):
         """Call an engine constructor; its ValueError comes back with the file and key in front.
@@ -61,7 +74,7 @@ class _Ctx:
             names = sorted(set(kwargs) | set(keymap), key=len, reverse=True)
             hit = next((k for k in names if re.match(rf"{re.escape(k)}\b", msg)), None)
             key = keymap.get(hit, hit) if hit else None
-            raise SceneError(self.source, _join(path, key) if key else path, msg) from None
+            raise SceneError(self.source, _join(path, key) if key else path, self.shown(msg)) from None
 
 
 REQUIRED = object()

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import os
 
-from .._numeric import BudgetError, abbreviate, check_color
+from .._numeric import BudgetError, check_color
 from ..lights.envfiles import IMAGE_EXTENSIONS, declared_image_size, load_environment
 from ..lights.envlight import EnvironmentLight
 from ..lights.skies import SKIES
@@ -47,7 +47,7 @@ def _source(ctx, path, spec):
     p = os.path.normpath(os.path.join(ctx.base_dir, os.path.expanduser(spec)))
     if not os.path.isfile(p):
         what = "does not exist" if not os.path.exists(p) else "is not a regular file"
-        ctx.fail(key, f"{_fmt_value(spec)} ({abbreviate(p)}) {what}; an environment image must be an existing "
+        ctx.fail(key, f"{_fmt_value(spec)}{ctx.resolved(spec, p)} {what}; an environment image must be an existing "
                       "file, relative to the scene's folder")  # fmt: skip
     size = declared_image_size(p)
     if size is not None:

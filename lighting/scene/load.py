@@ -349,7 +349,7 @@ def _file_part(ctx, path, part):
     if p not in ctx.brdf_files:
         if not os.path.isfile(p):
             what = "does not exist" if not os.path.exists(p) else "is not a regular file"
-            ctx.fail(_join(path, "file"), f"{_fmt_value(spec)} ({abbreviate(p)}) {what}; a BRDF file must be an "
+            ctx.fail(_join(path, "file"), f"{_fmt_value(spec)}{ctx.resolved(spec, p)} {what}; a BRDF file must be an "
                                           "existing file, relative to the scene's folder")  # fmt: skip
         per_byte, fixed = BRDF_FILE_BYTES[ext]
         size = os.stat(p).st_size

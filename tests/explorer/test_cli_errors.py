@@ -110,6 +110,14 @@ def test_other_errors_about_a_shipped_scene_name_it_as_typed(capsys):
     )
     line = error(["render", "spotlight", "-D", 'image.output="../../elsewhere.png"'], capsys)
     assert line.startswith('spotlight: image.output: "../../elsewhere.png" resolves to ')
+    # Files a shipped scene names are named as the scene names them, not by the package's folder.
+    assert error(["render", "spotlight", "-D", "objects[0].path=nothere.obj"], capsys) == (
+        "spotlight: objects[0].path: mesh file 'nothere.obj' does not exist (with -D objects[0].path=nothere.obj)"
+    )
+    assert error(["render", "environment", "-D", 'lights[0].source="nope.hdr"'], capsys) == (
+        'environment: lights[0].source: "nope.hdr" does not exist; an environment image must be an existing file, '
+        """relative to the scene's folder (with -D lights[0].source="nope.hdr")"""
+    )
 
 
 # ----------------------------------------------------------------------------- report with no report
