@@ -218,8 +218,9 @@ def _parse(ctx: _Ctx, data: dict) -> Scene:
 
 
 #: How far, in multiples of ``camera.near``, a triangle that crosses the near plane may reach from the eye.  Clipping
-#: it against the plane in float64 loses every digit near 1/eps (measured: about 5e15 times near); this keeps
-#: three orders of magnitude from that.
+#: it against the plane in float64 loses every digit near 1/eps (measured on the cube example scaled around the
+#: camera: NaN pixels from 6e15 to 1.2e16 times near, for near 1, 0.006 and 0.001); this keeps three orders of
+#: magnitude from that.
 MAX_NEAR_PLANE_REACH = 1e12
 
 
