@@ -271,7 +271,7 @@ def test_a_tiny_near_plane_is_named_when_the_object_keeps_its_size(tmp_path, cap
     assert line.endswith("; got 1e-15")
 
 
-def test_explain_renders_nothing_for_a_scene_the_loader_accepts(capsys):
+def test_the_near_plane_rule_refuses_no_shipped_scene_and_explain_counts_in_words(capsys):
     # The near-plane rule refuses nothing the shipped scenes hold.
     for name in list_examples():
         status, out, err = run(["render", name, "--explain"], capsys)
