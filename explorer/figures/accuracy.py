@@ -112,6 +112,7 @@ def _measured(points, source, **more):
         "source": source["text"],
         "source_kind": source["kind"],
         "settings": source["settings"],
+        "measured_by": source["by"],
         "reproducible": source["reproducible"],
         "points": len(points),
         **more,

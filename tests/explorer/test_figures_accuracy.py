@@ -207,6 +207,7 @@ def test_figures_drawn_from_the_cache_are_bit_identical_and_measure_nothing(fold
         assert rec["deterministic"] is True and rec["nondeterministic_reason"] is None, name
         m = rec["measured"]
         assert (m["source_kind"], m["settings"], m["reproducible"]) == ("cache", "full", True), name
+        assert m["measured_by"] == "lighting-explorer report accuracy", name
         assert "measured by lighting-explorer report accuracy (full settings)" in rec["caption"], name
 
 
@@ -239,6 +240,7 @@ def test_with_an_empty_cache_each_figure_measures_its_quick_study_only(folder, m
         fig, spec, _, _, m = figures.make_figure(name, quick=True)
         assert calls[-1] == {"quick": True, "only": [study]}, name
         assert (m["source_kind"], m["settings"], m["reproducible"]) == ("measured now", "quick", False), name
+        assert m["measured_by"] == "lighting-explorer figures", name
         assert spec.nondeterministic and "wall-clock" in spec.nondeterministic
         assert 1 <= len(_panels(fig)) <= 6, name
         assert tuple(fig.get_size_inches()) == spec.size_in
