@@ -11,6 +11,7 @@ is allocated (:func:`lighting._numeric.set_memory_budget`; 2 GiB by default).
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import sys
 
@@ -40,7 +41,9 @@ def print_error(error) -> int:
     Returns
     -------
     int
-        2, the exit status of a bad request.
+        2, the exit status of a bad request; 141 and nothing printed for a ``BrokenPipeError``: the reader
+        of the output went away (``lighting-explorer render --list | head -2``), and a command-line tool
+        then stops quietly.
 
     Examples
     --------
@@ -51,6 +54,9 @@ def print_error(error) -> int:
     >>> status, err.getvalue().splitlines()
     (2, ["lighting-explorer: error: --size must be WIDTHxHEIGHT or N; got 'x'"])
     """
+    if isinstance(error, BrokenPipeError):
+        _silence_stdout()
+        return 141
     text = error_line(error) if isinstance(error, BaseException) else " ".join(str(error).split())
     print(ERROR_PREFIX + text, file=sys.stderr)
     return 2
@@ -618,6 +624,15 @@ def _dispatch(argv: list[str]) -> int:
     return args.func(args)
 
 
+def _silence_stdout() -> None:
+    """Point standard output at the null device, so that Python's flush at exit does not fail on a closed pipe."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        pass  # no file descriptor behind sys.stdout (a test's capture): nothing will be flushed to a pipe
+
+
 def main(argv=None) -> int:
     """Run ``lighting-explorer``.
 
@@ -630,7 +645,7 @@ def main(argv=None) -> int:
     -------
     int
         The exit status: 0 done, 1 a check failed, 2 a bad request, 130 interrupted by Ctrl-C, 143 by
-        ``SIGTERM``.
+        ``SIGTERM``, 141 when the output's reader closed the pipe.
     """
     from ._allocator import tune_allocator
     from .output import Terminated, raise_if_signalled, signals_as_exceptions

@@ -45,7 +45,7 @@ def add_parser(subparsers):
                    help="draw only these figures (see --list); figures.json keeps the other entries")  # fmt: skip
     p.add_argument("--dpi", type=int, metavar="N", help="raster resolution (default: 150; 50 with --quick)")
     p.add_argument("--quick", action="store_true",
-                   help="low resolution and sample counts (all figures in about a minute on 2 cores)")  # fmt: skip
+                   help="low resolution and sample counts (for tests and previews)")  # fmt: skip
     p.add_argument("--jobs", "-j", type=int, default=None, metavar="N",
                    help=f"worker processes, 1 to {MAX_JOBS} (default: up to 4, one per core)")  # fmt: skip
     p.add_argument("--accuracy-csv", metavar="FILE",

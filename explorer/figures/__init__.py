@@ -336,7 +336,7 @@ def check_accuracy_csv(path) -> str:
             if missing:
                 raise FigureError(
                     f"--accuracy-csv: {shown} is not an accuracy.csv of 'lighting-explorer report accuracy': "
-                    f"missing column(s) {', '.join(missing)}"
+                    f"missing {'column' if len(missing) == 1 else 'columns'} {', '.join(missing)}"
                 )
             rows = 0
             for row in reader:

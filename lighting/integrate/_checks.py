@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._numeric import check_budget, check_count
+from .._text import plural
 from .sampling import BYTES_PER_SAMPLE, _check_brdf  # noqa: F401  (_check_brdf: the one "is it a BRDF" check)
 
 _NODE_BUDGET = 1 << 18  # directions evaluated per vectorized batch (bounds memory)
@@ -24,7 +25,7 @@ def _samples(value, minimum=1, method=None, brdf=None, points=1) -> int:
     parts = 1 if brdf is None else len(brdf.parts)
     # One batch holds max(n, _NODE_BUDGET) directions; mixtures draw a candidate per part.
     peak = max(n, min(_NODE_BUDGET, n * max(int(points), 1))) * BYTES_PER_SAMPLE * (1 + parts)
-    check_budget("samples", peak, what=f"{n} directions per point, {parts} part(s)")
+    check_budget("samples", peak, what=f"{n} directions per point, {plural(parts, 'part')}")
     return n
 
 

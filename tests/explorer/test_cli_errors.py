@@ -315,3 +315,17 @@ def test_the_loader_names_a_shipped_scene_by_its_name_and_any_other_as_given(tmp
         load_scene(bad)
     with pytest.raises(SceneError, match=r"^my scene: version: must be 1"):
         load_scene(bad, source="my scene")
+
+
+def test_a_reader_that_closes_the_pipe_ends_the_command_quietly():
+    # `lighting-explorer --help | head -1`: the pipe closes before the help is written.
+    import subprocess
+    import sys
+
+    code = "import sys; from explorer.cli import main; sys.exit(main(['render', '--list']))"
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    proc.stderr.close()
+    assert proc.wait(timeout=60) == 141
+    assert err == ""
