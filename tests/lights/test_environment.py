@@ -80,8 +80,8 @@ def test_a_single_bright_pixel_lands_where_blender_and_mitsuba_put_it():
     probe = LatLongEnvironment.pixel_directions(8 * h, 8 * w).reshape(-1, 3)
     d = probe[np.argmax(env.radiance(probe)[:, 0])]
     samples, _ = env.sample(np.random.default_rng(1).random((2000, 2)))
-    # (The sampler draws from the pixel's 3 x 3 neighbourhood, which bilinear lookup reaches.)
-    for (x, y, z), reach in ((d, 0.5), *((s, 1.5) for s in samples)):
+    # (The sampler draws where bilinear lookup reaches: within one pixel of the centre.)
+    for (x, y, z), reach in ((d, 0.5), *((s, 1.0) for s in samples)):
         assert math.acos(z) / math.pi == pytest.approx(v, abs=reach / h)
         assert ((math.pi - math.atan2(y, x)) / (2 * math.pi)) % 1 == pytest.approx(u, abs=reach / w)  # Blender
         assert (math.atan2(x, y) / (2 * math.pi)) % 1 == pytest.approx((u - 0.25) % 1, abs=reach / w)  # Mitsuba
@@ -128,9 +128,15 @@ def test_latlong_sampling_density_is_consistent_and_covers_the_radiance():
     d, p = env.sample(rng.random((4000, 2)))
     np.testing.assert_allclose(np.linalg.norm(d, axis=-1), 1.0, atol=1e-12)
     np.testing.assert_allclose(env.pdf(d), p, rtol=1e-12)
-    # The density integrates to one (it is piecewise constant over pixels).
-    px = LatLongEnvironment.pixel_directions(8, 16)
-    assert np.sum(env.pdf(px) * env.solid_angles()) == pytest.approx(1.0, rel=1e-12)
+    # The density integrates to one: over each half-pixel cell (the pixels of a 16 x 32 image) it is bilinear in
+    # (cos θ, φ), so its mean there is its value at the cell's middle in cos θ and φ.
+    omega = LatLongEnvironment(np.zeros((16, 32, 3))).solid_angles()
+    c = np.cos(np.linspace(0, math.pi, 17))
+    z = 0.5 * (c[:-1] + c[1:])[:, None]
+    phi = math.pi - (np.arange(32) + 0.5) * (2 * math.pi / 32)
+    r = np.sqrt(1 - z * z)
+    middles = np.stack(np.broadcast_arrays(r * np.cos(phi), r * np.sin(phi), z), axis=-1)
+    assert np.sum(env.pdf(middles) * omega) == pytest.approx(1.0, rel=1e-12)
     # Wherever bilinear lookup returns light, the density is positive (no bias in environment sampling).
     probe = _rand_dirs(20000, 4)
     lit = env.radiance(probe).max(axis=-1) > 0
@@ -148,7 +154,7 @@ def test_latlong_sampling_chi_square_over_pixels():
     i = np.minimum((theta / math.pi * 6).astype(int), 5)
     j = np.minimum((a / (2 * math.pi) * 12).astype(int), 11)
     counts = np.bincount(i * 12 + j, minlength=72)
-    expected = n * env.pdf(LatLongEnvironment.pixel_directions(6, 12)).ravel() * env.solid_angles().ravel()
+    expected = n * env._pixel_probabilities().ravel()
     keep = expected >= 5
     chi2 = np.sum((counts[keep] - expected[keep]) ** 2 / expected[keep])
     assert stats.chi2.sf(chi2, keep.sum() - 1) > 1e-3
