@@ -251,7 +251,7 @@ def test_out_that_is_a_file_is_refused_and_kept(tmp_path, capsys, monkeypatch):
     ("content", "message"),
     [
         (b"\x89PNG\r\n\x1a\n\x00\x00\xff\xfe", "is not a UTF-8 text file"),
-        (b"a,b\n1,2\n", "is not an accuracy.csv of 'lighting-explorer report accuracy': missing column(s) study, "),
+        (b"a,b\n1,2\n", "is not an accuracy.csv of 'lighting-explorer report accuracy': missing columns study, "),
         (b"study,case,method,cost,cost_unit,error,error_spread,seconds,reference\n", "has no data rows"),
         (b"study,case,method,cost,cost_unit,error,error_spread,seconds,reference\ns,c,m,lots,n,1,0,1,r\n",
          "line 2: cost must be an integer; got 'lots'"),
