@@ -340,7 +340,7 @@ _MODE_NAMES = {"flat": "flat (one normal per triangle)", "gouraud": "Gouraud (co
     "accuracy_tessellation",
     title="Flat, Gouraud and Phong interpolation: error against tessellation and run time",
     caption=(
-        "An icosphere of {triangles} triangles shaded flat, Gouraud and Phong, against the ray-cast analytic "
+        "Icospheres of {triangles} triangles shaded flat, Gouraud and Phong, against the ray-cast analytic "
         "sphere under the same camera and lights (RMS relative error where n·v > 0.25, away from the "
         "silhouette; the 'tessellation' study of lighting.validation.accuracy). Left: error against the time "
         "of one image (numbers: triangles). Right: error against the triangle count. At the finest tessellation "
@@ -398,7 +398,7 @@ def accuracy_tessellation(q, *, csv):
     right.grid(True, which="major")
     right.legend(loc="lower left")
     triangles = ", ".join(f"{k:,}" for k in sorted({p.cost for p in points}))
-    finest_text = ", ".join(f"{m} {e:.2%}" for m, e in finest.items())
+    finest_text = ", ".join(f"{m} {100 * e:.2g} %" for m, e in finest.items())
     return fig, _measured(points, source, triangles=triangles, finest=finest, finest_text=finest_text)
 
 
@@ -407,8 +407,9 @@ def accuracy_tessellation(q, *, csv):
     "accuracy_precision",
     title="float32 against float64: re-shading time and error",
     caption=(
-        "Re-shading the same geometry buffer ({pixels:,} pixels of a sphere of 5,000 triangles, three "
-        "directional lights) in float64 and float32 (the 'precision' study of lighting.validation.accuracy). "
+        "Re-shading the same geometry buffer ({pixels:,} pixels of a sphere of about 5,000 triangles under an "
+        "ambient and three directional lights) in float64 and float32 (the 'precision' study of "
+        "lighting.validation.accuracy). "
         "Left: the time of one re-shade; float32 takes {ratio:.2f}× the float64 time. Right: the largest "
         "error relative to the brightest pixel, against the float64 image: float32 costs {ulps:.1f} units of "
         "float32's rounding (2^-24 ≈ 6.0e-8), far below what an 8-bit display shows (1/255). "
@@ -505,13 +506,14 @@ def _model_heads(labels) -> tuple[list[str], list[int]]:
     "accuracy_ibl",
     title="Image-based lighting: error against run time, and the split sum's error by model",
     caption=(
-        "The 'ibl' study of lighting.validation.accuracy: a sphere under {skies_text} ({models} models; "
+        "The 'ibl' study of lighting.validation.accuracy: a sphere under the environments {skies_text} "
+        "({models} models; "
         "errors are medians over the lit pixels against a Monte-Carlo reference of {ref_spp} samples per pixel). "
         "Top, one panel per environment: Monte Carlo with multiple importance sampling at {spp_text} samples "
         "per pixel (lines; numbers: samples per pixel), the split sum (stars; hollow where the reference is "
         "too noisy to measure it) and SH9 irradiance against the exact irradiance of the map (square), for "
         "{line_models}. Bottom: the split sum's median error for every model of the study and every "
-        "environment. Times are for {timed}. " + _SOURCE_CAPTION + " " + _TIMES
+        "environment. Times are for {timed} (the split sum and SH9 in float32). " + _SOURCE_CAPTION + " " + _TIMES
     ),
     slides="Beyond the slides: image-based lighting (Ramamoorthi & Hanrahan 2001; Karis 2013)",
     nondeterministic="plots wall-clock times measured while drawing, which differ from run to run "
@@ -623,8 +625,10 @@ def accuracy_ibl(q, *, csv):
     tab.set_xlabel("split sum: median relative error per model (columns) and environment (rows)")
     ref_spp = sorted({int(p.reference.split(" spp")[0].rsplit(" ", 1)[-1]) for p in points
                       if p.reference.startswith("Monte Carlo")})  # fmt: skip
-    timed = points[0].reference.split("(times: ")[-1].rstrip(")") if "(times: " in points[0].reference else "the study"
-    skies_text = ", ".join(f"'{e}'" for e in envs)
+    timed = next((p.reference.split("(times: ")[-1].rstrip(")").removesuffix(", float32") for p in points
+                  if "(times: " in p.reference), "the study's pixels")  # fmt: skip
+    quoted = [f"'{e}'" for e in envs]
+    skies_text = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " and " + quoted[-1]
     return fig, _measured(
         points, source,
         skies_text=skies_text, models=len(models), environments=len(envs),
