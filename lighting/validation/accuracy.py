@@ -573,9 +573,13 @@ def study_settings(name: str, quick: bool = False) -> dict:
     --------
     >>> study_settings("precision", quick=True)
     {'precision_size': 128, 'repeat': 3}
+    >>> study_settings(["precision"])
+    Traceback (most recent call last):
+    ...
+    ValueError: study must be one of integration, area-light, tessellation, precision, ibl; got ['precision']
     """
     quick = check_bool("quick", quick)
-    if name not in STUDY_SETTINGS:
+    if not isinstance(name, str) or name not in STUDY_SETTINGS:
         raise ValueError(f"study must be one of {', '.join(STUDY_NAMES)}; got {_fmt(name)}")
     cfg = _settings(quick)
     out = {}
