@@ -197,6 +197,11 @@ _METHOD_NAMES = {
 }
 
 
+#: Why these figures may differ between runs (cleared when drawn from saved results: see ``reproducible``).
+_MEASURED_TIMES = ("plots wall-clock times measured while drawing, which differ from run to run "
+                   "(reproducible when drawn from report accuracy's saved results or --accuracy-csv)")
+
+
 @register(
     "accuracy_integration",
     title="Hemisphere integration: error against run time",
@@ -210,8 +215,7 @@ _METHOD_NAMES = {
         + _SOURCE_CAPTION + " " + _TIMES
     ),
     slides="Accuracy report (lighting-explorer report accuracy): hemisphere integration",
-    nondeterministic="plots wall-clock times measured while drawing, which differ from run to run "
-    "(reproducible when drawn from report accuracy's saved results or --accuracy-csv)",
+    nondeterministic=_MEASURED_TIMES,
     size="16:9",
     csv=None,
 )
@@ -279,8 +283,7 @@ def accuracy_integration(q, *, csv):
         "{slope:.2f}. " + _SOURCE_CAPTION + " " + _TIMES
     ),
     slides="Accuracy report (lighting-explorer report accuracy): area lights",
-    nondeterministic="plots wall-clock times measured while drawing, which differ from run to run "
-    "(reproducible when drawn from report accuracy's saved results or --accuracy-csv)",
+    nondeterministic=_MEASURED_TIMES,
     size="16:9",
     csv=None,
 )
@@ -347,8 +350,7 @@ _MODE_NAMES = {"flat": "flat (one normal per triangle)", "gouraud": "Gouraud (co
         "the errors are {finest_text}. " + _SOURCE_CAPTION + " " + _TIMES
     ),
     slides="CMSC 435: Flat, Gouraud and Phong shading; accuracy report (lighting-explorer report accuracy)",
-    nondeterministic="plots wall-clock times measured while drawing, which differ from run to run "
-    "(reproducible when drawn from report accuracy's saved results or --accuracy-csv)",
+    nondeterministic=_MEASURED_TIMES,
     size="16:9",
     csv=None,
 )
@@ -416,8 +418,7 @@ def accuracy_tessellation(q, *, csv):
         + _SOURCE_CAPTION + " " + _TIMES
     ),
     slides="Accuracy report (lighting-explorer report accuracy): precision",
-    nondeterministic="plots wall-clock times measured while drawing, which differ from run to run "
-    "(reproducible when drawn from report accuracy's saved results or --accuracy-csv)",
+    nondeterministic=_MEASURED_TIMES,
     size="16:9",
     csv=None,
 )
@@ -516,8 +517,7 @@ def _model_heads(labels) -> tuple[list[str], list[int]]:
         "environment. Times are for {timed} (the split sum and SH9 in float32). " + _SOURCE_CAPTION + " " + _TIMES
     ),
     slides="Beyond the slides: image-based lighting (Ramamoorthi & Hanrahan 2001; Karis 2013)",
-    nondeterministic="plots wall-clock times measured while drawing, which differ from run to run "
-    "(reproducible when drawn from report accuracy's saved results or --accuracy-csv)",
+    nondeterministic=_MEASURED_TIMES,
     size="16:9",
     csv=None,
 )
