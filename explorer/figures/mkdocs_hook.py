@@ -13,7 +13,10 @@ Every page may quote the figure set instead of copying numbers by hand: ``{{ fig
 is the number of figures, and ``{{ figures.NAME.KEY }}`` a value the figure ``NAME`` measured
 while it was drawn (its sidecar's ``measured`` entry; ``KEY.SUBKEY`` reaches into a nested one),
 with an optional format after a colon: ``{{ figures.ibl_error.median_error:.0% }}``; the line
-``<!-- audit -->`` becomes the plausibility audit's table, computed once per build.  A
+``<!-- audit -->`` becomes the plausibility audit's table, computed once per build, and
+``<!-- audit: beyond_slides -->`` the same audit of the models beyond the slides; the line
+``<!-- output: lighting-explorer ARGS -->`` becomes what that command prints (run in the build's own
+process; for quick commands shown as examples), so a page never shows a stale sample.  A
 placeholder that names no figure or no value stops the build with one line naming the page; one
 written with a backslash before it, ``\{{ figures.count }}``, is shown as it is, without the backslash.
 
@@ -37,7 +40,16 @@ import sys
 # explorer/figures/mkdocs_hook.py → the checkout
 _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 _MARKER = "<!-- figures -->"
-_AUDIT_MARKER = "<!-- audit -->"
+# ``<!-- audit -->`` is the audit of the default cases; ``<!-- audit: slides -->`` its rows of the slides' models and
+# ``<!-- audit: beyond_slides -->`` its rows of beyond_slides_cases() (one audit per build, split by row).
+_AUDIT_RE = re.compile(r"<!-- audit(?::\s*(\w+))? -->")
+_AUDIT_CASES = {
+    "default": "default_cases()",
+    "slides": "default_cases()` before `beyond_slides_cases()",
+    "beyond_slides": "beyond_slides_cases()",
+}
+# ``<!-- output: lighting-explorer ARGS -->`` is what that command prints, run in this process while the page is built.
+_OUTPUT_RE = re.compile(r"<!-- output: lighting-explorer ([^\n]*?) -->")
 _PLACEHOLDER_RE = re.compile(r"(?<!\\)\{\{\s*figures\.([\w.]+?)(?::([^}]*?))?\s*\}\}")
 # Formats a figure links to when the figure folder has them (the docs build itself writes PNG only).
 _LINKED_FORMATS = ("png", "svg", "pdf")
@@ -184,24 +196,80 @@ def _section(rec) -> str:
     return "\n".join(lines)
 
 
-def _audit() -> str:
-    """The audit table, computed once per build (at the quick set's node count when the set is quick)."""
+def _audit(cases: str = "default", page: str = "page") -> str:
+    """An audit table, computed once per build (at the quick set's node count when the set is quick)."""
+    if cases not in _AUDIT_CASES:
+        raise ValueError(f"{page}: '<!-- audit: {cases} -->' names no audit; allowed: <!-- audit --> or "
+                         f"<!-- audit: NAME --> with NAME one of {', '.join(_AUDIT_CASES)}")  # fmt: skip
     if "audit" not in _state:
-        _state["audit"] = audit_markdown(1024 if _state["manifest"].get("quick") else 4096)
-    return _state["audit"]
+        from lighting.analysis.audit import audit
+
+        _state["audit"] = audit(samples=1024 if _state.get("manifest", {}).get("quick") else 4096)
+    return audit_markdown(cases=cases, table=_state["audit"])
+
+
+def command_output(args: str, page: str = "page") -> str:
+    """What ``lighting-explorer ARGS`` prints, run now in this process, as a fenced text block.
+
+    For the commands whose output a page shows as an example: the page always shows what the command
+    prints today.  Only quick commands belong here (the whole build computes its tables in a few seconds).
+
+    Parameters
+    ----------
+    args : str
+        The command line after ``lighting-explorer`` (split as a POSIX shell would).
+    page : str
+        The page's name, for the error message.
+
+    Returns
+    -------
+    str
+        A fenced ``text`` block holding the command's standard output.
+
+    Raises
+    ------
+    ValueError
+        When the command ends with a status other than 0 (the message names the page, the command and what
+        it printed on its error stream).
+
+    Examples
+    --------
+    >>> print(command_output("render --list").splitlines()[0])
+    ```text
+    """
+    import contextlib
+    import io
+    import shlex
+
+    if _ROOT not in sys.path:
+        sys.path.insert(0, _ROOT)
+    from explorer.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(shlex.split(args))
+    if status != 0:
+        raise ValueError(f"{page}: '<!-- output: lighting-explorer {args} -->': the command ended with status "
+                         f"{status}: {err.getvalue().strip()[-300:]}")  # fmt: skip
+    return "```text\n" + out.getvalue().rstrip("\n") + "\n```"
 
 
 def _cell(text: str) -> str:
     return html.escape(str(text)).replace("|", "&#124;")
 
 
-def audit_markdown(samples: int = 4096) -> str:
-    """The plausibility audit of the default cases as an HTML table, computed now.
+def audit_markdown(samples: int = 4096, cases: str = "default", table=None) -> str:
+    """The plausibility audit of the default cases (or of a part of them) as an HTML table, computed now.
 
     Parameters
     ----------
     samples : int
         Quadrature nodes per view angle for the albedo (as :func:`lighting.analysis.audit.audit`).
+    cases : {"default", "slides", "beyond_slides"}
+        Which rows: every one of :func:`~lighting.analysis.audit.default_cases`, those of the slides' models,
+        or those of :func:`~lighting.analysis.audit.beyond_slides_cases` (the default cases end with them).
+    table : AuditTable, optional
+        The audit of the default cases already computed (then ``samples`` is not used).
 
     Returns
     -------
@@ -210,9 +278,14 @@ def audit_markdown(samples: int = 4096) -> str:
         value of ``f_r``, the reciprocity error, the albedo at normal incidence, its minimum and
         maximum over view angles (with the integration error) and the three verdicts.
     """
-    from lighting.analysis.audit import audit
+    from lighting.analysis.audit import AuditTable, audit, beyond_slides_cases
 
-    table = audit(samples=samples)
+    if table is None:
+        table = audit(samples=samples)
+    beyond = {c.label for c in beyond_slides_cases()}
+    if cases != "default":
+        rows = [r for r in table if (r.label in beyond) == (cases == "beyond_slides")]
+        table = AuditTable(rows, settings=table.settings)
     s = table.settings
     head = ["model", "parameters", "min f<sub>r</sub>", "recip. err", "ρ(0°)", "ρ min (θ)",
             "ρ max (θ) ± err", "positive", "reciprocal", "energy", "note"]  # fmt: skip
@@ -232,7 +305,8 @@ def audit_markdown(samples: int = 4096) -> str:
         cells.append(f"<td>{_cell(r.note)}</td>")
         rows.append("<tr>" + "".join(cells) + "</tr>")
     intro = (
-        "**The audit as a table** (`lighting.analysis.audit.audit()`, computed while this page was built): "
+        f"**The audit as a table** (`lighting.analysis.audit.audit()`, its rows of `{_AUDIT_CASES[cases]}`, "
+        "computed while this page was built): "
         r"$\rho$ is the directional albedo $\int f_r\,(\mathbf n\cdot\mathbf l)\,d\omega_l$, the largest over RGB, "
         f"by {s.get('method', 'quadrature')} "
         f"with {s.get('samples')} nodes per angle over {s.get('view_angles')} view angles; reciprocity is "
@@ -334,8 +408,9 @@ def on_page_markdown(markdown, page, config, files, **kwargs):
     """
     m = _state["manifest"]
     markdown = fill_placeholders(markdown, m, page.file.src_uri)
-    if _AUDIT_MARKER in markdown:
-        markdown = markdown.replace(_AUDIT_MARKER, _audit())
+    name = page.file.src_uri
+    markdown = _AUDIT_RE.sub(lambda mm: _audit(mm.group(1) or "default", name), markdown)
+    markdown = _OUTPUT_RE.sub(lambda mm: command_output(mm.group(1), name), markdown)
     if page.file.src_uri != "gallery.md" or _MARKER not in markdown:
         return markdown
     intro = f"{len(m['figures'])} figures" + (" (quick set: low resolution)" if m.get("quick") else "") + ".\n\n"

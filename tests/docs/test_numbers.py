@@ -116,3 +116,90 @@ def test_every_generated_number_names_a_figure_of_the_set():
     }
     assert {page for page, _ in used} >= {"lights.md", "getting-started.md"}
     assert sorted((page, name) for page, name in used if name != "count" and name not in names) == []
+
+
+# --------------------------------------------------------------------------- samples of a command's output
+
+
+def _block_after(text: str, intro: str) -> list[str]:
+    """The lines of the first fenced block after the sentence ``intro``."""
+    start = text.index(intro)
+    lines = text[start:].split("```", 2)[1].splitlines()
+    return lines[1:]  # the fence's language tag
+
+
+def test_the_stability_sample_has_the_rows_and_counts_the_report_prints():
+    # A run takes minutes (80-digit references), so the page shows one run's output; what does not depend on the
+    # run must still be what the report prints today: its rows in order, the values per row, the summary's counts.
+    import collections
+
+    from explorer.reports.stability import CASE_ORDER, MODEL_ORDER
+    from lighting.validation import stability as st
+
+    text = (ROOT / "docs" / "stability.md").read_text(encoding="utf-8")
+    block = _block_after(text, "one default run of `lighting-explorer report stability`")
+    assert block[:4] == [
+        "Numerical stability on stiff and extreme cases: engine vs an 80-digit mpmath reference",
+        "computed from the same binary inputs.  Bound: relative error <= 8 max(κ,1) u,",
+        "u = 2^-24 (float32), 2^-53 (float64); κ = condition number of the formula at that point",
+        "(amplification of relative input perturbations).  err/κu is the worst ratio err / (max(κ,1) u).",
+    ]
+    dtypes = 2
+    cases = st.brdf_cases(False)
+    lcases, lspecs = st.light_cases(False), st.light_specs()
+    specs = st.brdf_specs()
+    per_case = collections.Counter(c.family for c in cases)
+    per_model = collections.Counter(s.family for s in specs)
+    expected = {(m, f): per_case[f] * per_model[m] * 3 * dtypes for m in per_model for f in per_case}
+    for c in lcases:
+        key = (lspecs[c.spec].family, c.family)
+        expected[key] = expected.get(key, 0) + 2 * dtypes
+    order = sorted(expected, key=lambda k: (MODEL_ORDER.index(k[0]), CASE_ORDER.index(k[1])))
+
+    rows, model = [], None
+    for line in block:
+        m = re.match(r"(.{19}) (.{11}) +(\d+) +(\d+) \|", line)
+        if m:
+            model = m.group(1).strip() or model
+            rows.append((model, m.group(2).strip(), int(m.group(3))))
+    assert [(a, b) for a, b, _ in rows] == order
+    assert {(a, b): n for a, b, n in rows} == expected
+    total = sum(expected.values())
+    summary = (f"{total} values in 2 dtypes: per dtype {len(cases)} (n, l, v) inputs x {len(specs)} BRDF variants "
+               f"x 3 forms and {len(lcases)} light inputs x 2 forms;")  # fmt: skip
+    assert any(line.startswith(summary) for line in block), summary
+
+    # The prose after the table quotes the same run: the worst ratio, the ill-conditioned and edge counts, and
+    # the six classes of values add up to the run's total.
+    worst = re.search(r"worst err/\(max\(κ,1\) u\): ([\d.]+)", "\n".join(block)).group(1)
+    edge, ill = re.search(r"edge points .*?: (\d+); ill-conditioned points .*?: (\d+)", "\n".join(block)).groups()
+    after = " ".join(text[text.index("In that run every row met the bound") :].split("\n\n")[0].split())
+    assert f"worst ratio was {worst} " in after
+    counts = {name: int(n.replace(" ", "")) for n, name in re.findall(
+        r"(\d[\d ]*\d|\d) (normal values|ill-conditioned|edge points|exact zeros|below the normal range|beyond)",
+        after)}  # fmt: skip
+    assert counts["ill-conditioned"] == int(ill) and counts["edge points"] == int(edge)
+    assert sum(counts.values()) == total and len(counts) == 6
+    beyond = {"Oren-Nayar", "Ward", "Ashikhmin-Shirley", "Disney", "CT correlated", "CT anisotropic"}
+    assert beyond <= set(per_model)
+    assert f"the {sum(per_model[f] for f in beyond)} variants of the models beyond the slides" in after
+
+
+def test_the_analysis_page_generates_both_audits_and_they_split_the_default_cases():
+    import html as html_lib
+
+    from explorer.figures.mkdocs_hook import audit_markdown
+    from lighting.analysis.audit import audit, beyond_slides_cases, default_cases
+
+    text = (ROOT / "docs" / "analysis.md").read_text(encoding="utf-8")
+    assert "<!-- audit: slides -->" in text and "<!-- audit: beyond_slides -->" in text
+    table = audit(samples=64)
+
+    def labels(cases):
+        return [
+            html_lib.unescape(x) for x in re.findall(r"<tr><td>(.*?)</td>", audit_markdown(cases=cases, table=table))
+        ]
+
+    beyond = [c.label for c in beyond_slides_cases()]
+    assert labels("beyond_slides") == beyond
+    assert labels("slides") + beyond == labels("default") == [c.label for c in default_cases()]
