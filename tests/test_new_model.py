@@ -190,8 +190,8 @@ def test_the_audit_table_with_it_fits_a_slide_every_cell_inside_its_box(minnaert
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
+    from explorer.figures.audit import TABLE_MIN_PT, audit_cells, draw_table
     from explorer.figures.base import SLIDE_SIZES
-    from explorer.figures.brdf import TABLE_MIN_PT, audit_cells, draw_table
     from lighting.analysis.audit import AuditCase, audit, default_cases
 
     extra = [AuditCase(f"Minnaert k={k:g}", Minnaert(1.0, k), "2 kd/(k+1) at normal view") for k in (1, 2, 3, 4, 6, 8)]

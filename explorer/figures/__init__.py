@@ -70,15 +70,29 @@ _SAVE_METADATA = {
 
 #: The figure modules in lecture order; within a module, figures keep the order they are defined in.
 LECTURE_MODULES = (
-    "illumination", "models", "lights", "opengl", "brdf", "zoo", "energy", "fitting", "compare", "rendering",
-    "accuracy", "ibl",
+    "illumination", "models", "lights", "opengl", "brdf", "audit", "zoo", "energy", "fitting", "compare",
+    "rendering", "accuracy", "ibl",
 )  # fmt: skip
 
 
 def _load_registry() -> dict[str, FigureSpec]:
     # Registering happens on import, and any module may be imported first (a doctest run, a notebook):
     # the lecture order is imposed here, not left to the order of imports.
-    from . import accuracy, brdf, compare, energy, fitting, ibl, illumination, lights, models, opengl, rendering, zoo  # noqa: F401
+    from . import (  # noqa: F401
+        accuracy,
+        audit,
+        brdf,
+        compare,
+        energy,
+        fitting,
+        ibl,
+        illumination,
+        lights,
+        models,
+        opengl,
+        rendering,
+        zoo,
+    )
 
     rank = {f"{__package__}.{name}": i for i, name in enumerate(LECTURE_MODULES)}
 
