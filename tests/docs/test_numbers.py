@@ -203,3 +203,141 @@ def test_the_analysis_page_generates_both_audits_and_they_split_the_default_case
     beyond = [c.label for c in beyond_slides_cases()]
     assert labels("beyond_slides") == beyond
     assert labels("slides") + beyond == labels("default") == [c.label for c in default_cases()]
+
+
+# --------------------------------------------------------------------------- sizes: the code's own budget constants
+
+SIZE = re.compile(r"\d[\d,. ]*\s?(?:bytes?|KB|MB|GB|MiB|GiB)\b(?: per)?")
+
+
+def _prose(name: str) -> str:
+    """A page with its whitespace collapsed (so a phrase may break across lines)."""
+    return " ".join((ROOT / "docs" / name).read_text(encoding="utf-8").split())
+
+
+def _size_phrases() -> dict[str, list[str]]:
+    """Each page's sizes, written from the constants the code checks them with (what the page must say)."""
+    import math
+
+    import explorer.figures as figures
+    from explorer.commands.sphere import SPHERE_BYTES_PER_PIXEL
+    from explorer.reports import options
+    from lighting import _budget
+    from lighting.files import brdf_format, merl
+    from lighting.render.raster import RASTER_BYTES_PER_PIXEL
+    from lighting.render.raycast import RAYCAST_BYTES_PER_PIXEL
+    from lighting.render.renderer import RENDER_BYTES_PER_PIXEL
+    from lighting.scene import budget as b
+
+    gib, mib = 1024**3, 1024**2
+    default = _budget.DEFAULT_MEMORY_BUDGET
+    merl_per_byte, _ = b.BRDF_FILE_BYTES[".binary"]
+    brdf_per_byte, brdf_fixed = b.BRDF_FILE_BYTES[".brdf"]
+    brdf_limit = "lighting.files.brdf_format.MAX_FILE_BYTES"
+    largest_figure_px = default / figures.BYTES_PER_PIXEL / math.prod(figures.UNDECLARED_FIGURE_IN)
+
+    def image(side):
+        return side**2 * (b.BYTES_PER_PIXEL + 2 * b.BYTES_PER_PIXEL_PER_OBJECT)
+
+    return {
+        "scenes.md": [
+            f"a MERL table {merl_per_byte} bytes per byte of the file, a `.brdf` file {brdf_per_byte} bytes per byte "
+            f"plus {brdf_fixed // mib} MiB (`lighting.scene.budget.BRDF_FILE_BYTES`",
+            f"memory budget: **{default // gib} GiB** by default (`lighting._budget.DEFAULT_MEMORY_BUDGET`",
+            f"{b.BYTES_PER_SCENE_FILE_BYTE} bytes per byte (`BYTES_PER_SCENE_FILE_BYTE`)",
+            f"{b.BYTES_PER_TRIANGLE} bytes per triangle (`BYTES_PER_TRIANGLE`;",
+            f"{b.BYTES_PER_MESH_FILE_BYTE} bytes per byte of the file to read it (`BYTES_PER_MESH_FILE_BYTE`;",
+            f"then {b.BYTES_PER_TRIANGLE} bytes per triangle held (`BYTES_PER_TRIANGLE`)",
+            f"MERL `.binary`: {merl_per_byte} bytes per byte of the file; `.brdf`: {brdf_per_byte} bytes per byte plus "
+            f"{brdf_fixed // mib} MiB (`BRDF_FILE_BYTES`)",
+            f"{b.ENVIRONMENT_BYTES_PER_PIXEL} bytes per pixel its header declares to read it "
+            f"(`ENVIRONMENT_BYTES_PER_PIXEL`), then {b.ENVIRONMENT_HELD_BYTES_PER_PIXEL} held "
+            "(`ENVIRONMENT_HELD_BYTES_PER_PIXEL`)",
+            f"{b.PREFILTER_BYTES_PER_PIXEL} bytes per pixel of the prefiltered image (`PREFILTER_BYTES_PER_PIXEL`;",
+            f"`width × height × ({b.BYTES_PER_PIXEL} + {b.BYTES_PER_PIXEL_PER_OBJECT} × objects)` bytes plus the "
+            "meshes (`BYTES_PER_PIXEL`, `BYTES_PER_PIXEL_PER_OBJECT`)",
+            f"counts {b.BYTES_PER_SAMPLE_EVALUATION} bytes (`BYTES_PER_SAMPLE_EVALUATION`)",
+            # the examples the default budget allows (two objects at 2048² fit; at 2560² they would not)
+            "a 2048 × 2048 image of two objects" * (image(2048) <= default < image(2560)),
+            f"a {default / b.BYTES_PER_TRIANGLE / 1e6:.1f}-million-triangle mesh",
+            f"or {default // b.BYTES_PER_SAMPLE_EVALUATION // 10**6} million light-sample evaluations",
+            # a file of the examples
+            "8 KB" * (round((ROOT / "lighting/scene/examples/daylight_sky.hdr").stat().st_size / 1000) == 8),
+        ],
+        "images.md": [
+            f"{RASTER_BYTES_PER_PIXEL}, {RAYCAST_BYTES_PER_PIXEL} and {RENDER_BYTES_PER_PIXEL} bytes per pixel: "
+            "`lighting.render.raster.RASTER_BYTES_PER_PIXEL`, `lighting.render.raycast.RAYCAST_BYTES_PER_PIXEL` and "
+            "`lighting.render.renderer.RENDER_BYTES_PER_PIXEL`",
+            f"({default // gib} GiB, `lighting._budget.DEFAULT_MEMORY_BUDGET`,",
+            f"about {round(math.sqrt(default / RENDER_BYTES_PER_PIXEL), -1):,.0f}² pixels for a first render",
+        ],
+        "cli.md": [
+            f"over the budget: {default // gib} GiB (`lighting._budget.DEFAULT_MEMORY_BUDGET`)",
+            f"({SPHERE_BYTES_PER_PIXEL} bytes per pixel, `explorer.commands.sphere.SPHERE_BYTES_PER_PIXEL`)",
+            f"({figures.BYTES_PER_PIXEL} bytes per pixel, `explorer.figures.BYTES_PER_PIXEL`: up to about "
+            f"{math.floor(math.sqrt(largest_figure_px) / 10) * 10:,} "
+            f"dpi at {default // gib} GiB)",
+            f"{figures.WORKER_BYTES // mib} MiB per worker (`explorer.figures.WORKER_BYTES`)",
+            f"({options.WORKER_BYTES // mib} MiB each, `explorer.reports.options.WORKER_BYTES`,",
+        ],
+        "brdf-files.md": [
+            f"at most {brdf_format.MAX_FILE_BYTES // mib} MiB of UTF-8 text (`{brdf_limit}`",
+            f"at most {brdf_format.CHUNK} direction pairs (`lighting.files.brdf_format.CHUNK`)",
+        ],
+        "merl.md": [
+            f"{12 + 8 * 3 * merl.BINS:,} bytes".replace(",", " "),
+            f"(4 × 8 bytes per value of the file, about {round(4 * 8 * 3 * merl.BINS / 1e6)} MB, at the peak)",
+            f"2 × 8 bytes per value of the file: about {round(2 * 8 * 3 * merl.BINS / 1e6)} MB held",
+            f"the table is charged at {merl_per_byte} bytes per byte of the file "
+            "(`lighting.scene.budget.BRDF_FILE_BYTES`)",
+            f"# {round(8 * 3 * merl.BINS / 1e6)} MB",
+        ],
+    }
+
+
+# Sizes that are definitions or a message's own words, not figures of the code's budget.
+SIZE_ALLOWED = {
+    "scenes.md": ["a 1 GB sparse file", "a 50-byte `.hdr`"],
+    "merl.md": ["8015 bytes; a MERL file has 34992012", "byte 8015: the file is truncated: 8015 bytes"],
+}
+
+
+@pytest.mark.parametrize("name", ["scenes.md", "images.md", "cli.md", "brdf-files.md", "merl.md"])
+def test_memory_sizes_on_the_pages_are_the_codes_constants(name):
+    text = _prose(name)
+    phrases = _size_phrases()[name]
+    missing = [p for p in phrases if not p or p not in text]
+    assert missing == [], f"{name}: these sizes are not what the code's constants give"
+    # Every size on the page is one of those phrases, an allowed definition, or inside a command's sample output
+    # checked elsewhere (the refusals below and in test_the_size_refusal_samples_are_the_messages_printed).
+    covered = [
+        (m.start(), m.end()) for p in phrases + SIZE_ALLOWED.get(name, []) for m in re.finditer(re.escape(p), text)
+    ]
+    samples = [(m.start(), m.end()) for m in re.finditer(r"over the memory budget of[^`]*?\(--memory-budget\)", text)]
+    samples += [(m.start(), m.end()) for m in re.finditer(r"needs about [\d.]+ GiB \(", text)]
+    samples += [(m.start(), m.end()) for m in re.finditer(r"counted as \d+ bytes each", text)]
+    loose = [m.group(0) for m in SIZE.finditer(text)
+             if not any(a <= m.start() and m.end() <= b for a, b in covered + samples)]  # fmt: skip
+    assert loose == [], f"{name}: sizes that name no constant of the code and no command that measures them"
+
+
+def test_the_size_refusal_samples_are_the_messages_printed(capsys):
+    from explorer.cli import main
+    from tests.scene import test_scene
+
+    assert main(["sphere", "--size", "100000"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"$ lighting-explorer sphere --size 100000\n{err}\n" in (ROOT / "docs" / "cli.md").read_text(
+        encoding="utf-8"
+    )
+    # scenes.md shows the refusals test_scene's budget test provokes; its expected messages are the page's lines.
+    import inspect
+
+    source = inspect.getsource(test_scene.test_image_size_samples_and_meshes_are_refused_before_allocating)
+    expected = re.findall(r'assert "(: [^"]+)" in err', source)
+    text = (ROOT / "docs" / "scenes.md").read_text(encoding="utf-8")
+    block = _block_after(text, "the messages\n`tests/scene/test_scene.py::test_image_size_samples_and_meshes")
+    assert len(block) == 3
+    for line, want in zip(block, expected, strict=False):
+        assert line.startswith("scene.toml" + want), (line, want)
+        assert line.endswith("over the memory budget of 2.0 GiB; reduce it or raise the budget (--memory-budget)")
