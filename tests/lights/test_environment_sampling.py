@@ -18,7 +18,7 @@ import pytest
 from scipy import stats
 
 from lighting.integrate.ibl import ProgressiveRadiance
-from lighting.lights import environment as envmod
+from lighting.lights import envsampling as envmod
 from lighting.lights.environment import LatLongEnvironment, latlong_angles, latlong_azimuth, latlong_lookup
 from lighting.models.brdf import Lambert
 
