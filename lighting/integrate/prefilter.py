@@ -559,6 +559,13 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
     h0 = prefilter_height(env, height)
     check_budget("height", h0 * 2 * h0 * 3 * 8 * 12, what=f"prefiltering a {2 * h0}x{h0} environment")
     base = _base_image(env, h0)
+    first = base.reshape(-1, base.shape[-1])[0]
+    if np.all(base == first):
+        # A constant environment (the uniform sky, a constant radiance): a normalized kernel leaves it as it
+        # is, so every level of every family is the constant itself, exactly, and nothing is convolved.
+        level = base.astype(np.float32)
+        families = {k: [level] * len(sig) for k in ("mirror", "beckmann", "ggx")}
+        return PrefilteredEnvironment(env, sig, families, latlong_sh(base), scale=scale, to_base=to_base)
     mips = {h0: base}
 
     def mip(h):
