@@ -12,7 +12,9 @@ is the one command, and the gallery can never list a figure the set does not hav
 Every page may quote the figure set instead of copying numbers by hand: ``{{ figures.count }}``
 is the number of figures, and ``{{ figures.NAME.KEY }}`` a value the figure ``NAME`` measured
 while it was drawn (its sidecar's ``measured`` entry; ``KEY.SUBKEY`` reaches into a nested one),
-with an optional format after a colon: ``{{ figures.ibl_error.median_error:.0% }}``; the line
+with an optional format after a colon: ``{{ figures.ibl_error.median_error:.0% }}``, and
+``{{ measured.NAME.KEY }}`` a value that one of this hook's quick measurements (:data:`MEASUREMENTS`, each a
+second or less) computes while the site is built; the line
 ``<!-- audit -->`` becomes the plausibility audit's table, computed once per build, and
 ``<!-- audit: beyond_slides -->`` the same audit of the models beyond the slides; the line
 ``<!-- output: lighting-explorer ARGS -->`` becomes what that command prints (run in the build's own
@@ -50,7 +52,7 @@ _AUDIT_CASES = {
 }
 # ``<!-- output: lighting-explorer ARGS -->`` is what that command prints, run in this process while the page is built.
 _OUTPUT_RE = re.compile(r"<!-- output: lighting-explorer ([^\n]*?) -->")
-_PLACEHOLDER_RE = re.compile(r"(?<!\\)\{\{\s*figures\.([\w.]+?)(?::([^}]*?))?\s*\}\}")
+_PLACEHOLDER_RE = re.compile(r"(?<!\\)\{\{\s*(figures|measured)\.([\w.]+?)(?::([^}]*?))?\s*\}\}")
 # Formats a figure links to when the figure folder has them (the docs build itself writes PNG only).
 _LINKED_FORMATS = ("png", "svg", "pdf")
 _state: dict = {}
@@ -324,8 +326,135 @@ def audit_markdown(samples: int = 4096, cases: str = "default", table=None) -> s
     )
 
 
-def fill_placeholders(markdown: str, manifest: dict, page: str = "page") -> str:
-    """Replace the figure set's placeholders in a page by the values the set was drawn with.
+# --------------------------------------------------------------------------- numbers measured while the site is built
+# Each is a few tenths of a second to a second; a page's ``{{ measured.NAME.KEY }}`` runs NAME once per build.
+
+
+def _smooth_sky(d):
+    """A smooth, coloured sky over the whole sphere (bright zenith, a horizon band, dim ground)."""
+    import numpy as np
+
+    x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    return np.stack(
+        [1.2 + 0.8 * z + 0.3 * x * y, 0.6 + 0.4 * np.sin(2 * x) + 0.2 * z * z, 0.3 + 0.5 * np.exp(-3 * (1 - z))], -1
+    )
+
+
+def measure_delta_limit() -> dict:
+    r"""How fast the glossy models tend to the ideal mirror as their lobes sharpen, measured now.
+
+    Under :func:`_smooth_sky` (the sky of ``tests/integrate/test_delta.py``), ``n = ẑ``, views at 0°, 30°, 60° and
+    75° in one plane, 4096 quadrature nodes, ``k_s = 0.8``: the largest relative difference (over RGB, relative to
+    the largest channel) between each model's outgoing radiance and its mirror's ``R(cos θ_v) L(R_v)``.
+
+    Returns
+    -------
+    dict
+        ``ggx_err_a2``, ``ggx_err_a4``: Cook–Torrance GGX + Smith (Schlick, ``f0 = 0.04``) at ``α = 10⁻²`` and
+        ``10⁻⁴``; ``ggx_c``: the largest ``err / (α² ln(1/α))`` over ``α = 10⁻² … 10⁻⁴``; ``phong_c``: the largest
+        ``err · e`` of Phong with ``k_s (e+1)/2`` over ``e = 10³ … 10⁵``; ``blinn_phong_c`` and
+        ``blinn_phong_c_view_deg``: the largest ``err · e`` of normalized Blinn–Phong with ``k_s/(4 cos²θ_v)`` over
+        ``e = 10³, 10⁵`` and the view where it is reached.
+    """
+    import math
+
+    import numpy as np
+
+    from lighting.integrate import outgoing_radiance
+    from lighting.lights.environment import FunctionEnvironment
+    from lighting.models.brdf import BlinnPhong, CookTorrance, Phong
+    from lighting.models.mirror import Mirror
+    from lighting.vec import reflect
+
+    sky = FunctionEnvironment(_smooth_sky)
+    theta = np.radians([0.0, 30.0, 60.0, 75.0])
+    views = np.stack([np.sin(theta), 0 * theta, np.cos(theta)], -1)
+    n = np.array([0.0, 0.0, 1.0])
+    ks, f0 = 0.8, 0.04
+
+    def relative(model, mirror):
+        want = mirror.reflectance(np.cos(theta)) * _smooth_sky(reflect(views, n))
+        got = outgoing_radiance(model, sky, n, views, samples=4096)
+        return np.max(np.abs(got - want), axis=-1) / np.max(want, axis=-1)
+
+    ggx = {a: relative(CookTorrance(ks, a, f0, ndf="ggx", geometry="smith", fresnel="schlick"),
+                       Mirror(ks, f0, "schlick")).max() for a in (1e-2, 1e-3, 1e-4)}  # fmt: skip
+    phong = max((relative(Phong(ks * (e + 1) / 2, e), Mirror(ks)) * e).max() for e in (1e3, 1e4, 1e5))
+    # Normalized Blinn–Phong's k_s depends on the view (its limit is a mirror of 4 k_s cos²θ_v): one view at a time.
+    bp = np.max([[relative(BlinnPhong(ks / (4 * c * c), e, normalized=True), Mirror(ks))[i] * e
+                  for i, c in enumerate(np.cos(theta))] for e in (1e3, 1e5)], axis=0)  # fmt: skip
+    return {
+        "ggx_err_a2": float(ggx[1e-2]),
+        "ggx_err_a4": float(ggx[1e-4]),
+        "ggx_c": float(max(err / (a * a * math.log(1 / a)) for a, err in ggx.items())),
+        "phong_c": float(phong),
+        "blinn_phong_c": float(bp.max()),
+        "blinn_phong_c_view_deg": float(np.degrees(theta[int(np.argmax(bp))])),
+    }
+
+
+def measure_albedo_table() -> dict:
+    r"""The Kulla–Conty albedo tables against the direct integral, measured now.
+
+    Returns
+    -------
+    dict
+        ``max_error`` and ``rms_error``: ``|E_table − E|`` at ``points`` random off-grid points (seeded; 100 per
+        table, ``θ_v ≤ 85°``, ``α ∈ [0.01, 1]``) over the four tables; ``grazing_max_error``: the largest at views
+        from 85° to 89.9° and ``α`` from 0.1 to 1; ``blinn_phong_85_smith`` and ``blinn_phong_85_correlated``: the
+        albedo of Cook–Torrance with the Blinn–Phong NDF, ``F = 1``, ``α = 1``, at 85°, with the separable and the
+        height-correlated Smith G.
+    """
+    import math
+
+    import numpy as np
+
+    from lighting.integrate import directional_albedo
+    from lighting.models import energy
+    from lighting.models.cook_torrance import CookTorrance
+
+    rng = np.random.default_rng(17)
+    errors, grazing = [], []
+    mu_g = np.cos(np.radians(np.linspace(85.0, 89.9, 15)))
+    alpha_g = np.linspace(0.1, 1.0, 5)[:, None]
+    for ndf in energy.NDFS:
+        for geo in energy.GEOMETRIES:
+            table = energy.albedo_table(ndf, geo)
+            mu = rng.uniform(math.cos(math.radians(85.0)), 1.0, 100)
+            alpha = rng.uniform(0.01, 1.0, 100)
+            errors.append(np.abs(table.E(mu, alpha) - energy.microfacet_albedo(ndf, geo, mu, alpha)))
+            grazing.append(np.abs(table.E(mu_g, alpha_g) - energy.microfacet_albedo(ndf, geo, mu_g, alpha_g)).max())
+    err = np.concatenate(errors)
+
+    def blinn_phong(geometry):
+        model = CookTorrance(1.0, 1.0, 1.0, ndf="blinn-phong", geometry=geometry, fresnel="none")
+        return float(directional_albedo(model, math.radians(85.0))[0])
+
+    return {
+        "max_error": float(err.max()),
+        "rms_error": float(np.sqrt(np.mean(err**2))),
+        "points": int(err.size),
+        "grazing_max_error": float(max(grazing)),
+        "blinn_phong_85_smith": blinn_phong("smith"),
+        "blinn_phong_85_correlated": blinn_phong("smith-correlated"),
+    }
+
+
+MEASUREMENTS = {"delta_limit": measure_delta_limit, "albedo_table": measure_albedo_table}
+
+
+def measured(name: str) -> dict:
+    """The values of measurement ``name`` of :data:`MEASUREMENTS`, computed once per build."""
+    cache = _state.setdefault("measured", {})
+    if name not in cache:
+        if _ROOT not in sys.path:
+            sys.path.insert(0, _ROOT)
+        cache[name] = MEASUREMENTS[name]()
+    return cache[name]
+
+
+def fill_placeholders(markdown: str, manifest: dict, page: str = "page", measurements=None) -> str:
+    """Replace the placeholders in a page by the values the figure set was drawn with, or measured now.
 
     Parameters
     ----------
@@ -335,18 +464,22 @@ def fill_placeholders(markdown: str, manifest: dict, page: str = "page") -> str:
         The figure set's ``figures.json``.
     page : str
         The page's name, for the error message.
+    measurements : dict, optional
+        Measurement name → function returning its values (default :data:`MEASUREMENTS`); each is run at most
+        once per build, when a page first names it.
 
     Returns
     -------
     str
-        The Markdown with ``{{ figures.count }}`` as the number of figures and
+        The Markdown with ``{{ figures.count }}`` as the number of figures,
         ``{{ figures.NAME.KEY[:FORMAT] }}`` as the value ``KEY`` of figure ``NAME``'s ``measured``
-        entry, formatted with ``FORMAT`` (Python's format specification) when one is given.
+        entry and ``{{ measured.NAME.KEY[:FORMAT] }}`` as the value ``KEY`` of measurement ``NAME``, formatted
+        with ``FORMAT`` (Python's format specification) when one is given.
 
     Raises
     ------
     ValueError
-        For a figure or a value the manifest does not have, or a format the value does not take; the
+        For a figure, a measurement or a value that does not exist, or a format the value does not take; the
         message names the page, the placeholder and what is allowed.
 
     Examples
@@ -354,29 +487,41 @@ def fill_placeholders(markdown: str, manifest: dict, page: str = "page") -> str:
     >>> m = {"figures": [{"name": "f", "measured": {"err": 0.1234, "by": {"a": 2}}}]}
     >>> fill_placeholders("{{ figures.count }} figures; {{ figures.f.err:.1% }}, {{ figures.f.by.a }}", m)
     '1 figures; 12.3%, 2'
+    >>> fill_placeholders("{{ measured.t.x:.2e }}", m, measurements={"t": lambda: {"x": 0.000123}})
+    '1.23e-04'
     >>> fill_placeholders(r"write \\{{ figures.count }}", m)
     'write {{ figures.count }}'
     """
     by_name = {rec["name"]: rec for rec in manifest["figures"]}
+    measurements = MEASUREMENTS if measurements is None else measurements
+    done = {}
 
     def value(m):
-        path, spec = m.group(1).split("."), m.group(2)
+        source, path, spec = m.group(1), m.group(2).split("."), m.group(3)
         where = f"{page}: placeholder '{m.group(0)}'"
-        if path == ["count"] and spec is None:
+        if source == "figures" and path == ["count"] and spec is None:
             return str(len(manifest["figures"]))
-        rec = by_name.get(path[0])
-        if rec is None:
-            raise ValueError(f"{where}: no figure '{path[0]}' in the figure set; allowed: figures.count or "
-                             f"figures.NAME.KEY with NAME one of {', '.join(by_name)}")  # fmt: skip
-        v = rec.get("measured", {})
+        if source == "figures":
+            rec = by_name.get(path[0])
+            if rec is None:
+                raise ValueError(f"{where}: no figure '{path[0]}' in the figure set; allowed: figures.count or "
+                                 f"figures.NAME.KEY with NAME one of {', '.join(by_name)}")  # fmt: skip
+            v, what = rec.get("measured", {}), f"figure '{path[0]}'"
+        else:
+            if path[0] not in measurements:
+                raise ValueError(f"{where}: no measurement '{path[0]}'; allowed: measured.NAME.KEY with NAME one of "
+                                 f"{', '.join(measurements)}")  # fmt: skip
+            if path[0] not in done:
+                done[path[0]] = measured(path[0]) if measurements is MEASUREMENTS else measurements[path[0]]()
+            v, what = done[path[0]], f"measurement '{path[0]}'"
         for i, key in enumerate(path[1:], 1):
             if not isinstance(v, dict) or key not in v:
                 keys = ", ".join(v) if isinstance(v, dict) else "none (not a table)"
-                raise ValueError(f"{where}: figure '{path[0]}' measured no '{'.'.join(path[1:i + 1])}'; "
+                raise ValueError(f"{where}: {what} measured no '{'.'.join(path[1:i + 1])}'; "
                                  f"allowed here: {keys}")  # fmt: skip
             v = v[key]
         if len(path) == 1 or isinstance(v, dict):
-            raise ValueError(f"{where}: name one value of figure '{path[0]}' (figures.NAME.KEY)")
+            raise ValueError(f"{where}: name one value of {what} ({source}.NAME.KEY)")
         try:
             return format(v, spec) if spec else str(v)
         except (TypeError, ValueError):

@@ -30,7 +30,7 @@ TIME = re.compile(
     r"|\b(?:a|one|two|three|a few|several)\s+(?:seconds?|minutes?|hours?)\b|\bin seconds\b",
     re.I,
 )
-PLACEHOLDER = re.compile(r"(?<!\\)\{\{\s*figures\.[^}]*\}\}")
+PLACEHOLDER = re.compile(r"(?<!\\)\{\{\s*(?:figures|measured)\.[^}]*\}\}")
 
 
 def _paragraphs(text: str):
@@ -116,6 +116,25 @@ def test_every_generated_number_names_a_figure_of_the_set():
     }
     assert {page for page, _ in used} >= {"lights.md", "getting-started.md"}
     assert sorted((page, name) for page, name in used if name != "count" and name not in names) == []
+
+
+def test_every_measured_number_names_a_measurement_and_a_value_it_returns():
+    # The pages' {{ measured.NAME.KEY:FORMAT }} are filled while the site is built; each must name one of the hook's
+    # measurements and a value it returns, in a format that value takes.
+    from explorer.figures.mkdocs_hook import MEASUREMENTS, measured
+
+    used = [
+        (path.name, m.group(0), m.group(1), m.group(2), m.group(3))
+        for path in PAGES
+        for m in re.finditer(
+            r"(?<!\\)\{\{\s*measured\.(\w+)\.(\w+)(?::([^}]*?))?\s*\}\}", path.read_text(encoding="utf-8")
+        )
+    ]
+    assert {name for _, _, name, _, _ in used} == set(MEASUREMENTS)
+    for page, text, name, key, spec in used:
+        values = measured(name)
+        assert key in values, (page, text, sorted(values))
+        format(values[key], spec or "")
 
 
 # --------------------------------------------------------------------------- samples of a command's output
@@ -341,3 +360,72 @@ def test_the_size_refusal_samples_are_the_messages_printed(capsys):
     for line, want in zip(block, expected, strict=False):
         assert line.startswith("scene.toml" + want), (line, want)
         assert line.endswith("over the memory budget of 2.0 GiB; reduce it or raise the budget (--memory-budget)")
+
+
+# --------------------------------------------------------------------------- errors measured by a test
+
+
+def _agrees(page: str, value: float) -> bool:
+    """Whether ``value`` is the page's number ``page`` ("1.6e-6", "64 %") to the digits the page prints.
+
+    Below 1e-9 the reference itself is not converged (its change when every count doubles is about 1e-10), so
+    there the page's number and the value need only both be below it.
+    """
+    page = page.strip()
+    if page.endswith("%"):
+        number, scale = float(page[:-1]), 0.01
+        digits = page[:-1].strip()
+    else:
+        number, scale, digits = float(page), 1.0, page
+    number *= scale
+    if number < 1e-9:
+        return value < 1e-9
+    mantissa = digits.split("e")[0]
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    exponent = int(digits.split("e")[1]) if "e" in digits else 0
+    half_unit = 0.5 * 10.0 ** (exponent - decimals) * scale
+    return abs(value - number) <= 1.05 * half_unit
+
+
+@pytest.mark.slow
+def test_the_anisotropic_quadrature_table_is_what_the_engine_measures():
+    import dataclasses
+    import math
+
+    from lighting.integrate import directional_albedo
+    from lighting.models.base import BRDF
+    from tests.integrate.test_quadrature_aniso import MODELS, reference_albedo
+
+    class Round(BRDF):
+        """``model`` reporting its lobe without the ellipse: the round rule's nodes on the same function."""
+
+        def __init__(self, model):
+            self.model = model
+
+        def lobe(self):
+            return dataclasses.replace(self.model.lobe(), widths=None, quadrature_widths=None)
+
+        def eval_cos_geometry(self, g):
+            return self.model.eval_cos_geometry(g)
+
+    text = (ROOT / "docs" / "numerics.md").read_text(encoding="utf-8")
+    rows = re.findall(r"^\| (\d+):1 \| ([^|]+) \| ([^|]+) \| ([^|]+) \| ([^|]+) \|$", text, re.M)
+    assert [r[0] for r in rows] == ["1", "10", "100", "1000"]
+    wrong = []
+    for ratio, *cells in rows:
+        ax, ay = 0.3, 0.3 / int(ratio)
+        worst_round = 0.0
+        for name, cell in zip(MODELS, cells[:3], strict=True):
+            model, err = MODELS[name](ax, ay), 0.0
+            for theta in map(math.radians, (0.0, 45.0, 80.0)):
+                ref = reference_albedo(model, ax, ay, theta)
+                err = max(err, abs(directional_albedo(model, theta)[0] - ref) / ref)
+                if ratio != "1":
+                    worst_round = max(worst_round, abs(directional_albedo(Round(model), theta)[0] - ref) / ref)
+            if not _agrees(cell, err):
+                wrong.append(f"{ratio}:1 {name}: page {cell.strip()}, measured {err:.2g}")
+        if ratio == "1":
+            assert cells[3].strip() == "the same rule"
+        elif not _agrees(cells[3], worst_round):
+            wrong.append(f"{ratio}:1 round rule: page {cells[3].strip()}, measured {worst_round:.2g}")
+    assert wrong == []
