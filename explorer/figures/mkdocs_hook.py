@@ -18,7 +18,9 @@ second or less) computes while the site is built; the line
 ``<!-- audit -->`` becomes the plausibility audit's table, computed once per build, and
 ``<!-- audit: beyond_slides -->`` the same audit of the models beyond the slides; the line
 ``<!-- output: lighting-explorer ARGS -->`` becomes what that command prints (run in the build's own
-process; for quick commands shown as examples), so a page never shows a stale sample.  A
+process; for quick commands shown as examples), so a page never shows a stale sample; and the text between
+``<!-- accuracy: summary -->`` and ``<!-- /accuracy -->`` gives way to the summary of the full
+``report accuracy`` studies saved on the building machine, when every one is saved.  A
 placeholder that names no figure or no value stops the build with one line naming the page; one
 written with a backslash before it, ``\{{ figures.count }}``, is shown as it is, without the backslash.
 
@@ -52,6 +54,9 @@ _AUDIT_CASES = {
 }
 # ``<!-- output: lighting-explorer ARGS -->`` is what that command prints, run in this process while the page is built.
 _OUTPUT_RE = re.compile(r"<!-- output: lighting-explorer ([^\n]*?) -->")
+# ``<!-- accuracy: summary -->`` … ``<!-- /accuracy -->``: the text between is shown unless every study of
+# ``report accuracy`` (full settings) is saved for this engine; then the summary of the saved studies replaces it.
+_ACCURACY_RE = re.compile(r"<!-- accuracy: summary -->\n(.*?)<!-- /accuracy -->", re.S)
 _PLACEHOLDER_RE = re.compile(r"(?<!\\)\{\{\s*(figures|measured)\.([\w.]+?)(?::([^}]*?))?\s*\}\}")
 # Formats a figure links to when the figure folder has them (the docs build itself writes PNG only).
 _LINKED_FORMATS = ("png", "svg", "pdf")
@@ -258,6 +263,38 @@ def command_output(args: str, page: str = "page") -> str:
 
 def _cell(text: str) -> str:
     return html.escape(str(text)).replace("|", "&#124;")
+
+
+def accuracy_summary(fallback: str, folder: str | None = None) -> str:
+    """The "cheapest method" table of the full ``report accuracy`` studies saved on this machine, or ``fallback``.
+
+    Parameters
+    ----------
+    fallback : str
+        What the page shows when a study is missing from the cache (for this engine and the full settings).
+    folder : str, optional
+        The cache folder (default :func:`explorer.reports.cache.cache_dir`).
+
+    Returns
+    -------
+    str
+        Markdown: a sentence saying where the numbers come from and the table as the report prints it.
+    """
+    if _ROOT not in sys.path:
+        sys.path.insert(0, _ROOT)
+    from explorer.reports.accuracy import format_summary
+    from explorer.reports.cache import load_study
+    from lighting.validation.accuracy import STUDY_NAMES, summary
+
+    saved = [load_study(name, quick=False, folder=folder) for name in STUDY_NAMES]
+    if any(s is None for s in saved):
+        return fallback
+    return (
+        "The summary of the studies `lighting-explorer report accuracy` saved (full settings) on the machine that "
+        "built this site, for this engine; its times are that machine's:\n\n```text\n"
+        + format_summary(summary([s.study for s in saved])).strip("\n")
+        + "\n```\n"
+    )
 
 
 def audit_markdown(samples: int = 4096, cases: str = "default", table=None) -> str:
@@ -556,6 +593,7 @@ def on_page_markdown(markdown, page, config, files, **kwargs):
     name = page.file.src_uri
     markdown = _AUDIT_RE.sub(lambda mm: _audit(mm.group(1) or "default", name), markdown)
     markdown = _OUTPUT_RE.sub(lambda mm: command_output(mm.group(1), name), markdown)
+    markdown = _ACCURACY_RE.sub(lambda mm: accuracy_summary(mm.group(1)), markdown)
     if page.file.src_uri != "gallery.md" or _MARKER not in markdown:
         return markdown
     intro = f"{len(m['figures'])} figures" + (" (quick set: low resolution)" if m.get("quick") else "") + ".\n\n"

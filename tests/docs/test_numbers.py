@@ -429,3 +429,43 @@ def test_the_anisotropic_quadrature_table_is_what_the_engine_measures():
         elif not _agrees(cells[3], worst_round):
             wrong.append(f"{ratio}:1 round rule: page {cells[3].strip()}, measured {worst_round:.2g}")
     assert wrong == []
+
+
+@pytest.mark.slow
+def test_the_accuracy_sample_has_the_cases_methods_and_units_the_report_prints():
+    # A full run takes minutes, so the page shows one run's summary (the docs build shows the saved studies'
+    # instead when there are any); its cases, thresholds, methods and units must still be what the report prints.
+    from explorer.reports.accuracy import format_summary
+    from lighting.validation.accuracy import run_studies, summary
+
+    text = (ROOT / "docs" / "accuracy.md").read_text(encoding="utf-8")
+    block = _block_after(text, "one run of `lighting-explorer report accuracy` with the full settings")
+    studies = run_studies(quick=True, only=["integration", "area-light", "tessellation", "precision"])
+    rows = summary(studies)
+    assert block[:2] == format_summary(rows).splitlines()[1:3]
+
+    def size_free(case):
+        return re.sub(r"\d+x\d+", "NxN", case)
+
+    methods = {}
+    for st in studies:
+        for p in st.points:
+            methods.setdefault(size_free(p.case), set()).add(p.method)
+    units = {size_free(r["case"]): r["cost_unit"] for r in rows if r["method"] is not None}
+    sample = [
+        (size_free(line[2:64].strip()), line[65:71].strip(), line[73:101].strip(), line[102:116].split()[-1])
+        for line in block[2:]
+    ]
+    assert [(c, t) for c, t, _, _ in sample] == [(size_free(r["case"]), f"{100 * r['threshold']:g} %") for r in rows]
+    for case, _, method, unit in sample:
+        assert method in methods[case], (case, method, sorted(methods[case]))
+        assert unit == units[case], (case, unit)
+
+
+def test_the_accuracy_summary_falls_back_to_the_pages_run_without_saved_studies(tmp_path):
+    from explorer.figures.mkdocs_hook import _ACCURACY_RE, accuracy_summary
+
+    text = (ROOT / "docs" / "accuracy.md").read_text(encoding="utf-8")
+    inside = _ACCURACY_RE.search(text).group(1)
+    assert "one run of `lighting-explorer report accuracy`" in inside and "Cheapest method" in inside
+    assert accuracy_summary(inside, folder=str(tmp_path)) == inside  # an empty cache: nothing saved
