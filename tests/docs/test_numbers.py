@@ -469,3 +469,16 @@ def test_the_accuracy_summary_falls_back_to_the_pages_run_without_saved_studies(
     inside = _ACCURACY_RE.search(text).group(1)
     assert "one run of `lighting-explorer report accuracy`" in inside and "Cheapest method" in inside
     assert accuracy_summary(inside, folder=str(tmp_path)) == inside  # an empty cache: nothing saved
+
+
+def test_the_explorers_timing_constants_on_its_page_are_the_codes():
+    from explorer.app import IDLE_MS
+    from explorer.app.objectpanel import REFINE_BUDGET, REFINE_MS
+
+    text = _prose("explorer.md")
+    for phrase in (
+        f"rested for {IDLE_MS} ms with the button still held (`explorer.app.IDLE_MS`)",
+        f"(`explorer.app.objectpanel.REFINE_MS`, {REFINE_MS} ms), each tick spends "
+        f"`REFINE_BUDGET` ({REFINE_BUDGET:g} s)",
+    ):
+        assert phrase in text
