@@ -529,3 +529,19 @@ def test_the_merl_pages_numbers_are_what_the_readers_give(tmp_path, monkeypatch,
     assert len(pct) == 6
     wrong = [(p, f"{m:.2%}") for p, m in zip(pct, expected, strict=True) if not _agrees(p + " %", m)]
     assert wrong == []
+
+
+def test_the_cli_pages_error_samples_are_what_the_commands_print(capsys):
+    # Each "$ lighting-explorer ..." followed by its error line, in cli.md's console blocks, is run here; the
+    # Matplotlib one is left out (it needs Matplotlib missing).
+    import shlex
+
+    from explorer.cli import main
+
+    text = (ROOT / "docs" / "cli.md").read_text(encoding="utf-8")
+    pairs = re.findall(r"^\s*\$ lighting-explorer (.+)\n\s*(lighting-explorer: error: .+)$", text, re.M)
+    pairs = [(args, line) for args, line in pairs if args.strip() != "figures"]
+    assert len(pairs) >= 5
+    for args, line in pairs:
+        assert main(shlex.split(args)) == 2, args
+        assert capsys.readouterr().err.strip() == line.strip(), args
