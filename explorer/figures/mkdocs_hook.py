@@ -13,8 +13,8 @@ Every page may quote the figure set instead of copying numbers by hand: ``{{ fig
 is the number of figures, and ``{{ figures.NAME.KEY }}`` a value the figure ``NAME`` measured
 while it was drawn (its sidecar's ``measured`` entry; ``KEY.SUBKEY`` reaches into a nested one),
 with an optional format after a colon: ``{{ figures.ibl_error.median_error:.0% }}``, and
-``{{ measured.NAME.KEY }}`` a value that one of this hook's quick measurements (:data:`MEASUREMENTS`, each a
-second or less) computes while the site is built; the line
+``{{ measured.NAME.KEY }}`` a value that one of this hook's quick measurements (:data:`MEASUREMENTS`)
+computes while the site is built; the line
 ``<!-- audit -->`` becomes the plausibility audit's table, computed once per build, and
 ``<!-- audit: beyond_slides -->`` the same audit of the models beyond the slides; the line
 ``<!-- output: lighting-explorer ARGS -->`` becomes what that command prints (run in the build's own
@@ -219,7 +219,7 @@ def command_output(args: str, page: str = "page") -> str:
     """What ``lighting-explorer ARGS`` prints, run now in this process, as a fenced text block.
 
     For the commands whose output a page shows as an example: the page always shows what the command
-    prints today.  Only quick commands belong here (the whole build computes its tables in a few seconds).
+    prints today.  Only quick commands belong here: every page's generated content is computed in each build.
 
     Parameters
     ----------
@@ -364,7 +364,7 @@ def audit_markdown(samples: int = 4096, cases: str = "default", table=None) -> s
 
 
 # --------------------------------------------------------------------------- numbers measured while the site is built
-# Each is a few tenths of a second to a second; a page's ``{{ measured.NAME.KEY }}`` runs NAME once per build.
+# Each must stay quick (it runs in every build); a page's ``{{ measured.NAME.KEY }}`` runs NAME once per build.
 
 
 def _smooth_sky(d):
