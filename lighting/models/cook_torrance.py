@@ -44,7 +44,9 @@ class CookTorrance(BRDF):
         Beckmann:  Λ(θ) = (erf(a) − 1)/2 + exp(−a²) / (2 a √π),   a = 1 / (α tan θ)
 
     (Blinn–Phong lobes take Beckmann's of the same α); ``F`` Schlick, the exact dielectric formula
-    with ``η`` from ``f0``, or ``"none"`` (F = 1).
+    with ``η`` from ``f0``, ``"none"`` (F = 1), or the exact conductor formula
+    (:func:`lighting.models.fresnel.conductor`) of the complex index ``η + i k`` per channel, from ``eta`` and
+    ``k`` or from a named ``metal``.
 
     Parameters
     ----------
@@ -54,12 +56,15 @@ class CookTorrance(BRDF):
         The NDF's α.  Values down to 1e-6 are evaluated as given (results stay
         finite; the peak of ``D`` is ``1/(π α²)``).
     f0 : float or RGB triple in [0, 1]
-        Fresnel reflectance at normal incidence (0.04 for common dielectrics).
+        Fresnel reflectance at normal incidence (0.04 for common dielectrics).  Not used with
+        ``fresnel="conductor"``, whose ``F0`` follows from ``η`` and ``k``: the model's :attr:`f0` is then that
+        value, ``((η − 1)² + k²) / ((η + 1)² + k²)`` per channel (what the audit, captions and the split
+        sum's albedo read), and ``f0`` given only supplies ``η`` when ``eta`` is left unset.
     ndf : {"beckmann", "ggx", "blinn-phong"}
     geometry : {"v-cavity", "smith", "smith-correlated"}
         ``"smith-correlated"`` lies between ``G1(v) G1(l)`` and ``min(G1(v), G1(l))``: a microfacet
         visible from ``v`` is more likely visible from ``l`` too (both are high on the surface).
-    fresnel : {"schlick", "dielectric", "none"}
+    fresnel : {"schlick", "dielectric", "none", "conductor"}
     denominator : {"4", "pi"}
     alpha_x, alpha_y : float > 0 or None
         Anisotropic roughness along the tangent ``t`` and the bitangent ``b = n × t`` (GGX and Beckmann;
@@ -84,6 +89,15 @@ class CookTorrance(BRDF):
         ``F = 1`` the directional albedo is then 1 at every view up to 85° (within the table's 2e-3).
         Only for the Smith geometries with a GGX or Beckmann ``D``, the denominator 4 and an isotropic
         ``α`` (``ValueError`` otherwise).  False (the default) is the single-scattering model, bit for bit.
+    eta, k : float or RGB triple, or None
+        The conductor's index ``η + i k`` relative to the outside (``η > 0``, ``k >= 0``, finite), for
+        ``fresnel="conductor"`` only (set with another ``fresnel``: ``ValueError``).  None: ``η`` of ``f0``
+        (:func:`~lighting.models.fresnel.eta_from_f0`) and ``k = 0``, the exact dielectric.
+    metal : {"none", "gold", "silver", "copper", "aluminium", "chromium"}
+        A named metal's ``η`` and ``k`` (:data:`lighting.models.fresnel.METALS`: published optical constants
+        at 630, 532 and 465 nm), for ``fresnel="conductor"`` only; ``eta`` and ``k`` are then left unset::
+
+            CookTorrance(roughness=0.2, ndf="ggx", geometry="smith-correlated", fresnel="conductor", metal="gold")
 
     Notes
     -----
@@ -115,12 +129,17 @@ class CookTorrance(BRDF):
     >>> aniso = CookTorrance(1.0, f0=1.0, ndf="ggx", geometry="smith-correlated", alpha_x=0.2, alpha_y=0.5)
     >>> round(float(aniso.eval((0, 0, 1.0), (0, 0, 1.0), (0, 0, 1.0))[0]), 6)  # 1/(4π α_x α_y)
     0.795775
+    >>> gold = CookTorrance(roughness=0.2, fresnel="conductor", metal="gold")
+    >>> gold
+    CookTorrance(ks=1, roughness=0.2, fresnel='conductor', metal='gold')
+    >>> gold.f0.round(3).tolist()   # its normal-incidence reflectance, R G B
+    [0.942, 0.704, 0.404]
     """
 
     name = "cook-torrance"
     NDFS = ("beckmann", "ggx", "blinn-phong")
     GEOMETRIES = ("v-cavity", "smith", "smith-correlated")
-    FRESNELS = ("schlick", "dielectric", "none")
+    FRESNELS = ("schlick", "dielectric", "none", "conductor")
     DENOMINATORS = ("4", "pi")
     parameters = (
         Parameter("ks", "color", 1.0, slider=(0.0, 1.0), description="specular coefficient k_s"),
@@ -138,6 +157,12 @@ class CookTorrance(BRDF):
                   description="α along the bitangent b = n × t; None: roughness"),
         Parameter("energy_compensation", "bool", False,
                   description="add the multiple-scattering lobe of Kulla and Conty (Smith GGX/Beckmann)"),
+        Parameter("eta", "color", None, low_open=True, slider=(0.03, 4.0), log=True,
+                  description="conductor index, real part η (fresnel conductor); None: f0's η or the metal's"),
+        Parameter("k", "color", None, slider=(0.0, 8.0),
+                  description="conductor index, extinction k (fresnel conductor); None: 0 or the metal's"),
+        Parameter("metal", "choice", "none", choices=_fresnel.METAL_CHOICES,
+                  description="a metal's η and k (fresnel conductor): none, gold, silver, copper, aluminium, chromium"),
     )
 
     #: The class default; an instance with α_x ≠ α_y sets its own ``stackable = False`` (the stacked fast
@@ -156,6 +181,9 @@ class CookTorrance(BRDF):
         alpha_x=None,
         alpha_y=None,
         energy_compensation=False,
+        eta=None,
+        k=None,
+        metal="none",
     ):
         self.ks = _color("ks", ks)
         self.roughness = check_positive("roughness", roughness)
@@ -163,6 +191,8 @@ class CookTorrance(BRDF):
         self.ndf = check_choice("ndf", ndf, self.NDFS)
         self.geometry = check_choice("geometry", geometry, self.GEOMETRIES)
         self.fresnel = check_choice("fresnel", fresnel, self.FRESNELS)
+        #: The conductor's η and k as used (RGB float64; None unless ``fresnel="conductor"``), the metal named.
+        self.eta, self.k, self.metal, self.f0 = _fresnel._conductor_setup(self.fresnel, self.f0, eta, k, metal)
         if isinstance(denominator, (int, np.integer)) and not isinstance(denominator, (bool, np.bool_)):
             denominator = str(denominator)  # 4 means "4"
         self.denominator = check_choice("denominator", denominator, self.DENOMINATORS)
@@ -201,7 +231,7 @@ class CookTorrance(BRDF):
         if refuse:
             raise ValueError("energy_compensation=True needs " + "; ".join(refuse))
         table = energy.albedo_table(self.ndf, self.geometry)
-        f_avg = energy.fresnel_average(self.fresnel, self.f0)
+        f_avg = energy.fresnel_average(self.fresnel, self.f0, self.eta, self.k)
         colour = self.ks * energy.multiple_scattering_colour(f_avg, table.E_avg(self._alpha))
         return energy.MultipleScattering(table, self._alpha, colour)
 
@@ -257,7 +287,7 @@ class CookTorrance(BRDF):
         from .lambert import CosineSampler
 
         ms = self._ms
-        s = float(np.mean(self.ks * fresnel_average(self.fresnel, self.f0)))
+        s = float(np.mean(self.ks * fresnel_average(self.fresnel, self.f0, self.eta, self.k)))
         m = float(np.mean(ms.colour))
 
         def weights(v):
@@ -283,9 +313,10 @@ class CookTorrance(BRDF):
         -------
         str
             For example ``"ks=1 α=0.3 beckmann/v-cavity schlick f0=0.04 /4(n·v)(n·l)"`` (``F=1`` for
-            ``fresnel="none"``; ``" +ms"`` appended with :attr:`energy_compensation`).
+            ``fresnel="none"``; ``conductor gold`` or ``conductor η=… k=…`` for the conductor; ``" +ms"``
+            appended with :attr:`energy_compensation`).
         """
-        f = "F=1" if self.fresnel == "none" else f"{self.fresnel} f0={_color_text(self.f0)}"
+        f = _fresnel_text(self)
         den = "4(n·v)(n·l)" if self.denominator == "4" else "π(n·v)(n·l)"
         alpha = f"αx={self._ax:g} αy={self._ay:g}" if self.anisotropic else f"α={self._alpha:g}"
         ms = " +ms" if self.energy_compensation else ""
@@ -293,7 +324,9 @@ class CookTorrance(BRDF):
 
     def to_dict(self):
         """See :meth:`BRDF.to_dict`; ``alpha_x`` and ``alpha_y`` appear only when given (not None),
-        ``energy_compensation`` only when True (the tables of older scenes stay as they were).
+        ``energy_compensation`` only when True (the tables of older scenes stay as they were); with
+        ``fresnel="conductor"``, ``metal`` when one is named, else ``eta`` and ``k`` (and no ``f0``,
+        which the conductor does not use).
 
         Returns
         -------
@@ -301,6 +334,8 @@ class CookTorrance(BRDF):
         """
         d = {"model": self.name}
         for p in self.parameters:
+            if p.name in ("eta", "k", "metal") or (p.name == "f0" and self.fresnel == "conductor"):
+                continue
             value = getattr(self, p.name)
             if value is None or (p.kind == "bool" and not value):
                 continue
@@ -311,13 +346,14 @@ class CookTorrance(BRDF):
             elif p.kind == "bool":
                 value = bool(value)
             d[p.name] = value
+        d.update(_fresnel._conductor_table(self))
         return d
 
     def _params(self):
         extra = {k: getattr(self, k) for k in ("alpha_x", "alpha_y") if getattr(self, k) is not None}
         if self.energy_compensation:
             extra["energy_compensation"] = True
-        return {
+        out = {
             "ks": self.ks,
             "roughness": self.roughness,
             "f0": self.f0,
@@ -326,7 +362,11 @@ class CookTorrance(BRDF):
             "fresnel": self.fresnel,
             "denominator": self.denominator,
             **extra,
+            **_fresnel._conductor_table(self, plain=False),
         }
+        if self.fresnel == "conductor":
+            del out["f0"]  # follows from η and k
+        return out
 
     # The three factors, public so that figures can show each one.
     def D(self, g: Geometry):
@@ -406,14 +446,16 @@ class CookTorrance(BRDF):
         Returns
         -------
         ndarray, shape (..., 3)
-            ``F(v·h)`` in [0, 1] for :attr:`fresnel` and :attr:`f0` (ones for ``"none"``), in the dtype
-            of ``g``.
+            ``F(v·h)`` in [0, 1] for :attr:`fresnel` and :attr:`f0` (ones for ``"none"``; the conductor's
+            ``F`` of :attr:`eta` and :attr:`k`), in the dtype of ``g``.
         """
         c = g.v_dot_h
         if self.fresnel == "none":
             return np.ones(c.shape + (3,), dtype=g.dtype)
         if self.fresnel == "schlick":
             return _fresnel.schlick(c, self.f0)
+        if self.fresnel == "conductor":
+            return self._conductor_f(c).astype(g.dtype)
         # The exact dielectric formula with η = (1 + √f0)/(1 − √f0), written in √f0 itself.
         return _fresnel._dielectric_from_f0(c, self.f0).astype(g.dtype)
 
@@ -493,8 +535,17 @@ class CookTorrance(BRDF):
             # F = f0 + (1 − f0)(1 − v·h)^5: two lobes with colours k_s f0 and k_s (1 − f0).
             m = (1.0 - np.clip(g.v_dot_h.astype(np.float64), 0.0, 1.0)) ** 5
             return [(s, self.ks * self.f0), (s * m, self.ks * (1.0 - self.f0))] + self._ms_terms(g, with_n_dot_l)
-        fr = _fresnel._dielectric_from_f0(g.v_dot_h, self.f0)  # float64, not rounded to the dtype first
+        # The exact forms are no sum of two separable terms: one term per channel, F_i (float64, not rounded to
+        # the dtype first) in the scalar field.
+        if self.fresnel == "conductor":
+            fr = self._conductor_f(g.v_dot_h)
+        else:
+            fr = _fresnel._dielectric_from_f0(g.v_dot_h, self.f0)
         return [(s * fr[..., i], self.ks * _UNIT_RGB[i]) for i in range(3)] + self._ms_terms(g, with_n_dot_l)
+
+    def _conductor_f(self, c):
+        """The conductor's ``F`` at the cosines ``c`` (clamped to [0, 1]), float64 ``(..., 3)``."""
+        return _fresnel._conductor(np.clip(np.asarray(c, dtype=np.float64), 0.0, 1.0), self.eta, self.k)
 
     def _ms_terms(self, g, with_n_dot_l: bool):
         """Kulla and Conty's lobe as one more separable term (``f_ms``, or ``f_ms (n·l)`` for the cosine forms)."""
@@ -518,7 +569,7 @@ class CookTorrance(BRDF):
         list of (ndarray, ndarray)
             With ``s = D G / (c (n·v))`` (``c`` 4 or π, 0 below the horizon) in the dtype of ``g``:
             ``(s, ks)`` for ``fresnel="none"``; ``(s, ks f0)`` and ``(s (1 − v·h)^5, ks (1 − f0))`` for
-            Schlick; ``(s F_i, ks e_i)`` per channel ``i`` for the dielectric ``F``.
+            Schlick; ``(s F_i, ks e_i)`` per channel ``i`` for the dielectric and the conductor ``F``.
         """
         return [(saturate_to(s, g.dtype), c) for s, c in self._separable(g, False)]
 
@@ -538,6 +589,17 @@ class CookTorrance(BRDF):
         with np.errstate(over="ignore"):  # a field near the dtype's largest value times π saturates below
             return [(saturate_to(s * math.pi, g.dtype), c) for s, c in self._separable(g, False)]
 
+
+
+def _fresnel_text(model) -> str:
+    """The Fresnel part of a model's :meth:`summary`: ``F=1``, ``schlick f0=0.04``, ``conductor gold`` …"""
+    if model.fresnel == "none":
+        return "F=1"
+    if model.fresnel == "conductor":
+        if model.metal != "none":
+            return f"conductor {model.metal}"
+        return f"conductor η={_color_text(model.eta)} k={_color_text(model.k)}"
+    return f"{model.fresnel} f0={_color_text(model.f0)}"
 
 
 register_model(CookTorrance)

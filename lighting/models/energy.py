@@ -380,16 +380,22 @@ def albedo_table(ndf: str, geometry: str, resolution: int = RESOLUTION) -> Albed
 
 
 # --------------------------------------------------------------------------- Fresnel averages
-def fresnel_average(fresnel: str, f0) -> np.ndarray:
+def fresnel_average(fresnel: str, f0, eta=None, k=None) -> np.ndarray:
     r"""``F_avg = 2 ∫_0^1 F(μ) μ dμ``, the cosine-weighted hemispherical mean of a Fresnel term, per channel.
 
     Parameters
     ----------
-    fresnel : {"schlick", "dielectric", "none"}
+    fresnel : {"schlick", "dielectric", "none", "conductor"}
         Schlick's ``f0 + (1 − f0)(1 − μ)⁵``: ``F_avg = f0 + (1 − f0)/21`` (``2 ∫ (1 − μ)⁵ μ dμ = 1/21``);
         the exact dielectric with ``η`` from ``f0``: 64-point Gauss–Legendre in ``μ`` (error below 1e-9);
-        ``"none"``: 1.
+        ``"none"``: 1; the conductor of index ``η + i k``: 64-point Gauss–Legendre in ``μ``, or, where
+        ``μ_c = sqrt(1 − η² + k²)`` lies in (0, 1) (the critical angle of ``k = 0``, ``η < 1``, and the bend
+        of ``F`` for small ``k``), 64 points on each side of it in ``s`` with ``μ = μ_c ± (width) s²``;
+        cached per ``(η, k)``.
     f0 : float or RGB triple in [0, 1]
+        Not read for ``"conductor"`` (its ``F0`` follows from ``η`` and ``k``).
+    eta, k : float or RGB triple, optional
+        The conductor's index (``η > 0``, ``k >= 0``, finite); needed for ``"conductor"`` only.
 
     Returns
     -------
@@ -400,8 +406,18 @@ def fresnel_average(fresnel: str, f0) -> np.ndarray:
     --------
     >>> fresnel_average("schlick", 0.04).round(6).tolist()
     [0.085714, 0.085714, 0.085714]
+    >>> fresnel_average("conductor", 0.04, eta=1.5, k=0.0).round(6).tolist()   # the dielectric η = 1.5
+    [0.091778, 0.091778, 0.091778]
     """
-    fresnel = check_choice("fresnel", fresnel, ("schlick", "dielectric", "none"))
+    fresnel = check_choice("fresnel", fresnel, ("schlick", "dielectric", "none", "conductor"))
+    if fresnel == "conductor":
+        from .fresnel import _param
+
+        if eta is None or k is None:
+            raise ValueError(f"fresnel_average: fresnel 'conductor' needs eta and k; got eta={eta!r}, k={k!r}")
+        eta = np.broadcast_to(_param("eta", eta, "a finite scalar or RGB triple > 0", lambda a: a > 0), (3,))
+        k = np.broadcast_to(_param("k", k, "a finite scalar or RGB triple >= 0", lambda a: a >= 0), (3,))
+        return np.array([_conductor_average(float(e), float(kk)) for e, kk in zip(eta, k, strict=True)])
     f0 = np.broadcast_to(check_color("f0", f0), (3,)).astype(np.float64)
     if fresnel == "none":
         return np.ones(3)
@@ -413,6 +429,24 @@ def fresnel_average(fresnel: str, f0) -> np.ndarray:
     # F(μ) has a square-root point at μ = 0 (cos θ_t): nodes in s with μ = s², 2 μ dμ = 4 s³ ds.
     mu = x * x
     return np.einsum("i,ic->c", 4 * x**3 * w, _dielectric_from_f0(mu, f0))
+
+
+@lru_cache(maxsize=256)
+def _conductor_average(eta: float, k: float) -> float:
+    """``2 ∫ F μ dμ`` of one channel's conductor Fresnel term (:func:`fresnel_average`)."""
+    from .fresnel import _conductor
+
+    x, w = _gl01(64)
+    c2 = 1.0 - eta * eta + k * k  # where Re(ñ² − sin²θ) = 0: w's real part turns there
+    if not 0.0 < c2 < 1.0:
+        return float(np.sum(2 * x * w * _conductor(x, eta, k)))
+    # F has a square-root point at μ_c (exactly so for k = 0): nodes in s with μ = μ_c ± (width) s² on each side.
+    mc = math.sqrt(c2)
+    total = 0.0
+    for width, sign in ((mc, -1.0), (1.0 - mc, 1.0)):
+        mu = mc + sign * width * x * x
+        total += float(np.sum(2 * mu * 2 * width * x * w * _conductor(mu, eta, k)))
+    return total
 
 
 def multiple_scattering_colour(f_avg, e_avg) -> np.ndarray:

@@ -6,11 +6,25 @@ parameters as a trailing axis of length 3 when given a triple.
 
 from __future__ import annotations
 
+import difflib
+from types import MappingProxyType
+
 import numpy as np
 
-from .._numeric import _fmt, check_budget, real_array, safe_div, working_dtype
+from .._numeric import ArgumentTypeError, _fmt, check_budget, real_array, safe_div, working_dtype
 
-__all__ = ["schlick", "dielectric", "conductor", "f0_from_eta", "eta_from_f0"]
+__all__ = [
+    "schlick",
+    "dielectric",
+    "conductor",
+    "conductor_f0",
+    "f0_from_eta",
+    "eta_from_f0",
+    "METALS",
+    "METAL_SOURCES",
+    "METAL_WAVELENGTHS_NM",
+    "metal_index",
+]
 
 #: How far a cosine may stray beyond [−1, 1] by rounding (clamped); anything further is refused.
 COS_SLACK = 1e-6
@@ -200,24 +214,62 @@ def conductor(cos_theta_i, eta, k) -> np.ndarray:
     ci = np.abs(_cosines("cos_theta_i", cos_theta_i))
     eta = _param("eta", eta, "a finite scalar or RGB triple > 0", lambda a: a > 0)
     k = _param("k", k, "a finite scalar or RGB triple >= 0", lambda a: a >= 0)
+    _budget("cos_theta_i", ci, eta if eta.ndim else k)
+    with np.errstate(under="ignore"):  # a reflectance below float32's range rounds to 0
+        return _conductor(ci, eta, k).astype(dt, copy=False)
+
+
+def _conductor(c, eta, k) -> np.ndarray:
+    """:func:`conductor` on checked arguments: cosines ``c`` in [0, 1] and float64 ``eta``, ``k`` of shape () or (3,).
+
+    Float64 throughout; a trailing axis 3 when ``eta`` or ``k`` is a triple, computed one channel at a time
+    (the complex temporaries of one channel only).  The models' shading path calls it without the checks.
+    """
+    c = np.asarray(c, dtype=np.float64)
+    eta, k = np.asarray(eta, dtype=np.float64), np.asarray(k, dtype=np.float64)
     if eta.ndim or k.ndim:
         eta, k = np.broadcast_to(eta, (3,)), np.broadcast_to(k, (3,))
-        ci = ci[..., None]
-    _budget("cos_theta_i", ci, eta)
-    n = eta + 1j * k
+        return np.stack([_conductor(c, eta[i], k[i]) for i in range(3)], axis=-1)
+    eta, k = float(eta), float(k)
     with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+        n = np.complex128(complex(eta, k))
         n2 = n * n
         # ñ² − sin²θ_i = (η − 1)(η + 1) − k² + cos²θ_i + 2iηk: no cancellation of 1 − sin²θ_i near grazing.
-        w = np.sqrt(((eta - 1) * (eta + 1) - k * k + ci * ci) + 2j * eta * k)
-        a = n2 * ci
+        w = np.sqrt(((eta - 1) * (eta + 1) - k * k + c * c) + 2j * eta * k)
+        ar, ai = n2.real * c, n2.imag * c
         # |x − w|² / |x + w|² in real arithmetic: exactly 1 at grazing incidence (x = 0), no complex division.
         wr, wi = w.real, w.imag
-        r_perp2 = ((ci - wr) ** 2 + wi**2) / ((ci + wr) ** 2 + wi**2)
-        r_par2 = ((a.real - wr) ** 2 + (a.imag - wi) ** 2) / ((a.real + wr) ** 2 + (a.imag + wi) ** 2)
+        r_perp2 = ((c - wr) ** 2 + wi**2) / ((c + wr) ** 2 + wi**2)
+        r_par2 = ((ar - wr) ** 2 + (ai - wi) ** 2) / ((ar + wr) ** 2 + (ai + wi) ** 2)
         f = 0.5 * (r_par2 + r_perp2)
         # Non-finite only where |ñ| is so large or small, or the incidence so grazing, that F's limit is 1.
-        f = np.where(np.isfinite(f), np.clip(f, 0, 1), 1.0)
-        return f.astype(dt, copy=False)
+        return np.where(np.isfinite(f), np.clip(f, 0, 1), 1.0)
+
+
+def conductor_f0(eta, k) -> np.ndarray:
+    """A conductor's normal-incidence reflectance ``((η − 1)² + k²) / ((η + 1)² + k²)`` (float64).
+
+    Parameters
+    ----------
+    eta : float or array_like, shape (3,)
+        The real part of the index, finite and > 0: a scalar or an RGB triple.
+    k : float or array_like, shape (3,)
+        The extinction coefficient, finite and >= 0: a scalar or an RGB triple.
+
+    Returns
+    -------
+    ndarray
+        ``F0`` in [0, 1]: shape () for scalars, (3,) when either is a triple; equal to
+        ``conductor(1.0, eta, k)``.
+
+    Examples
+    --------
+    >>> round(float(conductor_f0(1.5, 0.0)), 6)
+    0.04
+    """
+    eta = _param("eta", eta, "a finite scalar or RGB triple > 0", lambda a: a > 0)
+    k = _param("k", k, "a finite scalar or RGB triple >= 0", lambda a: a >= 0)
+    return _conductor(1.0, eta, k)
 
 
 def _dielectric_from_f0(cos_theta_i, f0) -> np.ndarray:
@@ -310,3 +362,145 @@ def eta_from_f0(f0):
         raise ValueError(f"f0 must be {allowed}; got {_fmt(f0)}")
     s = np.sqrt(f0)
     return (1 + s) / np.maximum(1 - s, 1e-12)
+
+
+# --------------------------------------------------------------------------- metals
+#: The wavelengths (nm) at which a metal's complex index stands for the R, G and B channels: 630 nm inside the
+#: red primary's band, 532 nm inside the green one's (where gold and copper have their absorption edge, so the
+#: green channel decides their colour), 465 nm at the blue primary's dominant wavelength.  One wavelength per
+#: channel is the usual renderer's shortcut for a spectral integral; docs/models.md compares the result with
+#: spectrally integrated values.
+METAL_WAVELENGTHS_NM = (630.0, 532.0, 465.0)
+
+#: Rows ``(wavelength µm, n, k)`` of the published tables, copied unchanged: for each channel the two rows that
+#: bracket its wavelength, from the refractiveindex.info database (public domain, CC0), files
+#: ``database/data/main/<element>/nk/<file>.yml``.
+_METAL_ROWS = {
+    # Au/nk/Johnson.yml: Johnson and Christy (1972), room temperature.
+    "gold": ((0.4509, 1.38, 1.914), (0.4714, 1.31, 1.849), (0.5209, 0.62, 2.081), (0.5486, 0.43, 2.455),
+             (0.6168, 0.21, 3.272), (0.6595, 0.14, 3.697)),
+    # Ag/nk/Johnson.yml: Johnson and Christy (1972), room temperature.
+    "silver": ((0.4509, 0.04, 2.657), (0.4714, 0.05, 2.869), (0.5209, 0.05, 3.324), (0.5486, 0.06, 3.586),
+               (0.6168, 0.06, 4.152), (0.6595, 0.05, 4.483)),
+    # Cu/nk/Johnson.yml: Johnson and Christy (1972), room temperature.
+    "copper": ((0.4509, 1.24, 2.397), (0.4714, 1.25, 2.483), (0.5209, 1.18, 2.608), (0.5486, 1.02, 2.577),
+               (0.6168, 0.30, 3.205), (0.6595, 0.22, 3.747)),
+    # Al/nk/Rakic-LD.yml: Rakić et al. (1998), their Lorentz–Drude fit, as the database tabulates it.
+    "aluminium": ((0.46228, 0.62844, 5.4574), (0.46614, 0.64104, 5.5033), (0.53236, 0.89038, 6.2655),
+                  (0.53680, 0.90904, 6.3144), (0.62852, 1.3198, 7.2578), (0.63376, 1.3441, 7.3089)),
+    # Cr/nk/Rakic-LD.yml: Rakić et al. (1998), their Lorentz–Drude fit, as the database tabulates it.
+    "chromium": ((0.46306, 2.2460, 3.9282), (0.46562, 2.2659, 3.9404), (0.53167, 2.7680, 4.1856),
+                 (0.53462, 2.7896, 4.1935), (0.62756, 3.4078, 4.3375), (0.63104, 3.4281, 4.3395)),
+}  # fmt: skip
+
+#: Where each metal's optical constants come from.
+METAL_SOURCES = MappingProxyType({
+    "gold": "P. B. Johnson and R. W. Christy, Phys. Rev. B 6, 4370 (1972)",
+    "silver": "P. B. Johnson and R. W. Christy, Phys. Rev. B 6, 4370 (1972)",
+    "copper": "P. B. Johnson and R. W. Christy, Phys. Rev. B 6, 4370 (1972)",
+    "aluminium": "A. D. Rakić, A. B. Djurišić, J. M. Elazar and M. L. Majewski, Appl. Opt. 37, 5271 (1998), "
+                 "Lorentz–Drude model",
+    "chromium": "A. D. Rakić, A. B. Djurišić, J. M. Elazar and M. L. Majewski, Appl. Opt. 37, 5271 (1998), "
+                "Lorentz–Drude model",
+})  # fmt: skip
+
+
+def _interpolated(rows) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """``(η_rgb, k_rgb)`` at :data:`METAL_WAVELENGTHS_NM`, linear in wavelength between the tabulated rows."""
+    rows = np.array(rows, dtype=np.float64)
+    wl = np.array(METAL_WAVELENGTHS_NM) / 1000.0
+    eta = np.interp(wl, rows[:, 0], rows[:, 1])
+    k = np.interp(wl, rows[:, 0], rows[:, 2])
+    return tuple(float(x) for x in eta), tuple(float(x) for x in k)
+
+
+#: Named metals: name → ``(η, k)``, each an RGB triple (R, G, B at :data:`METAL_WAVELENGTHS_NM`), the index
+#: relative to air (taken as 1) interpolated linearly in wavelength in the tables of :data:`METAL_SOURCES`.
+METALS = MappingProxyType({name: _interpolated(rows) for name, rows in _METAL_ROWS.items()})
+
+
+def metal_index(name) -> tuple[np.ndarray, np.ndarray]:
+    """A named metal's complex index ``(η, k)`` per RGB channel (:data:`METALS`).
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`METALS` (``"gold"``, ``"silver"``, ``"copper"``, ``"aluminium"``, ``"chromium"``);
+        case and surrounding blanks are ignored.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        ``η`` and ``k``, float64 arrays of shape (3,) (new arrays: the table stays as it is).
+
+    Raises
+    ------
+    ValueError
+        For any other name, naming the metals and the nearest one ("did you mean").
+
+    Examples
+    --------
+    >>> eta, k = metal_index("gold")
+    >>> conductor_f0(eta, k).round(3).tolist()
+    [0.942, 0.704, 0.404]
+    """
+    return tuple(np.array(x) for x in METALS[_metal_name("metal", name)])
+
+
+def _metal_name(param: str, value, allowed_extra: tuple = ()) -> str:
+    """``value`` as a key of :data:`METALS` (or of ``allowed_extra``); a one-line ValueError with a suggestion."""
+    choices = (*allowed_extra, *METALS)
+    key = value.strip().lower().replace("_", "-") if isinstance(value, str) else None
+    if key in choices:
+        return key
+    allowed = ", ".join(repr(c) for c in choices)
+    if key is None:
+        raise ArgumentTypeError(f"{param} must be one of {allowed}; got {type(value).__name__} {_fmt(value)}")
+    near = difflib.get_close_matches(key, list(choices), n=1)
+    hint = f" (did you mean {near[0]!r}?)" if near else ""
+    raise ValueError(f"{param} must be one of {allowed}; got {_fmt(value)}{hint}")
+
+
+#: The ``metal`` choices of the models: ``"none"`` (the index from ``eta`` and ``k``) or a named metal.
+METAL_CHOICES = ("none", *METALS)
+
+
+def _conductor_setup(fresnel: str, f0, eta, k, metal):
+    """The Fresnel parameters of a model as used: ``(eta, k, metal, f0)``.
+
+    ``fresnel`` other than ``"conductor"``: ``eta`` and ``k`` must be None and ``metal`` ``"none"`` (they would
+    be ignored); the result is ``(None, None, "none", f0)``.  ``"conductor"``: a named metal gives its
+    :data:`METALS` index (``eta`` and ``k`` must then be None), else ``eta`` (None: ``η`` of ``f0``,
+    :func:`eta_from_f0`) and ``k`` (None: 0); the returned ``f0`` is the conductor's normal-incidence
+    reflectance (:func:`conductor_f0`), RGB.  ``f0`` is the model's checked float64 colour.
+    """
+    metal = _metal_name("metal", metal, ("none",))
+    if fresnel != "conductor":
+        for name, value in (("eta", eta), ("k", k), ("metal", None if metal == "none" else metal)):
+            if value is not None:
+                raise ValueError(f"{name} applies to fresnel 'conductor' only; got {name}={_fmt(value)} with fresnel "
+                                 f"{fresnel!r} (set fresnel='conductor', or leave {name} unset)")  # fmt: skip
+        return None, None, "none", f0
+    if metal != "none":
+        if eta is not None or k is not None:
+            given = ", ".join(f"{n}={_fmt(v)}" for n, v in (("eta", eta), ("k", k)) if v is not None)
+            raise ValueError(f"metal={metal!r} sets eta and k; got {given} as well (give a metal, or eta and k)")
+        e, kk = metal_index(metal)
+    else:
+        e = eta_from_f0(f0) if eta is None else _param("eta", eta, "a finite scalar or RGB triple > 0", lambda a: a > 0)
+        kk = np.zeros(3) if k is None else _param("k", k, "a finite scalar or RGB triple >= 0", lambda a: a >= 0)
+    e = np.array(np.broadcast_to(e, (3,)), dtype=np.float64)
+    kk = np.array(np.broadcast_to(kk, (3,)), dtype=np.float64)
+    return e, kk, metal, _conductor(1.0, e, kk)
+
+
+def _conductor_table(model, plain: bool = True) -> dict:
+    """The conductor's entries of a model's scene table (``to_dict``) or repr: ``{}``, ``{"metal": name}`` or
+    ``{"eta": ..., "k": ...}`` (lists of floats when ``plain``, else the arrays)."""
+    if model.fresnel != "conductor":
+        return {}
+    if model.metal != "none":
+        return {"metal": model.metal}
+    if plain:
+        return {"eta": [float(x) for x in model.eta], "k": [float(x) for x in model.k]}
+    return {"eta": model.eta, "k": model.k}

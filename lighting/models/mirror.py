@@ -3,7 +3,7 @@ r"""The ideal mirror: a Dirac-delta BRDF, and its sampler, which returns the one
     f_r(v, l) = R(cos θ_v) δ(l − R_v) / (n·l),     R_v = 2 n (n·v) − v,
     ρ(v) = ∫ f_r (n·l) dω_l = R(cos θ_v),          L_o(v) = R(cos θ_v) L_i(R_v)
 
-``R`` is :meth:`Mirror.reflectance`: ``k_s``, ``k_s F_Schlick`` or ``k_s F_dielectric``.
+``R`` is :meth:`Mirror.reflectance`: ``k_s``, ``k_s F_Schlick``, ``k_s F_dielectric`` or ``k_s F_conductor``.
 """
 
 from __future__ import annotations
@@ -31,9 +31,10 @@ class Mirror(BRDF):
 
     with ``δ_ω`` the Dirac delta on the sphere.  Its integrals are exact: the directional albedo
     is ``ρ(v) = R(cos θ_v)``, and under distant lighting ``L_o(v) = R(cos θ_v) L_i(R_v)``.
-    ``R`` (:meth:`reflectance`) is ``k_s`` (``fresnel="none"``), ``k_s F_Schlick(cos θ_v; F_0)``
-    or ``k_s F_dielectric(cos θ_v; η(F_0))`` (:mod:`lighting.models.fresnel`; η from ``F_0`` as
-    in :class:`~lighting.models.cook_torrance.CookTorrance`).
+    ``R`` (:meth:`reflectance`) is ``k_s`` (``fresnel="none"``), ``k_s F_Schlick(cos θ_v; F_0)``,
+    ``k_s F_dielectric(cos θ_v; η(F_0))`` (:mod:`lighting.models.fresnel`; η from ``F_0`` as
+    in :class:`~lighting.models.cook_torrance.CookTorrance`) or ``k_s F_conductor(cos θ_v; η, k)``, a polished
+    metal (``Mirror(fresnel="conductor", metal="gold")``).
 
     The delta is not a function.  ``eval``, ``eval_cos`` and ``classic`` return 0 for every pair of
     directions: under point, directional and spot lights a viewer would see the light only
@@ -60,10 +61,18 @@ class Mirror(BRDF):
     ks : float or RGB triple, >= 0
         Reflectance scale (the mirror's colour; ``k_s <= 1`` conserves energy).
     f0 : float or RGB triple in [0, 1]
-        Fresnel reflectance at normal incidence (``fresnel`` ``"schlick"`` or ``"dielectric"``).
-    fresnel : {"none", "schlick", "dielectric"}
-        The angular dependence: none (``R = k_s``), Schlick's approximation, or the exact unpolarized
-        dielectric with ``η = (1 + √F_0)/(1 − √F_0)``.
+        Fresnel reflectance at normal incidence (``fresnel`` ``"schlick"`` or ``"dielectric"``).  Not used
+        with ``fresnel="conductor"``: the model's :attr:`f0` is then the conductor's
+        ``((η − 1)² + k²) / ((η + 1)² + k²)``, and ``f0`` given only supplies ``η`` when ``eta`` is unset.
+    fresnel : {"none", "schlick", "dielectric", "conductor"}
+        The angular dependence: none (``R = k_s``), Schlick's approximation, the exact unpolarized
+        dielectric with ``η = (1 + √F_0)/(1 − √F_0)``, or the exact conductor of index ``η + i k``.
+    eta, k : float or RGB triple, or None
+        The conductor's index (``η > 0``, ``k >= 0``, finite), for ``fresnel="conductor"`` only; None:
+        ``η`` of ``f0`` and ``k = 0``.
+    metal : {"none", "gold", "silver", "copper", "aluminium", "chromium"}
+        A named metal's ``η`` and ``k`` (:data:`lighting.models.fresnel.METALS`), for ``fresnel="conductor"``
+        only, with ``eta`` and ``k`` unset.
 
     Notes
     -----
@@ -91,25 +100,53 @@ class Mirror(BRDF):
     [0.9, 0.9, 0.9]
     >>> round(float(Mirror(1.0, 0.04, "dielectric").reflectance(1.0)[0]), 12)
     0.04
+    >>> Mirror(fresnel="conductor", metal="silver").reflectance(1.0).round(3).tolist()
+    [0.988, 0.983, 0.979]
     """
 
     name = "mirror"
     stackable = True
     is_delta = True
-    FRESNELS = ("none", "schlick", "dielectric")
+    FRESNELS = ("none", "schlick", "dielectric", "conductor")
     parameters = (
         Parameter("ks", "color", 1.0, slider=(0.0, 1.0), description="reflectance scale k_s (the mirror's colour)"),
         Parameter("f0", "color", 0.04, high=1.0, description="Fresnel reflectance at normal incidence F0"),
-        Parameter("fresnel", "choice", "none", choices=FRESNELS, description="Fresnel: none, Schlick, exact"),
+        Parameter("fresnel", "choice", "none", choices=FRESNELS,
+                  description="Fresnel: none, Schlick, exact dielectric, exact conductor"),
+        Parameter("eta", "color", None, low_open=True, slider=(0.03, 4.0), log=True,
+                  description="conductor index, real part η (fresnel conductor); None: f0's η or the metal's"),
+        Parameter("k", "color", None, slider=(0.0, 8.0),
+                  description="conductor index, extinction k (fresnel conductor); None: 0 or the metal's"),
+        Parameter("metal", "choice", "none", choices=_fresnel.METAL_CHOICES,
+                  description="a metal's η and k (fresnel conductor): none, gold, silver, copper, aluminium, chromium"),
     )
 
-    def __init__(self, ks=1.0, f0=0.04, fresnel="none"):
+    def __init__(self, ks=1.0, f0=0.04, fresnel="none", eta=None, k=None, metal="none"):
         self.ks = _color("ks", ks)
         self.f0 = _color("f0", f0, hi=1.0)
         self.fresnel = check_choice("fresnel", fresnel, self.FRESNELS)
+        #: The conductor's η and k as used (RGB float64; None unless ``fresnel="conductor"``), the metal named.
+        self.eta, self.k, self.metal, self.f0 = _fresnel._conductor_setup(self.fresnel, self.f0, eta, k, metal)
 
     def _params(self):
+        if self.fresnel == "conductor":  # f0 follows from η and k
+            return {"ks": self.ks, "fresnel": self.fresnel, **_fresnel._conductor_table(self, plain=False)}
         return {"ks": self.ks, "f0": self.f0, "fresnel": self.fresnel}
+
+    def to_dict(self):
+        """See :meth:`BRDF.to_dict`; with ``fresnel="conductor"`` the table has ``metal`` when one is named,
+        else ``eta`` and ``k``, and no ``f0`` (which the conductor does not use).
+
+        Returns
+        -------
+        dict
+        """
+        d = {"model": self.name, "ks": [float(x) for x in np.broadcast_to(self.ks, (3,))]}
+        if self.fresnel != "conductor":
+            d["f0"] = [float(x) for x in np.broadcast_to(self.f0, (3,))]
+        d["fresnel"] = self.fresnel
+        d.update(_fresnel._conductor_table(self))
+        return d
 
     def summary(self):
         """See :meth:`BRDF.summary`.
@@ -117,10 +154,12 @@ class Mirror(BRDF):
         Returns
         -------
         str
-            For example ``"mirror ks=0.9 F=1"`` or ``"mirror ks=1 schlick f0=0.04"``.
+            For example ``"mirror ks=0.9 F=1"``, ``"mirror ks=1 schlick f0=0.04"`` or
+            ``"mirror ks=1 conductor gold"``.
         """
-        f = "F=1" if self.fresnel == "none" else f"{self.fresnel} f0={_color_text(self.f0)}"
-        return f"mirror ks={_color_text(self.ks)} {f}"
+        from .cook_torrance import _fresnel_text
+
+        return f"mirror ks={_color_text(self.ks)} {_fresnel_text(self)}"
 
     def reflectance(self, cos_theta) -> np.ndarray:
         r"""The fraction of the radiance arriving from ``R_v`` that leaves toward ``v``: ``R(cos θ_v)``.
@@ -137,8 +176,8 @@ class Mirror(BRDF):
         Returns
         -------
         ndarray, shape ``cos_theta.shape + (3,)``
-            ``k_s``, ``k_s F_Schlick`` or ``k_s F_dielectric``; 0 where ``cos_theta <= 0`` (the viewer
-            at or below the horizon, as every BRDF of the engine).  In the float dtype of
+            ``k_s``, ``k_s F_Schlick``, ``k_s F_dielectric`` or ``k_s F_conductor``; 0 where
+            ``cos_theta <= 0`` (the viewer at or below the horizon, as every BRDF of the engine).  In the float dtype of
             ``cos_theta`` (float64 for Python numbers), saturated at its largest value.
 
         Raises
@@ -166,6 +205,8 @@ class Mirror(BRDF):
             f = np.ones(c.shape + (3,))
         elif self.fresnel == "schlick":
             f = _fresnel.schlick(np.clip(c, 0.0, 1.0), self.f0)
+        elif self.fresnel == "conductor":
+            f = _fresnel._conductor(np.clip(c, 0.0, 1.0), self.eta, self.k)
         else:
             f = _fresnel._dielectric_from_f0(c, self.f0)
         with np.errstate(over="ignore"):

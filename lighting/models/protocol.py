@@ -120,7 +120,7 @@ class Parameter:
             if key not in self.choices:
                 raise ValueError(f"{name} must be {allowed}; got {given}")
             return key
-        if self.kind == "float" and value is None and self.default is None:
+        if self.kind in ("float", "color") and value is None and self.default is None:
             return None
         kind = "a number" if self.kind == "float" else "one number or three numbers r,g,b"
         allowed = f"{kind} in {self.interval}" + (" or None" if self.default is None else "")

@@ -218,7 +218,8 @@ def cook_torrance_fr(model, q, legacy=frozenset()):
     ``"d-dtype"``: ``D`` rounded to the dtype before the division; ``"visibility"``:
     ``D G / (c (n·v)(n·l))`` (``G`` and the cosines multiplied out); ``"dielectric"``:
     ``dielectric(v·h, η)`` with the rounded ``η = (1 + √f0)/(1 − √f0)``; ``"float32"``: all
-    three, in float32.  An empty set is the engine's form.
+    three, in float32.  An empty set is the engine's form.  A conductor ``F`` has no earlier form: it is
+    :func:`~lighting.models.fresnel.conductor` at ``v·h`` in every case.
 
     Parameters
     ----------
@@ -259,7 +260,11 @@ def cook_torrance_fr(model, q, legacy=frozenset()):
             m = ((1 - vh) ** 5).astype(np.float64)
             terms = [(sv, model.ks * model.f0), (sv * m, model.ks * (1.0 - model.f0))]
         else:
-            if legacy & {"dielectric", "float32"}:
+            if model.fresnel == "conductor":  # no earlier form: the engine's conductor F
+                from ..fresnel import conductor
+
+                f = conductor(vh, model.eta, model.k).astype(np.float64)
+            elif legacy & {"dielectric", "float32"}:
                 from ..fresnel import dielectric, eta_from_f0
 
                 f = dielectric(vh, eta_from_f0(model.f0)).astype(q.dtype).astype(np.float64)

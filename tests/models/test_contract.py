@@ -44,7 +44,8 @@ from lighting.shading.stacked import StackedGeometry
 
 def _settings(cls, fixed):
     """``(label, kwargs, extreme)``: the defaults, each numeric parameter at both ends of its range, each choice,
-    each flag flipped, and each flag flipped together with each choice.
+    each flag flipped, and each flag flipped together with each choice; a choice the constructor refuses alone is
+    taken together with the first other choice it accepts it with.
 
     A flag may need a choice (Cook–Torrance's ``energy_compensation`` refuses the default V-cavity geometry):
     the pairs reach the combinations the constructor accepts; those it refuses are skipped with its
@@ -64,11 +65,29 @@ def _settings(cls, fixed):
             choices += [(p.name, c) for c in p.choices if c != p.default]
         elif p.kind == "bool":
             flags.append((p.name, not p.default))
-    out += [(f"{name}={c}", {**fixed, name: c}, False) for name, c in choices]
+    for name, c in choices:
+        setting = {**fixed, name: c}
+        if _refused(cls, setting):
+            # A choice that needs another one (Cook–Torrance's metal needs fresnel 'conductor') is taken with the
+            # first other choice the constructor accepts it with (alone, if none: skipped with the refusal).
+            pair = next(((n2, c2) for n2, c2 in choices if n2 != name and not _refused(cls, {**setting, n2: c2})),
+                        None)  # fmt: skip
+            if pair is not None:
+                out.append((f"{name}={c},{pair[0]}={pair[1]}", {**setting, pair[0]: pair[1]}, False))
+                continue
+        out.append((f"{name}={c}", setting, False))
     for flag, b in flags:
         out.append((f"{flag}={b}", {**fixed, flag: b}, False))
         out += [(f"{flag}={b},{name}={c}", {**fixed, flag: b, name: c}, False) for name, c in choices]
     return out
+
+
+def _refused(cls, kwargs) -> bool:
+    try:
+        cls(**kwargs)
+    except ValueError:
+        return True
+    return False
 
 
 CASES = []

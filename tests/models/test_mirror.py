@@ -83,7 +83,7 @@ def test_reflectance_keeps_float32_and_shapes():
 
 @pytest.mark.parametrize(
     "kwargs, name",
-    [({"ks": -0.1}, "ks"), ({"f0": 1.5}, "f0"), ({"fresnel": "conductor"}, "fresnel"), ({"ks": math.nan}, "ks")],
+    [({"ks": -0.1}, "ks"), ({"f0": 1.5}, "f0"), ({"fresnel": "metallic"}, "fresnel"), ({"ks": math.nan}, "ks")],
 )
 def test_bad_parameters_name_themselves(kwargs, name):
     with pytest.raises(ValueError, match=name):
