@@ -191,7 +191,7 @@ def test_below_horizon_is_zero():
         (lambda: CookTorrance(1.0, 0.2, 1.5), "f0"),
         (lambda: CookTorrance(1.0, 0.2, ndf="phong"), "ndf"),
         (lambda: CookTorrance(1.0, 0.2, geometry="none"), "geometry"),
-        (lambda: CookTorrance(1.0, 0.2, fresnel="conductor"), "fresnel"),
+        (lambda: CookTorrance(1.0, 0.2, fresnel="metallic"), "fresnel"),
         (lambda: CookTorrance(1.0, 0.2, denominator="2"), "denominator"),
     ],
 )

@@ -262,7 +262,7 @@ def _illegal_calls():
     add("CookTorrance", "f0", COLOUR_BAD + [1.5, (0.5, 1.01, 0.5)], lambda b: CookTorrance(1.0, 0.3, b))
     add("CookTorrance", "ndf", ["phong", "", None, 1, b"ggx"], lambda b: CookTorrance(ndf=b))
     add("CookTorrance", "geometry", ["none", None, 2.0], lambda b: CookTorrance(geometry=b))
-    add("CookTorrance", "fresnel", ["conductor", None, True], lambda b: CookTorrance(fresnel=b))
+    add("CookTorrance", "fresnel", ["metallic", None, True], lambda b: CookTorrance(fresnel=b))
     add("CookTorrance", "denominator", ["2", 2, 4.0, None, True, "π"], lambda b: CookTorrance(denominator=b))
     add("BRDFSum", "parts", ["lambert", None, 3], lambda b: BRDFSum(Lambert(0.5), b))
     models_ = [Lambert(0.5), Phong(0.5, 10), BlinnPhong(0.5, 1e6, True), CookTorrance(1, 0.1, ndf="ggx"),
