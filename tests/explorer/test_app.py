@@ -6,6 +6,12 @@ import os
 import numpy as np
 import pytest
 
+# The window's plots and its 3D view: without Matplotlib or PyVista the module is skipped, not an error
+# (the imports below need both, hence after these lines).
+# ruff: noqa: E402
+pytest.importorskip("matplotlib")
+pv = pytest.importorskip("pyvista")
+
 from explorer import app as app_mod
 from explorer.app import display as display_mod
 from explorer.app.encode import _srgb_thresholds, encode8
@@ -33,7 +39,8 @@ from lighting.render.image import encode_srgb8
 from lighting.scene import example_path
 from lighting.shading.equation import Material, shade
 
-pv = pytest.importorskip("pyvista")
+pytestmark = pytest.mark.slow  # the explorer window, rendered off-screen by VTK
+
 SIZE = (1200, 720)  # smaller than the default window: the same layout, faster to render
 
 

@@ -6,6 +6,8 @@ import pytest
 
 from explorer.figures import make_figure
 
+pytestmark = pytest.mark.slow  # fits three models to a tabulated MERL table
+
 
 @pytest.fixture(scope="module")
 def measured():

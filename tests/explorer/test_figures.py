@@ -13,6 +13,8 @@ import math
 import numpy as np
 import pytest
 
+pytestmark = pytest.mark.slow  # draws the whole lecture-note figure set
+
 PIL = pytest.importorskip("PIL.Image")
 pytest.importorskip("matplotlib")
 

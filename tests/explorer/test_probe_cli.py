@@ -33,6 +33,8 @@ import pytest
 
 from explorer.cli import main
 
+pytestmark = pytest.mark.slow  # seeded probe: many generated command lines, files and signals
+
 # ----------------------------------------------------------------------------- (a) odd command lines
 ODD = {
     "huge": "1e308",

@@ -34,6 +34,8 @@ from explorer.app.params import offered_parameters
 from explorer.app.state import CONTROLS, MODELS, AppState
 from explorer.app.views import LIVE_VIEWS, ExplorerModel
 
+pytestmark = pytest.mark.slow  # seeded probe: event storms over every control
+
 pv = pytest.importorskip("pyvista")
 
 SEED = 20241114

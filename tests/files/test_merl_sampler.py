@@ -23,6 +23,8 @@ from lighting.files.merl_sampler import MerlSampler
 from lighting.integrate import directional_albedo
 from lighting.models.lambert import CosineSampler
 
+pytestmark = pytest.mark.slow  # the MERL table sampler's χ², variance and mass checks
+
 sys.path.insert(0, os.path.dirname(os.path.dirname(__file__)))
 import chi2  # noqa: E402  (tests/chi2.py, shared by the model tests)
 

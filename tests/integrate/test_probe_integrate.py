@@ -29,6 +29,8 @@ from lighting import audit, environment, integrate, sampling
 from lighting.models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 from lighting.validation import accuracy
 
+pytestmark = pytest.mark.slow  # seeded probe: many generated calls of the integration API
+
 # ------------------------------------------------------------------------------------------ (a) legal extremes
 LEGAL = collections.Counter()
 LEGAL_FAILURES = collections.Counter()

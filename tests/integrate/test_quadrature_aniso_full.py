@@ -20,6 +20,8 @@ from lighting.integrate import directional_albedo
 from lighting.models.cook_torrance import CookTorrance
 from lighting.models.ward import Ward
 
+pytestmark = pytest.mark.slow  # every anisotropic microfacet form against 250 000-node references
+
 
 def _ct(ndf, geometry):
     return lambda ax, ay: CookTorrance(1.0, ax, 1.0, ndf=ndf, geometry=geometry, alpha_x=ax, alpha_y=ay)

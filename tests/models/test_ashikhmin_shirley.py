@@ -28,6 +28,8 @@ from lighting.models.ashikhmin_shirley import AshikhminShirley, AshikhminShirley
 from lighting.models.lambert import CosineSampler
 from lighting.validation import model_references as mr
 
+pytestmark = pytest.mark.slow  # 80-digit references, quadratures, grazing χ²; fast: test_contract.py
+
 
 # --------------------------------------------------------------------------- the 80-digit reference
 def _reference(n, l, v, tangent, rd, rs, nu, nv, *, diffuse=True, cos=False):  # noqa: E741

@@ -32,6 +32,8 @@ from lighting.models import create_model, model_names
 from lighting.models.disney import Disney, DisneySampler, gtr1, gtr2_aniso, smooth_cosine_pdf
 from lighting.validation import model_references as mr
 
+pytestmark = pytest.mark.slow  # 80-digit references, quadratures, grazing χ²; fast: test_contract.py
+
 
 # --------------------------------------------------------------------------- the 80-digit reference
 def _mpvec(x):

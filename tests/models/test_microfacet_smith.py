@@ -26,6 +26,8 @@ from lighting.models.geometry import Geometry
 from lighting.models.microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
 from lighting.validation import model_references as mr
 
+pytestmark = pytest.mark.slow  # 80-digit references, quadratures, grazing χ²; fast: test_contract.py
+
 N = np.array([0.0, 0.0, 1.0])
 NDFS = ("beckmann", "ggx")
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from probes import PROBE_SETTINGS, IllegalTally, LegalTally
@@ -27,6 +28,8 @@ from lighting import fresnel, gl, microfacet
 from lighting.models.brdf import BlinnPhong, BRDFSum, CookTorrance, Lambert, Phong
 from lighting.shading.stacked import StackedGeometry
 from lighting.vec import normalize
+
+pytestmark = pytest.mark.slow  # seeded probe: many generated calls of the models' API
 
 SETTINGS = PROBE_SETTINGS | dict(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 

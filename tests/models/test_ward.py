@@ -30,6 +30,8 @@ from lighting.models.geometry import Geometry
 from lighting.models.ward import Ward, WardSampler, _exponent
 from lighting.validation import model_references as mr
 
+pytestmark = pytest.mark.slow  # 80-digit references, quadratures, grazing χ²; fast: test_contract.py
+
 NORMS = Ward.NORMALIZATIONS
 
 

@@ -27,10 +27,14 @@ import shutil
 import tomllib
 import tracemalloc
 
+import pytest
+
 from explorer.commands import render as render_cmd
 from lighting._numeric import set_memory_budget
 from lighting.scene import list_examples
 from lighting.scene.examples import EXAMPLES_DIR
+
+pytestmark = pytest.mark.slow  # seeded probe: many mutated scene files rendered
 
 SEED = 14
 MUTANTS_PER_SCENE = 26

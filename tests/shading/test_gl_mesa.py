@@ -47,6 +47,8 @@ import sys
 import numpy as np
 import pytest
 
+pytestmark = pytest.mark.slow  # renders every case with Mesa's OpenGL to compare
+
 TOL = 1e-5  # "about 1 part in 10^5", the accuracy the specification asks for
 N_CLEAN = 220
 N_QUIRKY = 40

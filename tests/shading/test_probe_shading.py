@@ -20,6 +20,7 @@ line (``pytest -s`` shows it) before asserting that there are none.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from probes import PROBE_SETTINGS, IllegalTally, LegalTally
@@ -47,6 +48,8 @@ from lighting.render.plan import bounding_sphere, compile_plan, evaluate_full
 from lighting.render.raster import rasterize, raycast_sphere
 from lighting.render.renderer import AnalyticSphere, Renderer, render
 from lighting.render.sphere import render_sphere, sphere_camera
+
+pytestmark = pytest.mark.slow  # seeded probe: many generated calls of the shading API
 
 SETTINGS = PROBE_SETTINGS | dict(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 DTYPES = (np.float32, np.float64)

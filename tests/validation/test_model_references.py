@@ -22,6 +22,8 @@ from lighting.validation import cases as vcases
 from lighting.validation import model_references as mr
 from lighting.validation.general import general_table
 
+pytestmark = pytest.mark.slow  # the stability sweep's 80-digit references of the newer models
+
 
 def _ratio(model, n, l, v, dtype, form="eval"):  # noqa: E741
     """``|engine − true| / (max(κ,1) u)`` at one input rounded to ``dtype``."""

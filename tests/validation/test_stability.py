@@ -21,6 +21,8 @@ from lighting.validation import reference as vref
 from lighting.validation import stability as st
 from lighting.validation import tables as vtables
 
+pytestmark = pytest.mark.slow  # the stability sweep's quick run: every model variant against 80-digit references
+
 
 @pytest.fixture(scope="module")
 def result():
