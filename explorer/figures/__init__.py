@@ -70,7 +70,7 @@ _SAVE_METADATA = {
 
 #: The figure modules in lecture order; within a module, figures keep the order they are defined in.
 LECTURE_MODULES = (
-    "illumination", "models", "lights", "opengl", "brdf", "audit", "zoo", "energy", "fitting", "compare",
+    "illumination", "models", "metals", "lights", "opengl", "brdf", "audit", "zoo", "energy", "fitting", "compare",
     "rendering", "accuracy", "ibl",
 )  # fmt: skip
 
@@ -88,6 +88,7 @@ def _load_registry() -> dict[str, FigureSpec]:
         ibl,
         illumination,
         lights,
+        metals,
         models,
         opengl,
         rendering,
