@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from explorer import app as app_mod
+from explorer.app import environment as environment_mod
 from explorer.app.environment import PASS_SAMPLES, VIEW_TO_WORLD, world_light
 from explorer.app.state import CONTROLS, DEFAULTS, AppState
 from explorer.app.views import VIEWS, ExplorerModel
@@ -23,6 +24,14 @@ from lighting.render.image import encode_srgb8
 pv = pytest.importorskip("pyvista")
 
 SMALL = {"sphere_size": 40, "mesh_size": 32, "lobe_resolution": 8, "object_size": (48, 32)}
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _small_skies():
+    """Named skies sampled into 32-row maps, not the window's 256: the same laws, a fraction of the prefiltering."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(environment_mod, "SKY_ROWS", 32)
+        yield
 
 
 def furnace_state(**kw):
