@@ -1,3 +1,4 @@
+import functools
 import json
 
 import numpy as np
@@ -63,6 +64,9 @@ def test_bench_ibl_json_line_is_consistent(capsys, monkeypatch):
     from lighting.render import AnalyticSphere, Renderer, sphere_camera
 
     monkeypatch.setattr(bench, "SIZE", 32)
+    # A 64×32 sky instead of the bench's 512×256 (ibl_frames' own env_height): the same JSON, a fraction
+    # of the prefiltering and the Monte-Carlo pass.
+    monkeypatch.setattr(bench, "ibl_frames", functools.partial(bench.ibl_frames, env_height=32))
     assert bench.main(["--ibl", "--json", "--repeat", "1"]) == 0
     r = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     for key in ("ibl_reshade_ms", "ibl_reshade_f64_ms", "ibl_prefilter_ms", "ibl_mc64_ms"):
