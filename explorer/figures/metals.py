@@ -103,6 +103,11 @@ def metal_fresnel(q, *, alpha):
         measured[name] = "(" + ", ".join(f"{x:.3f}" for x in f0) + ")"
         measured[f"{name}_f0_linear"] = [float(x) for x in f0]
         measured[f"{name}_f0_srgb8"] = list(_srgb8(f0))
+        # As text for the docs' table (docs/models.md quotes them).
+        measured[f"{name}_f0_srgb8_text"] = "(" + ", ".join(str(x) for x in _srgb8(f0)) + ")"
+        measured[f"{name}_f0_srgb_hex"] = "#" + "".join(f"{x:02X}" for x in _srgb8(f0))
+        measured[f"{name}_eta_text"] = "(" + ", ".join(f"{x:.3f}" for x in eta) + ")"
+        measured[f"{name}_k_text"] = "(" + ", ".join(f"{x:.3f}" for x in k) + ")"
     axes[0].set_ylim(min(0.4, np.floor(lowest * 10) / 10), 1.01)
     axes[-1].legend(loc="lower left", fontsize=12)
     measured["lowest_f"] = lowest

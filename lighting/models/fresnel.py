@@ -368,8 +368,8 @@ def eta_from_f0(f0):
 #: The wavelengths (nm) at which a metal's complex index stands for the R, G and B channels: 630 nm inside the
 #: red primary's band, 532 nm inside the green one's (where gold and copper have their absorption edge, so the
 #: green channel decides their colour), 465 nm at the blue primary's dominant wavelength.  One wavelength per
-#: channel is the usual renderer's shortcut for a spectral integral; docs/models.md compares the result with
-#: spectrally integrated values.
+#: channel is the usual renderer's shortcut for a spectral integral (it ignores how a metal's reflectance varies
+#: within each primary's band).
 METAL_WAVELENGTHS_NM = (630.0, 532.0, 465.0)
 
 #: Rows ``(wavelength µm, n, k)`` of the published tables, copied unchanged: for each channel the two rows that
