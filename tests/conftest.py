@@ -16,6 +16,17 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 
+@pytest.fixture(scope="session")
+def quick_accuracy_studies():
+    """``run_studies(quick=True)``: the accuracy studies at their quick settings, measured once per session.
+
+    Several files check what the same quick studies measured; each measuring them anew would cost the same again.
+    """
+    from lighting.validation.accuracy import run_studies
+
+    return run_studies(quick=True)
+
+
 @pytest.fixture(autouse=True, scope="session")
 def _accuracy_cache_in_a_temporary_folder(tmp_path_factory):
     """The saved accuracy studies (explorer.reports.cache) go to a folder of this session, never the home folder."""

@@ -8,8 +8,8 @@ from lighting.validation.accuracy import run_studies, summary
 
 
 @pytest.fixture(scope="module")
-def studies():
-    return run_studies(quick=True)
+def studies(quick_accuracy_studies):
+    return quick_accuracy_studies  # run_studies(quick=True), measured once per session (conftest.py)
 
 
 def _pts(studies, study, case=None, method=None):
