@@ -193,24 +193,6 @@ def _write_cache(quick):
         assert cache.save_study(study, quick=quick, by="lighting-explorer report accuracy")
 
 
-def test_figures_drawn_from_the_cache_are_bit_identical_and_measure_nothing(folder, tmp_path, monkeypatch):
-    _write_cache(quick=False)
-    _no_study(monkeypatch)
-    outs = []
-    for run in ("a", "b"):
-        d = tmp_path / run
-        figures.generate(d, formats=("png",), only=list(FIGURES.values()), dpi=40)
-        outs.append(d)
-    for name in FIGURES.values():
-        assert (outs[0] / f"{name}.png").read_bytes() == (outs[1] / f"{name}.png").read_bytes(), name
-        rec = json.loads((outs[0] / f"{name}.json").read_text(encoding="utf-8"))
-        assert rec["deterministic"] is True and rec["nondeterministic_reason"] is None, name
-        m = rec["measured"]
-        assert (m["source_kind"], m["settings"], m["reproducible"]) == ("cache", "full", True), name
-        assert m["measured_by"] == "lighting-explorer report accuracy", name
-        assert "measured by lighting-explorer report accuracy (full settings)" in rec["caption"], name
-
-
 def test_the_full_study_is_preferred_to_the_quick_one(folder, monkeypatch):
     studies = _studies()
     cache.save_study(studies["precision"], quick=True, by="lighting-explorer report accuracy --quick")
@@ -273,23 +255,6 @@ def test_panels_hold_what_the_studies_measured(folder, monkeypatch):
     assert m["ulps"] == pytest.approx(2.1e-7 * 2**24) and m["pixels"] == 2000
     m = figures.make_figure("accuracy_tessellation", quick=True)[4]
     assert m["finest"] == {"flat": 0.3 / 4, "gouraud": 0.4 / 4, "phong": 0.2 / 4}
-
-
-def test_accuracy_csv_draws_all_five_without_measuring(folder, tmp_path, monkeypatch):
-    rows = [dataclasses.asdict(p) for st in _studies().values() for p in st.points]
-    path = tmp_path / "accuracy.csv"
-    with open(path, "w", newline="", encoding="utf-8") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    _no_study(monkeypatch)
-    out = tmp_path / "out"
-    assert figures.main(["--out", str(out), "--quick", "--only", *FIGURES.values(), "--accuracy-csv", str(path)]) == 0
-    for study, name in FIGURES.items():
-        rec = json.loads((out / f"{name}.json").read_text(encoding="utf-8"))
-        assert rec["deterministic"] is True and rec["measured"]["source_kind"] == "csv", name
-        assert rec["measured"]["points"] == len(_studies()[study].points), name
-    assert not folder.exists() or os.listdir(folder) == []  # nothing measured, nothing saved
 
 
 def test_report_accuracy_saves_each_study_it_ran(folder, tmp_path, capsys):
