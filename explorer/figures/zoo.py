@@ -122,6 +122,8 @@ def _param_text(brdf, width: int = 44, lead: str = "") -> str:
         value = getattr(brdf, p.name, None)
         if value is None:  # an optional parameter left at "same as another" (Ward's alpha_y)
             continue
+        if p.kind == "choice" and value == "none" == p.default and p.name != "fresnel":
+            continue  # an option left off (the mirror's metal); "fresnel none" stays: it says F = 1
         if p.kind == "color":
             arr = np.asarray(value, dtype=np.float64).reshape(-1)
             text = f"{arr[0]:g}" if np.all(arr == arr[0]) else "(" + ", ".join(f"{x:g}" for x in arr) + ")"
