@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import copy
 import math
+import threading
 
 import numpy as np
 
@@ -147,6 +148,111 @@ def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:
     return np.fft.irfft(out, n=w, axis=1), norm
 
 
+#: Spectral terms of a kernel row smaller than this fraction of the largest row sum are left out of the fast
+#: path's products (:func:`_convolve_rows_fast`): below the rounding of the row FFTs themselves.
+_SPECTRUM_TOL = 1e-14
+#: Row pairs whose kernels are evaluated and transformed at once, and band values multiplied at once (memory).
+_PAIR_CHUNK = 512
+_BAND_CHUNK = 1 << 20
+#: Output rows per block of the banded products.
+_ROW_BLOCK = 32
+
+
+class _RowSpectra:
+    """The row FFTs of ``L Ω`` of one image, frequency-major and padded by ``H − 1`` zero rows on both sides.
+
+    Computed once per mip height and shared by every width and family that convolves that image.
+    """
+
+    def __init__(self, image: np.ndarray):
+        h, w, c = image.shape
+        self.image = image
+        self.omega = _row_solid_angles(h, w)
+        spectrum = np.fft.rfft(image * self.omega[:, None, None], axis=1)  # (H, W/2+1, C)
+        self.padded = np.zeros((w // 2 + 1, 3 * h - 2, 2 * c))
+        self.padded[:, h - 1:2 * h - 1] = np.ascontiguousarray(spectrum.transpose(1, 0, 2)).view(np.float64)
+        self.omega_padded = np.zeros(3 * h - 2)
+        self.omega_padded[h - 1:2 * h - 1] = self.omega
+
+
+def _convolve_rows_fast(image: np.ndarray, kernel_of, support: float, spectra: _RowSpectra | None = None):
+    r""":func:`_convolve_rows` (the readable reference) with each distinct kernel row evaluated and transformed once.
+
+    The kernel of output row ``i`` and source row ``j`` is symmetric in the two rows and under the mirror
+    ``θ → π − θ``, and even in ``Δφ``: one row pair in four is evaluated, on ``W/2 + 1`` columns, in blocks
+    of pairs.  The sum over source rows is then, for each frequency ``m``, a band of row weights times the
+    source's spectra: one batched matrix product instead of a loop over offsets.  Frequencies at which every
+    kernel row's spectrum is below :data:`_SPECTRUM_TOL` of the largest row sum are left out (a narrow band
+    of frequencies for a lobe wide in ``φ``).  Same result as the reference to float64 rounding.
+
+    ``spectra`` (:class:`_RowSpectra` of ``image``) lets several kernels share the source's row FFTs.
+    """
+    h, w, c = image.shape
+    if spectra is None:
+        spectra = _RowSpectra(image)
+    n = w // 2 + 1
+    theta = (np.arange(h) + 0.5) * (math.pi / h)
+    s2phi = np.sin(np.arange(n) * (math.pi / w)) ** 2
+    sin_t = np.sin(theta)
+    reach = min(h - 1, int(math.ceil(support / (math.pi / h))))
+    # The distinct pairs: offset d = j − i from 0 to the reach, and the upper row i of each pair that is not the
+    # mirror image of another (i <= H − 1 − d − i).
+    d = np.arange(reach + 1)
+    counts = (h - 1 - d) // 2 + 1
+    start = np.concatenate([[0], np.cumsum(counts)])
+    pairs = int(start[-1])
+    pair_d = np.repeat(d, counts)
+    upper = np.arange(pairs) - start[pair_d]
+    lower = upper + pair_d
+    dlat = np.sin((theta[upper] - theta[lower]) / 2)
+    a = 2 * dlat * dlat
+    b = 2 * sin_t[upper] * sin_t[lower]
+    # Real spectra of the kernel rows, frequency-major; the last column is a zero row for pairs off the map.
+    spec = np.empty((n, pairs + 1))
+    spec[:, pairs] = 0.0
+    peak = np.zeros(n)
+    row = np.empty((min(_PAIR_CHUNK, pairs), w))
+    for p0 in range(0, pairs, _PAIR_CHUNK):
+        p1 = min(pairs, p0 + _PAIR_CHUNK)
+        k = kernel_of(a[p0:p1, None] + b[p0:p1, None] * s2phi[None, :])
+        full = row[: p1 - p0]
+        full[:, :n] = k
+        full[:, n:] = k[:, n - 2:0:-1]  # the even extension: the row over the whole circle of Δφ
+        part = np.fft.rfft(full, axis=1).real
+        spec[:, p0:p1] = part.T
+        np.maximum(peak, np.abs(part).max(axis=0), out=peak)
+    kept = np.flatnonzero(peak > _SPECTRUM_TOL * peak[0])
+    m_eff = int(kept[-1]) + 1 if kept.size else 1
+    # The weights of frequency m are an H × H matrix, banded within the reach: cut into blocks of B rows, each
+    # reading B + 2R source rows (all H when that is as many), a batch of dense products.
+    block = h if _ROW_BLOCK + 2 * reach >= h else _ROW_BLOCK
+    span = h if block == h else block + 2 * reach
+    blocks = -(-h // block)
+    first = h - 1 if block == h else h - 1 - reach  # the padded row of block 0's first source row
+    i = np.arange(blocks * block)[:, None]
+    j = (i // block) * block + np.arange(span)[None, :] + (first - (h - 1))
+    # Which distinct pair (row i, row j) is: the upper row and the distance, mirrored into the stored half.
+    top, dist = np.minimum(i, j), np.abs(j - i)
+    top = np.where(2 * top > h - 1 - dist, h - 1 - dist - top, top)
+    inside = (j >= 0) & (j < h) & (i < h) & (dist <= reach)
+    index = np.where(inside, start[np.minimum(dist, reach)] + top, pairs).reshape(blocks, block, span)
+    src = spectra.padded[:, first:]
+    st = src.strides
+    out = np.zeros((blocks * block, n, 2 * c))
+    step = max(1, _BAND_CHUNK // (blocks * block * span))
+    for m0 in range(0, m_eff, step):
+        m1 = min(m_eff, m0 + step)
+        weights = np.take(spec[m0:m1], index, axis=1)  # (m, blocks, B, span)
+        window = np.lib.stride_tricks.as_strided(src[m0:], shape=(m1 - m0, blocks, span, 2 * c),
+                                                 strides=(st[0], block * st[1], st[1], st[2]))  # fmt: skip
+        out[:, m0:m1] = np.matmul(weights, window).reshape(m1 - m0, blocks * block, 2 * c).transpose(1, 0, 2)
+    out = out[:h]
+    omega = np.lib.stride_tricks.as_strided(spectra.omega_padded[first:], shape=(blocks, span),
+                                            strides=(block * 8, 8))  # fmt: skip
+    norm = np.einsum("bit,bt->bi", np.take(spec[0], index), omega).reshape(-1)[:h]
+    return np.fft.irfft(out.view(np.complex128), n=w, axis=1), norm
+
+
 def _ggx_kernel(alpha: float):
     r"""GGX's lobe as a kernel of ``x = 1 − cos ψ`` about the reflected direction (Karis's ``n = v = r``).
 
@@ -184,31 +290,100 @@ def _beckmann_kernel(alpha: float):
 _TAIL_START = 6.0
 
 
-def _ggx_level(mip, sigma: float, h0: int) -> np.ndarray:
+def _ggx_level(convolve, sigma: float, h0: int, *, join: bool = False) -> np.ndarray:
     """One level of the GGX-tailed family: ``Σ K L Ω / Σ K Ω`` for the kernel of :func:`_ggx_kernel`.
 
     GGX's tails reach the horizon, so the kernel is split at ``ψ₁ = 6σ``: ``K − K(max(x, x₁))``, zero
     beyond ``ψ₁``, at the level's own resolution, and ``K(max(x, x₁))``, flat inside ``ψ₁`` and smooth on
     the scale of ``ψ₁``, on a coarser map (its sums resampled bilinearly); the two add up to ``K``.
+    ``convolve(height, kernel_of, support)`` is a row convolution of the mip of that height.  With ``join``,
+    a tail map as fine as the level is not made apart: the two parts are one convolution with ``K`` (the
+    same sums, to rounding).
     """
     alpha = sigma / math.sqrt(2.0)
     kernel = _ggx_kernel(alpha)
     h = _level_height(sigma, h0)
     psi1 = _TAIL_START * sigma
-    if psi1 >= math.pi / 2:
-        conv, norm = _convolve_rows(mip(h), kernel, math.pi / 2 + math.pi / h)
+    if psi1 >= math.pi / 2 or (join and _tail_height(sigma, h0) == h):
+        conv, norm = convolve(h, kernel, math.pi / 2 + math.pi / h)
         return conv / norm[:, None, None]
     x1 = 1.0 - math.cos(psi1)
-    conv, norm = _convolve_rows(mip(h), lambda x: kernel(x) - kernel(np.maximum(x, x1)), psi1 + math.pi / h)
-    ht = _MIN_HEIGHT
-    while ht < 8 * math.pi / psi1 and ht < h:
-        ht *= 2
-    tconv, tnorm = _convolve_rows(mip(ht), lambda x: kernel(np.maximum(x, x1)), math.pi / 2 + math.pi / ht)
+    conv, norm = convolve(h, lambda x: kernel(x) - kernel(np.maximum(x, x1)), psi1 + math.pi / h)
+    ht = _tail_height(sigma, h0)
+    tconv, tnorm = convolve(ht, lambda x: kernel(np.maximum(x, x1)), math.pi / 2 + math.pi / ht)
     tail = np.concatenate([tconv, np.broadcast_to(tnorm[:, None, None], (ht, 2 * ht, 1))], axis=2)
     if ht < h:
         flat = tail.reshape(-1, 4)
         tail = latlong_lookup(flat, ht, 2 * ht, LatLongEnvironment.pixel_directions(h, 2 * h))
     return (conv + tail[..., :3]) / (norm[:, None, None] + tail[..., 3:])
+
+
+def _tail_height(sigma: float, h0: int) -> int:
+    """The height of a GGX level's tail map: eight pixels per core radius ``ψ₁``, at most the level's."""
+    h, psi1 = _level_height(sigma, h0), _TAIL_START * sigma
+    ht = _MIN_HEIGHT
+    while ht < 8 * math.pi / psi1 and ht < h:
+        ht *= 2
+    return ht
+
+
+def _level_tasks(convolve, sigmas, h0: int, *, join: bool = False) -> list:
+    """``(family, index, fn)`` for every blurred level: ``fn()`` returns the level, float32.
+
+    ``convolve(height, kernel_of, support)`` convolves the mip of that height.  Each call is independent of
+    the others (they may run on several threads in any order and give the same levels).  ``join``: as
+    :func:`_ggx_level`.
+    """
+
+    def normalized(h, kernel_of, support):
+        conv, norm = convolve(h, kernel_of, support)
+        return (conv / norm[:, None, None]).astype(np.float32)
+
+    tasks = []
+    for k, s in enumerate(sigmas):
+        if k == 0:
+            continue
+        h = _level_height(s, h0)
+        kappa = 1.0 / (s * s)
+        tasks.append(("mirror", k, lambda h=h, kappa=kappa, s=s: normalized(
+            h, lambda x: np.exp(-kappa * x), _SUPPORT * s)))
+        tasks.append(("beckmann", k, lambda h=h, s=s: normalized(
+            h, _beckmann_kernel(s / math.sqrt(2.0)), min(_SUPPORT * s, math.pi / 2) + math.pi / h)))
+        tasks.append(("ggx", k, lambda s=s: _ggx_level(convolve, s, h0, join=join).astype(np.float32)))
+    return tasks
+
+
+def _run_all(fns: list) -> list:
+    """``[fn() for fn in fns]``, the calls shared between this thread and the engine's shading threads.
+
+    Each result is the same whichever thread makes it.  This thread takes calls too and waits only for calls
+    already started, so a full pool (or a caller that is itself one of its threads) cannot stall it.
+    """
+    from ..shading.batch import _pool, _threads
+
+    helpers = min(_threads(), len(fns)) - 1
+    if helpers <= 0:
+        return [fn() for fn in fns]
+    results = [None] * len(fns)
+    lock = threading.Lock()
+    queue = iter(range(len(fns)))
+
+    def work():
+        while True:
+            with lock:
+                k = next(queue, None)
+            if k is None:
+                return
+            results[k] = fns[k]()
+
+    futures = [_pool().submit(work) for _ in range(helpers)]
+    try:
+        work()
+    finally:
+        for f in futures:
+            if not f.cancel():
+                f.result()
+    return results
 
 
 def _base_image(env: Environment, height: int) -> np.ndarray:
@@ -522,6 +697,41 @@ def _unwrap(env):
     return env, scale, to_base
 
 
+def _prefilter_levels(base: np.ndarray, sigmas, h0: int, *, fast: bool = True) -> dict:
+    """The levels of every family (:data:`KERNELS`) of ``base``, an ``(h0, 2 h0, 3)`` float64 image.
+
+    ``fast=False`` computes them with the readable reference, :func:`_convolve_rows`, one call after the
+    other; the default with :func:`_convolve_rows_fast`, the source's row FFTs shared by every kernel of a
+    height and the levels shared between threads.
+    """
+    mips = {h0: base}
+    h = h0
+    while h > _MIN_HEIGHT:
+        mips[h // 2] = _halve(mips[h])
+        h //= 2
+    if fast:
+        spectra = {h: _RowSpectra(img) for h, img in mips.items() if h <= _MAX_LEVEL_HEIGHT}
+
+        def convolve(h, kernel_of, support):
+            return _convolve_rows_fast(mips[h], kernel_of, support, spectra[h])
+    else:
+
+        def convolve(h, kernel_of, support):
+            return _convolve_rows(mips[h], kernel_of, support)
+
+    tasks = _level_tasks(convolve, sigmas, h0, join=fast)
+    # The widest levels of the finest maps first: the threads then finish together.
+    order = sorted(range(len(tasks)), key=lambda t: (-_level_height(sigmas[tasks[t][1]], h0), -tasks[t][1],
+                                                      tasks[t][0] != "ggx"))  # fmt: skip
+    done = _run_all([tasks[t][2] for t in order]) if fast else [tasks[t][2]() for t in order]
+    level0 = base.astype(np.float32)
+    families = {k: [level0] + [None] * (len(sigmas) - 1) for k in KERNELS}
+    for t, level in zip(order, done, strict=True):
+        family, k, _ = tasks[t]
+        families[family][k] = level
+    return families
+
+
 def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) -> PrefilteredEnvironment:
     r"""Prefilter an environment for the split sum: one lat-long level per lobe width ``σ``.
 
@@ -566,28 +776,7 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
         level = base.astype(np.float32)
         families = {k: [level] * len(sig) for k in ("mirror", "beckmann", "ggx")}
         return PrefilteredEnvironment(env, sig, families, latlong_sh(base), scale=scale, to_base=to_base)
-    mips = {h0: base}
-
-    def mip(h):
-        while h not in mips:
-            smallest = min(mips)
-            mips[smallest // 2] = _halve(mips[smallest])
-        return mips[h]
-
-    levels = [base.astype(np.float32)]
-    for s in sig[1:]:
-        src = mip(_level_height(s, h0))
-        kappa = 1.0 / (s * s)
-        conv, norm = _convolve_rows(src, lambda x, kappa=kappa: np.exp(-kappa * x), _SUPPORT * s)
-        levels.append((conv / norm[:, None, None]).astype(np.float32))
-    beckmann = [levels[0]]
-    for s in sig[1:]:
-        h = _level_height(s, h0)
-        conv, norm = _convolve_rows(mip(h), _beckmann_kernel(s / math.sqrt(2.0)),
-                                    min(_SUPPORT * s, math.pi / 2) + math.pi / h)  # fmt: skip
-        beckmann.append((conv / norm[:, None, None]).astype(np.float32))
-    ggx = [levels[0]] + [_ggx_level(mip, s, h0).astype(np.float32) for s in sig[1:]]
-    families = {"mirror": levels, "beckmann": beckmann, "ggx": ggx}
+    families = _prefilter_levels(base, sig, h0)
     return PrefilteredEnvironment(env, sig, families, latlong_sh(base), scale=scale,
                                   to_base=to_base)  # fmt: skip
 
