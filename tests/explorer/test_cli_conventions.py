@@ -312,11 +312,3 @@ def test_a_missing_extra_is_one_line_naming_it(module, argv, line, tmp_path):
     done = _without(module, argv, tmp_path)
     assert (done.returncode, done.stderr) == (2, line + "\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml", "tri.ply"]  # nothing written
-
-
-def test_commands_that_need_no_extra_run_without_them(tmp_path):
-    for module in ("matplotlib", "trimesh", "pyvista"):
-        done = _without(module, ["sphere", "--size", "8", "-o", "s.png"], tmp_path)
-        assert done.returncode == 0 and done.stdout.startswith("wrote s.png (8x8, PNG)"), done.stderr
-        done = _without(module, ["render", "cube", "--size", "8", "-o", "c.png"], tmp_path)  # an OBJ: NumPy reads it
-        assert done.returncode == 0 and done.stdout.startswith("wrote c.png (8x8, 1 object,"), done.stderr

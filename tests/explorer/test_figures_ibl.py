@@ -53,17 +53,3 @@ def test_the_error_map_shows_unlit_pixels_in_one_flat_colour_and_no_black(drawn)
     assert np.allclose(np.asarray(unlit)[grey][:, :3], matplotlib.colors.to_rgb(UNLIT_COLOUR))
     # Masked pixels are transparent in the colour map (they show the grey layer or the white ground).
     assert error_ax.get_images()[0].get_cmap().get_bad()[3] == 0.0
-
-
-def test_accuracy_ibl_shows_the_split_sum_and_sh9_errors_of_the_study():
-    # The split sum's error by model and SH9's against the exact irradiance, as the study measured them
-    # (here its quick settings, measured while drawing with this session's empty or filled cache).
-    fig, spec, params, q, m = make_figure("accuracy_ibl", quick=True)
-    assert m["environments"] >= 2 and m["models"] >= 3
-    for env, by_model in m["split_sum"].items():
-        assert len(by_model) == m["models"]
-        assert all(np.isfinite(v) and 0 < v < 1 for v in by_model.values()), env
-    # SH9 against the pixelized map's exact irradiance: a smooth function, a few percent at most.
-    assert set(m["sh9"]) == set(m["split_sum"]) and all(0 < v < 0.1 for v in m["sh9"].values())
-    caption = spec.caption.format(**m)
-    assert "{" not in caption and m["line_models"] in caption

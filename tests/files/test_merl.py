@@ -240,25 +240,6 @@ def test_budget_is_checked_before_reading(blinn_file):
         set_memory_budget(old)
 
 
-def test_fuzz_only_value_errors(tmp_path, blinn_file):
-    rng = np.random.default_rng(17)
-    good = blinn_file[0].read_bytes()
-    path = tmp_path / "fuzz.binary"
-    for trial in range(40):
-        kind = trial % 4
-        if kind == 0:  # random bytes of random length
-            data = rng.bytes(int(rng.integers(0, 200)))
-        elif kind == 1:  # a good file truncated anywhere
-            data = good[: int(rng.integers(0, SIZE))]
-        elif kind == 2:  # random header on a right-sized body
-            data = rng.bytes(12) + good[12:]
-        else:  # random bytes of exactly the right size (NaNs or infinities are nearly certain)
-            data = good[:12] + rng.bytes(SIZE - 12)
-        path.write_bytes(data)
-        try:
-            read_merl(path)
-        except ValueError as e:
-            assert str(path) in str(e)
         # Anything else propagates and fails the test.
 
 

@@ -114,22 +114,6 @@ def test_the_examples_listed_are_the_examples_shipped():
     assert os.path.exists(os.path.join(EXAMPLES_DIR, "cube.obj"))
 
 
-@pytest.mark.parametrize("name", EXAMPLES)
-def test_every_example_loads_renders_and_round_trips(name):
-    scene = small(name, 64)
-    image, info = render_scene(scene)
-    assert image.shape == (scene.camera.height, scene.camera.width, 3)
-    assert np.all(np.isfinite(image)) and np.all(image >= 0)
-    assert info["objects"] == len(raw(name)["objects"]) and all(v > 0 for v in info["visible_pixels"])
-    # Round trip: dict and TOML text read back to the same scene and the same picture.
-    d = scene.to_dict()
-    again = parse_scene(d, base_dir=EXAMPLES_DIR)
-    assert again.to_dict() == d
-    text = scene_to_toml(scene)
-    assert parse_scene(text, base_dir=EXAMPLES_DIR).to_dict() == d
-    np.testing.assert_array_equal(render_scene(again)[0], image)
-
-
 def test_parsing_the_tomllib_dict_equals_parsing_the_text():
     path = example_path("directional_ambient")
     with open(path) as f:
