@@ -161,18 +161,21 @@ _ROW_BLOCK = 32
 class _RowSpectra:
     """The row FFTs of ``L Ω`` of one image, frequency-major and padded by ``H − 1`` zero rows on both sides.
 
-    Computed once per mip height and shared by every width and family that convolves that image.
+    Row ``H − 1 + j`` of :attr:`padded` holds row ``j``'s spectra (real and imaginary parts of each channel),
+    then row ``H − 1 − j``'s: the image and its mirror ``θ → π − θ`` side by side.  Computed once per mip
+    height and shared by every width and family that convolves that image.
     """
 
     def __init__(self, image: np.ndarray):
         h, w, c = image.shape
-        self.image = image
-        self.omega = _row_solid_angles(h, w)
-        spectrum = np.fft.rfft(image * self.omega[:, None, None], axis=1)  # (H, W/2+1, C)
-        self.padded = np.zeros((w // 2 + 1, 3 * h - 2, 2 * c))
-        self.padded[:, h - 1:2 * h - 1] = np.ascontiguousarray(spectrum.transpose(1, 0, 2)).view(np.float64)
-        self.omega_padded = np.zeros(3 * h - 2)
-        self.omega_padded[h - 1:2 * h - 1] = self.omega
+        omega = _row_solid_angles(h, w)
+        spectrum = np.fft.rfft(image * omega[:, None, None], axis=1)  # (H, W/2+1, C)
+        rows = np.ascontiguousarray(spectrum.transpose(1, 0, 2)).view(np.float64)  # (W/2+1, H, 2C)
+        self.padded = np.zeros((w // 2 + 1, 3 * h - 2, 4 * c))
+        self.padded[:, h - 1:2 * h - 1, :2 * c] = rows
+        self.padded[:, h - 1:2 * h - 1, 2 * c:] = rows[:, ::-1]
+        self.omega_padded = np.zeros((3 * h - 2, 2))
+        self.omega_padded[h - 1:2 * h - 1] = np.stack([omega, omega[::-1]], axis=1)
 
 
 def _convolve_rows_fast(image: np.ndarray, kernel_of, support: float, spectra: _RowSpectra | None = None):
@@ -223,33 +226,43 @@ def _convolve_rows_fast(image: np.ndarray, kernel_of, support: float, spectra: _
         np.maximum(peak, np.abs(part).max(axis=0), out=peak)
     kept = np.flatnonzero(peak > _SPECTRUM_TOL * peak[0])
     m_eff = int(kept[-1]) + 1 if kept.size else 1
-    # The weights of frequency m are an H × H matrix, banded within the reach: cut into blocks of B rows, each
-    # reading B + 2R source rows (all H when that is as many), a batch of dense products.
-    block = h if _ROW_BLOCK + 2 * reach >= h else _ROW_BLOCK
-    span = h if block == h else block + 2 * reach
-    blocks = -(-h // block)
-    first = h - 1 if block == h else h - 1 - reach  # the padded row of block 0's first source row
+    # The weights of frequency m are an H × H matrix, banded within the reach, and the same read from the
+    # opposite corner (the mirror θ → π − θ): its upper half rows times the source and times the mirrored
+    # source give the upper and the lower half of the sums.  The rows are cut into blocks of B, each reading
+    # B + 2R source rows (all H when that is as many): a batch of dense products.
+    rows = h // 2
+    dense = _ROW_BLOCK + 2 * reach >= h
+    block = rows if dense else _ROW_BLOCK
+    span = h if dense else block + 2 * reach
+    blocks = -(-rows // block)
+    first = h - 1 if dense else h - 1 - reach  # the padded row of block 0's first source row
     i = np.arange(blocks * block)[:, None]
     j = (i // block) * block + np.arange(span)[None, :] + (first - (h - 1))
     # Which distinct pair (row i, row j) is: the upper row and the distance, mirrored into the stored half.
     top, dist = np.minimum(i, j), np.abs(j - i)
     top = np.where(2 * top > h - 1 - dist, h - 1 - dist - top, top)
-    inside = (j >= 0) & (j < h) & (i < h) & (dist <= reach)
+    inside = (j >= 0) & (j < h) & (i < rows) & (dist <= reach)
     index = np.where(inside, start[np.minimum(dist, reach)] + top, pairs).reshape(blocks, block, span)
     src = spectra.padded[:, first:]
     st = src.strides
-    out = np.zeros((blocks * block, n, 2 * c))
-    step = max(1, _BAND_CHUNK // (blocks * block * span))
+    out = np.zeros((h, n, 2 * c))
+    step = min(m_eff, max(1, _BAND_CHUNK // (blocks * block * span)))
+    # One buffer for every chunk's weights and products (fresh large arrays would each be paged in anew).
+    weight_buf = np.empty((step, blocks, block, span))
+    product_buf = np.empty((step, blocks, block, 4 * c))
     for m0 in range(0, m_eff, step):
         m1 = min(m_eff, m0 + step)
-        weights = np.take(spec[m0:m1], index, axis=1)  # (m, blocks, B, span)
-        window = np.lib.stride_tricks.as_strided(src[m0:], shape=(m1 - m0, blocks, span, 2 * c),
+        weights = np.take(spec[m0:m1], index, axis=1, out=weight_buf[: m1 - m0], mode="clip")  # (m, blocks, B, span)
+        window = np.lib.stride_tricks.as_strided(src[m0:], shape=(m1 - m0, blocks, span, 4 * c),
                                                  strides=(st[0], block * st[1], st[1], st[2]))  # fmt: skip
-        out[:, m0:m1] = np.matmul(weights, window).reshape(m1 - m0, blocks * block, 2 * c).transpose(1, 0, 2)
-    out = out[:h]
-    omega = np.lib.stride_tricks.as_strided(spectra.omega_padded[first:], shape=(blocks, span),
-                                            strides=(block * 8, 8))  # fmt: skip
-    norm = np.einsum("bit,bt->bi", np.take(spec[0], index), omega).reshape(-1)[:h]
+        both = np.matmul(weights, window, out=product_buf[: m1 - m0])
+        both = both.reshape(m1 - m0, blocks * block, 4 * c)[:, :rows].transpose(1, 0, 2)
+        out[:rows, m0:m1] = both[..., :2 * c]
+        out[rows:, m0:m1] = both[::-1, :, 2 * c:]
+    so = spectra.omega_padded[first:]
+    omega = np.lib.stride_tricks.as_strided(so, shape=(blocks, span, 2), strides=(block * so.strides[0],) + so.strides)
+    both = np.matmul(np.take(spec[0], index), omega).reshape(-1, 2)[:rows]
+    norm = np.concatenate([both[:, 0], both[::-1, 1]])
     return np.fft.irfft(out.view(np.complex128), n=w, axis=1), norm
 
 
@@ -290,21 +303,22 @@ def _beckmann_kernel(alpha: float):
 _TAIL_START = 6.0
 
 
-def _ggx_level(convolve, sigma: float, h0: int, *, join: bool = False) -> np.ndarray:
+def _ggx_level(convolve, sigma: float, h0: int, *, fast: bool = False) -> np.ndarray:
     """One level of the GGX-tailed family: ``Σ K L Ω / Σ K Ω`` for the kernel of :func:`_ggx_kernel`.
 
     GGX's tails reach the horizon, so the kernel is split at ``ψ₁ = 6σ``: ``K − K(max(x, x₁))``, zero
     beyond ``ψ₁``, at the level's own resolution, and ``K(max(x, x₁))``, flat inside ``ψ₁`` and smooth on
     the scale of ``ψ₁``, on a coarser map (its sums resampled bilinearly); the two add up to ``K``.
-    ``convolve(height, kernel_of, support)`` is a row convolution of the mip of that height.  With ``join``,
-    a tail map as fine as the level is not made apart: the two parts are one convolution with ``K`` (the
-    same sums, to rounding).
+    ``convolve(height, kernel_of, support)`` is a row convolution of the mip of that height.  With ``fast``,
+    a tail map as fine as the level is not made apart (the two parts are one convolution with ``K``) and a
+    coarser one is resampled row by row, then column by column (:func:`_upsample`): the same values, to
+    rounding.
     """
     alpha = sigma / math.sqrt(2.0)
     kernel = _ggx_kernel(alpha)
     h = _level_height(sigma, h0)
     psi1 = _TAIL_START * sigma
-    if psi1 >= math.pi / 2 or (join and _tail_height(sigma, h0) == h):
+    if psi1 >= math.pi / 2 or (fast and _tail_height(sigma, h0) == h):
         conv, norm = convolve(h, kernel, math.pi / 2 + math.pi / h)
         return conv / norm[:, None, None]
     x1 = 1.0 - math.cos(psi1)
@@ -312,10 +326,36 @@ def _ggx_level(convolve, sigma: float, h0: int, *, join: bool = False) -> np.nda
     ht = _tail_height(sigma, h0)
     tconv, tnorm = convolve(ht, lambda x: kernel(np.maximum(x, x1)), math.pi / 2 + math.pi / ht)
     tail = np.concatenate([tconv, np.broadcast_to(tnorm[:, None, None], (ht, 2 * ht, 1))], axis=2)
-    if ht < h:
+    if ht < h and fast:
+        tail = _upsample(tail, h)
+    elif ht < h:
         flat = tail.reshape(-1, 4)
         tail = latlong_lookup(flat, ht, 2 * ht, LatLongEnvironment.pixel_directions(h, 2 * h))
     return (conv + tail[..., :3]) / (norm[:, None, None] + tail[..., 3:])
+
+
+def _upsample(image: np.ndarray, h: int) -> np.ndarray:
+    """:func:`latlong_lookup` of a lat-long ``image`` at the pixel centres of an ``h × 2h`` one, ``h`` a multiple.
+
+    The bilinear lookup at a regular grid is separable: rows first (clamped at the edge rows, as the lookup
+    without poles), then columns (wrapping around).
+    """
+    hi = image.shape[0]
+
+    def weights(count, scale, size, wrap):
+        f = (np.arange(count) + 0.5) / scale - 0.5
+        if not wrap:
+            f = np.clip(f, 0.0, size - 1)
+        i0 = np.floor(f).astype(np.int64)
+        if not wrap:
+            i0 = np.minimum(i0, size - 2)
+        t = f - i0
+        return i0 % size, (i0 + 1) % size if wrap else np.minimum(i0 + 1, size - 1), t
+
+    r0, r1, ty = weights(h, h // hi, hi, wrap=False)
+    rows = image[r0] * (1 - ty)[:, None, None] + image[r1] * ty[:, None, None]
+    c0, c1, tx = weights(2 * h, h // hi, 2 * hi, wrap=True)
+    return rows[:, c0] * (1 - tx)[None, :, None] + rows[:, c1] * tx[None, :, None]
 
 
 def _tail_height(sigma: float, h0: int) -> int:
@@ -327,11 +367,11 @@ def _tail_height(sigma: float, h0: int) -> int:
     return ht
 
 
-def _level_tasks(convolve, sigmas, h0: int, *, join: bool = False) -> list:
+def _level_tasks(convolve, sigmas, h0: int, *, fast: bool = False) -> list:
     """``(family, index, fn)`` for every blurred level: ``fn()`` returns the level, float32.
 
     ``convolve(height, kernel_of, support)`` convolves the mip of that height.  Each call is independent of
-    the others (they may run on several threads in any order and give the same levels).  ``join``: as
+    the others (they may run on several threads in any order and give the same levels).  ``fast``: as
     :func:`_ggx_level`.
     """
 
@@ -349,7 +389,7 @@ def _level_tasks(convolve, sigmas, h0: int, *, join: bool = False) -> list:
             h, lambda x: np.exp(-kappa * x), _SUPPORT * s)))
         tasks.append(("beckmann", k, lambda h=h, s=s: normalized(
             h, _beckmann_kernel(s / math.sqrt(2.0)), min(_SUPPORT * s, math.pi / 2) + math.pi / h)))
-        tasks.append(("ggx", k, lambda s=s: _ggx_level(convolve, s, h0, join=join).astype(np.float32)))
+        tasks.append(("ggx", k, lambda s=s: _ggx_level(convolve, s, h0, fast=fast).astype(np.float32)))
     return tasks
 
 
@@ -719,7 +759,7 @@ def _prefilter_levels(base: np.ndarray, sigmas, h0: int, *, fast: bool = True) -
         def convolve(h, kernel_of, support):
             return _convolve_rows(mips[h], kernel_of, support)
 
-    tasks = _level_tasks(convolve, sigmas, h0, join=fast)
+    tasks = _level_tasks(convolve, sigmas, h0, fast=fast)
     # The widest levels of the finest maps first: the threads then finish together.
     order = sorted(range(len(tasks)), key=lambda t: (-_level_height(sigmas[tasks[t][1]], h0), -tasks[t][1],
                                                       tasks[t][0] != "ggx"))  # fmt: skip

@@ -119,3 +119,14 @@ def test_run_all_returns_every_result_in_order_and_raises_a_failure():
 
     with pytest.raises(ValueError, match="kernel"):
         prefilter._run_all([lambda: 1, fail, lambda: 3])
+
+
+@pytest.mark.parametrize("h_in, h", [(16, 32), (16, 64), (64, 256), (128, 256)])
+def test_the_separable_upsampling_is_the_bilinear_lookup_at_the_pixel_centres(h_in, h):
+    from lighting.lights.environment import LatLongEnvironment
+    from lighting.lights.latlong import latlong_lookup
+
+    img = np.random.default_rng(h_in + h).random((h_in, 2 * h_in, 4))
+    expected = latlong_lookup(img.reshape(-1, 4), h_in, 2 * h_in, LatLongEnvironment.pixel_directions(h, 2 * h))
+    # The lookup reads its coordinates back from directions (arctan2): rounding of 1e-16 rad per pixel row.
+    np.testing.assert_allclose(prefilter._upsample(img, h), expected, rtol=1e-12, atol=1e-13)
