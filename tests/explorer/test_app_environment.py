@@ -248,13 +248,14 @@ def test_window_shows_the_object_and_refines_it(app):
     assert app.state.environment == "file"
 
 
-def test_command_bad_mesh_or_environment_file_is_one_error_line(tmp_path, capsys):
+def test_command_bad_mesh_or_environment_file_is_one_error_line(tmp_path, monkeypatch, capsys):
     bad = tmp_path / "broken.obj"
     bad.write_text("v 0 0 0\nf 1 2 3\n")
-    assert app_mod.main(["--mesh", str(bad), "--off-screen"]) == 2
+    monkeypatch.chdir(tmp_path)  # names as given, whole: a long temporary folder would be abbreviated
+    assert app_mod.main(["--mesh", bad.name, "--off-screen"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "broken.obj" in err
-    assert app_mod.main(["--environment", str(tmp_path / "none.hdr"), "--off-screen"]) == 2
+    assert app_mod.main(["--environment", "none.hdr", "--off-screen"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "none.hdr" in err
     assert app_mod.main(["--environment", "file", "--off-screen"]) == 2

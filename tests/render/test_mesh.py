@@ -409,17 +409,18 @@ def test_transforms_with_huge_scales_are_judged_scale_free():
         m.transformed(M)
 
 
-def test_load_mesh_reads_only_regular_files_and_checks_the_size_first(tmp_path):
+def test_load_mesh_reads_only_regular_files_and_checks_the_size_first(tmp_path, monkeypatch):
     import os
 
     from lighting._numeric import BudgetError
 
-    os.mkfifo(tmp_path / "fifo.obj")
+    monkeypatch.chdir(tmp_path)  # names as given, whole: a long temporary folder would be abbreviated
+    os.mkfifo("fifo.obj")
     with pytest.raises(ValueError, match=r"fifo\.obj' is not a regular file"):
-        load_mesh(tmp_path / "fifo.obj")
-    with open(tmp_path / "sparse.obj", "wb") as f:  # 1 GB of zeros, sparse: 2-5 GB to parse before
+        load_mesh("fifo.obj")
+    with open("sparse.obj", "wb") as f:  # 1 GB of zeros, sparse: 2-5 GB to parse before
         f.truncate(1 << 30)
     with pytest.raises(BudgetError, match=r"sparse\.obj' needs about 32\.0 GiB \(1073741824 bytes to read\)"):
-        load_mesh(tmp_path / "sparse.obj")
+        load_mesh("sparse.obj")
     with pytest.raises(ValueError, match=r"mesh file 'x{39}…\(\+\d+ chars\) does not exist"):
         load_mesh("x" * 100_000 + ".obj")
