@@ -310,9 +310,9 @@ def _ggx_level(convolve, sigma: float, h0: int, *, fast: bool = False) -> np.nda
     beyond ``ψ₁``, at the level's own resolution, and ``K(max(x, x₁))``, flat inside ``ψ₁`` and smooth on
     the scale of ``ψ₁``, on a coarser map (its sums resampled bilinearly); the two add up to ``K``.
     ``convolve(height, kernel_of, support)`` is a row convolution of the mip of that height.  With ``fast``,
-    a tail map as fine as the level is not made apart (the two parts are one convolution with ``K``) and a
-    coarser one is resampled row by row, then column by column (:func:`_upsample`): the same values, to
-    rounding.
+    the core's kernel is evaluated once per point, a tail map as fine as the level is not made apart (the two
+    parts are one convolution with ``K``) and a coarser one is resampled row by row, then column by column
+    (:func:`_upsample`): the same values, to rounding.
     """
     alpha = sigma / math.sqrt(2.0)
     kernel = _ggx_kernel(alpha)
@@ -322,7 +322,12 @@ def _ggx_level(convolve, sigma: float, h0: int, *, fast: bool = False) -> np.nda
         conv, norm = convolve(h, kernel, math.pi / 2 + math.pi / h)
         return conv / norm[:, None, None]
     x1 = 1.0 - math.cos(psi1)
-    conv, norm = convolve(h, lambda x: kernel(x) - kernel(np.maximum(x, x1)), psi1 + math.pi / h)
+    if fast:
+        # K falls with x: K − K(max(x, x₁)) is K − K(x₁) inside ψ₁ and 0 beyond, one evaluation of K.
+        k1 = kernel(np.float64(x1))
+        conv, norm = convolve(h, lambda x: np.maximum(kernel(x) - k1, 0.0), psi1 + math.pi / h)
+    else:
+        conv, norm = convolve(h, lambda x: kernel(x) - kernel(np.maximum(x, x1)), psi1 + math.pi / h)
     ht = _tail_height(sigma, h0)
     tconv, tnorm = convolve(ht, lambda x: kernel(np.maximum(x, x1)), math.pi / 2 + math.pi / ht)
     tail = np.concatenate([tconv, np.broadcast_to(tnorm[:, None, None], (ht, 2 * ht, 1))], axis=2)
