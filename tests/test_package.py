@@ -346,17 +346,6 @@ def test_explore_screenshot_refuses_paths_before_building_the_window(tmp_path, m
     assert list(tmp_path.iterdir()) == []
 
 
-def test_explore_screenshot_format_follows_the_extension(tmp_path, capsys):
-    pytest.importorskip("pyvista")
-    pil = pytest.importorskip("PIL.Image")
-    path = tmp_path / "window.webp"
-    assert main(["--screenshot", str(path), "--size", "640x400"]) == 0
-    assert f"wrote {path} (640x400)" in capsys.readouterr().out
-    with pil.open(path) as im:
-        assert im.format == "WEBP" and im.size == (640, 400)
-    assert [p.name for p in tmp_path.iterdir()] == ["window.webp"]
-
-
 def test_a_signal_between_the_renames_of_a_pair_waits_until_both_are_in_place(tmp_path, monkeypatch):
     import threading
 

@@ -6,8 +6,6 @@ from __future__ import annotations
 import argparse
 import importlib.metadata
 import re
-import subprocess
-import sys
 import tomllib
 
 import numpy as np
@@ -273,42 +271,3 @@ def test_explain_with_an_output_also_renders_and_writes(tmp_path, capsys):
     status, text, _ = run(["render", "spotlight", "--explain", "--size", "32x24", "-o", out], capsys)
     assert status == 0 and out.exists() and text.splitlines()[0] == "2 objects, 1 light, 32x24 pixels."
     assert text.splitlines()[-1].startswith(f"wrote {out} (32x24,")
-
-
-# ----------------------------------------------------------------------------- missing extras
-PLY = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n" \
-      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"  # fmt: skip
-SCENE = ('[camera]\neye = [0, 0, 5]\n[image]\nwidth = 8\nheight = 8\n[[lights]]\ntype = "ambient"\n'
-         '[[objects]]\ntype = "mesh"\npath = "tri.ply"\n')  # fmt: skip
-
-
-def _without(module: str, argv, cwd):
-    code = f"import sys; sys.modules[{module!r}] = None\nfrom explorer.cli import main\nsys.exit(main(sys.argv[1:]))"
-    return subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True, timeout=300, cwd=cwd)
-
-
-@pytest.mark.parametrize(
-    ("module", "argv", "line"),
-    [
-        ("matplotlib", ["figures", "--list"],
-         "lighting-explorer: error: figures needs Matplotlib: pip install 'lighting-explorer[figures]'"),
-        ("cycler", ["figures", "--list"],
-         "lighting-explorer: error: figures needs Matplotlib: pip install 'lighting-explorer[figures]'"),
-        ("matplotlib", ["report", "accuracy", "--quick"],
-         "lighting-explorer: error: report accuracy needs Matplotlib: pip install 'lighting-explorer[figures]'"),
-        ("mpmath", ["report", "stability", "--quick"],
-         "lighting-explorer: error: report stability needs mpmath: pip install 'lighting-explorer[figures]'"),
-        ("pyvista", ["explore", "--off-screen"],
-         "lighting-explorer: error: explore needs PyVista: pip install 'lighting-explorer[app]'"),
-        ("pyvista", ["--off-screen"],
-         "lighting-explorer: error: explore needs PyVista: pip install 'lighting-explorer[app]'"),
-        ("trimesh", ["render", "s.toml", "-o", "o.png"],
-         "lighting-explorer: error: render needs trimesh: pip install 'lighting-explorer[figures]'"),
-    ],
-)  # fmt: skip
-def test_a_missing_extra_is_one_line_naming_it(module, argv, line, tmp_path):
-    (tmp_path / "tri.ply").write_text(PLY)
-    (tmp_path / "s.toml").write_text(SCENE)
-    done = _without(module, argv, tmp_path)
-    assert (done.returncode, done.stderr) == (2, line + "\n")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml", "tri.ply"]  # nothing written

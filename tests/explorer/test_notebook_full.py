@@ -1,8 +1,11 @@
-"""The documentation notebook run by a Jupyter kernel (slow set; the notebook explorer itself: test_notebook.py)."""
+"""The notebook explorer in a kernel and without PyVista; the docs notebook run (slow set; fast: test_notebook.py)."""
 
 from __future__ import annotations
 
 import io
+import subprocess
+import sys
+import textwrap
 
 import numpy as np
 import pytest
@@ -11,7 +14,7 @@ pytest.importorskip("ipywidgets")
 pytest.importorskip("matplotlib")
 PIL = pytest.importorskip("PIL.Image")
 
-pytestmark = pytest.mark.slow  # starts a Jupyter kernel and runs every cell of the notebook
+pytestmark = pytest.mark.slow  # a Jupyter kernel, a fresh interpreter and the desktop window off-screen
 
 
 def decode(png: bytes) -> np.ndarray:
@@ -74,3 +77,40 @@ def test_docs_notebook_runs_headless(tmp_path):
                                    "theta_h", "theta_v"]))  # fmt: skip
     assert lines[1] == "NotebookExplorer(Phong, light directional at elevation 30°, azimuth 135°, phong shading)"
     assert seconds < 60, seconds
+
+
+def test_without_pyvista_and_without_display():
+    code = textwrap.dedent(
+        """
+        import os, sys
+        os.environ.pop("DISPLAY", None)
+        sys.modules["pyvista"] = None  # PyVista absent: importing it fails
+        from explorer.notebook import NotebookExplorer
+        ex = NotebookExplorer(sphere_size=32, mesh_size=32, lobe_resolution=6)
+        bundle = ex._repr_mimebundle_()
+        assert "application/vnd.jupyter.widget-view+json" in bundle, bundle.keys()
+        print(sorted(m for m in sys.modules if m.startswith(("vtk", "pyvista")) and sys.modules[m] is not None))
+        """
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "[]"
+
+
+def test_desktop_app_displays_nothing_in_a_kernel(monkeypatch):
+    pv = pytest.importorskip("pyvista")
+    display = pytest.importorskip("IPython.display")
+    from explorer.app import ExplorerApp
+
+    shown = []
+    monkeypatch.setattr(display, "display", lambda *a, **k: shown.append(a))
+    # As in a Jupyter kernel: PyVista's theme says "notebook", which made show() display a trame view.
+    monkeypatch.setattr(pv.global_theme, "notebook", True)
+    monkeypatch.setattr(pv, "OFF_SCREEN", True)
+    app = ExplorerApp(window_size=(640, 400), off_screen=True)
+    try:
+        assert app.plotter.notebook is False and app.plotter.off_screen
+        assert shown == []
+        assert app.plotter.screenshot(return_img=True).shape[:2] == (400, 640)
+    finally:
+        app.close()
