@@ -7,6 +7,7 @@ seeded probes, the figure set, the Mesa comparison, the explorer window, the 80-
 file: ``test_<topic>_full.py`` beside its fast ``test_<topic>.py``.
 """
 
+import re
 import sys
 from pathlib import Path
 
@@ -14,6 +15,27 @@ import pytest
 
 # Let tests import the sibling helper modules `quadrature` and `probes`.
 sys.path.insert(0, str(Path(__file__).parent))
+
+
+#: A test file marked slow as a whole says so at the start of a line of its own.
+_SLOW_FILE = re.compile(r"^pytestmark = pytest\.mark\.slow\b", re.MULTILINE)
+
+
+def pytest_ignore_collect(collection_path, config):
+    """Under ``-m "not slow"``, a test file marked slow as a whole is not imported at all.
+
+    Every one of its tests would be deselected anyway; importing it (PyVista, Hypothesis, the full grids
+    built at import) only makes the fast loop start later.
+    """
+    if config.option.markexpr.strip() != "not slow" or collection_path.suffix != ".py":
+        return None
+    if not collection_path.name.startswith("test_"):
+        return None
+    try:
+        text = collection_path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return None
+    return True if _SLOW_FILE.search(text) else None
 
 
 @pytest.fixture(scope="session")
