@@ -213,7 +213,6 @@ def _convolve_rows_fast(image: np.ndarray, kernel_of, support: float, spectra: _
     # Real spectra of the kernel rows, frequency-major; the last column is a zero row for pairs off the map.
     spec = np.empty((n, pairs + 1))
     spec[:, pairs] = 0.0
-    peak = np.zeros(n)
     row = np.empty((min(_PAIR_CHUNK, pairs), w))
     for p0 in range(0, pairs, _PAIR_CHUNK):
         p1 = min(pairs, p0 + _PAIR_CHUNK)
@@ -223,7 +222,7 @@ def _convolve_rows_fast(image: np.ndarray, kernel_of, support: float, spectra: _
         full[:, n:] = k[:, n - 2:0:-1]  # the even extension: the row over the whole circle of Δφ
         part = np.fft.rfft(full, axis=1).real
         spec[:, p0:p1] = part.T
-        np.maximum(peak, np.abs(part).max(axis=0), out=peak)
+    peak = np.maximum(spec.max(axis=1), -spec.min(axis=1))
     kept = np.flatnonzero(peak > _SPECTRUM_TOL * peak[0])
     m_eff = int(kept[-1]) + 1 if kept.size else 1
     # The weights of frequency m are an H × H matrix, banded within the reach, and the same read from the
