@@ -153,15 +153,15 @@ def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:
 _SPECTRUM_TOL = 1e-14
 #: Row pairs whose kernels are evaluated and transformed at once, and band values multiplied at once (memory).
 _PAIR_CHUNK = 512
-_BAND_CHUNK = 1 << 20
+_BAND_CHUNK = 1 << 19
 #: Output rows per block of the banded products.
 _ROW_BLOCK = 32
 
 
 class _RowSpectra:
-    """The row FFTs of ``L Ω`` of one image, frequency-major and padded by ``H − 1`` zero rows on both sides.
+    """The row FFTs of ``L Ω`` of one image, frequency-major and padded by ``H/2`` zero rows on both sides.
 
-    Row ``H − 1 + j`` of :attr:`padded` holds row ``j``'s spectra (real and imaginary parts of each channel),
+    Row ``H/2 + j`` of :attr:`padded` holds row ``j``'s spectra (real and imaginary parts of each channel),
     then row ``H − 1 − j``'s: the image and its mirror ``θ → π − θ`` side by side.  Computed once per mip
     height and shared by every width and family that convolves that image.
     """
@@ -171,11 +171,13 @@ class _RowSpectra:
         omega = _row_solid_angles(h, w)
         spectrum = np.fft.rfft(image * omega[:, None, None], axis=1)  # (H, W/2+1, C)
         rows = np.ascontiguousarray(spectrum.transpose(1, 0, 2)).view(np.float64)  # (W/2+1, H, 2C)
-        self.padded = np.zeros((w // 2 + 1, 3 * h - 2, 4 * c))
-        self.padded[:, h - 1:2 * h - 1, :2 * c] = rows
-        self.padded[:, h - 1:2 * h - 1, 2 * c:] = rows[:, ::-1]
-        self.omega_padded = np.zeros((3 * h - 2, 2))
-        self.omega_padded[h - 1:2 * h - 1] = np.stack([omega, omega[::-1]], axis=1)
+        # A banded product reads at most R < H/2 rows beyond the image (wider bands are dense products).
+        self.pad = pad = h // 2
+        self.padded = np.zeros((w // 2 + 1, h + 2 * pad, 4 * c))
+        self.padded[:, pad:pad + h, :2 * c] = rows
+        self.padded[:, pad:pad + h, 2 * c:] = rows[:, ::-1]
+        self.omega_padded = np.zeros((h + 2 * pad, 2))
+        self.omega_padded[pad:pad + h] = np.stack([omega, omega[::-1]], axis=1)
 
 
 def _convolve_rows_fast(image: np.ndarray, kernel_of, support: float, spectra: _RowSpectra | None = None):
@@ -234,9 +236,9 @@ def _convolve_rows_fast(image: np.ndarray, kernel_of, support: float, spectra: _
     block = rows if dense else _ROW_BLOCK
     span = h if dense else block + 2 * reach
     blocks = -(-rows // block)
-    first = h - 1 if dense else h - 1 - reach  # the padded row of block 0's first source row
+    first = spectra.pad - (0 if dense else reach)  # the padded row of block 0's first source row
     i = np.arange(blocks * block)[:, None]
-    j = (i // block) * block + np.arange(span)[None, :] + (first - (h - 1))
+    j = (i // block) * block + np.arange(span)[None, :] + (first - spectra.pad)
     # Which distinct pair (row i, row j) is: the upper row and the distance, mirrored into the stored half.
     top, dist = np.minimum(i, j), np.abs(j - i)
     top = np.where(2 * top > h - 1 - dist, h - 1 - dist - top, top)
