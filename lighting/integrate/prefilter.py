@@ -34,6 +34,16 @@ lookup between its pixel centres then bends a linear sky by under 0.2 %), from a
 averaged down to that height by solid-angle-weighted 2 × 2 blocks; level 0 is the source itself
 (``σ = 0``, the mirror).
 
+Two implementations of that sum sit side by side.  ``_convolve_rows`` is the readable reference: one
+offset ``θ' − θ`` at a time, the kernel evaluated and transformed for every row pair.  ``_convolve_rows_fast``
+gives the same sums to float64 rounding with less work: the kernel of rows ``(i, j)`` is that of ``(j, i)`` and
+of their mirror images ``θ → π − θ``, and even in ``Δφ``, so one row pair in four is evaluated, on half the
+columns; the sum over source rows becomes, for each frequency, a banded matrix of those spectra times the
+source's row spectra (shared by every kernel of a height), done as batched matrix products; frequencies at
+which every kernel row's spectrum is below ``1e-14`` of the largest row sum are skipped.
+:func:`prefilter_environment` uses the fast one and computes the levels on the engine's shading threads, each
+level independent of the others, so the result is the same bits on one thread or several.
+
 The same machinery with the clamped cosine ``max(cos ψ, 0)`` as kernel gives the
 irradiance of the pixelized map to the midpoint rule's ``O(pixel²)`` (:func:`irradiance_map`): the
 reference that SH9 irradiance is measured against.
@@ -154,6 +164,8 @@ _SPECTRUM_TOL = 1e-14
 #: Row pairs whose kernels are evaluated and transformed at once, and band values multiplied at once (memory).
 _PAIR_CHUNK = 512
 _BAND_CHUNK = 1 << 19
+#: At most this many threads compute levels at once (each holds its level's kernel spectra, up to tens of MB).
+_LEVEL_THREADS = 4
 #: Output rows per block of the banded products.
 _ROW_BLOCK = 32
 
@@ -407,7 +419,7 @@ def _run_all(fns: list) -> list:
     """
     from ..shading.batch import _pool, _threads
 
-    helpers = min(_threads(), len(fns)) - 1
+    helpers = min(_threads(), len(fns), _LEVEL_THREADS) - 1
     if helpers <= 0:
         return [fn() for fn in fns]
     results = [None] * len(fns)
