@@ -337,7 +337,7 @@ def _ggx_level(convolve, sigma: float, h0: int, *, fast: bool = False) -> np.nda
     x1 = 1.0 - math.cos(psi1)
     if fast:
         # K falls with x: K − K(max(x, x₁)) is K − K(x₁) inside ψ₁ and 0 beyond, one evaluation of K.
-        k1 = kernel(np.float64(x1))
+        k1 = kernel(np.array([x1]))[0]
         conv, norm = convolve(h, lambda x: np.maximum(kernel(x) - k1, 0.0), psi1 + math.pi / h)
     else:
         conv, norm = convolve(h, lambda x: kernel(x) - kernel(np.maximum(x, x1)), psi1 + math.pi / h)
@@ -386,16 +386,20 @@ def _tail_height(sigma: float, h0: int) -> int:
 
 
 def _level_tasks(convolve, sigmas, h0: int, *, fast: bool = False) -> list:
-    """``(family, index, fn)`` for every blurred level: ``fn()`` returns the level, float32.
+    """``(family, index, fn, work)`` for every blurred level: ``fn()`` returns the level, float32.
 
     ``convolve(height, kernel_of, support)`` convolves the mip of that height.  Each call is independent of
     the others (they may run on several threads in any order and give the same levels).  ``fast``: as
-    :func:`_ggx_level`.
+    :func:`_ggx_level`.  ``work`` counts the kernel values the level's convolutions evaluate (to order them).
     """
 
     def normalized(h, kernel_of, support):
         conv, norm = convolve(h, kernel_of, support)
         return (conv / norm[:, None, None]).astype(np.float32)
+
+    def work(h, support):
+        d = np.arange(min(h - 1, int(math.ceil(support / (math.pi / h)))) + 1)
+        return int(((h - 1 - d) // 2 + 1).sum()) * h
 
     tasks = []
     for k, s in enumerate(sigmas):
@@ -403,11 +407,16 @@ def _level_tasks(convolve, sigmas, h0: int, *, fast: bool = False) -> list:
             continue
         h = _level_height(s, h0)
         kappa = 1.0 / (s * s)
+        beckmann_support = min(_SUPPORT * s, math.pi / 2) + math.pi / h
         tasks.append(("mirror", k, lambda h=h, kappa=kappa, s=s: normalized(
-            h, lambda x: np.exp(-kappa * x), _SUPPORT * s)))
-        tasks.append(("beckmann", k, lambda h=h, s=s: normalized(
-            h, _beckmann_kernel(s / math.sqrt(2.0)), min(_SUPPORT * s, math.pi / 2) + math.pi / h)))
-        tasks.append(("ggx", k, lambda s=s: _ggx_level(convolve, s, h0, fast=fast).astype(np.float32)))
+            h, lambda x: np.exp(-kappa * x), _SUPPORT * s), work(h, _SUPPORT * s)))
+        tasks.append(("beckmann", k, lambda h=h, s=s, support=beckmann_support: normalized(
+            h, _beckmann_kernel(s / math.sqrt(2.0)), support), work(h, beckmann_support)))
+        psi1, ht = _TAIL_START * s, _tail_height(s, h0)
+        whole = psi1 >= math.pi / 2 or (fast and ht == h)
+        ggx_work = work(h, math.pi / 2 + math.pi / h) if whole else (
+            work(h, psi1 + math.pi / h) + work(ht, math.pi / 2 + math.pi / ht))  # fmt: skip
+        tasks.append(("ggx", k, lambda s=s: _ggx_level(convolve, s, h0, fast=fast).astype(np.float32), ggx_work))
     return tasks
 
 
@@ -778,14 +787,13 @@ def _prefilter_levels(base: np.ndarray, sigmas, h0: int, *, fast: bool = True) -
             return _convolve_rows(mips[h], kernel_of, support)
 
     tasks = _level_tasks(convolve, sigmas, h0, fast=fast)
-    # The widest levels of the finest maps first: the threads then finish together.
-    order = sorted(range(len(tasks)), key=lambda t: (-_level_height(sigmas[tasks[t][1]], h0), -tasks[t][1],
-                                                      tasks[t][0] != "ggx"))  # fmt: skip
+    # The most work first: the threads then finish together.
+    order = sorted(range(len(tasks)), key=lambda t: -tasks[t][3])
     done = _run_all([tasks[t][2] for t in order]) if fast else [tasks[t][2]() for t in order]
     level0 = base.astype(np.float32)
     families = {k: [level0] + [None] * (len(sigmas) - 1) for k in KERNELS}
     for t, level in zip(order, done, strict=True):
-        family, k, _ = tasks[t]
+        family, k = tasks[t][:2]
         families[family][k] = level
     return families
 
