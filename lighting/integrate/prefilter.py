@@ -161,8 +161,9 @@ def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:
 #: Spectral terms of a kernel row smaller than this fraction of the largest row sum are left out of the fast
 #: path's products (:func:`_convolve_rows_fast`): below the rounding of the row FFTs themselves.
 _SPECTRUM_TOL = 1e-14
-#: Row pairs whose kernels are evaluated and transformed at once, and band values multiplied at once (memory).
+#: Row pairs whose kernels are evaluated and transformed at once (blocks of a few hundred kB).
 _PAIR_CHUNK = 512
+#: Kernel weights gathered and multiplied at once (memory).
 _BAND_CHUNK = 1 << 19
 #: At most this many threads compute levels at once (each holds its level's kernel spectra, up to tens of MB).
 _LEVEL_THREADS = 4
