@@ -209,35 +209,6 @@ def _panels(fig):
     return [ax for ax in fig.axes if ax.axison]
 
 
-def test_with_an_empty_cache_each_figure_measures_its_quick_study_only(folder, monkeypatch, quick_accuracy_studies):
-    calls = []
-    real = accuracy.run_studies
-    measured = {s.name: s for s in quick_accuracy_studies}  # run_studies(quick=True), once per session
-
-    def counting(**kw):
-        calls.append(kw)
-        if kw.get("quick") is True and set(kw) == {"quick", "only"} and set(kw["only"]) <= set(measured):
-            return [measured[name] for name in kw["only"]]  # what real(**kw) measures, already measured
-        return real(**kw)
-
-    monkeypatch.setattr(accuracy, "run_studies", counting)
-    for study, name in FIGURES.items():
-        fig, spec, _, _, m = figures.make_figure(name, quick=True)
-        assert calls[-1] == {"quick": True, "only": [study]}, name
-        assert (m["source_kind"], m["settings"], m["reproducible"]) == ("measured now", "quick", False), name
-        assert m["measured_by"] == "lighting-explorer figures", name
-        assert spec.nondeterministic and "wall-clock" in spec.nondeterministic
-        assert 1 <= len(_panels(fig)) <= 6, name
-        assert tuple(fig.get_size_inches()) == spec.size_in
-        # The measurement is saved: the next drawing reads it.
-        saved = cache.load_study(study, quick=True)
-        assert saved.by == "lighting-explorer figures" and len(saved.study.points) == m["points"], name
-    assert len(calls) == len(FIGURES)
-    _no_study(monkeypatch)
-    for name in FIGURES.values():
-        assert figures.make_figure(name, quick=True)[4]["source_kind"] == "cache", name
-
-
 def test_panels_hold_what_the_studies_measured(folder, monkeypatch):
     _write_cache(quick=False)
     _no_study(monkeypatch)

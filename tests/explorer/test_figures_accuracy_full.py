@@ -1,4 +1,5 @@
-"""The accuracy figures drawn whole from a cache and from a CSV file (slow set; fast: test_figures_accuracy.py)."""
+"""The accuracy figures drawn whole: from a cache, from a CSV file, measured with an empty cache (slow set; fast:
+test_figures_accuracy.py)."""
 
 import csv
 import dataclasses
@@ -9,12 +10,13 @@ import pytest
 
 pytest.importorskip("matplotlib")
 
-from test_figures_accuracy import FIGURES, _no_study, _studies, _write_cache  # noqa: E402
+from test_figures_accuracy import FIGURES, _no_study, _panels, _studies, _write_cache  # noqa: E402
 
 from explorer import figures  # noqa: E402
 from explorer.reports import cache  # noqa: E402
+from lighting.validation import accuracy  # noqa: E402
 
-pytestmark = pytest.mark.slow  # draws each accuracy figure three times
+pytestmark = pytest.mark.slow  # draws each accuracy figure up to four times and measures the quick studies
 
 
 @pytest.fixture
@@ -58,3 +60,32 @@ def test_accuracy_csv_draws_all_five_without_measuring(folder, tmp_path, monkeyp
         assert rec["deterministic"] is True and rec["measured"]["source_kind"] == "csv", name
         assert rec["measured"]["points"] == len(_studies()[study].points), name
     assert not folder.exists() or os.listdir(folder) == []  # nothing measured, nothing saved
+
+
+def test_with_an_empty_cache_each_figure_measures_its_quick_study_only(folder, monkeypatch, quick_accuracy_studies):
+    calls = []
+    real = accuracy.run_studies
+    measured = {s.name: s for s in quick_accuracy_studies}  # run_studies(quick=True), once per session
+
+    def counting(**kw):
+        calls.append(kw)
+        if kw.get("quick") is True and set(kw) == {"quick", "only"} and set(kw["only"]) <= set(measured):
+            return [measured[name] for name in kw["only"]]  # what real(**kw) measures, already measured
+        return real(**kw)
+
+    monkeypatch.setattr(accuracy, "run_studies", counting)
+    for study, name in FIGURES.items():
+        fig, spec, _, _, m = figures.make_figure(name, quick=True)
+        assert calls[-1] == {"quick": True, "only": [study]}, name
+        assert (m["source_kind"], m["settings"], m["reproducible"]) == ("measured now", "quick", False), name
+        assert m["measured_by"] == "lighting-explorer figures", name
+        assert spec.nondeterministic and "wall-clock" in spec.nondeterministic
+        assert 1 <= len(_panels(fig)) <= 6, name
+        assert tuple(fig.get_size_inches()) == spec.size_in
+        # The measurement is saved: the next drawing reads it.
+        saved = cache.load_study(study, quick=True)
+        assert saved.by == "lighting-explorer figures" and len(saved.study.points) == m["points"], name
+    assert len(calls) == len(FIGURES)
+    _no_study(monkeypatch)
+    for name in FIGURES.values():
+        assert figures.make_figure(name, quick=True)[4]["source_kind"] == "cache", name
