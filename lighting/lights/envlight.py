@@ -8,7 +8,7 @@ Two ways to reflect it (``method``):
 
 * ``"split-sum"`` (default): SH9 irradiance for diffuse lobes, the prefiltered environment times
   the part's albedo for glossy ones (:func:`lighting.integrate.ibl.split_sum_radiance`); the
-  environment is prefiltered once, on first use (about 0.2 s for a 512 × 256 map), then every
+  environment is prefiltered once, on first use (``lighting-explorer bench --ibl`` times it), then every
   re-shade is a few lookups per pixel;
 * ``"monte-carlo"``: the reference, multiple importance sampling with ``samples`` directions per
   point (:class:`lighting.integrate.ibl.ProgressiveRadiance`), seeded, so an image is reproducible.

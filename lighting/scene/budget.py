@@ -30,14 +30,16 @@ BYTES_PER_SCENE_FILE_BYTE = 64
 #: its 35 MB and keeps 2.0; a ``.brdf`` file's tokens and syntax tree at 79 times its text, plus about 1 MB for
 #: checking the shader on a few direction pairs).
 BRDF_FILE_BYTES = {".binary": (4, 0), ".brdf": (128, 4 << 20)}
-#: an environment image named by ``[[lights]] source``, per pixel its header declares: reading it (measured: an
-#: RLE ``.hdr`` of 1024 x 512 peaks at 132 bytes per pixel), then holding it (48: the radiance and its sampling
-#: tables), and prefiltering it for the split sum, per pixel of the prefiltered source (measured at the peak, the
-#: Gaussian and GGX levels: 345 for a 1024 x 512 file, 392 for a sky, which is prefiltered at 512 x 256; a lat-long
-#: image is prefiltered at its largest power-of-two height up to 1024).
-ENVIRONMENT_BYTES_PER_PIXEL = 144
-ENVIRONMENT_HELD_BYTES_PER_PIXEL = 48
-PREFILTER_BYTES_PER_PIXEL = 400
+#: an environment image named by ``[[lights]] source``, per pixel its header declares: reading it and building
+#: its sampling tables (measured with tracemalloc: an RLE ``.hdr`` of 1024 x 512 peaks at 132 bytes per pixel to
+#: read, the environment at 160 to build its half-pixel cell tables), then holding it (120 measured: the radiance
+#: and the tables), and prefiltering it for the split sum, per pixel of the prefiltered source (peak over the three
+#: families' levels, computed two at a time on the shading threads: 1002 bytes per pixel at 64 rows, 798 at 128,
+#: 639 at 256, 172 at 512, where the levels stop at 256 rows; a lat-long image is prefiltered at its largest
+#: power-of-two height up to 1024, a sky at 512 x 256).
+ENVIRONMENT_BYTES_PER_PIXEL = 168
+ENVIRONMENT_HELD_BYTES_PER_PIXEL = 128
+PREFILTER_BYTES_PER_PIXEL = 1024
 #: Work is counted against the same budget: one light sample at one shading point counts as 8 bytes, so the
 #: 2 GiB default allows 268 million light-sample evaluations (docs/scenes.md says how long that takes).
 BYTES_PER_SAMPLE_EVALUATION = 8
