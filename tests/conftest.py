@@ -1,10 +1,11 @@
-"""Shared fixtures of the test suite.
+"""Shared fixtures of the test suite, and the fast loop.
 
-``python -m pytest`` runs every test, as CI does.  ``python -m pytest -m "not slow" -n 2`` is the fast loop:
-it leaves out each test file that says ``pytestmark = pytest.mark.slow`` at its top, with its reason (the
-seeded probes, the figure set, the Mesa comparison, the explorer window, the 80-digit references, the full
-χ² grids), and the few tests marked slow one by one.  A test that makes the loop slower belongs in such a
-file: ``test_<topic>_full.py`` beside its fast ``test_<topic>.py``.
+``python -m pytest`` runs every test, as CI does.  ``python -m pytest -m "not slow" -n 2`` is the fast loop (two
+pytest-xdist workers; each test file runs whole in one, ``--dist loadfile`` in pyproject.toml): it leaves out each
+test file that says ``pytestmark = pytest.mark.slow`` at its top, with its reason (the seeded probes, the figure
+set, the Mesa comparison, the explorer window, the 80-digit references, the full χ² grids), and the few tests
+marked slow one by one.  A test that would make the loop slower goes whole into such a file,
+``test_<topic>_full.py`` beside its fast ``test_<topic>.py``.
 """
 
 import re
