@@ -245,9 +245,10 @@ def test_out_that_is_a_file_is_refused_and_kept(tmp_path, capsys, monkeypatch):
     _no_drawing(monkeypatch)
     taken = tmp_path / "figures"
     taken.write_bytes(b"not a folder")
-    rc, out = _run(["--out", str(taken), "--quick", "--only", "light_colour"], capsys)
+    monkeypatch.chdir(tmp_path)  # the name as given, whole: a long temporary folder would be abbreviated
+    rc, out = _run(["--out", taken.name, "--quick", "--only", "light_colour"], capsys)
     assert rc == 2
-    assert f"--out: {str(taken)!r} exists and is not a folder" in out.err
+    assert f"--out: {taken.name!r} exists and is not a folder" in out.err
     assert len(out.err.strip().splitlines()) == 1
     assert taken.read_bytes() == b"not a folder"
 
@@ -270,10 +271,10 @@ def test_accuracy_csv_that_is_not_one_is_named_in_one_line(tmp_path, capsys, mon
     _no_drawing(monkeypatch)
     path = tmp_path / "accuracy.csv"
     path.write_bytes(content)
-    rc, out = _run(["--out", str(tmp_path / "x"), "--quick", "--only", "accuracy_integration", "--accuracy-csv",
-                    str(path)], capsys)  # fmt: skip
+    monkeypatch.chdir(tmp_path)  # the name as given, whole: a long temporary folder would be abbreviated
+    rc, out = _run(["--out", "x", "--quick", "--only", "accuracy_integration", "--accuracy-csv", path.name], capsys)
     assert rc == 2
-    assert out.err.startswith(f"lighting-explorer: error: --accuracy-csv: {str(path)!r}"), out.err
+    assert out.err.startswith(f"lighting-explorer: error: --accuracy-csv: {path.name!r}"), out.err
     assert message in out.err and len(out.err.strip().splitlines()) == 1
     assert not (tmp_path / "x").exists()
 
