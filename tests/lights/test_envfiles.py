@@ -5,7 +5,6 @@ import os
 import re
 import struct
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,8 +28,6 @@ from lighting.lights.environment import (
     SmallPatchEnvironment,
     latlong_angles,
 )
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def _rand_dirs(k, seed):
@@ -511,16 +508,6 @@ def test_load_environment_from_every_kind_of_source(tmp_path):
         load_environment(tmp_path / "missing.hdr")
     with pytest.raises(ValueError, match="environment source must be"):
         load_environment(-1.0)
-
-
-def test_docs_example_runs(tmp_path, monkeypatch):
-    text = (ROOT / "docs" / "lights.md").read_text(encoding="utf-8")
-    section = text[text.index("## Environment files and skies") :]
-    blocks = re.findall(r"```python\n(.*?)```", section, flags=re.S)
-    assert blocks
-    monkeypatch.chdir(tmp_path)
-    for code in blocks:
-        exec(compile(code, "docs/lights.md", "exec"), {})
 
 
 def test_pfm_header_with_single_spaces_is_read(tmp_path):

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,8 +11,6 @@ from lighting import CookTorrance, Lambert, Material, Phong
 from lighting.lights import DirectionalLight, EnvironmentLight, LatLongEnvironment, split_environment_lights
 from lighting.render import AnalyticSphere, Renderer, sphere_camera
 from lighting.render.camera import Camera
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def _camera(size=48):
@@ -97,20 +93,6 @@ def test_repr_to_dict_and_split():
         EnvironmentLight(1.0, method="fast")
     with pytest.raises(ValueError, match="cannot be saved"):
         EnvironmentLight(LatLongEnvironment(np.ones((2, 4, 3)))).to_dict()
-
-
-def test_docs_section_runs_and_prints_the_furnace(tmp_path, monkeypatch, capsys):
-    text = (ROOT / "docs" / "lights.md").read_text(encoding="utf-8")
-    section = text[text.index("## Environment lights: image-based lighting") :]
-    blocks = re.findall(r"```python\n(.*?)```", section, flags=re.S)
-    assert len(blocks) == 2
-    monkeypatch.chdir(tmp_path)
-    for code in blocks:
-        exec(compile(code, "docs/lights.md", "exec"), {})
-    out = capsys.readouterr().out.splitlines()
-    first = [float(x) for x in out[0].split()]
-    assert first[0] == pytest.approx(0.5, rel=1e-9) and first[1] == 1.0
-    assert out[1].startswith("64 samples per pixel, median error ")
 
 
 def test_a_light_reuses_the_prefiltered_levels_of_the_environment_it_turns():
