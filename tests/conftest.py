@@ -52,7 +52,7 @@ def quick_accuracy_studies():
 
 @pytest.fixture(autouse=True, scope="session")
 def _accuracy_cache_in_a_temporary_folder(tmp_path_factory):
-    """The saved accuracy studies (explorer.reports.cache) go to a folder of this session, never the home folder."""
+    """The saved accuracy studies (explorer.reports.cache) go to a folder of this test run, never the home folder."""
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("LIGHTING_EXPLORER_CACHE", str(tmp_path_factory.mktemp("lighting-explorer-cache")))
         yield

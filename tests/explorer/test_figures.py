@@ -93,7 +93,7 @@ def test_only_the_timed_figures_are_nondeterministic(quick_set):
     nondet = {r["name"]: r["nondeterministic_reason"] for r in manifest["figures"] if not r["deterministic"]}
     measured = {r["name"]: r["measured"] for r in manifest["figures"]}
     # Both plot measured run times: an accuracy figure only when it measured its study while drawing (drawn
-    # from the studies report accuracy saved in this session's cache, it is reproducible).
+    # from the studies report accuracy saved in this test run's cache, it is reproducible).
     timed = [n for n in ACCURACY_FIGURES if measured[n]["source_kind"] == "measured now"]
     assert list(nondet) == [*timed, "ibl_error"]
     assert all("wall-clock" in reason for reason in nondet.values())

@@ -10,7 +10,7 @@ pytestmark = pytest.mark.slow  # measures the IBL study's quick settings while d
 
 def test_accuracy_ibl_shows_the_split_sum_and_sh9_errors_of_the_study():
     # The split sum's error by model and SH9's against the exact irradiance, as the study measured them
-    # (here its quick settings, measured while drawing with this session's empty or filled cache).
+    # (here its quick settings, measured while drawing with this test run's empty or filled cache).
     fig, spec, params, q, m = make_figure("accuracy_ibl", quick=True)
     assert m["environments"] >= 2 and m["models"] >= 3
     for env, by_model in m["split_sum"].items():

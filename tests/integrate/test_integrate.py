@@ -660,7 +660,7 @@ def test_the_issue_case_no_longer_reports_rounding_as_its_error():
     # Old code: ±2.8e-16 while the true error is 2.7e-6 (no sample fell where the horizon cuts the lobe).
     with mpmath.workdps(30):
         ref = _phong_albedo_mp(50.0, math.radians(60.0))
-    # The issue's call, with a seed where (as in 93 % of seeds) no sample falls below the horizon.
+    # The reported call, with a seed where (as in 93 % of seeds) no sample falls below the horizon.
     est = directional_albedo(Phong(1, 50), math.radians(60), samples=1024, method="importance", return_error=True,
                              seed=1)  # fmt: skip
     assert abs(est.value[0] - ref) == pytest.approx(2.7e-6, rel=0.05)

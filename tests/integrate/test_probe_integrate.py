@@ -216,7 +216,7 @@ def test_probe_a_summary():
     # Runs after the hypothesis tests above (file order); asserts what they counted.
     total, fails = sum(LEGAL.values()), sum(LEGAL_FAILURES.values())
     if total == 0:
-        pytest.skip("the (a) probes above did not run in this session (deselected)")
+        pytest.skip("the (a) probes above did not run in this test run (deselected)")
     kinds = ", ".join(f"{k} {v}" for k, v in sorted(LEGAL.items()))
     print(f"\nprobe integrate (a) legal extremes: {total} cases ({kinds}), {fails} failures "
           f"{dict(LEGAL_FAILURES) or ''}")  # fmt: skip

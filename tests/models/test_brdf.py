@@ -212,7 +212,7 @@ def _stacked_fields(model, n, l, v, form):  # noqa: E741
     return sum(s[..., None] * c.astype(s.dtype) for s, c in fields)[0, 0]
 
 
-# l = −v (the case), the half vector zero; h exactly on the horizon; light at the normal, view opposite.
+# l = −v (the reported case), the half vector zero; h exactly on the horizon; light at the normal, view opposite.
 _HORIZON_CASES = [
     ((0, 0, 1.0), (0.6, 0, 0.8), (-0.6, 0, -0.8)),
     ((0, 0, 1.0), (1.0, 0, 0), (-1.0, 0, 0)),
