@@ -12,15 +12,9 @@ import math
 import numpy as np
 import pytest
 
-from lighting.integrate import prefilter
-from lighting.integrate.prefilter import (
-    PREFILTER_SIGMAS,
-    _beckmann_kernel,
-    _convolve_rows,
-    _convolve_rows_fast,
-    _ggx_kernel,
-    _prefilter_levels,
-)
+from lighting.integrate import prefilter, rowconv
+from lighting.integrate.prefilter import PREFILTER_SIGMAS, _beckmann_kernel, _ggx_kernel, _prefilter_levels
+from lighting.integrate.rowconv import _convolve_rows, _convolve_rows_fast
 
 
 def _hdr_map(h):
@@ -74,14 +68,14 @@ def test_the_banded_products_and_the_dropped_frequencies_are_exercised():
     # otherwise the tests above would not check those paths.
     h, support, sigma = 128, 6 * 0.1, 0.1
     reach = math.ceil(support / (math.pi / h))
-    assert prefilter._ROW_BLOCK + 2 * reach < h
+    assert rowconv._ROW_BLOCK + 2 * reach < h
     img = _hdr_map(h)
-    spectra = prefilter._RowSpectra(img)
+    spectra = rowconv._RowSpectra(img)
     # An equatorial pair's kernel row is about a Gaussian of σ = 0.1 rad in Δφ: its spectrum falls below 1e-14
     # of its sum before the last frequency, so frequencies are left out.
     row = np.exp(-(1 / sigma**2) * 2 * np.sin(np.arange(2 * h) * math.pi / (2 * h)) ** 2)
     spectrum = np.abs(np.fft.rfft(row))
-    assert spectrum[-1] < prefilter._SPECTRUM_TOL * spectrum[0]
+    assert spectrum[-1] < rowconv._SPECTRUM_TOL * spectrum[0]
     conv, norm = _convolve_rows_fast(img, lambda x: np.exp(-(1 / sigma**2) * x), support, spectra)
     ref_conv, ref_norm = _convolve_rows(img, lambda x: np.exp(-(1 / sigma**2) * x), support)
     np.testing.assert_allclose(conv / norm[:, None, None], ref_conv / ref_norm[:, None, None], rtol=1e-9)
