@@ -157,12 +157,7 @@ class CookTorrance(BRDF):
                   description="α along the bitangent b = n × t; None: roughness"),
         Parameter("energy_compensation", "bool", False,
                   description="add the multiple-scattering lobe of Kulla and Conty (Smith GGX/Beckmann)"),
-        Parameter("eta", "color", None, low_open=True, slider=(0.03, 4.0), log=True,
-                  description="conductor index, real part η (fresnel conductor); None: f0's η or the metal's"),
-        Parameter("k", "color", None, slider=(0.0, 8.0),
-                  description="conductor index, extinction k (fresnel conductor); None: 0 or the metal's"),
-        Parameter("metal", "choice", "none", choices=_fresnel.METAL_CHOICES,
-                  description="a metal's η and k (fresnel conductor): none, gold, silver, copper, aluminium, chromium"),
+        *_fresnel.CONDUCTOR_PARAMETERS,
     )
 
     #: The class default; an instance with α_x ≠ α_y sets its own ``stackable = False`` (the stacked fast

@@ -12,6 +12,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_budget, real_array, safe_div, working_dtype
+from .protocol import Parameter
 
 __all__ = [
     "schlick",
@@ -463,6 +464,18 @@ def _metal_name(param: str, value, allowed_extra: tuple = ()) -> str:
 
 #: The ``metal`` choices of the models: ``"none"`` (the index from ``eta`` and ``k``) or a named metal.
 METAL_CHOICES = ("none", *METALS)
+
+
+#: The parameters a model with ``fresnel="conductor"`` adds to its table (:class:`~lighting.models.protocol.Parameter`):
+#: the index ``eta``, the extinction ``k`` and a named ``metal`` (one home for the models that offer a conductor).
+CONDUCTOR_PARAMETERS = (
+    Parameter("eta", "color", None, low_open=True, slider=(0.03, 4.0), log=True,
+              description="conductor index, real part η (fresnel conductor); None: f0's η or the metal's"),
+    Parameter("k", "color", None, slider=(0.0, 8.0),
+              description="conductor index, extinction k (fresnel conductor); None: 0 or the metal's"),
+    Parameter("metal", "choice", "none", choices=METAL_CHOICES,
+              description="a metal's η and k (fresnel conductor): none, gold, silver, copper, aluminium, chromium"),
+)  # fmt: skip
 
 
 def _conductor_setup(fresnel: str, f0, eta, k, metal):

@@ -113,12 +113,7 @@ class Mirror(BRDF):
         Parameter("f0", "color", 0.04, high=1.0, description="Fresnel reflectance at normal incidence F0"),
         Parameter("fresnel", "choice", "none", choices=FRESNELS,
                   description="Fresnel: none, Schlick, exact dielectric, exact conductor"),
-        Parameter("eta", "color", None, low_open=True, slider=(0.03, 4.0), log=True,
-                  description="conductor index, real part η (fresnel conductor); None: f0's η or the metal's"),
-        Parameter("k", "color", None, slider=(0.0, 8.0),
-                  description="conductor index, extinction k (fresnel conductor); None: 0 or the metal's"),
-        Parameter("metal", "choice", "none", choices=_fresnel.METAL_CHOICES,
-                  description="a metal's η and k (fresnel conductor): none, gold, silver, copper, aluminium, chromium"),
+        *_fresnel.CONDUCTOR_PARAMETERS,
     )
 
     def __init__(self, ks=1.0, f0=0.04, fresnel="none", eta=None, k=None, metal="none"):
