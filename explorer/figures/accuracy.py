@@ -173,6 +173,20 @@ def _error_axis(ax, errors, floor=None, label="relative error") -> None:
     ax.grid(True, which="major")
 
 
+def _cost_axis(ax, label: str, title: str, number_format: str) -> None:
+    """A log-log panel of RMS relative error against a cost (samples, triangles), its legend at the lower left."""
+    import matplotlib.ticker as mt
+
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.xaxis.set_major_formatter(mt.FuncFormatter(lambda x, _: number_format.format(x)))
+    ax.set_xlabel(label)
+    ax.set_ylabel("RMS relative error")
+    ax.set_title(title)
+    ax.grid(True, which="major")
+    ax.legend(loc="lower left")
+
+
 def _label_points(ax, xs, ys, labels, colour, *, dx=6, dy=5, fontsize=10.5) -> None:
     """Small cost labels beside the points of one line (``labels`` may hold ``None`` to skip a point)."""
     import matplotlib.patheffects as pe
@@ -319,16 +333,7 @@ def accuracy_area_light(q, *, csv):
     right.plot(n, e, "o-", color=c, ms=7, label=f"measured (slope {slope:.2f})")
     for power, style, text in ((-0.5, "--", r"$\propto N^{-1/2}$"), (-1.0, ":", r"$\propto N^{-1}$")):
         right.plot(n, e[0] * (n / n[0]) ** power, style, color="0.35", lw=1.4, label=text)
-    right.set_xscale("log")
-    right.set_yscale("log")
-    right.set_xlabel("light samples per pixel")
-    right.set_ylabel("RMS relative error")
-    right.grid(True, which="major")
-    right.legend(loc="lower left")
-    right.set_title("Convergence with the sample count")
-    import matplotlib.ticker as mt
-
-    right.xaxis.set_major_formatter(mt.FuncFormatter(lambda x, _: f"{x:g}"))
+    _cost_axis(right, "light samples per pixel", "Convergence with the sample count", "{:g}")
     reference = pts[0].reference.replace(" (RMS relative error)", "")
     return fig, _measured(points, source, counts=", ".join(str(int(k)) for k in n), reference=reference,
                           slope=slope)  # fmt: skip
@@ -389,16 +394,7 @@ def accuracy_tessellation(q, *, csv):
     _time_axis(left, [p.seconds * 1e3 for p in points], "time per image (ms)")
     _error_axis(left, [p.error for p in points], label="RMS relative error")
     left.set_title("Error against run time")
-    right.set_xscale("log")
-    right.set_yscale("log")
-    import matplotlib.ticker as mt
-
-    right.xaxis.set_major_formatter(mt.FuncFormatter(lambda x, _: f"{x:,.0f}"))
-    right.set_xlabel("triangles")
-    right.set_ylabel("RMS relative error")
-    right.set_title("Error against tessellation")
-    right.grid(True, which="major")
-    right.legend(loc="lower left")
+    _cost_axis(right, "triangles", "Error against tessellation", "{:,.0f}")
     triangles = ", ".join(f"{k:,}" for k in sorted({p.cost for p in points}))
     finest_text = ", ".join(f"{m} {100 * e:.2g} %" for m, e in finest.items())
     return fig, _measured(points, source, triangles=triangles, finest=finest, finest_text=finest_text)
