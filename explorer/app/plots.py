@@ -25,8 +25,8 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, MaxNLocator
 
-__all__ = ["BlitFigure", "ProfilePlot", "PolarPlot", "AnglePlots", "AlbedoPlot", "nice_ceiling", "hysteresis_limit",
-           "COLOURS", "OVERLAY_SLOTS"]
+__all__ = ["BlitFigure", "ProfilePlot", "PolarPlot", "AnglePlots", "AnglePlotsGrid", "AlbedoPlot", "nice_ceiling",
+           "hysteresis_limit", "COLOURS", "OVERLAY_SLOTS"]
 
 COLOURS = {
     "gouraud": "#ffa94d",
@@ -460,10 +460,17 @@ class PolarPlot(BlitFigure):
 class AnglePlots(BlitFigure):
     """Value against θ_v, θ_h and θ_d, and the image over (θ_h, θ_d) — the usual BRDF-tool views."""
 
+    #: The panels' arrangement: one row of four (a wide strip), or two rows of two (a squarer panel).
+    GRID = (1, 4)
+
     def _build(self):
         fig = self.fig
-        axs = fig.subplots(1, 4, gridspec_kw={"width_ratios": [1.25, 1, 1, 1.05]})
-        fig.subplots_adjust(left=0.065, right=0.95, top=0.8, bottom=0.2, wspace=0.45)
+        if self.GRID == (2, 2):
+            axs = fig.subplots(2, 2, gridspec_kw={"width_ratios": [1.15, 1]}).ravel()
+            fig.subplots_adjust(left=0.11, right=0.93, top=0.93, bottom=0.1, wspace=0.42, hspace=0.55)
+        else:
+            axs = fig.subplots(1, 4, gridspec_kw={"width_ratios": [1.25, 1, 1, 1.05]})
+            fig.subplots_adjust(left=0.065, right=0.95, top=0.8, bottom=0.2, wspace=0.45)
         self.axes = axs
         titles = ["vs θ_v (view)", "vs θ_h (half)", "vs θ_d (difference)", "θ_h →, θ_d ↑"]
         self.curves, self.markers = [], []
@@ -565,6 +572,12 @@ class AnglePlots(BlitFigure):
             "title",
             f"{label} against the Rusinkiewicz angles (θ_h at θ_d = θ_l, θ_d at θ_h = 0, image at φ_d = 90°)",
         )
+
+
+class AnglePlotsGrid(AnglePlots):
+    """The angle plots in two rows of two, for a panel about as tall as it is wide."""
+
+    GRID = (2, 2)
 
 
 class AlbedoPlot(BlitFigure):

@@ -1,0 +1,174 @@
+"""The engine's images shown as images: a panel with a title, the picture (aspect kept) and a caption.
+
+The picture is the engine's 8-bit sRGB image drawn pixel for pixel by ``QPainter`` (scaled with
+smooth filtering to the panel), with no 3D library in between: what the panel shows is what
+``lighting.render`` computed.  Overlays (the light's arrow, the triangle edges, the scan line, the split
+sphere's divider) are drawn in the image's own coordinates by a callback, so they stay on the picture
+when the panel is resized.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from PySide6 import QtCore, QtGui, QtWidgets
+
+__all__ = ["ImageCanvas", "ImagePanel", "qimage"]
+
+BACKGROUND = "#1e2024"
+TEXT = "#e9ecef"
+MUTED = "#9aa1a9"
+
+
+def qimage(rgb8: np.ndarray) -> QtGui.QImage:
+    """A QImage holding a copy of an ``(H, W, 3)`` or ``(H, W, 4)`` uint8 array.
+
+    Parameters
+    ----------
+    rgb8 : ndarray of uint8
+        RGB or RGBA rows, top row first.
+
+    Returns
+    -------
+    QImage
+        Independent of the array (it owns its pixels).
+    """
+    a = np.ascontiguousarray(rgb8, dtype=np.uint8)
+    h, w, c = a.shape
+    fmt = QtGui.QImage.Format.Format_RGB888 if c == 3 else QtGui.QImage.Format.Format_RGBA8888
+    return QtGui.QImage(a.data, w, h, a.strides[0], fmt).copy()
+
+
+class ImageCanvas(QtWidgets.QWidget):
+    """Draws one image scaled to fit (aspect kept, centred), and an overlay in image pixel coordinates.
+
+    Attributes
+    ----------
+    overlay : callable or None
+        ``overlay(painter, scale)``: called with the painter already mapped to image pixels (``scale``:
+        screen pixels per image pixel, to keep line widths constant on screen).
+    """
+
+    #: Mouse press, move and release in image pixel coordinates (x, y) with the buttons held.
+    mouse_dragged = QtCore.Signal(float, float, bool)
+
+    def __init__(self, parent=None, *, min_size=120):
+        super().__init__(parent)
+        self._image: QtGui.QImage | None = None
+        self._shape = (1, 1)
+        self.overlay: Callable | None = None
+        self.setMinimumSize(min_size, min_size)
+        self.setSizePolicy(QtWidgets.QSizePolicy.Policy.Expanding, QtWidgets.QSizePolicy.Policy.Expanding)
+        self.setAttribute(QtCore.Qt.WidgetAttribute.WA_OpaquePaintEvent)
+
+    def sizeHint(self):  # noqa: N802 - Qt's name
+        # Small and equal for every view, so that the splitters share the space by their stretch factors.
+        return QtCore.QSize(200, 160)
+
+    def set_image(self, rgb8: np.ndarray) -> None:
+        """Show ``rgb8`` (copied) and repaint this widget only."""
+        self._image = qimage(rgb8)
+        self._shape = rgb8.shape[:2]
+        self.update()
+
+    def image_rect(self) -> QtCore.QRectF:
+        """Where the image is drawn in the widget (aspect kept, centred)."""
+        h, w = self._shape
+        s = min(self.width() / w, self.height() / h)
+        dw, dh = w * s, h * s
+        return QtCore.QRectF((self.width() - dw) / 2, (self.height() - dh) / 2, dw, dh)
+
+    def to_image(self, pos: QtCore.QPointF) -> tuple[float, float]:
+        """Widget position → image pixel coordinates (x right, y down)."""
+        r = self.image_rect()
+        h, w = self._shape
+        return ((pos.x() - r.x()) * w / r.width(), (pos.y() - r.y()) * h / r.height())
+
+    def paintEvent(self, event):  # noqa: N802 - Qt's name
+        p = QtGui.QPainter(self)
+        p.fillRect(self.rect(), QtGui.QColor(BACKGROUND))
+        if self._image is not None:
+            r = self.image_rect()
+            p.setRenderHint(QtGui.QPainter.RenderHint.SmoothPixmapTransform)
+            p.drawImage(r, self._image)
+            if self.overlay is not None:
+                h, w = self._shape
+                s = r.width() / w
+                p.save()
+                p.translate(r.x(), r.y())
+                p.scale(s, s)
+                p.setRenderHint(QtGui.QPainter.RenderHint.Antialiasing)
+                self.overlay(p, s)
+                p.restore()
+        p.end()
+
+    def mousePressEvent(self, event):  # noqa: N802
+        x, y = self.to_image(event.position())
+        self.mouse_dragged.emit(x, y, False)
+
+    def mouseMoveEvent(self, event):  # noqa: N802
+        if event.buttons() & QtCore.Qt.MouseButton.LeftButton:
+            x, y = self.to_image(event.position())
+            self.mouse_dragged.emit(x, y, False)
+
+    def mouseReleaseEvent(self, event):  # noqa: N802
+        x, y = self.to_image(event.position())
+        self.mouse_dragged.emit(x, y, True)
+
+
+class ImagePanel(QtWidgets.QFrame):
+    """A view panel: a bold title, a body (an :class:`ImageCanvas` or any widget) and a caption below.
+
+    Titles and captions wrap instead of being cut; a label that cannot show its whole text (too
+    narrow even wrapped) carries it as its tooltip.
+
+    Parameters
+    ----------
+    title : str
+        The panel's title.
+    body : QWidget, optional
+        The view (default: a new :class:`ImageCanvas`, as :attr:`canvas`).
+    """
+
+    def __init__(self, title: str = "", body: QtWidgets.QWidget | None = None, parent=None):
+        super().__init__(parent)
+        self.setObjectName("viewPanel")
+        self.title = _label(title, bold=True)
+        self.caption = _label("", muted=True)
+        self.canvas = body if body is not None else ImageCanvas()
+        lay = QtWidgets.QVBoxLayout(self)
+        lay.setContentsMargins(4, 4, 4, 4)
+        lay.setSpacing(2)
+        lay.addWidget(self.title)
+        lay.addWidget(self.canvas, 1)
+        lay.addWidget(self.caption)
+
+    def set_title(self, text: str) -> None:
+        """Set the title (and its tooltip: the whole text)."""
+        _set_text(self.title, text)
+
+    def set_caption(self, text: str, *, warn: bool = False) -> None:
+        """Set the caption; ``warn`` shows it in the warning colour (an unconverged or clipped value)."""
+        _set_text(self.caption, text)
+        self.caption.setProperty("warn", bool(warn))
+        self.caption.setStyleSheet(f"color: {'#ff8787' if warn else MUTED};")
+
+
+def _label(text: str, *, bold: bool = False, muted: bool = False) -> QtWidgets.QLabel:
+    label = QtWidgets.QLabel(text)
+    label.setWordWrap(True)
+    label.setTextFormat(QtCore.Qt.TextFormat.PlainText)
+    label.setSizePolicy(QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Minimum)
+    style = "font-weight: 600;" if bold else ""
+    if muted:
+        style += f" color: {MUTED};"
+    label.setStyleSheet(style)
+    label.setToolTip(text)
+    return label
+
+
+def _set_text(label: QtWidgets.QLabel, text: str) -> None:
+    if label.text() != text:
+        label.setText(text)
+        label.setToolTip(text)

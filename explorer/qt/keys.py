@@ -1,0 +1,228 @@
+"""The window's menus and keys: every key is a ``QAction`` with a shortcut, listed in the menus and in Help.
+
+A key changes the state at once (it is cheap) and asks the window for an update that runs when Qt's
+loop is next idle, so a burst of presses (twelve quick ``m``) costs one update of the views, not twelve.
+The key table (:data:`KEYS`) is data: the menus, the shortcuts and the help dialog are made from it.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from ..app.state import CHANNELS, CONTROLS, ENVIRONMENTS, FORMS, LIGHT_TYPES, MODELS, TERM_NAMES
+
+__all__ = ["Key", "KEYS", "build_actions", "help_text", "FILE_FILTERS"]
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key: its shortcut, the menu it sits in, what it does (the help's words) and its action's name."""
+
+    shortcut: str
+    menu: str
+    text: str
+    action: str
+
+
+KEYS = (
+    Key("H", "Help", "Show the keys and mouse", "help"),
+    Key("S", "File", "Save a screenshot of the window (PNG in the current folder)", "screenshot"),
+    Key("Q", "File", "Quit", "quit"),
+    Key("R", "View", "Reset every control to its default", "reset"),
+    Key("M", "Model", "Next reflectance model", "model+"),
+    Key("Shift+M", "Model", "Previous reflectance model", "model-"),
+    Key("P", "Model", "Pin the current model to the Compare list", "pin"),
+    Key("Shift+F", "Model", "Fit the chosen analytic model to the current one", "fit"),
+    Key("T", "Light", "Next key light type (directional, point, spot, ambient only)", "light+"),
+    Key("X", "Light", "Next environment (none, the skies, the file)", "environment+"),
+    Key("K", "Light", "Environment by the Monte-Carlo reference / by the fast method", "reference"),
+    Key("I", "View", "Next shading mode of the lit sphere (flat, Gouraud, Phong)", "mode+"),
+    Key("F", "View", "Classic I / physical radiance I/π", "form+"),
+    Key("1", "View", "Ambient term on or off", "term1"),
+    Key("2", "View", "Diffuse term on or off", "term2"),
+    Key("3", "View", "Specular term on or off", "term3"),
+    Key("C", "View", "Next plot channel (luminance Y, R, G, B)", "channel+"),
+    Key("L", "View", "Plots: log10(1 + x) on or off", "log"),
+    Key("N", "View", "Plots: × n·l on or off", "times_cos"),
+    Key("E", "View", "Triangle edges on the coarse spheres on or off", "edges"),
+    Key("A", "View", "Right panel: angle curves / albedo ρ(θ_v)", "panel"),
+    Key("V", "View", "Split lit sphere: current | first shown Compare entry", "split"),
+    Key("O", "View", "3D panel: BRDF lobe / lit object", "view3d"),
+    Key("Up", "View", "Move the scan line up", "scan-"),
+    Key("Down", "View", "Move the scan line down", "scan+"),
+    Key("Left", "View", "Coarser coarse sphere", "tess-"),
+    Key("Right", "View", "Finer coarse sphere", "tess+"),
+)
+
+#: File dialogs' filters by kind of file.
+FILE_FILTERS = {
+    "scene": "Scene files (*.toml)",
+    "brdf": "BRDF files (*.brdf *.binary)",
+    "environment": "Environment images (*.hdr *.pfm *.npy *.exr)",
+    "mesh": "Meshes (*.obj *.ply *.stl *.glb *.gltf *.off)",
+}
+
+_CYCLES = {
+    "model": lambda: tuple(MODELS),
+    "light": lambda: LIGHT_TYPES,
+    "mode": lambda: ("flat", "gouraud", "phong"),
+    "channel": lambda: CHANNELS,
+    "form": lambda: FORMS,
+}
+
+
+def help_text() -> str:
+    """The keys and the mouse, as the Help dialog lists them (two aligned columns)."""
+    width = max(len(k.shortcut) for k in KEYS)
+    lines = [f"{k.shortcut.ljust(width)}   {k.text}" for k in KEYS]
+    lines += ["", "Mouse: drag in the 3D lobe to turn it, the wheel zooms; drag a slider or click its track;",
+              "hover over a control for what it does."]  # fmt: skip
+    return "\n".join(lines)
+
+
+def do_key(window, action: str) -> None:
+    """Perform the key action ``action`` on ``window`` (what the shortcut and the menu item call)."""
+    s = window.state
+    name, _, step = action.partition("+") if "+" in action else action.partition("-")
+    if action.endswith(("+", "-")) and name in _CYCLES:
+        options = _CYCLES[name]()
+        delta = 1 if action.endswith("+") else -1
+        current = getattr(s, name)
+        value = options[(options.index(current) + delta) % len(options)] if current in options else options[0]
+        window.apply({name: value})
+        return
+    if action == "environment+":
+        options = [e for e in ENVIRONMENTS if e != "file" or window.model.environment_file is not None]
+        current = options.index(s.environment) if s.environment in options else -1
+        window.apply({"environment": options[(current + 1) % len(options)]})
+    elif action.startswith("term"):
+        term = TERM_NAMES[int(action[-1]) - 1]
+        window.apply({"terms": tuple(set(s.terms) ^ {term})})
+    elif action in ("log", "times_cos", "split", "reference"):
+        window.apply({action: not getattr(s, action)})
+    elif action == "panel":
+        window.apply({"panel": "angles" if s.panel == "albedo" else "albedo"})
+    elif action == "view3d":
+        window.apply({"view3d": "lobe" if s.view3d == "object" else "object"})
+    elif action in ("scan-", "scan+"):
+        spec = CONTROLS["scanline"]
+        window.apply({"scanline": min(max(s.scanline + (0.02 if action == "scan+" else -0.02), spec.lo), spec.hi)})
+    elif action in ("tess-", "tess+"):
+        spec = CONTROLS["tessellation"]
+        t = min(max(s.tessellation + (1 if action == "tess+" else -1), int(spec.lo)), int(spec.hi))
+        window.apply({"tessellation": t})
+    elif action == "pin":
+        window.compare_action("pin")
+    elif action == "fit":
+        window.fit()
+    elif action == "edges":
+        window.show_edges = not window.show_edges
+        window.gouraud_panel.canvas.update()
+        window.phong_panel.canvas.update()
+    elif action == "reset":
+        window.reset()
+    elif action == "screenshot":
+        try:
+            window.screenshot()
+        except (ValueError, OSError) as exc:  # a full disk or a read-only folder: say so, keep the window
+            window.show_error(f"screenshot not saved: {exc}")
+    elif action == "help":
+        show_help(window)
+    elif action == "quit":
+        window.close()
+
+
+def show_help(window) -> QtWidgets.QDialog:
+    """The keys dialog (non-modal; a second press of the key closes it)."""
+    dialog = getattr(window, "help_dialog", None)
+    if dialog is not None and dialog.isVisible():
+        dialog.close()
+        return dialog
+    dialog = QtWidgets.QDialog(window)
+    dialog.setWindowTitle("lighting-explorer: keys and mouse")
+    table = QtWidgets.QTableWidget(len(KEYS), 2, dialog)
+    table.setHorizontalHeaderLabels(["Key", "What it does"])
+    table.verticalHeader().setVisible(False)
+    table.setEditTriggers(QtWidgets.QAbstractItemView.EditTrigger.NoEditTriggers)
+    for row, k in enumerate(KEYS):
+        table.setItem(row, 0, QtWidgets.QTableWidgetItem(k.shortcut))
+        table.setItem(row, 1, QtWidgets.QTableWidgetItem(k.text))
+    table.resizeColumnsToContents()
+    table.horizontalHeader().setStretchLastSection(True)
+    note = QtWidgets.QLabel("Mouse: drag in the 3D lobe to turn it, the wheel zooms. "
+                            "Drag a slider, or click its track. Hover over a control for what it does.")  # fmt: skip
+    note.setWordWrap(True)
+    lay = QtWidgets.QVBoxLayout(dialog)
+    lay.addWidget(table)
+    lay.addWidget(note)
+    dialog.resize(620, 560)
+    window.help_dialog = dialog
+    dialog.show()
+    return dialog
+
+
+def build_actions(window) -> dict[str, QtGui.QAction]:
+    """The menus (File, Model, Light, View, Help) with an action for every key and every file to open.
+
+    Returns
+    -------
+    dict
+        Action name → QAction.
+    """
+    bar = window.menuBar()
+    menus = {name: bar.addMenu(f"&{name}") for name in ("File", "Model", "Light", "View", "Help")}
+    actions: dict[str, QtGui.QAction] = {}
+    file_menu = menus["File"]
+    for kind, label in (("scene", "Open &scene…"), ("brdf", "Open &BRDF file…"),
+                        ("environment", "Open &environment image…"), ("mesh", "Open &mesh…")):  # fmt: skip
+        act = QtGui.QAction(label, window)
+        act.triggered.connect(lambda checked=False, k=kind: open_dialog(window, k))
+        file_menu.addAction(act)
+        actions[f"open-{kind}"] = act
+    file_menu.addSeparator()
+    export = QtGui.QAction("E&xport the views as figures…", window)
+    export.triggered.connect(lambda checked=False: export_dialog(window))
+    file_menu.addAction(export)
+    actions["export"] = export
+    for k in KEYS:
+        act = QtGui.QAction(k.text, window)
+        act.setShortcut(QtGui.QKeySequence(k.shortcut))
+        act.setShortcutContext(QtCore.Qt.ShortcutContext.WindowShortcut)
+        act.triggered.connect(lambda checked=False, a=k.action: do_key(window, a))
+        menus[k.menu].addAction(act)
+        window.addAction(act)
+        actions[k.action] = act
+    about = QtGui.QAction("&About lighting-explorer", window)
+    about.triggered.connect(lambda checked=False: about_dialog(window))
+    menus["Help"].addAction(about)
+    actions["about"] = about
+    return actions
+
+
+def open_dialog(window, kind: str) -> bool:
+    """Ask for a file of ``kind`` and open it (a bad file: one line in the status bar)."""
+    path, _ = QtWidgets.QFileDialog.getOpenFileName(window, f"Open {kind}", os.getcwd(), FILE_FILTERS[kind])
+    return bool(path) and window.open_file(kind, path)
+
+
+def export_dialog(window) -> list[str]:
+    """Ask for a folder and a format and write the current views as figures there."""
+    folder = QtWidgets.QFileDialog.getExistingDirectory(window, "Export the views into a folder", os.getcwd())
+    if not folder:
+        return []
+    fmt, ok = QtWidgets.QInputDialog.getItem(window, "Format", "Figure format:", ["png", "svg", "pdf"], 0, False)
+    if not ok:
+        return []
+    return window.export_views(folder, fmt)
+
+
+def about_dialog(window) -> None:
+    """The version and where the documentation is."""
+    from lighting import __version__
+
+    QtWidgets.QMessageBox.about(window, "lighting-explorer",
+                                f"lighting-explorer {__version__}\nTeach and explore local illumination.\n"
+                                "Every colour on screen is computed by the lighting engine.")  # fmt: skip
