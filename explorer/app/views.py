@@ -84,6 +84,9 @@ from .state import ALBEDO_SAMPLES, AppState
 __all__ = [
     "VIEWS",
     "LIVE_VIEWS",
+    "split_angle",
+    "split_mask",
+    "split_render",
     "VIEW_DEPENDENCIES",
     "ExplorerModel",
     "SphereView",
@@ -115,8 +118,19 @@ class SphereView:
     mode: str
     geometry: str
     clipped: int  # pixels clipped by the encoding
-    split: str = ""  # the label of the comparison entry on the right half ("" when not split)
+    split: str = ""  # the label of the comparison entry on the other half ("" when not split)
     split_colour: str = ""
+    #: The split's divider: its direction in the image (degrees from image right toward image up), through
+    #: the centre; the current model is on the half to its counter-clockwise side (:func:`split_mask`).
+    split_angle: float = 90.0
+    #: Under an environment: the exposure (stops) at which at most 2 % of the sphere clips
+    #: (:func:`~explorer.app.environment.auto_exposure`); None without one.
+    auto_exposure: float | None = None
+
+    @property
+    def split_mask(self) -> np.ndarray:
+        """``(H, W)`` bool: the pixels of the current model's half (:func:`split_mask` of :attr:`split_angle`)."""
+        return split_mask(self.coverage.shape, self.split_angle)
 
     @cached_property
     def brightest(self) -> tuple[int, int]:
@@ -275,6 +289,27 @@ class AlbedoView:
     samples: int
     curves: tuple = ()  # AlbedoCurveView: ρ(θ_v) of the current model and each shown entry (albedo panel)
 
+    @property
+    def above_one(self) -> bool:
+        """Whether the albedo exceeds 1 beyond its error (``value − 2·error > 1``): more light out than in.
+
+        >>> AlbedoView(0.0, 1.365, 3e-8, 2e-8, False, None, None, "quadrature", 4096).above_one
+        True
+        >>> AlbedoView(0.0, 1.01, 0.01, 0.01, False, None, None, "quadrature", 4096).above_one  # within 2σ
+        False
+        """
+        return self.value - 2.0 * self.error > 1.0
+
+    @property
+    def channels_above_one(self) -> tuple[str, ...]:
+        """The RGB channels (``"r"``, ``"g"``, ``"b"``) whose albedo exceeds 1 beyond twice its error."""
+        if self.rgb is None:
+            return ()
+        rgb = np.broadcast_to(np.asarray(self.rgb, dtype=np.float64), (3,))
+        err = np.broadcast_to(np.asarray(self.rgb_error if self.rgb_error is not None else 0.0, dtype=np.float64),
+                              (3,))  # fmt: skip
+        return tuple(c for c, v, e in zip("rgb", rgb, err, strict=True) if v - 2.0 * e > 1.0)
+
 
 #: ``params``: the current model's parameters (:attr:`AppState.params`).
 MATERIAL_FIELDS = frozenset({"model", "kd", "color", "params"})
@@ -341,13 +376,74 @@ def _coarse_camera(size: int):
     return sphere_camera(size)
 
 
+def split_angle(state) -> float:
+    """The split sphere's divider: the light's azimuth in the image (degrees), or 90° (vertical) for ambient light.
+
+    The highlight lies on the line from the centre toward the projected light direction, so a divider
+    along it gives each half one side of the highlight (a vertical divider puts the whole highlight of a
+    light from the upper left into the left half).
+
+    Parameters
+    ----------
+    state : AppState
+        The controls (``light``, ``azimuth``).
+
+    Returns
+    -------
+    float
+        Degrees from image right toward image up.
+
+    Examples
+    --------
+    >>> from explorer.app.state import AppState
+    >>> split_angle(AppState()), split_angle(AppState(light="ambient"))
+    (135.0, 90.0)
+    """
+    return 90.0 if state.light == "ambient" else float(state.azimuth)
+
+
+def split_mask(shape, angle_deg: float) -> np.ndarray:
+    """The current model's half of a split image: the pixels counter-clockwise of the divider.
+
+    The divider runs through the image centre along ``angle_deg`` (from image right toward image up);
+    at 90° the current model is on the left, as a vertical split reads.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        Rows and columns.
+    angle_deg : float
+        The divider's direction.
+
+    Returns
+    -------
+    ndarray of bool, shape ``shape``
+        True on the current model's half.
+
+    Examples
+    --------
+    >>> split_mask((2, 4), 90.0).astype(int).tolist()
+    [[1, 1, 0, 0], [1, 1, 0, 0]]
+    >>> split_mask((2, 2), 0.0).astype(int).tolist()  # a horizontal divider: the current model on top
+    [[1, 1], [0, 0]]
+    """
+    h, w = int(shape[0]), int(shape[1])
+    x = np.arange(w) + 0.5 - 0.5 * w  # image right
+    y = 0.5 * h - np.arange(h) - 0.5  # image up
+    a = math.radians(angle_deg)
+    # Counter-clockwise of the direction (cos a, sin a): the cross product d × p is positive.
+    return (math.cos(a) * y[:, None] - math.sin(a) * x[None, :]) > 0
+
+
 def split_render(renderer, img, material, lights, state):
-    """``img`` with its right half rendered again with ``material`` (the split sphere): the same lights,
-    shading mode, form and terms, so only the BRDF differs between the halves."""
+    """``img`` with one half rendered again with ``material`` (the split sphere): the same lights,
+    shading mode, form and terms, so only the BRDF differs between the halves.
+
+    The halves meet along :func:`split_angle` (the current model keeps :func:`split_mask`'s half)."""
     other = renderer.render(material, lights, mode=state.mode, form=state.form, terms=state.terms)
     img = np.array(img, copy=True)
-    half = img.shape[1] // 2
-    img[:, half:] = other[:, half:]
+    keep = split_mask(img.shape[:2], split_angle(state))
+    img[~keep] = np.asarray(other)[~keep]
     return img
 
 
@@ -638,7 +734,7 @@ class ExplorerModel(CompareMixin, EnvironmentMixin):
         rgb8, clipped = _encode(img, cov, s.exposure)
         if target is None:
             return SphereView(img, rgb8, cov, s.mode, geometry, clipped)
-        return SphereView(img, rgb8, cov, s.mode, geometry, clipped, target.label, target.colour)
+        return SphereView(img, rgb8, cov, s.mode, geometry, clipped, target.label, target.colour, split_angle(s))
 
     def _coarse_view(self, material, lights) -> CoarseView:
         s = self.state
