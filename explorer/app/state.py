@@ -37,6 +37,7 @@ from lighting.render import SHADING_MODES
 from lighting.vec import direction_from_elevation
 
 from ..compare import FIT_MODELS
+from .lights import check_lights, engine_lights
 from .params import (
     MODEL_LABELS,
     MODELS,
@@ -111,7 +112,7 @@ NDFS = next(
 class Control:
     """How one state field is validated (and how a slider shows it)."""
 
-    kind: str  # "float", "int", "choice", "bool", "rgb", "terms"
+    kind: str  # "float", "int", "choice", "bool", "rgb", "terms", "lights"
     lo: float | None = None
     hi: float | None = None
     choices: tuple = ()
@@ -164,6 +165,11 @@ CONTROLS: dict[str, Control] = {
     "reference": Control(
         "bool", help="environment by the Monte-Carlo reference, refined while the view rests (off: split sum)"
     ),
+    "scene_lights": Control(
+        "lights",
+        help="the scene's other lights (directional, point, spot, rect, disk, opengl), light tables in the view "
+        "frame (explorer.app.lights)",
+    ),
 }
 
 
@@ -194,6 +200,8 @@ def _validate(name: str, value):
     raises :class:`~lighting._numeric.ArgumentTypeError` (a TypeError and a ValueError).
     """
     spec = CONTROLS[name]
+    if spec.kind == "lights":
+        return check_lights(value)
     if spec.kind == "bool":
         return check_bool(name, value)
     if spec.kind == "choice":
@@ -290,6 +298,7 @@ DEFAULTS = {
     "env_intensity": 1.0,
     "view3d": "lobe",
     "reference": False,
+    "scene_lights": (),
 }
 #: Controls that wrap into (−180°, 180°].
 _ANGLES = ("azimuth", "phi")
@@ -317,6 +326,11 @@ class AppState:
     intensity is set so that ``intensity`` is the irradiance they deliver at the nearest point of the
     sphere, whatever the falloff.
 
+    ``scene_lights`` holds the scene's other lights, light tables in the view frame
+    (:mod:`explorer.app.lights`), each checked by the scene loader on assignment; :meth:`lights` adds them
+    to the ambient and key light.  Reading it gives a copy: change a light with
+    :func:`explorer.app.lights.with_field` and assign the result.
+
     Parameters
     ----------
     **values
@@ -334,6 +348,8 @@ class AppState:
         values = self.__dict__.get("_values")
         if values is None:
             raise AttributeError(name)
+        if name == "scene_lights":  # copies: a table changes only through assignment, which checks it
+            return _copy_tables(values[name])
         if name in values:
             return values[name]
         params = self._model_params(values["model"])
@@ -421,6 +437,7 @@ class AppState:
             Control name → value; ``"params"`` → {model → {parameter → value}}.
         """
         d = dict(self._values)
+        d["scene_lights"] = _copy_tables(d["scene_lights"])
         # Only the models whose parameters were changed: reading a model's defaults changes nothing.
         d["params"] = {m: dict(p) for m, p in self._params.items() if m in MODELS and p != parameter_defaults(m)}
         return d
@@ -685,16 +702,32 @@ class AppState:
             exponent=self.spot_exponent,
         )
 
-    def lights(self) -> list:
-        """Ambient light ``I_a`` plus the key light.
+    def extra_lights(self) -> list:
+        """The engine lights of :attr:`scene_lights` (view frame), in their order.
 
         Returns
         -------
         list of Light
-            The ambient light first.
+            Built by :func:`explorer.app.lights.engine_lights` (an OpenGL light may add an ambient light).
+        """
+        tables = self._values["scene_lights"]
+        cached = self.__dict__.get("_extra")
+        if cached is None or cached[0] is not tables:  # the stored tuple is replaced, never changed
+            cached = (tables, [lt for i, t in enumerate(tables) for lt in engine_lights(t, i)])
+            object.__setattr__(self, "_extra", cached)
+        return list(cached[1])
+
+    def lights(self) -> list:
+        """Ambient light ``I_a``, the key light and the extra lights (:attr:`scene_lights`).
+
+        Returns
+        -------
+        list of Light
+            The ambient light first, then the key light (none for ``light = "ambient"``), then
+            :meth:`extra_lights`.
         """
         key = self.key_light()
-        return [AmbientLight(intensity=self.ambient)] + ([key] if key is not None else [])
+        return [AmbientLight(intensity=self.ambient)] + ([key] if key is not None else []) + self.extra_lights()
 
     def incident_direction(self) -> np.ndarray:
         """The light direction ``l`` at the sphere point facing the viewer (local frame, ``n = +z``).
@@ -736,6 +769,11 @@ class AppState:
         q = "f_r·cos θ_l" if self.times_cos else "f_r"
         q = f"log10(1 + {q})" if self.log else q + " (1/sr)"
         return f"{q}  [{CHANNEL_LABELS[self.channel]}]"
+
+
+def _copy_tables(tables) -> tuple:
+    """A copy of light tables (their lists too): what the state hands out cannot change what it holds."""
+    return tuple({k: list(v) if isinstance(v, list) else v for k, v in t.items()} for t in tables)
 
 
 def _split_kd(kd):

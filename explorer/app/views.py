@@ -315,7 +315,7 @@ class AlbedoView:
 MATERIAL_FIELDS = frozenset({"model", "kd", "color", "params"})
 LIGHT_FIELDS = frozenset(
     {"light", "elevation", "azimuth", "intensity", "light_color", "ambient", "distance", "attenuation", "cutoff"}
-    | {"spot_exponent"}
+    | {"spot_exponent", "scene_lights"}
 )
 #: Pseudo-field: the incident polar angle θ_l at the facing point.  The BRDF views depend on it alone
 #: (isotropic models; the plots are drawn in the plane of incidence), so turning the light about the
