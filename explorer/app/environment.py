@@ -73,24 +73,38 @@ def world_light(light):
     Parameters
     ----------
     light : Light
-        A directional, point or spot light (an ambient light has no direction and is returned as is).
+        A directional, point, spot, rect or disk light, or an OpenGL light (:class:`lighting.gl.Light`, or a
+        scene's :class:`~lighting.scene.GLLight`); an ambient light has no direction and is returned as is.
 
     Returns
     -------
     Light
-        The same light, its direction and position turned.
+        The same light, its directions, position, centre and edges turned (an OpenGL position's ``w`` kept).
 
     Examples
     --------
     >>> from lighting import DirectionalLight
     >>> world_light(DirectionalLight((0.0, 0.0, 1.0))).direction.tolist()  # toward the viewer: -y
     [0.0, -1.0, 0.0]
+    >>> from lighting.lights import RectLight
+    >>> rect = world_light(RectLight(center=(0.0, 0.0, 3.0)))  # in front of the sphere, facing it (-z)
+    >>> rect.center.tolist(), float(rect.normal()[1])  # in front is -y, facing the sphere is +y
+    ([0.0, -3.0, 0.0], 1.0)
     """
+    if isinstance(light, AmbientLight):
+        return light
+    if hasattr(light, "light") and hasattr(light, "in_eye_space"):  # a scene's GLLight: its OpenGL light
+        return dataclasses.replace(light, light=world_light(light.light))
     changes = {}
-    for name in ("direction", "position"):
+    for name in ("direction", "position", "center", "edge_u", "edge_v", "normal_dir", "spot_direction"):
         value = getattr(light, name, None)
-        if value is not None and not isinstance(light, AmbientLight):
-            changes[name] = VIEW_TO_WORLD @ np.asarray(value, dtype=np.float64)
+        if value is None:
+            continue
+        v = np.asarray(value, dtype=np.float64)
+        if v.shape == (4,):  # an OpenGL position (x, y, z, w)
+            changes[name] = tuple(np.append(VIEW_TO_WORLD @ v[:3], v[3]))
+        else:
+            changes[name] = VIEW_TO_WORLD @ v
     return dataclasses.replace(light, **changes) if changes else light
 
 
@@ -328,15 +342,17 @@ class EnvironmentMixin:
         return light
 
     def world_lights(self) -> list:
-        """The key light in the environment's frame (no ambient light: the environment replaces it).
+        """The key light and the extra lights in the environment's frame (no ambient light: the environment
+        replaces it; an OpenGL extra light's own ambient part stays).
 
         Returns
         -------
         list of Light
-            The key light turned by :func:`world_light`, or an empty list for the "ambient" light type.
+            The key light (none for the "ambient" light type) and :meth:`AppState.extra_lights`, turned by
+            :func:`world_light`.
         """
         key = self.state.key_light()
-        return [] if key is None else [world_light(key)]
+        return [world_light(lt) for lt in ([] if key is None else [key]) + self.state.extra_lights()]
 
     # ------------------------------------------------------------------ renderers
     def _sphere_renderer_world(self, mode, tessellation):
