@@ -532,9 +532,9 @@ def illumination_terms(q, *, kd, ks, shininess, ambient, light):
         "{scan_latitude_deg:g}°, midway between two rings of vertices, through the matte part). Gouraud loses "
         "the sharp highlight (it falls between vertices), and its intensity is piecewise linear: the slope "
         "jumps at every edge (dotted lines), which the eye exaggerates into Mach bands. The second difference "
-        "shows the kinks; the Mach band metric (median relative slope jump at an edge) is {metric_gouraud:.2f} for "
-        "Gouraud, {metric_phong:.2f} for Phong interpolation. (The late spike of both is the shadow terminator, "
-        "where max(n·l, 0) itself has a kink.)"
+        "shows the kinks; the Mach band measure (median slope kink at an edge, in display levels per pixel) is "
+        "{metric_gouraud:.2g} for Gouraud, {metric_phong:.2g} for Phong interpolation. (The late spike of both is "
+        "the shadow terminator, where max(n·l, 0) itself has a kink.)"
     ),
     slides="UBC: Lighting in the rendering pipeline (per-vertex lighting). CMSC 435: When to compute; Gouraud; Phong",
     n_lat=5,
@@ -629,7 +629,7 @@ def gouraud_vs_phong(q, *, n_lat, n_lon, kd, ks, shininess, light, scan_latitude
         p = prof[m]
         ax1.plot(p.x, p.intensity, color=colours[m], label=m.capitalize())
         ax2.plot(p.x[1:-1], p.d2 * scale, color=colours[m], lw=1.6,
-                 label=f"{m.capitalize()}  (metric {metrics[m]:.2f})")  # fmt: skip
+                 label=f"{m.capitalize()}  (measure {metrics[m]:.2g})")  # fmt: skip
     ax1.tick_params(labelbottom=False)
     ax1.set_ylim(0.0, None)
     ax1.set_ylabel("luminance (linear)")

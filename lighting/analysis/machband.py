@@ -10,11 +10,11 @@ This module turns that into numbers:
 
 * :func:`scanline_profile` — intensity along one image row, with its first and
   second differences (``ΔI``, ``Δ²I``);
-* :func:`edge_jump_metric` — one number: the mean ``|Δ²I|`` at pixels where the
-  scan line crosses a triangle edge, divided by the mean ``|ΔI|`` of the same
-  rows.  A slope discontinuity of size ``s`` shows as ``|Δ²I| ≈ s`` at the edge,
-  so the ratio is the typical relative slope jump; it is near the (small)
-  curvature term for smooth shading and large for Gouraud.
+* :func:`edge_jump_metric` — one number: the typical slope kink at the pixels
+  where a scan line crosses a triangle edge, after the surface's own curvature
+  is taken out, in display levels per pixel (after the sRGB encoding the eye
+  sees).  It is 0 on a flat image and on one linear across the edges, small for
+  smooth shading and large for Gouraud.
 
 References
 ----------
@@ -35,7 +35,7 @@ import numpy as np
 from .._numeric import ArgumentTypeError, _fmt, check_count, real_array
 from .quantity import LUMINANCE
 
-__all__ = ["Profile", "luminance", "scanline_profile", "edge_jump_metric"]
+__all__ = ["Profile", "luminance", "scanline_profile", "edge_jump_metric", "KINK_SCALE"]
 
 #: Rec. 709 / sRGB luminance weights of linear RGB (:data:`lighting.analysis.quantity.LUMINANCE`) as an array.
 LUMA = np.array(LUMINANCE)
@@ -150,20 +150,57 @@ def _longest_run(mask: np.ndarray) -> np.ndarray:
     return np.arange(starts[k], ends[k])
 
 
-def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_run: int = 16) -> float:
-    """How sharply the intensity's slope changes where scan lines cross triangle edges.
+#: The visibility scale of :func:`edge_jump_metric`: a change of slope of one 8-bit display level per pixel.
+KINK_SCALE = 1.0 / 255.0
+#: Kinks within this many units of the image dtype's rounding (relative to the values they are made of) count as 0:
+#: an interpolated flat image wobbles by a few ulp, which no display shows.
+_ROUNDING_ULPS = 64.0
+#: sRGB's linear segment ends here (:func:`lighting.render.image.linear_to_srgb`).
+_SRGB_KNEE = 0.0031308
+#: Offsets (from the edge's index ``k`` into the second differences) of the curvature estimate beside an edge.
+_SIDE = np.array([-5, -4, -3, -2, 1, 2, 3, 4])
 
-    For every crossing of a triangle edge between pixels ``x_k`` and ``x_{k+1}``
-    the slope change across it is ``ΔI_{k+1} − ΔI_{k−1}``; the smooth surface's
-    own curvature over the same two steps, estimated from the second
-    differences three pixels away on either side, is subtracted.  The metric
-    is the median of the remaining kinks divided by the mean ``|ΔI|`` of the
-    rows: a typical relative slope jump per edge.
+
+def _srgb_slope(x: np.ndarray) -> np.ndarray:
+    """The slope of the sRGB encoding: 12.92 on its linear segment, 0 where the display clips (x ≤ 0, x ≥ 1)."""
+    xs = np.clip(x, _SRGB_KNEE, 1.0)
+    power = (1.055 / 2.4) * np.power(xs, 1.0 / 2.4 - 1.0)
+    return np.where((x <= 0) | (x >= 1), 0.0, np.where(x <= _SRGB_KNEE, 12.92, power))
+
+
+def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_run: int = 16) -> float:
+    r"""The Mach-band measure: the typical visible slope kink where scan lines cross triangle edges.
+
+    Along a scan line with intensity ``I_j`` (linear, 1 = display white), first differences
+    ``Δ_j = I_{j+1} − I_j`` and second differences ``Δ²_j = Δ_{j+1} − Δ_j``, a triangle edge
+    between pixels ``k`` and ``k + 1`` has the kink::
+
+        κ_k = (Δ_{k+1} − Δ_{k−1}) − 2 median(Δ²_{k−5}, …, Δ²_{k−2}, Δ²_{k+1}, …, Δ²_{k+4})
+        K_k = e'((I_k + I_{k+1}) / 2) · |κ_k| / s,        s = KINK_SCALE = 1/255
+
+    The first term is the slope jump across the edge; the second the curvature the shaded surface
+    has anyway, read beside the edge (symmetric about it, so it cancels every cubic exactly; a median,
+    so that a kink or step of the shading itself passing close by — the shadow terminator, a spot's
+    rim — barely moves it).  ``e'`` is the slope of the sRGB encoding the eye sees: 12.92 on its
+    linear segment, ``(1.055/2.4) I^{1/2.4 − 1}`` above ``I = 0.0031308``, 0 where the display clips
+    (``I ≤ 0`` or ``I ≥ 1``).  So ``K_k`` is the slope change in 8-bit display levels per pixel:
+    ``K = 1`` means the slope changes by one display level per pixel at the edge.  ``|κ_k|`` below
+    the rounding of the image's dtype (64 ulp of the largest value in the window ``k−5 … k+6``)
+    counts as 0.  The measure is::
+
+        M = median of K_k over the shaded crossings
+
+    A crossing counts if its window is alone (no other edge within six pixels, whose kink the
+    curvature term would hold) and shaded (its values are not all equal to rounding: an unlit or
+    ambient-only stretch has no slope to kink).  Hence ``M = 0`` exactly on a constant image and on
+    an image linear across every edge, it grows in proportion as every kink grows, and it stays small
+    where the image is nearly flat, since no slope divides it.  It is per pixel: the same shading
+    rendered twice as large has kinks half as steep.
 
     Parameters
     ----------
     image : array_like, (H, W, 3) or (H, W)
-        Linear image.
+        Linear image (display-referred: 1 is white).
     triangle_id : array_like of int, (H, W)
         Triangle seen at each pixel, -1 for background (a rasterizer's
         geometry buffer provides it).
@@ -178,14 +215,27 @@ def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_
     Returns
     -------
     float
-        0 where slopes never jump at edges; larger is more banding.  Gouraud
-        shading (colours interpolated linearly) has a kink at every edge;
-        Phong interpolation has smaller ones — its interpolated normals are
-        continuous but their derivative still jumps at edges, so it reduces
-        Mach banding (3–6 times on a coarse sphere, see the tests) without
-        removing it.
+        ``M`` above, ``≥ 0``; 0 when no crossing counts.  Gouraud shading (colours interpolated
+        linearly) has a kink at every edge; Phong interpolation has smaller ones — its interpolated
+        normals are continuous but their derivative still jumps at edges, so it reduces Mach banding
+        without removing it.
+
+    Examples
+    --------
+    >>> tid = np.repeat(np.arange(2), 16)[None, :].repeat(3, axis=0)  # two triangles, 16 px each
+    >>> x = np.arange(32.0)
+    >>> edge_jump_metric(np.full((3, 32), 0.5), tid, min_run=1)  # flat
+    0.0
+    >>> edge_jump_metric(np.tile(0.2 + 0.01 * x, (3, 1)), tid, min_run=1)  # linear across the edge
+    0.0
+    >>> kinked = np.tile(0.2 + 0.01 * np.abs(x - 15.5), (3, 1))  # the slope jumps by 0.02 at the edge
+    >>> e_slope = 1.055 / 2.4 * 0.205 ** (1 / 2.4 - 1)  # sRGB's slope at I = 0.205
+    >>> bool(np.isclose(edge_jump_metric(kinked, tid, min_run=1), e_slope * 0.02 * 255))
+    True
     """
     y = _channel(image, channel)
+    src = np.asarray(image) if isinstance(image, np.ndarray) else None
+    eps = float(np.finfo(src.dtype if src is not None and src.dtype.kind == "f" else np.float64).eps)
     tid = np.asarray(triangle_id) if isinstance(triangle_id, np.ndarray) else None
     if tid is None or tid.dtype.kind not in "iu":
         tid = real_array("triangle_id", triangle_id, allowed=f"integer triangle ids (-1 for background) of shape "
@@ -203,23 +253,31 @@ def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_
         if isinstance(rows, (str, bytes)) or not hasattr(rows, "__iter__"):
             raise ArgumentTypeError(f"rows must be an iterable of row indices; got {type(rows).__name__} {_fmt(rows)}")
         rows = [check_count("rows[]", r, 0, tid.shape[0] - 1) for r in rows]
-    kinks, slopes = [], []
+    kinks = []
     for r in rows:
         x = _longest_run(cov[r])
         if x.size < max(min_run, 12):
             continue
         x = x[3:-3]  # the silhouette's own jump is not a Mach band
-        d1 = np.diff(y[r, x])
-        d2 = np.diff(d1)  # d2[k] = ΔI_{k+1} − ΔI_k, centred on x[k + 1]
+        i = y[r, x]
+        d1 = np.diff(i)
+        d2 = np.diff(d1)  # d2[k] = Δ_{k+1} − Δ_k, centred on x[k + 1]
         t = tid[r, x]
         k = np.flatnonzero(t[:-1] != t[1:])  # an edge between x[k] and x[k + 1]
-        k = k[(k >= 4) & (k + 3 < d2.size)]
-        if k.size:
-            across = d2[k - 1] + d2[k]
-            baseline = d2[k - 4] + d2[k + 3]
-            kinks.append(np.abs(across - baseline))
-        slopes.append(np.abs(d1))
-    if not kinks or not slopes:
-        return 0.0
-    scale = float(np.mean(np.concatenate(slopes)))
-    return float(np.median(np.concatenate(kinks)) / scale) if scale > 0 else 0.0
+        # Alone in its window [k − 5, k + 6]: the curvature term must not hold a neighbouring edge's kink.
+        gap = np.diff(np.concatenate([[-np.inf], k, [np.inf]]))
+        k = k[(gap[:-1] > 6) & (gap[1:] > 6) & (k >= 5) & (k + 4 < d2.size)]
+        if not k.size:
+            continue
+        # The curvature beside the edge: the median of the eight second differences at k−5 … k−2 and
+        # k+1 … k+4 (symmetric about the edge, so a cubic cancels exactly; a kink or step of the shading
+        # itself — a terminator, a spot's rim — passing through the window moves it little).
+        side = d2[k[:, None] + _SIDE]
+        kappa = (d2[k - 1] + d2[k]) - 2.0 * np.median(side, axis=1)
+        win = i[k[:, None] + np.arange(-5, 7)]
+        floor = _ROUNDING_ULPS * eps * np.abs(win).max(axis=1)
+        shaded = np.ptp(win, axis=1) > floor  # flat windows (unlit, ambient only) have no slope to kink
+        kappa = np.where(np.abs(kappa) > floor, np.abs(kappa), 0.0)
+        kinks.append((_srgb_slope(0.5 * (i[k] + i[k + 1])) * kappa)[shaded])
+    kinks = np.concatenate(kinks) if kinks else np.zeros(0)
+    return float(np.median(kinks) / KINK_SCALE) if kinks.size else 0.0

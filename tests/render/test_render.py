@@ -75,7 +75,7 @@ def test_mach_band_metric_separates_gouraud_from_phong(mesh, specular):
     gouraud = edge_jump_metric(r.render(mat, lights, mode="gouraud"), tid)
     phong = edge_jump_metric(r.render(mat, lights, mode="phong"), tid)
     exact = edge_jump_metric(Renderer(AnalyticSphere(), cam).render(mat, lights), tid)
-    assert gouraud > 2.5 * phong  # measured 3.0–6.3 over these meshes and materials
+    assert gouraud > 2.5 * phong  # measured 3.4–45 over these meshes and materials
     assert exact < phong / 10  # the true sphere has no edges: what remains is the noise floor
 
 
