@@ -9,7 +9,9 @@ the explorer model:
 * :meth:`~CompareMixin.open_brdf` — a BRDF file (``.brdf``, MERL ``.binary``) becomes a registered
   model (:func:`lighting.files.file_model`): the current model, or an entry of the list;
 * :meth:`~CompareMixin.fit` — an analytic model of :data:`FIT_MODELS` fitted to the current model by
-  :func:`lighting.analysis.fit.fit_brdf` (seconds: never in a drag), added as an entry;
+  :func:`fit_model` (seconds: never in a drag), added as an entry: with a Lambert part beside it when the
+  current model reflects diffusely (:func:`has_diffuse`), as a specular lobe alone cannot stand for a
+  diffuse one;
 * the overlays: the polar slice and the θ_v, θ_h, θ_d curves of every *shown* entry (its colour, the
   same terms and plot options as the current model), cached per entry, so only a new light angle or
   new plot options recompute them;
@@ -62,6 +64,8 @@ __all__ = [
     "AlbedoCurveView",
     "restrict",
     "pin_label",
+    "has_diffuse",
+    "fit_model",
     "CompareMixin",
 ]
 
@@ -184,6 +188,129 @@ def pin_label(state) -> str:
     return " ".join([label, *words]) if words else label
 
 
+def has_diffuse(brdf) -> bool:
+    """Whether ``brdf`` has a diffuse part: a part whose term is ``"diffuse"`` or that carries its own diffuse.
+
+    Models read from a file (``own_diffuse``: measured data and BRDF Explorer files are the whole material)
+    count as having one, as their data may hold it.
+
+    Parameters
+    ----------
+    brdf : BRDF
+        A model or a sum.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from lighting import BlinnPhong
+    >>> has_diffuse(Lambert(0.5) + BlinnPhong(0.5, 32.0)), has_diffuse(BlinnPhong(0.5, 32.0))
+    (True, False)
+    """
+    return any(p.term == "diffuse" or bool(getattr(p, "own_diffuse", False)) for p in brdf.parts)
+
+
+def fit_model(name: str, target, *, n_theta: int = 12, n_phi: int = 16, max_theta_deg: float = 85.0):
+    """Fit the analytic model ``name`` of :data:`FIT_MODELS` to ``target``; with a Lambert part if it has a diffuse one.
+
+    A target with a diffuse part (:func:`has_diffuse`) is fitted by ``Lambert(k_d) + model``, ``k_d``
+    (RGB) and the model's free parameters together, by the loss of :func:`lighting.analysis.fit.fit_brdf`
+    (cosine-weighted least squares over the same direction pairs): a specular lobe alone, fitted to
+    a surface that is mostly diffuse, comes out a broad lobe standing for the diffuse part too (GGX
+    α 0.64 for the explorer's default surface, whose highlight alone wants 0.33), which the term
+    switches cannot take apart.  A target without one is fitted by the model alone (``fit_brdf``).
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`FIT_MODELS`.
+    target : BRDF
+        The model to fit.
+    n_theta, n_phi, max_theta_deg
+        The direction pairs compared (:func:`lighting.analysis.audit.direction_pairs`).
+
+    Returns
+    -------
+    FitResult
+        As :func:`~lighting.analysis.fit.fit_brdf`; with a Lambert part, ``model`` is the sum and
+        ``parameters`` and ``errors`` hold ``kd`` beside the model's own.
+    """
+    from lighting.analysis.fit import fit_brdf
+
+    if name not in FIT_MODELS:
+        raise ValueError(f"fit must be one of {', '.join(FIT_MODELS)}; got {name!r}")
+    model, fixed, _ = FIT_MODELS[name]
+    if not has_diffuse(target):
+        return fit_brdf(model, target, fixed=dict(fixed), n_theta=n_theta, n_phi=n_phi, max_theta_deg=max_theta_deg)
+    return _fit_with_lambert(model, dict(fixed), target, n_theta, n_phi, max_theta_deg)
+
+
+def _fit_with_lambert(model, fixed, target, n_theta, n_phi, max_theta_deg):
+    """``Lambert(k_d) + model`` fitted to ``target``: ``fit_brdf``'s loss, parametrization and errors, k_d added."""
+    from scipy.optimize import least_squares
+
+    from lighting.analysis.audit import direction_pairs
+    from lighting.analysis.fit import FitResult, _bounds, _free_rows, _standard_errors
+    from lighting.models import model_variants
+
+    cls, variant_fixed = model_variants()[model]
+    table = {p.name: p for p in cls.parameters}
+    fixed = {**variant_fixed, **{k: table[k].check(v) for k, v in fixed.items()}}
+    kd_row = next(p for p in Lambert.parameters if p.name == "kd")
+    rows = [kd_row, *_free_rows(cls, fixed)]
+    l, v = direction_pairs(n_theta, n_phi, max_theta_deg)  # noqa: E741
+    n = np.broadcast_to([0.0, 0.0, 1.0], l.shape)
+    cos_l = l[:, 2:3]
+    want = np.asarray(target.eval(n, l, v), dtype=np.float64)
+    if want.shape != l.shape[:1] + (3,) or not np.all(np.isfinite(want)):
+        raise ValueError(f"fit: the target must give finite f_r of shape ({len(l)}, 3); got shape {want.shape}")
+    target_rms = float(np.sqrt(np.mean((want * cos_l) ** 2)))
+    # k_d starts where it explains the target best beside the model's defaults (a linear least squares).
+    spec0 = cls(**{**{p.name: p.default for p in rows[1:]}, **fixed}).eval(n, l, v)
+    w = cos_l**2
+    kd0 = np.clip(math.pi * np.sum((want - spec0) * w, axis=0) / np.sum(w), 0.0, 1.0)
+    slots, x0, lo, hi = [], [], [], []
+    for p in rows:
+        start = kd0 if p is kd_row else p.default
+        value = np.broadcast_to(np.asarray(start, float), (3,) if p.kind == "color" else ())
+        b = _bounds(p)
+        for x in np.atleast_1d(value):
+            x = float(np.clip(x, p.low, p.high))
+            x = math.log(max(x, math.exp(b[0]))) if p.log else x
+            x0.append(min(max(x, b[0]), b[1]))
+            lo.append(b[0])
+            hi.append(b[1])
+        slots.append((p, len(np.atleast_1d(value))))
+    evaluations = 0
+
+    def build(x):
+        values, i = dict(fixed), 0
+        for p, k in slots:
+            part = np.exp(x[i : i + k]) if p.log else np.asarray(x[i : i + k])
+            values[p.name] = tuple(float(c) for c in part) if p.kind == "color" else float(part[0])
+            i += k
+        kd = values.pop(kd_row.name)
+        return Lambert(kd) + cls(**values), {kd_row.name: kd, **values}
+
+    def residual(x):
+        nonlocal evaluations
+        evaluations += 1
+        brdf, _ = build(x)
+        return ((brdf.eval(n, l, v) - want) * cos_l).ravel()
+
+    solution = least_squares(residual, np.array(x0), bounds=(np.array(lo), np.array(hi)), method="trf",
+                             x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)  # fmt: skip
+    brdf, values = build(solution.x)
+    res = residual(solution.x)
+    evaluations -= 1
+    rms = float(np.sqrt(np.mean(res**2)))
+    errors = _standard_errors(solution.jac, res, solution.x, slots)
+    return FitResult(brdf, values, rms, rms / target_rms if target_rms > 0 else 0.0, errors, evaluations,
+                     bool(solution.success), str(solution.message))  # fmt: skip
+
+
 class CompareMixin:
     """The comparison list of :class:`~explorer.app.views.ExplorerModel`: entries, overlays, albedo curves, fits."""
 
@@ -251,7 +378,8 @@ class CompareMixin:
         """Fit an analytic model to the current model and add it to the list, labelled with its residual.
 
         The target is the surface's BRDF (:meth:`~explorer.app.state.AppState.brdf`); the fit is
-        :func:`lighting.analysis.fit.fit_brdf` (cosine-weighted least squares, a second or more).
+        :func:`fit_model` (cosine-weighted least squares, a second or more): ``Lambert(k_d) +`` the model
+        when the target has a diffuse part, labelled ``"… + Lambert"``.
 
         Parameters
         ----------
@@ -263,18 +391,18 @@ class CompareMixin:
         (Entry, FitResult)
             The new entry and the fit.
         """
-        from lighting.analysis.fit import fit_brdf
-
         name = self.state.fit if fit is None else fit
         if name not in FIT_MODELS:
             raise ValueError(f"fit must be one of {', '.join(FIT_MODELS)}; got {name!r}")
         if len(self.compare) >= self.compare.max_entries:
             raise ValueError(f"the comparison holds at most {self.compare.max_entries} BRDFs; remove one first")
-        model, fixed, short = FIT_MODELS[name]
-        result = fit_brdf(model, self.state.brdf(), fixed=dict(fixed))
+        short = FIT_MODELS[name][2]
+        target = self.state.brdf()
+        result = fit_model(name, target)
         p = result.parameters
         shape = next((f"{_SHORT[k]}={p[k]:.3g}" for k in ("roughness", "alpha_x", "shininess") if k in p), "")
-        label = f"{short} fit {shape} (rel. rms {result.relative_rms:.3f})".replace("  ", " ")
+        diffuse = " + Lambert" if has_diffuse(target) else ""
+        label = f"{short} fit {shape}{diffuse} (rel. rms {result.relative_rms:.3f})".replace("  ", " ")
         return self.compare.add(result.model, label), result
 
     def split_target(self):

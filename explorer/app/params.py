@@ -29,6 +29,7 @@ ValueError: shininess must be a number in [0, inf); got -1
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -40,6 +41,7 @@ __all__ = [
     "MODEL_LABELS",
     "model_choices",
     "model_label",
+    "kd_label",
     "carries_diffuse",
     "diffuse_parameter",
     "parameter_table",
@@ -68,7 +70,8 @@ def model_label(name: str) -> str:
 
     Each word of the model's own name is capitalized (``"cook-torrance"`` → ``"Cook-Torrance"``);
     a variant adds the rest of its name in words (``"blinn-phong-normalized"`` →
-    ``"Blinn-Phong normalized"``).
+    ``"Blinn-Phong normalized"``).  A model read from a BRDF file keeps the file's own name, as its
+    author wrote it: ``"ggx-copper (file)"`` for ``ggx-copper.brdf``.
 
     Parameters
     ----------
@@ -86,6 +89,9 @@ def model_label(name: str) -> str:
     ['Lambert', 'Blinn-Phong', 'Blinn-Phong normalized']
     """
     entry = model_variants().get(name)
+    path = getattr(entry[0], "file_path", "") if entry is not None else ""
+    if path:
+        return f"{os.path.splitext(os.path.basename(path))[0]} (file)"
     base = entry[0].name if entry is not None and entry[0].name else name
     if name != base and name.startswith(base + "-"):
         return model_label(base) + " " + name[len(base) + 1 :].replace("-", " ")
@@ -162,6 +168,35 @@ def carries_diffuse(cls) -> bool:
     bool
     """
     return cls.term == "diffuse" or bool(getattr(cls, "own_diffuse", False))
+
+
+def kd_label(model: str) -> str:
+    """What the explorer's ``k_d`` control sets for ``model``, as its label says it.
+
+    For most models ``k_d × colour`` is the diffuse albedo: of the Lambert part the explorer adds, or of
+    the model's own diffuse colour (:func:`diffuse_parameter`).  A model that reflects diffusely by
+    itself without such a colour (a BRDF file: its colours are its own parameters) gets no Lambert part,
+    so there the control sets only the ambient coefficient ``k_a``.
+
+    Parameters
+    ----------
+    model : str
+        A model or variant name.
+
+    Returns
+    -------
+    str
+        ``"k_d (diffuse albedo)"`` or ``"k_a (ambient)"``.
+
+    Examples
+    --------
+    >>> kd_label("blinn-phong"), kd_label("oren-nayar")
+    ('k_d (diffuse albedo)', 'k_d (diffuse albedo)')
+    """
+    cls, _ = _entry(model)
+    if carries_diffuse(cls) and diffuse_parameter(cls) is None:
+        return "k_a (ambient)"
+    return "k_d (diffuse albedo)"
 
 
 def diffuse_parameter(cls) -> str | None:

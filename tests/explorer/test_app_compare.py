@@ -226,10 +226,11 @@ def test_split_sphere_halves_are_the_single_model_renders():
     assert "sphere" in m.update()
     split = m.views["sphere"]
     half = split.image.shape[1] // 2
-    assert split.split == entry.label and split.split_colour == entry.colour
-    np.testing.assert_array_equal(split.image[:, :half], current_alone[:, :half])
-    np.testing.assert_array_equal(split.image[:, half:], pinned_alone[:, half:])
-    assert not np.array_equal(current_alone[:, half:], pinned_alone[:, half:])
+    mine = split.split_mask  # the current model's half: counter-clockwise of the divider along the light's azimuth
+    assert split.split == entry.label and split.split_colour == entry.colour and split.split_angle == 160.0
+    np.testing.assert_array_equal(split.image[mine], current_alone[mine])
+    np.testing.assert_array_equal(split.image[~mine], pinned_alone[~mine])
+    assert not np.array_equal(current_alone[~mine], pinned_alone[~mine])
     # The solo entry takes the right half; a drag re-shades both halves (a live view).
     m.pin()
     m.compare.set_solo(1)
