@@ -31,7 +31,7 @@ import numpy as np
 
 from lighting import Lambert, Material
 from lighting.analysis.machband import LUMA
-from lighting.lights import AmbientLight, EnvironmentLight, load_environment
+from lighting.lights import SKIES, AmbientLight, EnvironmentLight, load_environment
 from lighting.lights.environment import LatLongEnvironment
 from lighting.render import AnalyticSphere, Renderer
 from lighting.render.camera import Camera
@@ -41,6 +41,11 @@ from .encode import encode8
 __all__ = [
     "VIEW_TO_WORLD",
     "ENV_FIELDS",
+    "ENVIRONMENT_LABELS",
+    "ENVIRONMENT_HELP",
+    "AUTO_CLIP_FRACTION",
+    "environment_label",
+    "auto_exposure",
     "TILE_PIXELS",
     "PASS_SAMPLES",
     "MAX_SAMPLES",
@@ -65,6 +70,87 @@ SKY_ROWS = 256
 OBJECT_EYE = np.array([0.0, -4.6, 0.9])
 OBJECT_TARGET = np.array([0.0, 0.0, 0.12])
 OBJECT_FOV_DEG = 29.0
+#: What every environment choice is called on every button, menu, caption and command-line help: the
+#: engine's own names (``--environment band-limited`` is the button "band-limited"), one table for all.
+ENVIRONMENT_LABELS = {"none": "none", **{name: name for name in SKIES}, "file": "file"}
+#: One line on each environment choice (tooltips, help): the engine's description of each sky.
+ENVIRONMENT_HELP = {
+    "none": "no environment: the key light and the ambient light I_a",
+    **{name: sky.description for name, sky in SKIES.items()},
+    "file": "the environment image given with --environment FILE (lat-long, +z up)",
+}
+#: The share of the lit sphere's pixels :func:`auto_exposure` lets clip (a sun's highlight).
+AUTO_CLIP_FRACTION = 0.01
+
+
+def environment_label(name: str) -> str:
+    """The label of an environment choice (:data:`ENVIRONMENT_LABELS`); an unknown name is refused by name.
+
+    Parameters
+    ----------
+    name : str
+        A choice of the ``environment`` control.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> environment_label("band-limited"), environment_label("none")
+    ('band-limited', 'none')
+    """
+    if name not in ENVIRONMENT_LABELS:
+        raise ValueError(f"environment must be one of {', '.join(ENVIRONMENT_LABELS)}; got {name!r}")
+    return ENVIRONMENT_LABELS[name]
+
+
+def auto_exposure(image, coverage, clip_fraction: float = AUTO_CLIP_FRACTION) -> float:
+    """The exposure (stops) at which at most ``clip_fraction`` of the covered pixels clip.
+
+    An environment lights the sphere from every direction: in the classic form (``π`` times the
+    radiance) a sky of radiance 1 on ``k_d = 0.8`` gives 2.5, and at the default exposure most of the
+    sphere is white.  The front ends set the ``exposure`` control to this value when a sky or file is
+    switched on (:meth:`EnvironmentMixin.apply_auto_exposure`); the form stays the one the user chose.
+    The value is rounded down to a tenth of a stop and kept in the control's range ``[−8, 8]``.
+
+    Parameters
+    ----------
+    image : ndarray, (H, W, 3)
+        The linear image.
+    coverage : ndarray of bool, (H, W)
+        The pixels that count (the sphere).
+    clip_fraction : float
+        The share of covered pixels that may clip, in ``[0, 1)``.
+
+    Returns
+    -------
+    float
+        Stops: ``image · 2^stops`` has at most that share of covered pixels with a channel above 1.
+
+    Examples
+    --------
+    >>> img = np.full((2, 2, 3), 4.0); img[0, 0] = 100.0
+    >>> auto_exposure(img, np.ones((2, 2), bool), 0.25)  # the brightest quarter may clip: 4 → 1
+    -2.0
+    >>> auto_exposure(np.zeros((2, 2, 3)), np.ones((2, 2), bool))  # nothing lit: nothing to adjust
+    0.0
+    """
+    if not (isinstance(clip_fraction, (int, float)) and 0.0 <= clip_fraction < 1.0):
+        raise ValueError(f"clip_fraction must be a number in [0, 1); got {clip_fraction!r}")
+    brightest = np.max(np.asarray(image, dtype=np.float64)[np.asarray(coverage, dtype=bool)], axis=-1, initial=0.0)
+    if brightest.size == 0 or not np.any(brightest > 0):
+        return 0.0
+    # The value that the brightest share of pixels above it may exceed: brought to 1 (an order statistic,
+    # so no more than that share clips whatever the distribution).
+    k = max(int(math.ceil(brightest.size * (1.0 - clip_fraction) - 1e-9)) - 1, 0)
+    level = float(np.partition(brightest, k)[k])
+    if not level > 0:
+        return 0.0
+    stops = math.floor(-10.0 * math.log2(level) + 1e-9) / 10.0
+    if level * 2.0**stops > 1.0:  # rounding of the logarithm: the level itself never passes 1
+        stops = round(stops - 0.1, 1)
+    return float(min(max(stops, -8.0), 8.0))
 
 
 def world_light(light):
@@ -341,6 +427,46 @@ class EnvironmentMixin:
                                  prefiltered=pre)  # fmt: skip
         return light
 
+    def apply_auto_exposure(self) -> set[str]:
+        """What a front end calls after the ``environment`` control changed: the exposure follows the light.
+
+        With an environment on, the ``exposure`` control is set to the lit sphere's automatic exposure
+        (:attr:`~explorer.app.views.SphereView.auto_exposure`, :func:`auto_exposure`), and the exposure it
+        had before is remembered; with the environment off again, that exposure comes back (unless the
+        automatic one was changed by hand meanwhile).  The state stays the one source of truth: this sets
+        the control, as a slider would.
+
+        Returns
+        -------
+        set of str
+            The views recomputed (by the updates this makes).
+
+        Examples
+        --------
+        >>> from explorer.app.views import ExplorerModel
+        >>> model = ExplorerModel(sphere_size=32, mesh_size=32, lobe_resolution=8)
+        >>> model.state.environment = "uniform"
+        >>> _ = model.apply_auto_exposure(); model.state.exposure
+        -2.1
+        >>> model.state.environment = "none"
+        >>> _ = model.apply_auto_exposure(); model.state.exposure
+        0.0
+        """
+        views = self.update()
+        s = self.state
+        auto = self.views["sphere"].auto_exposure
+        before, applied = getattr(self, "_exposure_before", None), getattr(self, "_exposure_applied", None)
+        if auto is not None:
+            if before is None or applied is None or s.exposure != applied:
+                before = s.exposure  # the exposure to come back to: the user's
+            s.update(exposure=auto)
+            self._exposure_before, self._exposure_applied = before, auto
+        elif before is not None:
+            if s.exposure == applied:
+                s.update(exposure=before)
+            self._exposure_before = self._exposure_applied = None
+        return views | self.update()
+
     def world_lights(self) -> list:
         """The key light and the extra lights in the environment's frame (no ambient light: the environment
         replaces it; an OpenGL extra light's own ambient part stays).
@@ -397,15 +523,17 @@ class EnvironmentMixin:
         lights = self.world_lights() + [self.environment_light(background=False)]
         img = r.render(material, lights, mode=s.mode, form=s.form, terms=s.terms)
         target = self.split_target() if s.split and not s.reference else None
-        if target is not None:
-            from .views import split_render  # views imports this module
+        from .views import split_angle, split_render  # views imports this module
 
+        if target is not None:
             img = split_render(r, img, Material(target.brdf, ambient=s.diffuse_albedo), lights, s)
         cov = r.gbuffer.coverage
         rgb8, clipped = encode8(img, cov, s.exposure)
+        auto = auto_exposure(img, cov)
         if target is None:
-            return SphereView(img, rgb8, cov, s.mode, geometry, clipped)
-        return SphereView(img, rgb8, cov, s.mode, geometry, clipped, target.label, target.colour)
+            return SphereView(img, rgb8, cov, s.mode, geometry, clipped, auto_exposure=auto)
+        return SphereView(img, rgb8, cov, s.mode, geometry, clipped, target.label, target.colour, split_angle(s),
+                          auto)  # fmt: skip
 
     def _object_view(self, material) -> ObjectView:
         s = self.state
@@ -499,7 +627,8 @@ class EnvironmentMixin:
             if t.name == "sphere":
                 rgb8, clipped = encode8(img, cov, s.exposure)
                 old = self.views["sphere"]
-                self.views["sphere"] = SphereView(img, rgb8, cov, old.mode, old.geometry, clipped)
+                self.views["sphere"] = SphereView(img, rgb8, cov, old.mode, old.geometry, clipped,
+                                                  auto_exposure=old.auto_exposure)  # fmt: skip
             else:
                 self.views["object"] = self._object_record(img, cov, "reference")
         return {t.name for t in self._targets}
