@@ -23,6 +23,7 @@ measured in the same run.
 
 from __future__ import annotations
 
+import json
 import statistics
 import sys
 import time
@@ -332,6 +333,73 @@ def format_report(r: dict) -> str:
     row("rasterize + shade (float32)", "raster_shade_f32_ms", "<= 1")
     no_vtk = "VTK: not installed (pip install 'lighting-explorer[app]')"
     lines.append(f"{'VTK off-screen render + read-back':44s} {vtk:8.2f}" if vtk else no_vtk)
+    return "\n".join(lines)
+
+
+#: Where ``bench --app`` measures the desktop window: Qt's platform and the 3D view's kind.
+APP_RUNS = (
+    ("offscreen", "images", ["--repeat"], {"QT_QPA_PLATFORM": "offscreen"}),
+    ("X server", "images", ["--repeat"], {"QT_QPA_PLATFORM": "xcb"}),
+    ("X server", "OpenGL widget", ["--opengl-3d", "--repeat"], {"QT_QPA_PLATFORM": "xcb"}),
+)
+
+
+def run_app(repeat: int = 15) -> list[dict]:
+    """The desktop window's interactions (:func:`explorer.qt.bench.benchmark_window`), each run in a process.
+
+    On Qt's ``offscreen`` platform, and in a real X server (``DISPLAY``, else a private Xvfb through
+    ``xvfb-run`` when it is installed) with the 3D lobe drawn as VTK images and as pyvistaqt's OpenGL widget.
+
+    Parameters
+    ----------
+    repeat : int
+        Samples per measurement.
+
+    Returns
+    -------
+    list of dict
+        One row per run: ``platform``, ``view3d`` and the medians (ms), or ``skipped`` with the reason.
+    """
+    import os
+    import shutil
+    import subprocess
+
+    rows = []
+    for platform, view3d, flags, env in APP_RUNS:
+        cmd = [sys.executable, "-m", "explorer.qt.bench", *flags, str(repeat)]
+        if env["QT_QPA_PLATFORM"] == "xcb" and not os.environ.get("DISPLAY"):
+            xvfb = shutil.which("xvfb-run")
+            if xvfb is None:
+                rows.append({"platform": platform, "view3d": view3d, "skipped": "no X server and no xvfb-run"})
+                continue
+            cmd = [xvfb, "--auto-servernum", "--server-args=-screen 0 1920x1200x24", *cmd]
+        done = subprocess.run(cmd, env={**os.environ, **env}, capture_output=True, text=True, timeout=900)
+        lines = [ln for ln in done.stdout.splitlines() if ln.startswith("{")]
+        if done.returncode != 0 or not lines:
+            reason = (done.stderr.strip().splitlines() or ["no output"])[-1]
+            rows.append({"platform": platform, "view3d": view3d, "skipped": f"failed: {reason}"})
+            continue
+        rows.append({"platform": platform, "view3d": view3d, **json.loads(lines[-1])})
+    return rows
+
+
+def format_app(rows) -> str:
+    """The table of ``lighting-explorer bench --app``: one column per run, one row per interaction."""
+    keys = [("drag_ms", "light slider dragged → lit sphere repainted", 16.0),
+            ("release_ms", "slider released → lobe and plots repainted", 100.0),
+            ("model_switch_ms", "model switched → every view repainted", 150.0),
+            ("lobe_redraw_ms", "3D lobe redrawn alone", None)]  # fmt: skip
+    size = next((r["window"] for r in rows if "window" in r), None)
+    head = f"The desktop window at {size[0]}x{size[1]} (median ms)" if size else "The desktop window (median ms)"
+    lines = [head, ""]
+    cols = [f"{r['platform']}, {r['view3d']}" for r in rows]
+    lines.append(f"{'what':46s} " + " ".join(f"{c:>24s}" for c in cols) + "  target")
+    for key, label, target in keys:
+        cells = [f"{r[key]:24.1f}" if key in r else f"{'-':>24s}" for r in rows]
+        lines.append(f"{label:46s} " + " ".join(cells) + (f"  <= {target:g}" if target else ""))
+    for r in rows:
+        if "skipped" in r:
+            lines.append(f"{r['platform']}, {r['view3d']}: skipped ({r['skipped']})")
     return "\n".join(lines)
 
 

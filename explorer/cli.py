@@ -314,6 +314,9 @@ EXTRAS = {
     "pyvista": ("PyVista", "app"),
     "vtk": ("PyVista", "app"),
     "vtkmodules": ("PyVista", "app"),
+    "PySide6": ("Qt (PySide6)", "app"),
+    "shiboken6": ("Qt (PySide6)", "app"),
+    "pyvistaqt": ("pyvistaqt", "app"),
     "ipywidgets": ("ipywidgets", "notebook"),
 }
 

@@ -8,11 +8,17 @@ marked slow one by one.  A test that would make the loop slower goes whole into 
 ``test_<topic>_full.py`` beside its fast ``test_<topic>.py``.
 """
 
+import os
 import re
 import sys
 from pathlib import Path
 
 import pytest
+
+# Qt's windows: in a real X server where one is given (CI runs the suite under Xvfb), else Qt's offscreen
+# platform (no OpenGL widgets there: the 3D lobe is drawn by VTK off-screen into an image).
+if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
 # Let tests import the sibling helper modules `quadrature` and `probes`.
 sys.path.insert(0, str(Path(__file__).parent))

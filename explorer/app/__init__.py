@@ -45,16 +45,20 @@ _HOMES = {
     "has_display": "display",
     "no_display_message": "display",
     "albedo_caption": "drawing",
-    "DEFAULT_WINDOW_SIZE": "layout",
-    "IDLE_MS": "layout",
-    "ExplorerApp": "window",
+    "DEFAULT_WINDOW_SIZE": ".command",
+    "IDLE_MS": "..qt.window",
+    "ExplorerApp": "..qt.window",
 }
+#: Names whose home has another name there: the desktop window is :class:`explorer.qt.window.ExplorerWindow`.
+_RENAMED = {"ExplorerApp": "ExplorerWindow"}
 
 
 def __getattr__(name):
     if name not in _HOMES:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_HOMES[name]}", __name__), name)
+    home = _HOMES[name]
+    module = importlib.import_module(home if home.startswith(".") else f".{home}", __name__)
+    value = getattr(module, _RENAMED.get(name, name))
     globals()[name] = value
     return value
 

@@ -10,7 +10,6 @@ import numpy as np
 
 from ..compare import BRDFList
 from .display import display_problem, no_display_message
-from .layout import DEFAULT_WINDOW_SIZE
 from .state import (
     ATTENUATIONS,
     CHANNELS,
@@ -29,6 +28,8 @@ from .state import (
 
 #: Smallest and largest window the explorer lays out.
 MIN_WINDOW, MAX_WINDOW = (640, 400), (8192, 8192)
+#: The window's size when ``--size`` is not given.
+DEFAULT_WINDOW_SIZE = (1280, 768)
 
 
 def _shown(value) -> str:
@@ -271,30 +272,29 @@ def run(args) -> int:
     except (ValueError, OSError) as exc:
         return print_error(exc)
     try:
-        require("explore", "pyvista")  # the window is VTK's: the one line names the extra to install
+        # The window is Qt's, its 3D view VTK's: the one line names the extra to install.
+        require("explore", "PySide6", "pyvista", "pyvistaqt")
     except ValueError as exc:
         return print_error(exc)
-    import pyvista as pv
-
     off_screen = bool(args.off_screen or args.screenshot)
     problem = None if off_screen else display_problem()
     if problem:
         print(no_display_message(problem), file=sys.stderr)
         return 1
-    if off_screen:
-        pv.OFF_SCREEN = True
+    from ..qt.app import qt_application, run_window
+
+    qt_application(off_screen=off_screen)
     try:
-        app = ExplorerApp(state, window_size=args.size, off_screen=off_screen, compare=compare, mesh=mesh,
-                          environment_file=env_file)  # fmt: skip
+        window = ExplorerApp(state, window_size=args.size, compare=compare, mesh=mesh, environment_file=env_file)
         if getattr(args, "fit_now", False):
-            app.fit(render=False)
+            window.fit()
     except ValueError as exc:
         return print_error(exc)
     if args.screenshot is not None:
         try:
-            rgb8 = np.ascontiguousarray(app.image(), dtype=np.uint8)
+            rgb8 = np.ascontiguousarray(window.image(), dtype=np.uint8)
         finally:
-            app.close()
+            window.close()
         try:
             write_image(args.screenshot, rgb8=rgb8, flag="--screenshot")
         except ValueError as exc:
@@ -302,9 +302,7 @@ def run(args) -> int:
         print(f"lighting-explorer: wrote {args.screenshot} ({rgb8.shape[1]}x{rgb8.shape[0]})")
         return 0
     if off_screen:
-        app.plotter.render()
-        app.close()
+        window.close()
         print("lighting-explorer: rendered off-screen (add --screenshot PATH to keep the picture)")
         return 0
-    app.show()
-    return 0
+    return run_window(window)

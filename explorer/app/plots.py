@@ -199,6 +199,8 @@ class BlitFigure:
         self.fig.canvas.mpl_connect("draw_event", self._on_draw)
         for artist in self._data_artists():
             self._animate(artist)
+        for axis in self._data_axes():
+            self._animate_axis(axis)
         for artist in self._caption_artists.values():
             self._animate(artist)
             artist.set_visible(self.show_captions)
@@ -209,6 +211,10 @@ class BlitFigure:
 
     def _data_artists(self) -> list:  # pragma: no cover - abstract
         raise NotImplementedError
+
+    def _data_axes(self) -> list:
+        """The axes (``Axis``) whose limits follow the data: blitted with it (:meth:`_animate_axis`)."""
+        return []
 
     def _caption(self, key, artist):
         """Register a text that changes with the data (drawn by the figure only if ``show_captions``)."""
@@ -223,6 +229,17 @@ class BlitFigure:
         artist.set_animated(True)
         self._animated.append(artist)
         return artist
+
+    def _animate_axis(self, axis):
+        """Make a data-following axis (its ticks, labels and grid) part of the blit, drawn under the data.
+
+        A new limit then redraws that axis over the saved background instead of the whole figure: the
+        slow full draw (every axis, tick and text) is left to resizes and new layouts.
+        """
+        axis.set_animated(True)
+        axis._explorer_blitted = True
+        self._animated.insert(0, axis)
+        return axis
 
     def invalidate(self):
         """Draw everything at the next update (axis limits or labels changed)."""
@@ -271,7 +288,8 @@ class BlitFigure:
         if new != current:
             ax.set_ylim(0.0, new)
             ax._explorer_auto = True
-            self._dirty = True
+            if not getattr(ax.yaxis, "_explorer_blitted", False):
+                self._dirty = True
         return new
 
 
@@ -303,6 +321,9 @@ class ProfilePlot(BlitFigure):
 
     def _data_artists(self):
         return [self.g_line, self.p_line, self.g_d2, self.p_d2, self.edges]
+
+    def _data_axes(self):
+        return [self.ax.yaxis]
 
     def set_data(self, profile, channel_label: str = "luminance Y"):
         """Show a :class:`~explorer.app.views.ProfileView`.
@@ -406,6 +427,9 @@ class PolarPlot(BlitFigure):
         return [self.light_ray, self.mirror_ray, *self.overlay_lines, self.fixed_light, self.fixed_view, self.spike,
                 self.spike_head, self.spike_label]  # fmt: skip
 
+    def _data_axes(self):
+        return [self.ax.yaxis]
+
     def set_data(self, polar, *, channel="luminance", label="f_r"):
         """Show a :class:`~explorer.app.views.PolarView`.
 
@@ -439,7 +463,8 @@ class PolarPlot(BlitFigure):
             self.ax._explorer_auto = True
             self._r_scale, caption = radial_scale(top)
             self._set_caption("scale", caption)
-            self._dirty = True
+            if not getattr(self.ax.yaxis, "_explorer_blitted", False):
+                self._dirty = True
         t = polar.theta_in
         self.light_ray.set_data([-t, -t], [0.0, top])
         self.mirror_ray.set_data([t, t], [0.0, top])
@@ -515,6 +540,9 @@ class AnglePlots(BlitFigure):
     def _data_artists(self):
         return [line for lines in self.overlay_lines for line in lines] + self.curves + self.markers + [
             self.image, self.im_marker]  # fmt: skip
+
+    def _data_axes(self):
+        return [ax.yaxis for ax in self.axes[:3]]
 
     def set_data(self, theta_v, theta_h, theta_d, halfdiff, *, channel="luminance", label="f_r"):
         """Show three :class:`~explorer.app.views.CurveView` and a :class:`~explorer.app.views.HalfDiffView`.
@@ -610,6 +638,9 @@ class AlbedoPlot(BlitFigure):
 
     def _data_artists(self):
         return [*self.bands, *self.lines, self.flags]
+
+    def _data_axes(self):
+        return [self.ax.yaxis]
 
     def set_data(self, curves, *, channel="luminance"):
         """Show the :class:`~explorer.app.comparing.AlbedoCurveView` of each BRDF (the current model first).

@@ -2,7 +2,7 @@
 
 ::
 
-    lighting-explorer bench [--json] [--repeat N] [--plan | --ibl]
+    lighting-explorer bench [--json] [--repeat N] [--plan | --ibl | --app]
 """
 
 from __future__ import annotations
@@ -42,6 +42,10 @@ def add_parser(subparsers):
     p.add_argument("--ibl", action="store_true",
                    help="image-based lighting: split-sum re-shade, prefiltering and the 64-spp Monte-Carlo reference "
                    "against their targets (--repeat defaults to 3 here)")  # fmt: skip
+    p.add_argument("--app", action="store_true",
+                   help="the desktop window: a dragged light slider, its release, a model switch and the 3D redraw, "
+                   "on Qt's offscreen platform and in an X server (Xvfb when there is no display), against their "
+                   "targets (needs pip install 'lighting-explorer[app]')")  # fmt: skip
     p.set_defaults(func=run)
     return p
 
@@ -68,14 +72,25 @@ def run(args) -> int:
     repeat = args.repeat if args.repeat is not None else (3 if getattr(args, "ibl", False) else 15)
     try:
         check_count("--repeat", repeat, 1, MAX_REPEAT)
-        if args.plan and getattr(args, "ibl", False):
-            raise ValueError("--plan and --ibl are separate benchmarks: give one of them")
+        chosen = [f for f in ("plan", "ibl", "app") if getattr(args, f, False)]
+        if len(chosen) > 1:
+            raise ValueError(f"--{chosen[0]} and --{chosen[1]} are separate benchmarks: give one of them")
     except ValueError as exc:
         return print_error(exc)
     tune_allocator()
     if args.plan:
         rows = bench.time_plans(repeat)
         print(json.dumps(rows) if args.json else bench.format_plans(rows))
+        return 0
+    if getattr(args, "app", False):
+        from ..cli import require
+
+        try:
+            require("bench --app", "PySide6", "pyvista", "pyvistaqt")
+        except ValueError as exc:
+            return print_error(exc)
+        rows = bench.run_app(repeat)
+        print(json.dumps(rows) if args.json else bench.format_app(rows))
         return 0
     if getattr(args, "ibl", False):
         result = bench.run_ibl(repeat)

@@ -7,6 +7,7 @@ X event.  Here the signals wake the loop through a socket (``signal.set_wakeup_f
 
 from __future__ import annotations
 
+import os
 import signal
 import socket
 import sys
@@ -19,13 +20,15 @@ __all__ = ["qt_application", "install_signal_handlers", "run_window"]
 CLOSING_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
-def qt_application(argv=None) -> QtWidgets.QApplication:
+def qt_application(argv=None, *, off_screen: bool = False) -> QtWidgets.QApplication:
     """The running QApplication, or a new one (Fusion style, the explorer's dark palette).
 
     Parameters
     ----------
     argv : list of str, optional
         Qt's arguments (default: the program name alone: the explorer's own options are not Qt's).
+    off_screen : bool
+        A new application draws without a display (Qt's ``offscreen`` platform): screenshots, tests.
 
     Returns
     -------
@@ -33,6 +36,8 @@ def qt_application(argv=None) -> QtWidgets.QApplication:
     """
     app = QtWidgets.QApplication.instance()
     if app is None:
+        if off_screen:
+            os.environ["QT_QPA_PLATFORM"] = "offscreen"
         QtWidgets.QApplication.setHighDpiScaleFactorRoundingPolicy(
             QtCore.Qt.HighDpiScaleFactorRoundingPolicy.PassThrough
         )

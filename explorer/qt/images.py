@@ -58,6 +58,8 @@ class ImageCanvas(QtWidgets.QWidget):
         self._image: QtGui.QImage | None = None
         self._shape = (1, 1)
         self.overlay: Callable | None = None
+        #: Paint events handled so far (the bench waits for the next one).
+        self.paints = 0
         self.setMinimumSize(min_size, min_size)
         self.setSizePolicy(QtWidgets.QSizePolicy.Policy.Expanding, QtWidgets.QSizePolicy.Policy.Expanding)
         self.setAttribute(QtCore.Qt.WidgetAttribute.WA_OpaquePaintEvent)
@@ -86,6 +88,7 @@ class ImageCanvas(QtWidgets.QWidget):
         return ((pos.x() - r.x()) * w / r.width(), (pos.y() - r.y()) * h / r.height())
 
     def paintEvent(self, event):  # noqa: N802 - Qt's name
+        self.paints += 1
         p = QtGui.QPainter(self)
         p.fillRect(self.rect(), QtGui.QColor(BACKGROUND))
         if self._image is not None:
@@ -151,8 +154,9 @@ class ImagePanel(QtWidgets.QFrame):
     def set_caption(self, text: str, *, warn: bool = False) -> None:
         """Set the caption; ``warn`` shows it in the warning colour (an unconverged or clipped value)."""
         _set_text(self.caption, text)
-        self.caption.setProperty("warn", bool(warn))
-        self.caption.setStyleSheet(f"color: {'#ff8787' if warn else MUTED};")
+        if self.caption.property("warn") != bool(warn):  # a style sheet costs a re-polish: only on a change
+            self.caption.setProperty("warn", bool(warn))
+            self.caption.setStyleSheet(f"color: {'#ff8787' if warn else MUTED};")
 
 
 def _label(text: str, *, bold: bool = False, muted: bool = False) -> QtWidgets.QLabel:

@@ -26,6 +26,7 @@ import os
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from ..app.command import DEFAULT_WINDOW_SIZE
 from ..app.plots import AlbedoPlot, AnglePlotsGrid, PolarPlot, ProfilePlot
 from ..app.state import AppState
 from ..app.views import LIVE_VIEWS, ExplorerModel
@@ -38,9 +39,8 @@ from .view3d import LobeView3D
 
 __all__ = ["ExplorerWindow", "DEFAULT_WINDOW_SIZE", "IDLE_MS", "REFINE_MS", "REFINE_BUDGET"]
 
-DEFAULT_WINDOW_SIZE = (1280, 768)
 #: A slider that rests this long (ms) while held counts as released: the plots follow.
-IDLE_MS = 250
+IDLE_MS = 150
 #: The Monte-Carlo reference refines on a timer of this period (ms) while the view rests ...
 REFINE_MS = 10
 #: ... spending at most this many seconds a tick.
@@ -109,6 +109,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self._build_status()
         self._update_timer = _single_shot(self, 0, self._flush_update)
         self._idle_timer = _single_shot(self, IDLE_MS, self.flush)
+        self._live_timer = _single_shot(self, 0, self._follow_live)
         self._refine_timer = QtCore.QTimer(self)
         self._refine_timer.setInterval(REFINE_MS)
         self._refine_timer.timeout.connect(self.refine_tick)
@@ -225,7 +226,11 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         if changed - {"params"} or "params" in changed and not live:
             self.sync_widgets(changed)
         if live:
-            self._show(self.model.update(only=LIVE_VIEWS))
+            # The lit sphere first, painted at once: it is where the eye is.  The coarse spheres follow when
+            # the loop is next idle, so a fast drag never queues their work behind the sphere's.
+            self._show(self.model.update(only={"sphere"}))
+            self.sphere_panel.canvas.repaint()
+            self._live_timer.start()
             self._idle_timer.start()
         else:
             self.schedule_update()
@@ -248,6 +253,9 @@ class ExplorerWindow(QtWidgets.QMainWindow):
     def _flush_update(self):
         self.flush()
 
+    def _follow_live(self):
+        self._show(self.model.update(only=LIVE_VIEWS))
+
     def flush(self) -> set[str]:
         """Update every stale view now (a slider released or resting, a key, a file opened).
 
@@ -258,6 +266,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         """
         self._update_timer.stop()
         self._idle_timer.stop()
+        self._live_timer.stop()
         views = self.model.update()
         self._show(views)
         return views
@@ -421,7 +430,9 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             warn = bool(av.unconverged or getattr(av, "above_one", False))
             self.albedo_label.setText(captions.albedo_caption(av))
             self.albedo_label.setToolTip(self.albedo_label.text())
-            self.albedo_label.setStyleSheet(f"color: {'#ff8787' if warn else '#9aa1a9'};")
+            if self.albedo_label.property("warn") != warn:
+                self.albedo_label.setProperty("warn", warn)
+                self.albedo_label.setStyleSheet(f"color: {'#ff8787' if warn else '#9aa1a9'};")
         switched = getattr(self, "_panel_shown", None) != s.panel
         self._panel_shown = s.panel
         if s.panel == "albedo":
@@ -613,6 +624,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self._refine_timer.stop()
         self._update_timer.stop()
         self._idle_timer.stop()
+        self._live_timer.stop()
         self.lobe_view.close_view()
         super().closeEvent(event)
 
