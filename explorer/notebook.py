@@ -36,7 +36,7 @@ import numpy as np
 
 from lighting.render.image import png_bytes
 
-from .app.drawing import albedo_caption
+from .app.captions import albedo_caption
 from .app.layout import BACKGROUND
 from .app.params import model_label, none_label, offered_parameters, slider_range
 from .app.state import CHANNEL_LABELS, ENVIRONMENTS, LIGHT_TYPES, MODELS, TERM_NAMES, VIEWS_3D, AppState

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from .captions import albedo_caption  # kept importable from here while the old window lives
 from .layout import ACCENT, MUTED, SCANLINE, _arrow_matrix
 from .state import CHANNEL_LABELS, MODEL_LABELS
 
@@ -16,32 +17,6 @@ def _rgb(colour) -> tuple:
     from matplotlib.colors import to_rgb
 
     return tuple(float(c) for c in to_rgb(colour)) if colour else MUTED
-
-
-def albedo_caption(av) -> str:
-    """The text of the albedo readout of an :class:`~explorer.app.views.AlbedoView`.
-
-    >>> from explorer.app.views import AlbedoView
-    >>> albedo_caption(AlbedoView(0.5, 0.8123, 2e-5, 2.5e-5, False, None, None, "quadrature", 4096))
-    'albedo ρ(θ_v = 29°) = 0.8123 ± 2e-05'
-    >>> albedo_caption(AlbedoView(0.5, 1.2, 0.05, 0.042, True, None, None, "quadrature", 4096))
-    'albedo ρ(θ_v = 29°) = 1.2 ± 0.05  unconverged (4.2 % > 2 %)'
-
-    Parameters
-    ----------
-    av : AlbedoView
-        The albedo view.
-
-    Returns
-    -------
-    str
-        ``albedo ρ(θ_v = …°) = value ± error``, with "unconverged (…)" above 2 % relative error.
-    """
-    text = f"albedo ρ(θ_v = {math.degrees(av.theta_v):.0f}°) = {av.value:.4g} ± {av.error:.2g}"
-    if av.unconverged:
-        rel = f"{100 * av.relative_error:.2g} %" if math.isfinite(av.relative_error) else "no digit"
-        text += f"  unconverged ({rel} > 2 %)"
-    return text
 
 
 class DrawingMixin:

@@ -127,7 +127,7 @@ BUTTON_GROUPS = {
     "channel": ("plots", CHANNELS, {"luminance": "Y", "r": "R", "g": "G", "b": "B"}),
     "fit": ("fit", tuple(FIT_MODELS), None),
     "panel": ("right", ("angles", "albedo"), {"angles": "angles", "albedo": "albedo ρ"}),
-    "environment": ("", ENVIRONMENTS, {"band-limited": "SH l≤2"}),
+    "environment": ("", ENVIRONMENTS, None),  # the engine's names, as explorer.app.environment.ENVIRONMENT_LABELS
     "view3d": ("3D", VIEWS_3D, None),
 }
 
