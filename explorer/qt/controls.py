@@ -232,6 +232,7 @@ class ControlPanel(QtWidgets.QScrollArea):
         self._column.addStretch(1)
         self.setWidget(inner)
         self.sync(state)
+        self._fit_width()
 
     # ------------------------------------------------------------------ public
     def widget(self, name: str | None = None) -> QtWidgets.QWidget:
@@ -296,6 +297,7 @@ class ControlPanel(QtWidgets.QScrollArea):
         """
         if state.model != self._params_model:
             self._build_params(state.model)
+            self._fit_width()
         for name, editor in self._editors.items():
             editor.set_value(getattr(state, name))
             self._rows[name].setHidden(not applies(name, state))
@@ -304,6 +306,14 @@ class ControlPanel(QtWidgets.QScrollArea):
             self._show_param(editor, params.get(name), params)
 
     # ------------------------------------------------------------------ building
+    def _fit_width(self) -> None:
+        """The panel's minimum width: every row whole beside the vertical scroll bar (no sideways scrolling)."""
+        inner = super().widget()
+        if inner is None:
+            return
+        bar = self.style().pixelMetric(QtWidgets.QStyle.PixelMetric.PM_ScrollBarExtent, None, self)
+        self.setMinimumWidth(inner.minimumSizeHint().width() + bar + 2 * self.frameWidth())
+
     def _measure_label_width(self) -> int:
         """The label column: room for the longest word of any label, and at least 7 em."""
         fm = self.fontMetrics()

@@ -19,7 +19,7 @@ from PySide6 import QtCore, QtWidgets  # noqa: E402
 
 from explorer.app.comparing import pin_label  # noqa: E402
 from explorer.app.params import offered_parameters  # noqa: E402
-from explorer.app.state import CONTROLS, DEFAULTS, AppState  # noqa: E402
+from explorer.app.state import CONTROLS, DEFAULTS, MODELS, AppState  # noqa: E402
 from explorer.compare import BRDFList  # noqa: E402
 from explorer.qt._controls_editors import (  # noqa: E402
     CheckEditor,
@@ -142,8 +142,18 @@ def test_model_switch_rebuilds_the_parameter_rows(qtbot):
     state = AppState()
     panel, window = _panel(qtbot, state)
     combo = panel.widget("model")
+    # Chosen with the keyboard: the focused box steps to the next model of the list, the normalized variant,
+    # which fixes "normalized": its row goes, shininess stays.
+    assert list(MODELS)[list(MODELS).index("blinn-phong") + 1] == "blinn-phong-normalized"
+    combo.setFocus()
+    qtbot.keyClick(combo, QtCore.Qt.Key.Key_Down)
+    assert window.requests == [({"model": "blinn-phong-normalized"}, False)]
+    assert state.model == "blinn-phong-normalized" and combo.currentText() == "Blinn-Phong normalized"
+    assert panel.widget("shininess").spin.value() == 32.0
+    with pytest.raises(KeyError, match="normalized"):
+        panel.widget("normalized")
     combo.setCurrentIndex(combo.findData("ward"))  # as choosing the item in the drop-down does
-    assert window.requests == [({"model": "ward"}, False)] and state.model == "ward"
+    assert window.requests[-1] == ({"model": "ward"}, False) and state.model == "ward"
     with pytest.raises(KeyError, match="shininess"):
         panel.widget("shininess")
     assert panel.widget("alpha_x").spin.value() == pytest.approx(0.2)
@@ -399,7 +409,8 @@ def test_no_overlap_and_no_cut_text(qtbot, width, model):
     state = AppState(model=model, light="spot", environment="studio")
     panel, _ = _panel(qtbot, state, width=width, height=700)
     inner = panel.widget()
-    assert panel.minimumSizeHint().width() <= 300
+    # The panel is never narrower than its rows (no sideways scrolling), and 300 px hold them.
+    assert inner.minimumSizeHint().width() + panel.verticalScrollBar().sizeHint().width() <= panel.minimumWidth() <= 300
     assert inner.minimumSizeHint().width() <= panel.viewport().width()
     assert not panel.horizontalScrollBar().isVisible()
     leaves = _visible_leaves(inner)
@@ -576,3 +587,30 @@ def test_lights_list_add_edit_remove(qtbot):
     assert state.scene_lights == () and _rows(panel) == ["ambient I_a = 0.08", "key: directional",
                                                           "environment: studio"]  # fmt: skip
     assert not panel.fields.isVisibleTo(panel)
+
+
+@pytest.mark.parametrize("width", [300, 420])
+@pytest.mark.parametrize("kind", ["opengl", "spot", "rect"])
+def test_light_fields_do_not_overlap(qtbot, width, kind):
+    from explorer.app.lights import LIGHT_FIELDS, field_value, new_light
+
+    state = AppState()
+    state.scene_lights = (new_light(kind, state),)
+    panel, _ = _lights_panel(qtbot, state)
+    panel.resize(width, 900)
+    panel.list.setCurrentRow(2)
+    _settle()
+    assert panel.selected_light() == 0 and panel.fields.title() == f"light 1: {kind}"
+    for f in LIGHT_FIELDS[kind]:
+        shown = panel.field_editor(f.name).value()
+        want = field_value(state.scene_lights[0], f.name)
+        assert shown == (pytest.approx(want) if f.kind != "bool" else want), f.name
+    leaves = _visible_leaves(panel.fields)
+    rects = [(w, _rect_in(w, panel.fields)) for w in leaves]
+    for w, r in rects:
+        assert r.left() >= 0 and r.right() < panel.fields.width(), (w, r)
+        assert _text_fits(w), (type(w).__name__, getattr(w, "text", lambda: "")(), width)
+    for i, (a, ra) in enumerate(rects):
+        for b, rb in rects[i + 1 :]:
+            if not (a.isAncestorOf(b) or b.isAncestorOf(a)):
+                assert not ra.intersects(rb), (type(a).__name__, ra, type(b).__name__, rb)
