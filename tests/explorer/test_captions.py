@@ -261,3 +261,13 @@ def test_one_label_per_environment_everywhere():
     assert not any("SH" in label for label in ENVIRONMENT_LABELS.values())
     with pytest.raises(ValueError, match="environment must be one of none, .*; got 'sh9'"):
         environment_label("sh9")
+
+
+def test_captions_load_no_toolkit():
+    import subprocess
+    import sys
+
+    code = ("import sys, explorer.app.captions; "
+            "print(sorted(m for m in ('PySide6', 'vtk', 'pyvista', 'matplotlib') if m in sys.modules))")  # fmt: skip
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
