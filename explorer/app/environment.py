@@ -111,7 +111,9 @@ def auto_exposure(image, coverage, clip_fraction: float = AUTO_CLIP_FRACTION) ->
     An environment lights the sphere from every direction: in the classic form (``π`` times the
     radiance) a sky of radiance 1 on ``k_d = 0.8`` gives 2.5, and at the default exposure most of the
     sphere is white.  The front ends set the ``exposure`` control to this value when a sky or file is
-    switched on (:meth:`EnvironmentMixin.apply_auto_exposure`); the form stays the one the user chose.
+    switched on (:meth:`EnvironmentMixin.apply_auto_exposure`); the form stays the one the user chose
+    (switching to the physical form instead would change what every number on screen means, a factor π,
+    and a bright sky or file clips in either form: the exposure is the display's, the numbers stay).
     The value is rounded down to a tenth of a stop and kept in the control's range ``[−8, 8]``.
 
     Parameters
