@@ -201,6 +201,10 @@ def test_profile_coarse_and_object_captions():
     assert captions.profile_caption(pv) == (f"Mach-band metric (slope kinks): Gouraud {pv.metric_gouraud:.2f}, "
                                             f"Phong {pv.metric_phong:.2f}")  # fmt: skip
     assert captions.coarse_caption(cv).startswith(f"{len(cv.faces)} triangles, {len(cv.vertices)} vertices")
+    assert (captions.coarse_title(state), captions.phong_title(state)) == (
+        "Gouraud: lit at the vertices", "Phong interpolation: lit per pixel")
+    assert captions.phong_caption(state).endswith("red line: the scan line")
+    assert captions.lobe_title(state, m["lobe"]) == "3D lobe: f_r (1/sr)  [luminance Y]"
     assert captions.object_caption(state, ov) == "no environment (key + ambient light) · key light"
     state.environment = "band-limited"
     model.update()
