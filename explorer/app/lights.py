@@ -13,7 +13,7 @@ function), so a bad value gets the loader's message, its key path starting ``sce
   field changed; :func:`light_label` — one line for a list.
 * :func:`check_lights` — the control's validation (the tables with every default filled in);
   :func:`engine_lights` — the engine lights of one table.
-* :func:`has_direct_light` and :func:`light_summary` — whether anything but ambient light shines
+* :func:`has_direct_light` and :func:`lights_line` — whether anything but ambient light shines
   on the sphere, and the line the lit sphere's caption says about the lights.
 
 An OpenGL light (``type = "opengl"``) lights the explorer's engine material as the engine's light of
@@ -46,7 +46,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from lighting._numeric import ArgumentTypeError, abbreviate
+from lighting._numeric import ArgumentTypeError, abbreviate, check_color
 from lighting.lights import AmbientLight, DirectionalLight, PointLight, SpotLight
 from lighting.scene.checks import _choice, _Ctx, _table
 from lighting.scene.errors import SceneError, _describe, _join
@@ -65,7 +65,7 @@ __all__ = [
     "check_lights",
     "engine_lights",
     "has_direct_light",
-    "light_summary",
+    "lights_line",
 ]
 
 #: The kinds of extra light (the scene format's light types less ambient and environment: those are controls).
@@ -200,6 +200,8 @@ def _from_gl(ctx, path, g) -> list:
     """The engine lights of an OpenGL light (see the module notes): the light of its diffuse colour, and its ambient."""
     pos = np.asarray(g.position, dtype=np.float64)
     diffuse = [float(x) for x in g.diffuse[:3]]
+    for name in ("diffuse", "ambient"):  # engine light colours: >= 0 (OpenGL allows any), named by their keys
+        ctx.build(path, lambda name=name, **c: check_color(name, c[name]), {name: getattr(g, name)[:3]})
     keymap = {"color": "diffuse", "direction": "position", "position": "position"}
     sd = np.asarray(g.spot_direction, dtype=np.float64)
     if pos[3] == 0.0:
@@ -516,8 +518,8 @@ def has_direct_light(state) -> bool:
     return state.light != "ambient" or bool(state.scene_lights)
 
 
-def light_summary(state) -> str:
-    """What the lit sphere's caption says about the lights: the key light and how many extra lights.
+def lights_line(state) -> str:
+    """The lights' line of the lit sphere's caption: the key light and the extra lights (the one home of that text).
 
     Parameters
     ----------
@@ -534,10 +536,10 @@ def light_summary(state) -> str:
     --------
     >>> from explorer.app.state import AppState
     >>> s = AppState(light="ambient")
-    >>> light_summary(s)
+    >>> lights_line(s)
     'ambient light only'
     >>> s.scene_lights = [new_light("rect", s)]
-    >>> light_summary(s)
+    >>> lights_line(s)
     'no key light + 1 scene light (rect)'
     """
     if not has_direct_light(state):

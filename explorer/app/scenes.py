@@ -25,11 +25,18 @@ def state_from_scene(path) -> AppState:
 
     The material's Lambert part gives ``kd``/``color``, its specular part the
     model and parameters (an OpenGL material is read as Lambert + Blinn-Phong).
-    Ambient lights add up to ``ambient``; the first other light becomes the key
-    light, its direction seen from the scene's camera (so it lights the explorer's
-    sphere from the same side of the picture) and, for point and spot lights, at
-    the same distance from the object's centre, with the irradiance it delivers
-    there.  Render options (mode, form, terms, exposure) are taken too.
+    Ambient lights add up to ``ambient``; the first directional, point or spot light
+    (or OpenGL light with a diffuse colour) becomes the key light, its direction seen
+    from the scene's camera (so it lights the explorer's sphere from the same side of
+    the picture) and, for point and spot lights, at the same distance from the
+    object's centre, with the irradiance it delivers there.  Every other light but an
+    environment (rect and disk lights, further point, spot, directional and OpenGL
+    lights) becomes an extra light (``scene_lights``, :mod:`explorer.app.lights`) in
+    the explorer's view frame: moved by minus the object's centre, scaled by one over
+    its radius (the object becomes the unit sphere; a mesh's radius is its farthest
+    vertex from the mean of its vertices), turned into the camera's frame (right, up,
+    toward the viewer), with the falloff and sizes scaled so that it delivers the same
+    light to the surface.  Render options (mode, form, terms, exposure) are taken too.
 
     Parameters
     ----------
@@ -60,10 +67,13 @@ def state_from_scene(path) -> AppState:
         material = gl_material_to_engine(material)
     _apply_material(state, material, str(path))
     centre = np.asarray(getattr(obj.geometry, "center", (0.0, 0.0, 0.0)), dtype=np.float64)
+    radius = float(getattr(obj.geometry, "radius", 1.0))
     if hasattr(obj.geometry, "vertices"):
-        centre = np.asarray(obj.geometry.vertices, dtype=np.float64).mean(axis=0)
+        vertices = np.asarray(obj.geometry.vertices, dtype=np.float64)
+        centre = vertices.mean(axis=0)
+        radius = float(np.max(np.linalg.norm(vertices - centre, axis=-1)))
     lights = scene.object_lights(0)
-    _apply_lights(state, lights, scene.camera, centre, GLLight)
+    _apply_lights(state, lights, scene.camera, centre, GLLight, radius if radius > 0 else 1.0)
     _apply_environment(state, lights)
     if any(isinstance(lt, GLLight) for lt in lights):
         # OpenGL's scene ambient light adds to the lights' own ambient parts.
@@ -169,30 +179,35 @@ def _apply_material(state: AppState, material: Material, source: str):
     state.update(params=params, **values)
 
 
-def _apply_lights(state: AppState, lights, camera, centre, gl_light_type):
+def _apply_lights(state: AppState, lights, camera, centre, gl_light_type, radius=1.0):
     # View frame of the scene's camera: right, up, toward the viewer.
     frame = np.stack([camera.right, camera.true_up, -camera.forward])
-    ambient, key = 0.0, None
+    ambient, key, extra = 0.0, None, []
     for lt in lights:
         if isinstance(lt, gl_light_type):
             g = lt.light
             pos = np.asarray(g.position, dtype=np.float64)
             colour = np.asarray(g.diffuse[:3], dtype=np.float64)
-            ambient += float(np.mean(g.ambient[:3]))
             if key is None and np.any(colour > 0):
+                ambient += float(np.mean(g.ambient[:3]))
                 key = ("directional", pos[:3], colour, 1.0) if pos[3] == 0 else ("point", pos[:3] / pos[3], colour, 1.0)
+            else:
+                extra.append(_gl_view_table(lt, camera, centre, radius))
             continue
         if isinstance(lt, AmbientLight):
             ambient += float(np.mean(lt.radiant))
             continue
-        if key is not None:
+        if getattr(lt, "is_environment", False):
+            continue  # the environment controls (_apply_environment)
+        if key is None and isinstance(lt, (DirectionalLight, PointLight)):
+            if isinstance(lt, DirectionalLight):
+                key = ("directional", lt.direction, lt.color, lt.intensity)
+            else:
+                kind = "spot" if isinstance(lt, SpotLight) else "point"
+                key = (kind, lt.position, lt.color, lt.intensity, lt)
             continue
-        if isinstance(lt, DirectionalLight):
-            key = ("directional", lt.direction, lt.color, lt.intensity)
-        elif isinstance(lt, PointLight):
-            kind = "spot" if isinstance(lt, SpotLight) else "point"
-            key = (kind, lt.position, lt.color, lt.intensity, lt)
-    values = {"ambient": min(ambient, 2.0)}
+        extra.append(_view_table(lt, frame, centre, radius))
+    values = {"ambient": min(ambient, 2.0), "scene_lights": tuple(extra)}
     if key is None:
         values["light"] = "ambient"
     else:
@@ -223,3 +238,79 @@ def _apply_lights(state: AppState, lights, camera, centre, gl_light_type):
                 values["spot_exponent"] = min(lt.exponent, 128.0)
         values["intensity"] = min(max(irradiance, 0.0), 10.0)
     state.update(**values)
+
+
+def _floats(v) -> list:
+    return [float(x) for x in np.asarray(v, dtype=np.float64).reshape(-1)]
+
+
+def _colour(c):
+    c = np.asarray(c, dtype=np.float64).reshape(-1)
+    return float(c[0]) if np.all(c == c[0]) else _floats(c)
+
+
+def _view_table(lt, frame, centre, radius) -> dict:
+    """An engine light of the scene as a light table of the explorer's view frame (see :func:`state_from_scene`).
+
+    Points move by ``-centre``, scale by ``1 / radius`` and turn by ``frame``; directions only turn.  Light
+    reaching the surface is kept: an area light's radiance is unchanged (its solid angles are), a point
+    light's falloff ``1 / (a d² + b d + c)`` becomes ``1 / (a r² d'² + b r d' + c)`` for ``d = r d'``.
+    """
+    def point(p):
+        return _floats(frame @ (np.asarray(p, dtype=np.float64) - centre) / radius)
+
+    def turn(d, scale=1.0):
+        return _floats(frame @ np.asarray(d, dtype=np.float64) * scale)
+
+    if isinstance(lt, DirectionalLight):
+        return {"type": "directional", "direction": turn(lt.direction), "color": _colour(lt.color),
+                "intensity": float(lt.intensity)}  # fmt: skip
+    if isinstance(lt, PointLight):
+        a, b, c = lt.attenuation
+        table = {"type": "point", "position": point(lt.position), "color": _colour(lt.color),
+                 "intensity": float(lt.intensity), "attenuation": [a * radius * radius, b * radius, c]}  # fmt: skip
+        if isinstance(lt, SpotLight):
+            table.update(type="spot", direction=turn(lt.direction), cutoff_deg=float(lt.cutoff_deg),
+                         exponent=float(lt.exponent))  # fmt: skip
+        return table
+    from lighting.lights import DiskLight, RectLight
+
+    common = {"color": _colour(lt.color), "intensity": float(lt.intensity), "samples": int(lt.samples),
+              "two_sided": bool(lt.two_sided), **({"seed": int(lt.seed)} if lt.seed is not None else {})}  # fmt: skip
+    if isinstance(lt, RectLight):
+        return {"type": "rect", "center": point(lt.center), "edge_u": turn(lt.edge_u, 1.0 / radius),
+                "edge_v": turn(lt.edge_v, 1.0 / radius), **common}  # fmt: skip
+    if isinstance(lt, DiskLight):
+        return {"type": "disk", "center": point(lt.center), "normal_dir": turn(lt.normal_dir),
+                "radius": float(lt.radius) / radius, **common}  # fmt: skip
+    raise ValueError(f"the explorer cannot show a light of type {type(lt).__name__}")
+
+
+def _gl_view_table(lt, camera, centre, radius) -> dict:
+    """A scene's OpenGL light as a light table of the explorer's view frame.
+
+    Taken to eye space as the scene renderer takes it (the camera's view matrix, or as it is for
+    ``space = "eye"``): eye space is the view frame's orientation, so the position moves by minus the
+    object's centre there and scales by ``1 / radius``; OpenGL's ``k_0 + k_1 d + k_2 d²`` becomes
+    ``k_0 + k_1 r d' + k_2 r² d'²``.
+    """
+    g = lt.in_eye_space(camera.view_matrix())
+    pos = np.asarray(g.position, dtype=np.float64)
+    if pos[3] == 0.0:
+        position = [*_floats(pos[:3]), 0.0]
+    else:
+        c_eye = (camera.view_matrix() @ np.append(centre, 1.0))[:3]
+        position = [*_floats((pos[:3] / pos[3] - c_eye) / radius), 1.0]
+    return {
+        "type": "opengl",
+        "ambient": _floats(g.ambient),
+        "diffuse": _floats(g.diffuse),
+        "specular": _floats(g.specular),
+        "position": position,
+        "spot_direction": _floats(g.spot_direction),
+        "spot_exponent": float(g.spot_exponent),
+        "spot_cutoff": float(g.spot_cutoff),
+        "constant_attenuation": float(g.constant_attenuation),
+        "linear_attenuation": float(g.linear_attenuation) * radius,
+        "quadratic_attenuation": float(g.quadratic_attenuation) * radius * radius,
+    }

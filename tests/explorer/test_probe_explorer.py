@@ -30,6 +30,7 @@ import numpy as np
 import pytest
 
 from explorer import app as app_mod
+from explorer.app.lights import EXTRA_LIGHT_TYPES, new_light
 from explorer.app.params import offered_parameters
 from explorer.app.state import CONTROLS, MODELS, AppState
 from explorer.app.views import LIVE_VIEWS, ExplorerModel
@@ -42,6 +43,9 @@ SEED = 20241114
 PEAK_RTOL = 1e-6
 APP_EVENTS = 200
 MODEL_EVENTS = 260
+#: The controls the storms draw from.  The extra lights (scene_lights) change in a stream of their own (the model
+#: storm), so that adding them left the storms' seeded sequences of events as they were.
+STORM_CONTROLS = tuple(n for n in CONTROLS if n != "scene_lights")
 KEYS = ("m", "M", "t", "i", "c", "f", "1", "2", "3", "l", "n", "Up", "Down", "Left", "Right", "r", "h", "e")
 
 #: Invalid values by control kind (besides out-of-range numbers, made per control below).
@@ -63,6 +67,7 @@ INVALID = {
     ],  # fmt: skip
     "terms": [{}, {"ambient": 1}, "glow", b"ambient", 3, ("ambient", 1), None],
     "bool": ["yes", 1, None, 0.0, b"1"],
+    "lights": ["rect", b"rect", {"type": "rect", "center": [0.0, 0.0, 3.0]}, 3, None],
 }
 
 
@@ -260,7 +265,7 @@ def test_event_storm_over_every_control_of_the_window(app):
                 if app._checkbox_value(key) != bool(rep.GetState()):
                     failures["checkbox: state does not follow"] += 1
             elif kind == "invalid":
-                name = str(rng.choice(list(CONTROLS)))
+                name = str(rng.choice(list(STORM_CONTROLS)))
                 values = _invalid_values(name)
                 value = values[int(rng.integers(len(values)))]
                 invalid += 1
@@ -298,6 +303,8 @@ def _random_value(rng, name):
         return bool(rng.random() < 0.5)
     if spec.kind == "terms":
         return tuple(t for t in spec.choices if rng.random() < 0.7)
+    if spec.kind == "lights":  # up to two extra lights of random kinds
+        return tuple(new_light(str(k), AppState()) for k in rng.choice(EXTRA_LIGHT_TYPES, size=int(rng.integers(3))))
     if spec.kind == "rgb":
         return tuple(float(x) for x in rng.uniform(0.0, 1.0, 3))
     if spec.kind == "int":
@@ -316,8 +323,24 @@ def test_event_storm_over_the_model():
     model.update()
     events, failures = Counter(), Counter()
     named = invalid = 0
-    plain = [n for n in CONTROLS if n not in ("tessellation", "mode", "scanline", "exposure")]
+    plain = [n for n in STORM_CONTROLS if n not in ("tessellation", "mode", "scanline", "exposure")]
+    lights_rng = np.random.default_rng(SEED + 2)
     for _ in range(MODEL_EVENTS):
+        if lights_rng.random() < 0.2:  # the extra lights: a new set (seen at the next update), or an invalid value
+            events["scene lights"] += 1
+            try:
+                if lights_rng.random() < 0.75:
+                    model.state.scene_lights = _random_value(lights_rng, "scene_lights")
+                else:
+                    values = _invalid_values("scene_lights")
+                    invalid += 1
+                    before = sum(failures.values())
+                    _invalid_event(lambda n, v: setattr(model.state, n, v), "scene_lights",
+                                   values[int(lights_rng.integers(len(values)))], model.state, model.views, failures,
+                                   "scene_lights must ")  # fmt: skip
+                    named += sum(failures.values()) == before
+            except Exception as exc:  # noqa: BLE001 - counted by kind, reported below
+                failures[f"scene lights: {type(exc).__name__}: {exc}"[:120]] += 1
         kind = rng.choice(["set", "set", "set", "burst", "extreme", "param", "param", "invalid"])
         events[kind] += 1
         try:
@@ -362,7 +385,7 @@ def test_event_storm_over_the_model():
                         if model.state.to_dict() != before:
                             failures["param refused: state changed"] += 1
             else:
-                name = str(rng.choice(list(CONTROLS)))
+                name = str(rng.choice(list(STORM_CONTROLS)))
                 values = _invalid_values(name)
                 invalid += 1
                 before = sum(failures.values())
