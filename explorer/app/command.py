@@ -188,6 +188,9 @@ def add_options(p) -> None:
         help="window size in pixels, WIDTHxHEIGHT or N for a square",
     )
     g.add_argument("--off-screen", dest="off_screen", action="store_true", help="render without a window")
+    g.add_argument("--opengl-3d", dest="opengl_3d", action="store_true",
+                   help="draw the 3D lobe in an OpenGL widget (pyvistaqt) instead of VTK's off-screen images: smoother "
+                   "turning with a GPU, but Qt then composes every repaint of the window through OpenGL")  # fmt: skip
     g.add_argument("--screenshot", metavar="PATH",
                    help="render the window to an image (.png; .jpg .tif .webp with Pillow) and exit "
                         "(implies --off-screen)")  # fmt: skip
@@ -285,7 +288,9 @@ def run(args) -> int:
 
     qt_application(off_screen=off_screen)
     try:
-        window = ExplorerApp(state, window_size=args.size, compare=compare, mesh=mesh, environment_file=env_file)
+        extra = {"interactive_3d": True} if getattr(args, "opengl_3d", False) and not off_screen else {}
+        window = ExplorerApp(state, window_size=args.size, compare=compare, mesh=mesh, environment_file=env_file,
+                             **extra)  # fmt: skip
         if getattr(args, "fit_now", False):
             window.fit()
     except ValueError as exc:

@@ -386,6 +386,20 @@ class EnvironmentMixin:
         self._bases["file"] = base
         self._prefiltered.pop("file", None)
 
+    def open_mesh(self, path):
+        """Read a mesh file (``.obj``, and with trimesh ``.ply .stl .glb .gltf .off``): the lit object becomes it.
+
+        Parameters
+        ----------
+        path : str or os.PathLike or TriangleMesh
+            The mesh; a bad file raises ``ValueError`` naming it (:func:`lighting.render.mesh.load_mesh`).
+        """
+        from lighting.render.mesh import TriangleMesh, load_mesh
+
+        self.object_mesh = _fitted(path if isinstance(path, TriangleMesh) else load_mesh(path))
+        self._object_renderer = None
+        self.views.pop("object", None)
+
     def _base(self, name):
         if name not in self._bases:
             # A sky sampled into a lat-long map: the reference then importance-samples its sun.

@@ -21,6 +21,8 @@ import math
 
 from PySide6 import QtCore, QtWidgets
 
+from ..app.captions import kd_control_label
+from ..app.environment import ENVIRONMENT_LABELS
 from ..app.params import none_label, offered_parameters, slider_range
 from ..app.state import CHANNEL_LABELS, CONTROLS, FIT_MODELS, MODEL_LABELS, AppState
 from ._controls_editors import CheckEditor, ChoiceEditor, ColourEditor, NumberEditor, TermsEditor
@@ -61,7 +63,7 @@ OPTION_LABELS = {
     "form": {"classic": "classic I", "physical": "physical I/π"},
     "channel": CHANNEL_LABELS,
     "panel": {"angles": "angles", "albedo": "albedo ρ"},
-    "environment": {"band-limited": "SH l≤2"},
+    "environment": ENVIRONMENT_LABELS,
     "fit": {name: entry[2] for name, entry in FIT_MODELS.items()},
 }
 #: Greek and subscripted labels of the registered models' parameter names (others are shown as named).
@@ -301,6 +303,13 @@ class ControlPanel(QtWidgets.QScrollArea):
         for name, editor in self._editors.items():
             editor.set_value(getattr(state, name))
             self._rows[name].setHidden(not applies(name, state))
+        kd_row = self._rows.get("kd")
+        if kd_row is not None and kd_row.label is not None:
+            # What the k_d slider sets depends on the model (a BRDF file's own diffuse: k_a alone).
+            text = kd_control_label(state)
+            if kd_row.label.text() != text:
+                kd_row.label.setText(text)
+                kd_row.label.setMinimumHeight(kd_row.label.heightForWidth(kd_row.label.width()))
         params = state.params
         for name, editor in self._param_editors.items():
             self._show_param(editor, params.get(name), params)

@@ -52,6 +52,8 @@ class ImageCanvas(QtWidgets.QWidget):
 
     #: Mouse press, move and release in image pixel coordinates (x, y) with the buttons held.
     mouse_dragged = QtCore.Signal(float, float, bool)
+    #: The mouse wheel turned over the image, in notches (positive: away from the user).
+    wheel_turned = QtCore.Signal(float)
 
     def __init__(self, parent=None, *, min_size=120):
         super().__init__(parent)
@@ -118,6 +120,9 @@ class ImageCanvas(QtWidgets.QWidget):
     def mouseReleaseEvent(self, event):  # noqa: N802
         x, y = self.to_image(event.position())
         self.mouse_dragged.emit(x, y, True)
+
+    def wheelEvent(self, event):  # noqa: N802
+        self.wheel_turned.emit(event.angleDelta().y() / 120.0)
 
 
 class ImagePanel(QtWidgets.QFrame):

@@ -2,60 +2,53 @@
 
 A key changes the state at once (it is cheap) and asks the window for an update that runs when Qt's
 loop is next idle, so a burst of presses (twelve quick ``m``) costs one update of the views, not twelve.
-The key table (:data:`KEYS`) is data: the menus, the shortcuts and the help dialog are made from it.
+The key table (:data:`explorer.app.captions.KEYS`) is data: the menus, the shortcuts and the help dialog are
+made from it.
 """
 
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from ..app.captions import KEYS
 from ..app.state import CHANNELS, CONTROLS, ENVIRONMENTS, FORMS, LIGHT_TYPES, MODELS, TERM_NAMES
 
-__all__ = ["Key", "KEYS", "build_actions", "help_text", "FILE_FILTERS"]
+__all__ = ["KEY_ACTIONS", "build_actions", "do_key", "show_help", "FILE_FILTERS"]
 
 
-@dataclass(frozen=True)
-class Key:
-    """One key: its shortcut, the menu it sits in, what it does (the help's words) and its action's name."""
-
-    shortcut: str
-    menu: str
-    text: str
-    action: str
-
-
-KEYS = (
-    Key("H", "Help", "Show the keys and mouse", "help"),
-    Key("S", "File", "Save a screenshot of the window (PNG in the current folder)", "screenshot"),
-    Key("Q", "File", "Quit", "quit"),
-    Key("R", "View", "Reset every control to its default", "reset"),
-    Key("M", "Model", "Next reflectance model", "model+"),
-    Key("Shift+M", "Model", "Previous reflectance model", "model-"),
-    Key("P", "Model", "Pin the current model to the Compare list", "pin"),
-    Key("Shift+F", "Model", "Fit the chosen analytic model to the current one", "fit"),
-    Key("T", "Light", "Next key light type (directional, point, spot, ambient only)", "light+"),
-    Key("X", "Light", "Next environment (none, the skies, the file)", "environment+"),
-    Key("K", "Light", "Environment by the Monte-Carlo reference / by the fast method", "reference"),
-    Key("I", "View", "Next shading mode of the lit sphere (flat, Gouraud, Phong)", "mode+"),
-    Key("F", "View", "Classic I / physical radiance I/π", "form+"),
-    Key("1", "View", "Ambient term on or off", "term1"),
-    Key("2", "View", "Diffuse term on or off", "term2"),
-    Key("3", "View", "Specular term on or off", "term3"),
-    Key("C", "View", "Next plot channel (luminance Y, R, G, B)", "channel+"),
-    Key("L", "View", "Plots: log10(1 + x) on or off", "log"),
-    Key("N", "View", "Plots: × n·l on or off", "times_cos"),
-    Key("E", "View", "Triangle edges on the coarse spheres on or off", "edges"),
-    Key("A", "View", "Right panel: angle curves / albedo ρ(θ_v)", "panel"),
-    Key("V", "View", "Split lit sphere: current | first shown Compare entry", "split"),
-    Key("O", "View", "3D panel: BRDF lobe / lit object", "view3d"),
-    Key("Up", "View", "Move the scan line up", "scan-"),
-    Key("Down", "View", "Move the scan line down", "scan+"),
-    Key("Left", "View", "Coarser coarse sphere", "tess-"),
-    Key("Right", "View", "Finer coarse sphere", "tess+"),
-)
+#: What each key of the key table (:data:`explorer.app.captions.KEYS`, where their words live) does here:
+#: the menu it is listed in and the action it performs.
+KEY_ACTIONS = {
+    "H": ("Help", "help"),
+    "S": ("File", "screenshot"),
+    "Q": ("File", "quit"),
+    "R": ("View", "reset"),
+    "M": ("Model", "model+"),
+    "Shift+M": ("Model", "model-"),
+    "P": ("Model", "pin"),
+    "Shift+F": ("Model", "fit"),
+    "T": ("Light", "light+"),
+    "X": ("Light", "environment+"),
+    "K": ("Light", "reference"),
+    "I": ("View", "mode+"),
+    "F": ("View", "form+"),
+    "1": ("View", "term1"),
+    "2": ("View", "term2"),
+    "3": ("View", "term3"),
+    "C": ("View", "channel+"),
+    "L": ("View", "log"),
+    "N": ("View", "times_cos"),
+    "E": ("View", "edges"),
+    "A": ("View", "panel"),
+    "V": ("View", "split"),
+    "O": ("View", "view3d"),
+    "Up": ("View", "scan-"),
+    "Down": ("View", "scan+"),
+    "Left": ("View", "tess-"),
+    "Right": ("View", "tess+"),
+}
 
 #: File dialogs' filters by kind of file.
 FILE_FILTERS = {
@@ -72,15 +65,6 @@ _CYCLES = {
     "channel": lambda: CHANNELS,
     "form": lambda: FORMS,
 }
-
-
-def help_text() -> str:
-    """The keys and the mouse, as the Help dialog lists them (two aligned columns)."""
-    width = max(len(k.shortcut) for k in KEYS)
-    lines = [f"{k.shortcut.ljust(width)}   {k.text}" for k in KEYS]
-    lines += ["", "Mouse: drag in the 3D lobe to turn it, the wheel zooms; drag a slider or click its track;",
-              "hover over a control for what it does."]  # fmt: skip
-    return "\n".join(lines)
 
 
 def do_key(window, action: str) -> None:
@@ -148,8 +132,9 @@ def show_help(window) -> QtWidgets.QDialog:
     table.verticalHeader().setVisible(False)
     table.setEditTriggers(QtWidgets.QAbstractItemView.EditTrigger.NoEditTriggers)
     for row, k in enumerate(KEYS):
-        table.setItem(row, 0, QtWidgets.QTableWidgetItem(k.shortcut))
-        table.setItem(row, 1, QtWidgets.QTableWidgetItem(k.text))
+        table.setItem(row, 0, QtWidgets.QTableWidgetItem(QtGui.QKeySequence(k.key).toString(
+            QtGui.QKeySequence.SequenceFormat.NativeText)))
+        table.setItem(row, 1, QtWidgets.QTableWidgetItem(k.description))
     table.resizeColumnsToContents()
     table.horizontalHeader().setStretchLastSection(True)
     note = QtWidgets.QLabel("Mouse: drag in the 3D lobe to turn it, the wheel zooms. "
@@ -188,13 +173,14 @@ def build_actions(window) -> dict[str, QtGui.QAction]:
     file_menu.addAction(export)
     actions["export"] = export
     for k in KEYS:
-        act = QtGui.QAction(k.text, window)
-        act.setShortcut(QtGui.QKeySequence(k.shortcut))
+        menu, name = KEY_ACTIONS[k.key]
+        act = QtGui.QAction(k.description[:1].upper() + k.description[1:], window)
+        act.setShortcut(QtGui.QKeySequence(k.key))
         act.setShortcutContext(QtCore.Qt.ShortcutContext.WindowShortcut)
-        act.triggered.connect(lambda checked=False, a=k.action: do_key(window, a))
-        menus[k.menu].addAction(act)
+        act.triggered.connect(lambda checked=False, a=name: do_key(window, a))
+        menus[menu].addAction(act)
         window.addAction(act)
-        actions[k.action] = act
+        actions[name] = act
     about = QtGui.QAction("&About lighting-explorer", window)
     about.triggered.connect(lambda checked=False: about_dialog(window))
     menus["Help"].addAction(about)

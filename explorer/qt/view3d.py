@@ -1,9 +1,14 @@
-"""The 3D BRDF lobe: a pyvistaqt ``QtInteractor`` where Qt has OpenGL, VTK off-screen images where it has not.
+"""The 3D BRDF lobe: VTK renders it off-screen into an image the panel shows, or into pyvistaqt's OpenGL widget.
 
 The lobe's surface, its colours (the plotted value through viridis) and the arrows come from
-:class:`explorer.app.views.LobeView`; VTK's lighting is off, so the colours are the values.  Qt's
-``offscreen`` platform (headless screenshots, CI without an X server) has no OpenGL widgets: there the
-same scene is rendered by VTK off-screen (EGL) into an image panel, and a drag turns the camera.
+:class:`explorer.app.views.LobeView`; VTK's lighting is off, so the colours are the values.
+
+By default VTK renders the scene off-screen and the panel shows the picture: a drag turns the camera, the
+wheel zooms, and only this panel is repainted.  pyvistaqt's ``QtInteractor`` (``interactive=True``;
+``lighting-explorer --opengl-3d``) is a ``QOpenGLWidget``: with one in the window, Qt composes the whole
+window through OpenGL at every repaint of any panel, which with software OpenGL (Mesa's llvmpipe) costs
+more than a whole drag frame's budget (``lighting-explorer bench --app`` measures both).  Qt's
+``offscreen`` platform has no OpenGL widgets at all.
 """
 
 from __future__ import annotations
@@ -65,9 +70,9 @@ class LobeView3D(QtWidgets.QWidget):
 
     Parameters
     ----------
-    interactive : bool, optional
-        A pyvistaqt ``QtInteractor`` (mouse: rotate, wheel: zoom) if True; VTK off-screen images if
-        False; default: interactive where Qt can show OpenGL widgets (:func:`has_opengl_widgets`).
+    interactive : bool
+        A pyvistaqt ``QtInteractor`` (an OpenGL widget) if True, where Qt can show one
+        (:func:`has_opengl_widgets`); VTK off-screen images otherwise (the default).
 
     Attributes
     ----------
@@ -75,12 +80,12 @@ class LobeView3D(QtWidgets.QWidget):
         Frames rendered so far (the bench reads it).
     """
 
-    def __init__(self, parent=None, *, interactive: bool | None = None):
+    def __init__(self, parent=None, *, interactive: bool = False):
         super().__init__(parent)
         import pyvista as pv
 
         self.pv = pv
-        self.interactive = has_opengl_widgets() if interactive is None else bool(interactive)
+        self.interactive = bool(interactive) and has_opengl_widgets()
         lay = QtWidgets.QVBoxLayout(self)
         lay.setContentsMargins(0, 0, 0, 0)
         self.renders = 0
@@ -95,6 +100,7 @@ class LobeView3D(QtWidgets.QWidget):
             self.plotter = pv.Plotter(off_screen=True, window_size=(320, 280))
             self.canvas = ImageCanvas(self, min_size=120)
             self.canvas.mouse_dragged.connect(self._on_drag)
+            self.canvas.wheel_turned.connect(self._on_wheel)
             lay.addWidget(self.canvas)
             self._drag_from = None
         self.setMinimumSize(160, 140)
@@ -208,6 +214,12 @@ class LobeView3D(QtWidgets.QWidget):
             self._auto_zoom = False
             self.redraw()
         self._drag_from = None if released else (x, y)
+
+    def _on_wheel(self, steps: float):
+        # One notch (15°) zooms by 10 %, toward or away from the lobe.
+        self.plotter.camera.Zoom(1.1 ** steps)
+        self._auto_zoom = False
+        self.redraw()
 
     def close_view(self) -> None:
         """Free VTK's window (call before the Qt widget goes)."""

@@ -26,11 +26,11 @@ import os
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from ..app import captions
 from ..app.command import DEFAULT_WINDOW_SIZE
 from ..app.plots import AlbedoPlot, AnglePlotsGrid, PolarPlot, ProfilePlot
 from ..app.state import AppState
 from ..app.views import LIVE_VIEWS, ExplorerModel
-from . import _captions_tmp as captions
 from .controls import ControlPanel
 from .images import ImagePanel
 from .lists import ComparePanel, LightsPanel
@@ -76,8 +76,8 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         the comparison list.
     sphere_size, mesh_size : int
         Pixels of the engine's lit-sphere and coarse-sphere images.
-    interactive_3d : bool, optional
-        The 3D view as a pyvistaqt interactor (default where Qt has OpenGL; VTK off-screen images otherwise).
+    interactive_3d : bool
+        The 3D lobe in pyvistaqt's OpenGL widget; default: VTK off-screen images (see :mod:`explorer.qt.view3d`).
 
     Attributes
     ----------
@@ -91,7 +91,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
 
     def __init__(self, state=None, *, window_size=DEFAULT_WINDOW_SIZE, compare=None, mesh=None,
                  environment_file=None, brdf_files=(), sphere_size=320, mesh_size=224, lobe_resolution=40,
-                 interactive_3d=None, parent=None):  # fmt: skip
+                 interactive_3d=False, parent=None):  # fmt: skip
         super().__init__(parent)
         self.model = ExplorerModel(state if state is not None else AppState(), sphere_size=sphere_size,
                                    mesh_size=mesh_size, lobe_resolution=lobe_resolution, compare=compare,
@@ -99,6 +99,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         for k, path in enumerate(brdf_files or ()):
             self.model.open_brdf(path, current=k == 0)
         self.updates = 0
+        self._environment_switched = False
         self.show_edges = True
         self.last_error = ""
         self.setWindowTitle("lighting-explorer")
@@ -223,6 +224,8 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             self.sync_widgets()
             return False
         self.clear_error()
+        if "environment" in changed:
+            self._environment_switched = True
         if changed - {"params"} or "params" in changed and not live:
             self.sync_widgets(changed)
         if live:
@@ -268,6 +271,11 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self._idle_timer.stop()
         self._live_timer.stop()
         views = self.model.update()
+        if self._environment_switched:
+            # A sky never whites out the sphere: the exposure follows the light (and returns when it is off).
+            self._environment_switched = False
+            views |= self.model.apply_auto_exposure()
+            self.controls.sync(self.state)
         self._show(views)
         return views
 
@@ -393,13 +401,17 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             sv = m["sphere"]
             self.sphere_panel.canvas.set_image(sv.rgb8)
             self.sphere_panel.set_title(captions.sphere_title(s, sv))
-            self.sphere_panel.set_caption(captions.sphere_caption(s, sv, self.model), warn=bool(sv.clipped))
+            parts = (captions.sphere_legend(s, sv), captions.sphere_caption(s, sv, self.model))
+            text = "\n".join(t for t in parts if t)
+            self.sphere_panel.set_caption(text, warn=bool(sv.clipped))
         if "coarse" in views:
             cv = m["coarse"]
             self.gouraud_panel.canvas.set_image(cv.gouraud_rgb8)
             self.phong_panel.canvas.set_image(cv.phong_rgb8)
+            self.gouraud_panel.set_title(captions.coarse_title(s))
             self.gouraud_panel.set_caption(captions.coarse_caption(cv))
-            self.phong_panel.set_caption(f"{cv.n_triangles} triangles: normals interpolated, lit per pixel")
+            self.phong_panel.set_title(captions.phong_title(s))
+            self.phong_panel.set_caption(captions.phong_caption(s))
         if "profile" in views:
             pv = m["profile"]
             self.profile_canvas.show_data(pv, captions.channel_label(s))
@@ -417,14 +429,17 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             ov = m["object"]
             self.object_panel.canvas.set_image(ov.rgb8)
             self.object_panel.set_caption(captions.object_caption(s, ov, self.model))
+            self.object_title = captions.object_title(s, ov)
         self.stack3d.setCurrentIndex(1 if s.view3d == "object" else 0)
         if s.view3d == "object":
-            self.lobe_panel.set_title("Lit object")
+            self.lobe_panel.set_title(getattr(self, "object_title", "Lit object"))
         if "polar" in views:
             pv = m["polar"]
             self.polar_canvas.show_data(pv, channel=s.channel, label=label)
             self.polar_panel.set_title(captions.polar_title(s, pv))
-            self.polar_panel.set_caption(captions.polar_caption(s, pv, self.polar_canvas.plot.captions))
+            note = captions.polar_note(s, pv)
+            caption = captions.polar_caption(s, pv, self.polar_canvas.plot.captions)
+            self.polar_panel.set_caption("\n".join(t for t in (note, caption) if t), warn=bool(note))
         if "albedo" in views:
             av = m["albedo"]
             warn = bool(av.unconverged or getattr(av, "above_one", False))
@@ -460,15 +475,12 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         h, w = sv.rgb8.shape[:2]
         cx, cy, r = 0.5 * w, 0.5 * h, 0.5 * h / 1.08  # sphere_camera: the unit sphere fills 1/1.08
         if getattr(sv, "split", ""):
-            angle = getattr(sv, "divider", None)
-            pen = QtGui.QPen(QtGui.QColor(sv.split_colour or "#adb5bd"), 2.0 / scale)
-            p.setPen(pen)
-            if angle is None:
-                p.drawLine(QtCore.QPointF(cx, cy - 1.04 * r), QtCore.QPointF(cx, cy + 1.04 * r))
-            else:
-                dx, dy = math.cos(angle), -math.sin(angle)
-                p.drawLine(QtCore.QPointF(cx - 1.04 * r * dx, cy - 1.04 * r * dy),
-                           QtCore.QPointF(cx + 1.04 * r * dx, cy + 1.04 * r * dy))  # fmt: skip
+            # The divider through the centre along the split's angle (degrees from image right toward image up).
+            angle = math.radians(sv.split_angle)
+            p.setPen(QtGui.QPen(QtGui.QColor(sv.split_colour or "#adb5bd"), 2.0 / scale))
+            dx, dy = math.cos(angle), -math.sin(angle)
+            p.drawLine(QtCore.QPointF(cx - 1.04 * r * dx, cy - 1.04 * r * dy),
+                       QtCore.QPointF(cx + 1.04 * r * dx, cy + 1.04 * r * dy))  # fmt: skip
         if s.light == "ambient":
             return
         d = s.light_direction()
