@@ -434,8 +434,11 @@ def with_field(lights, index: int, name: str, value) -> tuple:
     """
     lights = tuple(lights)
     if isinstance(index, bool) or not isinstance(index, (int, np.integer)) or not 0 <= index < len(lights):
-        raise ValueError(f"{CONTROL} index must be an integer in [0, {len(lights) - 1}]; got {abbreviate(repr(index))}"
-                         if lights else f"{CONTROL} has no lights to change; got index {abbreviate(repr(index))}")
+        raise ValueError(
+            f"{CONTROL} index must be an integer in [0, {len(lights) - 1}]; got {abbreviate(repr(index))}"
+            if lights
+            else f"{CONTROL} has no lights to change; got index {abbreviate(repr(index))}"
+        )
     index = int(index)
     table = dict(lights[index])
     kind = str(table.get("type", ""))

@@ -256,6 +256,7 @@ def _view_table(lt, frame, centre, radius) -> dict:
     reaching the surface is kept: an area light's radiance is unchanged (its solid angles are), a point
     light's falloff ``1 / (a d² + b d + c)`` becomes ``1 / (a r² d'² + b r d' + c)`` for ``d = r d'``.
     """
+
     def point(p):
         return _floats(frame @ (np.asarray(p, dtype=np.float64) - centre) / radius)
 

@@ -126,7 +126,7 @@ CONTROLS: dict[str, Control] = {
     ),
     "kd": Control("float", 0.0, 1.0, help="diffuse albedo k_d (times the surface colour)"),
     "color": Control("rgb", 0.0, 1.0, help="surface colour (hue of k_d), r,g,b in [0, 1]"),
-    "light": Control("choice", choices=LIGHT_TYPES, help="key light type (ambient: ambient light only)"),
+    "light": Control("choice", choices=LIGHT_TYPES, help="key light type (ambient: no key light)"),
     "elevation": Control("float", -90.0, 90.0, help="light elevation above the image plane, degrees"),
     "azimuth": Control("float", -180.0, 180.0, help="light azimuth in the image plane from +x toward +y, degrees"),
     "intensity": Control("float", 0.0, 10.0, help="key light intensity (irradiance at the nearest sphere point)"),
