@@ -34,6 +34,7 @@ import math
 from typing import NamedTuple
 
 from .environment import ENVIRONMENT_LABELS
+from .lights import lights_line
 from .params import kd_label, model_label
 from .state import CHANNEL_LABELS
 
@@ -231,12 +232,7 @@ def light_summary(state) -> str:
     physical I/π · ambient + diffuse + specular
     """
     s = state
-    if s.light == "ambient":
-        light = "ambient light only"
-    else:
-        light = f"{s.light}, elevation {s.elevation:.0f}°, azimuth {s.azimuth:.0f}°"
-        if s.light in ("point", "spot"):
-            light += f", distance {s.distance:.1f}"
+    light = lights_line(s)  # the key light and the scene's extra lights ("ambient light only" when neither)
     if s.environment != "none":
         light += f" · environment {ENVIRONMENT_LABELS[s.environment]}"
     terms = " + ".join(s.terms) or "no terms"

@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pytest
 
+from explorer.app import captions
 from explorer.app.command import build_parser
 from explorer.app.lights import (
     EXTRA_LIGHT_TYPES,
@@ -121,10 +122,13 @@ def test_a_scene_lit_by_an_area_light_alone_is_lit_in_the_explorer_as_render_dra
     assert state.light == "ambient" and state.ambient == 0.0  # no key light, no ambient light: only the area light
     assert [t["type"] for t in state.scene_lights] == [light.split('"')[1]]
     _assert_same_image(img, ref, cov)
-    assert has_direct_light(state) and "ambient light only" not in lights_line(state)
+    kind = state.scene_lights[0]["type"]
+    assert has_direct_light(state) and lights_line(state) == f"no key light + 1 scene light ({kind})"
+    assert "ambient light only" not in captions.light_summary(state)  # the lit sphere's caption
     # Without the extra light the sphere is black: the light seen is the area light's.
     state.scene_lights = ()
     assert not np.any(_explorer_image(state)[0]) and lights_line(state) == "ambient light only"
+    assert captions.light_summary(state).startswith("ambient light only\n")
 
 
 def test_scene_lights_are_moved_scaled_and_turned_into_the_view_frame(tmp_path):
