@@ -230,6 +230,29 @@ class BlitFigure:
         self._animated.append(artist)
         return artist
 
+    #: Margins kept in pixels whatever the figure's size: ``(left, right, top, bottom, column gap, row gap)``
+    #: around the grid of axes made in ``_build`` (``_grid`` rows × columns); None keeps ``_build``'s fractions.
+    MARGINS_PX: tuple | None = None
+    _grid = (1, 1)
+
+    def relayout(self) -> None:
+        """Place the axes with :attr:`MARGINS_PX` at the figure's current size (a resized panel).
+
+        Tick labels and titles take the same pixels at any size, so fixed fractions let them collide in
+        a small panel and waste room in a large one.
+        """
+        if self.MARGINS_PX is None:
+            return
+        w, h = (float(x) for x in self.fig.get_size_inches() * self.fig.dpi)
+        left, right, top, bottom, gap_w, gap_h = self.MARGINS_PX
+        rows, cols = self._grid
+        inner_w = max(w - left - right - (cols - 1) * gap_w, 1.0)
+        inner_h = max(h - top - bottom - (rows - 1) * gap_h, 1.0)
+        if inner_w < 0.2 * w or inner_h < 0.2 * h:
+            return  # too small for the margins: keep the last layout rather than axes of no size
+        self.fig.subplots_adjust(left=left / w, right=1.0 - right / w, top=1.0 - top / h, bottom=bottom / h,
+                                 wspace=gap_w / (inner_w / cols), hspace=gap_h / (inner_h / rows))  # fmt: skip
+
     def _animate_axis(self, axis):
         """Make a data-following axis (its ticks, labels and grid) part of the blit, drawn under the data.
 
@@ -267,6 +290,7 @@ class BlitFigure:
         """
         canvas = self.fig.canvas
         if self._dirty or self._bg is None or self._bg_size != canvas.get_width_height():
+            self.relayout()
             with matplotlib.rc_context(STYLE):
                 canvas.draw()  # fires draw_event → _on_draw
             self._dirty = False
@@ -296,6 +320,9 @@ class BlitFigure:
 # =============================================================================== panels
 class ProfilePlot(BlitFigure):
     """Intensity along the scan line (Gouraud against Phong interpolation) and its second difference."""
+
+    MARGINS_PX = (50, 10, 10, 36, 0, 8)
+    _grid = (2, 1)
 
     def _build(self):
         fig = self.fig
@@ -387,6 +414,8 @@ def radial_scale(top: float) -> tuple[float, str]:
 
 class PolarPlot(BlitFigure):
     """The polar slice in the plane of incidence, with the incident and mirror directions."""
+
+    MARGINS_PX = (26, 26, 14, 50, 0, 0)
 
     def _build(self):
         fig = self.fig
@@ -497,7 +526,10 @@ class AnglePlots(BlitFigure):
             axs = fig.subplots(1, 4, gridspec_kw={"width_ratios": [1.25, 1, 1, 1.05]})
             fig.subplots_adjust(left=0.065, right=0.95, top=0.8, bottom=0.2, wspace=0.45)
         self.axes = axs
+        grid = self.GRID == (2, 2)
         titles = ["vs θ_v (view)", "vs θ_h (half)", "vs θ_d (difference)", "θ_h →, θ_d ↑"]
+        if grid:  # a squarer panel: each plot about half as wide, so shorter titles and fewer ticks
+            titles = ["θ_v (view)", "θ_h (half)", "θ_d (difference)", "f(θ_h, θ_d)"]
         self.curves, self.markers = [], []
         for ax, title in zip(axs, titles, strict=True):
             ax.set_title(title, pad=3)
@@ -508,10 +540,10 @@ class AnglePlots(BlitFigure):
             (line,) = ax.plot([], [], color=COLOURS["luminance"])
             self.curves.append(line)
         axs[0].set_xlim(-90, 90)
-        axs[0].set_xticks([-90, -45, 0, 45, 90])
+        axs[0].set_xticks([-90, 0, 90] if grid else [-90, -45, 0, 45, 90])
         for ax in axs[1:]:
             ax.set_xlim(0, 90)
-            ax.set_xticks([0, 30, 60, 90])
+            ax.set_xticks([0, 45, 90] if grid else [0, 30, 60, 90])
         for ax in axs[:3]:
             ax.set_xlabel("degrees", labelpad=1)
         self.markers.append(axs[0].axvline(0, color=COLOURS["light"], lw=1.0))
@@ -523,12 +555,13 @@ class AnglePlots(BlitFigure):
             np.zeros((2, 2)), origin="lower", extent=(0, 90, 0, 90), vmin=0.0, vmax=1.0, cmap="viridis",
             aspect="auto", interpolation="nearest",
         )  # fmt: skip
-        im_ax.set_yticks([0, 30, 60, 90])
-        im_ax.set_xlabel("degrees", labelpad=1)
+        im_ax.set_yticks([0, 45, 90] if grid else [0, 30, 60, 90])
+        im_ax.set_xlabel("θ_h (degrees)" if grid else "degrees", labelpad=1)
         im_ax.set_ylabel("θ_d", labelpad=1)
         im_ax.grid(False)
         (self.im_marker,) = im_ax.plot([], [], marker="o", ms=5, mfc="none", mec=COLOURS["mirror"], ls="none")
-        cbar = fig.colorbar(self.image, ax=im_ax, fraction=0.08, pad=0.04)
+        # The colour bar in the image's own axes coordinates, so that it follows the image when the axes move.
+        cbar = fig.colorbar(self.image, cax=im_ax.inset_axes([1.06, 0.0, 0.07, 1.0]))
         cbar.set_ticks([0, 0.5, 1])
         cbar.ax.tick_params(labelsize=6, pad=1)
         self._caption("title", fig.text(0.5, 0.94, "", ha="center", va="center", fontsize=8.5))
@@ -606,6 +639,8 @@ class AnglePlotsGrid(AnglePlots):
     """The angle plots in two rows of two, for a panel about as tall as it is wide."""
 
     GRID = (2, 2)
+    MARGINS_PX = (40, 44, 18, 32, 56, 46)
+    _grid = (2, 2)
 
 
 class AlbedoPlot(BlitFigure):

@@ -14,7 +14,7 @@ from collections.abc import Callable
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-__all__ = ["ImageCanvas", "ImagePanel", "qimage"]
+__all__ = ["ImageCanvas", "ImagePanel", "WrapLabel", "qimage"]
 
 BACKGROUND = "#1e2024"
 TEXT = "#e9ecef"
@@ -128,8 +128,8 @@ class ImageCanvas(QtWidgets.QWidget):
 class ImagePanel(QtWidgets.QFrame):
     """A view panel: a bold title, a body (an :class:`ImageCanvas` or any widget) and a caption below.
 
-    Titles and captions wrap instead of being cut; a label that cannot show its whole text (too
-    narrow even wrapped) carries it as its tooltip.
+    Titles (two lines at most) and captions (three) wrap at words; what does not fit ends with "…" and
+    the label's tooltip holds the whole text (:class:`WrapLabel`).
 
     Parameters
     ----------
@@ -142,8 +142,8 @@ class ImagePanel(QtWidgets.QFrame):
     def __init__(self, title: str = "", body: QtWidgets.QWidget | None = None, parent=None):
         super().__init__(parent)
         self.setObjectName("viewPanel")
-        self.title = _label(title, bold=True)
-        self.caption = _label("", muted=True)
+        self.title = _label(title, bold=True, max_lines=2)
+        self.caption = _label("", muted=True, max_lines=3)
         self.canvas = body if body is not None else ImageCanvas()
         lay = QtWidgets.QVBoxLayout(self)
         lay.setContentsMargins(4, 4, 4, 4)
@@ -164,20 +164,83 @@ class ImagePanel(QtWidgets.QFrame):
             self.caption.setStyleSheet(f"color: {'#ff8787' if warn else MUTED};")
 
 
-def _label(text: str, *, bold: bool = False, muted: bool = False) -> QtWidgets.QLabel:
-    label = QtWidgets.QLabel(text)
-    label.setWordWrap(True)
-    label.setTextFormat(QtCore.Qt.TextFormat.PlainText)
-    label.setSizePolicy(QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Minimum)
+class WrapLabel(QtWidgets.QLabel):
+    """A label that wraps at word boundaries and shows at most ``max_lines`` lines.
+
+    Text beyond the last line is cut at a word and ends with "…"; the tooltip always holds the whole
+    text, and :meth:`full_text` returns it.  A panel's picture keeps its room in a small window.
+
+    Parameters
+    ----------
+    text : str
+        The text.
+    max_lines : int
+        Lines shown at most.
+    """
+
+    def __init__(self, text: str = "", *, max_lines: int = 3, parent=None):
+        super().__init__(parent)
+        self.max_lines = int(max_lines)
+        self._full = ""
+        self.setWordWrap(True)
+        self.setTextFormat(QtCore.Qt.TextFormat.PlainText)
+        self.setSizePolicy(QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Minimum)
+        self.set_full_text(text)
+
+    def full_text(self) -> str:
+        """The whole text (what the label shows may be cut to :attr:`max_lines`)."""
+        return self._full
+
+    def is_cut(self) -> bool:
+        """Whether the label shows less than its whole text."""
+        return self.text() != self._full
+
+    def set_full_text(self, text: str) -> None:
+        """Set the text (shown up to :attr:`max_lines` lines; whole in the tooltip)."""
+        if text == self._full and self.text():
+            return
+        self._full = text
+        self.setToolTip(text)
+        self._refit()
+
+    def _lines(self, text: str, width: int) -> int:
+        fm = self.fontMetrics()
+        rect = fm.boundingRect(QtCore.QRect(0, 0, width, 1 << 20), QtCore.Qt.TextFlag.TextWordWrap, text)
+        return max(1, round(rect.height() / max(fm.lineSpacing(), 1)))
+
+    def _refit(self) -> None:
+        width = self.contentsRect().width()
+        shown = self._full
+        if width > 20 and self._lines(shown, width) > self.max_lines:
+            words = self._full.split(" ")
+            lo, hi = 0, len(words)  # the longest prefix of words that fits with the ellipsis
+            while lo < hi:
+                mid = (lo + hi + 1) // 2
+                if self._lines(" ".join(words[:mid]) + " …", width) <= self.max_lines:
+                    lo = mid
+                else:
+                    hi = mid - 1
+            shown = " ".join(words[:lo]) + " …"
+        if shown != self.text():
+            super().setText(shown)
+
+    def resizeEvent(self, event):  # noqa: N802 - Qt's name
+        super().resizeEvent(event)
+        self._refit()
+
+
+def _label(text: str, *, bold: bool = False, muted: bool = False, max_lines: int = 3) -> WrapLabel:
+    label = WrapLabel(text, max_lines=max_lines)
     style = "font-weight: 600;" if bold else ""
     if muted:
         style += f" color: {MUTED};"
     label.setStyleSheet(style)
-    label.setToolTip(text)
     return label
 
 
 def _set_text(label: QtWidgets.QLabel, text: str) -> None:
-    if label.text() != text:
+    if isinstance(label, WrapLabel):
+        label.set_full_text(text)
+    elif label.text() != text:
         label.setText(text)
         label.setToolTip(text)

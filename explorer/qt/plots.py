@@ -64,3 +64,9 @@ class PlotCanvas(FigureCanvasQTAgg):
     def paintEvent(self, event):  # noqa: N802 - Qt's name
         self.paints += 1
         super().paintEvent(event)
+
+    def resizeEvent(self, event):  # noqa: N802 - Qt's name
+        # Qt sets the figure's new size here and asks for a full draw: the axes keep their pixel margins.
+        super().resizeEvent(event)
+        self.plot.relayout()
+        self.plot.invalidate()

@@ -32,7 +32,7 @@ from ..app.plots import AlbedoPlot, AnglePlotsGrid, PolarPlot, ProfilePlot
 from ..app.state import AppState
 from ..app.views import LIVE_VIEWS, ExplorerModel
 from .controls import ControlPanel
-from .images import ImagePanel
+from .images import ImagePanel, WrapLabel
 from .lists import ComparePanel, LightsPanel
 from .plots import PlotCanvas
 from .view3d import LobeView3D
@@ -140,8 +140,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self.lobe_panel = ImagePanel("3D lobe", self.stack3d)
         self.polar_canvas = PlotCanvas(PolarPlot)
         self.polar_panel = ImagePanel("Polar slice", self.polar_canvas)
-        self.albedo_label = QtWidgets.QLabel()
-        self.albedo_label.setWordWrap(True)
+        self.albedo_label = WrapLabel(max_lines=2)
         self.polar_panel.layout().insertWidget(1, self.albedo_label)
         self.angle_canvas = PlotCanvas(AnglePlotsGrid)
         self.albedo_canvas = PlotCanvas(AlbedoPlot)
@@ -345,7 +344,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self.show_message(f"fitting {self.state.fit} to the current model …")
         QtWidgets.QApplication.processEvents(QtCore.QEventLoop.ProcessEventsFlag.ExcludeUserInputEvents)
         try:
-            entry = self.model.fit()
+            entry, _ = self.model.fit()
             self.show_message(f"fitted: {entry.label}")
         except (ValueError, RuntimeError) as exc:
             self.show_error(str(exc))
@@ -443,8 +442,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         if "albedo" in views:
             av = m["albedo"]
             warn = bool(av.unconverged or getattr(av, "above_one", False))
-            self.albedo_label.setText(captions.albedo_caption(av))
-            self.albedo_label.setToolTip(self.albedo_label.text())
+            self.albedo_label.set_full_text(captions.albedo_caption(av))
             if self.albedo_label.property("warn") != warn:
                 self.albedo_label.setProperty("warn", warn)
                 self.albedo_label.setStyleSheet(f"color: {'#ff8787' if warn else '#9aa1a9'};")
