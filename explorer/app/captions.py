@@ -365,11 +365,13 @@ def sphere_legend(state, sv) -> str:
     Returns
     -------
     str
-        E.g. ``"per pixel, exact sphere · arrow: the light"``; split: ``"split along the light: lower left
+        E.g. ``"per pixel, exact sphere · arrow: the key light"``; split: ``"split along the light: lower left
         current · upper right ▸ <entry>"`` first.
     """
     where = "per pixel, exact sphere" if sv.mode == "phong" else f"{sv.mode}, {sv.geometry}"
-    legend = f"{where} · arrow: the light"
+    marks = (["arrow: the key light"] if state.light != "ambient" else []) + (
+        ["squares: the scene's lights"] if state.scene_lights else [])
+    legend = " · ".join([where, *marks])
     if sv.split:
         mine, other = split_sides(sv.split_angle)
         legend = f"split along the light: {mine} current · {other} ▸ {sv.split}\n" + legend

@@ -48,6 +48,8 @@ REFINE_BUDGET = 0.04
 
 ACCENT = QtGui.QColor("#ffe066")
 SCANLINE = QtGui.QColor("#ff6b6b")
+#: The markers of the extra lights (a scene's rect, disk, further point lights ...) on the lit sphere.
+EXTRA = QtGui.QColor("#74c0fc")
 EDGE = QtGui.QColor(20, 22, 26, 150)
 
 STYLE_SHEET = """
@@ -479,6 +481,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             dx, dy = math.cos(angle), -math.sin(angle)
             p.drawLine(QtCore.QPointF(cx - 1.04 * r * dx, cy - 1.04 * r * dy),
                        QtCore.QPointF(cx + 1.04 * r * dx, cy + 1.04 * r * dy))  # fmt: skip
+        self._scene_light_marks(p, scale, cx, cy, r)
         if s.light == "ambient":
             return
         d = s.light_direction()
@@ -493,6 +496,26 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             p.drawEllipse(QtCore.QPointF(cx, cy), 0.08 * r, 0.08 * r)
             return
         _arrow(p, tail, tip, ACCENT, scale, dashed=d[2] < 0)
+
+    def _scene_light_marks(self, p: QtGui.QPainter, scale: float, cx: float, cy: float, r: float) -> None:
+        """A small open marker for each extra light, at its direction seen from the sphere's centre."""
+        from ..app.lights import engine_lights
+
+        p.setPen(QtGui.QPen(EXTRA, 2.0 / scale))
+        p.setBrush(QtCore.Qt.BrushStyle.NoBrush)
+        for k, table in enumerate(self.state.scene_lights):
+            for light in engine_lights(table, k):
+                where = next((getattr(light, a) for a in ("position", "center") if hasattr(light, a)), None)
+                d = np.asarray(where if where is not None else getattr(light, "direction", (0, 0, 0)), float)
+                if not np.all(np.isfinite(d)) or float(np.linalg.norm(d)) == 0.0:
+                    continue
+                d = d / float(np.linalg.norm(d))
+                n = float(np.linalg.norm(d[:2]))
+                if n < 1e-9:  # in front of or behind the centre: a ring around it
+                    p.drawEllipse(QtCore.QPointF(cx, cy), 0.12 * r, 0.12 * r)
+                    continue
+                at = QtCore.QPointF(cx + 1.02 * r * d[0] / n, cy - 1.02 * r * d[1] / n)  # on the outline
+                p.drawRect(QtCore.QRectF(at.x() - 0.045 * r, at.y() - 0.045 * r, 0.09 * r, 0.09 * r))
 
     def _coarse_overlay(self, p: QtGui.QPainter, scale: float) -> None:
         cv = self.model.views.get("coarse")

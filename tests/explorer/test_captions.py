@@ -126,7 +126,7 @@ def test_sphere_caption_of_the_default_state():
     model = _model(state)
     sv = model.views["sphere"]
     assert captions.sphere_title(state, sv) == "Lit sphere (engine): Blinn-Phong"
-    assert captions.sphere_legend(state, sv) == "per pixel, exact sphere · arrow: the light"
+    assert captions.sphere_legend(state, sv) == "per pixel, exact sphere · arrow: the key light"
     share = 100 * sv.clipped / sv.coverage.sum()  # the highlight of k_s + k_d above 1 at exposure 0
     assert 0.5 <= share < 10
     assert captions.sphere_caption(state, sv) == (f"{share:.0f}% of the sphere above 1: clipped (lower the exposure)\n"
