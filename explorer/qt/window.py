@@ -588,7 +588,8 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         w, h = img.width(), img.height()
         ptr = img.constBits()
         a = np.frombuffer(ptr, dtype=np.uint8, count=img.sizeInBytes()).reshape(h, img.bytesPerLine())
-        return np.ascontiguousarray(a[:, : 3 * w].reshape(h, w, 3))
+        # A copy: the rows live in the QImage, which goes when this returns (a view of them would be freed memory).
+        return a[:, : 3 * w].reshape(h, w, 3).copy()
 
     def screenshot(self, path=None) -> str:
         """Write the window to a PNG (atomically; default: a new ``lighting-explorer-N.png`` here).
