@@ -185,6 +185,7 @@ class LobeView3D(QtWidgets.QWidget):
         w, h = max(self.canvas.width(), 16), max(self.canvas.height(), 16)
         if tuple(self.plotter.window_size) != (w, h):
             self.plotter.window_size = (w, h)
+        self.plotter.render()  # pyvista's screenshot renders only the first time: later frames would be stale
         self.canvas.set_image(self.plotter.screenshot(return_img=True))
 
     def image(self) -> np.ndarray:
@@ -201,7 +202,8 @@ class LobeView3D(QtWidgets.QWidget):
 
     def _resized(self):
         self._pending = False
-        self.redraw()
+        if self.plotter.render_window is not None:  # not closed (a resize may arrive after close_view)
+            self.redraw()
 
     def _on_drag(self, x, y, released):
         # Off-screen: a horizontal drag turns the camera about the up axis, a vertical one tilts it.
