@@ -434,6 +434,8 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self.stack3d.setCurrentIndex(1 if s.view3d == "object" else 0)
         if s.view3d == "object":
             self.lobe_panel.set_title(getattr(self, "object_title", "Lit object"))
+        elif "lobe" in m:  # back from the object: the lobe's title again, though the lobe itself did not change
+            self.lobe_panel.set_title(captions.lobe_title(s, m["lobe"]))
         if "polar" in views:
             pv = m["polar"]
             self.polar_canvas.show_data(pv, channel=s.channel, label=label)
