@@ -98,7 +98,7 @@ def scene_estimate(scene: Scene) -> dict:
             evaluations += samples * (geo.n_vertices if mode == "gouraud" else geo.n_triangles)
     evaluations += pixels * phong_samples
     for key, lt in _environment_lights(scene):
-        if lt.method == "split-sum":
+        if lt.method != "monte-carlo":
             h, w = prefilter_size(lt)
             parts.append((key, h * w * PREFILTER_BYTES_PER_PIXEL, f"prefiltering a {w}x{h} environment"))
     if best[0] <= 1:

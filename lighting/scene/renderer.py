@@ -474,7 +474,7 @@ def _environment_budget_lines(scene) -> list:
     lines = []
     for key, lt in _environment_lights(scene):
         shown = "; drawn behind the objects" if lt.background and key.startswith("lights[") else ""
-        if lt.method == "split-sum":
+        if lt.method != "monte-carlo":
             h, w = prefilter_size(lt)
             mib = h * w * PREFILTER_BYTES_PER_PIXEL / 2**20
             lines.append(f"environment {key}: prefiltering {w}x{h} needs about {mib:.1f} MiB at its peak "

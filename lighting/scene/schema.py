@@ -8,7 +8,7 @@ and each model's ``parameters`` table, so a model registered anywhere is accepte
 from __future__ import annotations
 
 from ..lights import AmbientLight, DirectionalLight, DiskLight, PointLight, RectLight, SpotLight
-from ..lights.envlight import ENVIRONMENT_METHODS, EnvironmentLight
+from ..lights.envlight import DEFAULT_ENVIRONMENT_METHOD, ENVIRONMENT_METHODS, EnvironmentLight
 from ..models import model_class, model_names
 from ..render.image import MAX_EXPOSURE
 from ..render.renderer import SHADING_MODES
@@ -174,7 +174,7 @@ LIGHT_KEYS = {
         "intensity": (_color, 1.0),
         "rotation": (_number, 0.0),
         "background": (_boolean, True),
-        "method": (_choice(ENVIRONMENT_METHODS), "split-sum"),
+        "method": (_choice(ENVIRONMENT_METHODS), DEFAULT_ENVIRONMENT_METHOD),
         "samples": (_integer_check(2, 1 << 16), _ABSENT),
         "seed": (_integer_check(0), _ABSENT),
     },

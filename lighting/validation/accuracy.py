@@ -14,9 +14,10 @@ trusted reference and its wall time at increasing cost:
   the ray-cast analytic sphere;
 * **float32 vs float64** re-shading of the same geometry buffer;
 * **image-based lighting** (``ibl``): SH9 irradiance against the exact irradiance of the pixelized
-  environment, and the split sum (:func:`lighting.integrate.ibl.split_sum_radiance`) and Monte
-  Carlo with MIS at increasing samples per pixel against a Monte-Carlo reference, per model and
-  roughness on a sphere under three environments (:data:`IBL_ENVIRONMENTS`).
+  environment, and the split sum (:func:`lighting.integrate.ibl.split_sum_radiance`), the dominant
+  lights with filtered importance sampling (:func:`lighting.integrate.dominant.dominant_radiance`) and
+  Monte Carlo with MIS at increasing samples per pixel against a Monte-Carlo reference, per model and
+  roughness on a sphere under five environments (:data:`IBL_ENVIRONMENTS`).
 
 Times are medians of repeated runs; errors of stochastic methods are averaged
 over seeds and reported with their spread.  The reference of every case is
@@ -47,7 +48,7 @@ import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_bool, real_array
 from ..lights import AmbientLight, DirectionalLight, PointLight, RectLight
-from ..lights.environment import FunctionEnvironment, LatLongEnvironment
+from ..lights.environment import FunctionEnvironment, LatLongEnvironment, latlong_azimuth
 from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 from ..render.camera import Camera
 from ..render.mesh import icosphere
@@ -300,8 +301,13 @@ def _precision_points(size, repeat, progress):
 
 
 # ---------------------------------------------------------------------- image-based lighting
-#: The environments of the ``ibl`` study: label -> procedural sky (:mod:`lighting.lights.skies`).
-IBL_ENVIRONMENTS = {"smooth sky": "glow", "small bright sun": "sunset", "studio": "studio"}
+#: The environments of the ``ibl`` study: label -> procedural sky (:mod:`lighting.lights.skies`), or
+#: ``"sun-gradient"`` (:func:`sun_gradient_image`).  The quick settings take the first two.
+IBL_ENVIRONMENTS = {"smooth sky": "glow", "small bright sun": "sunset", "studio": "studio", "daylight": "daylight",
+                    "1.5° sun, gradient sky": "sun-gradient"}  # fmt: skip
+#: The sun of ``"sun-gradient"``: its direction (toward the ``ibl`` sphere's lit side), angular diameter
+#: (degrees) and radiance.
+IBL_SUN = {"direction": (0.45, -0.55, 0.70), "diameter_deg": 1.5, "radiance": 3000.0}
 #: The ``ibl`` study's sphere is seen from the side: camera ``x`` -> world ``x``, camera ``y`` (up in
 #: the image) -> world ``z`` (the sky's zenith), toward the viewer -> world ``−y``.
 IBL_VIEW_ROTATION = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
@@ -355,7 +361,49 @@ def ibl_environment(name: str, height: int = 256):
     """
     from ..lights.skies import SKIES
 
+    if name == "sun-gradient":
+        return LatLongEnvironment(sun_gradient_image(height))
     return LatLongEnvironment.from_function(SKIES[name].function, height)
+
+
+def sun_gradient_image(height: int = 256, *, supersample: int = 16) -> np.ndarray:
+    """A sun disk over a gradient sky, as an ``height × 2 height`` lat-long image (:data:`IBL_SUN`).
+
+    The sky is ``(0.05 + 0.3 max(cos θ, 0))`` times ``(0.8, 0.9, 1.0)``; the sun adds its radiance times the
+    share of each pixel's solid angle the disk covers (``supersample²`` points per pixel near the disk), so
+    the image holds the disk's power at any height, even where the disk is smaller than a pixel.
+
+    Parameters
+    ----------
+    height : int, optional
+        Rows of the image.
+    supersample : int, optional
+        Points per pixel side where the disk's coverage is measured.
+
+    Returns
+    -------
+    ndarray, (height, 2 height, 3)
+        Float64 radiance.
+    """
+    h, w = height, 2 * height
+    sun = np.asarray(IBL_SUN["direction"], dtype=np.float64)
+    sun = sun / np.linalg.norm(sun)
+    cos_r = math.cos(math.radians(IBL_SUN["diameter_deg"] / 2))
+    d = LatLongEnvironment.pixel_directions(h, w)
+    img = (0.05 + 0.3 * np.maximum(d[..., 2], 0.0))[..., None] * np.array([0.8, 0.9, 1.0])
+    # Pixels whose centre is within two pixels (π/h each way at most) of the disk: their coverage by
+    # equal-solid-angle supersampling.
+    near = np.argwhere(d @ sun >= math.cos(math.radians(IBL_SUN["diameter_deg"] / 2) + 2 * math.pi / h))
+    k = (np.arange(supersample) + 0.5) / supersample
+    for i, j in near:
+        c0, c1 = math.cos(i * math.pi / h), math.cos((i + 1) * math.pi / h)
+        z = c0 + (c1 - c0) * k  # equal solid angle steps in cos θ
+        a = (j + k) * (2 * math.pi / w)
+        phi = latlong_azimuth(a)
+        r = np.sqrt(np.maximum(1 - z * z, 0.0))
+        pts = np.stack(np.broadcast_arrays(r[:, None] * np.cos(phi), r[:, None] * np.sin(phi), z[:, None]), -1)
+        img[i, j] += IBL_SUN["radiance"] * float(np.mean(pts @ sun >= cos_r))
+    return img
 
 
 def ibl_sphere(size: int, dtype=np.float64):
@@ -427,6 +475,7 @@ def _progressive(model, env, n, v, spp, seed):
 
 
 def _ibl_points(cfg, progress):
+    from ..integrate.dominant import DOMINANT_SAMPLES, dominant_environment, dominant_radiance
     from ..integrate.ibl import split_sum_radiance
     from ..integrate.prefilter import irradiance_map, prefilter_environment
 
@@ -441,6 +490,7 @@ def _ibl_points(cfg, progress):
     for e_i, (env_label, sky_name) in enumerate(cfg["ibl_environments"].items()):
         env = ibl_environment(sky_name, cfg["ibl_env_height"])
         pre = prefilter_environment(env)
+        dominant_environment(pre)  # the lights, the residual's levels and irradiance: once, out of the timings
         # (a) SH9 irradiance against the exact irradiance of the same pixels, at the irradiance map's pixels
         h = cfg["ibl_irradiance_height"]
         exact = irradiance_map(env, h).image
@@ -466,6 +516,14 @@ def _ibl_points(cfg, progress):
             errs, lit, own_ref = ibl_pixel_errors(fast, ref_value, ref_err)
             points.append(
                 Point("ibl", case, "split sum", 1, "lookup per lobe", float(np.median(errs)), 0.0, t, ref_text,
+                      error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
+            )  # fmt: skip
+            dominant_radiance(model, pre, n32, v32)  # the sample tables once, out of the timings
+            fast, t = _median_time(lambda m=model, pre=pre: dominant_radiance(m, pre, n32, v32), repeat)
+            errs, _, own_ref = ibl_pixel_errors(fast, ref_value, ref_err)
+            points.append(
+                Point("ibl", case, "dominant lights", DOMINANT_SAMPLES, "filtered samples per glossy lobe",
+                      float(np.median(errs)), 0.0, t, ref_text,
                       error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
             )  # fmt: skip
             for spp in cfg["ibl_spp"]:

@@ -116,7 +116,8 @@ def test_environment_example_explains_its_environment(capsys):
 
     assert render_cmd.main(["environment", "--explain", "--size", "56x32"]) == 0
     text = capsys.readouterr().out
-    assert "environment light 'daylight_sky.hdr', a 128x64 image: split sum per pixel" in text
+    assert ("environment light 'daylight_sky.hdr', a 128x64 image: dominant lights and filtered importance sampling "
+            "per pixel") in text
     assert "prefiltered at 128x64 for 8 lobe widths" in text
     mib = 128 * 64 * PREFILTER_BYTES_PER_PIXEL / 2**20
     assert f"environment lights[0]: prefiltering 128x64 needs about {mib:.1f} MiB at its peak" in text
@@ -138,7 +139,7 @@ BAD = [
     ('rotation = "a"', "lights[0].rotation", "must be a finite number"),
     ("rotation = inf", "lights[0].rotation", "nan and inf are not allowed"),
     ("background = 1", "lights[0].background", "must be true or false"),
-    ('method = "mc"', "lights[0].method", "must be one of 'split-sum', 'monte-carlo'"),
+    ('method = "mc"', "lights[0].method", "must be one of 'dominant', 'split-sum', 'monte-carlo'"),
     ("samples = 64", "lights[0].samples", "applies to method = 'monte-carlo' only"),
     ("seed = 1", "lights[0].seed", "applies to method = 'monte-carlo' only"),
     ('method = "monte-carlo"\nsamples = 1', "lights[0].samples", "an integer in [2, 65536]"),

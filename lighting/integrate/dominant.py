@@ -1,0 +1,566 @@
+r"""Image-based lighting within a few percent: the dominant lights shaded exactly, the rest filtered.
+
+The split sum (:func:`lighting.integrate.ibl.split_sum_radiance`) reads one prefiltered value per lobe: a
+round lobe about the mirror direction, which is far off where the sky holds a small, very bright source
+(a sun) or where the lobe is wide and bent toward the normal at grazing views.  The method of this module
+(``EnvironmentLight(method="dominant")``) splits the environment in two:
+
+* **the dominant lights** — the brightest connected regions of the map (luminance above
+  :data:`DOMINANT_THRESHOLD` times the map's mean, at most :data:`DOMINANT_MAX_SOLID_ANGLE` each, the
+  :data:`DOMINANT_MAX_LIGHTS` most powerful kept) — each replaced by a disk light of the same solid
+  angle, direction (the power-weighted mean) and power (the region's radiance above its surroundings'
+  level), shaded with the model's own BRDF: ``f_r(v, l) (n·l) E`` at stratified points of the disk;
+* **the residual** — the map with those regions filled with their surroundings' level — is smooth, and is
+  read through its own prefiltered levels: a diffuse lobe by the exact irradiance map of the residual
+  (:func:`lighting.integrate.prefilter.irradiance_map`, not SH9), a glossy lobe by *filtered importance
+  sampling* (Colbert & Křivánek 2007): ``samples`` directions drawn from the part's own sampler at fixed
+  stratified points, each reading the level whose width matches its share of the lobe,
+  ``σ_k = c_σ √(1 / (2π N p_k))``, weighted by ``f_r (n·l) / p`` and normalized, times the part's exact
+  directional albedo ``ρ(μ_v)`` (the tables of the split sum).  The lobe's true shape — stretched at
+  grazing views, bent toward the normal, cut by the horizon — is what the samples follow.
+
+An ideal mirror part reflects ``R(μ_v) L(r)`` of the whole map, exactly as in the split sum.
+
+The extraction, the residual's levels and its irradiance map are computed once per environment (cached
+on the prefiltered environment's base: a turned or scaled light reuses them); a re-shade is then the
+lights' BRDF evaluations plus ``samples`` lookups per glossy part and pixel.  How close it comes to the
+Monte-Carlo reference, and at what cost, is measured by ``lighting-explorer report accuracy --only ibl``
+and ``lighting-explorer bench --ibl``.
+
+References
+----------
+M. Colbert and J. Křivánek, "GPU-based importance sampling", GPU Gems 3, ch. 20, 2007.
+B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes.
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._numeric import check_budget, check_count, check_vectors, working_dtype
+from ._delta import delta_albedo, split_delta
+from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
+from .prefilter import kernel_of_lobe
+from .sampling import _check_brdf
+
+__all__ = [
+    "DOMINANT_THRESHOLD",
+    "DOMINANT_MAX_LIGHTS",
+    "DOMINANT_MAX_SOLID_ANGLE",
+    "DOMINANT_SAMPLES",
+    "DiskLights",
+    "DominantEnvironment",
+    "dominant_environment",
+    "find_dominant_lights",
+    "dominant_radiance",
+]
+
+#: A pixel belongs to a dominant light when its luminance is above this many times the map's mean radiance.
+DOMINANT_THRESHOLD = 16.0
+#: At most this many dominant lights (the most powerful).
+DOMINANT_MAX_LIGHTS = 4
+#: A bright region larger than this (steradians; a cap of about 7°) stays in the residual: it is no small source.
+DOMINANT_MAX_SOLID_ANGLE = 0.05
+#: Filtered-importance samples per glossy part and pixel (the default of :func:`dominant_radiance`).
+DOMINANT_SAMPLES = 16
+#: ``c_σ``: a sample's blur width relative to the width ``√(Ω_s / 2π)`` of its share ``Ω_s = 1/(N p)`` of the lobe.
+FILTER_SCALE = 1.0
+#: Rows of the residual's irradiance map (E is smooth once the small sources are out).
+IRRADIANCE_HEIGHT = 64
+
+
+@dataclass(frozen=True)
+class DiskLights:
+    """Disk lights at infinity: what :func:`find_dominant_lights` takes out of a map.
+
+    Attributes
+    ----------
+    directions : ndarray, (K, 3)
+        Unit directions toward each disk's centre (the map's frame).
+    solid_angles : ndarray, (K,)
+        ``Ω`` of each disk, steradians.
+    radiance : ndarray, (K, 3)
+        Radiance inside each disk (RGB): its power over its solid angle.
+    """
+
+    directions: np.ndarray
+    solid_angles: np.ndarray
+    radiance: np.ndarray
+
+    @property
+    def power(self) -> np.ndarray:
+        """``L Ω`` of each disk, ``(K, 3)``: its irradiance on a surface facing it, in the small-disk limit."""
+        return self.radiance * self.solid_angles[:, None]
+
+    @property
+    def half_angles(self) -> np.ndarray:
+        """Angular radius ``γ`` of each disk, ``Ω = 2π (1 − cos γ)``, radians."""
+        return 2.0 * np.arcsin(np.sqrt(np.clip(self.solid_angles / (4 * math.pi), 0.0, 1.0)))
+
+    def __len__(self):
+        return int(self.solid_angles.shape[0])
+
+
+def _pixel_geometry(h: int, w: int):
+    """Pixel-centre unit directions ``(h, w, 3)`` and solid angles ``(h, w)`` of an ``h × w`` lat-long map."""
+    from ..lights.environment import LatLongEnvironment
+
+    d = LatLongEnvironment.pixel_directions(h, w)
+    c = np.cos(np.arange(h + 1) * (math.pi / h))
+    omega = np.broadcast_to(((c[:-1] - c[1:]) * (2 * math.pi / w))[:, None], (h, w))
+    return d, omega
+
+
+def _label_wrapped(mask: np.ndarray):
+    """Connected regions of ``mask`` (8-neighbours), joined across the azimuth seam: ``(labels, count)``."""
+    from scipy import ndimage
+
+    labels, count = ndimage.label(mask, structure=np.ones((3, 3), dtype=bool))
+    if count == 0:
+        return labels, 0
+    parent = np.arange(count + 1)
+
+    def root(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    h = mask.shape[0]
+    for i in range(h):  # the first and last columns touch (the map wraps in azimuth)
+        a = labels[i, -1]
+        if not a:
+            continue
+        for di in (-1, 0, 1):
+            if 0 <= i + di < h and labels[i + di, 0]:
+                ra, rb = root(a), root(labels[i + di, 0])
+                if ra != rb:
+                    parent[max(ra, rb)] = min(ra, rb)
+    roots = np.array([root(a) for a in range(count + 1)])
+    _, compact = np.unique(roots, return_inverse=True)
+    return compact[labels], int(compact.max())
+
+
+def find_dominant_lights(image, *, threshold=DOMINANT_THRESHOLD, max_lights=DOMINANT_MAX_LIGHTS,
+                         max_solid_angle=DOMINANT_MAX_SOLID_ANGLE):  # fmt: skip
+    """The small, very bright regions of a lat-long map as disk lights, and the map without them.
+
+    Parameters
+    ----------
+    image : array_like, (H, W, 3)
+        Linear RGB radiance, rows and columns as :class:`~lighting.lights.environment.LatLongEnvironment`.
+    threshold : float > 0
+        A pixel is bright when its luminance (the mean of the channels) is above ``threshold`` times the
+        map's mean luminance (over solid angle).
+    max_lights : int >= 0
+        The most powerful regions kept.
+    max_solid_angle : float > 0
+        Regions larger than this (steradians) stay in the map.
+
+    Returns
+    -------
+    lights : DiskLights
+        One disk per region taken out: its power the region's radiance above the fill level times solid
+        angle, its direction the power-weighted mean of its pixels', its solid angle the power over the
+        brightest pixel's excess radiance (the disk's own for a uniform disk, not counting the partly
+        covered pixels of its rim twice).
+    residual : ndarray, (H, W, 3)
+        Float64: the map with each region's pixels set to the fill level, the mean radiance of the pixels
+        within two pixels around the region (its surroundings).
+
+    Examples
+    --------
+    >>> img = np.ones((32, 64, 3)); img[10, 20] = 1000.0  # one pixel of 1000 on a uniform sky of 1
+    >>> lights, rest = find_dominant_lights(img)
+    >>> pixel = (math.cos(10 * math.pi / 32) - math.cos(11 * math.pi / 32)) * 2 * math.pi / 64  # its solid angle
+    >>> len(lights), float(rest.max()), round(float(lights.power[0, 0] / (999 * pixel)), 12)
+    (1, 1.0, 1.0)
+    """
+    from scipy import ndimage
+
+    img = np.asarray(image, dtype=np.float64)
+    h, w = img.shape[:2]
+    d, omega = _pixel_geometry(h, w)
+    lum = img.mean(axis=-1)
+    mean = float(np.sum(lum * omega) / (4 * math.pi))
+    empty = DiskLights(np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3)))
+    if not mean > 0 or max_lights == 0:
+        return empty, img.copy()
+    labels, count = _label_wrapped(lum > threshold * mean)
+    if count == 0:
+        return empty, img.copy()
+    index = np.arange(1, count + 1)
+    area = ndimage.sum_labels(omega, labels, index)
+    found = []
+    residual = img.copy()
+    for k in index[area <= max_solid_angle]:
+        region = labels == k
+        # The surroundings: two pixels around the region (wrapping in azimuth), not in any bright region.
+        grown = ndimage.binary_dilation(np.pad(region, ((0, 0), (2, 2)), mode="wrap"), iterations=2)[:, 2:-2]
+        ring = grown & (labels == 0)
+        fill = (img[ring] * omega[ring, None]).sum(axis=0) / omega[ring].sum() if ring.any() else np.zeros(3)
+        excess = np.maximum(img[region] - fill, 0.0)
+        om = omega[region]
+        power = (excess * om[:, None]).sum(axis=0)
+        weight = excess.mean(axis=-1) * om
+        centre = (d[region] * weight[:, None]).sum(axis=0)
+        norm = float(np.linalg.norm(centre))
+        if not norm > 0 or not power.max() > 0:
+            continue
+        # The disk's solid angle: its power over its brightest pixel's excess — exact for a uniform disk with one
+        # whole pixel inside, where the region itself also counts the partly covered pixels of its rim.
+        size = min(float(weight.sum() / excess.mean(axis=-1).max()), float(om.sum()))
+        found.append((float(power.mean()), centre / norm, size, power, region))
+        residual[region] = np.minimum(img[region], fill)
+    found.sort(key=lambda f: -f[0])
+    kept = found[:max_lights]
+    for f in found[max_lights:]:  # the regions not kept go back into the map as they were
+        residual[f[4]] = img[f[4]]
+    if not kept:
+        return empty, residual
+    dirs = np.array([f[1] for f in kept])
+    om = np.array([f[2] for f in kept])
+    rad = np.array([f[3] for f in kept]) / om[:, None]
+    return DiskLights(dirs, om, rad), residual
+
+
+class DominantEnvironment:
+    """What the dominant-light method precomputes for one environment (see the module notes).
+
+    Attributes
+    ----------
+    lights : DiskLights
+        The dominant lights, in the frame of the prefiltered environment's base.
+    residual : PrefilteredEnvironment
+        The map without them, prefiltered (the input itself when no light was taken out).
+    irradiance : LatLongEnvironment
+        The residual's exact irradiance map.
+    """
+
+    def __init__(self, prefiltered, *, threshold=DOMINANT_THRESHOLD, max_lights=DOMINANT_MAX_LIGHTS,
+                 max_solid_angle=DOMINANT_MAX_SOLID_ANGLE):  # fmt: skip
+        from ..lights.environment import LatLongEnvironment
+        from .prefilter import irradiance_map, prefilter_environment
+
+        base = np.asarray(prefiltered.levels[0], dtype=np.float64)
+        self.lights, rest = find_dominant_lights(base, threshold=threshold, max_lights=max_lights,
+                                                 max_solid_angle=max_solid_angle)  # fmt: skip
+        if len(self.lights):
+            env = LatLongEnvironment(rest)
+            self.residual = prefilter_environment(env, sigmas=prefiltered.sigmas)
+        else:
+            env = LatLongEnvironment(base)
+            self.residual = prefiltered.for_environment(prefiltered.environment)  # unturned, unscaled
+        self.levels = _Levels(self.residual)
+        h0 = base.shape[0]
+        h = min(IRRADIANCE_HEIGHT, h0)
+        irr = irradiance_map(env, h, source_height=h0)
+        # The map's quadrature errs by O((π/H)²) on each row alike: divided by what it gives for a uniform sky
+        # (π exactly), a uniform sky's irradiance is exact — the furnace — and smooth ones gain too.
+        one = irradiance_map(LatLongEnvironment(np.ones((h0, base.shape[1], 3))), h, source_height=h0).image
+        self.irradiance = LatLongEnvironment(irr.image * (math.pi / one))
+
+    def __repr__(self):
+        return f"DominantEnvironment({len(self.lights)} lights, residual {self.residual!r})"
+
+
+_cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def dominant_environment(prefiltered) -> DominantEnvironment:
+    """The :class:`DominantEnvironment` of a prefiltered environment, made once per base environment.
+
+    Parameters
+    ----------
+    prefiltered : PrefilteredEnvironment or environment
+
+    Returns
+    -------
+    DominantEnvironment
+    """
+    pre = _check_prefiltered(prefiltered)
+    key = pre.environment
+    try:
+        found = _cache.get(key)
+    except TypeError:  # not weakly referable: no cache
+        return DominantEnvironment(pre)
+    if found is None:
+        found = DominantEnvironment(pre)
+        _cache[key] = found
+    return found
+
+
+def _stratified_square(count: int) -> np.ndarray:
+    """``count`` points of the unit square, a rank-1 lattice (Fibonacci when it can): stratified in both axes."""
+    k = np.arange(count)
+    golden = (math.sqrt(5.0) - 1.0) / 2.0
+    return np.stack([(k + 0.5) / count, np.mod(0.5 + k * golden, 1.0)], axis=-1)
+
+
+def _disk_points(half_angle: float, lobe: float) -> tuple[np.ndarray, np.ndarray]:
+    """Offsets ``(x, y)`` (radians, tangent plane) and weights of the stratified points shading a disk light.
+
+    One point at the centre when the disk is much narrower than the lobe; else rings of equal area.
+    """
+    ratio = half_angle / lobe if lobe > 0 else math.inf
+    rings = 0 if ratio < 0.05 else (1 if ratio < 0.2 else (2 if ratio < 0.6 else 4))
+    xs, ys, ws = [0.0], [0.0], [1.0]
+    if rings:
+        total = (2 * rings + 1) ** 2  # equal-area cells: the centre disk, then 8 i cells on ring i
+        xs, ys, ws = [0.0], [0.0], [1.0 / total]
+        for i in range(1, rings + 1):
+            count = 8 * i
+            r = half_angle * math.sqrt(((2 * i) ** 2 + (2 * i + 1) ** 2) / 2) / (2 * rings + 1)
+            a = (np.arange(count) + 0.5 * (i % 2)) * (2 * math.pi / count)
+            xs += list(r * np.cos(a))
+            ys += list(r * np.sin(a))
+            ws += [1.0 / total] * count
+    return np.array([xs, ys]).T, np.asarray(ws)
+
+
+def _to_base_matrix(pre):
+    """``M`` with ``d_base = d_world @ M`` (the prefiltered environment's turn), or None when it is not turned."""
+    if pre._to_base is None:
+        return None
+    return np.asarray(pre._to_base(np.eye(3)), dtype=np.float64)
+
+
+def _light_term(part, lights, n, v, dt, widths):
+    """``Σ_k f_r(v, l) (n·l) L_k dω`` over the disks of ``lights``: stratified points, each its share of ``Ω``."""
+    out = np.zeros(n.shape, dtype=np.float64)
+    for k in range(len(lights)):
+        c = lights.directions[k]
+        gamma = float(lights.half_angles[k])
+        offsets, weights = _disk_points(gamma, widths)
+        t = np.cross([0.0, 0.0, 1.0] if abs(c[2]) < 0.9 else [1.0, 0.0, 0.0], c)
+        t /= np.linalg.norm(t)
+        b = np.cross(c, t)
+        irradiance = lights.radiance[k] * lights.solid_angles[k]  # L Ω
+        for (x, y), wgt in zip(offsets, weights, strict=True):
+            off = math.hypot(x, y)
+            ld = c * math.cos(off) + (t * x + b * y) * (math.sin(off) / off if off > 0 else 1.0)
+            ld = ld / np.linalg.norm(ld)
+            lw = np.broadcast_to(ld.astype(dt), n.shape)
+            cos_l = np.maximum(n @ ld.astype(dt), 0)
+            f = np.asarray(part.eval(n, lw, v), dtype=np.float64)
+            out += f * (cos_l[:, None] * wgt) * irradiance
+    return out
+
+
+def _fis_sampler(part):
+    """The part's sampler; for a rough isotropic GGX or Beckmann part the visible normals' (its weights vary least).
+
+    Below ``α = 0.1`` the lobe is narrow and ``D(h)(n·h)`` sampling, stratified in ``θ_h``, reads it better.
+    """
+    ndf = getattr(part, "ndf", None)
+    rough = float(getattr(part, "roughness", 0.0) or 0.0) >= 0.1
+    if ndf in ("ggx", "beckmann") and rough and not getattr(part, "anisotropic", False):
+        from ..models.microfacet_sampling import VisibleNormalSampler
+
+        return VisibleNormalSampler(ndf, float(part.roughness))
+    return part.sampler()
+
+
+#: View angles of the per-part sample tables: 0° to 89.5° in 0.5° steps (a pixel reads the nearest).
+_TABLE_STEP = math.radians(0.5)
+_TABLE_ANGLES = np.arange(0.0, math.radians(89.75), _TABLE_STEP)
+_tables: dict = {}
+
+
+def _sample_table(part, samples: int, sigmas: tuple):
+    """The filtered-importance samples of one part at :data:`_TABLE_ANGLES`, in the frame where ``v`` is in ``xz``.
+
+    Returns ``(directions (M, N, 3) float32, weights (M, N) float32 summing to 1 per row (or 0 where every
+    sample is below the horizon), level (M, N) fractional level index into ``sigmas``)``; cached per part.
+    """
+    key = (type(part).__qualname__, repr(part), samples, sigmas)
+    found = _tables.get(key)
+    if found is not None:
+        return found
+    th = _TABLE_ANGLES
+    vl = np.stack([np.sin(th), np.zeros_like(th), np.cos(th)], axis=-1)[:, None, :]
+    u = _stratified_square(samples)[None, :, :]
+    s = _fis_sampler(part).sample(u, vl)
+    ld = np.asarray(s.directions, dtype=np.float64)
+    p = np.asarray(s.pdf, dtype=np.float64)
+    f = np.asarray(part.eval(np.array([0.0, 0.0, 1.0]), ld, vl), dtype=np.float64)
+    cos_l = ld[..., 2]
+    ok = (p > 0) & (cos_l > 0)
+    safe_p = np.where(ok, p, 1.0)
+    w = np.where(ok, f.mean(axis=-1) * np.maximum(cos_l, 0.0) / safe_p, 0.0)
+    total = w.sum(axis=-1, keepdims=True)
+    w = np.where(total > 0, w / np.where(total > 0, total, 1.0), 0.0)
+    sigma = FILTER_SCALE * np.sqrt(np.where(ok, 1.0 / (samples * safe_p), 0.0) / (2 * math.pi))
+    sig = np.asarray(sigmas, dtype=np.float64)
+    with np.errstate(divide="ignore"):
+        logs = np.log(np.maximum(sigma, sig[1]))
+    level = np.where(sigma < sig[1], np.clip(sigma / sig[1], 0.0, 1.0),
+                     np.interp(logs, np.log(sig[1:]), np.arange(1, len(sig))))  # fmt: skip
+    found = (ld.astype(np.float32), w.astype(np.float32), level)
+    _tables[key] = found
+    if len(_tables) > 64:
+        _tables.pop(next(iter(_tables)))
+    return found
+
+
+class _Levels:
+    """Every level of a prefiltered environment's von Mises–Fisher family in one flat array, for one gather."""
+
+    def __init__(self, pre):
+        levels = pre.families["mirror"]
+        self.heights = np.array([im.shape[0] for im in levels], dtype=np.int64)
+        sizes = [im.shape[0] * im.shape[1] for im in levels]
+        self.offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+        self.flat = np.concatenate([im.reshape(-1, 3) for im in levels]).astype(np.float32)
+        self.count = len(levels)
+
+    def read(self, d, level):
+        """Bilinear in each of the two levels around ``level`` (fractional index), linear between: ``(..., 3)``."""
+        from ..lights.latlong import latlong_angles
+
+        theta, a = latlong_angles(d)
+        k0 = np.minimum(np.floor(level).astype(np.int64), self.count - 1)
+        t = (level - k0).astype(np.float32)
+        out = None
+        for k, wt in ((k0, 1 - t), (np.minimum(k0 + 1, self.count - 1), t)):
+            h = self.heights[k]
+            w = 2 * h
+            fx = a * (w / (2 * math.pi)).astype(np.float32) - 0.5
+            j0 = np.floor(fx)
+            tx = (fx - j0)[..., None]
+            j0 = j0.astype(np.int64) % w
+            j1 = (j0 + 1) % w
+            fy = np.clip(theta * (h / math.pi).astype(np.float32) - 0.5, 0.0, h - 1)
+            i0 = np.minimum(np.floor(fy).astype(np.int64), np.maximum(h - 2, 0))
+            ty = np.clip(fy - i0, 0.0, 1.0)[..., None]
+            r0 = self.offsets[k] + i0 * w
+            r1 = r0 + np.where(i0 + 1 < h, w, 0)
+            f = self.flat
+            val = (f[r0 + j0] * (1 - tx) + f[r0 + j1] * tx) * (1 - ty) + (f[r1 + j0] * (1 - tx) + f[r1 + j1] * tx) * ty
+            val = val * wt[..., None]
+            out = val if out is None else out + val
+        return out
+
+
+def _fis_term(part, pre, levels, n, v, cos_v, samples):
+    """The residual's mean over the part's lobe by filtered importance sampling (module notes), per pixel.
+
+    The samples of the nearest tabulated view angle, turned into each pixel's frame (``x`` along the view's
+    projection on the surface, ``z`` the normal); their weights sum to 1.
+    """
+    ld, w, level = _sample_table(part, samples, pre.sigmas)
+    theta = np.arccos(np.clip(cos_v, 0.0, 1.0))
+    m = np.minimum(np.rint(theta / _TABLE_STEP).astype(np.int64), len(_TABLE_ANGLES) - 1)
+    t = v - n * cos_v[:, None]
+    tl = np.sqrt(np.einsum("ij,ij->i", t, t))
+    facing = tl < 1e-6  # v along n: any tangent (the lobe is symmetric about the normal there)
+    if np.any(facing):
+        from ..vec import orthonormal_basis
+
+        t[facing] = orthonormal_basis(n[facing])[0]
+        tl[facing] = 1.0
+    t = t / tl[:, None]
+    b = np.cross(n, t)
+    loc = ld[m]  # (P, N, 3)
+    world = loc[..., 0:1] * t[:, None, :] + loc[..., 1:2] * b[:, None, :] + loc[..., 2:3] * n[:, None, :]
+    vals = levels.read(world, level[m])
+    return np.einsum("pk,pkc->pc", w[m], vals), w[m].sum(axis=-1) > 0
+
+
+def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = DOMINANT_SAMPLES,
+                      split_terms: bool = False):  # fmt: skip
+    r"""Reflected radiance under an environment: the dominant lights exactly, the residual filtered (module notes).
+
+    Parameters
+    ----------
+    brdf : BRDF
+        Any model (sums included).
+    prefiltered : PrefilteredEnvironment or environment
+        As :func:`~lighting.integrate.ibl.split_sum_radiance`; its dominant lights and residual are
+        computed on first use and kept (:func:`dominant_environment`).
+    normals, view_dirs : array_like, (..., 3), world frame
+        Unit surface normals and unit directions toward the viewer (broadcast together).
+    samples : int >= 1
+        Filtered-importance samples per glossy part and pixel.
+    split_terms : bool
+        Return ``{"diffuse": ..., "specular": ...}`` (normal lobes; the others) instead of their sum.
+
+    Returns
+    -------
+    ndarray, (..., 3) or dict
+        ``L_o`` in the dtype of the inputs; 0 where ``n·v <= 0``.
+
+    Examples
+    --------
+    >>> from lighting.models.brdf import Lambert
+    >>> from lighting.lights.environment import ConstantEnvironment
+    >>> from lighting.integrate.prefilter import prefilter_environment
+    >>> pre = prefilter_environment(ConstantEnvironment(2.0), height=16)
+    >>> dominant_radiance(Lambert(0.5), pre, (0, 0, 1.0), (0.6, 0, 0.8)).round(6).tolist()  # furnace: k_d L
+    [1.0, 1.0, 1.0]
+    """
+    brdf = _check_brdf(brdf)
+    pre = _check_prefiltered(prefiltered)
+    samples = check_count("samples", samples, 1, 1024)
+    n = check_vectors("normals", normals)
+    v = check_vectors("view_dirs", view_dirs)
+    dt = working_dtype(n, v)
+    shape = np.broadcast_shapes(n.shape, v.shape)
+    pixels = math.prod(shape) // 3
+    check_budget("normals", pixels * (samples + 4) * 8 * 40, what=f"{pixels} pixels at {samples} samples")
+    n = np.broadcast_to(n, shape).reshape(-1, 3).astype(dt, copy=False)
+    v = np.broadcast_to(v, shape).reshape(-1, 3).astype(dt, copy=False)
+    cos_v = np.einsum("ij,ij->i", n, v)
+    seen = cos_v > 0
+    r = 2 * cos_v[:, None] * n - v
+    diffuse = np.zeros(n.shape, dtype=np.float64)
+    specular = np.zeros(n.shape, dtype=np.float64)
+    smooth, deltas = split_delta(brdf)
+    if deltas:
+        reflectance = delta_albedo(deltas, np.clip(cos_v, 0, 1).astype(np.float64))
+        specular += reflectance * pre.lookup(r, 0.0)
+    parts = () if smooth is None else smooth.parts
+    if parts:
+        dom = dominant_environment(pre)
+        # The lights, the residual and its irradiance are in the frame of the environment's base: turn the
+        # pixels into it (an isotropic BRDF does not change under a turn of n, v and l together).
+        turn = _to_base_matrix(pre)
+        nb = n.astype(np.float64) if turn is None else n.astype(np.float64) @ turn
+        vb = v.astype(np.float64) if turn is None else v.astype(np.float64) @ turn
+        nb, vb = nb.astype(dt), vb.astype(dt)
+        rb = 2 * cos_v[:, None] * nb - vb
+        scale = np.asarray(pre._scale, dtype=np.float64)
+        residual = dom.residual
+        theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
+        irradiance = None
+        for part in parts:
+            lobe = part.lobe()
+            sigma = lobe_sigma(lobe)
+            value = np.zeros(n.shape, dtype=np.float64)
+            if len(dom.lights):
+                value += _light_term(part, dom.lights, nb, vb, dt, sigma)
+            rho = _albedo_at(lobe_albedo(part), theta_v, np.float64)
+            if math.isinf(sigma):
+                if irradiance is None:
+                    irradiance = dom.irradiance.radiance(nb).astype(np.float64) / math.pi
+                value += rho * irradiance
+            else:
+                mean, ok = _fis_term(part, residual, dom.levels, nb.astype(np.float32), vb.astype(np.float32),
+                                     cos_v.astype(np.float32), samples)  # fmt: skip
+                mean = mean.astype(np.float64)
+                if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value
+                    miss = ~ok
+                    mean[miss] = residual.lookup(rb[miss], min(sigma, residual.sigmas[-1]),
+                                                 kernel_of_lobe(lobe)).astype(np.float64)  # fmt: skip
+                value += rho * mean
+            (diffuse if math.isinf(sigma) else specular)[:] += value * scale
+    diffuse[~seen] = 0
+    specular[~seen] = 0
+    out_shape = shape[:-1] + (3,)
+    if split_terms:
+        return {"diffuse": diffuse.astype(dt).reshape(out_shape), "specular": specular.astype(dt).reshape(out_shape)}
+    return (diffuse + specular).astype(dt).reshape(out_shape)
