@@ -144,6 +144,10 @@ def show_help(window) -> QtWidgets.QDialog:
     lay.addWidget(table)
     lay.addWidget(note)
     dialog.resize(620, 560)
+    # The dialog is a window of its own, where the window's shortcuts do not reach: its key closes it there too.
+    help_action = getattr(window, "actions_by_key", {}).get("help")
+    if help_action is not None:
+        dialog.addAction(help_action)
     window.help_dialog = dialog
     dialog.show()
     return dialog

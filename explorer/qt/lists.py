@@ -404,7 +404,11 @@ class _EntryRow(QtWidgets.QWidget):
         self.label.setTextFormat(QtCore.Qt.TextFormat.PlainText)
         self.label.setWordWrap(True)
         self.label.setToolTip(entry.label)
-        self.label.setSizePolicy(QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Preferred)
+        # A new size policy drops the height-for-width that word wrap set: without it a wrapped label keeps one
+        # line's height and its two lines are cut.
+        policy = QtWidgets.QSizePolicy(QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Preferred)
+        policy.setHeightForWidth(True)
+        self.label.setSizePolicy(policy)
         self.label.setStyleSheet(f"color: {QtGui.QColor(entry.colour).name()};")
         self.solo = QtWidgets.QCheckBox("solo", self)
         self.solo.setToolTip(f"show {entry.label} alone")

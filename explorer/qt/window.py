@@ -434,8 +434,10 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self.stack3d.setCurrentIndex(1 if s.view3d == "object" else 0)
         if s.view3d == "object":
             self.lobe_panel.set_title(getattr(self, "object_title", "Lit object"))
+            self.lobe_panel.set_caption("")  # the lobe's caption names arrows the lit object does not show
         elif "lobe" in m:  # back from the object: the lobe's title again, though the lobe itself did not change
             self.lobe_panel.set_title(captions.lobe_title(s, m["lobe"]))
+            self.lobe_panel.set_caption(captions.lobe_caption(s, m["lobe"]))
         if "polar" in views:
             pv = m["polar"]
             self.polar_canvas.show_data(pv, channel=s.channel, label=label)
