@@ -471,17 +471,50 @@ def test_the_accuracy_summary_falls_back_to_the_pages_run_without_saved_studies(
     assert accuracy_summary(inside, folder=str(tmp_path)) == inside  # an empty cache: nothing saved
 
 
-def test_the_explorers_timing_constants_on_its_page_are_the_codes():
-    from explorer.app import IDLE_MS
-    from explorer.app.objectpanel import REFINE_BUDGET, REFINE_MS
+def _module_constants(path: str) -> dict:
+    """The module-level constants (``NAME = literal``) of a source file, read without importing it (no Qt)."""
+    import ast
 
+    tree = ast.parse((ROOT / path).read_text(encoding="utf-8"))
+    found = {}
+    for node in tree.body:
+        if isinstance(node, (ast.Assign, ast.AnnAssign)) and node.value is not None:
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            for target in targets:
+                if isinstance(target, ast.Name):
+                    try:
+                        found[target.id] = ast.literal_eval(node.value)
+                    except ValueError:
+                        pass
+    return found
+
+
+def test_the_explorers_timing_constants_and_targets_on_its_page_are_the_codes():
+    window = _module_constants("explorer/qt/window.py")
+    targets = _module_constants("explorer/qt/bench.py")["TARGETS_MS"]
     text = _prose("explorer.md")
     for phrase in (
-        f"rested for {IDLE_MS} ms with the button still held (`explorer.app.IDLE_MS`)",
-        f"(`explorer.app.objectpanel.REFINE_MS`, {REFINE_MS} ms), each tick spends "
-        f"`REFINE_BUDGET` ({REFINE_BUDGET:g} s)",
+        f"rested for {window['IDLE_MS']} ms with the button still held (`explorer.qt.window.IDLE_MS`)",
+        f"(`explorer.qt.window.REFINE_MS`, {window['REFINE_MS']} ms), each tick spends "
+        f"`REFINE_BUDGET` ({window['REFINE_BUDGET']:g} s)",
+        f"| drag | a light slider's value changed while held … the lit sphere's panel repainted "
+        f"| ≤ {targets['drag_ms']:g} ms |",
+        f"| release | the slider released … the lobe and the plots repainted | ≤ {targets['release_ms']:g} ms |",
+        f"| model switch | another model chosen in the model box … every view repainted "
+        f"| ≤ {targets['model_switch_ms']:g} ms |",
     ):
-        assert phrase in text
+        assert phrase in text, phrase
+
+
+def test_the_explorers_key_table_is_the_windows_key_table():
+    # The page's table under "### Keys", row by row, is explorer.app.captions.KEYS: each key as its Qt key
+    # sequence and its words (a "|" in the words escaped for the Markdown table).
+    from explorer.app.captions import KEYS
+
+    text = (ROOT / "docs" / "explorer.md").read_text(encoding="utf-8")
+    section = text[text.index("\n### Keys\n") :].split("\n## ", 1)[0]
+    rows = re.findall(r"^\| `([^`]+)` \| (.+?) \|$", section, re.M)
+    assert [(key, words.replace("\\|", "|")) for key, words in rows] == [(k.key, k.description) for k in KEYS]
 
 
 @pytest.mark.slow
