@@ -171,8 +171,13 @@ def test_within_a_few_percent_of_the_reference(sky):
         med, p95, own = _errors(dominant_radiance(m, pre, n.astype(np.float32), v.astype(np.float32)), ref)
         ss_med, ss_p95, _ = _errors(split_sum_radiance(m, pre, n, v), ref)
         assert own < 0.02, (sky, label)  # the reference's own median error (8,192 samples per pixel)
-        if sky != "studio" or label == "Lambert":
+        if (sky, label) != ("studio", "GGX α=0.05"):
             # The targets, median 2 % and 95th percentile 10 %, with room for the reference's own noise.
             assert med < 0.02 + own and p95 < 0.10, (sky, label, med, p95)
-        if sky == "sun-gradient":  # where the split sum fails: a sun
-            assert p95 < ss_p95 / 3, (label, p95, ss_p95)
+            if sky == "sun-gradient":  # where the split sum fails: its 95th percentile is over 4 times as large
+                assert p95 < ss_p95 / 4, (label, p95, ss_p95)
+        else:
+            # A narrow lobe reflecting the studio's sharp-edged boxes (on this 64-row map), read by 16 filtered
+            # samples: not within the targets at the boxes' edges (module notes).  What it measures: a median of
+            # 4.2 % (the split sum's 4.3 %) and a 95th percentile of 57 % (the split sum's 39 %).
+            assert med < 0.045 and p95 < 0.6, (sky, label, med, p95)
