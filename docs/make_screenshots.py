@@ -148,7 +148,7 @@ def shot_albedo(path):
 
 
 def shot_split(path):
-    """Cook-Torrance GGX (α = 0.25, copper-like F0), a normalized Blinn-Phong fitted to it, the split sphere."""
+    """Cook-Torrance GGX (α = 0.25, F0 = 0.9), a normalized Blinn-Phong fitted to it, the split sphere."""
     window = _window(["--model", "cook-torrance", "--ndf", "ggx", "--roughness", "0.25", "--f0", "0.9",
                       "--kd", "0.05", "--fit", "blinn-phong", "--split"])  # fmt: skip
     window.fit()
@@ -172,7 +172,7 @@ def shot_environment(path):
 
 
 def shot_reference(path, spp: int = 256, seconds: float = 300.0):
-    """The Monte-Carlo reference under the studio sky, refined to ``spp`` samples per pixel (or ``seconds``)."""
+    """The Monte-Carlo reference under the studio sky, refined to ``spp`` = 256 samples per pixel."""
     window = _window(["--view3d", "object", "--model", "cook-torrance", "--roughness", "0.12", "--form", "physical"])
     _sky(window, "studio")
     window.apply({"reference": True})
