@@ -198,7 +198,7 @@ def _run(repeat: int, size: int) -> dict:
 
 
 #: The ``bench --ibl`` targets, ms.
-IBL_TARGETS = {"ibl_reshade_ms": 50.0, "ibl_prefilter_ms": 300.0, "ibl_mc64_ms": 5000.0}
+IBL_TARGETS = {"ibl_reshade_ms": 50.0, "ibl_dominant_ms": 50.0, "ibl_prefilter_ms": 300.0, "ibl_mc64_ms": 5000.0}
 
 
 def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
@@ -217,11 +217,14 @@ def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
     -------
     dict
         ``{result key: callable}``: ``ibl_reshade_ms`` (split sum, float32, prefiltered once),
-        ``ibl_reshade_f64_ms`` (the same in float64), ``ibl_prefilter_ms`` (8 levels),
+        ``ibl_reshade_f64_ms`` (the same in float64), ``ibl_dominant_ms`` (the dominant-light method,
+        float32, its lights and residual made once), ``ibl_dominant_setup_ms`` (making them: the lights, the
+        residual's levels and irradiance map), ``ibl_prefilter_ms`` (8 levels),
         ``ibl_mc64_ms`` (:class:`~lighting.integrate.ibl.ProgressiveRadiance`, one 64-sample pass),
         and ``ibl_pixels`` (the sphere's pixel count, an int).
     """
     from lighting import CookTorrance
+    from lighting.integrate.dominant import DominantEnvironment, dominant_radiance
     from lighting.integrate.ibl import ProgressiveRadiance, split_sum_radiance
     from lighting.integrate.prefilter import PREFILTER_SIGMAS, prefilter_environment
     from lighting.validation.accuracy import ibl_environment, ibl_sphere
@@ -232,9 +235,12 @@ def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
     n32, v32 = n.astype(np.float32), v.astype(np.float32)
     pre = prefilter_environment(env, sigmas=PREFILTER_SIGMAS)
     split_sum_radiance(model, pre, n32, v32)  # albedo tables: once per model, not per frame
+    dominant_radiance(model, pre, n32, v32)  # its lights, residual and sample tables: once per environment
     return {
         "ibl_reshade_ms": lambda: split_sum_radiance(model, pre, n32, v32),
         "ibl_reshade_f64_ms": lambda: split_sum_radiance(model, pre, n, v),
+        "ibl_dominant_ms": lambda: dominant_radiance(model, pre, n32, v32),
+        "ibl_dominant_setup_ms": lambda: DominantEnvironment(pre),
         "ibl_prefilter_ms": lambda: prefilter_environment(env, sigmas=PREFILTER_SIGMAS),
         "ibl_mc64_ms": lambda: ProgressiveRadiance(model, env, n, v, seed=0).add(64),
         "ibl_pixels": int(n.shape[0]),
@@ -255,13 +261,15 @@ def run_ibl(repeat: int = 3, size: int | None = None) -> dict:
     -------
     dict
         ``ibl_*_ms`` medians, ``ibl_reshade_over_f64`` (float32 split sum ÷ float64 split sum),
-        ``ibl_mc64_over_reshade`` (the reference ÷ the fast path), ``targets`` and ``size``, ``pixels``.
+        ``ibl_mc64_over_reshade`` (the reference ÷ the fast path), ``ibl_dominant_over_reshade`` (the
+        dominant-light method ÷ the split sum), ``targets`` and ``size``, ``pixels``.
     """
     fns = ibl_frames(SIZE if size is None else size)
     pixels = fns.pop("ibl_pixels")
     r = {"size": SIZE if size is None else size, "pixels": pixels, **_interleaved_ms(fns, repeat)}
     r["ibl_reshade_over_f64"] = r["ibl_reshade_ms"] / r["ibl_reshade_f64_ms"]
     r["ibl_mc64_over_reshade"] = r["ibl_mc64_ms"] / r["ibl_reshade_ms"]
+    r["ibl_dominant_over_reshade"] = r["ibl_dominant_ms"] / r["ibl_reshade_ms"]
     r["targets"] = dict(IBL_TARGETS)
     return r
 
@@ -288,6 +296,8 @@ def format_ibl(r: dict) -> str:
     rows = (
         ("re-shade, SH9 + split sum, float32 (prefiltered)", "ibl_reshade_ms"),
         ("re-shade, SH9 + split sum, float64 (same run)", "ibl_reshade_f64_ms"),
+        ("re-shade, dominant lights + filtered samples, float32", "ibl_dominant_ms"),
+        ("  its lights, residual levels and irradiance, once", "ibl_dominant_setup_ms"),
         ("prefilter 512x256, 8 lobe widths", "ibl_prefilter_ms"),
         ("Monte Carlo MIS reference, 64 spp", "ibl_mc64_ms"),
     )
@@ -299,6 +309,7 @@ def format_ibl(r: dict) -> str:
     lines.append("")
     lines.append(f"float32 re-shade ÷ float64 re-shade: {r['ibl_reshade_over_f64']:.2f}")
     lines.append(f"Monte Carlo 64 spp ÷ float32 re-shade: {r['ibl_mc64_over_reshade']:.0f}x")
+    lines.append(f"dominant lights ÷ split sum (float32 re-shades): {r['ibl_dominant_over_reshade']:.1f}x")
     return "\n".join(lines)
 
 

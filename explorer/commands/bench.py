@@ -40,8 +40,8 @@ def add_parser(subparsers):
                         "(median; default 15, or 3 with --ibl)")  # fmt: skip
     p.add_argument("--plan", action="store_true", help="planned vs nothing-skipped evaluation of every example scene")
     p.add_argument("--ibl", action="store_true",
-                   help="image-based lighting: split-sum re-shade, prefiltering and the 64-spp Monte-Carlo reference "
-                   "against their targets (--repeat defaults to 3 here)")  # fmt: skip
+                   help="image-based lighting: split-sum and dominant-light re-shades, prefiltering and the 64-spp "
+                   "Monte-Carlo reference against their targets (--repeat defaults to 3 here)")  # fmt: skip
     p.add_argument("--app", action="store_true",
                    help="the desktop window: a dragged light slider, its release, a model switch and the 3D redraw, "
                    "on Qt's offscreen platform and in an X server (Xvfb when there is no display), against their "
