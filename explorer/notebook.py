@@ -1,6 +1,6 @@
 r"""The explorer in a Jupyter notebook: :class:`NotebookExplorer`, ipywidgets on :class:`ExplorerModel`.
 
-The desktop window (:class:`explorer.app.ExplorerApp`) is one front end on
+The desktop window (:class:`explorer.qt.window.ExplorerWindow`) is one front end on
 :class:`~explorer.app.views.ExplorerModel`; this is another.  The same controls
 (:class:`~explorer.app.state.AppState`) and the same views, computed by the engine:
 
@@ -37,12 +37,14 @@ import numpy as np
 from lighting.render.image import png_bytes
 
 from .app.captions import albedo_caption
-from .app.layout import BACKGROUND
 from .app.params import model_label, none_label, offered_parameters, slider_range
 from .app.state import CHANNEL_LABELS, ENVIRONMENTS, LIGHT_TYPES, MODELS, TERM_NAMES, VIEWS_3D, AppState
 from .app.views import VIEWS, ExplorerModel
 
 __all__ = ["NotebookExplorer", "LobePicture", "png_of", "EXTRA_MESSAGE"]
+
+#: The plots' and images' background (display RGB in [0, 1], as Matplotlib takes it): a dark grey.
+BACKGROUND = (0.105, 0.11, 0.125)
 
 #: What to install when ipywidgets or Matplotlib is missing.
 EXTRA_MESSAGE = "the notebook explorer needs ipywidgets and Matplotlib: pip install 'lighting-explorer[notebook]'"

@@ -1,31 +1,22 @@
-"""The desktop explorer: one PyVista window of linked views; every colour on screen comes from the engine.
+"""The explorer's core, free of any toolkit: the controls, the views' data, the captions and the ``explore`` command.
 
-Panels (see ``docs/explorer.md``)::
-
-    +--------------+--------------+--------------+------------------+
-    | lit sphere   | coarse sphere| coarse sphere| scan-line profile|
-    | (engine)     | Gouraud      | Phong interp.| (Matplotlib)     |
-    +--------------+--------------+--------------+------------------+
-    | 3D BRDF lobe | polar slice  | angle curves and half/diff image|
-    +--------------+--------------+---------------------------------+
-    | controls: light | point/spot | material | shading | terms, plots|
-    +---------------------------------------------------------------+
-
-The package, by topic:
+The desktop window is Qt's, in :mod:`explorer.qt` (:class:`explorer.qt.window.ExplorerWindow`, also reachable as
+``explorer.app.ExplorerApp``); the notebook explorer (:mod:`explorer.notebook`) is another front end on the same
+core.  The package, by topic:
 
 * :mod:`~explorer.app.state` — the controls (:class:`~explorer.app.state.AppState`), validated; the
-  model list is the engine's registry;
-* :mod:`~explorer.app.scenes` — a scene file as a starting state;
+  model list is the engine's registry; :mod:`~explorer.app.params` — a model's parameter table as controls;
+* :mod:`~explorer.app.scenes` — a scene file as a starting state; :mod:`~explorer.app.lights` — the scene's
+  extra lights; :mod:`~explorer.app.environment` — the environment and its Monte-Carlo reference;
 * :mod:`~explorer.app.views` — :class:`~explorer.app.views.ExplorerModel`, every view's data from the
-  engine, recomputed only when its inputs change; :mod:`~explorer.app.encode` — 8-bit sRGB codes;
-* :mod:`~explorer.app.window` — :class:`ExplorerApp`, built from :mod:`~explorer.app.panels`,
-  :mod:`~explorer.app.widgets`, :mod:`~explorer.app.keys` and :mod:`~explorer.app.drawing`, laid
-  out by :mod:`~explorer.app.layout`; :mod:`~explorer.app.plots` — the Matplotlib panels;
-* :mod:`~explorer.app.display` — whether a window can open; :mod:`~explorer.app.bench` —
-  :func:`benchmark_handlers`; :mod:`~explorer.app.command` — the ``explore`` command
-  (:func:`main`, :func:`build_parser`, :func:`add_parser`, :func:`run`).
+  engine, recomputed only when its inputs change; :mod:`~explorer.app.comparing` — the comparison list's views;
+  :mod:`~explorer.app.encode` — 8-bit sRGB codes;
+* :mod:`~explorer.app.captions` — every caption and title the window shows, and the key table;
+  :mod:`~explorer.app.plots` — the Matplotlib figures of the plot panels;
+* :mod:`~explorer.app.display` — whether a window can open; :mod:`~explorer.app.command` — the ``explore``
+  command (:func:`main`, :func:`build_parser`, :func:`add_parser`, :func:`run`).
 
-Nothing is imported with the package: each public name loads its module on first use, and PyVista
+Nothing is imported with the package: each public name loads its module on first use, and Qt, PyVista
 and Matplotlib load when a window is built.
 """
 
@@ -36,7 +27,6 @@ import importlib
 #: Where each public name lives; a name is imported on first use (PEP 562), so ``explorer.app.command``
 #: (the ``explore`` options, built into the command tree for every run) loads no window code.
 _HOMES = {
-    "benchmark_handlers": "bench",
     "add_parser": "command",
     "build_parser": "command",
     "main": "command",
@@ -44,7 +34,7 @@ _HOMES = {
     "display_problem": "display",
     "has_display": "display",
     "no_display_message": "display",
-    "albedo_caption": "drawing",
+    "albedo_caption": "captions",
     "DEFAULT_WINDOW_SIZE": ".command",
     "IDLE_MS": "..qt.window",
     "ExplorerApp": "..qt.window",
@@ -72,7 +62,6 @@ __all__ = [
     "IDLE_MS",
     "ExplorerApp",
     "albedo_caption",
-    "benchmark_handlers",
     "build_parser",
     "add_parser",
     "run",

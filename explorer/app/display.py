@@ -124,25 +124,3 @@ def _x_server_problem(display: str, timeout: float) -> str | None:
     if not result["handle"]:
         return f"the X server at DISPLAY={display} refused the connection (check its X authority, xauth)"
     return None
-
-
-class _quiet_vtk:
-    """Silence VTK's log below errors (off-screen without X, VTK warns once that it found no X server)."""
-
-    def __init__(self, active: bool):
-        self.active = active
-
-    def __enter__(self):
-        if self.active:
-            from vtkmodules.vtkCommonCore import vtkLogger
-
-            self.old = vtkLogger.GetCurrentVerbosityCutoff()
-            vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
-        return self
-
-    def __exit__(self, *exc):
-        if self.active:
-            from vtkmodules.vtkCommonCore import vtkLogger
-
-            vtkLogger.SetStderrVerbosity(self.old)
-        return False

@@ -4,15 +4,22 @@ environment choice, the images and the reference: test_app_environment.py)."""
 import numpy as np
 import pytest
 
-from explorer import app as app_mod
+# ruff: noqa: E402
+pytest.importorskip("pyvista")
+pytest.importorskip("PySide6")
+pytest.importorskip("pytestqt")
+
+from qt_window_support import flush, open_window, shown_image
+
+from explorer.app import captions
 from explorer.app import environment as environment_mod
 from explorer.app.environment import PASS_SAMPLES
 from explorer.app.state import AppState
+from explorer.qt.keys import do_key
+from explorer.qt.window import REFINE_MS
 from lighting.lights import SKIES, write_hdr
 
-pv = pytest.importorskip("pyvista")
-
-pytestmark = pytest.mark.slow  # the explorer window, rendered off-screen by VTK
+pytestmark = pytest.mark.slow  # the explorer window, its views drawn by Qt, Matplotlib and VTK off-screen
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -25,61 +32,51 @@ def _small_skies():
 
 @pytest.fixture(scope="module")
 def app(tmp_path_factory):
-    old = pv.OFF_SCREEN
-    pv.OFF_SCREEN = True
     path = tmp_path_factory.mktemp("env") / "sky.hdr"
     sky = np.ones((16, 32, 3)) * np.linspace(0.2, 2.0, 16)[:, None, None]  # bright at the zenith
     write_hdr(path, sky)
-    a = app_mod.ExplorerApp(AppState(environment="file", view3d="object"), window_size=(960, 600),
-                            off_screen=True, environment_file=path)  # fmt: skip
-    yield a
-    a.close()
-    pv.OFF_SCREEN = old
+    window = open_window((960, 600), state=AppState(environment="file", view3d="object"), environment_file=path)
+    yield window
+    window.close()
 
 
-def test_window_shows_the_object_and_refines_it(app):
+def test_window_shows_the_object_and_refines_it(app, qtbot):
     ov = app.model.views["object"]
-    assert app._object_shown and ov.coverage.any()
-    h, w = ov.coverage.shape
-    texels = np.asarray(app.object_plane["pixels"]).reshape(h, w, 4)[::-1, :, :3]
-    assert np.array_equal(texels, ov.rgb8)
-    assert "file" in app.buttons["environment"]
+    assert app.stack3d.currentWidget() is app.object_panel and ov.coverage.any()
+    assert np.array_equal(shown_image(app.object_panel.canvas), ov.rgb8)
+    assert app.controls.widget("environment").findData("file") >= 0
     app.set_control("reference", True)
+    app.flush()  # the views now; the reference's timer has not ticked yet
     ref = app.model.refinement
     assert ref.samples == 0 and len(ref.tiles) > 1
     for _ in range(len(ref.tiles)):  # a pass a tick (no budget), the tile furthest behind: one round
         assert app.refine_tick(budget=0.0) == {"sphere", "object"}
     assert ref.passes == len(ref.tiles) and ref.samples == PASS_SAMPLES
-    caption = app.captions["object_refine"].GetInput()
+    caption = app.model.refine_caption()
     assert caption.startswith(f"reference: {app.model.refinement.samples} spp, ±")
+    assert app.refine_label.text() == caption and app.object_panel.caption.text().endswith(caption)
     assert app.model.views["object"].method == "reference"
-
-    # The interactor's timer events: the refinement timer's id runs a tick, another id (the idle timer) does not.
-    class Timer:
-        def __init__(self, tid):
-            self.tid = tid
-
-        def GetTimerEventId(self):  # noqa: N802 - VTK's name
-            return self.tid
-
-    app._refine_timer = 7
-    app._on_timer(Timer(7))
+    assert np.array_equal(shown_image(app.object_panel.canvas), app.model.views["object"].rgb8)
+    # The reference's timer ticks while the view rests.
+    assert app._refine_timer.isActive() and app._refine_timer.interval() == REFINE_MS
     ticked = ref.passes
-    assert ticked > len(ref.tiles) and app._refine_timer is None
-    app._on_timer(Timer(3))
-    assert ref.passes == ticked
-    app.on_key("k")  # the reference off by its key, and on again: a new run
-    assert app.model.refinement is None
-    app.on_key("k")
+    qtbot.waitUntil(lambda: ref.passes > ticked, timeout=10_000)
+    do_key(app, "reference")  # the reference off by its key, and on again: a new run
+    app.flush()
+    assert app.model.refinement is None and not app._refine_timer.isActive() and app.refine_label.text() == ""
+    do_key(app, "reference")
+    app.flush()
     assert app.model.refinement is not ref and app.model.refinement.samples == 0
-    app.on_key("o")
-    assert app.state.view3d == "lobe" and not app._object_shown and not app.captions["object_title"].GetVisibility()
-    assert app.captions["lobe_title"].GetVisibility()
+    do_key(app, "view3d")
+    flush(app)
+    assert app.state.view3d == "lobe" and app.stack3d.currentWidget() is app.lobe_view
+    assert app.lobe_panel.title.text() == captions.lobe_title(app.state, app.model.views["lobe"])
     app.set_control("reference", False)
     seen = [app.state.environment]
     for _ in range(len(SKIES) + 1):  # the x key goes round every choice, the file included, and back
-        app.on_key("x")
+        do_key(app, "environment+")
         seen.append(app.state.environment)
     assert seen == ["file", "none", *SKIES]
-    app.on_key("x")
+    do_key(app, "environment+")
     assert app.state.environment == "file"
+    flush(app)

@@ -111,12 +111,14 @@ def test_albedo_caption_flags_only_beyond_twice_the_error():
     assert captions.albedo_caption(red) == "albedo ρ(θ_v = 0°) = 0.9 ± 0.001  red above 1: not energy conserving"
 
 
-def test_drawing_and_notebook_show_the_same_albedo_caption():
-    pytest.importorskip("matplotlib")
-    from explorer.app import drawing
+def test_the_window_and_the_notebook_show_the_same_albedo_caption():
+    import explorer.app
 
-    assert drawing.albedo_caption is captions.albedo_caption
-    with open(os.path.join(os.path.dirname(captions.__file__), "..", "notebook.py"), encoding="utf-8") as f:
+    assert explorer.app.albedo_caption is captions.albedo_caption
+    folder = os.path.join(os.path.dirname(captions.__file__), "..")
+    with open(os.path.join(folder, "qt", "window.py"), encoding="utf-8") as f:
+        assert "captions.albedo_caption(av)" in f.read()
+    with open(os.path.join(folder, "notebook.py"), encoding="utf-8") as f:
         assert "from .app.captions import albedo_caption" in f.read()
 
 

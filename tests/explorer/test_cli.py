@@ -60,7 +60,7 @@ def test_building_the_tree_loads_no_figure_window_or_report_code():
 
     # Nor the window, the reports' work or what they need: the tree is built for every run, render's too.
     heavy = (
-        "('matplotlib', 'explorer.figures', 'pyvista', 'vtk', 'mpmath', 'explorer.app.window', "
+        "('matplotlib', 'explorer.figures', 'pyvista', 'vtk', 'mpmath', 'PySide6', 'explorer.qt', "
         "'explorer.app.comparing', 'lighting.integrate', 'lighting.analysis', 'lighting.validation.stability', "
         "'explorer.reports.accuracy', 'explorer.reports.stability')"
     )

@@ -12,7 +12,6 @@ from explorer.app.command import build_parser
 from explorer.app.scenes import _apply_material
 from explorer.app.state import CONTROLS, MODEL_LABELS, MODELS, AppState, model_choices
 from explorer.app.views import ExplorerModel
-from explorer.app.widgets import BUTTON_GROUPS
 from lighting import Lambert, Material
 from lighting.analysis import lobe_mesh, reciprocity_pair
 from lighting.integrate import directional_albedo
@@ -66,7 +65,6 @@ def test_the_model_list_is_the_registry(backscatter):
     assert model_choices()[-2:] == (NAME, NAME + "-sharp")  # registration order, variants after their model
     assert MODEL_LABELS[NAME + "-sharp"] == "Test-Explorer-Backscatter sharp"
     assert NAME in CONTROLS["model"].choices
-    assert BUTTON_GROUPS["model"][1] is MODELS and NAME in BUTTON_GROUPS["model"][1]  # one button per entry
     assert build_parser().parse_args(["--model", NAME]).model == NAME
     state = AppState()
     state.model = NAME.upper().replace("-", "_")  # choices accept any case and _ for -
@@ -76,6 +74,26 @@ def test_the_model_list_is_the_registry(backscatter):
     assert model_choices()[:5] == ("lambert", "phong", "blinn-phong", "blinn-phong-normalized", "cook-torrance")
     assert model_choices() == tuple(model_variants())
     assert NAME not in MODELS
+
+
+def test_the_windows_model_box_lists_a_registered_model(backscatter, qtbot):
+    pytest.importorskip("PySide6")
+    from explorer.qt.app import qt_application
+    from explorer.qt.controls import ControlPanel
+
+    qt_application()
+    panel = ControlPanel(AppState())
+    qtbot.addWidget(panel)
+    box = panel.widget("model")
+    # One item per entry of the registry, in its order, the new model and its variant included.
+    assert [box.itemData(k) for k in range(box.count())] == list(MODELS)
+    assert box.findData(NAME) >= 0 and box.findData(NAME + "-sharp") >= 0
+    requests = []
+    panel.change_requested.connect(lambda changes, live: requests.append((changes, live)))
+    box.setCurrentIndex(box.findData(NAME + "-sharp"))  # chosen: the panel asks for it, the state takes it
+    assert requests == [({"model": NAME + "-sharp"}, False)]
+    state = AppState()
+    assert state.update(**requests[0][0]) and state.model == NAME + "-sharp"
 
 
 @pytest.mark.parametrize("variant", ["", "-sharp"])

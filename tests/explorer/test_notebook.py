@@ -11,7 +11,7 @@ pytest.importorskip("ipywidgets")
 pytest.importorskip("matplotlib")
 PIL = pytest.importorskip("PIL.Image")
 
-from explorer.app.drawing import albedo_caption  # noqa: E402
+from explorer.app.captions import albedo_caption  # noqa: E402
 from explorer.app.params import offered_parameters  # noqa: E402
 from explorer.app.state import AppState  # noqa: E402
 from explorer.app.views import ExplorerModel  # noqa: E402

@@ -14,7 +14,7 @@ pytest.importorskip("ipywidgets")
 pytest.importorskip("matplotlib")
 PIL = pytest.importorskip("PIL.Image")
 
-pytestmark = pytest.mark.slow  # a Jupyter kernel, a fresh interpreter and the desktop window off-screen
+pytestmark = pytest.mark.slow  # a Jupyter kernel, a fresh interpreter and the desktop window
 
 
 def decode(png: bytes) -> np.ndarray:
@@ -97,20 +97,25 @@ def test_without_pyvista_and_without_display():
     assert out.stdout.strip() == "[]"
 
 
-def test_desktop_app_displays_nothing_in_a_kernel(monkeypatch):
+def test_desktop_app_displays_nothing_in_a_kernel(monkeypatch, qtbot):
     pv = pytest.importorskip("pyvista")
+    pytest.importorskip("PySide6")
     display = pytest.importorskip("IPython.display")
     from explorer.app import ExplorerApp
+    from explorer.qt.app import qt_application
 
     shown = []
     monkeypatch.setattr(display, "display", lambda *a, **k: shown.append(a))
     # As in a Jupyter kernel: PyVista's theme says "notebook", which made show() display a trame view.
     monkeypatch.setattr(pv.global_theme, "notebook", True)
-    monkeypatch.setattr(pv, "OFF_SCREEN", True)
-    app = ExplorerApp(window_size=(640, 400), off_screen=True)
+    qt_application()
+    app = ExplorerApp(window_size=(1200, 720))
     try:
-        assert app.plotter.notebook is False and app.plotter.off_screen
+        app.show()
+        qtbot.waitExposed(app)
+        img = app.image()  # the 3D view's VTK frame included
+        assert img.shape[:2] == (720, 1200) and img.std() > 20
+        assert app.lobe_view.plotter.off_screen and not app.lobe_view.interactive
         assert shown == []
-        assert app.plotter.screenshot(return_img=True).shape[:2] == (400, 640)
     finally:
         app.close()
