@@ -507,10 +507,12 @@ def _model_heads(labels) -> tuple[list[str], list[int]]:
         "({models} models; "
         "errors are medians over the lit pixels against a Monte-Carlo reference of {ref_spp} samples per pixel). "
         "Top, one panel per environment: Monte Carlo with multiple importance sampling at {spp_text} samples "
-        "per pixel (lines; numbers: samples per pixel), the split sum (stars; hollow where the reference is "
-        "too noisy to measure it) and SH9 irradiance against the exact irradiance of the map (square), for "
+        "per pixel (lines; numbers: samples per pixel), the split sum (stars) and the dominant lights with "
+        "filtered importance sampling, the default (diamonds; hollow markers where the reference is too noisy to "
+        "measure them) and SH9 irradiance against the exact irradiance of the map (square), for "
         "{line_models}. Bottom: the split sum's median error for every model of the study and every "
-        "environment. Times are for {timed} (the split sum and SH9 in float32). " + _SOURCE_CAPTION + " " + _TIMES
+        "environment. Times are for {timed} (the split sum, the dominant lights and SH9 in float32). "
+        + _SOURCE_CAPTION + " " + _TIMES
     ),
     slides="Beyond the slides: image-based lighting (Ramamoorthi & Hanrahan 2001; Karis 2013)",
     nondeterministic=_MEASURED_TIMES,
@@ -553,7 +555,7 @@ def accuracy_ibl(q, *, csv):
     fig = new_figure()
     # The top row: one panel per environment and a last column for the legend; the table spans the width.
     grid = fig.add_gridspec(2, len(envs) + 1, height_ratios=[2.1, 1.0], width_ratios=[1.0] * len(envs) + [0.8])
-    split, sh9, handles = {}, {}, {}
+    split, dominant, sh9, handles = {}, {}, {}, {}
     spp_all = sorted({p.cost for p in points if p.method == "Monte Carlo, MIS"})
     drawn = [p for p in points if p.method == "SH9 irradiance" or p.case.rpartition(" · ")[0] in lines]
     share = None
@@ -575,6 +577,11 @@ def accuracy_ibl(q, *, csv):
             noisy = ss.reference_error > ss.error
             ax.plot(ss.seconds * 1e3, ss.error, "*", ms=15, color=colours[m], mec=colours[m] if noisy else "k",
                     mfc="none" if noisy else colours[m], mew=1.0)  # fmt: skip
+            dm = next((p for p in mp if p.method == "dominant lights"), None)
+            if dm is not None:
+                noisy = dm.reference_error > dm.error
+                ax.plot(dm.seconds * 1e3, dm.error, "D", ms=8, color=colours[m], mec=colours[m] if noisy else "k",
+                        mfc="none" if noisy else colours[m], mew=1.0)  # fmt: skip
             shown += [*mp]
         sh = next((p for p in pts if p.method == "SH9 irradiance"), None)
         if sh is not None:
@@ -586,15 +593,17 @@ def accuracy_ibl(q, *, csv):
         _error_axis(ax, [p.error for p in drawn], label="median relative error" if j == 0 else "")
         ax.set_title(env)
         split[env] = {p.case.rpartition(" · ")[0]: p.error for p in pts if p.method == "split sum"}
+        dominant[env] = {p.case.rpartition(" · ")[0]: p.error for p in pts if p.method == "dominant lights"}
     # The legend of the top row: models by colour, then what the marker shapes mean.
     from matplotlib.lines import Line2D
 
     keys = [handles[m] for m in lines] + [
         Line2D([], [], ls="none", marker="*", ms=13, color="0.4", mec="k"),
+        Line2D([], [], ls="none", marker="D", ms=7, color="0.4", mec="k"),
         Line2D([], [], ls="none", marker="s", ms=8, color=PALETTE[1], mec="k"),
     ]
     names = [f"{m}: Monte Carlo" for m in lines] + ["split sum (hollow: the\nreference cannot tell)",
-                                                      "SH9 irradiance"]
+                                                      "dominant lights (default)", "SH9 irradiance"]
     key = fig.add_subplot(grid[0, -1])
     key.axis("off")
     key.legend(keys, names, loc="center left", fontsize=11, borderaxespad=0.0)
@@ -629,5 +638,59 @@ def accuracy_ibl(q, *, csv):
         points, source,
         skies_text=skies_text, models=len(models), environments=len(envs),
         ref_spp=", ".join(f"{r:,}" for r in ref_spp), spp_text=", ".join(str(s) for s in spp_all),
-        line_models=", ".join(lines), timed=timed, split_sum=split, sh9=sh9,
+        line_models=", ".join(lines), timed=timed, split_sum=split, dominant=dominant, sh9=sh9,
+        table=ibl_table(points),
     )  # fmt: skip
+
+
+def ibl_table(points) -> str:
+    """The ``ibl`` study's fast methods as a Markdown table: per model and environment, median (95th percentile).
+
+    Parameters
+    ----------
+    points : list of Point
+        The study's points (any settings).
+
+    Returns
+    -------
+    str
+        One row per model, one column per environment; each cell ``split sum → dominant lights``, each as the
+        median relative error over the lit pixels and, in brackets, its 95th percentile; the first row is SH9
+        irradiance against the exact irradiance of the map.  A value the reference is too noisy to resolve
+        (its own median error above it) is marked ``*``.
+
+    Examples
+    --------
+    >>> from lighting.validation.accuracy import Point
+    >>> pts = [Point("ibl", "Lambert · sky", m, 1, "", e, 0.0, 1e-3, "", error_p95=2 * e, reference_error=0.001)
+    ...        for m, e in (("split sum", 0.05), ("dominant lights", 0.01))]
+    >>> print(ibl_table(pts))
+    | model | sky |
+    |---|---|
+    | Lambert | 5 % (10 %) → 1 % (2 %) |
+    """
+    def pct(p):
+        star = "*" if p.reference_error > p.error else ""
+        return f"{100 * p.error:.2g} %{star} ({100 * p.error_p95:.2g} %)"
+
+    envs, models, cells = [], [], {}
+    for p in points:
+        model, _, env = p.case.rpartition(" · ")
+        if p.method == "SH9 irradiance":
+            model = "SH9 irradiance"
+        elif p.method not in ("split sum", "dominant lights"):
+            continue
+        envs += [env] if env not in envs else []
+        models += [model] if model not in models else []
+        cells.setdefault((model, env), {})[p.method] = p
+    rows = [f"| model | {' | '.join(envs)} |", "|---" * (len(envs) + 1) + "|"]
+    for model in models:
+        out = []
+        for env in envs:
+            c = cells.get((model, env), {})
+            if "SH9 irradiance" in c:
+                out.append(pct(c["SH9 irradiance"]))
+            else:
+                out.append(" → ".join(pct(c[m]) for m in ("split sum", "dominant lights") if m in c))
+        rows.append(f"| {model} | {' | '.join(out)} |")
+    return "\n".join(rows)
