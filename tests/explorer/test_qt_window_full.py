@@ -43,7 +43,7 @@ from test_qt_window import (  # noqa: E402 (the fast file's helpers, beside this
 )
 
 from explorer.app import captions  # noqa: E402
-from explorer.app.state import AppState  # noqa: E402
+from explorer.app.state import CONTROLS, AppState  # noqa: E402
 from explorer.qt._controls_editors import NumberEditor  # noqa: E402
 
 SIZES = ((1024, 640), (1280, 768), (1920, 1080))
@@ -247,6 +247,25 @@ def _round_trip(state) -> None:
     assert c == d and copy.params == state.params
 
 
+def _widgets_show_the_state(window) -> None:
+    """Every control's editor shows the state's value (the storm's edits, refusals and keys all end there)."""
+    state = window.state
+    for name, spec in CONTROLS.items():
+        if name == "scene_lights":
+            continue
+        editor, value = window.controls.widget(name), getattr(state, name)
+        if isinstance(editor, NumberEditor):
+            assert editor.spin.value() == pytest.approx(value, abs=10.0 ** -editor.spin.decimals()), name
+        elif isinstance(editor, QtWidgets.QComboBox):
+            assert editor.currentData() == value, name
+        elif isinstance(editor, QtWidgets.QCheckBox):
+            assert editor.isChecked() is value, name
+        elif spec.kind == "terms":
+            assert editor.value() == tuple(value), name
+        else:
+            assert editor.value() == pytest.approx(tuple(value), abs=0.005), name
+
+
 def _shown(window):
     return [w for w in window.controls.widget().findChildren(QtWidgets.QWidget) if w.isVisible()]
 
@@ -310,13 +329,16 @@ def test_a_storm_of_clicks_drags_keys_and_resizes_keeps_the_window_valid(qtbot):
                 current(window)
                 assert _finite(window.model.views) == [], k
                 _round_trip(window.state)
+                _widgets_show_the_state(window)
                 assert window.windowTitle() == captions.window_title(window.state)
         current(window)
     assert exceptions == [], exceptions
     assert _finite(window.model.views) == []
     _round_trip(window.state)
     assert window.isVisible()
+    _widgets_show_the_state(window)
     assert min(counts.values()) >= 5 and sum(counts.values()) == STORM_EVENTS, counts
+    assert window.updates >= STORM_EVENTS // 2  # the events reached the window: most of them changed a view
     print(f"storm: {STORM_EVENTS} events {counts}, {window.updates} updates")
 
 
