@@ -440,15 +440,24 @@ def _light_term(part, lights, n, v, dt, widths):
 
 
 def _cell_term(part, directions, power, n, v, dt, chunk=1 << 19):
-    """``Σ_c f_r(v, l_c) (n·l_c) Φ_c`` over cells of light (directions ``l_c``, powers ``Φ_c``), per pixel."""
+    """``Σ_c f_r(v, l_c) (n·l_c) Φ_c`` over cells of light (directions ``l_c``, powers ``Φ_c``), per pixel.
+
+    The BRDF is evaluated only for the (pixel, cell) pairs above the pixel's horizon.
+    """
     out = np.zeros(n.shape, dtype=np.float64)
     lc = directions.astype(dt)
+    pc = power.astype(np.float64)
     step = max(1, chunk // max(len(lc), 1))
     for i in range(0, n.shape[0], step):
-        nn, vv = n[i : i + step, None, :], v[i : i + step, None, :]
-        f = part.eval(nn, lc[None, :, :], vv)
-        cos_l = np.maximum(np.sum(nn * lc[None, :, :], axis=-1), 0)
-        out[i : i + step] = np.einsum("pc,pck,ck->pk", cos_l, f, power.astype(dt), dtype=np.float64)
+        nn, vv = n[i : i + step], v[i : i + step]
+        cos_l = nn @ lc.T
+        p_idx, c_idx = np.nonzero(cos_l > 0)
+        if not p_idx.size:
+            continue
+        f = np.asarray(part.eval(nn[p_idx], lc[c_idx], vv[p_idx]), dtype=np.float64)
+        contrib = f * (cos_l[p_idx, c_idx].astype(np.float64)[:, None] * pc[c_idx])
+        for c in range(3):
+            out[i : i + step, c] += np.bincount(p_idx, contrib[:, c], nn.shape[0])
     return out
 
 
@@ -520,31 +529,42 @@ class _Levels:
         self.count = len(levels)
 
     def read(self, d, level):
-        """Bilinear in each of the two levels around ``level`` (fractional index), linear between: ``(..., 3)``."""
+        """Bilinear in each of the two levels around ``level`` (fractional index), linear between: ``(..., 3)``.
+
+        Float32 throughout (the levels are float32); the pixels' rows and columns as :func:`latlong_lookup`
+        (:mod:`lighting.lights.latlong`), the edge rows clamped.
+        """
         from ..lights.latlong import latlong_angles
 
         theta, a = latlong_angles(d)
-        k0 = np.minimum(np.floor(level).astype(np.int64), self.count - 1)
-        t = (level - k0).astype(np.float32)
-        out = None
+        shape = theta.shape
+        theta, a = theta.reshape(-1).astype(np.float32), a.reshape(-1).astype(np.float32)
+        level = np.asarray(level).reshape(-1)
+        k0 = np.minimum(level.astype(np.int64), self.count - 1)  # level >= 0: truncation is the floor
+        t = (level - k0).astype(np.float32)[:, None]
+        out = np.zeros((theta.size, 3), dtype=np.float32)
+        inv_pi = np.float32(1 / math.pi)
         for k, wt in ((k0, 1 - t), (np.minimum(k0 + 1, self.count - 1), t)):
-            h = self.heights[k]
-            w = 2 * h
-            fx = a * (w / (2 * math.pi)).astype(np.float32) - 0.5
+            hi = self.heights[k]
+            h = hi.astype(np.float32)
+            wi = 2 * hi
+            fx = a * (h * inv_pi) - np.float32(0.5)  # columns: w / (2π) = h / π per radian
             j0 = np.floor(fx)
-            tx = (fx - j0)[..., None]
-            j0 = j0.astype(np.int64) % w
-            j1 = (j0 + 1) % w
-            fy = np.clip(theta * (h / math.pi).astype(np.float32) - 0.5, 0.0, h - 1)
-            i0 = np.minimum(np.floor(fy).astype(np.int64), np.maximum(h - 2, 0))
-            ty = np.clip(fy - i0, 0.0, 1.0)[..., None]
-            r0 = self.offsets[k] + i0 * w
-            r1 = r0 + np.where(i0 + 1 < h, w, 0)
+            tx = (fx - j0)[:, None]
+            j0 = j0.astype(np.int64)
+            j0 += np.where(j0 < 0, wi, 0)
+            j1 = j0 + 1
+            j1 -= np.where(j1 >= wi, wi, 0)
+            fy = np.minimum(np.maximum(theta * (h * inv_pi) - np.float32(0.5), np.float32(0)), h - 1)
+            i0 = np.minimum(fy.astype(np.int64), np.maximum(hi - 2, 0))
+            ty = np.clip(fy - i0.astype(np.float32), np.float32(0), np.float32(1))[:, None]
+            r0 = self.offsets[k] + i0 * wi
+            r1 = r0 + np.where(i0 + 1 < hi, wi, 0)
             f = self.flat
-            val = (f[r0 + j0] * (1 - tx) + f[r0 + j1] * tx) * (1 - ty) + (f[r1 + j0] * (1 - tx) + f[r1 + j1] * tx) * ty
-            val = val * wt[..., None]
-            out = val if out is None else out + val
-        return out
+            top = np.take(f, r0 + j0, axis=0) * (1 - tx) + np.take(f, r0 + j1, axis=0) * tx
+            bot = np.take(f, r1 + j0, axis=0) * (1 - tx) + np.take(f, r1 + j1, axis=0) * tx
+            out += (top + (bot - top) * ty) * wt
+        return out.reshape(shape + (3,))
 
 
 def _fis_term(part, pre, levels, n, v, cos_v, samples):
