@@ -27,7 +27,8 @@ from .state import (
 )
 
 #: Smallest and largest window the explorer lays out.
-MIN_WINDOW, MAX_WINDOW = (640, 400), (8192, 8192)
+# The smallest window whose views, captions and controls all still fit (checked by the window's tests).
+MIN_WINDOW, MAX_WINDOW = (800, 500), (8192, 8192)
 #: The window's size when ``--size`` is not given.
 DEFAULT_WINDOW_SIZE = (1280, 768)
 

@@ -55,7 +55,7 @@ class ImageCanvas(QtWidgets.QWidget):
     #: The mouse wheel turned over the image, in notches (positive: away from the user).
     wheel_turned = QtCore.Signal(float)
 
-    def __init__(self, parent=None, *, min_size=120):
+    def __init__(self, parent=None, *, min_size=64):
         super().__init__(parent)
         self._image: QtGui.QImage | None = None
         self._shape = (1, 1)

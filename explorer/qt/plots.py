@@ -39,7 +39,7 @@ class PlotCanvas(FigureCanvasQTAgg):
         self.setParent(parent)
         #: Paint events handled so far (the bench waits for the next one).
         self.paints = 0
-        self.setMinimumSize(160, 120)
+        self.setMinimumSize(96, 72)
         self.setSizePolicy(QtWidgets.QSizePolicy.Policy.Expanding, QtWidgets.QSizePolicy.Policy.Expanding)
 
     def sizeHint(self):  # noqa: N802 - Qt's name

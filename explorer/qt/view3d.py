@@ -13,6 +13,8 @@ more than a whole drag frame's budget (``lighting-explorer bench --app`` measure
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
@@ -97,13 +99,16 @@ class LobeView3D(QtWidgets.QWidget):
             lay.addWidget(self.plotter.interactor)
             self.canvas = None
         else:
+            if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+                # Without a display VTK would try X first (and warn) before it falls back to EGL: go there at once.
+                os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
             self.plotter = pv.Plotter(off_screen=True, window_size=(320, 280))
-            self.canvas = ImageCanvas(self, min_size=120)
+            self.canvas = ImageCanvas(self, min_size=64)
             self.canvas.mouse_dragged.connect(self._on_drag)
             self.canvas.wheel_turned.connect(self._on_wheel)
             lay.addWidget(self.canvas)
             self._drag_from = None
-        self.setMinimumSize(160, 140)
+        self.setMinimumSize(96, 72)
         self._auto_zoom = True  # until the student zooms or turns the view
         self._build()
         self._pending = False

@@ -142,7 +142,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self.lobe_panel = ImagePanel("3D lobe", self.stack3d)
         self.polar_canvas = PlotCanvas(PolarPlot)
         self.polar_panel = ImagePanel("Polar slice", self.polar_canvas)
-        self.albedo_label = WrapLabel(max_lines=2)
+        self.albedo_label = WrapLabel(max_lines=1)
         self.polar_panel.layout().insertWidget(1, self.albedo_label)
         self.angle_canvas = PlotCanvas(AnglePlotsGrid)
         self.albedo_canvas = PlotCanvas(AlbedoPlot)

@@ -569,7 +569,6 @@ def test_main_rejects_bad_values(capsys):
     assert "kd must be a number in [0, 1]; got 3" in capsys.readouterr().err
 
 
-@pytest.mark.xfail(strict=True, reason="the Qt window's smallest size is wider than 800 px: 800x500 gives 860x509")
 def test_main_screenshot_with_state_from_the_command_line(tmp_path, capsys):
     from PIL import Image
 

@@ -114,7 +114,7 @@ SIZE = "lighting-explorer: error: --size must be WIDTHxHEIGHT or N (a square) in
         (["render", "spotlight", "--size", "4x"],
          SIZE + "both >= 1 (e.g. 640x480 or 512); got '4x' (see lighting-explorer render --help)"),
         (["explore", "--size", "500"],
-         SIZE + "at least 640x400 and at most 8192x8192 (e.g. 1280x768); got '500' (see lighting-explorer --help)"),
+         SIZE + "at least 800x500 and at most 8192x8192 (e.g. 1280x768); got '500' (see lighting-explorer --help)"),
     ],
 )  # fmt: skip
 def test_a_bad_size_is_one_line_naming_the_flag_what_is_allowed_and_what_was_given(argv, line, capsys):

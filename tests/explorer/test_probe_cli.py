@@ -61,7 +61,7 @@ COMMANDS = {
                ["-o", "--size", "--exposure", "--tonemap", "SCENE"]),
     "figures": (["figures", "--out", "figs", "--quick", "--only", "light_colour", "--dpi", "20"],
                 ["--out", "--dpi", "--jobs", "--format", "--only", "--accuracy-csv"]),
-    "explore": (["explore", "--screenshot", "shot.png", "--size", "640x400"],
+    "explore": (["explore", "--screenshot", "shot.png", "--size", "800x500"],
                 ["--screenshot", "--size", "--elevation", "--exposure", "--tessellation", "--shininess"]),
     "report stability": (["report", "stability", "--quick", "--no-figure", "--out", "stab"], ["--workers", "--dtype"]),
     "bench": (["bench", "--repeat", "1"], ["--repeat"]),
