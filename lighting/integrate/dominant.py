@@ -85,6 +85,8 @@ AREA_CELL_ROWS = 16
 #: A glossy lobe at least this wide (``σ`` of :func:`lighting.integrate.ibl.lobe_sigma`, radians) reads the areas
 #: of light cell by cell, and filtered samples only the rest; a narrower one reads everything by filtered samples.
 WIDE_LOBE = 0.25
+#: Pixels whose filtered samples are drawn and read at once.
+_FIS_CHUNK = 1 << 15
 #: Rows of the residual's irradiance map (E is smooth once the small sources are out).
 IRRADIANCE_HEIGHT = 64
 
@@ -632,7 +634,8 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     dt = working_dtype(n, v)
     shape = np.broadcast_shapes(n.shape, v.shape)
     pixels = math.prod(shape) // 3
-    check_budget("normals", pixels * (samples + 4) * 8 * 40, what=f"{pixels} pixels at {samples} samples")
+    check_budget("normals", pixels * 512 + min(pixels, _FIS_CHUNK) * samples * 192,
+                 what=f"{pixels} pixels at {samples} samples")  # fmt: skip
     n = np.broadcast_to(n, shape).reshape(-1, 3).astype(dt, copy=False)
     v = np.broadcast_to(v, shape).reshape(-1, 3).astype(dt, copy=False)
     cos_v = np.einsum("ij,ij->i", n, v)
@@ -674,9 +677,12 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
                 if wide:  # the areas of light cell by cell; the calm rest by filtered samples
                     value += _cell_term(part, dom.cell_directions, dom.cell_power, nb, vb, dt)
                 rest, levels = (dom.calm, dom.calm_levels) if wide else (residual, dom.levels)
-                mean, ok = _fis_term(part, rest, levels, nb.astype(np.float32), vb.astype(np.float32),
-                                     cos_v.astype(np.float32), samples)  # fmt: skip
-                mean = mean.astype(np.float64)
+                mean = np.empty(n.shape, dtype=np.float64)
+                ok = np.empty(n.shape[0], dtype=bool)
+                n32, v32, c32 = nb.astype(np.float32), vb.astype(np.float32), cos_v.astype(np.float32)
+                for i in range(0, n.shape[0], _FIS_CHUNK):  # pixels at a time: the memory of a chunk, not the image
+                    sl = slice(i, i + _FIS_CHUNK)
+                    mean[sl], ok[sl] = _fis_term(part, rest, levels, n32[sl], v32[sl], c32[sl], samples)
                 if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value
                     miss = ~ok
                     mean[miss] = rest.lookup(rb[miss], min(sigma, rest.sigmas[-1]),
