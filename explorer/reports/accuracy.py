@@ -128,7 +128,7 @@ def write_csv(path, rows, fields) -> None:
 
 
 #: Methods drawn as one marker (not a line over cost) in the figure, and their marker.
-_MARKED = {"split sum": "*", "SH9 irradiance": "s"}
+_MARKED = {"split sum": "*", "dominant lights": "D", "SH9 irradiance": "s"}
 
 
 def _panels(studies) -> list:
@@ -220,7 +220,8 @@ def make_figure(studies, path) -> None:
         "Error against run time (dashed: 1 %, dotted: 0.1 %; exact zeros drawn at 1e-16; "
         "ringed: unconverged, own estimate > 2 %)"
         + (
-            "\nIBL panels: lines Monte Carlo (MIS) by spp, stars the split sum, squares SH9, one colour per model"
+            "\nIBL panels: lines Monte Carlo (MIS) by spp, stars the split sum,\n"
+            "diamonds the dominant lights, squares SH9, one colour per model"
             if any(st.name == "ibl" for st in studies)
             else ""
         ),
