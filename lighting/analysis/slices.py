@@ -142,7 +142,9 @@ def polar_slice(
     tangent ``t`` (``+x`` unless ``tangent`` says otherwise), so for an anisotropic model
     (Ward, Ashikhmin–Shirley, anisotropic Cook–Torrance) ``phi_in = 0`` cuts the lobe along
     ``α_x`` and ``phi_in = π/2`` along ``α_y``; an isotropic model gives the same slice at
-    every ``phi_in``.
+    every ``phi_in``.  An anisotropic lobe refines on its narrower axis, and its largest value
+    may lie off the plane (:func:`~lighting.analysis.lobes.lobe_peak` finds it there): the slice,
+    a cut, then peaks below it.
 
     ``lock=True`` is BRDF Explorer's *view lock*: the view follows the light,
     ``θ_v = θ_l`` and ``φ_v = φ_l``, and the swept direction ``d(t)`` is both ``l`` and
