@@ -143,7 +143,18 @@ def show_help(window) -> QtWidgets.QDialog:
     lay = QtWidgets.QVBoxLayout(dialog)
     lay.addWidget(table)
     lay.addWidget(note)
-    dialog.resize(620, 560)
+    # Rows one line high, and the dialog as wide as the longest description and tall enough for every key
+    # (as the screen allows): no scrolling in the help.
+    row = table.fontMetrics().height() + 8
+    table.verticalHeader().setDefaultSectionSize(row)
+    bar = table.style().pixelMetric(QtWidgets.QStyle.PixelMetric.PM_ScrollBarExtent, None, table)
+    margins = lay.contentsMargins()
+    wide = max(620, table.horizontalHeader().length() + 2 * table.frameWidth() + bar + margins.left() + margins.right())
+    tall = (table.horizontalHeader().sizeHint().height() + len(KEYS) * row + 2 * table.frameWidth()
+            + lay.spacing() + note.heightForWidth(wide - margins.left() - margins.right())
+            + margins.top() + margins.bottom())  # fmt: skip
+    screen = window.screen().availableGeometry().height() if window.screen() is not None else tall
+    dialog.resize(wide, min(tall, int(0.9 * screen)))
     # The dialog is a window of its own, where the window's shortcuts do not reach: its key closes it there too.
     help_action = getattr(window, "actions_by_key", {}).get("help")
     if help_action is not None:

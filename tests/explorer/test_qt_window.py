@@ -485,6 +485,9 @@ def test_help_lists_every_key_in_a_table(qtbot, window):
         assert what.text() == k.description
         lefts.add((table.visualItemRect(key).left(), table.visualItemRect(what).left()))
     assert len(lefts) == 1  # two aligned columns
+    assert not table.horizontalScrollBar().isVisible()  # every description read without scrolling sideways
+    if dialog.height() < int(0.9 * window.screen().availableGeometry().height()):
+        assert not table.verticalScrollBar().isVisible()  # and every key without scrolling, where the screen allows
     # Each description whole in its cell (an item's text has the focus frame's margin and a pixel on each side).
     margin = 2 * (table.style().pixelMetric(QtWidgets.QStyle.PixelMetric.PM_FocusFrameHMargin, None, table) + 1)
     fm = table.fontMetrics()
