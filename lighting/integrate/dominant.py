@@ -23,8 +23,9 @@ round lobe about the mirror direction, which is far off where the sky holds a sm
   the cells of a coarse lat-long grid (:data:`AREA_CELL_ROWS` rows), each shaded like a small light with
   the BRDF, and only the calm rest is filtered; a narrower lobe reads them by its filtered samples.
 
-Where it still errs: a narrow lobe (``α ≈ 0.05``) reflecting the sharp edges of large bright areas (the
-studio's boxes), where 16 samples resolve the edge only roughly; the accuracy report gives the numbers.
+A lobe narrower than :data:`WIDE_LOBE` reads everything by its samples, :data:`NARROW_FACTOR` times as many: the
+sharp edges of large bright areas (a studio's boxes) and what its long tails gather from them over a dark ground
+need them.  Where it errs most is there, and on coarse maps; the accuracy report gives the numbers.
 
 An ideal mirror part reflects ``R(μ_v) L(r)`` of the whole map, exactly as in the split sum.
 
@@ -59,6 +60,7 @@ __all__ = [
     "DOMINANT_MAX_LIGHTS",
     "DOMINANT_MAX_SOLID_ANGLE",
     "DOMINANT_SAMPLES",
+    "NARROW_FACTOR",
     "DiskLights",
     "DominantEnvironment",
     "dominant_environment",
@@ -85,6 +87,8 @@ AREA_CELL_ROWS = 16
 #: A glossy lobe at least this wide (``σ`` of :func:`lighting.integrate.ibl.lobe_sigma`, radians) reads the areas
 #: of light cell by cell, and filtered samples only the rest; a narrower one reads everything by filtered samples.
 WIDE_LOBE = 0.25
+#: A glossy lobe narrower than :data:`WIDE_LOBE` takes this many times ``samples`` filtered samples.
+NARROW_FACTOR = 4
 #: Pixels whose filtered samples are drawn and read at once.
 _FIS_CHUNK = 1 << 15
 #: Rows of the residual's irradiance map (E is smooth once the small sources are out).
@@ -608,7 +612,8 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     normals, view_dirs : array_like, (..., 3), world frame
         Unit surface normals and unit directions toward the viewer (broadcast together).
     samples : int >= 1
-        Filtered-importance samples per glossy part and pixel.
+        Filtered-importance samples per glossy part and pixel (a lobe narrower than :data:`WIDE_LOBE`:
+        :data:`NARROW_FACTOR` times as many).
     split_terms : bool
         Return ``{"diffuse": ..., "specular": ...}`` (normal lobes; the others) instead of their sum.
 
@@ -634,7 +639,7 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     dt = working_dtype(n, v)
     shape = np.broadcast_shapes(n.shape, v.shape)
     pixels = math.prod(shape) // 3
-    check_budget("normals", pixels * 512 + min(pixels, _FIS_CHUNK) * samples * 192,
+    check_budget("normals", pixels * 512 + min(pixels, _FIS_CHUNK) * NARROW_FACTOR * samples * 192,
                  what=f"{pixels} pixels at {samples} samples")  # fmt: skip
     n = np.broadcast_to(n, shape).reshape(-1, 3).astype(dt, copy=False)
     v = np.broadcast_to(v, shape).reshape(-1, 3).astype(dt, copy=False)
@@ -677,12 +682,15 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
                 if wide:  # the areas of light cell by cell; the calm rest by filtered samples
                     value += _cell_term(part, dom.cell_directions, dom.cell_power, nb, vb, dt)
                 rest, levels = (dom.calm, dom.calm_levels) if wide else (residual, dom.levels)
+                # A narrow lobe reads sharp areas of light (a box's edge, its long tails over a dark ground) by its
+                # samples alone: it takes NARROW_FACTOR times as many.
+                count = samples if sigma >= WIDE_LOBE else NARROW_FACTOR * samples
                 mean = np.empty(n.shape, dtype=np.float64)
                 ok = np.empty(n.shape[0], dtype=bool)
                 n32, v32, c32 = nb.astype(np.float32), vb.astype(np.float32), cos_v.astype(np.float32)
                 for i in range(0, n.shape[0], _FIS_CHUNK):  # pixels at a time: the memory of a chunk, not the image
                     sl = slice(i, i + _FIS_CHUNK)
-                    mean[sl], ok[sl] = _fis_term(part, rest, levels, n32[sl], v32[sl], c32[sl], samples)
+                    mean[sl], ok[sl] = _fis_term(part, rest, levels, n32[sl], v32[sl], c32[sl], count)
                 if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value
                     miss = ~ok
                     mean[miss] = rest.lookup(rb[miss], min(sigma, rest.sigmas[-1]),

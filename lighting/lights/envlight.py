@@ -11,7 +11,7 @@ Three ways to reflect it (``method``):
   importance sampling of its prefiltered levels for glossy ones
   (:func:`lighting.integrate.dominant.dominant_radiance`): within a few percent of the reference where the
   split sum is not (``lighting-explorer report accuracy --only ibl`` measures both), at the cost of
-  ``samples`` lookups per glossy part and pixel (16 by default);
+  16 lookups per glossy part and pixel (64 for a lobe narrower than 0.25 rad);
 * ``"split-sum"``: the slides' form — SH9 irradiance for diffuse lobes, the prefiltered environment times
   the part's albedo for glossy ones (:func:`lighting.integrate.ibl.split_sum_radiance`); the
   environment is prefiltered once, on first use (``lighting-explorer bench --ibl`` times it), then every

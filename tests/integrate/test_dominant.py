@@ -177,7 +177,7 @@ def test_within_a_few_percent_of_the_reference(sky):
             if sky == "sun-gradient":  # where the split sum fails: its 95th percentile is over 4 times as large
                 assert p95 < ss_p95 / 4, (label, p95, ss_p95)
         else:
-            # A narrow lobe reflecting the studio's sharp-edged boxes (on this 64-row map), read by 16 filtered
-            # samples: not within the targets at the boxes' edges (module notes).  What it measures: a median of
-            # 3.1 % (the split sum's 4.3 %) and a 95th percentile of 65 % (the split sum's 39 %).
-            assert med < 0.035 and p95 < 0.7, (sky, label, med, p95)
+            # A narrow lobe reflecting the studio's sharp-edged boxes on this coarse 64-row map (2.8° pixels): 4.0 %
+            # and 13 % (the split sum's 4.3 % and 39 %); on the study's 256-row map it is within the targets
+            # (test_dominant_full.py).
+            assert med < 0.045 and p95 < 0.15, (sky, label, med, p95)
