@@ -305,10 +305,9 @@ def _slice_angles(brdf, theta, phi, count, plane, refine, cosine, channel, tange
     fixed and with the view fixed, with and without the cosine factors, so that both slices
     of :func:`reciprocity_pair` and every ``cosine`` option share their angles) is a sample
     too.  A narrow highlight off the grid, or one a hair above the horizon (rough
-    Cook–Torrance lit at grazing), is then drawn at its true height, the height
-    :func:`~lighting.analysis.lobes.lobe_peak` reports and :func:`~lighting.analysis.meshes.lobe_mesh`
-    draws.  Without a lobe
-    (Lambert alone: width ``inf``) the grid's maximum is already the peak.
+    Cook–Torrance lit at grazing, Oren–Nayar's backscatter), is then drawn at its true height, the
+    height :func:`~lighting.analysis.lobes.lobe_peak` reports and :func:`~lighting.analysis.meshes.lobe_mesh`
+    draws.
     """
     t = np.linspace(-_HALF_PI, _HALF_PI, count)
     if not refine:
@@ -321,8 +320,13 @@ def _slice_angles(brdf, theta, phi, count, plane, refine, cosine, channel, tange
     extra = []
     if w < 4 * math.pi / (count - 1):  # False for inf
         extra.append((theta if in_plane else 0.0) + w * np.linspace(-8.0, 8.0, 129))
-    if in_plane and theta < _HALF_PI and math.isfinite(w):
-        extra.append(_slice_peaks(brdf, theta, phi, scalar, w, tangent))
+    if in_plane and theta < _HALF_PI:
+        peaks = np.asarray(_slice_peaks(brdf, theta, phi, scalar, w, tangent))
+        if not math.isfinite(w):
+            # Without a lobe the grid holds the peak, except at the horizon's edge, which no grid sample reaches:
+            # a broad model may peak there (Oren–Nayar's backscatter grows to grazing), as lobe_peak reports.
+            peaks = peaks[np.abs(peaks) > abs(t[1])]
+        extra.append(peaks)
     if extra:
         extra = np.concatenate([np.asarray(e, dtype=np.float64) for e in extra])
         t = np.union1d(t, extra[np.abs(extra) < _HALF_PI])

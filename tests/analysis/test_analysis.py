@@ -27,6 +27,7 @@ from lighting.analysis import (
     theta_v_curve,
 )
 from lighting.models.brdf import BRDF, cos_power
+from lighting.models.oren_nayar import OrenNayar
 
 N = np.array([0.0, 0.0, 1.0])
 RNG = np.random.default_rng(20240531)
@@ -682,6 +683,8 @@ ONE_PEAK_MODELS = [
     Lambert(KD) + CookTorrance(0.5, 0.25, 0.5),
     Lambert(KD) + CookTorrance(0.5, 1e-6, 0.5),
     CookTorrance(1.0, 1.0, 0.04, ndf="ggx", geometry="smith"),
+    # Rough Oren–Nayar's backscatter grows to the horizon: its peak is at the edge no grid sample reaches.
+    OrenNayar(KD, 0.941, form="qualitative"),
 ]
 
 
