@@ -378,7 +378,7 @@ def sphere_legend(state, sv) -> str:
     return legend
 
 
-def sphere_caption(state, sv, model=None) -> str:
+def sphere_caption(state, sv, model=None, *, clipping: bool = True) -> str:
     """The lit sphere's caption: clipping, an ideal mirror's note, the light, the exposure, the reference.
 
     Parameters
@@ -387,13 +387,15 @@ def sphere_caption(state, sv, model=None) -> str:
     sv : SphereView
     model : ExplorerModel, optional
         For the progressive reference's line (:meth:`~explorer.app.environment.EnvironmentMixin.refine_caption`).
+    clipping : bool
+        Start with :func:`clipped_note` (a front end that shows it as a warning of its own passes False).
 
     Returns
     -------
     str
         Lines joined by newlines.
     """
-    text = clipped_note(sv) + delta_note(state) + light_summary(state)
+    text = (clipped_note(sv) if clipping else "") + delta_note(state) + light_summary(state)
     exposure = exposure_note(state, sv)
     if exposure:
         text += "\n" + exposure

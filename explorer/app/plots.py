@@ -339,7 +339,7 @@ class ProfilePlot(BlitFigure):
         ax.set_ylabel("intensity I(x)")
         ax2.set_ylabel("Δ²I ÷ |ΔI|")
         ax2.set_ylim(-D2_LIMIT, D2_LIMIT)  # fixed: kinks are ~0.1-1 of the mean slope; larger ones clip
-        ax2.set_xlabel("x (sphere radii)    ⋮ triangle edges", labelpad=1)
+        ax2.set_xlabel("x (sphere radii), ⋮ triangle edges", labelpad=1)
         ax.legend(loc="upper left", ncol=2, borderaxespad=0.1, handlelength=1.5, columnspacing=0.8)
         ax.grid(True)
         ax2.grid(True)
@@ -415,7 +415,7 @@ def radial_scale(top: float) -> tuple[float, str]:
 class PolarPlot(BlitFigure):
     """The polar slice in the plane of incidence, with the incident and mirror directions."""
 
-    MARGINS_PX = (26, 26, 14, 50, 0, 0)
+    MARGINS_PX = (34, 34, 14, 50, 0, 0)
 
     def _build(self):
         fig = self.fig
@@ -646,16 +646,20 @@ class AnglePlotsGrid(AnglePlots):
 class AlbedoPlot(BlitFigure):
     """The directional albedo ``ρ(θ_v)`` of the current model and of each shown comparison entry.
 
+    The axes fill the figure but for the tick labels' room (:attr:`MARGINS_PX`); the legend is inside them.
+
     Each curve is drawn in its colour (the current model white) with its error as a band (``± error``;
     at the quadrature's usual 1e-5 thinner than the line), and every value whose relative error is
     above 2 % (:attr:`lighting.integrate.AlbedoCurve.unconverged`) is circled in red.  The legend names
     the curves.
     """
 
+    MARGINS_PX = (54, 12, 14, 34, 0, 0)
+
     def _build(self):
         fig = self.fig
         ax = fig.add_subplot()
-        fig.subplots_adjust(left=0.07, right=0.6, top=0.9, bottom=0.2)
+        fig.subplots_adjust(left=0.12, right=0.97, top=0.92, bottom=0.16)
         ax.set_xlim(0, 90)
         ax.set_xticks([0, 15, 30, 45, 60, 75, 90])
         ax.set_xlabel("view angle θ_v (degrees)", labelpad=1)
@@ -722,9 +726,11 @@ class AlbedoPlot(BlitFigure):
             if self._legend is not None:
                 self._legend.remove()
             with matplotlib.rc_context(STYLE):
-                self._legend = self.fig.legend(handles, [c.label for c in curves], loc="center left",
-                                               bbox_to_anchor=(0.61, 0.5),
-                                               handlelength=1.4, fontsize=6.5)  # fmt: skip
+                # Inside the axes, where the curves leave room (albedo falls toward grazing views): the
+                # panel's width goes to the plot, and a long label is never cut at the figure's edge.
+                self._legend = self.ax.legend(handles, [c.label for c in curves], loc="best", framealpha=0.7,
+                                              facecolor="#1e2024", edgecolor="#495057", handlelength=1.4,
+                                              fontsize=6.5)  # fmt: skip
             for text, h in zip(self._legend.get_texts(), handles, strict=True):
                 text.set_color(h.get_color())
             self._labels = labels

@@ -19,6 +19,7 @@ __all__ = ["ImageCanvas", "ImagePanel", "WrapLabel", "qimage"]
 BACKGROUND = "#1e2024"
 TEXT = "#e9ecef"
 MUTED = "#9aa1a9"
+WARN = "#ff8787"
 
 
 def qimage(rgb8: np.ndarray) -> QtGui.QImage:
@@ -143,25 +144,46 @@ class ImagePanel(QtWidgets.QFrame):
         super().__init__(parent)
         self.setObjectName("viewPanel")
         self.title = _label(title, bold=True, max_lines=2)
+        self.warning = _label("", max_lines=2)
+        self.warning.setStyleSheet(f"color: {WARN};")
+        self.warning.hide()
         self.caption = _label("", muted=True, max_lines=3)
+        #: Labels whose line count follows the panel's height: (label, lines when short, lines when tall).
+        self.adaptive_labels = [(self.caption, 2, 6), (self.title, 1, 2)]
         self.canvas = body if body is not None else ImageCanvas()
         lay = QtWidgets.QVBoxLayout(self)
         lay.setContentsMargins(4, 4, 4, 4)
         lay.setSpacing(2)
         lay.addWidget(self.title)
         lay.addWidget(self.canvas, 1)
+        lay.addWidget(self.warning)
         lay.addWidget(self.caption)
 
     def set_title(self, text: str) -> None:
         """Set the title (and its tooltip: the whole text)."""
         _set_text(self.title, text)
 
+    def set_warning(self, text: str) -> None:
+        """A warning line above the caption (clipped highlights ...), hidden when empty."""
+        _set_text(self.warning, text)
+        self.warning.setVisible(bool(text))
+
+    def resizeEvent(self, event):  # noqa: N802 - Qt's name
+        # A tall panel shows its whole caption; a short one keeps its room for the picture (the rest is in the
+        # tooltip).  One line of caption for every 110 px of panel height, within each label's bounds.
+        super().resizeEvent(event)
+        for label, fewest, most in self.adaptive_labels:
+            lines = max(fewest, min(most, self.height() // 110))
+            if lines != label.max_lines:
+                label.max_lines = lines
+                label._refit()
+
     def set_caption(self, text: str, *, warn: bool = False) -> None:
         """Set the caption; ``warn`` shows it in the warning colour (an unconverged or clipped value)."""
         _set_text(self.caption, text)
         if self.caption.property("warn") != bool(warn):  # a style sheet costs a re-polish: only on a change
             self.caption.setProperty("warn", bool(warn))
-            self.caption.setStyleSheet(f"color: {'#ff8787' if warn else MUTED};")
+            self.caption.setStyleSheet(f"color: {WARN if warn else MUTED};")
 
 
 class WrapLabel(QtWidgets.QLabel):

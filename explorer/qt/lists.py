@@ -163,6 +163,8 @@ class LightsPanel(QtWidgets.QWidget):
         self.add_button.setText("Add light")
         self.add_button.setToolTip("add an extra light to the scene")
         self.add_button.setPopupMode(QtWidgets.QToolButton.ToolButtonPopupMode.InstantPopup)
+        # Room for the menu's arrow after the text (Fusion draws it inside the button's text rectangle).
+        self.add_button.setStyleSheet("QToolButton { padding-right: 14px; }")
         self.add_menu = QtWidgets.QMenu(self.add_button)
         self.add_button.setMenu(self.add_menu)
         self.remove_button = QtWidgets.QToolButton(self)

@@ -134,8 +134,9 @@ class LobeView3D(QtWidgets.QWidget):
         self.poly.point_data["value"] = np.zeros(3)
         self.lobe_actor = p.add_mesh(
             self.poly, scalars="value", cmap="viridis", lighting=False, clim=(0.0, 1.0),
-            scalar_bar_args={"title": " ", "vertical": True, "position_x": 0.86, "position_y": 0.1, "width": 0.04,
-                             "height": 0.62, "n_labels": 3, "fmt": "%.3g", "color": "white", "title_font_size": 12,
+            # The colour scale across the top, where the lobe (radius at most 1) leaves the view empty.
+            scalar_bar_args={"title": " ", "vertical": False, "position_x": 0.3, "position_y": 0.86, "width": 0.4,
+                             "height": 0.08, "n_labels": 3, "fmt": "%.3g", "color": "white", "title_font_size": 12,
                              "label_font_size": 12},
         )  # fmt: skip
         self.reset_camera()

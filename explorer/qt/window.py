@@ -32,7 +32,7 @@ from ..app.plots import AlbedoPlot, AnglePlotsGrid, PolarPlot, ProfilePlot
 from ..app.state import AppState
 from ..app.views import LIVE_VIEWS, ExplorerModel
 from .controls import ControlPanel
-from .images import ImagePanel, WrapLabel
+from .images import ImageCanvas, ImagePanel, WrapLabel
 from .lists import ComparePanel, LightsPanel
 from .plots import PlotCanvas
 from .view3d import LobeView3D
@@ -135,14 +135,16 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self.profile_canvas = PlotCanvas(ProfilePlot)
         self.profile_panel = ImagePanel("Scan line", self.profile_canvas)
         self.lobe_view = LobeView3D(interactive=interactive_3d)
-        self.object_panel = ImagePanel("Lit object")
+        # The lit object is a picture in the 3D panel's place (its title and caption are the panel's).
+        self.object_canvas = ImageCanvas()
         self.stack3d = QtWidgets.QStackedWidget()
         self.stack3d.addWidget(self.lobe_view)
-        self.stack3d.addWidget(self.object_panel)
+        self.stack3d.addWidget(self.object_canvas)
         self.lobe_panel = ImagePanel("3D lobe", self.stack3d)
         self.polar_canvas = PlotCanvas(PolarPlot)
         self.polar_panel = ImagePanel("Polar slice", self.polar_canvas)
-        self.albedo_label = WrapLabel(max_lines=1)
+        self.albedo_label = WrapLabel(max_lines=2)
+        self.polar_panel.adaptive_labels.append((self.albedo_label, 1, 2))
         self.polar_panel.layout().insertWidget(1, self.albedo_label)
         self.angle_canvas = PlotCanvas(AnglePlotsGrid)
         self.albedo_canvas = PlotCanvas(AlbedoPlot)
@@ -402,9 +404,10 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             sv = m["sphere"]
             self.sphere_panel.canvas.set_image(sv.rgb8)
             self.sphere_panel.set_title(captions.sphere_title(s, sv))
-            parts = (captions.sphere_legend(s, sv), captions.sphere_caption(s, sv, self.model))
-            text = "\n".join(t for t in parts if t)
-            self.sphere_panel.set_caption(text, warn=bool(sv.clipped))
+            # The clipping note is a warning line of its own; the rest of the caption stays muted.
+            parts = (captions.sphere_legend(s, sv), captions.sphere_caption(s, sv, self.model, clipping=False))
+            self.sphere_panel.set_warning(captions.clipped_note(sv).strip())
+            self.sphere_panel.set_caption("\n".join(t for t in parts if t))
         if "coarse" in views:
             cv = m["coarse"]
             self.gouraud_panel.canvas.set_image(cv.gouraud_rgb8)
@@ -428,13 +431,13 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             self.lobe_panel.set_caption(captions.lobe_caption(s, lv))
         if "object" in views and "object" in m:
             ov = m["object"]
-            self.object_panel.canvas.set_image(ov.rgb8)
-            self.object_panel.set_caption(captions.object_caption(s, ov, self.model))
-            self.object_title = captions.object_title(s, ov)
+            self.object_canvas.set_image(ov.rgb8)
         self.stack3d.setCurrentIndex(1 if s.view3d == "object" else 0)
         if s.view3d == "object":
-            self.lobe_panel.set_title(getattr(self, "object_title", "Lit object"))
-            self.lobe_panel.set_caption("")  # the lobe's caption names arrows the lit object does not show
+            ov = m.get("object")
+            self.lobe_panel.set_title(captions.object_title(s, ov) if ov is not None else "Lit object")
+            # The lobe's caption names arrows the lit object does not show: the object's own caption instead.
+            self.lobe_panel.set_caption(captions.object_caption(s, ov, self.model) if ov is not None else "")
         elif "lobe" in m:  # back from the object: the lobe's title again, though the lobe itself did not change
             self.lobe_panel.set_title(captions.lobe_title(s, m["lobe"]))
             self.lobe_panel.set_caption(captions.lobe_caption(s, m["lobe"]))

@@ -42,8 +42,8 @@ def app(tmp_path_factory):
 
 def test_window_shows_the_object_and_refines_it(app, qtbot):
     ov = app.model.views["object"]
-    assert app.stack3d.currentWidget() is app.object_panel and ov.coverage.any()
-    assert np.array_equal(shown_image(app.object_panel.canvas), ov.rgb8)
+    assert app.stack3d.currentWidget() is app.object_canvas and ov.coverage.any()
+    assert np.array_equal(shown_image(app.object_canvas), ov.rgb8)
     assert app.controls.widget("environment").findData("file") >= 0
     app.set_control("reference", True)
     app.flush()  # the views now; the reference's timer has not ticked yet
@@ -54,9 +54,9 @@ def test_window_shows_the_object_and_refines_it(app, qtbot):
     assert ref.passes == len(ref.tiles) and ref.samples == PASS_SAMPLES
     caption = app.model.refine_caption()
     assert caption.startswith(f"reference: {app.model.refinement.samples} spp, ±")
-    assert app.refine_label.text() == caption and app.object_panel.caption.text().endswith(caption)
+    assert app.refine_label.text() == caption and app.lobe_panel.caption.full_text().endswith(caption)
     assert app.model.views["object"].method == "reference"
-    assert np.array_equal(shown_image(app.object_panel.canvas), app.model.views["object"].rgb8)
+    assert np.array_equal(shown_image(app.object_canvas), app.model.views["object"].rgb8)
     # The reference's timer ticks while the view rests.
     assert app._refine_timer.isActive() and app._refine_timer.interval() == REFINE_MS
     ticked = ref.passes

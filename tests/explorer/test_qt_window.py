@@ -504,11 +504,12 @@ def test_the_lit_object_replaces_the_lobe_s_title_and_caption_and_gives_them_bac
     assert "(yellow)" in lobe_caption and "peak" in lobe_caption
     press(qtbot, window, "o")
     current(window)
-    assert window.state.view3d == "object" and window.stack3d.currentWidget() is window.object_panel
+    assert window.state.view3d == "object" and window.stack3d.currentWidget() is window.object_canvas
     ov = window.model.views["object"]
     assert full(window.lobe_panel.title) == captions.object_title(window.state, ov)
     assert "(yellow)" not in full(window.lobe_panel.caption)  # no lobe, no arrows to name
-    assert full(window.object_panel.caption) == captions.object_caption(window.state, ov, window.model)
+    # One panel, one title and one caption: the object's caption takes the lobe's place.
+    assert full(window.lobe_panel.caption) == captions.object_caption(window.state, ov, window.model)
     press(qtbot, window, "o")
     current(window)
     assert window.stack3d.currentWidget() is window.lobe_view

@@ -314,7 +314,7 @@ def test_a_storm_of_clicks_drags_keys_and_resizes_keeps_the_window_valid(qtbot):
             elif kind == "resize":
                 window.resize(rng.randint(1024, 1600), rng.randint(640, 1000))
             elif kind == "lobe":
-                target = window.lobe_view.canvas if window.state.view3d == "lobe" else window.object_panel.canvas
+                target = window.lobe_view.canvas if window.state.view3d == "lobe" else window.object_canvas
                 x, y = rng.randint(10, target.width() - 10), rng.randint(10, target.height() - 10)
                 qtbot.mousePress(target, LEFT, pos=QtCore.QPoint(x, y))
                 qtbot.mouseMove(target, QtCore.QPoint(x + rng.randint(-40, 40), y + rng.randint(-40, 40)))
