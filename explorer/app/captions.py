@@ -323,7 +323,7 @@ def split_sides(angle_deg: float) -> tuple[str, str]:
     """Where the split sphere's two halves are, in words: the current model's, then the entry's.
 
     The current model is on the counter-clockwise side of the divider
-    (:func:`~explorer.app.views.split_mask`).
+    (:func:`~explorer.app.split.split_mask`).
 
     Parameters
     ----------

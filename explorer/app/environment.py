@@ -539,7 +539,7 @@ class EnvironmentMixin:
         lights = self.world_lights() + [self.environment_light(background=False)]
         img = r.render(material, lights, mode=s.mode, form=s.form, terms=s.terms)
         target = self.split_target() if s.split and not s.reference else None
-        from .views import split_angle, split_render  # views imports this module
+        from .split import split_angle, split_render
 
         if target is not None:
             img = split_render(r, img, Material(target.brdf, ambient=s.diffuse_albedo), lights, s)
