@@ -25,7 +25,10 @@ round lobe about the mirror direction, which is far off where the sky holds a sm
 
 A lobe narrower than :data:`WIDE_LOBE` reads everything by its samples, :data:`NARROW_FACTOR` times as many: the
 sharp edges of large bright areas (a studio's boxes) and what its long tails gather from them over a dark ground
-need them.  Where it errs most is there, and on coarse maps; the accuracy report gives the numbers.
+need them.  A narrow GGX or Beckmann lobe's half vectors (``D(h)(n·h)`` sampling, which does not depend on the
+view) stay fixed in a frame turning smoothly with the normal, and each pixel reflects its own view about them:
+samples turning with the plane of incidence would spin about the point facing the viewer and draw a pinwheel
+there.  Where it errs most is there, and on coarse maps; the accuracy report gives the numbers.
 
 An ideal mirror part reflects ``R(μ_v) L(r)`` of the whole map, exactly as in the split sum.
 
@@ -598,6 +601,89 @@ def _fis_term(part, pre, levels, n, v, cos_v, samples):
     return np.einsum("pk,pkc->pc", w[m], vals), w[m].sum(axis=-1) > 0
 
 
+def _smooth_frame(n):
+    """Tangents ``(t, b)`` of unit normals ``n`` varying smoothly with ``n`` but at ``n = −z`` (Frisvad 2012)."""
+    x, y, z = n[:, 0], n[:, 1], n[:, 2]
+    south = z < -0.9999
+    a = 1 / np.where(south, 1.0, 1 + z)
+    c = -x * y * a
+    t = np.stack([1 - x * x * a, c, -x], axis=-1)
+    b = np.stack([c, 1 - y * y * a, -y], axis=-1)
+    t[south], b[south] = (0.0, -1.0, 0.0), (-1.0, 0.0, 0.0)
+    return t, b
+
+
+#: ``c_σ`` of the half-vector samples of a narrow microfacet lobe (:func:`_fis_half`).
+HALF_FILTER_SCALE = 1.2
+#: View azimuths of the half-vector weight tables (a pixel reads the nearest).
+_AZIMUTHS = 64
+
+
+def _half_table(part, samples: int):
+    """A narrow microfacet lobe's fixed half vectors and their weights over view angles (see :func:`_fis_half`).
+
+    Returns ``(h (N, 3), d (N,), weights (M, A, N))``: the half vectors of ``D(h)(n·h)`` sampling at the fixed
+    stratified points, ``D(h)(n·h)`` at each, and ``f_r (n·l)/p`` for views at :data:`_TABLE_ANGLES` (rows)
+    and ``A`` azimuths (columns) in the frame of the half vectors; cached per part.
+    """
+    from ..models.microfacet_sampling import MicrofacetSampler
+
+    key = ("half", type(part).__qualname__, repr(part), samples)
+    found = _tables.get(key)
+    if found is not None:
+        return found
+    sampler = MicrofacetSampler(part.ndf, float(part.roughness))
+    up = np.array([0.0, 0.0, 1.0])
+    s = sampler.sample(_stratified_square(samples), up)  # at normal incidence l = 2 h_z h − z
+    ld = np.asarray(s.directions, dtype=np.float64)
+    h = ld + up
+    h /= np.linalg.norm(h, axis=-1, keepdims=True)
+    d = 4 * h[:, 2] * np.asarray(s.pdf, dtype=np.float64)  # p(l) = D (n·h) / (4 v·h)
+    th = _TABLE_ANGLES[:, None]
+    ph = (np.arange(_AZIMUTHS) * (2 * math.pi / _AZIMUTHS))[None, :]
+    v = np.stack(np.broadcast_arrays(np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)), -1)[..., None, :]
+    vh = np.sum(v * h, axis=-1)
+    lw = 2 * vh[..., None] * h - v
+    ok = (vh > 0) & (lw[..., 2] > 0) & (d > 0)
+    f = np.asarray(part.eval(up, lw, np.broadcast_to(v, lw.shape)), dtype=np.float64).mean(axis=-1)
+    w = np.where(ok, f * np.maximum(lw[..., 2], 0) * 4 * np.where(ok, vh, 1) / np.where(ok, d, 1), 0.0)
+    found = (h.astype(np.float32), d.astype(np.float32), w.astype(np.float32))
+    _tables[key] = found
+    return found
+
+
+def _fis_half(part, pre, levels, n, v, cos_v, samples):
+    """Filtered importance sampling of a narrow microfacet lobe with half vectors fixed to the surface.
+
+    ``D(h)(n·h)`` sampling does not depend on the view, so the half vectors stay put in a frame that turns
+    smoothly with the normal (:func:`_smooth_frame`); each pixel reflects its own ``v`` about them.  Turning
+    the pattern with the plane of incidence instead would make it spin about the point that faces the viewer,
+    where a narrow lobe's sparse tail samples then draw a pinwheel.  The weights come from a table over the
+    view's angles in that frame, times each pixel's own horizon; the levels from each sample's exact density.
+    """
+    h_loc, d, wtab = _half_table(part, samples)
+    t, b = _smooth_frame(n)
+    vt, vb = np.einsum("ij,ij->i", v, t), np.einsum("ij,ij->i", v, b)
+    mt = np.minimum(np.rint(np.arccos(np.clip(cos_v, 0.0, 1.0)) / _TABLE_STEP).astype(np.int64), len(_TABLE_ANGLES) - 1)
+    ma = np.rint(np.arctan2(vb, vt) * (_AZIMUTHS / (2 * math.pi))).astype(np.int64) % _AZIMUTHS
+    h = h_loc[None, :, 0:1] * t[:, None, :] + h_loc[None, :, 1:2] * b[:, None, :] + h_loc[None, :, 2:3] * n[:, None, :]
+    vh = np.einsum("pkc,pc->pk", h, v)
+    ld = 2 * vh[..., None] * h - v[:, None, :]
+    nl = np.einsum("pkc,pc->pk", ld, n)
+    ok = (vh > 0) & (nl > 0)
+    w = np.where(ok, wtab[mt, ma], np.float32(0))
+    total = w.sum(axis=-1)
+    w = w / np.where(total > 0, total, 1)[:, None]
+    share = 4 * np.maximum(vh, np.float32(1e-6)) / (samples * np.maximum(d, np.float32(1e-30)))  # 1 / (N p)
+    sigma = HALF_FILTER_SCALE * np.sqrt(share / np.float32(2 * math.pi))
+    sig = np.asarray(pre.sigmas, dtype=np.float64)
+    s64 = sigma.astype(np.float64)
+    level = np.where(s64 < sig[1], np.clip(s64 / sig[1], 0.0, 1.0),
+                     np.interp(np.log(np.maximum(s64, sig[1])), np.log(sig[1:]), np.arange(1, len(sig))))  # fmt: skip
+    vals = levels.read(ld, level)
+    return np.einsum("pk,pkc->pc", w, vals), total > 0
+
+
 def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = DOMINANT_SAMPLES,
                       split_terms: bool = False):  # fmt: skip
     r"""Reflected radiance under an environment: the dominant lights exactly, the residual filtered (module notes).
@@ -685,12 +771,15 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
                 # A narrow lobe reads sharp areas of light (a box's edge, its long tails over a dark ground) by its
                 # samples alone: it takes NARROW_FACTOR times as many.
                 count = samples if sigma >= WIDE_LOBE else NARROW_FACTOR * samples
+                half = (sigma < WIDE_LOBE and getattr(part, "ndf", None) in ("ggx", "beckmann")
+                        and not getattr(part, "anisotropic", False))  # fmt: skip
+                fis = _fis_half if half else _fis_term
                 mean = np.empty(n.shape, dtype=np.float64)
                 ok = np.empty(n.shape[0], dtype=bool)
                 n32, v32, c32 = nb.astype(np.float32), vb.astype(np.float32), cos_v.astype(np.float32)
                 for i in range(0, n.shape[0], _FIS_CHUNK):  # pixels at a time: the memory of a chunk, not the image
                     sl = slice(i, i + _FIS_CHUNK)
-                    mean[sl], ok[sl] = _fis_term(part, rest, levels, n32[sl], v32[sl], c32[sl], count)
+                    mean[sl], ok[sl] = fis(part, rest, levels, n32[sl], v32[sl], c32[sl], count)
                 if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value
                     miss = ~ok
                     mean[miss] = rest.lookup(rb[miss], min(sigma, rest.sigmas[-1]),

@@ -169,15 +169,37 @@ def test_within_a_few_percent_of_the_reference(sky):
         for _ in range(8):
             ref.add(1024)
         med, p95, own = _errors(dominant_radiance(m, pre, n.astype(np.float32), v.astype(np.float32)), ref)
-        ss_med, ss_p95, _ = _errors(split_sum_radiance(m, pre, n, v), ref)
+        _, ss_p95, _ = _errors(split_sum_radiance(m, pre, n, v), ref)
         assert own < 0.02, (sky, label)  # the reference's own median error (8,192 samples per pixel)
-        if (sky, label) != ("studio", "GGX α=0.05"):
-            # The targets, median 2 % and 95th percentile 10 %, with room for the reference's own noise.
-            assert med < 0.02 + own and p95 < 0.10, (sky, label, med, p95)
-            if sky == "sun-gradient":  # where the split sum fails: its 95th percentile is over 4 times as large
-                assert p95 < ss_p95 / 4, (label, p95, ss_p95)
-        else:
-            # A narrow lobe reflecting the studio's sharp-edged boxes on this coarse 64-row map (2.8° pixels): 4.0 %
-            # and 13 % (the split sum's 4.3 % and 39 %); on the study's 256-row map it is within the targets
-            # (test_dominant_full.py).
-            assert med < 0.045 and p95 < 0.15, (sky, label, med, p95)
+        # The targets, median 2 % and 95th percentile 10 %, with room for the reference's own noise.
+        assert med < 0.02 + own and p95 < 0.10, (sky, label, med, p95)
+        if sky == "sun-gradient":  # where the split sum fails: its 95th percentile is over 4 times as large
+            assert p95 < ss_p95 / 4, (label, p95, ss_p95)
+
+
+def test_a_narrow_lobe_does_not_spin_about_the_point_facing_the_viewer():
+    # Views 0.3° off three normals, at twelve azimuths about each: a narrow lobe's value there changes with the
+    # azimuth only as much as the reference's does.  Samples turning with the plane of incidence (which spins about
+    # the point facing the viewer) drew a pinwheel there: errors varying by 15 to 51 % with the azimuth.
+    from lighting.integrate.ibl import ProgressiveRadiance
+    from lighting.validation.accuracy import ibl_environment
+
+    env = ibl_environment("studio", 64)
+    pre = prefilter_environment(env)
+    m = CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")
+    phis = np.linspace(0, 2 * math.pi, 12, endpoint=False)
+    for n0 in ([0.3, -0.9, 0.3], [0.5, -0.8, 0.1], [0.0, -0.7, 0.7]):
+        n0 = np.array(n0) / np.linalg.norm(n0)
+        t = np.cross(n0, [0.0, 0.0, 1.0])
+        t /= np.linalg.norm(t)
+        b = np.cross(n0, t)
+        off = math.radians(0.3)
+        v = np.array([math.cos(off) * n0 + math.sin(off) * (math.cos(p) * t + math.sin(p) * b) for p in phis])
+        n = np.tile(n0, (12, 1))
+        ref = ProgressiveRadiance(m, env, n, v, seed=3)
+        for _ in range(8):
+            ref.add(4096, chunk=12)
+        r = ref.value[:, 0]
+        diff = (dominant_radiance(m, pre, n, v)[:, 0] - r) / r.mean()
+        # The part of the error that turns with the view, the reference's noise (1 to 1.4 %) included: 3 to 6.5 %.
+        assert np.ptp(diff) < 0.1, (n0, np.ptp(diff))

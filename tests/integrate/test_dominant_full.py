@@ -38,6 +38,6 @@ def test_the_targets_at_the_studys_size(sky):
             assert own < (0.02 if narrow_studio else 0.015), (sky, label, own)  # the reference's own median error
             # Median 2 % and 95th percentile 10 %, the reference's own noise included in what is measured.
             assert med < 0.02 + own and p95 < 0.10, (sky, label, dtype, med, p95)
-            if sky != "daylight":  # a sun or sharp-edged boxes: the split sum's 95th percentile is 4 times as large
+            if sky != "daylight":  # a sun or sharp-edged boxes: the split sum's 95th percentile is 3 times as large
                 ss, _, _ = ibl_pixel_errors(split_sum_radiance(m, pre, n, v), ref.value, ref.error)
-                assert p95 < np.percentile(ss, 95) / 4, (sky, label, p95)
+                assert p95 < np.percentile(ss, 95) / 3, (sky, label, p95)
