@@ -468,7 +468,9 @@ def chalk_microroughness(q, *, seed, sigma, kd, theta_deg, facets):
     ax2.legend(loc="upper right", fontsize=11, bbox_to_anchor=(1.05, 1.12))
     ax2.set_title(f"$f_r$ (1/sr), light at {theta_deg:g}°", pad=18)
 
-    ratio = on.values / np.where(lam.values > 0, lam.values, 1.0)
+    # Each slice samples its own peak (Oren–Nayar's may be at the horizon's edge): Lambert read at its angles.
+    lam_at = np.interp(on.angles, lam.angles, lam.values)
+    ratio = on.values / np.where(lam_at > 0, lam_at, 1.0)
     deg = np.degrees(on.angles)
     keep = np.abs(deg) < 89.5
     ax3.plot(deg[keep], ratio[keep], color=PALETTE[1], lw=2.2)
