@@ -439,8 +439,11 @@ class EnvironmentMixin:
             pre = self._prefiltered[s.environment] = prefilter_environment(base)
         # The base's levels, the intensity and rotation applied at lookup: a slider makes a new light at every
         # move, and prefiltering once per source keeps the drag at a re-shade.
+        # The split sum, not the engine's default (dominant lights): a drag needs a re-shade in milliseconds, and
+        # the dominant-light method costs seconds a 512² re-shade for a glossy lobe (bench --ibl).  The window's
+        # accurate picture is the Monte-Carlo reference (``reference``), refined while the view rests.
         light = EnvironmentLight(base, intensity=s.env_intensity, rotation=s.env_rotation, background=background,
-                                 prefiltered=pre)  # fmt: skip
+                                 prefiltered=pre, method="split-sum")  # fmt: skip
         return light
 
     def apply_auto_exposure(self) -> set[str]:
@@ -526,7 +529,8 @@ class EnvironmentMixin:
             w, h = self.object_size
             cam = Camera.look_at(OBJECT_EYE, OBJECT_TARGET, (0.0, 0.0, 1.0), fov_y_deg=OBJECT_FOV_DEG, width=w,
                                  height=h)  # fmt: skip
-            self._object_renderer = Renderer(self.object_mesh, cam, dtype=np.float32)
+            # Normals turned toward the eye where interpolation tips them away: no black specks on the silhouette.
+            self._object_renderer = Renderer(self.object_mesh, cam, dtype=np.float32, face_viewer=True)
         return self._object_renderer
 
     # ------------------------------------------------------------------ views

@@ -42,10 +42,30 @@ def qt_application(argv=None, *, off_screen: bool = False) -> QtWidgets.QApplica
             QtCore.Qt.HighDpiScaleFactorRoundingPolicy.PassThrough
         )
         app = QtWidgets.QApplication(list(argv) if argv is not None else [sys.argv[0] if sys.argv else "lighting"])
+        _quiet_platform_notes()
         app.setApplicationName("lighting-explorer")
         app.setStyle("Fusion")
         app.setPalette(_dark_palette())
     return app
+
+
+#: What Qt's offscreen platform says about window-manager requests it has no use for (a window without a screen
+#: cannot raise itself): true, and no news to the user of a headless screenshot.
+_PLATFORM_NOTES = ("This plugin does not support propagateSizeHints()", "This plugin does not support raise()")
+
+
+def _quiet_platform_notes() -> None:
+    previous = None
+
+    def handler(kind, context, message):
+        if message in _PLATFORM_NOTES:
+            return
+        if previous is not None:
+            previous(kind, context, message)
+        else:
+            print(message, file=sys.stderr)
+
+    previous = QtCore.qInstallMessageHandler(handler)
 
 
 def _dark_palette():

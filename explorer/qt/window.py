@@ -118,6 +118,9 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self._refine_timer.timeout.connect(self.refine_tick)
         self.resize(*window_size)
         self.refresh()
+        if self.state.environment != "none":  # started under a sky: its exposure, as a switch would choose it
+            self._show(self.model.apply_auto_exposure())
+            self.controls.sync(self.state)
 
     # ------------------------------------------------------------------ building
     @property
@@ -381,6 +384,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             elif kind == "environment":
                 self.model.open_environment(path)
                 self.state.environment = "file"
+                self._environment_switched = True  # the exposure follows the new light
             elif kind == "mesh":
                 self.model.open_mesh(path)
                 self.state.view3d = "object"
@@ -580,6 +584,8 @@ class ExplorerWindow(QtWidgets.QMainWindow):
     def image(self) -> np.ndarray:
         """The whole window's pixels, ``(H, W, 3)`` uint8 (the 3D view included, whatever draws it)."""
         QtWidgets.QApplication.processEvents()
+        if not self.lobe_view.interactive and self.lobe_view.isVisible():
+            self.lobe_view.redraw()  # at the panel's size now (a resize may still be pending)
         pix = self.grab()
         if self.lobe_view.interactive and self.lobe_view.isVisible():
             # A native OpenGL child is not in grab(): paint VTK's own frame where the view is.

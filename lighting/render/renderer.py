@@ -57,7 +57,7 @@ from .raster import rasterize
 from .raycast import raycast_sphere
 from .tangents import orthonormal_tangents, sphere_tangents
 
-__all__ = ["SHADING_MODES", "AnalyticSphere", "Renderer", "render", "needs_tangents"]
+__all__ = ["SHADING_MODES", "FACING_COS", "AnalyticSphere", "Renderer", "face_toward", "render", "needs_tangents"]
 
 SHADING_MODES = ("flat", "gouraud", "phong")
 
@@ -81,6 +81,52 @@ class AnalyticSphere:
         object.__setattr__(self, "radius", check_positive("radius", self.radius))
 
 
+#: The cosine to the viewer a normal is turned to where interpolation tipped it away (``Renderer(face_viewer=True)``).
+FACING_COS = 0.02
+
+
+def face_toward(n: np.ndarray, v: np.ndarray, cos_min: float = FACING_COS) -> np.ndarray:
+    """Unit normals turned toward ``v`` where ``n·v < cos_min``, in the plane of ``n`` and ``v``; others unchanged.
+
+    ``n' = normalize(n + (cos_min − c) v)`` with ``c = n·v``: the bent vector has length
+    ``√(1 + cos_min² − c²)``, so ``n'·v = cos_min / √(1 + cos_min² − c²)``, at least
+    ``cos_min / √(1 + cos_min²)``: just inside the visible hemisphere, whatever ``c``.  Where ``n = −v``
+    exactly (no plane to turn in) the normal becomes ``v``.
+
+    Parameters
+    ----------
+    n : ndarray, (N, 3)
+        Unit normals.
+    v : ndarray, (N, 3) or (3,)
+        Unit directions toward the viewer.
+    cos_min : float
+        The smallest cosine kept.
+
+    Returns
+    -------
+    ndarray, (N, 3)
+        The normals, in ``n``'s dtype.
+
+    Examples
+    --------
+    >>> face_toward(np.array([[1.0, 0.0, -0.1]]) / np.hypot(1.0, 0.1), np.array([0.0, 0.0, 1.0])).round(4)
+    array([[0.9998, 0.    , 0.0201]])
+    """
+    c = n @ v if v.ndim == 1 else np.einsum("ij,ij->i", n, v)
+    away = c < cos_min
+    if not np.any(away):
+        return n
+    out = np.array(n, copy=True)
+    vv = v if v.ndim == 1 else v[away]
+    bent = n[away] + (cos_min - c[away])[:, None] * vv
+    # The bent vector's length is at least sqrt(1 - c²) > 0 unless n = −v exactly; keep v there.
+    length = np.sqrt(np.einsum("ij,ij->i", bent, bent))
+    safe = length > 1e-12
+    out[np.flatnonzero(away)[safe]] = bent[safe] / length[safe, None]
+    out[np.flatnonzero(away)[~safe]] = vv if v.ndim == 1 else vv[~safe]
+    return out
+
+
 class Renderer:
     """Rasterize once, shade many times.
 
@@ -94,6 +140,12 @@ class Renderer:
         pixel (measured in the accuracy report and on the benchmark scene) and
         is about twice as fast.
     cull_backfaces : bool
+    face_viewer : bool
+        Phong mode on a mesh: where an interpolated normal tips away from the viewer (a smooth mesh's
+        silhouette, ``n·v < 0`` on a triangle that faces the eye), turn it toward the viewer just enough
+        that ``n·v`` = :data:`FACING_COS`, as production renderers keep shading normals in the visible
+        hemisphere.  Default False: the interpolated normal as the slides define Phong interpolation (and
+        as OpenGL shades), whose silhouette pixels can be black.
 
     Examples
     --------
@@ -109,12 +161,14 @@ class Renderer:
     1
     """
 
-    def __init__(self, geometry, camera: Camera, *, dtype=np.float64, cull_backfaces: bool = True):
+    def __init__(self, geometry, camera: Camera, *, dtype=np.float64, cull_backfaces: bool = True,
+                 face_viewer: bool = False):  # fmt: skip
         _check_geometry(geometry)
         check_camera(camera)
         dt = check_float_dtype(dtype)
         self._geometry, self._camera, self.dtype = geometry, camera, dt.type
         self.cull_backfaces = check_bool("cull_backfaces", cull_backfaces)
+        self.face_viewer = check_bool("face_viewer", face_viewer)
         self._gbuffer: GBuffer | None = None
         self._cache: dict = {}
         self._subset: np.ndarray | None = None
@@ -328,11 +382,12 @@ class Renderer:
                 v, dist = cam._pixel_view_vectors(pixels, dtype=dt)
 
             def fill(sl):
-                if normals is not None:
-                    normals[sl] = normalize(gb.interpolate_covered(vertex_normals, sl if rows is None else rows[sl]))
                 if cam.is_perspective:
                     # The point seen at a pixel lies on that pixel's ray: v needs no interpolated position.
                     v[sl], dist[sl] = cam._pixel_view_vectors(pixels[sl], depth[sl], dtype=dt)
+                if normals is not None:
+                    n = normalize(gb.interpolate_covered(vertex_normals, sl if rows is None else rows[sl]))
+                    normals[sl] = face_toward(n, v[sl] if v.ndim == 2 else v) if self.face_viewer else n
 
             each_chunk(n, fill)
             return normals, (v, dist)

@@ -1,3 +1,5 @@
+import math
+
 import numpy as np
 import pytest
 
@@ -288,3 +290,35 @@ def test_renderer_arguments_and_memory_are_checked_before_work():
         edge_jump_metric(img, np.zeros((4, 4), int))
     with pytest.raises(ValueError, match="^image must be finite linear RGB"):
         luminance(np.full((2, 3), np.nan))
+
+
+# ----------------------------------------------------------------------------- normals facing the viewer
+def test_face_viewer_turns_silhouette_normals_toward_the_eye_and_nothing_else():
+    # A coarse sphere seen in perspective: Phong interpolation tips some silhouette normals away from the eye
+    # (n·v < 0 on a triangle that faces it), and those pixels shade black under a sky.  face_viewer=True turns
+    # exactly those normals into the visible hemisphere and leaves every other pixel's normal as it was.
+    from lighting.render.renderer import FACING_COS, face_toward
+
+    mesh = uv_sphere(6, 12)
+    cam = Camera((0.0, 0.0, 3.2), (0.0, 0.0, 0.0), fov_y_deg=40.0, width=96, height=96)
+    plain = Renderer(mesh, cam, face_viewer=False)
+    faced = Renderer(mesh, cam, face_viewer=True)
+    n0, n1 = plain.sample_normals("phong"), faced.sample_normals("phong")
+    v, _ = plain.sample_view("phong")
+    c0, c1 = np.einsum("ij,ij->i", n0, v), np.einsum("ij,ij->i", n1, v)
+    away = c0 < FACING_COS
+    assert away.sum() > 0  # the coarse sphere has such pixels
+    np.testing.assert_array_equal(n1[~away], n0[~away])
+    bound = FACING_COS / math.sqrt(1.0 + FACING_COS**2)
+    assert np.all(c1[away] >= bound * (1 - 1e-12))
+    np.testing.assert_allclose(np.linalg.norm(n1, axis=1), 1.0, rtol=1e-12)
+    # A light at the eye (l = v at every point): the plain normals leave those pixels black, the turned ones lit.
+    mat = Material(Lambert(0.8), ambient=0.0)
+    lights = [PointLight((0.0, 0.0, 3.2), intensity=1.0)]
+    cov = faced.gbuffer.coverage
+    dark = plain.render(mat, lights, mode="phong")[cov].max(axis=1) == 0
+    lit = faced.render(mat, lights, mode="phong")[cov].max(axis=1)
+    assert dark.sum() == (c0 <= 0).sum() > 0 and np.all(lit > 0)
+    # n = −v exactly has no plane to turn in: the normal becomes v.
+    np.testing.assert_array_equal(face_toward(np.array([[0.0, 0.0, -1.0]]), np.array([0.0, 0.0, 1.0])),
+                                  [[0.0, 0.0, 1.0]])  # fmt: skip
