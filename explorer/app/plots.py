@@ -190,6 +190,8 @@ class BlitFigure:
             self._build()
         self.fig.patch.set_alpha(0.0)
         self._animated: list = []
+        self._animated_axes: list = []
+        self._bg_axes = None  # (the axes' key, the background with the axes drawn on it)
         self._bg = None
         self._bg_size = None
         self._dirty = True
@@ -261,8 +263,12 @@ class BlitFigure:
         """
         axis.set_animated(True)
         axis._explorer_blitted = True
-        self._animated.insert(0, axis)
+        self._animated_axes.append(axis)
         return axis
+
+    def _axes_key(self) -> tuple:
+        """What the blitted axes look like: their axes' data limits (ticks and labels follow from them)."""
+        return tuple(tuple(a.axes.viewLim.bounds) for a in self._animated_axes)
 
     def invalidate(self):
         """Draw everything at the next update (axis limits or labels changed)."""
@@ -273,9 +279,21 @@ class BlitFigure:
         canvas = self.fig.canvas
         self._bg = canvas.copy_from_bbox(self.fig.bbox)
         self._bg_size = canvas.get_width_height()
+        self._bg_axes = None
         self._draw_animated()
 
     def _draw_animated(self):
+        # Two levels: the background, then the data-following axes (text: the costly part, drawn again only
+        # when a limit moved, else restored with them as a second background), then the data.
+        key = self._axes_key()
+        if self._animated_axes:
+            if self._bg_axes is not None and self._bg_axes[0] == key:
+                self.fig.canvas.restore_region(self._bg_axes[1])
+            else:
+                for a in self._animated_axes:
+                    if a.get_visible():
+                        self.fig.draw_artist(a)
+                self._bg_axes = (key, self.fig.canvas.copy_from_bbox(self.fig.bbox))
         for a in self._animated:
             if a.get_visible():
                 self.fig.draw_artist(a)
