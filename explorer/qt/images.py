@@ -138,15 +138,18 @@ class ImagePanel(QtWidgets.QFrame):
         The panel's title.
     body : QWidget, optional
         The view (default: a new :class:`ImageCanvas`, as :attr:`canvas`).
+    warning_line : bool
+        Keep a line for :meth:`set_warning` under the picture (empty when there is nothing to warn of).
     """
 
-    def __init__(self, title: str = "", body: QtWidgets.QWidget | None = None, parent=None):
+    def __init__(self, title: str = "", body: QtWidgets.QWidget | None = None, parent=None, *,
+                 warning_line: bool = False):  # fmt: skip
         super().__init__(parent)
         self.setObjectName("viewPanel")
         self.title = _label(title, bold=True, max_lines=2)
-        self.warning = _label("", max_lines=2)
+        self.warning = _label("", max_lines=1)
         self.warning.setStyleSheet(f"color: {WARN};")
-        self.warning.hide()
+        self.warning.setVisible(warning_line)
         self.caption = _label("", muted=True, max_lines=3)
         #: Labels whose line count follows the panel's height: (label, lines when short, lines when tall).
         self.adaptive_labels = [(self.caption, 2, 6), (self.title, 1, 2)]
@@ -164,9 +167,8 @@ class ImagePanel(QtWidgets.QFrame):
         _set_text(self.title, text)
 
     def set_warning(self, text: str) -> None:
-        """A warning line above the caption (clipped highlights ...), hidden when empty."""
+        """A warning line above the caption (clipped highlights ...); its line stays when it is empty."""
         _set_text(self.warning, text)
-        self.warning.setVisible(bool(text))
 
     def resizeEvent(self, event):  # noqa: N802 - Qt's name
         # A tall panel shows its whole caption; a short one keeps its room for the picture (the rest is in the
@@ -230,7 +232,16 @@ class WrapLabel(QtWidgets.QLabel):
         rect = fm.boundingRect(QtCore.QRect(0, 0, width, 1 << 20), QtCore.Qt.TextFlag.TextWordWrap, text)
         return max(1, round(rect.height() / max(fm.lineSpacing(), 1)))
 
+    def _reserve(self) -> None:
+        # Always the height of max_lines lines, whatever the text: a caption that grows or shrinks by a line
+        # must not resize the picture (and redraw a plot in full) beside it.
+        height = self.max_lines * self.fontMetrics().lineSpacing() + self.contentsMargins().top() + \
+            self.contentsMargins().bottom() + 2
+        if self.minimumHeight() != height or self.maximumHeight() != height:
+            self.setFixedHeight(height)
+
     def _refit(self) -> None:
+        self._reserve()
         width = self.contentsRect().width()
         shown = self._full
         if width > 20 and self._lines(shown, width) > self.max_lines:

@@ -129,7 +129,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         return self.model.state
 
     def _build_views(self, interactive_3d):
-        self.sphere_panel = ImagePanel("Lit sphere")
+        self.sphere_panel = ImagePanel("Lit sphere", warning_line=True)
         self.sphere_panel.canvas.overlay = self._sphere_overlay
         self.gouraud_panel = ImagePanel("Gouraud: lit at the vertices")
         self.gouraud_panel.canvas.overlay = self._coarse_overlay
