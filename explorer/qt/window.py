@@ -417,9 +417,12 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             self.gouraud_panel.canvas.set_image(cv.gouraud_rgb8)
             self.phong_panel.canvas.set_image(cv.phong_rgb8)
             self.gouraud_panel.set_title(captions.coarse_title(s))
-            self.gouraud_panel.set_caption(captions.coarse_caption(cv))
+            # The coarse spheres teach interpolation under the key light: a sky does not light them, say so.
+            lit_by_sky = self.model.environment_active
+            sky = "\nkey light and ambient only (the sky lights the lit sphere)" if lit_by_sky else ""
+            self.gouraud_panel.set_caption(captions.coarse_caption(cv) + sky)
             self.phong_panel.set_title(captions.phong_title(s))
-            self.phong_panel.set_caption(captions.phong_caption(s))
+            self.phong_panel.set_caption(captions.phong_caption(s) + sky)
         if "profile" in views:
             pv = m["profile"]
             self.profile_canvas.show_data(pv, captions.channel_label(s))
