@@ -20,6 +20,7 @@ def _normalized_bp_albedo(e):
     return 4 * (e + 2) * (2 / (e + 4) - 1 / (e + 2) - 2 * a / (e + 4) + b / (e + 2))
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_every_model_is_positive(table):
     assert len(table) == len(default_cases())
     assert all(r.positive and r.min_value >= 0 for r in table)

@@ -81,6 +81,7 @@ def test_the_drawn_peak_is_the_reported_peak(name, phi, resolution, dtype):
     mesh_is_valid(mesh)
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 @pytest.mark.parametrize("phi", PHIS, ids=["phi180", "phi90", "phi30"])
 @pytest.mark.parametrize("name", list(NARROW))
 def test_no_direction_beats_the_reported_peak(name, phi):

@@ -131,6 +131,7 @@ def test_a_scene_lit_by_an_area_light_alone_is_lit_in_the_explorer_as_render_dra
     assert captions.light_summary(state).startswith("ambient light only\n")
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_scene_lights_are_moved_scaled_and_turned_into_the_view_frame(tmp_path):
     """A sphere of radius 2 away from the origin, seen from an oblique camera: every kind of light agrees."""
     lights = """

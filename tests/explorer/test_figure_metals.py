@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+pytestmark = pytest.mark.slow  # draws the metals figure (seconds): the full run has it
+
 pytest.importorskip("matplotlib")
 
 from explorer.figures import figure_names, make_figure  # noqa: E402

@@ -202,6 +202,7 @@ def _blinn_phong_rho0(ks, e):
     return float(h / 3 * (f[0] + f[-1] + 4 * f[1:-1:2].sum() + 2 * f[2:-1:2].sum()))
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_the_figure_is_registered_after_fitting_and_its_caption_is_measured(figure):
     fig, spec, params, q, m = figure
     names = figure_names()

@@ -94,6 +94,7 @@ def test_split_halves_follow_the_mask():
 
 
 # ------------------------------------------------------------------ skies in the classic form: the exposure
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 @pytest.mark.parametrize("sky", sorted(SKIES))
 def test_every_sky_switched_on_clips_at_most_five_percent(sky):
     state = AppState()
@@ -147,6 +148,7 @@ def test_fit_recovers_lambert_and_the_lobe_when_the_family_holds_the_target():
         assert _albedo(result.model, theta) == pytest.approx(_albedo(target, theta), rel=0.02)
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_fit_of_the_default_model_keeps_its_diffuse_albedo():
     # The default surface: Lambert(0.8 × colour) + the classic Blinn-Phong (k_s 0.5, e 32), fitted by GGX.
     state = AppState()

@@ -159,6 +159,7 @@ def _errors(value, reference):
     return float(np.median(e)), float(np.percentile(e, 95)), float(np.median(own))
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 @pytest.mark.parametrize("sky", ["daylight", "sun-gradient", "studio"])
 def test_within_a_few_percent_of_the_reference(sky):
     from lighting.integrate.ibl import ProgressiveRadiance

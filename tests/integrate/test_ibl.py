@@ -52,6 +52,7 @@ def test_a_constant_environment_stays_constant_at_every_width():
         np.testing.assert_allclose(pre.lookup(d, s), np.broadcast_to([1.0, 2.0, 3.0], (50, 3)), rtol=1e-6)
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 @pytest.mark.parametrize("sigma", PREFILTER_SIGMAS[1:])
 def test_the_lobe_average_of_a_linear_sky_is_the_von_mises_fisher_mean(sigma):
     # For K = exp(κ (r·l − 1)) the mean of l is A(κ) r, A = coth κ − 1/κ: a linear sky a + b·l averages to a + A b·r.
@@ -202,6 +203,7 @@ def test_float32_in_float32_out_and_no_light_behind(sunny):
 
 
 # ----------------------------------------------------------------------------- the progressive reference
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_progressive_error_is_honest_and_shrinks_as_one_over_root_n(sunny):
     env, _ = sunny
     rng = np.random.default_rng(8)

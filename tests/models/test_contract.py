@@ -247,6 +247,7 @@ def _check_delta_sampler(model, sampler, v):
     np.testing.assert_array_equal(sampler.pdf(probe, v), 0.0)
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 @pytest.mark.parametrize("model, sampler", SAMPLERS)
 @pytest.mark.parametrize("theta_v", VIEWS_DEG)
 def test_sampler_density_integrates_to_one(model, sampler, theta_v):
@@ -268,6 +269,7 @@ def test_sampler_density_integrates_to_one(model, sampler, theta_v):
     assert mass == pytest.approx(1.0, abs=1e-6)
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 @pytest.mark.parametrize("model, sampler", SAMPLERS)
 def test_sampler_chi_square(model, sampler):
     if getattr(sampler, "delta", False):

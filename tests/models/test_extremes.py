@@ -68,6 +68,7 @@ L_ALL, V_ALL = (a.reshape(-1, 3) for a in np.meshgrid(np.arange(len(D)), np.aran
 NORMALS = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 7.5], [0.0, 0.0, 1e-20], [0.0, 0.0, 0.0], [1e-3, 0.0, 1.0]])
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
 @pytest.mark.parametrize("model", MODELS, ids=repr)
 def test_every_model_is_finite_and_nonnegative_on_hard_inputs(model, dtype):

@@ -29,6 +29,7 @@ QUICK = [
 LEVEL = sidak(0.01, len(QUICK))
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 @pytest.mark.parametrize("name, kwargs, theta_v, phi_v", QUICK, ids=[f"{q[0]}{q[1]}@{q[2]:g}/{q[3]:g}" for q in QUICK])
 def test_sampler_chi_square_at_a_grazing_view(name, kwargs, theta_v, phi_v):
     r = chi2_test(create_model(name, **kwargs).sampler(), view(theta_v, phi_v), count=50_000)

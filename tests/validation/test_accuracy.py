@@ -17,6 +17,7 @@ def _pts(studies, study, case=None, method=None):
     return [p for p in st.points if (case is None or case in p.case) and (method is None or p.method == method)]
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_quadrature_converges_to_the_reference(studies):
     for case in ("Lambert, glowing sky", "GGX/Smith"):
         q = sorted(_pts(studies, "integration", case, "quadrature"), key=lambda p: p.cost)
