@@ -215,12 +215,11 @@ def has_diffuse(brdf) -> bool:
 def fit_model(name: str, target, *, n_theta: int = 12, n_phi: int = 16, max_theta_deg: float = 85.0):
     """Fit the analytic model ``name`` of :data:`FIT_MODELS` to ``target``; with a Lambert part if it has a diffuse one.
 
-    A target with a diffuse part (:func:`has_diffuse`) is fitted by ``Lambert(k_d) + model``, ``k_d``
-    (RGB) and the model's free parameters together, by the loss of :func:`lighting.analysis.fit.fit_brdf`
-    (cosine-weighted least squares over the same direction pairs): a specular lobe alone, fitted to
-    a surface that is mostly diffuse, comes out a broad lobe standing for the diffuse part too (GGX
-    α 0.64 for the explorer's default surface, whose highlight alone wants 0.33), which the term
-    switches cannot take apart.  A target without one is fitted by the model alone (``fit_brdf``).
+    A target with a diffuse part (:func:`has_diffuse`) is fitted by ``Lambert(k_d) + model``
+    (:func:`lighting.analysis.fit.fit_brdf` with ``lambert=True``): a specular lobe alone, fitted to a
+    surface that is mostly diffuse, comes out a broad lobe standing for the diffuse part too (GGX α 0.64
+    for the explorer's default surface, whose highlight alone wants 0.33), which the term switches cannot
+    take apart.  A target without one is fitted by the model alone.
 
     Parameters
     ----------
@@ -242,73 +241,8 @@ def fit_model(name: str, target, *, n_theta: int = 12, n_phi: int = 16, max_thet
     if name not in FIT_MODELS:
         raise ValueError(f"fit must be one of {', '.join(FIT_MODELS)}; got {name!r}")
     model, fixed, _ = FIT_MODELS[name]
-    if not has_diffuse(target):
-        return fit_brdf(model, target, fixed=dict(fixed), n_theta=n_theta, n_phi=n_phi, max_theta_deg=max_theta_deg)
-    return _fit_with_lambert(model, dict(fixed), target, n_theta, n_phi, max_theta_deg)
-
-
-def _fit_with_lambert(model, fixed, target, n_theta, n_phi, max_theta_deg):
-    """``Lambert(k_d) + model`` fitted to ``target``: ``fit_brdf``'s loss, parametrization and errors, k_d added."""
-    from scipy.optimize import least_squares
-
-    from lighting.analysis.audit import direction_pairs
-    from lighting.analysis.fit import FitResult, _bounds, _free_rows, _standard_errors
-    from lighting.models import model_variants
-
-    cls, variant_fixed = model_variants()[model]
-    table = {p.name: p for p in cls.parameters}
-    fixed = {**variant_fixed, **{k: table[k].check(v) for k, v in fixed.items()}}
-    kd_row = next(p for p in Lambert.parameters if p.name == "kd")
-    rows = [kd_row, *_free_rows(cls, fixed)]
-    l, v = direction_pairs(n_theta, n_phi, max_theta_deg)  # noqa: E741
-    n = np.broadcast_to([0.0, 0.0, 1.0], l.shape)
-    cos_l = l[:, 2:3]
-    want = np.asarray(target.eval(n, l, v), dtype=np.float64)
-    if want.shape != l.shape[:1] + (3,) or not np.all(np.isfinite(want)):
-        raise ValueError(f"fit: the target must give finite f_r of shape ({len(l)}, 3); got shape {want.shape}")
-    target_rms = float(np.sqrt(np.mean((want * cos_l) ** 2)))
-    # k_d starts where it explains the target best beside the model's defaults (a linear least squares).
-    spec0 = cls(**{**{p.name: p.default for p in rows[1:]}, **fixed}).eval(n, l, v)
-    w = cos_l**2
-    kd0 = np.clip(math.pi * np.sum((want - spec0) * w, axis=0) / np.sum(w), 0.0, 1.0)
-    slots, x0, lo, hi = [], [], [], []
-    for p in rows:
-        start = kd0 if p is kd_row else p.default
-        value = np.broadcast_to(np.asarray(start, float), (3,) if p.kind == "color" else ())
-        b = _bounds(p)
-        for x in np.atleast_1d(value):
-            x = float(np.clip(x, p.low, p.high))
-            x = math.log(max(x, math.exp(b[0]))) if p.log else x
-            x0.append(min(max(x, b[0]), b[1]))
-            lo.append(b[0])
-            hi.append(b[1])
-        slots.append((p, len(np.atleast_1d(value))))
-    evaluations = 0
-
-    def build(x):
-        values, i = dict(fixed), 0
-        for p, k in slots:
-            part = np.exp(x[i : i + k]) if p.log else np.asarray(x[i : i + k])
-            values[p.name] = tuple(float(c) for c in part) if p.kind == "color" else float(part[0])
-            i += k
-        kd = values.pop(kd_row.name)
-        return Lambert(kd) + cls(**values), {kd_row.name: kd, **values}
-
-    def residual(x):
-        nonlocal evaluations
-        evaluations += 1
-        brdf, _ = build(x)
-        return ((brdf.eval(n, l, v) - want) * cos_l).ravel()
-
-    solution = least_squares(residual, np.array(x0), bounds=(np.array(lo), np.array(hi)), method="trf",
-                             x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)  # fmt: skip
-    brdf, values = build(solution.x)
-    res = residual(solution.x)
-    evaluations -= 1
-    rms = float(np.sqrt(np.mean(res**2)))
-    errors = _standard_errors(solution.jac, res, solution.x, slots)
-    return FitResult(brdf, values, rms, rms / target_rms if target_rms > 0 else 0.0, errors, evaluations,
-                     bool(solution.success), str(solution.message))  # fmt: skip
+    return fit_brdf(model, target, fixed=dict(fixed), n_theta=n_theta, n_phi=n_phi, max_theta_deg=max_theta_deg,
+                    lambert=has_diffuse(target))  # fmt: skip
 
 
 class CompareMixin:

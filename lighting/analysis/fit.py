@@ -31,6 +31,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..models.base import BRDF
+from ..models.lambert import Lambert
 from ..models.protocol import model_class, model_variants
 
 __all__ = ["FitResult", "fit_brdf"]
@@ -87,7 +88,7 @@ def _bounds(p):
 
 
 def fit_brdf(model: str, target, *, fixed: dict | None = None, start: dict | None = None, n_theta: int = 12,
-             n_phi: int = 16, max_theta_deg: float = 85.0) -> FitResult:  # fmt: skip
+             n_phi: int = 16, max_theta_deg: float = 85.0, lambert: bool = False) -> FitResult:  # fmt: skip
     """Fit the continuous parameters of a registered model to a target BRDF.
 
     Parameters
@@ -105,10 +106,16 @@ def fit_brdf(model: str, target, *, fixed: dict | None = None, start: dict | Non
         Starting values (defaults: the table's defaults).
     n_theta, n_phi, max_theta_deg
         The direction pairs compared (:func:`lighting.analysis.audit.direction_pairs`).
+    lambert : bool
+        Fit ``Lambert(k_d) + model``: ``k_d`` (RGB, the ``start`` key ``"kd"``) together with the model's
+        rows.  Without a start it begins where it best explains the target beside the model's starting
+        values (linear least squares in the same weights).  A specular lobe alone, fitted to a surface that
+        is mostly diffuse, comes out a broad lobe that stands for the diffuse part too.
 
     Returns
     -------
     FitResult
+        With ``lambert``, ``model`` is the sum and ``parameters`` and ``errors`` hold ``kd`` first.
 
     Raises
     ------
@@ -138,13 +145,21 @@ def fit_brdf(model: str, target, *, fixed: dict | None = None, start: dict | Non
     fixed = {**variant_fixed, **(fixed or {})}
     start = dict(start or {})
     table = {p.name: p for p in cls.parameters}
+    kd_row = None
+    if lambert:
+        if "kd" in table:
+            raise ValueError(f"fit_brdf: {model!r} has its own kd; lambert=True would add a second one")
+        kd_row = next(p for p in Lambert.parameters if p.name == "kd")
     for name in (*fixed, *start):
-        if name not in table:
+        if name not in table and not (kd_row is not None and name == "kd" and name in start):
             raise ValueError(f"fit_brdf: {model!r} has no parameter {name!r}; it has {', '.join(table)}")
     fixed = {k: (v if k in variant_fixed else table[k].check(v)) for k, v in fixed.items()}
     rows = _free_rows(cls, fixed)
     if not rows:
         raise ValueError(f"fit_brdf: {model!r} has no continuous parameter left to fit")
+    if kd_row is not None:
+        table["kd"] = kd_row
+        rows = [kd_row, *rows]
 
     l, v = direction_pairs(n_theta, n_phi, max_theta_deg)  # noqa: E741
     n = np.broadcast_to([0.0, 0.0, 1.0], l.shape)
@@ -153,6 +168,12 @@ def fit_brdf(model: str, target, *, fixed: dict | None = None, start: dict | Non
     if want.shape != l.shape[:1] + (3,) or not np.all(np.isfinite(want)):
         raise ValueError(f"fit_brdf: the target must give finite f_r of shape ({len(l)}, 3); got shape {want.shape}")
     target_rms = float(np.sqrt(np.mean((want * cos_l) ** 2)))
+
+    if kd_row is not None and "kd" not in start:
+        # k_d starts where it explains the target best beside the model's starting values.
+        spec0 = cls(**{**{p.name: start.get(p.name, p.default) for p in rows[1:]}, **fixed}).eval(n, l, v)
+        w = cos_l**2
+        start["kd"] = np.clip(math.pi * np.sum((want - spec0) * w, axis=0) / np.sum(w), 0.0, 1.0)
 
     # The vector of unknowns: one entry per float row, three per colour row, log where the table says.
     slots, x0, lo, hi = [], [], [], []
@@ -175,7 +196,10 @@ def fit_brdf(model: str, target, *, fixed: dict | None = None, start: dict | Non
             part = np.exp(x[i : i + k]) if p.log else np.asarray(x[i : i + k])
             values[p.name] = tuple(float(c) for c in part) if p.kind == "color" else float(part[0])
             i += k
-        return cls(**values), values
+        if kd_row is None:
+            return cls(**values), values
+        kd = values.pop("kd")
+        return Lambert(kd) + cls(**values), {"kd": kd, **values}
 
     def residual(x):
         nonlocal evaluations
