@@ -91,3 +91,23 @@ def choose(editor, value) -> None:
     index = editor.findData(value)
     assert index >= 0, value
     editor.setCurrentIndex(index)
+
+
+def click_box(qtbot, box) -> None:
+    """Click a check box on its indicator (a box may be wider than its text; only text and indicator react)."""
+    opt = QtWidgets.QStyleOptionButton()
+    box.initStyleOption(opt)
+    rect = box.style().subElementRect(QtWidgets.QStyle.SubElement.SE_CheckBoxIndicator, opt, box)
+    qtbot.mouseClick(box, QtCore.Qt.MouseButton.LeftButton, pos=rect.center())
+
+
+def groove_and_handle(slider):
+    """A slider's groove and handle rectangles, in its own coordinates (where a hand would press)."""
+    opt = QtWidgets.QStyleOptionSlider()
+    slider.initStyleOption(opt)
+    style = slider.style()
+    groove = style.subControlRect(QtWidgets.QStyle.ComplexControl.CC_Slider, opt,
+                                  QtWidgets.QStyle.SubControl.SC_SliderGroove, slider)  # fmt: skip
+    handle = style.subControlRect(QtWidgets.QStyle.ComplexControl.CC_Slider, opt,
+                                  QtWidgets.QStyle.SubControl.SC_SliderHandle, slider)  # fmt: skip
+    return groove, handle

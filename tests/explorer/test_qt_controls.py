@@ -16,6 +16,7 @@ pytest.importorskip("pytestqt")
 
 import shiboken6  # noqa: E402 (after the platform is chosen)
 from PySide6 import QtCore, QtWidgets  # noqa: E402
+from qt_window_support import click_box, groove_and_handle  # noqa: E402
 
 from explorer.app.comparing import pin_label  # noqa: E402
 from explorer.app.params import offered_parameters  # noqa: E402
@@ -83,27 +84,12 @@ def _scroll_to(panel, widget):
     _settle()
 
 
-def _click_box(qtbot, box):
-    """Click a check box on its indicator (a box may be wider than its text; only text and indicator react)."""
-    opt = QtWidgets.QStyleOptionButton()
-    box.initStyleOption(opt)
-    rect = box.style().subElementRect(QtWidgets.QStyle.SubElement.SE_CheckBoxIndicator, opt, box)
-    qtbot.mouseClick(box, LEFT, pos=rect.center())
 
 
-def _groove_and_handle(slider):
-    opt = QtWidgets.QStyleOptionSlider()
-    slider.initStyleOption(opt)
-    style = slider.style()
-    groove = style.subControlRect(QtWidgets.QStyle.ComplexControl.CC_Slider, opt,
-                                  QtWidgets.QStyle.SubControl.SC_SliderGroove, slider)  # fmt: skip
-    handle = style.subControlRect(QtWidgets.QStyle.ComplexControl.CC_Slider, opt,
-                                  QtWidgets.QStyle.SubControl.SC_SliderHandle, slider)  # fmt: skip
-    return groove, handle
 
 
 def _knob_x(slider) -> int:
-    return _groove_and_handle(slider)[1].center().x()
+    return groove_and_handle(slider)[1].center().x()
 
 
 # ------------------------------------------------------------------ rows generated from the tables
@@ -193,7 +179,7 @@ def test_click_on_the_track_jumps_the_knob_and_dragging_follows(qtbot):
     editor = panel.widget("elevation")
     slider = editor.slider
     _scroll_to(panel, slider)
-    groove, handle = _groove_and_handle(slider)
+    groove, handle = groove_and_handle(slider)
     start = editor.to_position(45.0)
     assert slider.value() == start
     # A click far left of the knob, on the track: the knob jumps under the pointer (not a page step).
@@ -224,7 +210,7 @@ def test_dragging_the_knob_moves_it_by_the_pointer_distance(qtbot):
     panel, window = _panel(qtbot, state)
     slider = panel.widget("azimuth").slider
     _scroll_to(panel, slider)
-    groove, handle = _groove_and_handle(slider)
+    groove, handle = groove_and_handle(slider)
     x0, y = handle.center().x(), handle.center().y()
     qtbot.mousePress(slider, LEFT, pos=QtCore.QPoint(x0, y))
     assert abs(_knob_x(slider) - x0) <= 1  # a press on the knob does not move it
@@ -246,7 +232,7 @@ def test_integer_slider_snaps_and_keys_request_final_values(qtbot):
     qtbot.keyClick(editor.slider, QtCore.Qt.Key.Key_Right)
     assert window.requests == [({"tessellation": 9}, False)]
     assert state.tessellation == 9 and isinstance(state.tessellation, int)
-    groove, _ = _groove_and_handle(editor.slider)
+    groove, _ = groove_and_handle(editor.slider)
     qtbot.mouseClick(editor.slider, LEFT, pos=QtCore.QPoint(groove.right() - 2, groove.center().y()))
     assert state.tessellation == CONTROLS["tessellation"].hi == 64 and editor.spin.value() == 64
 
@@ -282,11 +268,11 @@ def test_colour_and_terms_editors(qtbot):
     terms = panel.widget("terms")
     _scroll_to(panel, terms)
     box = terms.boxes["specular"]
-    _click_box(qtbot, box)
+    click_box(qtbot, box)
     assert state.terms == ("ambient", "diffuse") and not box.isChecked()
     log = panel.widget("log")
     _scroll_to(panel, log)
-    _click_box(qtbot, log)
+    click_box(qtbot, log)
     assert state.log is True and window.requests[-1] == ({"log": True}, False)
 
 
@@ -300,7 +286,7 @@ def test_refused_drag_returns_the_knob_to_the_state(qtbot):
     slider = editor.slider
     home = editor.to_position(0.3)
     assert slider.isEnabled() and slider.value() == home and editor.spin.value() == pytest.approx(0.3)
-    _, handle = _groove_and_handle(slider)
+    _, handle = groove_and_handle(slider)
     x0, y = handle.center().x(), handle.center().y()
     qtbot.mousePress(slider, LEFT, pos=QtCore.QPoint(x0, y))
     for dx in (10, 20, 30):
@@ -323,7 +309,7 @@ def test_alpha_y_lock_agrees_with_the_state_after_refusal_and_acceptance(qtbot):
     lock = editor.none_box
     _scroll_to(panel, lock)
     assert lock.text() == "α_y = roughness" and not lock.isChecked() and editor.slider.isEnabled()
-    _click_box(qtbot, lock)
+    click_box(qtbot, lock)
     assert window.requests[-1] == ({"alpha_y": None}, False) and len(window.refusals) == 1
     assert state.alpha_y == 0.5 and not lock.isChecked() and editor.slider.isEnabled()
     assert editor.spin.value() == pytest.approx(0.5)
@@ -331,11 +317,11 @@ def test_alpha_y_lock_agrees_with_the_state_after_refusal_and_acceptance(qtbot):
     ndf = panel.widget("ndf")
     ndf.setCurrentIndex(ndf.findData("ggx"))
     assert state.ndf == "ggx"
-    _click_box(qtbot, lock)
+    click_box(qtbot, lock)
     assert state.alpha_y is None and lock.isChecked() and not editor.slider.isEnabled()
     assert editor.spin.value() == pytest.approx(0.3) and not editor.spin.isEnabled()
     # Released again: α_y takes the value it stood for, so the lobe does not jump.
-    _click_box(qtbot, lock)
+    click_box(qtbot, lock)
     assert window.requests[-1] == ({"alpha_y": 0.3}, False)
     assert state.alpha_y == 0.3 and not lock.isChecked() and editor.spin.isEnabled()
     assert len(window.refusals) == 1
@@ -347,7 +333,7 @@ def test_ward_lock_releases_to_alpha_x(qtbot):
     lock = panel.widget("alpha_y").none_box
     _scroll_to(panel, lock)
     assert panel.widget("alpha_y").spin.value() == pytest.approx(0.05)  # what None stands for, shown greyed
-    _click_box(qtbot, lock)
+    click_box(qtbot, lock)
     assert window.requests[-1] == ({"alpha_y": 0.05}, False) and state.alpha_y == 0.05
 
 
@@ -362,12 +348,12 @@ def test_none_rows_show_what_none_stands_for(qtbot):
     assert all(not panel.widget(n).spin.isEnabled() for n in meanings)
     lock = panel.widget("k").none_box
     _scroll_to(panel, lock)
-    _click_box(qtbot, lock)  # k applies to a conductor's Fresnel only: refused, the box stays checked
+    click_box(qtbot, lock)  # k applies to a conductor's Fresnel only: refused, the box stays checked
     assert window.requests[-1] == ({"k": 0.0}, False) and len(window.refusals) == 1
     assert state.k is None and lock.isChecked() and not panel.widget("k").spin.isEnabled()
     fresnel = panel.widget("fresnel")
     fresnel.setCurrentIndex(fresnel.findData("conductor"))
-    _click_box(qtbot, lock)
+    click_box(qtbot, lock)
     assert window.requests[-1] == ({"k": 0.0}, False) and len(window.refusals) == 1
     assert state.k == 0.0 and not lock.isChecked() and panel.widget("k").spin.isEnabled()
 
@@ -516,11 +502,11 @@ def test_visible_and_solo_boxes(qtbot):
         state.shininess = float(e)
         qtbot.mouseClick(panel.pin_button, LEFT)
     first, second = panel.rows
-    _click_box(qtbot, first.shown)
+    click_box(qtbot, first.shown)
     assert compare[0].visible is False and compare.shown() == [compare[1]]
-    _click_box(qtbot, second.solo)
+    click_box(qtbot, second.solo)
     assert compare.solo == 1 and panel.rows[1].solo.isChecked() and not panel.rows[0].solo.isChecked()
-    _click_box(qtbot, panel.rows[1].solo)
+    click_box(qtbot, panel.rows[1].solo)
     assert compare.solo is None
     requests = []
     panel.action_requested.connect(lambda a, arg: requests.append((a, arg)))

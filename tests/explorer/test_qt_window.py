@@ -28,6 +28,7 @@ pytest.importorskip("pytestqt")
 import numpy as np  # noqa: E402
 import shiboken6  # noqa: E402 (after the platform is chosen)
 from PySide6 import QtCore, QtGui, QtTest, QtWidgets  # noqa: E402
+from qt_window_support import click_box, groove_and_handle  # noqa: E402
 
 from explorer.app import captions  # noqa: E402
 from explorer.app.state import MODELS  # noqa: E402
@@ -127,23 +128,8 @@ def press(qtbot, window, key: str, times: int = 1) -> None:
         qtbot.keyClick(window, seq.key(), seq.keyboardModifiers())
 
 
-def click_box(qtbot, box) -> None:
-    """Click a check box on its indicator (only its indicator and text react to the mouse)."""
-    opt = QtWidgets.QStyleOptionButton()
-    box.initStyleOption(opt)
-    rect = box.style().subElementRect(QtWidgets.QStyle.SubElement.SE_CheckBoxIndicator, opt, box)
-    qtbot.mouseClick(box, LEFT, pos=rect.center())
 
 
-def groove_and_handle(slider):
-    opt = QtWidgets.QStyleOptionSlider()
-    slider.initStyleOption(opt)
-    style = slider.style()
-    groove = style.subControlRect(QtWidgets.QStyle.ComplexControl.CC_Slider, opt,
-                                  QtWidgets.QStyle.SubControl.SC_SliderGroove, slider)  # fmt: skip
-    handle = style.subControlRect(QtWidgets.QStyle.ComplexControl.CC_Slider, opt,
-                                  QtWidgets.QStyle.SubControl.SC_SliderHandle, slider)  # fmt: skip
-    return groove, handle
 
 
 def scroll_to(window, widget) -> None:

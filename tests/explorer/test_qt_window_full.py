@@ -28,12 +28,11 @@ pytest.importorskip("pytestqt")
 
 import numpy as np  # noqa: E402
 from PySide6 import QtCore, QtGui, QtWidgets  # noqa: E402
+from qt_window_support import click_box, groove_and_handle  # noqa: E402
 from test_qt_window import (  # noqa: E402 (the fast file's helpers, beside this file)
     LEFT,
-    click_box,
     current,
     full,
-    groove_and_handle,
     make_window,
     on_screen,
     press,
