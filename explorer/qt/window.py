@@ -101,6 +101,8 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         for k, path in enumerate(brdf_files or ()):
             self.model.open_brdf(path, current=k == 0)
         self.updates = 0
+        self._extra_light_dirs: list = []
+        self._edge_key = None
         self._environment_switched = False
         self.show_edges = True
         self.last_error = ""
@@ -406,6 +408,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self.setWindowTitle(captions.window_title(s))
         if "sphere" in views:
             sv = m["sphere"]
+            self._extra_light_dirs = self._scene_light_directions()
             self.sphere_panel.canvas.set_image(sv.rgb8)
             self.sphere_panel.set_title(captions.sphere_title(s, sv))
             # The clipping note is a warning line of its own; the rest of the caption stays muted.
@@ -511,25 +514,31 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             return
         _arrow(p, tail, tip, ACCENT, scale, dashed=d[2] < 0)
 
-    def _scene_light_marks(self, p: QtGui.QPainter, scale: float, cx: float, cy: float, r: float) -> None:
-        """A small open marker for each extra light, at its direction seen from the sphere's centre."""
+    def _scene_light_directions(self) -> list:
+        """Unit directions from the sphere's centre toward each extra light (its position, centre or direction)."""
         from ..app.lights import engine_lights
 
-        p.setPen(QtGui.QPen(EXTRA, 2.0 / scale))
-        p.setBrush(QtCore.Qt.BrushStyle.NoBrush)
+        out = []
         for k, table in enumerate(self.state.scene_lights):
             for light in engine_lights(table, k):
                 where = next((getattr(light, a) for a in ("position", "center") if hasattr(light, a)), None)
                 d = np.asarray(where if where is not None else getattr(light, "direction", (0, 0, 0)), float)
-                if not np.all(np.isfinite(d)) or float(np.linalg.norm(d)) == 0.0:
-                    continue
-                d = d / float(np.linalg.norm(d))
-                n = float(np.linalg.norm(d[:2]))
-                if n < 1e-9:  # in front of or behind the centre: a ring around it
-                    p.drawEllipse(QtCore.QPointF(cx, cy), 0.12 * r, 0.12 * r)
-                    continue
-                at = QtCore.QPointF(cx + 1.02 * r * d[0] / n, cy - 1.02 * r * d[1] / n)  # on the outline
-                p.drawRect(QtCore.QRectF(at.x() - 0.045 * r, at.y() - 0.045 * r, 0.09 * r, 0.09 * r))
+                length = float(np.linalg.norm(d))
+                if np.all(np.isfinite(d)) and length > 0.0:
+                    out.append(d / length)
+        return out
+
+    def _scene_light_marks(self, p: QtGui.QPainter, scale: float, cx: float, cy: float, r: float) -> None:
+        """A small open marker for each extra light, at its direction seen from the sphere's centre."""
+        p.setPen(QtGui.QPen(EXTRA, 2.0 / scale))
+        p.setBrush(QtCore.Qt.BrushStyle.NoBrush)
+        for d in self._extra_light_dirs:  # found when the sphere was shown, not at every paint
+            n = float(np.linalg.norm(d[:2]))
+            if n < 1e-9:  # in front of or behind the centre: a ring around it
+                p.drawEllipse(QtCore.QPointF(cx, cy), 0.12 * r, 0.12 * r)
+                continue
+            at = QtCore.QPointF(cx + 1.02 * r * d[0] / n, cy - 1.02 * r * d[1] / n)  # on the outline
+            p.drawRect(QtCore.QRectF(at.x() - 0.045 * r, at.y() - 0.045 * r, 0.09 * r, 0.09 * r))
 
     def _coarse_overlay(self, p: QtGui.QPainter, scale: float) -> None:
         cv = self.model.views.get("coarse")
@@ -537,13 +546,14 @@ class ExplorerWindow(QtWidgets.QMainWindow):
             return
         h, w = cv.triangle_id.shape
         if self.show_edges:
-            # The triangle edges: where the triangle id changes between neighbouring pixels.
-            tid = cv.triangle_id
-            edge = np.zeros_like(tid, dtype=bool)
-            edge[:, 1:] |= (tid[:, 1:] != tid[:, :-1]) & (tid[:, 1:] >= 0) & (tid[:, :-1] >= 0)
-            edge[1:, :] |= (tid[1:, :] != tid[:-1, :]) & (tid[1:, :] >= 0) & (tid[:-1, :] >= 0)
-            key = (id(cv), edge.shape)
-            if getattr(self, "_edge_key", None) != key:
+            # The triangle edges: where the triangle id changes between neighbouring pixels.  They follow the
+            # tessellation and the image size alone, so a drag (a new view every move) reuses them.
+            key = (cv.tessellation, cv.triangle_id.shape)
+            if self._edge_key != key:
+                tid = cv.triangle_id
+                edge = np.zeros_like(tid, dtype=bool)
+                edge[:, 1:] |= (tid[:, 1:] != tid[:, :-1]) & (tid[:, 1:] >= 0) & (tid[:, :-1] >= 0)
+                edge[1:, :] |= (tid[1:, :] != tid[:-1, :]) & (tid[1:, :] >= 0) & (tid[:-1, :] >= 0)
                 rgba = np.zeros((h, w, 4), dtype=np.uint8)
                 rgba[edge] = (20, 22, 26, 150)
                 from .images import qimage
