@@ -17,7 +17,6 @@ from PySide6 import QtCore, QtGui, QtWidgets
 __all__ = ["ImageCanvas", "ImagePanel", "WrapLabel", "qimage"]
 
 BACKGROUND = "#1e2024"
-TEXT = "#e9ecef"
 MUTED = "#9aa1a9"
 WARN = "#ff8787"
 
@@ -164,11 +163,11 @@ class ImagePanel(QtWidgets.QFrame):
 
     def set_title(self, text: str) -> None:
         """Set the title (and its tooltip: the whole text)."""
-        _set_text(self.title, text)
+        self.title.set_full_text(text)
 
     def set_warning(self, text: str) -> None:
         """A warning line above the caption (clipped highlights ...); its line stays when it is empty."""
-        _set_text(self.warning, text)
+        self.warning.set_full_text(text)
 
     def resizeEvent(self, event):  # noqa: N802 - Qt's name
         # A tall panel shows its whole caption; a short one keeps its room for the picture (the rest is in the
@@ -182,7 +181,7 @@ class ImagePanel(QtWidgets.QFrame):
 
     def set_caption(self, text: str, *, warn: bool = False) -> None:
         """Set the caption; ``warn`` shows it in the warning colour (an unconverged or clipped value)."""
-        _set_text(self.caption, text)
+        self.caption.set_full_text(text)
         if self.caption.property("warn") != bool(warn):  # a style sheet costs a re-polish: only on a change
             self.caption.setProperty("warn", bool(warn))
             self.caption.setStyleSheet(f"color: {WARN if warn else MUTED};")
@@ -269,11 +268,3 @@ def _label(text: str, *, bold: bool = False, muted: bool = False, max_lines: int
         style += f" color: {MUTED};"
     label.setStyleSheet(style)
     return label
-
-
-def _set_text(label: QtWidgets.QLabel, text: str) -> None:
-    if isinstance(label, WrapLabel):
-        label.set_full_text(text)
-    elif label.text() != text:
-        label.setText(text)
-        label.setToolTip(text)
