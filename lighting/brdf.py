@@ -1,10 +1,8 @@
-"""``lighting.brdf``: the contract's import path, kept; the code lives in :mod:`lighting.models.brdf`.
+"""``lighting.brdf``: the contract's import path for the reflectance models.
 
-Importing this path gives that very module (not a copy), so ``lighting.brdf is lighting.models.brdf``.
+The code lives in :mod:`lighting.models.brdf`; this module re-exports its public names (its ``__all__``), the
+same objects.
 """
 
-import sys
-
-from .models import brdf as _module
-
-sys.modules[__name__] = _module
+from .models.brdf import *  # noqa: F403
+from .models.brdf import __all__  # noqa: F401

@@ -1,10 +1,8 @@
-"""``lighting.fresnel``: the contract's import path, kept; the code lives in :mod:`lighting.models.fresnel`.
+"""``lighting.fresnel``: the contract's import path for the Fresnel reflectances.
 
-Importing this path gives that very module (not a copy), so ``lighting.fresnel is lighting.models.fresnel``.
+The code lives in :mod:`lighting.models.fresnel`; this module re-exports its public names (its ``__all__``), the
+same objects.
 """
 
-import sys
-
-from .models import fresnel as _module
-
-sys.modules[__name__] = _module
+from .models.fresnel import *  # noqa: F403
+from .models.fresnel import __all__  # noqa: F401

@@ -1,10 +1,8 @@
-"""``lighting.gl``: the contract's import path, kept; the code lives in :mod:`lighting.shading.opengl`.
+"""``lighting.gl``: the contract's import path for the OpenGL 1.x / 2.1 fixed-function lighting.
 
-Importing this path gives that very module (not a copy), so ``lighting.gl is lighting.shading.opengl``.
+The code lives in :mod:`lighting.shading.opengl`; this module re-exports its public names (its ``__all__``), the
+same objects.
 """
 
-import sys
-
-from .shading import opengl as _module
-
-sys.modules[__name__] = _module
+from .shading.opengl import *  # noqa: F403
+from .shading.opengl import __all__  # noqa: F401

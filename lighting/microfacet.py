@@ -1,10 +1,8 @@
-"""``lighting.microfacet``: the contract's import path, kept; the code lives in :mod:`lighting.models.microfacet`.
+"""``lighting.microfacet``: the contract's import path for the microfacet distributions and shadowing.
 
-Importing this path gives that very module (not a copy), so ``lighting.microfacet is lighting.models.microfacet``.
+The code lives in :mod:`lighting.models.microfacet`; this module re-exports its public names (its ``__all__``), the
+same objects.
 """
 
-import sys
-
-from .models import microfacet as _module
-
-sys.modules[__name__] = _module
+from .models.microfacet import *  # noqa: F403
+from .models.microfacet import __all__  # noqa: F401

@@ -1,13 +1,8 @@
-"""``lighting.sampling``: the contract's import path, kept; the code lives in :mod:`lighting.integrate.sampling`.
+"""``lighting.sampling``: the contract's import path for the importance samplers.
 
-Importing this path gives that very module (not a copy), so ``lighting.sampling is lighting.integrate.sampling``.
-The contract's sampler classes are all importable from it, the visible-normal sampler of the Smith
-microfacet models (:class:`~lighting.models.microfacet_sampling.VisibleNormalSampler`, what
-``CookTorrance(geometry="smith").sampler()`` returns) and the ideal mirror's delta sampler among them.
+The code lives in :mod:`lighting.integrate.sampling`; this module re-exports its public names (its ``__all__``), the
+same objects.
 """
 
-import sys
-
-from .integrate import sampling as _module
-
-sys.modules[__name__] = _module
+from .integrate.sampling import *  # noqa: F403
+from .integrate.sampling import __all__  # noqa: F401
