@@ -35,7 +35,7 @@ from .shading import equation as illumination  # noqa: F401
 __version__ = "0.1.0"
 
 #: Imported on first use (PEP 562): the rendering equation and the BRDF analysis are not needed to
-#: shade or render an image, and importing them took about 0.3 s of a 0.7 s ``render`` command.
+#: shade or render an image, and their import is a large share of a short ``render`` command.
 _LAZY = {
     "analysis": "lighting.analysis",
     "integrate": "lighting.integrate",

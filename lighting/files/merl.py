@@ -205,9 +205,13 @@ class MerlBRDF(BRDF):
         """
         from .merl_sampler import MerlSampler
 
-        s = self.__dict__.get("_sampler")
+        # The instances of one file's model class (model_class) share its table, so those with the same lookup
+        # share one sampler and its per-view tables: a material whose parts name one file builds them once.
+        shared = getattr(type(self), "_samplers", None)
+        cache, key = (self.__dict__, "_sampler") if shared is None else (shared, self.interpolation)
+        s = cache.get(key)
         if s is None:
-            s = self.__dict__["_sampler"] = MerlSampler(self)
+            s = cache[key] = MerlSampler(self)
         return s
 
 
@@ -270,7 +274,7 @@ def read_merl(path, *, interpolation: str = "nearest") -> MerlBRDF:
     -----
     The size is checked from the file system before anything is read, and the memory (about 140 MB
     at the peak: the values, the filled RGB table and one temporary) against the engine's budget
-    before anything is allocated.  The values are read with one ``np.fromfile`` (~0.1 s here).
+    before anything is allocated.  The values are read with one ``np.fromfile``.
 
     References
     ----------
@@ -483,7 +487,7 @@ def model_class(path) -> type:
 
     lookup = Parameter("interpolation", "choice", "nearest", choices=_INTERPOLATIONS,
                        description="nearest bin (as the reference reader) or trilinear in bin coordinates")  # fmt: skip
-    return type("MerlFileModel", (MerlBRDF,), {"parameters": (lookup,), "__init__": __init__,
+    return type("MerlFileModel", (MerlBRDF,), {"parameters": (lookup,), "__init__": __init__, "_samplers": {},
                                               "__doc__": f"The measured BRDF of {read.source!r}."})  # fmt: skip
 
 

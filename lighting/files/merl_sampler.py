@@ -79,7 +79,7 @@ class MerlSampler(Sampler):
 
     Notes
     -----
-    A table is ``theta_h_bins · phi_h_bins`` BRDF evaluations (32 400 by default, some 10 ms) and ~0.5 MB;
+    A table is ``theta_h_bins · phi_h_bins`` BRDF evaluations (32 400 by default) and ~0.5 MB;
     all 90 together ~45 MB, estimated against the memory budget before each is built.  Views at or below
     the horizon (and a table whose mass is 0, e.g. black) use the cosine alone, with the same rule in
     ``pdf``.  See the module docstring for the density.

@@ -1,7 +1,7 @@
 """Wavefront OBJ files read with NumPy alone: positions, texture coordinates, normals and polygon faces.
 
 :func:`~lighting.render.mesh.load_mesh` reads ``.obj`` files here, so that a scene with an OBJ mesh
-needs neither trimesh nor its import time (about 2.6 s); the other formats still go through trimesh.
+needs neither trimesh nor its long import; the other formats still go through trimesh.
 
 What is read
 ------------
