@@ -33,7 +33,7 @@ import numpy as np
 
 from .._budget import check_budget, memory_budget
 from .._numeric import saturate_to
-from ..models.base import BRDF
+from ..models.base import BRDF, BRDFFlags
 from ..models.protocol import Parameter
 from .glsl import Interpreter, Value, parse, tokenize
 from .glsl.lexer import error
@@ -184,7 +184,7 @@ class FileBRDF(BRDF):
     """
 
     name = None
-    own_diffuse = True  # a file's BRDF is the whole material, as in BRDF Explorer: front ends add no Lambert term
+    flags = BRDFFlags.SPECULAR | BRDFFlags.OWN_DIFFUSE  # the whole material, as in BRDF Explorer: no Lambert term added
 
     def __init__(self, filename, program, parameters, values):
         self.filename, self.program = filename, program

@@ -48,7 +48,7 @@ import numpy as np
 from .._budget import check_budget
 from .._numeric import check_choice, saturate_to
 from ..analysis.halfdiff import _HORIZON_TOL, dirs_to_half_diff, half_diff_to_dirs
-from ..models.base import BRDF
+from ..models.base import BRDF, BRDFFlags
 from ..models.protocol import Parameter
 
 __all__ = ["MerlBRDF", "read_merl", "write_merl", "tabulate_merl", "bin_centres", "load", "DIMS", "SCALE"]
@@ -103,7 +103,7 @@ class MerlBRDF(BRDF):
     [0.1592, 0.1592, 0.1592]
     """
 
-    own_diffuse = True  # measured data holds the diffuse part too: front ends add no Lambert term
+    flags = BRDFFlags.SPECULAR | BRDFFlags.OWN_DIFFUSE  # measured data holds the diffuse part: no Lambert term added
 
     def __init__(self, table, *, interpolation: str = "nearest", source: str | None = None):
         arr = np.asarray(table)

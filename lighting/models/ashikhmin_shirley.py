@@ -13,7 +13,7 @@ import numpy as np
 
 from .._numeric import check_bool, check_nonnegative, safe_div, saturate_to
 from ..vec import _one_minus_cos_between, normalize
-from .base import BRDF, _color, _color_text
+from .base import BRDFFlags, SeparableBRDF, _color, _color_text
 from .protocol import Lobe, Parameter, register_model
 from .sampler import _TWO_PI, Sampler, Samples, _dot, _local_v
 
@@ -55,7 +55,7 @@ def _log_norm(nu: float, nv: float) -> float:
     return 0.5 * (math.log1p(nu) + math.log1p(nv))
 
 
-class AshikhminShirley(BRDF):
+class AshikhminShirley(SeparableBRDF):
     r"""The Ashikhmin–Shirley anisotropic Phong BRDF (2000): a coupled diffuse and specular pair.
 
     In the shading frame ``(t, b, n)`` (tangent, bitangent, normal), with ``k = v`` the viewer,
@@ -123,7 +123,7 @@ class AshikhminShirley(BRDF):
     """
 
     name = "ashikhmin-shirley"
-    own_diffuse = True  # the coupled diffuse term beside the specular lobe
+    flags = BRDFFlags.SPECULAR | BRDFFlags.OWN_DIFFUSE  # the coupled diffuse term beside the specular lobe
     parameters = (
         Parameter("rd", "color", 0.5, slider=(0.0, 1.0), description="diffuse colour R_d"),
         Parameter("rs", "color", 0.05, high=1.0, slider=(0.0, 1.0),
@@ -139,6 +139,8 @@ class AshikhminShirley(BRDF):
         self.rs = _color("rs", rs, hi=1.0)
         self.nu = check_nonnegative("nu", nu)
         self.nv = check_nonnegative("nv", nv)
+        if self.nu != self.nv:
+            self.flags = type(self).flags | BRDFFlags.ANISOTROPIC
         self.diffuse = check_bool("diffuse", diffuse)
 
     def _params(self):

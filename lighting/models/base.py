@@ -18,37 +18,30 @@ Vectors need not be unit length: ``n``, ``l`` and ``v`` are normalized on entry
 (a zero vector gives zero reflectance, never NaN).  Models broadcast over the
 leading axes and keep the float dtype of their vector inputs.
 
-Besides the evaluation, a model owns its description (:mod:`lighting.models.protocol`):
-``name``, ``parameters``, ``variants``, ``lambertian``, ``lobe()``, ``sampler()`` (the
-importance sampler and its pdf, defined beside the model), ``summary()``, ``to_dict()``
-and ``from_dict()``.
+The protocol (pbrt's BxDF and Mitsuba's BSDF are its models):
+
+* required: ``_f(g)``, the BRDF on a :class:`~lighting.models.geometry.Geometry` (or ``_f_cos(g)``
+  in its place, for a model whose ``f_r`` divides by ``n·l``);
+* optional, each with a default that works: ``_f_cos`` / ``_f`` (the other one), ``classic_geometry``,
+  ``flags`` (:class:`BRDFFlags`), ``lobe()``, ``sampler()``, ``microfacet()``, ``diffuse_albedo``,
+  ``summary()``, ``to_dict()`` / ``from_dict()`` (from ``name`` and ``parameters``), ``variants``;
+* a delta model (``BRDFFlags.DELTA``) adds ``reflectance(cos_theta)``, what it reflects into the
+  mirror direction.
 
 Models add: ``Lambert(0.6) + Phong(0.3, 20)`` is a :class:`BRDFSum` whose
 ``parts`` are the slides' decomposition ``f_r = f_d + f_s``.
 
-The separable extension (what the fast path uses)
--------------------------------------------------
-The one extension of the protocol that the shading fast path
-(:mod:`lighting.shading.stacked`, :mod:`lighting.shading.equation`) consumes:
-
-* ``eval_geometry(g)``, ``eval_cos_geometry(g)``, ``classic_geometry(g)``: the three
-  evaluations on a :class:`~lighting.models.geometry.Geometry` built once (the public
-  methods check their arguments and build it);
-* ``separable_cos(g)`` and ``separable_classic(g)``: ``f_r (n·l)`` and ``π f_r (n·l)``
-  as ``Σ_k s_k c_k``, scalar fields times RGB constants, so that a shading pass combines
-  colours once per term instead of once per pixel and channel;
-* ``stackable``: whether the separable forms accept a
-  :class:`~lighting.shading.stacked.StackedGeometry` (all distant lights at once, as
-  ``(K, N)`` planes).  Such a model reads only the derived quantities (``n_dot_l``,
-  ``n_dot_h``, ``one_minus_r_dot_v`` …) and the geometry's own forms
-  (:meth:`~lighting.models.geometry.Geometry.log_n_dot_h_power`,
-  :meth:`~lighting.models.geometry.Geometry.refine`), never the vectors themselves, and
-  never asks which kind of geometry it was given.
+The shading pass's fast path has an extension of its own, which :mod:`lighting.shading.separable`
+defines (the separable forms ``separable_cos``/``separable_classic`` and ``stackable``).  Every built-in
+analytic model implements it through :class:`SeparableBRDF`, which derives the model's values from
+those forms, so that each formula has one home.
 """
 
 from __future__ import annotations
 
+import enum
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -68,7 +61,7 @@ from .._numeric import (
 from .geometry import Geometry
 from .protocol import Lobe, Parameter
 
-__all__ = ["BRDF", "BRDFSum", "cos_power"]
+__all__ = ["BRDF", "BRDFFlags", "BRDFSum", "MicrofacetLobe", "SeparableBRDF", "cos_power"]
 
 
 def cos_power(one_minus_cos: np.ndarray, exponent: float) -> np.ndarray:
@@ -195,18 +188,117 @@ def _public_geometry(n, l, v, tangent=None) -> Geometry:  # noqa: E741
 
 
 
+class BRDFFlags(enum.Flag):
+    """What kind of reflectance a model is: one field, ``model.flags``, instead of separate booleans.
+
+    ``DIFFUSE`` and ``SPECULAR`` name the term of the slides' decomposition ``f_r = f_d + f_s`` a model
+    is (exactly one of them); the others qualify it.  Ask with ``BRDFFlags.DELTA in model.flags``.
+
+    Attributes
+    ----------
+    DIFFUSE
+        The model is the diffuse term ``f_d`` (Lambert, Oren–Nayar).
+    SPECULAR
+        The model is the specular term ``f_s`` (every other model, the default).
+    LAMBERTIAN
+        ``f_r`` is the constant ``diffuse_albedo / π``: shading and integration may use closed forms.
+    OWN_DIFFUSE
+        A diffuse term of its own beside its specular one (Disney, Ashikhmin–Shirley, measured data,
+        BRDF Explorer files): front ends add no Lambert part.
+    DELTA
+        ``f_r`` is a Dirac delta (the ideal mirror): ``eval`` is 0 for every finite pair of directions,
+        and integrators, plots and the explorer treat the reflected direction apart through the
+        model's ``reflectance(cos_theta)`` (see :class:`~lighting.models.mirror.Mirror`).
+    ANISOTROPIC
+        The lobe depends on the azimuth about the normal: the model reads the tangent frame.
+    """
+
+    DIFFUSE = enum.auto()
+    SPECULAR = enum.auto()
+    LAMBERTIAN = enum.auto()
+    OWN_DIFFUSE = enum.auto()
+    DELTA = enum.auto()
+    ANISOTROPIC = enum.auto()
+
+    @classmethod
+    def of_term(cls, term: str) -> BRDFFlags:
+        """The flag of a term of the decomposition: ``"diffuse"`` → ``DIFFUSE``, ``"specular"`` → ``SPECULAR``."""
+        return cls.DIFFUSE if term == "diffuse" else cls.SPECULAR
+
+
+@dataclass(frozen=True)
+class MicrofacetLobe:
+    """A microfacet model's specular lobe described for image-based lighting (:meth:`BRDF.microfacet`).
+
+    Parameters
+    ----------
+    ndf : str
+        The normal distribution: ``"beckmann"``, ``"ggx"`` or ``"blinn-phong"``.
+    alpha_x, alpha_y : float
+        The NDF's widths along the tangent and the bitangent (equal for a round lobe).
+    geometry : str
+        The shadowing term: ``"v-cavity"``, ``"smith"`` or ``"smith-correlated"``.
+    fresnel : str
+        The Fresnel factor's form: ``"none"`` (F = 1), ``"schlick"``, ``"dielectric"`` or ``"conductor"``.
+    denominator : str
+        ``"4"`` for ``4 (n·v)(n·l)``, ``"pi"`` for the slide's ``π (n·v)(n·l)``.
+    specular : numpy.ndarray, (3,)
+        The specular colour ``k_s`` (RGB, float64).
+    energy_compensation : bool
+        Whether a multiple-scattering lobe is added (Kulla and Conty).
+    """
+
+    ndf: str
+    alpha_x: float
+    alpha_y: float
+    geometry: str
+    fresnel: str
+    denominator: str
+    specular: np.ndarray
+    energy_compensation: bool = False
+
+    @property
+    def isotropic(self) -> bool:
+        """Round about the normal: ``α_x = α_y``."""
+        return self.alpha_x == self.alpha_y
+
+
+#: The boolean class attributes older models set, and the flag each one stands for.
+_LEGACY_FLAGS = {"lambertian": BRDFFlags.LAMBERTIAN, "own_diffuse": BRDFFlags.OWN_DIFFUSE, "is_delta": BRDFFlags.DELTA}
+
+
+class _FromFlags:
+    """A read-only view of a model's :class:`BRDFFlags` under an older boolean's name, on the class or an instance."""
+
+    def __init__(self, read, doc):
+        self._read, self.__doc__ = read, doc
+
+    def __set_name__(self, owner, name):
+        self._name = name
+
+    def __get__(self, obj, cls=None):
+        return self._read((cls if obj is None else obj).flags)
+
+    def __set__(self, obj, value):
+        raise AttributeError(f"{self._name} is read from flags; set the model's flags (BRDFFlags) instead")
+
+
 class BRDF:
     """Base class: a reflectance model ``f_r(n, l, v)``.
 
-    Subclasses implement ``_f(g)`` (the BRDF) and/or ``_f_cos(g)`` (``f_r (n·l)``)
-    on a :class:`Geometry`; each default derives one from the other.
+    The one required member is the value on a :class:`Geometry`: ``_f(g)``, the BRDF ``f_r``
+    (shape ``(..., 3)``, 0 below the horizon).  A model whose ``f_r`` divides by ``n·l`` (the
+    slides' Phong BRDF) defines ``_f_cos(g) = f_r (n·l)`` instead, or as well; whichever of the two
+    is missing derives from the other.  Everything else has a working default: ``classic`` is
+    ``π f_r (n·l)``, the sampler samples the cosine-weighted hemisphere, the lobe is unknown
+    (``None``), ``flags`` says a specular term, ``microfacet()`` says no microfacet lobe.  The
+    shading pass's separable forms are an optional extension that :mod:`lighting.shading.separable`
+    defines; a model without them is shaded channel by channel from ``eval_cos``/``classic``.
     """
 
-    #: Which term of the slides' decomposition this model is ("diffuse" or "specular").
-    term = "specular"
-    #: Whether the separable forms accept a :class:`~lighting.shading.stacked.StackedGeometry` (all lights at once);
-    #: a model that reads the vectors ``g.n``, ``g.l``, ``g.v`` themselves leaves it False.
-    stackable = False
+    #: What kind of reflectance this is (:class:`BRDFFlags`); an instance may hold its own (Cook–Torrance
+    #: and Ward add ``ANISOTROPIC`` when their two widths differ).
+    flags: BRDFFlags = BRDFFlags.SPECULAR
     #: The registered name (scene files, the command line, the explorer); ``None`` if unregistered.
     name: str | None = None
     #: The parameter table (:class:`~lighting.models.protocol.Parameter`): the constructor's keywords,
@@ -214,14 +306,31 @@ class BRDF:
     parameters: tuple[Parameter, ...] = ()
     #: Named variants a model list shows as entries of their own: name → fixed keyword arguments.
     variants: dict = {}
-    #: ``f_r`` is the constant ``diffuse_albedo / π``: shading and integration may use closed forms.
-    lambertian = False
-    #: A diffuse term of its own beside its ``term`` (Disney, Ashikhmin–Shirley): front ends add no Lambert part.
-    own_diffuse = False
-    #: ``f_r`` is a Dirac delta (the ideal mirror): ``eval`` is 0 for every finite pair of directions,
-    #: and integrators, plots and the explorer must treat the reflected direction apart
-    #: (see :class:`~lighting.models.mirror.Mirror`, ``reflectance(cos_theta)``).
-    is_delta = False
+
+    def __init_subclass__(cls, **kwargs):
+        # The older spelling (``term = "diffuse"``, ``is_delta = True`` … as class attributes) still
+        # defines a model: it becomes the class's flags, and the read-only properties answer from them.
+        super().__init_subclass__(**kwargs)
+        own = cls.__dict__
+        legacy = [k for k in ("term", *_LEGACY_FLAGS) if k in own and not isinstance(own[k], _FromFlags)]
+        if not legacy:
+            return
+        flags = own.get("flags", cls.flags)
+        if "term" in legacy:
+            flags = (flags & ~(BRDFFlags.DIFFUSE | BRDFFlags.SPECULAR)) | BRDFFlags.of_term(own["term"])
+        for key, flag in _LEGACY_FLAGS.items():
+            if key in legacy:
+                flags = (flags | flag) if own[key] else (flags & ~flag)
+        for key in legacy:
+            delattr(cls, key)
+        cls.flags = flags
+
+    # -- the flags, read one at a time (on the class or an instance) -------------------
+    term = _FromFlags(lambda f: "diffuse" if BRDFFlags.DIFFUSE in f else "specular",
+                      """The term of the slides' decomposition this model is, ``"diffuse"`` or ``"specular"``.""")
+    lambertian = _FromFlags(lambda f: BRDFFlags.LAMBERTIAN in f, "``BRDFFlags.LAMBERTIAN in flags``.")
+    own_diffuse = _FromFlags(lambda f: BRDFFlags.OWN_DIFFUSE in f, "``BRDFFlags.OWN_DIFFUSE in flags``.")
+    is_delta = _FromFlags(lambda f: BRDFFlags.DELTA in f, "``BRDFFlags.DELTA in flags``.")
 
     # -- evaluation -----------------------------------------------------------------
     def eval(self, n, l, v, *, tangent=None):  # noqa: E741
@@ -329,52 +438,20 @@ class BRDF:
         ndarray, shape (..., 3)
             ``π f_r (n·l)`` in the dtype of ``g``, finite and >= 0.
         """
-        return _combine(self.separable_classic(g), g.dtype)
+        with np.errstate(over="ignore"):
+            return saturate_to(self.eval_cos_geometry(g) * g.dtype(math.pi), g.dtype)
 
     def _f(self, g: Geometry):
+        if type(self)._f_cos is BRDF._f_cos:
+            raise NotImplementedError(f"{type(self).__name__} must define _f(g) (the BRDF) or _f_cos(g) (f_r n·l)")
         nl = g.n_dot_l
         return safe_div(self._f_cos(g), nl[..., None])
 
     def _f_cos(self, g: Geometry):
-        return _combine(self.separable_cos(g), g.dtype)
-
-    # -- separable form: what the shading pass uses -------------------------------------
-    def separable_cos(self, g: Geometry) -> list[tuple[np.ndarray, np.ndarray]]:
-        """``f_r (n·l)`` as ``Σ_k s_k c_k``: scalar fields ``s_k (...)`` times RGB constants ``c_k (3,)``.
-
-        Most models are one scalar lobe times a colour (``k_d``, ``k_s``), so a
-        shading pass can combine colours once per term instead of once per
-        pixel and channel.  The default splits the RGB result into channels.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions (a stacked one only if :attr:`stackable`).
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            Pairs ``(s_k, c_k)``: a scalar field in the dtype of ``g`` and an RGB constant ``(3,)``.
-        """
-        f = self._f_cos(g)
-        return [(f[..., i], _UNIT_RGB[i]) for i in range(3)]
-
-    def separable_classic(self, g: Geometry) -> list[tuple[np.ndarray, np.ndarray]]:
-        """The classic term ``π f_r (n·l)`` in the separable form of :meth:`separable_cos`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            As :meth:`separable_cos`.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            As :meth:`separable_cos`.
-        """
-        pi = g.dtype(math.pi)
-        with np.errstate(over="ignore"):
-            return [(saturate_to(s * pi, g.dtype), c) for s, c in self.separable_cos(g)]
+        if type(self)._f is BRDF._f:
+            raise NotImplementedError(f"{type(self).__name__} must define _f(g) (the BRDF) or _f_cos(g) (f_r n·l)")
+        f = self._f(g)
+        return np.where(g.above[..., None], f * g.n_dot_l[..., None], 0).astype(f.dtype, copy=False)
 
     # -- what the rest of the engine asks a model ---------------------------------------
     def lobe(self) -> Lobe | None:
@@ -386,6 +463,19 @@ class BRDF:
         Returns
         -------
         Lobe or None
+        """
+        return None
+
+    def microfacet(self) -> MicrofacetLobe | None:
+        """The model's specular lobe as a microfacet description, for image-based lighting; ``None``: not one.
+
+        Image-based lighting reads the engine's albedo tables and samples visible normals for a lobe
+        it knows (:mod:`lighting.integrate.ibl`, :mod:`lighting.integrate.dominant`); every other model is
+        integrated numerically.
+
+        Returns
+        -------
+        MicrofacetLobe or None
         """
         return None
 
@@ -554,6 +644,33 @@ def _same(value, default) -> bool:
 
 
 
+class SeparableBRDF(BRDF):
+    """A model written in the separable forms of :class:`lighting.shading.separable.Separable`.
+
+    A subclass defines ``separable_cos(g)`` (``f_r (n·l)`` as ``Σ_k s_k c_k``, scalar fields times RGB
+    constants) and ``_f(g)``, and may define ``separable_classic(g)`` (default: π times the terms of
+    ``separable_cos``) and ``stackable`` (default False).  ``eval_cos`` and ``classic`` are the sums of
+    those terms, so the shading pass and the public methods compute the same numbers.
+    """
+
+    #: Whether the separable forms accept a :class:`~lighting.shading.stacked.StackedGeometry`.
+    stackable = False
+
+    def separable_cos(self, g) -> list[tuple[np.ndarray, np.ndarray]]:
+        raise NotImplementedError(f"{type(self).__name__} must define separable_cos(g)")
+
+    def separable_classic(self, g) -> list[tuple[np.ndarray, np.ndarray]]:
+        pi = g.dtype(math.pi)
+        with np.errstate(over="ignore"):
+            return [(saturate_to(s * pi, g.dtype), c) for s, c in self.separable_cos(g)]
+
+    def _f_cos(self, g):
+        return _combine(self.separable_cos(g), g.dtype)
+
+    def classic_geometry(self, g):
+        return _combine(self.separable_classic(g), g.dtype)
+
+
 class BRDFSum(BRDF):
     r"""Sum of reflectance models, the slides' decomposition ``f_r = f_d + f_s``.
 
@@ -593,35 +710,29 @@ class BRDFSum(BRDF):
     def _f_cos(self, g):
         return _saturating_sum([p.eval_cos_geometry(g) for p in self._parts], g.dtype)
 
+    # The sum implements the separable extension whatever its parts: a part without separable forms
+    # gives its channels (lighting.shading.separable.terms).
+    @property
+    def stackable(self) -> bool:
+        """Every part's separable forms accept a stacked geometry."""
+        from ..shading.separable import stacks
+
+        return all(stacks(p) for p in self._parts)
+
     def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`.
+        """The terms of every part, concatenated in the order of :attr:`parts`."""
+        from ..shading.separable import terms
 
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions (a stacked one only if every part is :attr:`stackable`).
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            The terms of every part, concatenated in the order of :attr:`parts`.
-        """
-        return [t for p in self._parts for t in p.separable_cos(g)]
+        return [t for p in self._parts for t in terms(p, g, "cos")]
 
     def separable_classic(self, g):
-        """See :meth:`BRDF.separable_classic`.
+        """The terms of every part, concatenated in the order of :attr:`parts`."""
+        from ..shading.separable import terms
 
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions (a stacked one only if every part is :attr:`stackable`).
+        return [t for p in self._parts for t in terms(p, g, "classic")]
 
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            The terms of every part, concatenated in the order of :attr:`parts`.
-        """
-        return [t for p in self._parts for t in p.separable_classic(g)]
+    def classic_geometry(self, g):
+        return _combine(self.separable_classic(g), g.dtype)
 
     def __repr__(self):
         return " + ".join(repr(p) for p in self._parts)

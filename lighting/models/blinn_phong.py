@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from .._numeric import check_bool, check_nonnegative, saturate_to
-from .base import BRDF, _color, _color_text, _lobe_over_cos, _rgb
+from .base import SeparableBRDF, _color, _color_text, _lobe_over_cos, _rgb
 from .lambert import CosineSampler
 from .microfacet_sampling import MicrofacetSampler
 from .protocol import Lobe, Parameter, register_model
@@ -19,7 +19,7 @@ from .sampler import UniformSampler
 __all__ = ["BlinnPhong"]
 
 
-class BlinnPhong(BRDF):
+class BlinnPhong(SeparableBRDF):
     r"""Blinn–Phong (Jim Blinn, 1977): the highlight from the half vector.
 
     Unnormalized (the slides' and OpenGL's form, ``normalized=False``)::

@@ -13,7 +13,7 @@ import numpy as np
 from .._numeric import check_bool, check_choice, check_positive, saturate_to
 from . import fresnel as _fresnel
 from . import microfacet as _mf
-from .base import _UNIT_RGB, BRDF, _color, _color_text, _combine
+from .base import _UNIT_RGB, BRDFFlags, MicrofacetLobe, SeparableBRDF, _color, _color_text, _combine
 from .geometry import Geometry
 from .microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
 from .protocol import Lobe, Parameter, register_model
@@ -21,7 +21,7 @@ from .protocol import Lobe, Parameter, register_model
 __all__ = ["CookTorrance"]
 
 
-class CookTorrance(BRDF):
+class CookTorrance(SeparableBRDF):
     r"""Cook–Torrance microfacet specular reflection.
 
     Default (energy-consistent, Walter et al. 2007)::
@@ -160,10 +160,6 @@ class CookTorrance(BRDF):
         *_fresnel.CONDUCTOR_PARAMETERS,
     )
 
-    #: The class default; an instance with α_x ≠ α_y sets its own ``stackable = False`` (the stacked fast
-    #: path carries no tangents), as :class:`~lighting.models.ward.Ward` does.
-    stackable = True
-
     def __init__(
         self,
         ks=1.0,
@@ -197,18 +193,32 @@ class CookTorrance(BRDF):
         ay = self.roughness if self.alpha_y is None else self.alpha_y
         #: (α_x, α_y) as used; the isotropic code paths take ``_alpha`` (the roughness unless both are given).
         self._ax, self._ay = ax, ay
-        self.anisotropic = ax != ay
+        if ax != ay:
+            self.flags = type(self).flags | BRDFFlags.ANISOTROPIC
         if self.anisotropic and self.ndf == "blinn-phong":
             raise ValueError(f"alpha_x and alpha_y must be equal (or None) for ndf 'blinn-phong', which has no "
                              f"anisotropic form; got alpha_x={alpha_x!r}, alpha_y={alpha_y!r} "
                              "(use ndf 'ggx' or 'beckmann')")
         self._alpha = ax
-        if self.anisotropic:
-            self.stackable = False
         self._exponent = float(_mf.blinn_phong_exponent(self._alpha))
         self.energy_compensation = check_bool("energy_compensation", energy_compensation)
         #: The multiple-scattering lobe (:class:`lighting.models.energy.MultipleScattering`), or None.
         self._ms = self._multiple_scattering() if self.energy_compensation else None
+
+    @property
+    def anisotropic(self) -> bool:
+        """``α_x ≠ α_y`` (``BRDFFlags.ANISOTROPIC in flags``)."""
+        return BRDFFlags.ANISOTROPIC in self.flags
+
+    @property
+    def stackable(self) -> bool:
+        """Isotropic instances only: the stacked fast path carries no tangents."""
+        return not self.anisotropic
+
+    def microfacet(self):
+        return MicrofacetLobe(self.ndf, self._ax, self._ay, self.geometry, self.fresnel, self.denominator,
+                              np.broadcast_to(np.asarray(self.ks, dtype=np.float64), (3,)),
+                              self.energy_compensation)  # fmt: skip
 
     def _multiple_scattering(self):
         """Kulla and Conty's lobe for this model; refuses the settings it has no table or meaning for."""

@@ -16,7 +16,7 @@ import numpy as np
 
 from .._numeric import check_range, safe_div, saturate_to
 from ..vec import normalize
-from .base import BRDF, _color, _color_text
+from .base import BRDFFlags, SeparableBRDF, _color, _color_text
 from .geometry import Geometry
 from .protocol import Lobe, Parameter, register_model
 from .sampler import _TWO_PI, Sampler, Samples, _dot, _local_v
@@ -154,7 +154,7 @@ def _unit01(name, value) -> float:
 
 
 # --------------------------------------------------------------------------- the model
-class Disney(BRDF):
+class Disney(SeparableBRDF):
     r"""The Disney principled BRDF (Burley 2012) as Disney's BRDF Explorer shader ``disney.brdf`` has it.
 
     With ``θ_d`` the angle between ``l`` and ``h`` (``cos θ_d = l·h = v·h``), ``F_L = (1 − n·l)^5``,
@@ -285,8 +285,7 @@ class Disney(BRDF):
     """
 
     name = "disney"
-    own_diffuse = True  # the Burley diffuse (and sheen) beside the specular lobes
-    stackable = False
+    flags = BRDFFlags.SPECULAR | BRDFFlags.OWN_DIFFUSE  # the Burley diffuse (and sheen) beside the specular lobes
     parameters = (
         Parameter("base_color", "color", 0.8, high=1.0, slider=(0.0, 1.0),
                   description="base colour (linear RGB): diffuse albedo, metal's specular colour"),
@@ -346,6 +345,8 @@ class Disney(BRDF):
         alpha = self.roughness * self.roughness
         self.alpha_x = max(0.001, alpha / aspect)
         self.alpha_y = max(0.001, alpha * aspect)
+        if self.alpha_x != self.alpha_y:
+            self.flags = type(self).flags | BRDFFlags.ANISOTROPIC
         self.alpha_c = (1 - self.clearcoat_gloss) * 0.1 + self.clearcoat_gloss * 0.001
 
     # -- description ------------------------------------------------------------------

@@ -9,14 +9,14 @@ import math
 
 import numpy as np
 
-from .base import BRDF, _color, _color_text, _rgb
+from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _rgb
 from .protocol import Lobe, Parameter, register_model
 from .sampler import Samples, _directions, _unit_square, _ViewIndependentSampler
 
 __all__ = ["Lambert", "CosineSampler", "square_to_cosine_hemisphere", "cosine_hemisphere_pdf"]
 
 
-class Lambert(BRDF):
+class Lambert(SeparableBRDF):
     r"""Ideal diffuse (Lambertian, "matte") reflection.
 
         f_r = k_d / π                (BRDF constant)
@@ -41,9 +41,8 @@ class Lambert(BRDF):
     """
 
     name = "lambert"
-    term = "diffuse"
+    flags = BRDFFlags.DIFFUSE | BRDFFlags.LAMBERTIAN
     stackable = True
-    lambertian = True
     parameters = (
         Parameter("kd", "color", 0.8, slider=(0.0, 1.0), description="diffuse albedo k_d (the surface colour)"),
     )

@@ -13,7 +13,7 @@ import numpy as np
 from .._numeric import check_choice, check_vectors, saturate_to, working_dtype
 from ..vec import normalize, reflect
 from . import fresnel as _fresnel
-from .base import BRDF, _color, _color_text
+from .base import BRDFFlags, SeparableBRDF, _color, _color_text
 from .protocol import Lobe, Parameter, register_model
 from .sampler import Sampler, Samples
 
@@ -22,7 +22,7 @@ __all__ = ["Mirror", "MirrorSampler"]
 _NORMAL = np.array([0.0, 0.0, 1.0])  # the local frame's normal
 
 
-class Mirror(BRDF):
+class Mirror(SeparableBRDF):
     r"""The ideal (specular, "perfect") mirror: all reflected light leaves along ``R_v``.
 
     As a distribution over directions::
@@ -105,8 +105,8 @@ class Mirror(BRDF):
     """
 
     name = "mirror"
+    flags = BRDFFlags.SPECULAR | BRDFFlags.DELTA
     stackable = True
-    is_delta = True
     FRESNELS = ("none", "schlick", "dielectric", "conductor")
     parameters = (
         Parameter("ks", "color", 1.0, slider=(0.0, 1.0), description="reflectance scale k_s (the mirror's colour)"),

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from .._numeric import _fmt, check_choice, real_array, saturate_to
-from .base import BRDF, _color, _color_text, _combine
+from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _combine
 from .geometry import Geometry
 from .lambert import CosineSampler
 from .protocol import Lobe, Parameter, register_model
@@ -79,7 +79,7 @@ def _cos_dphi(xl, sl, xv, sv):
     return np.where(ok, cphi, 0.0), np.where(ok, np.minimum(_dot(d, d) / 2, 1.0), 1.0)
 
 
-class OrenNayar(BRDF):
+class OrenNayar(SeparableBRDF):
     r"""Oren–Nayar reflection from a rough surface of Lambertian V-cavities (slopes with deviation σ).
 
     The qualitative model (``form="qualitative"``, the paper's eq. 30 and the default)::
@@ -171,9 +171,7 @@ class OrenNayar(BRDF):
     """
 
     name = "oren-nayar"
-    term = "diffuse"
-    lambertian = False
-    stackable = False
+    flags = BRDFFlags.DIFFUSE
     FORMS = ("qualitative", "full")
     parameters = (
         Parameter("kd", "color", 0.8, slider=(0.0, 1.0), description="facet albedo k_d (the surface colour)"),

@@ -11,14 +11,14 @@ import numpy as np
 
 from .._numeric import check_nonnegative
 from ..vec import _one_minus_cos_between
-from .base import BRDF, _color, _color_text, _lobe_over_cos, cos_power
+from .base import SeparableBRDF, _color, _color_text, _lobe_over_cos, cos_power
 from .protocol import Lobe, Parameter, register_model
 from .sampler import _TWO_PI, Sampler, Samples, UniformSampler, _around, _local_v, _one_minus_cos_power
 
 __all__ = ["Phong", "PhongSampler"]
 
 
-class Phong(BRDF):
+class Phong(SeparableBRDF):
     r"""Phong lighting (Bui-Tuong Phong, 1975), as the slides write it.
 
         classic term: k_s (R_l·v)^e,          R_l = 2 n (n·l) − l

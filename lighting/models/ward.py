@@ -19,7 +19,7 @@ import numpy as np
 
 from .._numeric import check_choice, check_positive, saturate_to
 from ..vec import normalize
-from .base import BRDF, _color, _color_text, _combine
+from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _combine
 from .geometry import Geometry
 from .protocol import Lobe, Parameter, register_model
 from .sampler import _TWO_PI, Sampler, Samples, _dot, _local_v
@@ -53,7 +53,7 @@ def _exponent(g, alpha_x: float, alpha_y: float, *, frame: bool | None = None) -
         return x * x + y * y
 
 
-class Ward(BRDF):
+class Ward(SeparableBRDF):
     r"""Ward's anisotropic reflectance model (1992): an elliptical Gaussian lobe of half vectors.
 
     With ``h = (l + v)/|l + v|`` in the shading frame ``(t, b, n)`` (``t`` the surface tangent, the
@@ -160,8 +160,13 @@ class Ward(BRDF):
         self.alpha_x = check_positive("alpha_x", alpha_x)
         self.alpha_y = self.alpha_x if alpha_y is None else check_positive("alpha_y", alpha_y)
         self.normalization = check_choice("normalization", normalization, self.NORMALIZATIONS)
-        # Isotropic instances read only what a stacked geometry provides (no tangent frame).
-        self.stackable = self.isotropic
+        if not self.isotropic:
+            self.flags = type(self).flags | BRDFFlags.ANISOTROPIC
+
+    @property
+    def stackable(self) -> bool:
+        """Isotropic instances read only what a stacked geometry provides (it carries no tangent frame)."""
+        return self.isotropic
 
     @property
     def isotropic(self) -> bool:

@@ -5,9 +5,10 @@ states as a plain loop over lights (the tests hold it to that), organised for sp
 
 * colours are accumulated as scalar fields times RGB constants, one channel plane at a
   time (:class:`ChannelSums`), from each model's separable form
-  (``separable_cos``/``separable_classic``: ``[(field, rgb), ...]``);
+  (:func:`lighting.shading.separable.terms`: ``[(field, rgb), ...]``, a model's channels when it has none);
 * directional lights are lit together through one
-  :class:`~lighting.shading.stacked.StackedGeometry` when every model says it is ``stackable``;
+  :class:`~lighting.shading.stacked.StackedGeometry` when every model says it is ``stackable``
+  (:func:`lighting.shading.separable.stacks`);
 * rows are split into chunks shaded on a thread pool (NumPy releases the GIL inside its loops).
 
 Models are consumed only through that protocol: nothing here asks which class a model is.
@@ -21,9 +22,12 @@ import numpy as np
 
 from .._numeric import working_dtype
 from ..lights.punctual import AmbientLight
+from ..models.base import BRDFFlags
 from ..models.geometry import Geometry
 from .inputs import TERMS, Samples, ShadeOptions, check_lights, points_needed_error, positional_lights
 from .material import check_material
+from .separable import stacks
+from .separable import terms as separable_terms
 from .stacked import StackedGeometry
 
 __all__ = ["shade_prepared", "shade_prepared_terms", "shade_prepared_into"]
@@ -226,7 +230,7 @@ def accumulate(samples: Samples, material, lights, options: ShadeOptions, *, sum
             ambient = np.minimum(total, np.finfo(np.float64).max) * material.ambient * scale
         acc["ambient"].add_constant(ambient)
     want_parts = [t for t in ("diffuse", "specular") if t in wanted]
-    parts = {t: [m for m in material.brdf.parts if m.term == t] for t in want_parts}
+    parts = {t: [m for m in material.brdf.parts if BRDFFlags.of_term(t) in m.flags] for t in want_parts}
     if prune and not any(parts.values()):
         return {"total": one} if summed else acc
     if attenuation_distance == "light+viewer" and eye_dist is None:
@@ -239,7 +243,7 @@ def accumulate(samples: Samples, material, lights, options: ShadeOptions, *, sum
         and n.ndim == 2
         and n.shape[0] == shape[0]
         and v.shape in ((3,), n.shape)
-        and all(m.stackable for t in want_parts for m in parts[t])
+        and all(stacks(m) for t in want_parts for m in parts[t])
     )
     uniform = []
     for light in lights:
@@ -256,7 +260,7 @@ def accumulate(samples: Samples, material, lights, options: ShadeOptions, *, sum
             radiant = inc.radiant.astype(np.float64)
             for t in want_parts:
                 for model in parts[t]:
-                    fields = model.separable_classic(g) if form == "classic" else model.separable_cos(g)
+                    fields = separable_terms(model, g, form)
                     for field, colour in fields:
                         with np.errstate(over="ignore"):  # saturated in add(): finite or +inf, never NaN
                             weight = colour * radiant
@@ -266,7 +270,7 @@ def accumulate(samples: Samples, material, lights, options: ShadeOptions, *, sum
         radiant = np.stack([inc.radiant.astype(np.float64) * float(inc.scale) for inc in uniform])
         for t in want_parts:
             for model in parts[t]:
-                fields = model.separable_classic(g) if form == "classic" else model.separable_cos(g)
+                fields = separable_terms(model, g, form)
                 for field, colour in fields:
                     with np.errstate(over="ignore"):  # saturated in add_stacked(): finite or +inf, never NaN
                         weights = colour * radiant

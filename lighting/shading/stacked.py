@@ -3,7 +3,7 @@ r"""The fast path's geometry: every distant light over every point at once, as `
 :class:`StackedGeometry` offers the quantities of :class:`~lighting.models.geometry.Geometry`
 (the reference, one light per sample) under the same names and in the same accurate forms,
 formed in whole-array passes for ``K`` lights.  Models consume it through the separable
-extension of their protocol (:mod:`lighting.models.base`): ``separable_cos`` and
+extension of their protocol (:mod:`lighting.shading.separable`): ``separable_cos`` and
 ``separable_classic`` of a model whose ``stackable`` is True.  Where the reference's form is
 slow, the geometry offers its own (:meth:`StackedGeometry.log_n_dot_h_power`, the tangent form
 of the Blinn–Phong lobe) and puts right the few entries that form does not serve

@@ -21,9 +21,11 @@ from quadrature import direction, hemisphere
 
 from lighting.integrate import directional_albedo
 from lighting.models import microfacet as mf
+from lighting.models.base import BRDFFlags
 from lighting.models.cook_torrance import CookTorrance
 from lighting.models.geometry import Geometry
 from lighting.models.microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
+from lighting.shading.separable import stacks
 from lighting.validation import model_references as mr
 
 pytestmark = pytest.mark.slow  # 80-digit references, quadratures, grazing χ²; fast: test_contract.py
@@ -573,9 +575,12 @@ def test_anisotropic_finite_at_extremes(ndf, dtype):
 
 
 def test_anisotropic_parameters_and_stackable():
-    assert CookTorrance.stackable is True and CookTorrance().stackable is True
+    # Stackable is the separable extension's answer per instance: every isotropic model, no anisotropic one.
+    assert CookTorrance().stackable is True and stacks(CookTorrance())
+    assert CookTorrance(alpha_x=0.3, alpha_y=0.3).stackable is True
     an = CookTorrance(alpha_x=0.1, alpha_y=0.4, ndf="ggx", geometry="smith")
-    assert an.stackable is False and an.anisotropic
+    assert an.stackable is False and an.anisotropic and not stacks(an)
+    assert BRDFFlags.ANISOTROPIC in an.flags and BRDFFlags.ANISOTROPIC not in CookTorrance().flags
     assert "αx=0.1 αy=0.4" in an.summary()
     assert CookTorrance.from_dict(an.to_dict()).to_dict() == an.to_dict()
     assert "alpha_x" not in CookTorrance().to_dict()
