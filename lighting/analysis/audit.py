@@ -61,6 +61,7 @@ from .._numeric import (
 )
 from ..integrate import albedo_curve
 from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
+from . import _display
 
 __all__ = ["AuditCase", "AuditRow", "AuditTable", "default_cases", "direction_pairs", "audit"]
 
@@ -101,6 +102,8 @@ class AuditRow:
         """All three criteria met."""
         return self.positive and self.reciprocal and self.energy
 
+    __repr__ = _display.audit_row_repr
+
 
 def _yes(flag: bool) -> str:
     return "pass" if flag else "FAIL"
@@ -126,6 +129,8 @@ class AuditTable:
         self.rows = list(rows)
         self.settings = dict(settings or {})
         self.seconds = seconds
+
+    __repr__ = _display.audit_table_repr
 
     def __iter__(self):
         return iter(self.rows)

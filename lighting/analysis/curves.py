@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._numeric import check_bool, check_count
+from . import _display
 from .halfdiff import _above_horizon, half_diff_to_dirs
 from .quantity import (
     _HALF_PI,
@@ -45,6 +46,12 @@ class AngleCurve:
         Both directions strictly above the horizon.
     params : dict
         The fixed angles of the curve (e.g. ``{"theta_d": 0.0, "phi_d": π/2, "phi_h": 0.0}``).
+    cosine, log, channel
+        The options the curve was made with (``cosine`` normalized to ``None``, ``"light"`` or ``"view"``).
+    model : str
+        The model's short name (its one-line repr).
+
+    Printed, a curve is one line with its key numbers; in a notebook it shows as a plot.
     """
 
     variable: str
@@ -54,6 +61,13 @@ class AngleCurve:
     v: np.ndarray
     valid: np.ndarray
     params: dict
+    cosine: str | None = None
+    log: bool = False
+    channel: object = None
+    model: str = ""
+
+    __repr__ = _display.curve_repr
+    _repr_png_ = _display.curve_png
 
 
 def _curve(brdf, variable, angles, l, v, cosine, log, channel, dt, params):  # noqa: E741
@@ -62,7 +76,8 @@ def _curve(brdf, variable, angles, l, v, cosine, log, channel, dt, params):  # n
     log = check_bool("log", log)
     ch = _check_channel(channel, "rgb")
     values, valid = _above_horizon(brdf, l, v, cos_mode, log, ch, dt)
-    return AngleCurve(variable, angles.astype(dt), values, l.astype(dt), v.astype(dt), valid, params)
+    return AngleCurve(variable, angles.astype(dt), values, l.astype(dt), v.astype(dt), valid, params, cos_mode, log,
+                      channel, _display.model_label(brdf))  # fmt: skip
 
 
 def theta_h_curve(

@@ -33,6 +33,7 @@ import numpy as np
 from ..models.base import BRDF
 from ..models.lambert import Lambert
 from ..models.protocol import model_class, model_variants
+from . import _display
 
 __all__ = ["FitResult", "fit_brdf"]
 
@@ -71,6 +72,8 @@ class FitResult(NamedTuple):
     evaluations: int
     success: bool
     message: str
+
+    __repr__ = _display.fit_repr
 
 
 def _free_rows(cls, fixed: dict):

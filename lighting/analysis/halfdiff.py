@@ -29,6 +29,7 @@ from .._numeric import (
     working_dtype,
 )
 from ..vec import halfway, normalize
+from . import _display
 from .quantity import (
     _HALF_PI,
     _check_brdf,
@@ -194,7 +195,11 @@ class HalfDiffImage:
     ``values[i, j]`` is at ``theta_d[i]``, ``theta_h[j]``: **rows are θ_d, columns θ_h**
     (``imshow(values, origin="lower")`` puts ``θ_h`` on the horizontal axis and ``θ_d``
     upward, the usual layout).  Where ``l`` or ``v`` is on or below the horizon the
-    value is 0 and ``valid`` is False; there are no NaNs.
+    value is 0 and ``valid`` is False; there are no NaNs.  ``cosine``, ``log`` and ``channel`` are the
+    options it was made with, ``model`` the model's short name (its one-line repr).
+
+    Printed, the image is one line with its size and range; in a notebook it shows as a picture,
+    :meth:`srgb8` enlarged by a whole factor until its longer side has at least 256 pixels.
     """
 
     theta_h: np.ndarray  # (n_h,)
@@ -203,6 +208,33 @@ class HalfDiffImage:
     valid: np.ndarray  # (n_d, n_h) bool
     phi_d: float
     phi_h: float
+    cosine: str | None = None
+    log: bool = False
+    channel: object = None
+    model: str = ""
+
+    __repr__ = _display.image_repr
+
+    def srgb8(self) -> np.ndarray:
+        """The image as 8-bit sRGB pixels, one per sample, ``θ_h`` to the right and ``θ_d`` upward.
+
+        The values are divided by the 99th percentile of the valid ones (RGB channels together, so
+        colours keep their ratios; the largest value if that percentile is 0), so that a blow-up at
+        grazing angles does not leave the rest black, and sRGB-encoded
+        (:func:`lighting.render.image.encode_srgb8`, brighter values clip to white); one channel shows
+        grey.  Samples with no value (``valid`` False: a direction on or below the horizon) are a muted
+        blue, ``(72, 88, 120)``.
+
+        Returns
+        -------
+        numpy.ndarray, (n_d, n_h, 3), uint8
+            Row 0 (the top) is ``θ_d = theta_d[-1]``.
+        """
+        return _display.image_srgb8(self.values, self.valid)
+
+    def _repr_png_(self):
+        """The picture in a notebook: :meth:`srgb8`, each pixel a square block, as PNG bytes."""
+        return _display.image_png(self.srgb8())
 
 
 def half_diff_image(
@@ -277,4 +309,5 @@ def half_diff_image(
     td = np.linspace(0.0, _HALF_PI, nd)
     l, v = half_diff_to_dirs(th[None, :], ph, td[:, None], pd)  # noqa: E741
     values, valid = _above_horizon(brdf, l, v, cos_mode, log, ch, dt)
-    return HalfDiffImage(th.astype(dt), td.astype(dt), values, valid, pd, ph)
+    return HalfDiffImage(th.astype(dt), td.astype(dt), values, valid, pd, ph, cos_mode, log, channel,
+                         _display.model_label(brdf))  # fmt: skip

@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._numeric import _fmt, check_vectors, working_dtype
+from . import _display
 from .quantity import (
     _HALF_PI,
     _check_angle,
@@ -45,6 +46,8 @@ class LobePeak(NamedTuple):
 
     direction: np.ndarray
     value: float
+
+    __repr__ = _display.lobe_peak_repr
 
 
 # --------------------------------------------------------------------------- width

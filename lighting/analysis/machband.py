@@ -33,6 +33,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_count, real_array
+from . import _display
 from .quantity import LUMINANCE
 
 __all__ = ["Profile", "luminance", "scanline_profile", "edge_jump_metric", "KINK_SCALE"]
@@ -69,12 +70,18 @@ def luminance(image) -> np.ndarray:
 
 
 class Profile(NamedTuple):
-    """Intensity along a scan line and its differences (all float64)."""
+    """Intensity along a scan line and its differences (all float64).
+
+    Printed, one line with its length and ranges; in a notebook, a plot of ``I`` and ``Δ²I`` along the row.
+    """
 
     x: np.ndarray  # pixel columns of the covered run
     intensity: np.ndarray  # I(x)
     d1: np.ndarray  # ΔI at x + ½ (len − 1)
     d2: np.ndarray  # Δ²I at x (len − 2, centred on x[1:-1])
+
+    __repr__ = _display.profile_repr
+    _repr_png_ = _display.profile_png
 
 
 def _channel(image, channel) -> np.ndarray:

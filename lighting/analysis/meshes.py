@@ -16,6 +16,7 @@ import numpy as np
 
 from .._numeric import check_bool, check_count, working_dtype
 from ..vec import normalize
+from . import _display
 from .lobes import _MIN_COS, _half_ellipse, _lobe_widths, _numeric_width, _peak64, _polar, _unit_light
 from .quantity import (
     _HALF_PI,
@@ -72,6 +73,12 @@ class LobeMesh:
     rings, segments : int
         Grid layout: vertex 0 is the centre, ring ``k = 1 … rings`` holds vertices
         ``1 + (k−1)·segments … k·segments``; the last ring is the rim.
+    cosine, channel
+        The options the mesh was made with (``cosine`` normalized to ``None``, ``"light"`` or ``"view"``).
+    model : str
+        The model's short name (its one-line repr).
+
+    Printed, a mesh is one line with its counts and peak; in a notebook it shows as a 3D plot.
     """
 
     vertices: np.ndarray
@@ -85,6 +92,12 @@ class LobeMesh:
     width: float
     rings: int
     segments: int
+    cosine: str | None = None
+    channel: object = None
+    model: str = ""
+
+    __repr__ = _display.mesh_repr
+    _repr_png_ = _display.mesh_png
 
 
 def _ring_profile(rho_ref: float, rings: int, delta0: float) -> np.ndarray:
@@ -463,4 +476,7 @@ def lobe_mesh(brdf, l, *, resolution=64, cosine=False, adaptive=True, channel=No
         width=float(width),
         rings=K,
         segments=S,
+        cosine=cos_mode,
+        channel=channel,
+        model=_display.model_label(brdf),
     )

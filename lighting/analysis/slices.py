@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._numeric import _fmt, check_bool, check_choice, check_count
+from . import _display
 from .lobes import _lobe_widths, _numeric_width, _peak_candidates, _zoom_grid
 from .quantity import (
     _HALF_PI,
@@ -64,6 +65,10 @@ class PolarSlice:
     fixed, plane, cosine, log, channel, theta_in, phi_in, lock, tangent
         The options the slice was made with (``cosine`` normalized to ``None``, ``"light"`` or ``"view"``;
         ``tangent`` ``None`` or the unit tangent used).
+    model : str
+        The model's short name (its one-line repr).
+
+    Printed, a slice is one line with its key numbers; in a notebook it shows as a polar plot.
     """
 
     angles: np.ndarray
@@ -82,6 +87,10 @@ class PolarSlice:
     phi_in: float
     lock: bool = False
     tangent: np.ndarray | None = None
+    model: str = ""
+
+    __repr__ = _display.slice_repr
+    _repr_png_ = _display.slice_png
 
     @property
     def xy(self) -> np.ndarray:
@@ -242,6 +251,7 @@ def polar_slice(
         phi_in=phi,
         lock=lock,
         tangent=tan,
+        model=_display.model_label(brdf),
     )
 
 

@@ -59,6 +59,18 @@ class AlbedoCurve(NamedTuple):
         """True where ``error / |albedo|`` exceeds :data:`UNCONVERGED_RELATIVE_ERROR`."""
         return Estimate(self.albedo, self.error, self.samples, self.seconds, self.method).unconverged
 
+    def __repr__(self) -> str:
+        """One line: the method, the counts, the largest and smallest albedo and the largest error."""
+        from ..analysis._display import albedo_repr  # every result prints the same way, from one module
+
+        return albedo_repr(self)
+
+    def _repr_png_(self):
+        """The picture in a notebook: ρ against the view angle (None without Matplotlib)."""
+        from ..analysis._display import albedo_png
+
+        return albedo_png(self)
+
 
 def _thetas(theta_v, name="theta_v"):
     allowed = "finite angles in [0, π/2] radians"
