@@ -13,7 +13,9 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import shutil
 import sys
+import textwrap
 
 from lighting._numeric import _fmt, memory_budget, set_memory_budget
 
@@ -67,19 +69,41 @@ class OneLineParser(argparse.ArgumentParser):
 
     The caller prints the one line with :func:`print_error`
     (``lighting-explorer: error: argument --dpi: invalid int value: 'x' (see lighting-explorer figures --help)``):
-    every parser of the tree, a sub-command's or a report's, reports under the one prefix.
+    every parser of the tree, a sub-command's or a report's, reports under the one prefix.  Its options follow
+    the command line's conventions (:func:`option_settings`: each help states the default, a misspelt choice
+    gets the closest one), and :meth:`add_subparsers` keeps each sub-command's parser and one-line help by
+    name (``subcommands``, ``summaries``).
     """
 
     def __init__(self, *args, **kwargs):
-        kwargs.setdefault("formatter_class", DefaultsHelpFormatter)
         super().__init__(*args, **kwargs)
+        #: Each sub-command's parser, by name, in the order they were added.
+        self.subcommands: dict[str, argparse.ArgumentParser] = {}
+        #: Each sub-command's one-line help, by name.
+        self.summaries: dict[str, str] = {}
+        #: What the sub-command is called in messages (``COMMAND``, ``REPORT``).
+        self.subcommand_metavar = "COMMAND"
 
-    def _check_value(self, action, value):
-        # argparse's own check, with the closest choice suggested ('rendr' -> 'render', 'phong' typos, reports).
-        if action.choices is not None and value not in action.choices:
-            choices = ", ".join(repr(c) for c in action.choices)
-            hint = did_you_mean(str(value), [str(c) for c in action.choices])
-            raise argparse.ArgumentError(action, f"invalid choice: {_fmt(value)}{hint} (choose from {choices})")
+    def add_argument(self, *flags, **kwargs):
+        """``ArgumentParser.add_argument`` with the settings of :func:`option_settings`.
+
+        Returns
+        -------
+        argparse.Action
+            What ``ArgumentParser.add_argument`` returns.
+        """
+        return super().add_argument(*flags, **option_settings(flags, kwargs, self.prefix_chars))
+
+    def add_subparsers(self, **kwargs):
+        """``ArgumentParser.add_subparsers``, whose ``add_parser`` also records each sub-command by name.
+
+        Returns
+        -------
+        SubCommands
+            Its ``add_parser(name, **kwargs)`` is argparse's.
+        """
+        self.subcommand_metavar = kwargs.get("metavar") or kwargs.get("dest") or self.subcommand_metavar
+        return SubCommands(self, super().add_subparsers(**kwargs))
 
     def error(self, message):
         """Raise the refusal as a :class:`UsageError` (argparse calls this instead of printing usage).
@@ -103,72 +127,269 @@ class OneLineParser(argparse.ArgumentParser):
         raise UsageError(f"{message} (see {self.prog} --help)")
 
 
-class DefaultsHelpFormatter(argparse.HelpFormatter):
-    """Help text with each option's default: ``(default: 384)``, unless the text already states it.
+class SubCommands:
+    """What :meth:`OneLineParser.add_subparsers` returns: argparse's ``add_parser``, each parser kept by name.
 
-    Unlike :class:`argparse.ArgumentDefaultsHelpFormatter`, an option whose default is ``None`` or
-    ``False`` (a flag, or "keep what the scene or the control says") gets no ``(default: None)``;
-    a ``(width, height)`` pair shows as ``WxH``.
+    Parameters
+    ----------
+    parent : OneLineParser
+        The parser whose sub-commands these are.
+    subparsers : object
+        What ``ArgumentParser.add_subparsers`` returned.
     """
 
-    def _format_action(self, action):
-        text = super()._format_action(action)
-        if isinstance(action, argparse._SubParsersAction):  # the commands, one line each, without a "COMMAND" line
-            return "".join(text.splitlines(keepends=True)[1:])
-        return text
+    def __init__(self, parent: OneLineParser, subparsers):
+        self.parent = parent
+        self.subparsers = subparsers
 
-    def _get_help_string(self, action):
-        text = action.help or ""
-        default = action.default
-        if (
-            "default" in text.lower()
-            or default is None
-            or default is False
-            or default is argparse.SUPPRESS
-            or default == []
-            or not action.option_strings
-            or isinstance(action, argparse._VersionAction)
-        ):
-            return text
+    def add_parser(self, name: str, **kwargs) -> argparse.ArgumentParser:
+        """Add the sub-command ``name`` as argparse's ``add_parser`` does, and record it in the parent.
+
+        Parameters
+        ----------
+        name : str
+            The sub-command.
+        **kwargs
+            As argparse's ``add_parser``: ``help`` (its line in the list of commands), ``description``, ….
+
+        Returns
+        -------
+        argparse.ArgumentParser
+            The sub-command's parser (of the ``parser_class`` given to ``add_subparsers``, else the parent's class).
+        """
+        parser = self.subparsers.add_parser(name, **kwargs)
+        self.parent.subcommands[name] = parser
+        self.parent.summaries[name] = " ".join(str(kwargs.get("help") or "").split())
+        return parser
+
+
+def option_settings(flags, kwargs: dict, prefix_chars: str = "-") -> dict:
+    """The arguments of ``add_argument(*flags, **kwargs)`` under the command line's two conventions.
+
+    * The help states the default, ``(default: 384)``, unless it already speaks of its default, or the
+      default is ``None`` or ``False`` (a flag, or "keep what the scene or the control says"), empty or
+      suppressed, or the argument is positional; a ``(width, height)`` pair shows as ``WxH``, a list with
+      commas.
+    * An option with ``choices`` and no ``type`` is checked by :func:`choice_type`: a misspelt value gets
+      the closest choice.
+
+    Parameters
+    ----------
+    flags : sequence of str
+        The option's names (``"-o", "--out"``) or a positional argument's name.
+    kwargs : dict
+        The other arguments of ``add_argument``.
+    prefix_chars : str
+        The parser's option prefix characters.
+
+    Returns
+    -------
+    dict
+        ``kwargs`` with ``help`` and ``type`` set as above (a new dict).
+
+    Examples
+    --------
+    >>> option_settings(["--size"], {"default": (384, 384), "help": "image size"})["help"]
+    'image size (default: 384x384)'
+    >>> option_settings(["--quick"], {"action": "store_true", "help": "fewer samples"})["help"]
+    'fewer samples'
+    """
+    out = dict(kwargs)
+    if out.get("choices") is not None and out.get("type") is None and out.get("action") in (None, "store", "append"):
+        out["type"] = choice_type(out["choices"])
+    text, default = out.get("help"), out.get("default")
+    optional = bool(flags) and str(flags[0])[:1] in prefix_chars
+    if (
+        text
+        and text is not argparse.SUPPRESS
+        and optional
+        and "default" not in text.lower()
+        and default is not None
+        and default is not False
+        and default is not argparse.SUPPRESS
+        and not (isinstance(default, (list, tuple)) and len(default) == 0)
+    ):
         if isinstance(default, tuple) and len(default) == 2 and all(isinstance(v, int) for v in default):
             shown = f"{default[0]}x{default[1]}"
         elif isinstance(default, (list, tuple)):
             shown = ",".join(str(v) for v in default)
         else:
             shown = str(default)
-        return f"{text} (default: {shown.replace('%', '%%')})"
+        out["help"] = f"{text} (default: {shown.replace('%', '%%')})"  # argparse expands %(…)s in help
+    return out
+
+
+class OptionGroup:
+    """An argument group (``ArgumentParser.add_argument_group``) whose options follow :func:`option_settings`.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser the group belongs to.
+    title : str
+        The group's title in the parser's help.
+    """
+
+    def __init__(self, parser: argparse.ArgumentParser, title: str):
+        self.group = parser.add_argument_group(title)
+        self.prefix_chars = parser.prefix_chars
+
+    def add_argument(self, *flags, **kwargs):
+        """Add an option to the group as ``add_argument`` does, with the settings of :func:`option_settings`.
+
+        Returns
+        -------
+        argparse.Action
+            What ``add_argument`` returns.
+        """
+        return self.group.add_argument(*flags, **option_settings(flags, kwargs, self.prefix_chars))
+
+
+def choice_type(choices):
+    """The argparse ``type`` of an option with ``choices``: the value itself, or one line with the closest choice.
+
+    Parameters
+    ----------
+    choices : sequence of str
+        The values allowed.
+
+    Returns
+    -------
+    callable
+        ``text -> text``, raising ``argparse.ArgumentTypeError`` (argparse puts ``argument --flag:`` in front).
+
+    Examples
+    --------
+    >>> pick = choice_type(("clamp", "reinhard"))
+    >>> pick("clamp")
+    'clamp'
+    >>> try:
+    ...     pick("reinhart")
+    ... except argparse.ArgumentTypeError as e:
+    ...     print(e)
+    invalid choice: 'reinhart'; did you mean 'reinhard'? (choose from 'clamp', 'reinhard')
+    """
+    allowed = tuple(choices)
+
+    def choice(text):
+        if text in allowed:
+            return text
+        hint = did_you_mean(str(text), [str(c) for c in allowed])
+        raise argparse.ArgumentTypeError(
+            f"invalid choice: {_fmt(text)}{hint} (choose from {', '.join(repr(c) for c in allowed)})"
+        )
+
+    return choice
 
 
 class CommandTreeParser(OneLineParser):
-    """The top of the command tree: its help lists the commands, then every command's options.
+    """The top of the command tree: its help lists the commands, one line each, then every command's options.
 
     ``lighting-explorer --help`` thus shows each option of each command with its default (the
     sub-commands' own ``--help`` shows the same lines with the command's description).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As :class:`argparse.ArgumentParser`.
+    notes : str
+        A paragraph after the list of commands (argparse's ``epilog`` would come before the list).
     """
 
-    def format_help(self):
-        text = super().format_help()
-        sub = next(a for a in self._actions if isinstance(a, argparse._SubParsersAction))
-        parts = [text]
-        for name, command in _leaf_parsers(sub):
-            formatter = command._get_formatter()
-            formatter.start_section(f"{name} options")
-            for group in command._action_groups:
-                formatter.add_arguments([a for a in group._group_actions if a.option_strings
-                                         and not isinstance(a, argparse._HelpAction)])  # fmt: skip
-            formatter.end_section()
-            parts.append(formatter.format_help())
-        return "\n\n".join(p.strip("\n") for p in parts) + "\n"
+    def __init__(self, *args, notes: str = "", **kwargs):
+        super().__init__(*args, **kwargs)
+        self.notes = notes
+
+    def format_help(self) -> str:
+        """Usage, description and options; the commands; the notes; each runnable command's options.
+
+        Returns
+        -------
+        str
+            The help text, wrapped to the terminal's width as argparse wraps its own.
+        """
+        width = max(shutil.get_terminal_size().columns - 2, 40)
+        parts = [super().format_help(), self.format_commands(width)]
+        if self.notes:
+            parts.append(textwrap.fill(" ".join(self.notes.split()), width))
+        parts += [options_section(name, command) for name, command in leaf_commands(self)]
+        return "\n\n".join(p.strip("\n") for p in parts if p.strip()) + "\n"
+
+    def format_commands(self, width: int) -> str:
+        """``commands:`` and a row per sub-command: its name, then its help wrapped as argparse wraps an option's.
+
+        Parameters
+        ----------
+        width : int
+            Characters per line.
+
+        Returns
+        -------
+        str
+            The section.
+        """
+        # The help column of the options above it ("  -h, --help  "), or further right for a longer name.
+        column = min(max(len("  -h, --help  "), 4 + max(map(len, self.subcommands), default=0) + 2), 24)
+        rows = ["commands:"]
+        for name, text in self.summaries.items():
+            lines = textwrap.wrap(text, max(width - column, 20)) or [""]
+            if 4 + len(name) + 2 > column:  # a long name: its help starts on the next line
+                rows.append(f"    {name}")
+                rows += [" " * column + line for line in lines]
+            else:
+                rows.append(f"    {name}".ljust(column) + lines[0])
+                rows += [" " * column + line for line in lines[1:]]
+        return "\n".join(rows)
 
 
-def _leaf_parsers(sub, prefix=""):
-    """``(name, parser)`` of every runnable command under ``sub`` (``report accuracy``, not ``report``)."""
-    for name, parser in sub.choices.items():
-        nested = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
-        if nested:
-            yield from _leaf_parsers(nested[0], f"{prefix}{name} ")
+def leaf_commands(parser: argparse.ArgumentParser, prefix: str = ""):
+    """``(name, parser)`` of every runnable command under ``parser`` (``report accuracy``, not ``report``).
+
+    Parameters
+    ----------
+    parser : OneLineParser
+        A parser whose sub-commands were added through :meth:`OneLineParser.add_subparsers`.
+    prefix : str
+        Put before each name.
+
+    Yields
+    ------
+    (str, argparse.ArgumentParser)
+        In the order the commands were added.
+    """
+    for name, command in getattr(parser, "subcommands", {}).items():
+        if getattr(command, "subcommands", None):
+            yield from leaf_commands(command, f"{prefix}{name} ")
         else:
-            yield f"{prefix}{name}", parser
+            yield f"{prefix}{name}", command
+
+
+def options_section(name: str, command: argparse.ArgumentParser) -> str:
+    """``NAME options:`` and the lines of each option in ``command``'s own help (not ``--help``, not positionals).
+
+    Parameters
+    ----------
+    name : str
+        The command, as typed after the program's name.
+    command : argparse.ArgumentParser
+        Its parser.
+
+    Returns
+    -------
+    str
+        The section: the option lines exactly as ``command.format_help()`` prints them, its groups merged.
+    """
+    kept, keep = [], False
+    for block in command.format_help().split("\n\n"):
+        rows = block.splitlines()
+        if not rows or rows[0].startswith(" ") or not rows[0].endswith(":"):  # usage, description, epilog
+            continue
+        for row in rows[1:]:
+            if re.match(r"  \S", row):  # an argument's first line; an option's starts with its flag
+                keep = row[2:].startswith("-") and not re.match(r"  -h, --help\b", row)
+            if keep:
+                kept.append(row)
+    return "\n".join([f"{name} options:", *kept])
 
 
 def did_you_mean(word: str, candidates) -> str:
@@ -448,19 +669,51 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = CommandTreeParser(
         prog=PROG,
+        usage="%(prog)s [-h] [--version] COMMAND ...",
         description="Explore local illumination models. With no sub-command, opens the explorer window.",
-        epilog=f"'{PROG} COMMAND --help' lists a command's options and their defaults; they are also listed "
+        notes=f"'{PROG} COMMAND --help' lists a command's options and their defaults; they are also listed "
         "below. --memory-budget SIZE (anywhere on the line; e.g. 4G, 512M; default 2G) raises or lowers the "
         "memory any one request may use.",
     )
     p.add_argument("--version", action="version", version=f"{PROG} {package_version()}")
+    # The commands are listed by the parser's own help (CommandTreeParser.format_commands), not by argparse.
     sub = p.add_subparsers(dest="command", required=True, parser_class=OneLineParser, metavar="COMMAND",
-                           title="commands")  # fmt: skip
+                           help=argparse.SUPPRESS, prog=PROG)  # fmt: skip
     for module in COMMANDS.values():
-        # An argument the sub-command does not know is reported by the sub-command's parser (see parse).
-        command = importlib.import_module(module).add_parser(sub)
-        command.set_defaults(_parser=command)
+        importlib.import_module(module).add_parser(sub)
     return p
+
+
+def command_parser(parser: argparse.ArgumentParser, argv: list[str]) -> argparse.ArgumentParser:
+    """The parser of the command that ``argv`` runs: the deepest sub-command its first words name.
+
+    Parameters
+    ----------
+    parser : OneLineParser
+        The top of a tree built through :meth:`OneLineParser.add_subparsers`.
+    argv : list of str
+        The command line.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        ``parser`` itself when ``argv`` starts with an option.
+
+    Raises
+    ------
+    UsageError
+        A word where a sub-command belongs that names none: the closest name and the names allowed.
+    """
+    node = parser
+    for word in argv:
+        names = getattr(node, "subcommands", None)
+        if not names or word.startswith("-"):
+            break
+        if word not in names:
+            node.error(f"argument {node.subcommand_metavar}: invalid choice: {_fmt(word)}{did_you_mean(word, names)} "
+                       f"(choose from {', '.join(repr(n) for n in names)})")  # fmt: skip
+        node = names[word]
+    return node
 
 
 def parse(argv: list[str]) -> argparse.Namespace:
@@ -479,13 +732,14 @@ def parse(argv: list[str]) -> argparse.Namespace:
     Raises
     ------
     UsageError
-        For a malformed line; an unrecognized argument is reported by the sub-command's own parser, in
-        its words (``(see lighting-explorer render --help)``).
+        For a malformed line; a misspelt command gets the closest name; an unrecognized argument is
+        reported by the sub-command's own parser, in its words (``(see lighting-explorer render --help)``).
     """
     parser = build_parser()
+    command = command_parser(parser, argv)
     args, extras = parser.parse_known_args(argv)
     if extras:
-        getattr(args, "_parser", parser).error(f"unrecognized arguments: {' '.join(extras)}")
+        command.error(f"unrecognized arguments: {' '.join(extras)}")
     return args
 
 
@@ -617,7 +871,7 @@ def _dispatch(argv: list[str]) -> int:
     if not argv or (argv[0].startswith("--") and argv[0] not in ("--help", "--version")):
         # No sub-command: the explorer window, with explore's options (e.g. --off-screen --screenshot x.png).
         argv = ["explore", *argv]
-    if argv[0] == "report" and (len(argv) == 1 or not argv[1].startswith("-")):
+    if argv[0] == "report" and (len(argv) == 1 or not argv[1].startswith("-") or argv[1] in ("-h", "--help")):
         from .reports import REPORTS
         from .reports import main as report_main
 

@@ -70,8 +70,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
     Parameters
     ----------
-    subparsers : argparse._SubParsersAction
-        What ``ArgumentParser.add_subparsers`` returned.
+    subparsers : explorer.cli.SubCommands
+        What ``add_subparsers`` of the ``lighting-explorer`` parser returned.
 
     Returns
     -------
@@ -95,14 +95,14 @@ def add_options(p) -> None:
     p : argparse.ArgumentParser
         The parser to add them to.
     """
-    from ..cli import size_type
+    from ..cli import OptionGroup, size_type
 
     # The options default to None ("keep the control's starting value"); the help states that value.
     h = {
         name: f"{spec.help} (default: {_shown(DEFAULTS[name])})" if name in DEFAULTS else spec.help
         for name, spec in CONTROLS.items()
     }
-    g = p.add_argument_group("material")
+    g = OptionGroup(p, "material")
     g.add_argument("--model", choices=MODELS, help=h["model"])
     g.add_argument(
         "--kd", help=f"diffuse albedo: one number (times --color) or r,g,b (default: {_shown(DEFAULTS['kd'])})"
@@ -121,7 +121,7 @@ def add_options(p) -> None:
                    help="any parameter of the model, e.g. --param sigma=0.3 (repeat for more)")  # fmt: skip
     g.add_argument("--phi", type=float, help=h["phi"])
     g.add_argument("--lock", action=argparse.BooleanOptionalAction, default=None, help=h["lock"])
-    g = p.add_argument_group("light")
+    g = OptionGroup(p, "light")
     g.add_argument("--light", choices=LIGHT_TYPES, help=h["light"])
     g.add_argument("--elevation", type=float, help=h["elevation"])
     g.add_argument("--azimuth", type=float, help=h["azimuth"])
@@ -132,7 +132,7 @@ def add_options(p) -> None:
     g.add_argument("--attenuation", choices=tuple(ATTENUATIONS), help=h["attenuation"])
     g.add_argument("--cutoff", type=float, help=h["cutoff"])
     g.add_argument("--spot-exponent", dest="spot_exponent", type=float, help=h["spot_exponent"])
-    g = p.add_argument_group("shading and plots")
+    g = OptionGroup(p, "shading and plots")
     g.add_argument("--mode", choices=("flat", "gouraud", "phong"), help=h["mode"])
     g.add_argument("--form", choices=FORMS, help=h["form"])
     g.add_argument("--terms", help=f"terms shown, comma-separated from {_shown(DEFAULTS['terms'])} (default: all)")
@@ -143,7 +143,7 @@ def add_options(p) -> None:
                    help=h["times_cos"])  # fmt: skip
     g.add_argument("--exposure", type=float, help=h["exposure"])
     g.add_argument("--scanline", type=float, help=h["scanline"])
-    g = p.add_argument_group("comparing BRDFs")
+    g = OptionGroup(p, "comparing BRDFs")
     g.add_argument(
         "--brdf",
         action="append",
@@ -153,14 +153,14 @@ def add_options(p) -> None:
     )
     g.add_argument("--panel", choices=("angles", "albedo"), help=h["panel"])
     g.add_argument("--split", action=argparse.BooleanOptionalAction, default=None, help=h["split"])
-    g.add_argument("--fit", choices=tuple(FIT_MODELS), help=h["fit"] + " (default ggx)")
+    g.add_argument("--fit", choices=tuple(FIT_MODELS), help=h["fit"])
     g.add_argument(
         "--fit-now",
         dest="fit_now",
         action="store_true",
         help="fit that model to the current one at start and add it to the Compare list",
     )
-    g = p.add_argument_group("image-based lighting")
+    g = OptionGroup(p, "image-based lighting")
     names = ", ".join(e for e in ENVIRONMENTS if e != "file")
     g.add_argument("--environment", metavar="NAME|FILE",
                    help=f"{CONTROLS['environment'].help}: {names}, or an environment image "
@@ -174,7 +174,7 @@ def add_options(p) -> None:
         metavar="FILE",
         help="the lit object's mesh (.obj .ply .stl .glb .gltf .off, +y up) (default: a generated blob)",
     )
-    g = p.add_argument_group("window")
+    g = OptionGroup(p, "window")
     g.add_argument(
         "--scene",
         metavar="SCENE",

@@ -48,7 +48,7 @@ def add_parser(subparsers):
 
     Parameters
     ----------
-    subparsers : argparse._SubParsersAction
+    subparsers : explorer.cli.SubCommands
         The sub-parsers of the ``lighting-explorer`` command.
 
     Returns

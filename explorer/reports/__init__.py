@@ -15,7 +15,7 @@ def add_parser(subparsers):
 
     Parameters
     ----------
-    subparsers : argparse._SubParsersAction
+    subparsers : explorer.cli.SubCommands
         The sub-parsers of the ``lighting-explorer`` command.
 
     Returns
@@ -30,8 +30,7 @@ def add_parser(subparsers):
     reports = p.add_subparsers(dest="report", required=True, parser_class=type(p), metavar="REPORT", title="reports")
     for name in REPORTS:
         # An argument the report does not know is reported by the report's own parser (explorer.cli.parse).
-        parser = add_report(reports, name, run=run)
-        parser.set_defaults(_parser=parser)
+        add_report(reports, name, run=run)
     return p
 
 

@@ -79,7 +79,7 @@ def add_report(parser_or_subparsers, name: str, run=None):
 
     Parameters
     ----------
-    parser_or_subparsers : argparse._SubParsersAction or None
+    parser_or_subparsers : explorer.cli.SubCommands or None
         ``None`` for the standalone parser of ``lighting-explorer report NAME``; else where to add it.
     name : str
         A key of :data:`REPORTS`.

@@ -19,8 +19,7 @@ def test_every_command_module_offers_add_parser_run_and_main():
 
 def test_the_tree_lists_the_commands_in_order_with_their_options():
     parser = cli.build_parser()
-    sub = next(a for a in parser._actions if a.dest == "command")
-    assert list(sub.choices) == list(cli.COMMANDS)
+    assert list(parser.subcommands) == list(cli.COMMANDS)
     args = cli.parse(["sphere", "--size", "12"])
     assert args.command == "sphere" and args.size == (12, 12) and args.func.__module__ == "explorer.commands.sphere"
     args = cli.parse(["render", "spotlight", "--size", "40x30"])
@@ -47,11 +46,15 @@ def test_the_top_level_help_lists_every_command_s_options_with_their_defaults(mo
         assert re.search("^  " + line + "$", text, re.M), line
     # The same lines as each command's own --help: one definition of each option.
     parser = cli.build_parser()
-    sub = next(a for a in parser._actions if a.dest == "command")
-    for name, command in sub.choices.items():
-        for action in command._actions:
-            if action.option_strings and action.help and action.dest != "help":
-                assert action.option_strings[-1] in text, (name, action.option_strings)
+    leaves = dict(cli.leaf_commands(parser))
+    assert list(leaves) == sections
+    for name, command in leaves.items():
+        own = re.sub(r"\n {20,}", " ", command.format_help())
+        flags = re.findall(r"^  (-.+?)(?:  |$)", own, re.M)
+        assert len(flags) > 1 and flags[0] == "-h, --help", (name, flags)
+        for flag in flags[1:]:
+            line = next(ln for ln in own.splitlines() if ln.startswith(f"  {flag}"))
+            assert line in text.splitlines(), (name, line)
 
 
 def test_building_the_tree_loads_no_figure_window_or_report_code():
