@@ -1,37 +1,39 @@
-r"""The report's own transcriptions of the shading formulas, in their careful and earlier forms.
+r"""The textbook and earlier forms that the stability study puts back into the engine, one at a time.
 
-:mod:`lighting.validation.rearrangements` measures what each rearranged formula of the
-engine bought by evaluating ``f_r`` with that one formula put back to its earlier (or
-textbook) form.  The formulas are written out here as plain functions of the shading
-quantities and the models' public parameters, so that the report depends on the
-engine's public API only (model constructors and attributes, ``eval_cos``, the public
-:class:`~lighting.models.brdf.Geometry` and its quantities, the public lights and Fresnel
-functions, :mod:`lighting.vec`, :mod:`lighting._numeric`), never on how a model arranges
-its private helpers.  Each transcription performs the operations of the form it names in
-the same order and dtype, so a form that is also the engine's gives the engine's bits.
+:mod:`lighting.validation.rearrangements` measures what each rearranged formula of the engine
+bought by evaluating ``f_r`` with that one formula put back to its earlier (or textbook) form.
+The careful forms are the engine's own, called: a model's ``eval_geometry``, ``eval_cos``, its
+factors ``D``, ``G`` and ``F``, :class:`~lighting.models.geometry.Geometry`'s derived quantities,
+:func:`lighting.vec.normalize`, :func:`lighting.models.base.cos_power` and
+:mod:`lighting.fresnel`.  What this module writes out are the forms the engine does not
+contain, as the textbooks write them; they are the subject of the study, not copies.
 
-Quantities
-----------
-:class:`Quantities` is a geometry's quantities with some replaced: the rearrangements of
-the geometry (the half vector from the plain sum ``l + v``, ``sin²θ_h = 1 − cos²θ_h``,
-``1 − R_l·v`` from ``R_l·v``) are functions of a public :class:`Geometry` returning one.
+Geometry
+--------
+A textbook quantity replaces the engine's on a fresh :class:`Geometry` (:func:`with_quantities`),
+and the engine derives every other quantity from it and evaluates the model on it:
+
+* the half vector from the plain sum, ``h = (l + v)/|l + v|`` (Blinn 1977), :func:`plain_half_vector`;
+* ``sin²θ_h = 1 − cos²θ_h`` and ``1 − n·h`` formed directly, :func:`cos_squared_half_angle`;
+* ``R_l·v = 2 (n·l)(n·v) − l·v`` (Phong 1975, as the slides compute it), :func:`textbook_r_dot_v`;
+* one normalization path for a whole batch, :func:`batch_normalize`.
 
 Models
 ------
-* Phong (Phong 1975): ``f_r = k_s (R_l·v)^e / (π n·l)``;
-* Blinn–Phong (Blinn 1977): ``f_r = k_s (n·h)^e / (π n·l)``, normalized ``k_s (e+2)/(2π) (n·h)^e``;
-* Cook–Torrance (Cook and Torrance 1982; Walter et al. 2007):
-  ``f_r = k_s D G F / (c (n·v)(n·l))`` with the Beckmann, GGX or Blinn–Phong ``D``, the
-  V-cavity or Smith ``G`` and the Schlick (1994) or dielectric Fresnel ``F``.
+* Blinn–Phong's ``(n·h)^e = exp(e log1p(−(1 − n·h)))`` at every ``n·h``,
+  :func:`blinn_phong_peak_form_fr`;
+* Cook–Torrance's ``f_r = k_s D G F / (c (n·v)(n·l))`` (Cook and Torrance 1982; Walter et al.
+  2007) with ``D`` rounded to the dtype, ``G`` and the cosines multiplied out, the dielectric
+  Fresnel of a rounded ``η`` or everything in float32, :func:`cook_torrance_fr`.
 
 References
 ----------
-B. T. Phong, "Illumination for computer generated pictures", 1975.
-J. F. Blinn, "Models of light reflection for computer synthesized pictures", 1977.
-R. L. Cook and K. E. Torrance, "A reflectance model for computer graphics", 1982.
-C. Schlick, "An inexpensive BRDF model for physically-based rendering", 1994.
+B. T. Phong, "Illumination for computer generated pictures", CACM 18(6), 1975.
+J. F. Blinn, "Models of light reflection for computer synthesized pictures", SIGGRAPH 1977.
+R. L. Cook and K. E. Torrance, "A reflectance model for computer graphics", ACM TOG 1(1), 1982.
+C. Schlick, "An inexpensive BRDF model for physically-based rendering", CGF 13(3), 1994.
 B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet models for refraction
-through rough surfaces", 2007.
+through rough surfaces", EGSR 2007.
 """
 
 from __future__ import annotations
@@ -40,112 +42,125 @@ import math
 
 import numpy as np
 
-from .._numeric import log1p, log_corrected, saturate_to
+from .._numeric import _exponent_in, log1p, saturate_to
+from ..fresnel import dielectric, eta_from_f0
+from ..models import Geometry
+from ..models.base import cos_power
 from ..vec import normalize
 
-_EXP_CUTOFF = 745.0  # exp(-745) is the last nonzero float64
-_INV_SQRT_PI = 0.5641895835477563  # 1/√π, correctly rounded
-_F64_TINY = float(np.finfo(np.float64).tiny)
-_F64_MAX = float(np.finfo(np.float64).max)
 
+# ============================================================================ geometry
+def with_quantities(g: Geometry, cls=Geometry, **quantities) -> Geometry:
+    """A fresh geometry on the unit vectors of ``g`` with some of its derived quantities given.
 
-# ============================================================================ quantities
-class Quantities:
-    """The shading quantities of a geometry, some of them replaced by the report's own formulas.
+    The engine derives every other quantity from the given ones when a model asks for it.
 
     Parameters
     ----------
     g : Geometry
-        The public :class:`~lighting.models.brdf.Geometry` whose other quantities are read.
-    **replaced : ndarray
-        The quantities given in their own form (``h``, ``n_dot_h``, ``sin2_h`` …).
+        The engine's geometry; its unit vectors and dtype are taken.
+    cls : type, optional
+        A subclass of :class:`Geometry` to build.
+    **quantities : ndarray
+        Derived quantities by their public names (``h``, ``v_dot_h``, ``sin2_h`` …).
+
+    Returns
+    -------
+    Geometry
     """
+    q = cls(g.n, g.l, g.v, unit=True, dtype=g.dtype)
+    for name, value in quantities.items():
+        setattr(q, name, value)  # the cached quantities are plain instance attributes
+    return q
 
-    def __init__(self, g, **replaced):
-        self._g = g
-        self.__dict__.update(replaced)
 
-    def __getattr__(self, name):
-        return getattr(self._g, name)
+def in_float64(g: Geometry) -> Geometry:
+    """``g`` in float64: the same vectors and derived quantities, converted exactly.
+
+    The engine evaluates Cook–Torrance's factors in float64 from the quantities of a float32
+    geometry; on this one its float64 results are those of ``g``.
+
+    Parameters
+    ----------
+    g : Geometry
+        Usually float32.
+
+    Returns
+    -------
+    Geometry
+    """
+    names = ("n_dot_l", "n_dot_v", "n_dot_h", "v_dot_h", "sin2_h", "sin2_v", "sin2_l")
+    wide = Geometry(*(x.astype(np.float64) for x in (g.n, g.l, g.v)), unit=True, dtype=np.float64)
+    for name in names:
+        setattr(wide, name, getattr(g, name).astype(np.float64))
+    return wide
 
 
 def _dot(a, b):
     return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
 
 
-def _cross2(a, b):
-    """``|a × b|²``."""
-    x = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
-    y = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
-    z = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-    return x * x + y * y + z * z
+def plain_half_vector(g: Geometry) -> Geometry:
+    """The half vector from the plain sum of the normalized vectors: ``h = (l + v)/|l + v|``, ``v·h = |l + v|/2``.
 
-
-def plain_half_vector(g) -> Quantities:
-    """The half vector from the plain sum ``l + v`` of the normalized vectors (no cancellation-free rows).
-
-    ``h = (l + v)/|l + v|`` (the scaled normalization of :func:`lighting.vec.normalize` where
-    ``|l + v|²`` is tiny), ``v·h = |l + v|/2``, ``sin²θ_h = |n × h|²``,
-    ``1 − n·h = sin²θ_h / (1 + n·h)``.
+    ``h = (l + v) · (1/|l + v|)``; where ``|l + v|²`` is tiny, :func:`lighting.vec.normalize` of the sum.
 
     Parameters
     ----------
     g : Geometry
+        The engine's geometry; its unit ``l`` and ``v`` are read.
 
     Returns
     -------
-    Quantities
-        ``g`` with ``h``, ``n_dot_h``, ``v_dot_h``, ``sin2_h`` and ``one_minus_n_dot_h`` replaced.
+    Geometry
+        ``g`` with ``h`` and ``v_dot_h`` given; ``n·h``, ``sin²θ_h`` and ``1 − n·h`` are the engine's
+        from that ``h``.
     """
     s = g.l + g.v
     len2 = _dot(s, s)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         h = s * (1 / np.sqrt(len2))[..., None]
-    tiny = len2 < np.finfo(g.dtype).tiny * 1e4
-    if np.any(tiny):
-        h = np.array(np.broadcast_to(h, s.shape))
-        h[tiny] = normalize(s[tiny])
-    n_dot_h = _dot(g.n, h)
-    sin2_h = np.clip(_cross2(g.n, h), 0, 1)
-    return Quantities(
-        g, h=h, n_dot_h=n_dot_h, v_dot_h=0.5 * np.sqrt(len2), sin2_h=sin2_h,
-        one_minus_n_dot_h=sin2_h / (1 + np.maximum(n_dot_h, 0)),
-    )  # fmt: skip
+    h = np.where((len2 < np.finfo(g.dtype).tiny * 1e4)[..., None], normalize(s), h)
+    return with_quantities(g, h=h, v_dot_h=0.5 * np.sqrt(len2))
 
 
-def cos_squared_half_angle(g) -> Quantities:
+def cos_squared_half_angle(g: Geometry) -> Geometry:
     """The textbook ``sin²θ_h = 1 − cos²θ_h`` and ``1 − n·h`` formed directly.
 
     Parameters
     ----------
     g : Geometry
+        The engine's geometry; its ``n·h`` is read.
 
     Returns
     -------
-    Quantities
-        ``g`` with ``sin2_h`` and ``one_minus_n_dot_h`` replaced.
+    Geometry
+        ``g`` with ``sin2_h`` and ``one_minus_n_dot_h`` given.
     """
     c = np.clip(g.n_dot_h, -1, 1)
-    return Quantities(g, sin2_h=np.clip(1 - c * c, 0, 1), one_minus_n_dot_h=1 - np.minimum(g.n_dot_h, 1))
+    return with_quantities(g, sin2_h=np.clip(1 - c * c, 0, 1), one_minus_n_dot_h=1 - np.minimum(g.n_dot_h, 1))
 
 
-def textbook_r_dot_v(g) -> Quantities:
+def textbook_r_dot_v(g: Geometry) -> Geometry:
     """``1 − R_l·v`` with ``R_l·v = 2 (n·l)(n·v) − l·v``, as the slides compute it.
 
     Parameters
     ----------
     g : Geometry
+        The engine's geometry; its ``R_l·v`` is read.
 
     Returns
     -------
-    Quantities
-        ``g`` with ``one_minus_r_dot_v`` replaced.
+    Geometry
+        ``g`` with ``one_minus_r_dot_v`` given.
     """
-    return Quantities(g, one_minus_r_dot_v=np.clip(1 - g.r_dot_v, 0, 2))
+    return with_quantities(g, one_minus_r_dot_v=np.clip(1 - g.r_dot_v, 0, 2))
 
 
 def batch_normalize(a):
-    """The earlier :func:`lighting.vec.normalize`: one path (fast or scaled) for the whole batch.
+    """The earlier normalization: the direct ``a/|a|`` for the whole batch, or the scaled form for all of it.
+
+    The scaled form divides by the largest component first, ``s = a / max|a_i|``, then ``s/|s|``.
 
     Parameters
     ----------
@@ -158,245 +173,114 @@ def batch_normalize(a):
     """
     fi = np.finfo(a.dtype)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-        len2 = a[..., 0] * a[..., 0] + a[..., 1] * a[..., 1] + a[..., 2] * a[..., 2]
-    lo, hi = float(fi.tiny) * 1e4, float(fi.max) * 1e-4
-    if np.all((len2 > lo) & (len2 < hi)):
+        len2 = _dot(a, a)
+    if np.all((len2 > float(fi.tiny) * 1e4) & (len2 < float(fi.max) * 1e-4)):
         return a / np.sqrt(len2)[..., None]
-    m = np.max(np.abs(a), axis=-1, keepdims=True)  # scaled by the largest component first
+    m = np.max(np.abs(a), axis=-1, keepdims=True)
     with np.errstate(divide="ignore", invalid="ignore"):
-        sc = np.where(m > 0, a / np.where(m > 0, m, 1), 0).astype(a.dtype, copy=False)
-    len_s = np.sqrt(sc[..., 0] ** 2 + sc[..., 1] ** 2 + sc[..., 2] ** 2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.where(len_s[..., None] > 0, sc / np.where(len_s > 0, len_s, 1)[..., None], 0)
-    return out.astype(a.dtype, copy=False)
+        s = np.where(m > 0, a / np.where(m > 0, m, 1), 0).astype(a.dtype, copy=False)
+    return normalize(s)  # |s| >= 1 where s is not zero: the direct path, vector by vector
 
 
-# ============================================================================ helpers
-def exponent_in(dtype, exponent: float):
-    """A lobe exponent ``e >= 0`` as a scalar of ``dtype``, clamped to the type's positive finite range.
+# ============================================================================ Blinn–Phong
+class _PeakFormLobe(Geometry):
+    """A geometry whose ``e · log(n·h)`` is ``e · log1p(−(1 − n·h))`` everywhere (no ``log(n·h)`` far from the peak)."""
 
-    Parameters
-    ----------
-    dtype : type
-    exponent : float
-
-    Returns
-    -------
-    numpy scalar
-        0 for ``e = 0``; otherwise ``e`` within [smallest subnormal, largest finite].
-    """
-    if exponent == 0:
-        return dtype(0)
-    info = np.finfo(dtype)
-    return dtype(min(max(float(exponent), float(info.smallest_subnormal)), float(info.max)))
+    def log_n_dot_h_power(self, exponent: float, dtype):
+        d = np.atleast_1d(self.one_minus_n_dot_h.astype(dtype, copy=False))
+        with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
+            t = log1p(-np.minimum(d, 1)) * _exponent_in(dtype, exponent)
+        return t, np.broadcast_shapes(np.shape(self.one_minus_n_dot_h), np.shape(self.above))
 
 
-def cos_power(one_minus_cos, exponent: float):
-    """``max(cos φ, 0)^e = exp(e log1p(−(1 − cos φ)))`` from ``1 − cos φ``, with ``0^0 = 1``.
+def blinn_phong_peak_form_fr(model, g: Geometry):
+    """Blinn–Phong's ``f_r`` with ``(n·h)^e = exp(e log1p(−(1 − n·h)))`` at every ``n·h``.
 
-    Parameters
-    ----------
-    one_minus_cos : ndarray
-        ``1 − cos φ`` in [0, 2].
-    exponent : float
-
-    Returns
-    -------
-    ndarray
-        In the dtype of ``one_minus_cos``.
-    """
-    d = one_minus_cos
-    if exponent == 0:
-        return np.ones_like(d)
-    e = exponent_in(d.dtype.type, exponent)
-    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-        out = np.exp(e * log1p(-np.minimum(d, 1)))
-    return np.where(d < 1, out, 0).astype(d.dtype, copy=False)
-
-
-def rgb(values, coeff):
-    """Scalar field times RGB coefficient, formed in float64, saturated to the dtype of ``values``.
-
-    Parameters
-    ----------
-    values : ndarray
-    coeff : array_like, shape (3,)
-
-    Returns
-    -------
-    ndarray, shape values.shape + (3,)
-    """
-    with np.errstate(over="ignore"):
-        out = values[..., None] * np.asarray(coeff, dtype=np.float64)
-    return saturate_to(out, values.dtype)
-
-
-def combine(terms, dt):
-    """``Σ_k s_k c_k`` of separable terms → ``(..., 3)`` in ``dt``, saturated.
-
-    Parameters
-    ----------
-    terms : list of (ndarray, ndarray)
-    dt : type
-
-    Returns
-    -------
-    ndarray
-    """
-    big = np.finfo(dt).max
-    with np.errstate(over="ignore"):
-        out = sum(rgb(np.asarray(s, dtype=dt), c) for s, c in terms)
-    return np.minimum(out, big)
-
-
-def lobe_over_cos(q, lobe64, log_lobe64, coeff):
-    """``coeff · lobe / (π n·l)`` divided in float64 (``exp(ln lobe − ln(π n·l))`` where the lobe is subnormal).
-
-    Parameters
-    ----------
-    q : Geometry or Quantities
-    lobe64, log_lobe64 : ndarray
-        The lobe in float64 and its logarithm.
-    coeff : array_like, shape (3,)
-
-    Returns
-    -------
-    ndarray, shape (..., 3)
-        In the dtype of ``q``.
-    """
-    nl = q.n_dot_l.astype(np.float64)
-    den = math.pi * np.where(nl > 0, nl, 1.0)
-    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-        r = np.where(lobe64 >= _F64_TINY, lobe64 / den, np.exp(log_lobe64 - np.log(den)))
-    r = np.where(q.above, np.minimum(r, _F64_MAX), 0.0)
-    return saturate_to(rgb(r, coeff), q.dtype)
-
-
-# ============================================================================ Phong, Blinn–Phong
-def phong_fr(model, q):
-    """Phong's ``f_r = k_s (R_l·v)^e / (π n·l)``, the lobe from ``1 − R_l·v`` of ``q``.
-
-    Parameters
-    ----------
-    model : Phong
-    q : Geometry or Quantities
-
-    Returns
-    -------
-    ndarray, shape (..., 3)
-    """
-    d = np.minimum(q.one_minus_r_dot_v.astype(np.float64), 1.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        log_lobe = model.shininess * np.log1p(-d) if model.shininess else np.zeros_like(d)
-    return lobe_over_cos(q, cos_power(d, model.shininess), log_lobe, model.ks)
-
-
-def _exp_scaled(t, dt, scale):
-    """``exp(t) · scale`` in place; the factor goes into the exponent where ``exp(t)`` alone is subnormal."""
-    if scale == 1:
-        return np.exp(t, out=t)
-    log_scale = math.log(scale)
-    info = np.finfo(dt)
-    if log_scale > math.log(float(info.max)) - 1:
-        t += dt(log_scale)
-        t = np.exp(t, out=t)
-        return np.minimum(t, info.max, out=t)
-    low = t < dt(math.log(float(info.tiny)))
-    low &= t > dt(math.log(float(info.smallest_subnormal)) - log_scale - 1)
-    t_low = t[low] + dt(log_scale) if np.any(low) else None
-    t = np.exp(t, out=t)
-    t *= dt(scale)
-    if t_low is not None:
-        t[low] = np.exp(t_low)
-    return t
-
-
-def blinn_phong_lobe(model, q, dtype=None, scale: float = 1.0):
-    """``scale · (n·h)^e`` (0 below the horizon): ``exp(e log(n·h))`` far from the peak, ``log1p(−(1 − n·h))`` near it.
+    Normalized: ``k_s (e+2)/(2π) (n·h)^e`` (:func:`lighting.models.base.cos_power`); raw: the
+    model's own ``f_r`` on a geometry that gives it that lobe.
 
     Parameters
     ----------
     model : BlinnPhong
-    q : Geometry or Quantities
-    dtype : type, optional
-        Default: the dtype of ``q``.
-    scale : float
-
-    Returns
-    -------
-    ndarray
-    """
-    dt = dtype or q.dtype
-    if model.shininess == 0:
-        return saturate_to(np.where(q.above, scale, 0), dt)
-    d = q.one_minus_n_dot_h.astype(dt, copy=False)
-    c = q.n_dot_h.astype(dt, copy=False)
-    shape = np.broadcast_shapes(np.shape(c), np.shape(d))
-    c, d = np.atleast_1d(c), np.atleast_1d(d)
-    # The two logarithms blended arithmetically in one log_corrected pass, as the engine does.
-    farf = (c < 0.5).astype(dt)
-    nearf = 1 - farf
-    y = np.abs(c)
-    y *= farf
-    y0 = np.subtract(1, d)
-    y0 *= nearf
-    y += y0
-    x = y - 1
-    x *= farf
-    nearf *= d
-    x -= nearf
-    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
-        t = log_corrected(y, x)
-        t *= exponent_in(dt, model.shininess)
-        t = _exp_scaled(t, dt, scale)
-    t *= q.above_mask
-    return t.reshape(np.broadcast_shapes(shape, np.shape(q.above))).astype(dt, copy=False)
-
-
-def blinn_phong_lobe_peak_form(model, q, dtype=None, scale: float = 1.0):
-    """``scale · (n·h)^e`` from ``1 − n·h`` everywhere (:func:`cos_power`), the factor multiplied on.
-
-    Parameters
-    ----------
-    model : BlinnPhong
-    q : Geometry or Quantities
-    dtype : type, optional
-    scale : float
-
-    Returns
-    -------
-    ndarray
-    """
-    dt = dtype or q.dtype
-    lobe = cos_power(q.one_minus_n_dot_h.astype(dt), model.shininess)
-    if scale != 1:
-        with np.errstate(over="ignore", under="ignore"):
-            lobe = saturate_to(lobe * scale, dt)
-    return np.where(q.above, lobe, 0).astype(dt, copy=False)
-
-
-def blinn_phong_fr(model, q, lobe=blinn_phong_lobe):
-    """Blinn–Phong's ``f_r``: ``k_s lobe / (π n·l)`` divided in float64, or ``k_s (e+2)/(2π) lobe`` normalized.
-
-    Parameters
-    ----------
-    model : BlinnPhong
-    q : Geometry or Quantities
-    lobe : callable
-        :func:`blinn_phong_lobe` or :func:`blinn_phong_lobe_peak_form`.
+    g : Geometry
 
     Returns
     -------
     ndarray, shape (..., 3)
+        In the dtype of ``g``.
     """
-    e = model.shininess
     if not model.normalized:
-        lobe64 = lobe(model, q, np.float64)
-        if e == 0:
-            return lobe_over_cos(q, lobe64, np.zeros_like(lobe64), model.ks)
-        c = q.n_dot_h.astype(np.float64)
-        d = np.minimum(q.one_minus_n_dot_h.astype(np.float64), 1.0)
-        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-            log_lobe = e * np.where(c < 0.5, np.log(np.where(c > 0, c, 0)), np.log1p(-d))
-        return lobe_over_cos(q, lobe64, log_lobe, model.ks)
-    return rgb(lobe(model, q, scale=(e + 2) / (2 * math.pi)), model.ks)
+        return model.eval_geometry(with_quantities(g, cls=_PeakFormLobe))
+    dt = g.dtype
+    with np.errstate(over="ignore", under="ignore"):
+        lobe = cos_power(g.one_minus_n_dot_h.astype(dt), model.shininess)
+        lobe = saturate_to(lobe * ((model.shininess + 2) / (2 * math.pi)), dt)
+        lobe = np.where(g.above, lobe, 0).astype(dt, copy=False)
+        return saturate_to(lobe[..., None] * np.asarray(model.ks, dtype=np.float64), dt)
+
+
+# ============================================================================ Cook–Torrance
+#: The earlier forms :func:`cook_torrance_fr` can put back.
+COOK_TORRANCE_FORMS = ("d-dtype", "visibility", "dielectric", "float32")
+
+
+def _careful_visibility(model, g64: Geometry):
+    """The engine's ``G/((n·v)(n·l))`` formed directly (float64).
+
+    The model keeps this factor private (``D``, ``G`` and ``F`` are public): the one place the
+    study reaches into it.
+    """
+    return model._visibility(g64, True)
+
+
+def cook_torrance_fr(model, g: Geometry, put_back=frozenset()):
+    """Cook–Torrance's ``f_r = k_s D G F / (c (n·v)(n·l))`` with the earlier forms named in ``put_back``.
+
+    ``"d-dtype"``: ``D`` rounded to the dtype before the division; ``"visibility"``:
+    ``D G / (c (n·v)(n·l))`` with ``G`` and the cosines multiplied out; ``"dielectric"``:
+    ``dielectric(v·h, η)`` with the rounded ``η = (1 + √f0)/(1 − √f0)``; ``"float32"``: all three,
+    in float32.  The other factors are the model's: ``D`` in float64, the visibility formed
+    directly, ``F`` in float64 (the conductor's ``F`` has no earlier form).  With nothing put
+    back this is the model's ``f_r``.
+
+    Parameters
+    ----------
+    model : CookTorrance
+        Isotropic, with the V-cavity or separable Smith geometry.
+    g : Geometry
+    put_back : set of str
+        Names from :data:`COOK_TORRANCE_FORMS`.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        In the dtype of ``g``.
+    """
+    g64 = in_float64(g)
+    wide = np.float32 if "float32" in put_back else np.float64
+    d = model.D(g) if put_back & {"d-dtype", "float32"} else model.D(g64)
+    c = 4.0 if model.denominator == "4" else math.pi
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        if put_back & {"visibility", "float32"}:
+            dg = np.where(g.above, d.astype(wide) * model.G(g).astype(wide), 0)
+            den = wide(c) * g.n_dot_v.astype(wide) * g.n_dot_l.astype(wide)
+            s = np.where(den > 0, dg / np.where(den > 0, den, 1), 0)
+        else:
+            dv = d.astype(np.float64) * _careful_visibility(model, g64)
+            s = np.where(g.above & ~np.isnan(dv), dv, 0) / c
+        s = np.minimum(s, np.finfo(wide).max).astype(np.float64)
+        ks = np.asarray(model.ks, dtype=np.float64)
+        if model.fresnel == "none":
+            fr = s[..., None] * ks
+        elif model.fresnel == "schlick":  # F = f0 + (1 − f0)(1 − v·h)^5, one lobe per term
+            m = ((1 - np.clip(g.v_dot_h.astype(wide), 0, 1)) ** 5).astype(np.float64)
+            fr = s[..., None] * (ks * model.f0) + (s * m)[..., None] * (ks * (1.0 - model.f0))
+        else:
+            if model.fresnel == "dielectric" and put_back & {"dielectric", "float32"}:
+                vh = np.clip(g.v_dot_h.astype(wide), 0, 1)
+                f = dielectric(vh, eta_from_f0(model.f0)).astype(g.dtype).astype(np.float64)
+            else:
+                f = model.F(g64)
+            fr = (s[..., None] * f) * ks
+    return saturate_to(fr, g.dtype)
+

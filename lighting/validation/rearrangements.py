@@ -2,10 +2,10 @@
 
 Each :class:`Rearrangement` names the registered models it applies to (``models``, by
 ``model.name``) and how ``f_r`` is evaluated with the formula undone (``variant``): the
-report's own transcriptions in :mod:`lighting.validation.forms` and
-:mod:`lighting.validation.microfacet_forms`, on the quantities of the public
-:class:`~lighting.models.brdf.Geometry`; the spot light's textbook cone multiplies the
-falloff of a public :class:`~lighting.lights.punctual.PointLight`.
+engine's own model on a :class:`~lighting.models.geometry.Geometry` carrying a textbook
+quantity, or the textbook form of a model's formula built from the engine's own factors
+(:mod:`lighting.validation.forms`); the spot light's textbook cone multiplies the falloff of
+a public :class:`~lighting.lights.punctual.PointLight`.
 """
 
 from __future__ import annotations
@@ -16,18 +16,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._numeric import cos_sin_deg, safe_div, saturate_to
+from ..models import Geometry
 from .cases import LIGHT_FORMS
 from .classify import NORMAL
 from .forms import (
     batch_normalize,
-    blinn_phong_fr,
-    blinn_phong_lobe_peak_form,
+    blinn_phong_peak_form_fr,
+    cook_torrance_fr,
     cos_squared_half_angle,
-    phong_fr,
     plain_half_vector,
     textbook_r_dot_v,
 )
-from .microfacet_forms import cook_torrance_fr
 
 
 @dataclass
@@ -47,7 +46,7 @@ class Rearrangement:
     existing: bool = False
     #: The registered model names (``model.name``) whose ``f_r`` carries the formula.
     models: tuple = ()
-    #: The quantities the variant reads, from the public geometry and ``(n, l, v)``: ``q(g, n, l, v)``.
+    #: The geometry the variant evaluates on, from the engine's and ``(n, l, v)``: ``q(g, n, l, v)``.
     quantities: Callable | None = field(default=None, repr=False, compare=False)
     #: ``f_r`` with the formula undone: ``variant(model, q, n, l, v)``, ``None`` where it does not apply.
     variant: Callable | None = field(default=None, repr=False, compare=False)
@@ -56,48 +55,17 @@ class Rearrangement:
 
 
 # ============================================================================ the variants
-def _careful_fr(model, q, n, l, v):  # noqa: E741
-    """``f_r`` in the engine's own form, on quantities of which some are put back (dispatch by name)."""
-    if model.name == "phong":
-        return phong_fr(model, q)
-    if model.name == "blinn-phong":
-        return blinn_phong_fr(model, q)
-    return cook_torrance_fr(model, q)
-
-
-def phong_fr_variant(model, q, n, l, v):  # noqa: E741
-    """The Phong rearrangement's ``variant``: :func:`~lighting.validation.forms.phong_fr` on ``q``.
-
-    Parameters
-    ----------
-    model : Phong
-        The model; its ``ks`` and ``shininess`` are read.
-    q : Geometry or Quantities
-        The quantities the rearrangement's ``quantities`` built (the textbook ``1 − R_l·v``).
-    n, l, v : ndarray, shape (..., 3)
-        The case's vectors; not read (every variant takes them).
-
-    Returns
-    -------
-    ndarray, shape (..., 3)
-        ``f_r`` in the dtype of ``q``.
-    """
-    return phong_fr(model, q)
-
-
 def _engine_fr(model, q, n, l, v):  # noqa: E741
-    """The engine's ``f_r`` on a geometry the variant built (the earlier normalization)."""
+    """The engine's own ``f_r`` on the geometry the rearrangement built (a quantity or the vectors put back)."""
     return model.eval_geometry(q)
 
 
 def _batch_normalized(g, n, l, v):  # noqa: E741
-    from ..models import Geometry
-
     return Geometry(*(batch_normalize(x) for x in (n, l, v)), unit=True)
 
 
 def _bp_peak_form(model, q, n, l, v):  # noqa: E741
-    return blinn_phong_fr(model, q, lobe=blinn_phong_lobe_peak_form)
+    return blinn_phong_peak_form_fr(model, q)
 
 
 def _divided_in_dtype(model, q, n, l, v):  # noqa: E741
@@ -107,13 +75,13 @@ def _divided_in_dtype(model, q, n, l, v):  # noqa: E741
     return safe_div(model.eval_cos(n, l, v), q.n_dot_l[..., None])
 
 
-def _ct(flag, float32_only=False, dielectric_only=False):
+def _ct(form, float32_only=False, dielectric_only=False):
     def variant(model, q, n, l, v):  # noqa: E741
         if float32_only and n.dtype != np.float32:
             return None
         if dielectric_only and model.fresnel != "dielectric":
             return None
-        return cook_torrance_fr(model, q, frozenset({flag}))
+        return cook_torrance_fr(model, q, frozenset({form}))
 
     return variant
 
@@ -160,7 +128,7 @@ def rearrangement_list() -> list[Rearrangement]:
             " with l_i²|v|² − v_i²|l|² = Σ_j (l_i v_j − v_i l_j)(l_i v_j + v_i l_j)",
             models=("blinn-phong", "cook-torrance"),
             quantities=lambda g, n, l, v: plain_half_vector(g),
-            variant=_careful_fr,
+            variant=_engine_fr,
         ),
         Rearrangement(
             "normalization path chosen per vector",
@@ -225,7 +193,7 @@ def rearrangement_list() -> list[Rearrangement]:
             existing=True,
             models=("phong",),
             quantities=lambda g, n, l, v: textbook_r_dot_v(g),
-            variant=phong_fr_variant,
+            variant=_engine_fr,
         ),
         Rearrangement(
             "tan²θ_h from the cross product",
@@ -235,7 +203,7 @@ def rearrangement_list() -> list[Rearrangement]:
             existing=True,
             models=("blinn-phong", "cook-torrance"),
             quantities=lambda g, n, l, v: cos_squared_half_angle(g),
-            variant=_careful_fr,
+            variant=_engine_fr,
         ),
         Rearrangement(
             "microfacet terms in float64",
@@ -253,8 +221,6 @@ def _legacy_engine(name, specs, cols, n, l, v):  # noqa: E741
     """Engine ``f_r`` values ``(m, len(cols), 3)`` with rearrangement ``name`` undone (NaN in other columns)."""
     import warnings
 
-    from ..models import Geometry
-
     rr = next(r for r in rearrangement_list() if r.name == name)
     out = np.full((n.shape[0], len(cols), 3), np.nan)
     with warnings.catch_warnings():
@@ -265,7 +231,7 @@ def _legacy_engine(name, specs, cols, n, l, v):  # noqa: E741
             if form != "eval":  # f_r itself carries every rearranged formula; the other forms share them
                 continue
             model = specs[si].model
-            # The transcriptions are of the slides' forms; the models on the general reference path
+            # The variants are of the slides' forms; the models on the general reference path
             # (correlated and anisotropic Cook–Torrance among them) are not rearranged there.
             if model.name not in rr.models or specs[si].general:
                 continue
