@@ -205,7 +205,7 @@ def test_lobe_mesh_and_peak_print_their_counts_and_peak():
     m = lobe_mesh(Lambert(1.0), (0.0, 0.0, 1.0), resolution=8)
     short_line(
         repr(m),
-        "LobeMesh(f_r lobe of Lambert(kd=1), light at θ=0°",
+        "LobeMesh(f_r [luminance] lobe of Lambert(kd=1), light at θ=0°",
         f"{1 + 2 * 8**2} vertices",
         f"{2 * 16 * (8 - 1) + 16} faces (8 rings × 16 segments)",
         f"max {g4(1 / np.pi)}",

@@ -139,7 +139,7 @@ def _polar_text(d) -> str:
 
 def mesh_repr(m) -> str:
     """One line for a :class:`~lighting.analysis.meshes.LobeMesh`."""
-    q = quantity_label(m.cosine, False, m.channel)
+    q = quantity_label(m.cosine, False, "luminance" if m.channel is None else m.channel)  # the radius is one number
     return (f"LobeMesh({q} lobe{_of(m.model)}, light at {_polar_text(m.light)}: {len(m.vertices)} vertices, "
             f"{len(m.faces)} faces ({m.rings} rings × {m.segments} segments); max {num(peak(m.values)[1])} toward "
             f"{_polar_text(m.peak)}, width {num(m.width)} rad)")  # fmt: skip
@@ -435,7 +435,7 @@ def mesh_png(m):
     ax.set_box_aspect((2, 2, 1), zoom=1.3)
     ax.view_init(elev=16, azim=-68)
     ax.set_axis_off()
-    q = math_quantity(m.cosine, False, m.channel)
+    q = math_quantity(m.cosine, False, "luminance" if m.channel is None else m.channel)
     light = f"light at θ = {math.degrees(math.acos(min(max(ld[2], -1.0), 1.0))):.4g}°"
     _fig_title(fig, m.model, f"{light}; distance from the centre in each view direction: {q}, up to {num(top)} 1/sr")
     return _png(fig)
