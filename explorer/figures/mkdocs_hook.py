@@ -7,7 +7,9 @@ to the site under ``gallery/``; the page ``gallery.md`` gets one section per fig
 (title, image linked to its full-size file, caption, the slides it illustrates, its
 parameters) in place of the line ``<!-- figures -->``, and the plausibility audit's section
 also gets the audit itself as an HTML table, computed during the build.  So ``mkdocs build``
-is the one command, and the gallery can never list a figure the set does not have.
+is the one command, and the gallery can never list a figure the set does not have.  The hook also copies MathJax
+(``mkdocs.yml`` says from where and why) into the site, which typesets the formulas that ``pymdownx.arithmatex``
+marks.
 
 Every page may quote the figure set instead of copying numbers by hand: ``{{ figures.count }}``
 is the number of figures, and ``{{ figures.NAME.KEY }}`` a value the figure ``NAME`` measured
@@ -145,7 +147,7 @@ def on_pre_build(config, **kwargs):
 
 
 def on_files(files, config, **kwargs):
-    """MkDocs event: add every figure's PNG to the site under ``gallery/``.
+    """MkDocs event: add every figure's PNG to the site under ``gallery/``, and MathJax under ``javascripts/mathjax/``.
 
     Parameters
     ----------
@@ -161,8 +163,14 @@ def on_files(files, config, **kwargs):
     mkdocs.structure.files.Files
         ``files`` with the figures added.
     """
+    import importlib.resources
+
     from mkdocs.structure.files import File
 
+    # MathJax from the installed package (the docs extra), served by the site itself: no CDN, works from disk.
+    mathjax = importlib.resources.files("mathjax") / "static" / "mathjax"
+    for src, dest in ((mathjax / "es5" / "tex-svg-full.js", "tex-svg-full.js"), (mathjax / "LICENSE", "LICENSE")):
+        files.append(File.generated(config, f"javascripts/mathjax/{dest}", abs_src_path=str(src)))
     for rec in _state["manifest"]["figures"]:
         for fmt in _LINKED_FORMATS:
             name = rec["files"].get(fmt)

@@ -3,12 +3,16 @@
 The site is built once per session (``mkdocs build --strict`` with ``LIGHTING_DOCS_QUICK=1``, the quick
 figure set) into a temporary folder; the build draws that figure set unless ``build/gallery-quick`` already
 holds it for the same sources, so those tests are marked slow (``LIGHTING_DOCS_SITE=DIR`` checks a site
-already built instead). The formula conversion itself is tested directly, in the fast loop.
+already built instead). The site's Markdown (``pymdownx.arithmatex`` marks each formula for MathJax), the
+docstrings' reST rewriting and MathJax's reading of formulas (in Node.js, from the copy the site ships) are
+tested directly, in the fast loop.
 """
 
 from __future__ import annotations
 
 import html
+import importlib.resources
+import json
 import os
 import re
 import subprocess
@@ -17,18 +21,24 @@ from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
+import griffe
+import markdown
 import pytest
+import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "explorer" / "figures"))
 
-import mkdocs_math  # noqa: E402  (the hook module, imported as MkDocs imports it: by path)
+import docstring_rest  # noqa: E402  (the Griffe extension, imported as mkdocstrings imports it: by path)
 
 SPHINX_ROLE = re.compile(r":(func|class|meth|mod|attr|data|obj|exc):`")
 # reST a reader would see as text: a role's name, with or without its backticks, and a literal's double backticks.
 REST_RESIDUE = re.compile(
     r":(?:py:)?(?:func|class|meth|mod|attr|data|obj|exc|const|ref|doc|term|math|any):|``[^`]*?``|``"
 )
+# What pymdownx.arithmatex (generic mode) makes of a formula: TeX between \( \) or \[ \] in a span or a div.
+ARITHMATEX = re.compile(r'<(span|div) class="arithmatex">(.*?)</\1>', re.S)
+MATHJAX_ES5 = importlib.resources.files("mathjax") / "static" / "mathjax" / "es5"
 
 
 def rest_residue(text: str) -> list[str]:
@@ -36,62 +46,103 @@ def rest_residue(text: str) -> list[str]:
     return [" ".join(text[max(0, m.start() - 40) : m.end() + 40].split()) for m in REST_RESIDUE.finditer(text)]
 
 
+def site_markdown(text: str) -> str:
+    """``text`` as the site's pages are converted: Python-Markdown with ``mkdocs.yml``'s extensions."""
+    exts = yaml.safe_load((ROOT / "mkdocs.yml").read_text(encoding="utf-8"))["markdown_extensions"]
+    names = [e if isinstance(e, str) else next(iter(e)) for e in exts]
+    configs = {next(iter(e)): next(iter(e.values())) for e in exts if isinstance(e, dict)}
+    return markdown.Markdown(extensions=names, extension_configs=configs).convert(text)
+
+
+def formulas(page_html: str) -> list[tuple[str, bool]]:
+    """The TeX of every formula arithmatex marked in ``page_html``, with ``True`` for displayed ones."""
+    return [(html.unescape(tex)[2:-2], tag == "div") for tag, tex in ARITHMATEX.findall(page_html)]
+
+
+def typeset_errors(tex: list[tuple[str, bool]]) -> list[list[str]]:
+    """The formulas MathJax (the site's copy, run by Node.js) cannot read, each with MathJax's message."""
+    proc = subprocess.run(
+        ["node", str(Path(__file__).with_name("mathjax_check.js")), str(MATHJAX_ES5)],
+        input=json.dumps(tex),
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    return json.loads(proc.stdout)
+
+
+def rewritten(tmp_path: Path, modules: dict[str, str]) -> griffe.Module:
+    """The package ``modules`` (name → source) as Griffe loads it with the site's docstring extension."""
+    for name, source in modules.items():
+        (tmp_path / "demo").mkdir(exist_ok=True)
+        (tmp_path / "demo" / f"{name}.py").write_text(source, encoding="utf-8")
+    ext = griffe.load_extensions(f"{docstring_rest.__file__}:RestRoles")
+    return griffe.load("demo", search_paths=[str(tmp_path)], extensions=ext, docstring_parser="numpy")
+
+
 # --------------------------------------------------------------------------- the conversion itself
 
 
-def test_inline_and_display_formulas_become_mathml():
-    text, formulas = mkdocs_math.protect_math("a $f_r = k_d/\\pi$ b\n\n$$\n\\frac{1}{\\pi}\n$$\n")
-    assert formulas == [("\n\\frac{1}{\\pi}\n", True), ("f_r = k_d/\\pi", False)]
-    html = mkdocs_math.restore_math(f"<p>{text.split(chr(10))[0]}</p>\n<p>MATHTOKEN00000Z</p>", formulas)
-    assert html.count("<math") == 2
-    assert '<div class="math-display"><math alttext="\\frac{1}{\\pi}"' in html
-    assert 'display="block"' in html and 'display="inline"' in html
-    assert "<mfrac><mrow><mn>1</mn></mrow><mrow><mi>&#x003C0;</mi></mrow></mfrac>" in html
-    assert "MATHTOKEN" not in html
+def test_inline_and_display_formulas_become_arithmatex():
+    out = site_markdown("a $f_r = k_d/\\pi$ b\n\n$$\n\\frac{1}{\\pi}\n$$\n")
+    assert formulas(out) == [("f_r = k_d/\\pi", False), ("\n\\frac{1}{\\pi}\n", True)]
+    assert out.count('class="arithmatex"') == 2
+    assert '<div class="arithmatex">\\[\n\\frac{1}{\\pi}\n\\]</div>' in out
+    assert '<span class="arithmatex">\\(f_r = k_d/\\pi\\)</span>' in out
+    assert "$" not in out
+    # MathJax reads both, as the page's script will.
+    assert typeset_errors(formulas(out)) == []
 
 
 def test_code_and_prices_are_not_mathematics():
     src = "`$x$` and\n\n```bash\necho $HOME $x$\n```\n\ncosts $5 and $6; a $ b $ c"
-    text, formulas = mkdocs_math.protect_math(src)
-    assert formulas == []
-    assert text == src
+    out = site_markdown(src)
+    assert formulas(out) == [] and "arithmatex" not in out
+    text = re.sub(r"<[^>]+>", "", out)  # the highlighter's spans
+    assert "<code>$x$</code>" in out and "echo $HOME $x$" in text and "costs $5 and $6; a $ b $ c" in text
 
 
 def test_formula_across_a_line_break_but_not_across_paragraphs():
-    _, formulas = mkdocs_math.protect_math("so $\\int f\n= 1$ here")
-    assert formulas == [("\\int f\n= 1", False)]
-    _, formulas = mkdocs_math.protect_math("one $a\n\nb$ two")
-    assert formulas == []
+    assert formulas(site_markdown("so $\\int f\n= 1$ here")) == [("\\int f\n= 1", False)]
+    assert formulas(site_markdown("one $a\n\nb$ two")) == []
 
 
-def test_rest_roles_and_math_directive_become_html():
-    page = (
-        '<h3 id="lighting.scene.load_scene">load_scene</h3>'
-        "<p>See :func:<code>load_scene</code>, :class:<code>~lighting.scene.load_scene</code>, "
-        ":mod:<code>lighting._numeric</code> and <code>as :class:`PointLight`</code>; shape::</p>\n"
-        '<div class="highlight"><pre><span></span><code>x</code></pre></div>'
-        "<p>.. math::</p>\n"
-        '<div class="highlight"><pre><span></span><code>E = \\frac{a}{b}\n</code></pre></div>'
-    )
-    out = mkdocs_math.rest_to_html(page)
-    assert SPHINX_ROLE.search(out) is None and ":func:" not in out and ".. math::" not in out
-    assert out.count('<a href="#lighting.scene.load_scene"><code>') == 2
-    assert "<code>lighting._numeric</code>" in out  # no documented entry: code, no link
+def test_rest_roles_and_math_directive_become_markdown(tmp_path):
+    pkg = rewritten(tmp_path, {
+        "__init__": "from demo.scene import load_scene, PointLight\n",
+        "_numeric": "",
+        "scene": (
+            "class PointLight:\n    pass\n\n\n"
+            "def load_scene():\n"
+            '    r"""See :func:`load_scene`, :class:`~demo.scene.load_scene`, :mod:`demo._numeric` and\n'
+            "    ``as :class:`PointLight` ``; shape::\n\n        x\n\n    .. math::\n\n        E = \\frac{a}{b}\n"
+            '    """\n'
+        ),
+    })  # fmt: skip
+    doc = pkg["scene.load_scene"].docstring.value
+    assert SPHINX_ROLE.search(doc) is None and ":func:" not in doc and ".. math::" not in doc
+    # Roles become cross-references to the object's own path (linked when it is on a page, code otherwise).
+    assert doc.count('<autoref identifier="demo.scene.load_scene" optional>`load_scene`</autoref>') == 2
+    assert '<autoref identifier="demo._numeric" optional>`demo._numeric`</autoref>' in doc
+    out = site_markdown(doc)
     assert "<code>as PointLight</code>" in out
     assert "shape:</p>" in out
-    assert '<div class="math-display"><math alttext="E = \\frac{a}{b}"' in out
+    assert '<div class="arithmatex">\\[\nE = \\frac{a}{b}\n\\]</div>' in out
 
 
-def test_literals_in_inline_code_lose_their_backticks_code_blocks_keep_them():
-    page = (
-        "<td><code>ndarray, shape ``theta_v.shape + (3,)`` (RGB), or Estimate</code></td>"
-        "<td><code>``a`` and ``b``</code> ``c``</td>"
-        '<div class="highlight"><pre><span></span><code>x = "``kept``"</code></pre></div>'
-    )
-    out = mkdocs_math.rest_to_html(page)
-    assert "<code>ndarray, shape theta_v.shape + (3,) (RGB), or Estimate</code>" in out
-    assert "<code>a and b</code>" in out
-    assert '<code>x = "``kept``"</code></pre>' in out
+def test_literals_in_types_lose_their_backticks_code_blocks_keep_them(tmp_path):
+    pkg = rewritten(tmp_path, {"__init__": (
+        "def f(x, y):\n"
+        '    """F.\n\n    Parameters\n    ----------\n'
+        "    x : ndarray, shape ``theta_v.shape + (3,)`` (RGB), or Estimate\n        The ``x``.\n"
+        "    y : ``a`` and ``b``\n        Y.\n\n    Examples\n    --------\n"
+        '    >>> x = "``kept``"\n    """\n'
+    )})  # fmt: skip
+    fn = pkg["f"]
+    params = next(s for s in fn.docstring.parsed if s.kind.value == "parameters").value
+    assert [str(p.annotation) for p in params] == ["ndarray, shape theta_v.shape + (3,) (RGB), or Estimate", "a and b"]
+    assert params[0].description == "The ``x``."  # prose keeps its literal: Markdown shows it as code
+    assert '>>> x = "``kept``"' in fn.docstring.value
 
 
 def test_rest_residue_names_the_markup_and_passes_plain_text():
@@ -105,12 +156,13 @@ def test_rest_residue_names_the_markup_and_passes_plain_text():
 
 
 def test_bad_formula_is_a_one_line_error_naming_it():
-    with pytest.raises(ValueError, match=r"formula 'a\^': latex2mathml cannot read it"):
-        mkdocs_math.to_mathml("a^", display=False)
-    with pytest.raises(ValueError, match=r"formula '\\fracc\{1\}\{2\}': unknown command \\fracc"):
-        mkdocs_math.to_mathml("\\fracc{1}{2}", display=True)
-    with pytest.raises(ValueError, match="'&' outside split"):
-        mkdocs_math.to_mathml("\\begin{aligned} a &= b \\\\ &= c \\end{aligned}", display=True)
+    aligned = "\\begin{aligned} a &= b \\\\ &= c \\end{aligned}"
+    errors = typeset_errors([("a^", False), ("\\fracc{1}{2}", True), ("\\frac{1}{2}", False), (aligned, True)])
+    # Each bad formula is named with MathJax's one-line reason; '&' in aligned is read (the site may use it).
+    assert errors == [
+        ["a^", "Missing superscript or subscript argument"],
+        ["\\fracc{1}{2}", "Undefined control sequence \\fracc"],
+    ]
 
 
 # --------------------------------------------------------------------------- the built site
@@ -126,6 +178,7 @@ class _Page(HTMLParser):
         self.visible = []
         self._skip = 0
         self._block = 0
+        self._formula = None
         self.stack = []
 
     def handle_starttag(self, tag, attrs):
@@ -138,6 +191,10 @@ class _Page(HTMLParser):
             self.srcs.append(a["src"])
         if tag == "link" and a.get("href"):
             self.srcs.append(a["href"])
+        if "arithmatex" in (a.get("class") or "").split():
+            # A formula (text only, no inner tags) holds its TeX until MathJax typesets it: as MathML did, it counts
+            # as typeset mathematics, not as text; its closing tag ends it.
+            self._formula, tag = tag, "math"
         if tag in ("script", "style", "code", "pre", "math"):
             self._skip += 1
         if tag in ("script", "style", "pre", "math"):
@@ -147,6 +204,8 @@ class _Page(HTMLParser):
         self.stack.append(tag)
 
     def handle_endtag(self, tag):
+        if tag == self._formula:
+            self._formula, tag = None, "math"
         if tag in ("script", "style", "code", "pre", "math") and self._skip:
             self._skip -= 1
         if tag in ("script", "style", "pre", "math") and self._block:
@@ -187,14 +246,36 @@ def site(tmp_path_factory):
 def test_models_page_has_typeset_mathematics(site):
     out, pages = site
     html = (out / "models.html").read_text(encoding="utf-8")
-    # Every $...$ of models.md is a <math> element; none is left as LaTeX source in the text.
-    n_src = len(mkdocs_math.protect_math((ROOT / "docs" / "models.md").read_text(encoding="utf-8"))[1])
-    assert html.count("<math ") == n_src >= 80
-    assert html.count('<div class="math-display">') >= 10
+    # Every $...$ of models.md is a formula marked for MathJax; none is left as LaTeX source in the text.
+    n_src = len(formulas(site_markdown((ROOT / "docs" / "models.md").read_text(encoding="utf-8"))))
+    assert len(formulas(html)) == n_src >= 80
+    assert html.count('<div class="arithmatex">') >= 10
     text = "".join(pages["models.html"].text)
     assert "$" not in text and "\\frac" not in text and "\\mathbf" not in text and "MATHTOKEN" not in text
     for page in ("opengl.html", "guide.html", "analysis.html", "stability.html", "api.html"):
-        assert '<div class="math-display"><math' in (out / page).read_text(encoding="utf-8"), page
+        assert '<div class="arithmatex">\\[' in (out / page).read_text(encoding="utf-8"), page
+
+
+@pytest.mark.slow
+def test_mathjax_ships_with_the_site_and_reads_every_formula(site):
+    out, pages = site
+    script = "javascripts/mathjax/tex-svg-full.js"
+    assert (out / script).stat().st_size > 1_000_000
+    assert "Apache License" in (out / "javascripts" / "mathjax" / "LICENSE").read_text(encoding="utf-8")
+    everything = []
+    for name, page in sorted(pages.items()):
+        found = formulas((out / name).read_text(encoding="utf-8"))
+        if not found:
+            continue
+        everything += found
+        # The configuration first, then MathJax itself, each from a path relative to the page (works from disk).
+        rel = os.path.relpath(out / script, (out / name).parent).replace(os.sep, "/")
+        config = rel.replace("mathjax/tex-svg-full.js", "mathjax-config.js")
+        assert config in page.srcs and rel in page.srcs, name
+        assert page.srcs.index(config) < page.srcs.index(rel), name
+    assert len(everything) >= 150
+    # Each formula of every page is one MathJax reads: none would show as an error.
+    assert typeset_errors(everything) == []
 
 
 @pytest.mark.slow
@@ -234,8 +315,11 @@ def test_no_rest_left_as_text(site):
     documented = {i for i in api.ids if i.startswith(("lighting.", "explorer."))}
     assert len(documented) > 300
     assert not [i for i in documented if any(part.startswith("_") for part in i.split("."))]
-    # Roles became links to the documented objects.
+    # Roles became links to the documented objects; a role naming an object with no entry is code, unlinked.
     assert len([h for h in api.hrefs if h.startswith("#lighting.")]) > 300
+    api_html = (out / "api.html").read_text(encoding="utf-8")
+    assert re.search(r'<a class="autorefs autorefs-internal"[^>]*href="#lighting.vec.normalize"><code>', api_html)
+    assert '<span title="lighting._numeric"><code>lighting._numeric</code></span>' in api_html
 
 
 @pytest.mark.slow
