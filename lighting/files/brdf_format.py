@@ -1,6 +1,6 @@
 r"""BRDF Explorer's analytic ``.brdf`` files, read into a NumPy evaluator (nothing in them runs as Python).
 
-A file (Disney's BRDF Explorer, 2012)::
+A file (Disney's BRDF Explorer, 2012):
 
     # comments outside the shader start with '#'
     analytic

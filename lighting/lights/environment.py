@@ -1,6 +1,6 @@
 r"""Environment lighting: the radiance ``L_i(l)`` arriving from every direction.
 
-The rendering equation (CMSC 435 deck) integrates it against the BRDF::
+The rendering equation (CMSC 435 deck) integrates it against the BRDF:
 
     L_o(v) = ∫_Ω f_r(v, l) L_i(l) (n·l) dω(l).
 

@@ -528,7 +528,7 @@ class SpotLight(PointLight):
 
     Parameters
     ----------
-    position, color, intensity, attenuation : as :class:`PointLight`
+    position, color, intensity, attenuation : as PointLight
     direction : 3-vector, nonzero
     cutoff_deg : float in [0, 90] or 180
     exponent : float >= 0

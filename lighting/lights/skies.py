@@ -2,7 +2,7 @@ r"""Procedural skies: environments given by a formula, by name.
 
 :data:`SKIES` maps a name to a :class:`Sky` (a one-line description, its parameters and their
 defaults, and a factory making the radiance function), and :func:`sky` turns a name into a
-:class:`~lighting.lights.environment.FunctionEnvironment`::
+:class:`~lighting.lights.environment.FunctionEnvironment`:
 
     >>> env = sky("daylight")
     >>> env.radiance((0.0, 0.0, 1.0)).round(3).tolist()   # the zenith: deep blue
