@@ -33,6 +33,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from lighting.models import BRDFFlags
+
 from .environment import ENVIRONMENT_LABELS
 from .lights import lights_line
 from .params import kd_label, model_label
@@ -241,7 +243,7 @@ def light_summary(state) -> str:
 
 
 def delta_note(state) -> str:
-    """What an ideal mirror (a Dirac delta, ``is_delta``) shows under the explorer's lights; ``""`` for other models.
+    """What an ideal mirror (a Dirac delta, ``BRDFFlags.DELTA``) shows under the explorer's lights; ``""`` otherwise.
 
     Parameters
     ----------
@@ -258,7 +260,7 @@ def delta_note(state) -> str:
     >>> delta_note(AppState())
     ''
     """
-    if not any(getattr(p, "is_delta", False) for p in state.brdf().parts):
+    if not any(BRDFFlags.DELTA in p.flags for p in state.brdf().parts):
         return ""
     return ("ideal mirror (δ): a point or directional light shows only\n"
             "where R = v exactly (one point): black but for ambient and k_d\n")  # fmt: skip

@@ -49,6 +49,7 @@ from lighting import Lambert
 from lighting.analysis import polar_slice, theta_d_curve, theta_h_curve, theta_v_curve
 from lighting.analysis.machband import LUMA
 from lighting.integrate import albedo_curve
+from lighting.models import BRDFFlags
 
 from ..compare import FIT_MODELS, BRDFList
 from .params import model_label, offered_parameters
@@ -134,7 +135,7 @@ def restrict(brdf, terms):
     >>> restrict(Lambert(0.5) + Phong(0.5, 20.0), ("specular",))
     Phong(ks=0.5, shininess=20)
     """
-    parts = [p for p in brdf.parts if p.term in terms]
+    parts = [p for p in brdf.parts if any(BRDFFlags.of_term(t) in p.flags for t in terms)]
     if len(parts) == len(brdf.parts):
         return brdf
     return reduce(operator.add, parts) if parts else Lambert(0.0)
@@ -191,7 +192,7 @@ def pin_label(state) -> str:
 def has_diffuse(brdf) -> bool:
     """Whether ``brdf`` has a diffuse part: a part whose term is ``"diffuse"`` or that carries its own diffuse.
 
-    Models read from a file (``own_diffuse``: measured data and BRDF Explorer files are the whole material)
+    Models read from a file (``BRDFFlags.OWN_DIFFUSE``: measured data and BRDF Explorer files are the whole material)
     count as having one, as their data may hold it.
 
     Parameters
@@ -209,7 +210,7 @@ def has_diffuse(brdf) -> bool:
     >>> has_diffuse(Lambert(0.5) + BlinnPhong(0.5, 32.0)), has_diffuse(BlinnPhong(0.5, 32.0))
     (True, False)
     """
-    return any(p.term == "diffuse" or bool(getattr(p, "own_diffuse", False)) for p in brdf.parts)
+    return any(p.flags & (BRDFFlags.DIFFUSE | BRDFFlags.OWN_DIFFUSE) for p in brdf.parts)
 
 
 def fit_model(name: str, target, *, n_theta: int = 12, n_phi: int = 16, max_theta_deg: float = 85.0):

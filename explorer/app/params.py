@@ -34,7 +34,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from lighting.models import model_variants
+from lighting.models import BRDFFlags, model_variants
 
 __all__ = [
     "MODELS",
@@ -155,8 +155,8 @@ def _entry(model: str):
 def carries_diffuse(cls) -> bool:
     """Whether a model class reflects diffusely itself, so that the explorer adds no Lambert part to it.
 
-    True for a diffuse model (``term == "diffuse"``: Lambert, Oren–Nayar) and for one that declares its
-    own diffuse term (``own_diffuse``: Disney, Ashikhmin–Shirley's coupled diffuse).
+    True for a diffuse model (``BRDFFlags.DIFFUSE``: Lambert, Oren–Nayar) and for one that declares its
+    own diffuse term (``BRDFFlags.OWN_DIFFUSE``: Disney, Ashikhmin–Shirley's coupled diffuse).
 
     Parameters
     ----------
@@ -167,7 +167,7 @@ def carries_diffuse(cls) -> bool:
     -------
     bool
     """
-    return cls.term == "diffuse" or bool(getattr(cls, "own_diffuse", False))
+    return bool(cls.flags & (BRDFFlags.DIFFUSE | BRDFFlags.OWN_DIFFUSE))
 
 
 def kd_label(model: str) -> str:

@@ -1,6 +1,6 @@
 """A scene file as the explorer's starting state: the first object's material and the scene's lights.
 
-The material's parts map back onto the controls through the model protocol (``part.lambertian``,
+The material's parts map back onto the controls through the model protocol (``part.flags``,
 ``part.name``, ``part.variants``, ``part.to_dict()``), never by asking which class a part is.
 """
 
@@ -13,6 +13,7 @@ import numpy as np
 
 from lighting import AmbientLight, DirectionalLight, Material
 from lighting.lights import PointLight, SpotLight, attenuation_polynomial
+from lighting.models import BRDFFlags
 
 from .params import diffuse_parameter, offered_parameters
 from .state import ATTENUATIONS, MODELS, TERM_NAMES, AppState
@@ -138,15 +139,15 @@ def scene_environment_file(path):
 def _apply_material(state: AppState, material: Material, source: str):
     """Set the model, its parameters and ``kd``/``color`` from a material's parts, through the model protocol.
 
-    The Lambertian parts (``part.lambertian``) add up to ``kd × color``; the first other part gives
+    The Lambertian parts (``BRDFFlags.LAMBERTIAN``) add up to ``kd × color``; the first other part gives
     the model (its registered ``name``, or the variant of ``part.variants`` whose fixed arguments its
     :meth:`~lighting.models.brdf.BRDF.to_dict` matches) and every parameter the explorer offers for it
     (:func:`~explorer.app.params.offered_parameters`); a model with its own diffuse colour gives
     ``kd``/``color`` from that colour.  Colours keep their RGB values.
     """
     parts = material.brdf.parts
-    kd = sum((p.diffuse_albedo for p in parts if p.lambertian), np.zeros(3))
-    spec = next((p for p in parts if not p.lambertian), None)
+    kd = sum((p.diffuse_albedo for p in parts if BRDFFlags.LAMBERTIAN in p.flags), np.zeros(3))
+    spec = next((p for p in parts if BRDFFlags.LAMBERTIAN not in p.flags), None)
     values, params = {}, {}
     if spec is None:
         values["model"] = "lambert"

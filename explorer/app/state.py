@@ -32,7 +32,7 @@ import numpy as np
 from lighting import AmbientLight, DirectionalLight, Lambert, Material
 from lighting._numeric import ArgumentTypeError, abbreviate, real_array
 from lighting.lights import PointLight, SpotLight, attenuation_polynomial
-from lighting.models import model_variants
+from lighting.models import BRDFFlags, model_variants
 from lighting.vec import direction_from_elevation
 
 from .controls import (
@@ -434,7 +434,7 @@ class AppState:
         BRDF or None
         """
         brdf = self.model_brdf()
-        return None if brdf.lambertian else brdf
+        return None if BRDFFlags.LAMBERTIAN in brdf.flags else brdf
 
     def brdf(self, parts=("diffuse", "specular")):
         """The surface's BRDF restricted to the terms ``parts`` (zero Lambert if none).
@@ -456,7 +456,7 @@ class AppState:
         model = self.model_brdf()
         if "diffuse" in parts and not self.own_diffuse:
             out.append(Lambert(self.diffuse_albedo))
-        if model.term in parts:
+        if any(BRDFFlags.of_term(t) in model.flags for t in parts):
             out.append(model)
         if not out:
             return Lambert(0.0)

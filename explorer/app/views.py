@@ -72,6 +72,7 @@ from lighting.analysis import (
 )
 from lighting.analysis.machband import LUMA
 from lighting.integrate import UNCONVERGED_RELATIVE_ERROR, directional_albedo
+from lighting.models import BRDFFlags
 from lighting.render import AnalyticSphere, Renderer, needs_tangents, sphere_camera, uv_sphere
 from lighting.shading import Material, shade
 from lighting.vec import spherical_direction
@@ -359,7 +360,7 @@ def _delta_height(brdf, cos_theta: float, state) -> float:
     ``brdf.reflectance(cos θ)`` of the incident light, leaves in the one mirror direction.  The views draw
     that fraction as a spike (``log10(1 + R)`` with the log option); 0 for a model without a delta part.
     """
-    parts = [p for p in brdf.parts if getattr(p, "is_delta", False)]
+    parts = [p for p in brdf.parts if BRDFFlags.DELTA in p.flags]
     if not parts or not cos_theta > 0:
         return 0.0
     rgb = sum(np.asarray(p.reflectance(float(cos_theta)), dtype=np.float64).reshape(-1) for p in parts)

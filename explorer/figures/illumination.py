@@ -14,7 +14,7 @@ import numpy as np
 
 from lighting import BlinnPhong, CookTorrance, DirectionalLight, Lambert, Material, Phong, PointLight, shade
 from lighting.analysis import polar_slice
-from lighting.models import model_class, model_names
+from lighting.models import BRDFFlags, model_class, model_names
 from lighting.models.oren_nayar import OrenNayar
 from lighting.render.image import encode_srgb8
 
@@ -47,7 +47,7 @@ def _delta_model():
     """The first registered delta model (the ideal mirror) at its defaults, or ``None`` if there is none."""
     for name in model_names():
         cls = model_class(name)
-        if getattr(cls, "is_delta", False):
+        if BRDFFlags.DELTA in cls.flags:
             return name, cls()
     return None
 

@@ -19,7 +19,7 @@ import numpy as np
 from lighting import CookTorrance, DirectionalLight, Lambert, Material
 from lighting.analysis import polar_slice
 from lighting.integrate import albedo_curve, directional_albedo
-from lighting.models import create_model, model_variants
+from lighting.models import BRDFFlags, create_model, model_variants
 from lighting.models.oren_nayar import OrenNayar
 
 from .base import PALETTE, VEC, new_figure, register, show_image, sphere_rgb8
@@ -231,7 +231,7 @@ def delta_weight_symbol(brdf, angle: str = r"\theta_l") -> str:
     Parameters
     ----------
     brdf : lighting.models.brdf.BRDF
-        A delta model (``brdf.is_delta``).
+        A delta model (``BRDFFlags.DELTA`` in its flags).
     angle : str, optional
         The mathtext angle the Fresnel factor depends on.
 
@@ -246,8 +246,12 @@ def delta_weight_symbol(brdf, angle: str = r"\theta_l") -> str:
     >>> delta_weight_symbol(create_model("mirror")), delta_weight_symbol(create_model("mirror", fresnel="schlick"))
     ('$k_s$', '$k_s\\,F(\\cos\\theta_l)$')
     """
-    fresnel = getattr(brdf, "fresnel", None)
-    if getattr(brdf, "ks", None) is None or fresnel is None:
+    try:
+        table = brdf.to_dict()  # the parameters, as a scene file writes them
+    except ValueError:
+        table = {}
+    fresnel = table.get("fresnel")
+    if "ks" not in table or fresnel is None:
         return rf"$\mathrm{{reflectance}}(\cos{angle})$"
     return "$k_s$" if fresnel == "none" else rf"$k_s\,F(\cos{angle})$"
 
@@ -255,7 +259,7 @@ def delta_weight_symbol(brdf, angle: str = r"\theta_l") -> str:
 def _sphere_panel(ax, brdf, light, q, background, fs):
     """The engine's sphere; for a delta model, the one point where R_l = v is marked."""
     show_image(ax, sphere_rgb8(Material(brdf), [light], q.sphere_px, background=background))
-    if brdf.is_delta:
+    if BRDFFlags.DELTA in brdf.flags:
         # The only place a viewer on +z sees a directional light in a mirror: n = h = (l + v)/|l + v|.
         h = light.direction + np.array([0.0, 0.0, 1.0])
         h = h / np.linalg.norm(h)
@@ -274,7 +278,7 @@ def _polar_panel(ax, brdf, theta_l_deg, q, fs):
     """The slice f_r(l, v) for the light at θ_l, linear radial scale up to the model's own peak."""
     th = math.radians(theta_l_deg)
     lx, ly = -math.sin(th), math.cos(th)  # the light's side is on the left
-    if brdf.is_delta:
+    if BRDFFlags.DELTA in brdf.flags:
         r = float(np.asarray(brdf.reflectance(math.cos(th)))[0])
         half_disc(ax, 1.0, label=False)
         d = np.array([math.sin(th), math.cos(th)])
@@ -311,7 +315,7 @@ def _albedo_panel(ax, brdf, q, fs):
     # that would draw a vertical line at the panel's edge and say nothing about the model.
     step = 5.0 if q.quick else 1.0
     thetas = np.radians(np.append(np.arange(0.0, 89.0, step), 89.0))
-    if brdf.is_delta:
+    if BRDFFlags.DELTA in brdf.flags:
         rho, err = _delta_albedo(brdf, thetas)
         how = "exact: " + delta_weight_symbol(brdf, r"\theta_v")
     else:
@@ -362,7 +366,7 @@ def _gallery(q, family: str, title: str, theta_l_deg: float, light_deg: float, b
         _sphere_panel(a, brdf, light, q, background, fs - 0.5)
         m = _polar_panel(b, brdf, theta_l_deg, q, fs)
         m.update(_albedo_panel(c, brdf, q, fs))
-        m["delta"] = bool(brdf.is_delta)
+        m["delta"] = BRDFFlags.DELTA in brdf.flags
         measured[name] = m
     return fig, measured
 
@@ -432,13 +436,13 @@ def model_gallery_normal_mirror(q, *, theta_l_deg, light_deg, background):
     thetas = np.radians(np.arange(0.0, 90.0 + 1e-9, 10.0))
     on0 = directional_albedo(OrenNayar(0.8, 0.0), thetas, 512)[:, 0]
     lam = directional_albedo(Lambert(0.8), thetas, 512)[:, 0]
-    on = create_model("oren-nayar")
+    on = create_model("oren-nayar").to_dict()
     extra = {
         "on_sigma0_difference": float(np.max(np.abs(on0 - lam))),
         "on_rho0": measured.get("oren-nayar", {}).get("rho0", float("nan")),
-        "on_default_kd": float(np.asarray(on.kd).reshape(-1)[0]),
-        "on_default_sigma": float(on.sigma),
-        "lambert_default_kd": float(np.asarray(create_model("lambert").kd).reshape(-1)[0]),
+        "on_default_kd": float(on["kd"][0]),
+        "on_default_sigma": float(on["sigma"]),
+        "lambert_default_kd": float(create_model("lambert").to_dict()["kd"][0]),
     }
     caption = {"model_list": ", ".join(measured), "theta_l_deg": theta_l_deg, "light_deg": light_deg}
     return fig, {"models": measured, **extra, **caption}

@@ -60,6 +60,7 @@ from .._numeric import (
     _fmt as _fmt_value,
 )
 from ..integrate import albedo_curve
+from ..models.base import BRDFFlags
 from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
 from . import _display
 
@@ -499,7 +500,7 @@ def audit(
         den = np.maximum(np.maximum(np.abs(f_lv), np.abs(f_vl)), 1e-12 * scale)
         asym = float(np.max(np.abs(f_lv - f_vl) / den))
         min_value = float(min(f_lv.min(), f_vl.min()))
-        deltas = [p for p in case.brdf.parts if getattr(p, "is_delta", False)]
+        deltas = [p for p in case.brdf.parts if BRDFFlags.DELTA in p.flags]
         if deltas:
             # A delta part's eval is 0 for every pair, so the pairs above say nothing about it.  Its
             # f_r = R(n·v) δ(l − R_v)/(n·l) is supported on mirror pairs, where n·l = n·v: reciprocal iff

@@ -1,6 +1,6 @@
 r"""Delta parts of a model (the ideal mirror), integrated exactly before any quadrature or sampling.
 
-A part with ``is_delta`` (:class:`~lighting.models.mirror.Mirror`) sends all it reflects into
+A part flagged ``BRDFFlags.DELTA`` (:class:`~lighting.models.mirror.Mirror`) sends all it reflects into
 ``R_v = 2 n (n·v) − v``; its ``eval`` is 0, so no rule with finitely many nodes sees it.  Its
 integrals are closed forms instead::
 
@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..models.base import BRDF, BRDFSum
+from ..models.base import BRDF, BRDFFlags, BRDFSum
 from ..vec import reflect
 
 __all__: list[str] = []
@@ -57,13 +57,13 @@ def split_delta(brdf: BRDF):
     smooth : BRDF or None
         The parts that are functions (one model or their sum); ``None`` if every part is a delta.
     deltas : tuple of BRDF
-        The parts with ``is_delta``.
+        The parts flagged ``BRDFFlags.DELTA``.
     """
     parts = brdf.parts
-    deltas = tuple(p for p in parts if p.is_delta)
+    deltas = tuple(p for p in parts if BRDFFlags.DELTA in p.flags)
     if not deltas:
         return brdf, ()
-    smooth = [p for p in parts if not p.is_delta]
+    smooth = [p for p in parts if BRDFFlags.DELTA not in p.flags]
     if not smooth:
         return None, deltas
     return (smooth[0] if len(smooth) == 1 else BRDFSum(*smooth)), deltas

@@ -475,12 +475,11 @@ def _fis_sampler(part):
 
     Below ``α = 0.1`` the lobe is narrow and ``D(h)(n·h)`` sampling, stratified in ``θ_h``, reads it better.
     """
-    ndf = getattr(part, "ndf", None)
-    rough = float(getattr(part, "roughness", 0.0) or 0.0) >= 0.1
-    if ndf in ("ggx", "beckmann") and rough and not getattr(part, "anisotropic", False):
+    mf = part.microfacet()
+    if mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic and mf.alpha_x >= 0.1:
         from ..models.microfacet_sampling import VisibleNormalSampler
 
-        return VisibleNormalSampler(ndf, float(part.roughness))
+        return VisibleNormalSampler(mf.ndf, float(mf.alpha_x))
     return part.sampler()
 
 
@@ -632,7 +631,8 @@ def _half_table(part, samples: int):
     found = _tables.get(key)
     if found is not None:
         return found
-    sampler = MicrofacetSampler(part.ndf, float(part.roughness))
+    mf = part.microfacet()
+    sampler = MicrofacetSampler(mf.ndf, float(mf.alpha_x))
     up = np.array([0.0, 0.0, 1.0])
     s = sampler.sample(_stratified_square(samples), up)  # at normal incidence l = 2 h_z h − z
     ld = np.asarray(s.directions, dtype=np.float64)
@@ -771,8 +771,8 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
                 # A narrow lobe reads sharp areas of light (a box's edge, its long tails over a dark ground) by its
                 # samples alone: it takes NARROW_FACTOR times as many.
                 count = samples if sigma >= WIDE_LOBE else NARROW_FACTOR * samples
-                half = (sigma < WIDE_LOBE and getattr(part, "ndf", None) in ("ggx", "beckmann")
-                        and not getattr(part, "anisotropic", False))  # fmt: skip
+                mf = part.microfacet()
+                half = sigma < WIDE_LOBE and mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic
                 fis = _fis_half if half else _fis_term
                 mean = np.empty(n.shape, dtype=np.float64)
                 ok = np.empty(n.shape[0], dtype=bool)

@@ -93,21 +93,17 @@ def lobe_sigma(lobe) -> float:
 
 def _energy_table_albedo(part):
     """``k_s E(μ, α)`` from :func:`lighting.models.energy.albedo_table` where it applies (``F = 1``), else None."""
-    ndf, geometry = getattr(part, "ndf", None), getattr(part, "geometry", None)
-    if getattr(part, "fresnel", None) != "none" or getattr(part, "energy_compensation", False):
-        return None
-    if getattr(part, "anisotropic", False) or str(getattr(part, "denominator", "4")) != "4":
+    mf = part.microfacet()
+    if mf is None or mf.fresnel != "none" or mf.energy_compensation or not mf.isotropic or mf.denominator != "4":
         return None
     from ..models import energy
 
     try:
-        table = energy.albedo_table(ndf, geometry)
+        table = energy.albedo_table(mf.ndf, mf.geometry)
     except (ValueError, TypeError):
         return None
-    alpha = float(part.roughness if getattr(part, "alpha_x", None) is None else part.alpha_x)
-    ks = np.broadcast_to(np.asarray(part.ks, dtype=np.float64), (3,))
     mu = np.cos(ALBEDO_ANGLES)
-    return np.asarray(table.E(mu, alpha), dtype=np.float64)[:, None] * ks
+    return np.asarray(table.E(mu, float(mf.alpha_x)), dtype=np.float64)[:, None] * mf.specular
 
 
 def lobe_albedo(part) -> np.ndarray:

@@ -18,7 +18,7 @@ error plus the rule-of-three term of :mod:`lighting.integrate.estimate`, whose w
 the drawn samples and from a deterministic probe set (:func:`_lobe_probes`: the lobe-centred quadrature
 nodes of every part).
 
-Delta parts (the ideal mirror, ``is_delta``) never reach these estimators: their ``f_r`` is 0 at every
+Delta parts (the ideal mirror, ``BRDFFlags.DELTA``) never reach these estimators: their ``f_r`` is 0 at every
 direction a sampler can draw, so :mod:`lighting.integrate.albedo` and :mod:`lighting.integrate.radiance`
 add them exactly (:mod:`lighting.integrate._delta`) and pass only the smooth parts here.
 

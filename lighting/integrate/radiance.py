@@ -19,7 +19,7 @@ Methods besides those of :mod:`lighting.integrate.albedo`:
     Nine spherical-harmonic coefficients of the environment and the irradiance formula of
     Ramamoorthi & Hanrahan (2001) (:mod:`lighting.integrate.sh`).
 
-Delta parts (the ideal mirror, ``is_delta``) are never sampled: each adds ``R(n·v) L_i(R_v)``, exact,
+Delta parts (the ideal mirror, ``BRDFFlags.DELTA``) are never sampled: each adds ``R(n·v) L_i(R_v)``, exact,
 before the smooth parts reach any of these methods (:mod:`lighting.integrate._delta`).
 
 Every point is integrated in its own shading frame (``z`` the normal, :func:`lighting.vec.orthonormal_basis`).
@@ -51,6 +51,7 @@ from .._numeric import (
     working_dtype,
 )
 from ..lights.environment import SmallPatchEnvironment, as_environment
+from ..models.base import BRDFFlags
 from ..models.brdf import BRDF
 from ..vec import orthonormal_basis
 from ._checks import _NODE_BUDGET, _check_brdf, _out, _replicates, _samples, _unit_rows
@@ -207,7 +208,7 @@ def outgoing_radiance(
     Parameters
     ----------
     brdf : BRDF
-        Any model of :mod:`lighting.models` (sums included).  A delta part (``is_delta``:
+        Any model of :mod:`lighting.models` (sums included).  A delta part (``BRDFFlags.DELTA``:
         the ideal mirror) adds ``reflectance(n·v) · L_env(R_v)``, ``R_v = 2 n (n·v) − v``,
         exactly and with zero error, whatever the method; the other parts are integrated by it.
     environment : Environment, scalar/RGB radiance or callable
@@ -301,12 +302,12 @@ def outgoing_radiance(
 
 
 def _lambertian_albedo(brdf: BRDF) -> np.ndarray:
-    if not all(p.lambertian for p in brdf.parts):
+    if not all(BRDFFlags.LAMBERTIAN in p.flags for p in brdf.parts):
         raise ValueError(
             f"method 'sh' (spherical-harmonic irradiance) needs a Lambertian model (Lambert or a sum of them, "
             f"mirrors allowed); got {brdf!r}"
         )
-    return sum((p.kd for p in brdf.parts), np.zeros(3))
+    return sum((p.diffuse_albedo for p in brdf.parts), np.zeros(3))
 
 
 class PointLimitRow(NamedTuple):

@@ -52,6 +52,7 @@ from .._numeric import (
     check_choice,
     real_array,
 )
+from ..models.base import BRDFFlags
 from ..models.brdf import BRDF, Geometry
 from ..models.lambert import CosineSampler, cosine_hemisphere_pdf, square_to_cosine_hemisphere
 from ..models.microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
@@ -392,7 +393,7 @@ def importance_sampler(brdf: BRDF) -> Sampler:
     * a sum → :class:`MixtureSampler` of the parts' samplers, weighted by each
       part's albedo, tabulated over ``cos θ_v`` and interpolated (at least 1 %
       each, so no part with nonzero reflectance is starved);
-    * :class:`~lighting.models.mirror.Mirror` (``is_delta``) → its
+    * :class:`~lighting.models.mirror.Mirror` (``BRDFFlags.DELTA``) → its
       :class:`~lighting.models.mirror.MirrorSampler` (``delta = True``: every draw is ``R_v``,
       ``pdf`` 1 as a discrete probability, ``weight(v)`` its reflectance); a sum of delta parts only → one
       such sampler with their reflectances added.  In a sum with smooth parts the delta parts are left
@@ -415,7 +416,7 @@ def importance_sampler(brdf: BRDF) -> Sampler:
     MixtureSampler([CosineSampler(), PhongSampler(20.0)])
     """
     parts = _check_brdf(brdf).parts
-    smooth = tuple(p for p in parts if not p.is_delta)
+    smooth = tuple(p for p in parts if BRDFFlags.DELTA not in p.flags)
     if not smooth:
         # Delta parts only: they share the one direction R_v, and their weights add.
         return _part_sampler(parts[0]) if len(parts) == 1 else MirrorSampler(_DeltaSum(parts))

@@ -148,19 +148,13 @@ class AshikhminShirley(SeparableBRDF):
 
     # -- description ----------------------------------------------------------------------
     def lobe(self):
-        """See :meth:`BRDF.lobe`.
-
-        Returns
-        -------
-        Lobe
-            A ``"half"`` lobe: ``(n·h)^E ≈ exp(−E θ_h²/2)``, so the width is ``1/√(√(n_u n_v))`` (the
-            geometric mean of the two axes' standard deviations; at most 1 rad), and the
-            quadrature width ``1/√(max(n_u, n_v) + 1)`` resolves the narrower axis.  Along ``t`` and
-            ``b`` (``E = n_u cos²φ + n_v sin²φ``): ``widths`` ``(1/√n_u, 1/√n_v)`` (each at most 1 rad).
-            The quadrature stays round (equal ``quadrature_widths``): the ellipse's azimuths crowd toward
-            the lobe's long axis and starve the coupled diffuse term, which shares the part (measured at
-            ``n_u = 10⁴``, ``n_v = 1``, ``R_d = 0.5``: 4 % off with the ellipse, 2.7e-4 round), and one rule
-            with and without the diffuse term keeps their difference exact.
+        """A ``"half"`` lobe: ``(n·h)^E ≈ exp(−E θ_h²/2)``, so the width is ``1/√(√(n_u n_v))`` (the geometric mean of
+        the two axes' standard deviations; at most 1 rad), and the quadrature width ``1/√(max(n_u, n_v) + 1)`` resolves
+        the narrower axis.  Along ``t`` and ``b`` (``E = n_u cos²φ + n_v sin²φ``): ``widths`` ``(1/√n_u, 1/√n_v)`` (each
+        at most 1 rad). The quadrature stays round (equal ``quadrature_widths``): the ellipse's azimuths crowd toward
+        the lobe's long axis and starve the coupled diffuse term, which shares the part (measured at ``n_u = 10⁴``,
+        ``n_v = 1``, ``R_d = 0.5``: 4 % off with the ellipse, 2.7e-4 round), and one rule with and without the diffuse
+        term keeps their difference exact.
         """
         g = math.sqrt(self.nu) * math.sqrt(self.nv)
         width = min(1.0 / math.sqrt(g), 1.0) if g > 0 else 1.0
@@ -169,17 +163,11 @@ class AshikhminShirley(SeparableBRDF):
         return Lobe("half", width, quadrature_width=quad, widths=axes, quadrature_widths=(quad, quad))
 
     def sampler(self):
-        """See :meth:`BRDF.sampler`.
-
-        Returns
-        -------
-        Sampler
-            :class:`AshikhminShirleySampler` ``(nu, nv)`` alone when the diffuse term is off or
-            ``R_d = 0``; otherwise ``MixtureSampler([CosineSampler(), AshikhminShirleySampler])``
-            with per-view weights ``w_d = mean(R_d (1 − R_s)) (1 − (1 − μ/2)⁵)`` (the diffuse
-            term's exact albedo) and ``w_s = mean(R_s + (1 − R_s)(1 − μ)⁵)`` (Schlick at ``μ = n·v``,
-            a rough bound on the specular albedo), the specular share clamped to [0.1, 0.9] so
-            that neither term is starved.
+        """:class:`AshikhminShirleySampler` ``(nu, nv)`` alone when the diffuse term is off or ``R_d = 0``; otherwise
+        ``MixtureSampler([CosineSampler(), AshikhminShirleySampler])`` with per-view weights ``w_d = mean(R_d (1 − R_s))
+        (1 − (1 − μ/2)⁵)`` (the diffuse term's exact albedo) and ``w_s = mean(R_s + (1 − R_s)(1 − μ)⁵)`` (Schlick at ``μ
+        = n·v``, a rough bound on the specular albedo), the specular share clamped to [0.1, 0.9] so that neither term is
+        starved.
         """
         spec = AshikhminShirleySampler(self.nu, self.nv)
         if not self.diffuse or not np.any(self.rd > 0):
@@ -201,13 +189,7 @@ class AshikhminShirley(SeparableBRDF):
         return MixtureSampler([CosineSampler(), spec], weights)
 
     def summary(self):
-        """See :meth:`BRDF.summary`.
-
-        Returns
-        -------
-        str
-            ``"rd=0.5 rs=0.05 nu=200 nv=20"`` (``" specular only"`` appended without the diffuse term).
-        """
+        """``"rd=0.5 rs=0.05 nu=200 nv=20"`` (``" specular only"`` appended without the diffuse term)."""
         text = f"rd={_color_text(self.rd)} rs={_color_text(self.rs)} nu={self.nu:g} nv={self.nv:g}"
         return text if self.diffuse else text + " specular only"
 
@@ -288,19 +270,10 @@ class AshikhminShirley(SeparableBRDF):
         return saturate_to(self._rgb64(g, cos=True), g.dtype)
 
     def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`.
-
-        Parameters
-        ----------
-        g : Geometry
-            The shading directions (not a stacked geometry: the model reads the tangent frame).
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            ``(S, R_s)``, ``(S w, 1 − R_s)`` and, with the diffuse term, ``(D, 28 R_d (1 − R_s)/(23π))``:
-            the specular lobe times ``n·l`` without its Fresnel factor, that times ``w = (1 − k·h)⁵``,
-            and the diffuse shape times ``n·l``; scalar fields in the dtype of ``g`` (saturated).
+        """``(S, R_s)``, ``(S w, 1 − R_s)`` and, with the diffuse term, ``(D, 28 R_d (1 − R_s)/(23π))``: the specular
+        lobe times ``n·l`` without its Fresnel factor, that times ``w = (1 − k·h)⁵``, and the diffuse shape times
+        ``n·l``; scalar fields in the dtype of ``g`` (saturated).  Not on a stacked geometry: the model reads
+        the tangent frame.
         """
         s, w5, d = self._fields(g, cos=True)
         dt = g.dtype

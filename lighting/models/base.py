@@ -306,6 +306,9 @@ class BRDF:
     parameters: tuple[Parameter, ...] = ()
     #: Named variants a model list shows as entries of their own: name → fixed keyword arguments.
     variants: dict = {}
+    #: Whether separable forms accept a stacked geometry; False unless a model implements the extension
+    #: (:class:`SeparableBRDF`).  The shading pass asks :func:`lighting.shading.separable.stacks`.
+    stackable = False
 
     def __init_subclass__(cls, **kwargs):
         # The older spelling (``term = "diffuse"``, ``is_delta = True`` … as class attributes) still
@@ -653,13 +656,12 @@ class SeparableBRDF(BRDF):
     those terms, so the shading pass and the public methods compute the same numbers.
     """
 
-    #: Whether the separable forms accept a :class:`~lighting.shading.stacked.StackedGeometry`.
-    stackable = False
-
     def separable_cos(self, g) -> list[tuple[np.ndarray, np.ndarray]]:
+        """``f_r (n·l)`` as ``[(s_k, c_k), ...]`` (:meth:`lighting.shading.separable.Separable.separable_cos`)."""
         raise NotImplementedError(f"{type(self).__name__} must define separable_cos(g)")
 
     def separable_classic(self, g) -> list[tuple[np.ndarray, np.ndarray]]:
+        """``π f_r (n·l)`` as ``[(s_k, c_k), ...]``: by default π times the terms of :meth:`separable_cos`."""
         pi = g.dtype(math.pi)
         with np.errstate(over="ignore"):
             return [(saturate_to(s * pi, g.dtype), c) for s, c in self.separable_cos(g)]

@@ -80,13 +80,8 @@ class BlinnPhong(SeparableBRDF):
         return {"ks": self.ks, "shininess": self.shininess, "normalized": self.normalized}
 
     def lobe(self):
-        """See :meth:`BRDF.lobe`.
-
-        Returns
-        -------
-        Lobe
-            ``Lobe("normal")`` for ``e = 0``; else a ``"half"`` lobe of width ``1/√e`` (``inf`` when
-            ``ks`` is 0) and quadrature width ``1/√(e + 1)``.
+        """``Lobe("normal")`` for ``e = 0``; else a ``"half"`` lobe of width ``1/√e`` (``inf`` when ``ks`` is 0) and
+        quadrature width ``1/√(e + 1)``.
         """
         e = self.shininess
         if e == 0:
@@ -96,13 +91,8 @@ class BlinnPhong(SeparableBRDF):
         return Lobe("half", width, quadrature_width=1.0 / math.sqrt(e + 1.0))
 
     def sampler(self):
-        """See :meth:`BRDF.sampler`.
-
-        Returns
-        -------
-        Sampler
-            For ``e = 0`` :class:`CosineSampler` (normalized) or :class:`UniformSampler` (raw), else
-            ``MicrofacetSampler("blinn-phong", exponent=e)``.
+        """For ``e = 0`` :class:`CosineSampler` (normalized) or :class:`UniformSampler` (raw), else
+        ``MicrofacetSampler("blinn-phong", exponent=e)``.
         """
         if self.shininess == 0:
             # f_r (n·l) is ∝ n·l (normalized) or constant (raw): cosine or uniform sampling is exact.
@@ -110,13 +100,7 @@ class BlinnPhong(SeparableBRDF):
         return MicrofacetSampler("blinn-phong", exponent=self.shininess)
 
     def summary(self):
-        """See :meth:`BRDF.summary`.
-
-        Returns
-        -------
-        str
-            ``"ks=0.5 e=32"``, or ``"ks=0.5 e=32 normalized"`` for the normalized form.
-        """
+        """``"ks=0.5 e=32"``, or ``"ks=0.5 e=32 normalized"`` for the normalized form."""
         return f"ks={_color_text(self.ks)} e={self.shininess:g}" + (" normalized" if self.normalized else "")
 
     def _lobe(self, g, dtype=None, scale: float = 1.0):
@@ -186,18 +170,8 @@ class BlinnPhong(SeparableBRDF):
         return _rgb(self._lobe(g, scale=self._norm()), self.ks)
 
     def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            One term: ``((e + 2)/(2π) (n·h)^e (n·l), ks)`` (normalized) or ``((n·h)^e / π, ks)`` (raw);
-            the scalar field is 0 below the horizon, in the dtype of ``g``.
+        """One term: ``((e + 2)/(2π) (n·h)^e (n·l), ks)`` (normalized) or ``((n·h)^e / π, ks)`` (raw); the scalar field
+        is 0 below the horizon, in the dtype of ``g``.
         """
         if self.normalized:
             # n·l of unit vectors may round to 1 + ulp: clipped, so a saturated lobe stays finite.
@@ -205,18 +179,8 @@ class BlinnPhong(SeparableBRDF):
         return [(self._lobe(g) / g.dtype(math.pi), self.ks)]
 
     def separable_classic(self, g):
-        """See :meth:`BRDF.separable_classic`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            One term: π times that of :meth:`separable_cos` (normalized) or ``((n·h)^e, ks)`` (raw),
-            in the dtype of ``g``.
+        """One term: π times that of :meth:`separable_cos` (normalized) or ``((n·h)^e, ks)`` (raw), in the dtype of
+        ``g``.
         """
         if self.normalized:
             return super().separable_classic(g)

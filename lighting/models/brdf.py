@@ -8,7 +8,7 @@ The code lives one module per topic: :mod:`.geometry` (:class:`Geometry`), :mod:
 
 from __future__ import annotations
 
-from .base import BRDF, BRDFSum, cos_power
+from .base import BRDF, BRDFFlags, BRDFSum, MicrofacetLobe, cos_power
 from .blinn_phong import BlinnPhong
 from .cook_torrance import CookTorrance
 from .geometry import Geometry
@@ -18,6 +18,8 @@ from .phong import Phong
 __all__ = [
     "Geometry",
     "BRDF",
+    "BRDFFlags",
+    "MicrofacetLobe",
     "Lambert",
     "Phong",
     "BlinnPhong",

@@ -241,15 +241,10 @@ class CookTorrance(SeparableBRDF):
         return energy.MultipleScattering(table, self._alpha, colour)
 
     def lobe(self):
-        """See :meth:`BRDF.lobe`.
-
-        Returns
-        -------
-        Lobe
-            A ``"half"`` lobe of width ``α/√2`` (``inf`` when ``ks`` is 0), quadrature width ``α`` and
-            ``horizon`` ``"v-cavity"`` or ``"smith"`` (both Smith forms) after :attr:`geometry`.  Anisotropic:
-            width ``√(α_x α_y)/√2`` and quadrature width ``min(α_x, α_y)``, with ``widths`` ``(α_x/√2, α_y/√2)``
-            and ``quadrature_widths`` ``(α_x, α_y)`` along ``t`` and ``b``, the ellipse quadrature follows.
+        """A ``"half"`` lobe of width ``α/√2`` (``inf`` when ``ks`` is 0), quadrature width ``α`` and ``horizon``
+        ``"v-cavity"`` or ``"smith"`` (both Smith forms) after :attr:`geometry`.  Anisotropic: width ``√(α_x α_y)/√2``
+        and quadrature width ``min(α_x, α_y)``, with ``widths`` ``(α_x/√2, α_y/√2)`` and ``quadrature_widths`` ``(α_x,
+        α_y)`` along ``t`` and ``b``, the ellipse quadrature follows.
         """
         # Beckmann's exp(−tan²θ_h/α²) has standard deviation α/√2 about n; quadrature scales by α.
         # Anisotropic: the geometric mean for the width, the narrower α for the quadrature's scale.
@@ -266,21 +261,15 @@ class CookTorrance(SeparableBRDF):
         return Lobe("half", width, quadrature_width=quad, horizon=horizon, tails=tails)
 
     def sampler(self):
-        """See :meth:`BRDF.sampler`.
-
-        Returns
-        -------
-        MicrofacetSampler or VisibleNormalSampler
-            For the Smith geometries with a GGX or Beckmann ``D``, ``VisibleNormalSampler(ndf, roughness)``:
-            half vectors drawn from the normals visible from ``v`` (Heitz 2018; Heitz and d'Eon 2014),
-            density ``G1(v) D(h) / (4 n·v)``, so each sample's weight ``f_r (n·l) / p`` is ``F G1(l)``
-            (separable) or ``F G2 / G1(v)`` (height-correlated), at most ``F``.  Otherwise
-            ``MicrofacetSampler(ndf, roughness)``: half vectors drawn from ``D(h)(n·h)``.  Anisotropic
-            models (any geometry) take ``VisibleNormalSampler(ndf, α_x, alpha_y=α_y)``, whose local frame
-            has ``x`` along the tangent ``t`` and ``y`` along ``b``.  With :attr:`energy_compensation`, a
-            ``MixtureSampler`` of that sampler and the cosine-weighted one (for ``f_ms ∝ (1 − E(n·l))``),
-            the cosine's share ``m (1 − E(μ_o)) / (s E(μ_o) + m (1 − E(μ_o)))`` at most 0.9 (``s``, ``m``
-            the channel means of ``k_s F_avg`` and of the lobe's colour: each lobe's albedo, roughly).
+        """``MicrofacetSampler or VisibleNormalSampler``: for the Smith geometries with a GGX or Beckmann ``D``,
+        ``VisibleNormalSampler(ndf, roughness)``: half vectors drawn from the normals visible from ``v`` (Heitz 2018;
+        Heitz and d'Eon 2014), density ``G1(v) D(h) / (4 n·v)``, so each sample's weight ``f_r (n·l) / p`` is ``F
+        G1(l)`` (separable) or ``F G2 / G1(v)`` (height-correlated), at most ``F``.  Otherwise ``MicrofacetSampler(ndf,
+        roughness)``: half vectors drawn from ``D(h)(n·h)``.  Anisotropic models (any geometry) take
+        ``VisibleNormalSampler(ndf, α_x, alpha_y=α_y)``, whose local frame has ``x`` along the tangent ``t`` and ``y``
+        along ``b``.  With :attr:`energy_compensation`, a ``MixtureSampler`` of that sampler and the cosine-weighted one
+        (for ``f_ms ∝ (1 − E(n·l))``), the cosine's share ``m (1 − E(μ_o)) / (s E(μ_o) + m (1 − E(μ_o)))`` at most 0.9
+        (``s``, ``m`` the channel means of ``k_s F_avg`` and of the lobe's colour: each lobe's albedo, roughly).
         """
         if self._ms is not None:
             return self._mixture_sampler()
@@ -312,14 +301,9 @@ class CookTorrance(SeparableBRDF):
         return MicrofacetSampler(self.ndf, self._alpha)
 
     def summary(self):
-        """See :meth:`BRDF.summary`.
-
-        Returns
-        -------
-        str
-            For example ``"ks=1 α=0.3 beckmann/v-cavity schlick f0=0.04 /4(n·v)(n·l)"`` (``F=1`` for
-            ``fresnel="none"``; ``conductor gold`` or ``conductor η=… k=…`` for the conductor; ``" +ms"``
-            appended with :attr:`energy_compensation`).
+        """For example ``"ks=1 α=0.3 beckmann/v-cavity schlick f0=0.04 /4(n·v)(n·l)"`` (``F=1`` for ``fresnel="none"``;
+        ``conductor gold`` or ``conductor η=… k=…`` for the conductor; ``" +ms"`` appended with
+        :attr:`energy_compensation`).
         """
         f = _fresnel_text(self)
         den = "4(n·v)(n·l)" if self.denominator == "4" else "π(n·v)(n·l)"
@@ -328,14 +312,9 @@ class CookTorrance(SeparableBRDF):
         return f"ks={_color_text(self.ks)} {alpha} {self.ndf}/{self.geometry} {f} /{den}{ms}"
 
     def to_dict(self):
-        """See :meth:`BRDF.to_dict`; ``alpha_x`` and ``alpha_y`` appear only when given (not None),
-        ``energy_compensation`` only when True (the tables of older scenes stay as they were); with
-        ``fresnel="conductor"``, ``metal`` when one is named, else ``eta`` and ``k`` (and no ``f0``,
-        which the conductor does not use).
-
-        Returns
-        -------
-        dict
+        """``alpha_x`` and ``alpha_y`` appear only when given (not None), ``energy_compensation`` only when True (the
+        tables of older scenes stay as they were); with ``fresnel="conductor"``, ``metal`` when one is named, else
+        ``eta`` and ``k`` (and no ``f0``, which the conductor does not use).
         """
         d = {"model": self.name}
         for p in self.parameters:
@@ -562,35 +541,14 @@ class CookTorrance(SeparableBRDF):
         return saturate_to(_combine(self._separable(g, True), np.float64), g.dtype)
 
     def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            With ``s = D G / (c (n·v))`` (``c`` 4 or π, 0 below the horizon) in the dtype of ``g``:
-            ``(s, ks)`` for ``fresnel="none"``; ``(s, ks f0)`` and ``(s (1 − v·h)^5, ks (1 − f0))`` for
-            Schlick; ``(s F_i, ks e_i)`` per channel ``i`` for the dielectric and the conductor ``F``.
+        """With ``s = D G / (c (n·v))`` (``c`` 4 or π, 0 below the horizon) in the dtype of ``g``: ``(s, ks)`` for
+        ``fresnel="none"``; ``(s, ks f0)`` and ``(s (1 − v·h)^5, ks (1 − f0))`` for Schlick; ``(s F_i, ks e_i)`` per
+        channel ``i`` for the dielectric and the conductor ``F``.
         """
         return [(saturate_to(s, g.dtype), c) for s, c in self._separable(g, False)]
 
     def separable_classic(self, g):
-        """See :meth:`BRDF.separable_classic`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            The terms of :meth:`separable_cos` with their scalar fields times π.
-        """
+        """The terms of :meth:`separable_cos` with their scalar fields times π."""
         with np.errstate(over="ignore"):  # a field near the dtype's largest value times π saturates below
             return [(saturate_to(s * math.pi, g.dtype), c) for s, c in self._separable(g, False)]
 

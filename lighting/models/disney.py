@@ -16,7 +16,7 @@ import numpy as np
 
 from .._numeric import check_range, safe_div, saturate_to
 from ..vec import normalize
-from .base import BRDFFlags, SeparableBRDF, _color, _color_text
+from .base import BRDF, BRDFFlags, _color, _color_text
 from .geometry import Geometry
 from .protocol import Lobe, Parameter, register_model
 from .sampler import _TWO_PI, Sampler, Samples, _dot, _local_v
@@ -154,7 +154,7 @@ def _unit01(name, value) -> float:
 
 
 # --------------------------------------------------------------------------- the model
-class Disney(SeparableBRDF):
+class Disney(BRDF):
     r"""The Disney principled BRDF (Burley 2012) as Disney's BRDF Explorer shader ``disney.brdf`` has it.
 
     With ``θ_d`` the angle between ``l`` and ``h`` (``cos θ_d = l·h = v·h``), ``F_L = (1 − n·l)^5``,
@@ -351,18 +351,12 @@ class Disney(SeparableBRDF):
 
     # -- description ------------------------------------------------------------------
     def lobe(self):
-        """See :meth:`BRDF.lobe`.
-
-        Returns
-        -------
-        Lobe
-            ``Lobe("half", √(α_x α_y)/√2)``: the specular GTR2 lobe (whose width the GGX peak has
-            like Beckmann's ``α/√2``), with the quadrature scale the narrowest of ``α_x``, ``α_y``
-            and, with a clearcoat, ``α_c``; ``horizon="smith"``.  Anisotropic (``α_x ≠ α_y``): ``widths``
-            ``(α_x/√2, α_y/√2)`` and ``quadrature_widths`` ``(α_x, α_y)``, the ellipse quadrature follows (the
-            clearcoat, at most a quarter of a Schlick reflectance, is left to the rule's radial grading: its
-            own ``α_c`` in both scales would make the rule round again, measured 3 % off at 89° against
-            5e-5 for the ellipse at ``r = 0.1``, ``anisotropic = 1``, clearcoat 1).
+        """``Lobe("half", √(α_x α_y)/√2)``: the specular GTR2 lobe (whose width the GGX peak has like Beckmann's
+        ``α/√2``), with the quadrature scale the narrowest of ``α_x``, ``α_y`` and, with a clearcoat, ``α_c``;
+        ``horizon="smith"``.  Anisotropic (``α_x ≠ α_y``): ``widths`` ``(α_x/√2, α_y/√2)`` and ``quadrature_widths``
+        ``(α_x, α_y)``, the ellipse quadrature follows (the clearcoat, at most a quarter of a Schlick reflectance, is
+        left to the rule's radial grading: its own ``α_c`` in both scales would make the rule round again, measured 3 %
+        off at 89° against 5e-5 for the ellipse at ``r = 0.1``, ``anisotropic = 1``, clearcoat 1).
         """
         width = math.sqrt(self.alpha_x * self.alpha_y) / math.sqrt(2.0)
         scales = [self.alpha_x, self.alpha_y] + ([self.alpha_c] if self.clearcoat > 0 else [])
@@ -402,12 +396,8 @@ class Disney(SeparableBRDF):
         return self.__dict__["_diffuse_albedo"].copy()
 
     def sampler(self):
-        """See :meth:`BRDF.sampler`.
-
-        Returns
-        -------
-        DisneySampler
-            The mixture of cosine, GTR2 (``α_x, α_y``) and GTR1 (``α_c``) sampling with this model's weights.
+        """``DisneySampler``: the mixture of cosine, GTR2 (``α_x, α_y``) and GTR1 (``α_c``) sampling with this model's
+        weights.
         """
         return DisneySampler(
             self.alpha_x,
@@ -420,13 +410,8 @@ class Disney(SeparableBRDF):
         )
 
     def summary(self):
-        """See :meth:`BRDF.summary`.
-
-        Returns
-        -------
-        str
-            For example ``"base=0.8 metallic=0 r=0.5 specular=0.5"``, followed by the other parameters
-            that are not at their defaults.
+        """For example ``"base=0.8 metallic=0 r=0.5 specular=0.5"``, followed by the other parameters that are not at
+        their defaults.
         """
         text = (f"base={_color_text(self.base_color)} metallic={self.metallic:g} r={self.roughness:g} "
                 f"specular={self.specular:g}")
@@ -504,52 +489,9 @@ class Disney(SeparableBRDF):
         return saturate_to(f * np.maximum(nl, 0.0)[..., None], g.dtype)
 
     def classic_geometry(self, g):
-        """See :meth:`BRDF.classic_geometry`: ``π f_r (n·l)``, rounded once from float64.
-
-        Parameters
-        ----------
-        g : Geometry
-            The shading directions.
-
-        Returns
-        -------
-        ndarray, shape (..., 3)
-            In the dtype of ``g``.
-        """
+        """``π f_r (n·l)``, rounded once from float64. In the dtype of ``g``."""
         f, nl = self._lobes(g)
         return saturate_to(f * (math.pi * np.maximum(nl, 0.0))[..., None], g.dtype)
-
-    def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`: one field per RGB channel.
-
-        Parameters
-        ----------
-        g : Geometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            ``(f_r (n·l))_i`` with the unit colour ``e_i``, ``i`` = R, G, B.
-        """
-        fc = self._f_cos(g)
-        return [(fc[..., i], np.eye(3)[i]) for i in range(3)]
-
-    def separable_classic(self, g):
-        """See :meth:`BRDF.separable_classic`: one field per RGB channel.
-
-        Parameters
-        ----------
-        g : Geometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            ``(π f_r (n·l))_i`` with the unit colour ``e_i``, ``i`` = R, G, B.
-        """
-        c = self.classic_geometry(g)
-        return [(c[..., i], np.eye(3)[i]) for i in range(3)]
 
 
 def _iso_g_over_2cos(c, s2, a2: float) -> np.ndarray:

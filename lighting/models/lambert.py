@@ -51,33 +51,15 @@ class Lambert(SeparableBRDF):
         self.kd = _color("kd", kd)
 
     def lobe(self):
-        """See :meth:`BRDF.lobe`.
-
-        Returns
-        -------
-        Lobe
-            ``Lobe("normal")``: spread over the hemisphere about ``n``.
-        """
+        """``Lobe("normal")``: spread over the hemisphere about ``n``."""
         return Lobe("normal")
 
     def sampler(self):
-        """See :meth:`BRDF.sampler`.
-
-        Returns
-        -------
-        CosineSampler
-            Exact importance sampling for ``f_r (n·l) ∝ n·l``.
-        """
+        """``CosineSampler``: exact importance sampling for ``f_r (n·l) ∝ n·l``."""
         return CosineSampler()
 
     def summary(self):
-        """See :meth:`BRDF.summary`.
-
-        Returns
-        -------
-        str
-            ``"kd=0.8"``, or ``"kd=(0.8,0.2,0.1)"`` for a coloured albedo.
-        """
+        """``"kd=0.8"``, or ``"kd=(0.8,0.2,0.1)"`` for a coloured albedo."""
         return f"kd={_color_text(self.kd)}"
 
     def _params(self):
@@ -91,33 +73,11 @@ class Lambert(SeparableBRDF):
         return _rgb(np.where(g.above, 1 / math.pi, 0).astype(g.dtype), self.kd)
 
     def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            One term ``(n·l / π, kd)``: the scalar field is 0 below the horizon, in the dtype of ``g``.
-        """
+        """One term ``(n·l / π, kd)``: the scalar field is 0 below the horizon, in the dtype of ``g``."""
         return [(np.where(g.above, g.n_dot_l / g.dtype(math.pi), 0).astype(g.dtype), self.kd)]
 
     def separable_classic(self, g):
-        """See :meth:`BRDF.separable_classic`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            One term ``(n·l, kd)``: the scalar field is 0 below the horizon, in the dtype of ``g``.
-        """
+        """One term ``(n·l, kd)``: the scalar field is 0 below the horizon, in the dtype of ``g``."""
         return [((g.n_dot_l * g.above_mask).astype(g.dtype, copy=False), self.kd)]
 
 

@@ -129,12 +129,8 @@ class Mirror(SeparableBRDF):
         return {"ks": self.ks, "f0": self.f0, "fresnel": self.fresnel}
 
     def to_dict(self):
-        """See :meth:`BRDF.to_dict`; with ``fresnel="conductor"`` the table has ``metal`` when one is named,
-        else ``eta`` and ``k``, and no ``f0`` (which the conductor does not use).
-
-        Returns
-        -------
-        dict
+        """With ``fresnel="conductor"`` the table has ``metal`` when one is named, else ``eta`` and ``k``, and no ``f0``
+        (which the conductor does not use).
         """
         d = {"model": self.name, "ks": [float(x) for x in np.broadcast_to(self.ks, (3,))]}
         if self.fresnel != "conductor":
@@ -144,13 +140,7 @@ class Mirror(SeparableBRDF):
         return d
 
     def summary(self):
-        """See :meth:`BRDF.summary`.
-
-        Returns
-        -------
-        str
-            For example ``"mirror ks=0.9 F=1"``, ``"mirror ks=1 schlick f0=0.04"`` or
-            ``"mirror ks=1 conductor gold"``.
+        """For example ``"mirror ks=0.9 F=1"``, ``"mirror ks=1 schlick f0=0.04"`` or ``"mirror ks=1 conductor gold"``.
         """
         from .cook_torrance import _fresnel_text
 
@@ -215,54 +205,20 @@ class Mirror(SeparableBRDF):
         return self._f(g)
 
     def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            One term ``(0, ks)``: the delta contributes nothing to a finite set of light directions.
-        """
+        """One term ``(0, ks)``: the delta contributes nothing to a finite set of light directions."""
         return [(np.zeros(np.shape(g.n_dot_l), dtype=g.dtype), self.ks)]
 
     def separable_classic(self, g):
-        """See :meth:`BRDF.separable_classic`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            As :meth:`separable_cos`: one zero term.
-        """
+        """As :meth:`separable_cos`: one zero term."""
         return self.separable_cos(g)
 
     # -- what the rest of the engine asks ---------------------------------------------
     def lobe(self):
-        """See :meth:`BRDF.lobe` and the Notes above.
-
-        Returns
-        -------
-        Lobe
-            ``Lobe()``: axis ``"normal"``, width ``inf`` — the function part has no lobe to follow.
-        """
+        """``Lobe()``: axis ``"normal"``, width ``inf``; the function part has no lobe to follow (the Notes above)."""
         return Lobe()
 
     def sampler(self):
-        """See :meth:`BRDF.sampler`.
-
-        Returns
-        -------
-        MirrorSampler
-            The delta sampler: every sample is ``R_v``, with weight ``reflectance(cos θ_v)``.
-        """
+        """``MirrorSampler``: the delta sampler: every sample is ``R_v``, with weight ``reflectance(cos θ_v)``."""
         return MirrorSampler(self)
 
 

@@ -213,33 +213,15 @@ class OrenNayar(SeparableBRDF):
         return {"kd": self.kd, "sigma": self.sigma, "form": self.form}
 
     def lobe(self):
-        """See :meth:`BRDF.lobe`.
-
-        Returns
-        -------
-        Lobe
-            ``Lobe("normal")``: spread over the hemisphere about ``n``.
-        """
+        """``Lobe("normal")``: spread over the hemisphere about ``n``."""
         return Lobe("normal")
 
     def sampler(self):
-        """See :meth:`BRDF.sampler`.
-
-        Returns
-        -------
-        CosineSampler
-            Exact for σ = 0; for σ > 0 the weight ``π f_r`` is bounded for views off the horizon.
-        """
+        """``CosineSampler``: exact for σ = 0; for σ > 0 the weight ``π f_r`` is bounded for views off the horizon."""
         return CosineSampler()
 
     def summary(self):
-        """See :meth:`BRDF.summary`.
-
-        Returns
-        -------
-        str
-            ``"kd=0.8 σ=0.3"`` (``" full"`` appended for the full model; a coloured ``kd`` as ``(r,g,b)``).
-        """
+        """``"kd=0.8 σ=0.3"`` (``" full"`` appended for the full model; a coloured ``kd`` as ``(r,g,b)``)."""
         text = f"kd={_color_text(self.kd)} σ={self.sigma:g}"
         return text + (" full" if self.form == "full" else "")
 
@@ -327,34 +309,13 @@ class OrenNayar(SeparableBRDF):
         return _combine(self.separable_cos(g), g.dtype)
 
     def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`.
-
-        Parameters
-        ----------
-        g : Geometry
-            The shading directions (a plain one: the model is not stackable).
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            ``(n·l/π · F1, kd)`` and, for the full model, ``(n·l/π · F2, kd²)`` (:meth:`factors`); the
-            fields are 0 below the horizon, in the dtype of ``g``.
+        """``(n·l/π · F1, kd)`` and, for the full model, ``(n·l/π · F2, kd²)`` (:meth:`factors`); the fields are 0 below
+        the horizon, in the dtype of ``g``.
         """
         return self._terms(g, np.maximum(g.n_dot_l, 0) / g.dtype(math.pi))
 
     def separable_classic(self, g):
-        """See :meth:`BRDF.separable_classic`.
-
-        Parameters
-        ----------
-        g : Geometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            ``(n·l · F1, kd)`` and, for the full model, ``(n·l · F2, kd²)``, in the dtype of ``g``.
-        """
+        """``(n·l · F1, kd)`` and, for the full model, ``(n·l · F2, kd²)``, in the dtype of ``g``."""
         return self._terms(g, np.maximum(g.n_dot_l, 0))
 
 

@@ -68,13 +68,8 @@ class Phong(SeparableBRDF):
         return {"ks": self.ks, "shininess": self.shininess}
 
     def lobe(self):
-        """See :meth:`BRDF.lobe`.
-
-        Returns
-        -------
-        Lobe
-            ``Lobe("normal")`` for ``e = 0``; else a ``"mirror"`` lobe of width ``1/√e`` (``inf`` when
-            ``ks`` is 0), quadrature width ``1/√(e + 1)`` and ``power = e``.
+        """``Lobe("normal")`` for ``e = 0``; else a ``"mirror"`` lobe of width ``1/√e`` (``inf`` when ``ks`` is 0),
+        quadrature width ``1/√(e + 1)`` and ``power = e``.
         """
         e = self.shininess
         if e == 0:
@@ -84,24 +79,12 @@ class Phong(SeparableBRDF):
         return Lobe("mirror", width, quadrature_width=1.0 / math.sqrt(e + 1.0), power=e)
 
     def sampler(self):
-        """See :meth:`BRDF.sampler`.
-
-        Returns
-        -------
-        UniformSampler or PhongSampler
-            :class:`UniformSampler` for ``e = 0``, else ``PhongSampler(e)``.
-        """
+        """:class:`UniformSampler` for ``e = 0``, else ``PhongSampler(e)``."""
         # e = 0: f_r (n·l) is constant over the hemisphere, which uniform sampling integrates exactly.
         return UniformSampler() if self.shininess == 0 else PhongSampler(self.shininess)
 
     def summary(self):
-        """See :meth:`BRDF.summary`.
-
-        Returns
-        -------
-        str
-            ``"ks=0.5 e=32"`` (a coloured ``ks`` as ``(r,g,b)``).
-        """
+        """``"ks=0.5 e=32"`` (a coloured ``ks`` as ``(r,g,b)``)."""
         return f"ks={_color_text(self.ks)} e={self.shininess:g}"
 
     def _lobe(self, g):
@@ -115,35 +98,11 @@ class Phong(SeparableBRDF):
         return _lobe_over_cos(g, cos_power(d, self.shininess), log_lobe, self.ks)
 
     def separable_cos(self, g):
-        """See :meth:`BRDF.separable_cos`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            One term ``(max(R_l·v, 0)^e / π, ks)``: the scalar field is 0 below the horizon, in the
-            dtype of ``g``.
-        """
+        """One term ``(max(R_l·v, 0)^e / π, ks)``: the scalar field is 0 below the horizon, in the dtype of ``g``."""
         return [(self._lobe(g) / g.dtype(math.pi), self.ks)]
 
     def separable_classic(self, g):
-        """See :meth:`BRDF.separable_classic`.
-
-        Parameters
-        ----------
-        g : Geometry or StackedGeometry
-            The shading directions.
-
-        Returns
-        -------
-        list of (ndarray, ndarray)
-            One term ``(max(R_l·v, 0)^e, ks)``: the scalar field is 0 below the horizon, in the dtype
-            of ``g``.
-        """
+        """One term ``(max(R_l·v, 0)^e, ks)``: the scalar field is 0 below the horizon, in the dtype of ``g``."""
         return [(self._lobe(g), self.ks)]
 
 
