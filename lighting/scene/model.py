@@ -138,6 +138,9 @@ class Scene:
     materials: dict = field(default_factory=dict)
     source: str = "<string>"
     description: str = ""
+    #: Whether a render may take longer than the time budget (``load_scene(..., allow_slow=True)``, the
+    #: command line's ``--allow-slow``; :func:`lighting._budget.check_scene_budget`); never read from a file.
+    allow_slow: bool = False
 
     def object_lights(self, index: int) -> tuple:
         """The lights that shade object ``index``: its own override, else the scene's.

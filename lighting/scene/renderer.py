@@ -468,21 +468,10 @@ class SceneRenderer:
 
 
 def _environment_budget_lines(scene) -> list:
-    """What each environment light costs before the first frame: the prefilter's size and memory estimate."""
-    from .budget import PREFILTER_BYTES_PER_PIXEL, _environment_lights, prefilter_size
+    """What each environment light costs before the first frame, and the render's estimated time."""
+    from .budget import explain_lines
 
-    lines = []
-    for key, lt in _environment_lights(scene):
-        shown = "; drawn behind the objects" if lt.background and key.startswith("lights[") else ""
-        if lt.method != "monte-carlo":
-            h, w = prefilter_size(lt)
-            mib = h * w * PREFILTER_BYTES_PER_PIXEL / 2**20
-            lines.append(f"environment {key}: prefiltering {w}x{h} needs about {mib:.1f} MiB at its peak "
-                         f"(budget estimate){shown}")  # fmt: skip
-        else:
-            lines.append(f"environment {key}: {lt.samples} Monte-Carlo samples per shading point, counted in the "
-                         f"work budget{shown}")  # fmt: skip
-    return lines
+    return explain_lines(scene)
 
 
 def _object_name(ob) -> str:

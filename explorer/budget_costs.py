@@ -1,0 +1,209 @@
+"""Measure the costs behind the render time budget: ``python -m explorer.budget_costs``.
+
+Renders small scenes built to isolate one stage each (an image of one sphere under ambient light, the same
+sphere under four point lights with one model, under a Monte-Carlo sky, under the split sum and the dominant
+lights, a measured BRDF's sampler tables, prefiltering a sky) and prints the seconds per unit of work of each
+stage, as the table :data:`lighting._budget.SECONDS_PER` keeps them.  Each stage runs ``--repeat`` times and the
+fastest run counts (the others wait on the rest of the machine).  The shading stages time a second render of
+the same :class:`~lighting.scene.SceneRenderer`, so rasterizing and prefiltering are left out of them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+
+__all__ = ["measure", "main"]
+
+_CAMERA = """
+[camera]
+eye = [0.0, -3.2, 0.0]
+target = [0.0, 0.0, 0.0]
+up = [0.0, 0.0, 1.0]
+fov_y_deg = 40.0
+[image]
+width = {size}
+height = {size}
+[render]
+form = "physical"
+"""
+_SPHERE = '[[objects]]\ntype = "sphere"\nmaterial = {{parts = [{parts}]}}\n'
+_POINTS = "".join(f'[[lights]]\ntype = "point"\nposition = [{x}, -3.0, {z}]\nintensity = 3.0\n'
+                  for x, z in ((2, 2), (-2, 2), (2, -2), (-2, -2)))  # fmt: skip
+_SKY = '[[lights]]\ntype = "environment"\nsource = "daylight"\nbackground = false\nmethod = "{method}"\n'
+
+
+def _part(kind: str, files: dict) -> str:
+    if kind in files:
+        return f'{{file = "{files[kind]}"}}'
+    return f'{{model = "{kind}"}}'
+
+
+def _best(fn, repeat: int) -> float:
+    best = math.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def _second_render(text: str, base_dir: str, repeat: int) -> tuple[float, int]:
+    """Fastest second render of a scene (geometry buffers and prefiltered skies made) and its covered pixels."""
+    from lighting.scene import SceneRenderer, parse_scene
+
+    sr = SceneRenderer(parse_scene(text, base_dir=base_dir, allow_slow=True))
+    _, info = sr.render()
+    return _best(sr.render, repeat), info["covered_pixels"]
+
+
+def _files(folder: str) -> dict:
+    """A measured (MERL) file and a ``.brdf`` shader file in ``folder``: the two kinds of BRDF files."""
+    import numpy as np
+
+    from lighting.files.merl import write_merl
+
+    merl = os.path.join(folder, "measured.binary")
+    write_merl(merl, np.full((3, 90, 90, 180), 0.25))
+    shader = os.path.join(folder, "shader.brdf")
+    with open(shader, "w") as f:
+        f.write("::begin parameters\nfloat albedo 0 1 0.5\n::end parameters\n::begin shader\n"
+                "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { float c = dot(normalize(L + V), N); "
+                "return vec3(albedo / 3.14159265358979 + pow(max(c, 0.0), 20.0)); }\n::end shader\n")  # fmt: skip
+    return {"measured": "measured.binary", "shader": "shader.brdf"}
+
+
+def measure(repeat: int = 3) -> dict:
+    """Seconds per unit of work of every stage the time budget counts (see the module docstring).
+
+    Parameters
+    ----------
+    repeat : int
+        Runs per stage; the fastest counts.
+
+    Returns
+    -------
+    dict
+        ``{stage: seconds}`` with the keys of :data:`lighting._budget.SECONDS_PER`.
+    """
+    from lighting import _budget
+    from lighting.files.merl import read_merl
+    from lighting.files.merl_sampler import MerlSampler
+    from lighting.integrate.prefilter import prefilter_environment, prefilter_height
+    from lighting.models.protocol import model_names
+    from lighting.scene import SceneRenderer, parse_scene
+
+    out = {}
+    with tempfile.TemporaryDirectory() as folder:
+        files = _files(folder)
+        kinds = [k for k in model_names() if k in _budget.MODEL_KINDS] + ["measured", "shader"]
+
+        # An image: rasterizing, compositing and the ambient constant: a fixed part and one per pixel of one object.
+        timed = []
+        for size in (64, 384):
+            text = _CAMERA.format(size=size) + _SPHERE.format(parts=_part("lambert", files))
+            text += '[[lights]]\ntype = "ambient"\nintensity = 0.2\n'
+            timed.append((size**2, _best(lambda text=text: SceneRenderer(parse_scene(text)).render(), repeat)))
+        (n0, t0), (n1, t1) = timed
+        out["pixel"] = (t1 - t0) / (n1 - n0)
+        out["render"] = max(t0 - out["pixel"] * n0, 0.0)
+
+        # One light at one shading point, per model part of each kind.
+        for kind in kinds:
+            size = 24 if kind == "shader" else 96
+            text = _CAMERA.format(size=size) + _SPHERE.format(parts=_part(kind, files)) + _POINTS
+            seconds, covered = _second_render(text, folder, repeat)
+            out[f"shade {kind}"] = seconds / (covered * 4)
+
+        # One Monte-Carlo sample at one shading point, per part of each kind (sampler tables built already).
+        for kind in kinds:
+            size, samples = (12, 4) if kind == "shader" else (32, 16)
+            text = _CAMERA.format(size=size) + _SPHERE.format(parts=_part(kind, files))
+            text += _SKY.format(method="monte-carlo") + f"samples = {samples}\n"
+            seconds, covered = _second_render(text, folder, repeat)
+            out[f"monte-carlo {kind}"] = seconds / (covered * samples)
+
+        # One view table of a measured BRDF's sampler (its half-vector bins, one lookup each).
+        sampler = MerlSampler(read_merl(os.path.join(folder, files["measured"])))
+        bins = iter(range(0, 90, 7))
+        out["measured table"] = _best(lambda: sampler._build(next(bins)), min(repeat * 3, 12))
+
+        # Prefiltering an environment for the split sum and the dominant lights: a fixed part and one per pixel of
+        # the prefiltered image, from a sky (prefiltered at 256 rows) and the example's 128 x 64 image file.
+        from lighting.scene import example_path, load_scene
+
+        timed = []
+        for light in (parse_scene(_CAMERA.format(size=8) + _SPHERE.format(parts=_part("lambert", files))
+                                  + _SKY.format(method="split-sum")).lights[0],
+                      load_scene(example_path("environment")).lights[0]):  # fmt: skip
+            h = prefilter_height(light.environment)
+            timed.append((2 * h * h, _best(lambda env=light.environment: prefilter_environment(env), repeat)))
+        (n0, t0), (n1, t1) = sorted(timed)
+        per_pixel = max((t1 - t0) / (n1 - n0), 0.0)
+        out["prefilter"] = max(t0 - per_pixel * n0, 0.0)
+        out["prefilter pixel"] = per_pixel
+
+        # A shading point per part under the split sum and under the dominant lights (prefiltered already): a
+        # diffuse part, a wide glossy lobe and a narrow one (the dominant lights sample it four times as much).
+        parts = {"diffuse": '{model = "lambert"}',
+                 "glossy": '{model = "cook-torrance", ndf = "ggx", roughness = 0.5}',
+                 "narrow": '{model = "cook-torrance", ndf = "ggx", roughness = 0.1}'}  # fmt: skip
+        for method in ("split-sum", "dominant"):
+            for lobe, part in parts.items():
+                if method == "split-sum" and lobe == "narrow":
+                    continue
+                text = _CAMERA.format(size=64) + _SPHERE.format(parts=part) + _SKY.format(method=method)
+                seconds, covered = _second_render(text, folder, repeat)
+                out[f"{method} {lobe}"] = seconds / covered
+
+        # The dominant lights' first frame: finding the lights in a sky (once per environment), and a narrow
+        # lobe's table of half vectors (once per part), beyond prefiltering and the frame itself.
+        def first(part, roughness=None):
+            text = _CAMERA.format(size=8) + _SPHERE.format(parts=part) + _SKY.format(method="dominant")
+            if roughness is not None:  # a lobe not met before: its table is not cached yet
+                text = text.replace("roughness = 0.1", f"roughness = {roughness}")
+            return SceneRenderer(parse_scene(text)).render()
+
+        sky_pixels = 2 * prefilter_height(parse_scene(_CAMERA.format(size=8) + _SPHERE.format(parts=parts["diffuse"])
+                                                      + _SKY.format(method="split-sum")).lights[0].environment) ** 2
+        base = out["render"] + out["prefilter"] + sky_pixels * out["prefilter pixel"]
+        out["dominant"] = max(_best(lambda: first(parts["diffuse"]), repeat) - base, 0.0)
+        rough = iter(0.1 + 0.001 * k for k in range(1, 100))
+        narrow = _best(lambda: first(parts["narrow"], next(rough)), repeat)
+        out["dominant narrow table"] = max(narrow - base - out["dominant"], 0.0)
+    return out
+
+
+def main(argv=None) -> int:
+    """Print the measured costs, one ``"stage": seconds,`` line each (``--json``: one JSON object).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        ``[--repeat N] [--json]`` (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0.
+    """
+    p = argparse.ArgumentParser(prog="python -m explorer.budget_costs", description=__doc__.splitlines()[0])
+    p.add_argument("--repeat", type=int, default=3, help="runs per stage; the fastest counts (default 3)")
+    p.add_argument("--json", action="store_true", help="one JSON object instead of the table's lines")
+    args = p.parse_args(argv)
+    costs = measure(max(1, args.repeat))
+    if args.json:
+        print(json.dumps(costs))
+    else:
+        for k, v in costs.items():
+            print(f"    {k!r}: {v:.3g},".replace("'", '"'))
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
