@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._numeric import saturate_to
-from .base import BRDF
+from .base import BRDF, BRDFFlags
 from .protocol import Parameter, register_model
 
 __all__ = ["define_brdf"]
@@ -161,7 +161,7 @@ def define_brdf(name: str, function, parameters=(), *, term: str = "specular", r
     cls = type(
         "".join(w.capitalize() for w in name.replace("_", "-").split("-")) or "PythonModel",
         (PythonBRDF,),
-        {"name": name, "parameters": rows, "term": term, "function": staticmethod(function),
+        {"name": name, "parameters": rows, "flags": BRDFFlags.of_term(term), "function": staticmethod(function),
          "__doc__": getattr(function, "__doc__", None) or f"The Python-defined model {name!r}."},
     )  # fmt: skip
     if register:
