@@ -1,27 +1,30 @@
-"""Value checks of scene files: types and finiteness, with the key path in every message.
+"""Value checks of scene files, with the key path in every message.
 
-A check is ``f(ctx, path, value) -> normalized value``; it only checks the *type* and finiteness.
-Ranges are the engine's business: its constructors run on every value (see :meth:`_Ctx.build`).
-Before any of that, the text (or dict) is checked for nesting deeper than :data:`MAX_NESTING`.
+Each key of each table is a :class:`Field`: data saying its type, shape, bounds, choices and default
+(:mod:`lighting.scene.schema` lists them).  :meth:`Field.check` is the loader's check and the JSON Schema is
+generated from the same fields (:mod:`lighting.scene.json_schema`).  Ranges that the engine's constructors
+check stay theirs: the constructors run on every value (see :meth:`_Ctx.build`).  Before any of that, the
+text (or dict) is checked for nesting deeper than :data:`MAX_NESTING`.
 """
 
 from __future__ import annotations
 
+import copy
 import math
 import numbers
 import os
 import re
+from dataclasses import dataclass
 
 import numpy as np
 
 from .._numeric import BudgetError, abbreviate, check_budget
 from ..render.mesh import TriangleMesh
-from ..shading.equation import TERMS
 from .budget import _clamp
 from .errors import SceneBudgetError, SceneError, _describe, _fmt_value, _int_text, _join, _norm_name, _suggest
 from .examples import EXAMPLES_DIR
 
-__all__ = ["MAX_NESTING"]
+__all__ = ["MAX_NESTING", "Field", "REQUIRED", "ABSENT"]
 
 
 class _Ctx:
@@ -77,64 +80,159 @@ class _Ctx:
             raise SceneError(self.source, _join(path, key) if key else path, self.shown(msg)) from None
 
 
-REQUIRED = object()
-_ABSENT = object()  # optional key with no default: left out
+REQUIRED = object()  # a key the table must have
+ABSENT = object()  # an optional key with no default: left out
+
+#: What each kind of array of numbers is: its lengths, whether one number stands for it too, and its words.
+_ARRAYS = {
+    "vec3": ((3,), False, "a 3-vector (an array of 3 numbers)"),
+    "color": ((3,), True, "a colour: a number or [r, g, b]"),
+    "rgba": ((3, 4), True, "an OpenGL colour: a number, [r, g, b] or [r, g, b, a]"),
+}
+
+
+@dataclass(frozen=True)
+class Field:
+    """One key of a scene table, described once as data: the loader checks it, the JSON Schema publishes it.
+
+    :meth:`check` is the loader's check; :func:`lighting.scene.json_schema.scene_json_schema` reads the same
+    attributes, so a bound stated here is the bound both enforce.  A field checks the value's type, shape and
+    the bounds it states; the engine's constructors check the rest (their messages get the key in front,
+    :meth:`_Ctx.build`).
+
+    Parameters
+    ----------
+    kind : str
+        ``"number"`` (finite), ``"integer"``, ``"bool"``, ``"string"``, ``"choice"`` (one of ``choices``,
+        any case, ``_`` for ``-``), ``"terms"`` (a non-empty array of ``choices``), an array of numbers:
+        ``"vec3"``, ``"color"`` (a number or ``[r, g, b]``), ``"rgba"`` (made ``[r, g, b, a]``), ``"numbers"``
+        (``lengths`` and ``scalar`` as given); a table checked later by the loader's own code: ``"table"``,
+        ``"named"`` (a table of named ``ref`` tables), ``"name_or_table"``; or ``"tables"`` (an array of tables).
+    default
+        What a missing key means; :data:`REQUIRED`, or :data:`ABSENT` (left out).
+    description : str
+        One line for editors.
+    minimum, maximum : float, optional
+        Inclusive bounds of a number, an integer, or each entry of an array of numbers.
+    unit : str
+        Said after a number's range in messages.
+    choices : tuple
+        The allowed values of a choice, of the terms, or of an integer.
+    lengths : tuple of int
+        The lengths an array of numbers may have (set by the kinds ``vec3``, ``color`` and ``rgba``).
+    scalar : bool
+        An array of numbers may be given as one number.
+    what : str
+        What is allowed, in the messages' words: of an array (set by its kind), of an array of tables (the
+        entries), or of an integer with choices.
+    ref : str
+        The JSON Schema definition a table (or each entry of an array of tables) follows.
+    empty : str, optional
+        An array of tables: the message when it is empty (``None``: empty is allowed).
+    """
+
+    kind: str
+    default: object = REQUIRED
+    description: str = ""
+    minimum: float | None = None
+    maximum: float | None = None
+    unit: str = ""
+    choices: tuple = ()
+    lengths: tuple = ()
+    scalar: bool = False
+    what: str = ""
+    ref: str = ""
+    empty: str | None = None
+
+    def __post_init__(self):
+        if self.kind in _ARRAYS:
+            for name, value in zip(("lengths", "scalar", "what"), _ARRAYS[self.kind], strict=True):
+                object.__setattr__(self, name, value)
+
+    def check(self, ctx, path: str, v):
+        """The value ``v`` of the key at ``path``, checked and normalized; :meth:`_Ctx.fail` otherwise."""
+        kind = self.kind
+        if kind == "number":
+            return self._number(ctx, path, v, self._number_words())
+        if kind == "integer":
+            return self._integer(ctx, path, v)
+        if kind == "bool":
+            if not isinstance(v, (bool, np.bool_)):
+                ctx.fail(path, f"must be true or false; got {_describe(v)}")
+            return bool(v)
+        if kind == "string":
+            if not isinstance(v, str):
+                ctx.fail(path, f"must be a string; got {_describe(v)}")
+            return v
+        if kind == "choice":
+            return _choice(self.choices)(ctx, path, v)
+        if kind == "terms":
+            if not isinstance(v, (list, tuple)) or not v:
+                ctx.fail(path, f"must be a non-empty array of terms from {', '.join(map(repr, self.choices))}; "
+                               f"got {_describe(v)}")  # fmt: skip
+            pick = _choice(self.choices)
+            given = [pick(ctx, _join(path, i), t) for i, t in enumerate(v)]
+            return [t for t in self.choices if t in given]  # canonical order, no duplicates
+        if kind == "tables":
+            if not isinstance(v, (list, tuple)) or not all(isinstance(x, dict) for x in v):
+                ctx.fail(path, f"must be an array of tables ([[{path}]] entries, {self.what}); got {_describe(v)}")
+            if not v and self.empty is not None:
+                ctx.fail(path, self.empty)
+            return list(v)
+        if kind in ("table", "named", "name_or_table"):
+            return v  # the loader's own code checks it, with messages that say what such a table holds
+        return self._numbers(ctx, path, v)
+
+    def _range(self, fmt=format) -> str:
+        """The bounds in words: ``" in [lo, hi]"``, ``" <= hi"``, ``" >= lo"`` or ``""``."""
+        lo, hi = self.minimum, self.maximum
+        if lo is not None and hi is not None:
+            return f" in [{fmt(lo)}, {fmt(hi)}]"
+        if hi is not None:
+            return f" <= {fmt(hi)}"
+        return "" if lo is None else f" >= {fmt(lo)}"
+
+    def _number_words(self) -> str:
+        bounds = self._range(lambda x: f"{x:g}")
+        words = ("a number" if bounds.startswith(" in") else "a finite number") + bounds
+        return words + (f" ({self.unit})" if self.unit else "")
+
+    def _number(self, ctx, path, v, allowed):
+        if not _is_number(v):
+            ctx.fail(path, f"must be {allowed}; got {_describe(v)}")
+        f = float(v)
+        if not math.isfinite(f):
+            ctx.fail(path, f"must be {allowed}; got {_fmt_value(f)} (nan and inf are not allowed)")
+        if (self.minimum is not None and f < self.minimum) or (self.maximum is not None and f > self.maximum):
+            ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}")
+        return f
+
+    def _integer(self, ctx, path, v):
+        allowed = self.what or "an integer" + self._range(str)
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
+            ctx.fail(path, f"must be {allowed}; got {_describe(v)}")
+        lo, hi = self.minimum, self.maximum
+        if (lo is not None and v < lo) or (hi is not None and v > hi) or (self.choices and v not in self.choices):
+            ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}")
+        return int(v)
+
+    def _numbers(self, ctx, path, v):
+        """An array of ``lengths`` numbers (each within the bounds), or one number where ``scalar``."""
+        if self.scalar and _is_number(v):
+            bounds = self._range(lambda x: f"{x:g}")
+            f = self._number(ctx, path, v, f"{self.what}, finite" + (f" and{bounds}" if bounds else ""))
+            return [f, f, f, 1.0] if self.kind == "rgba" else f  # OpenGL's colour of 4: a number is grey
+        if not isinstance(v, (list, tuple)):
+            ctx.fail(path, f"must be {self.what}; got {_describe(v)}")
+        if len(v) not in self.lengths:
+            ctx.fail(path, f"must be {self.what}; got {len(v)} entries {_fmt_value(v)}")
+        entry = self._number_words()
+        out = [self._number(ctx, _join(path, i), x, entry) for i, x in enumerate(v)]
+        return out + [1.0] if self.kind == "rgba" and len(out) == 3 else out  # OpenGL's [r, g, b] has alpha 1
 
 
 def _is_number(v) -> bool:
     return isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
-
-
-def _finite_number(ctx, path, v, allowed="a finite number"):
-    if not _is_number(v):
-        ctx.fail(path, f"must be {allowed}; got {_describe(v)}")
-    f = float(v)
-    if not math.isfinite(f):
-        ctx.fail(path, f"must be {allowed}; got {_fmt_value(f)} (nan and inf are not allowed)")
-    return f
-
-
-def _number(ctx, path, v):
-    return _finite_number(ctx, path, v)
-
-
-def _number_in(lo: float, hi: float, unit: str = ""):
-    """A finite number in ``[lo, hi]``; a check function (``unit`` is said after the range)."""
-    allowed = f"a number in [{lo:g}, {hi:g}]" + (f" ({unit})" if unit else "")
-
-    def check(ctx, path, v):
-        f = _finite_number(ctx, path, v, allowed)
-        if not lo <= f <= hi:
-            ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}")
-        return f
-
-    return check
-
-
-def _integer_check(minimum=None, maximum=None):
-    lo = "" if minimum is None else f" >= {minimum}"
-    allowed = f"an integer{lo}" if maximum is None else f"an integer in [{minimum}, {maximum}]"
-
-    def check(ctx, path, v):
-        if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral):
-            ctx.fail(path, f"must be {allowed}; got {_describe(v)}")
-        if (minimum is not None and v < minimum) or (maximum is not None and v > maximum):
-            ctx.fail(path, f"must be {allowed}; got {_fmt_value(v)}")
-        return int(v)
-
-    return check
-
-
-def _boolean(ctx, path, v):
-    if not isinstance(v, (bool, np.bool_)):
-        ctx.fail(path, f"must be true or false; got {_describe(v)}")
-    return bool(v)
-
-
-def _string(ctx, path, v):
-    if not isinstance(v, str):
-        ctx.fail(path, f"must be a string; got {_describe(v)}")
-    return v
 
 
 def _choice(choices):
@@ -161,55 +259,8 @@ def _choice(choices):
     return check
 
 
-def _numbers(lengths, what):
-    """An array of finite numbers of one of ``lengths``; a check function.  ``what`` says what is allowed."""
-
-    def check(ctx, path, v):
-        if not isinstance(v, (list, tuple)):
-            ctx.fail(path, f"must be {what}; got {_describe(v)}")
-        if len(v) not in lengths:
-            ctx.fail(path, f"must be {what}; got {len(v)} entries {_fmt_value(v)}")
-        return [_finite_number(ctx, _join(path, i), x) for i, x in enumerate(v)]
-
-    return check
-
-
-_vec3 = _numbers((3,), "a 3-vector (an array of 3 numbers)")
-
-
-def _number_or(lengths, what):
-    """A finite number, or an array as for :func:`_numbers`."""
-    vec = _numbers(lengths, what)
-
-    def check(ctx, path, v):
-        if _is_number(v):
-            return _finite_number(ctx, path, v, f"{what}, finite")
-        return vec(ctx, path, v)
-
-    return check
-
-
-_color = _number_or((3,), "a colour: a number or [r, g, b]")
-_rgba_or_number = _number_or((3, 4), "an OpenGL colour: a number, [r, g, b] or [r, g, b, a]")
-
-
-def _rgba(ctx, path, v):
-    """An OpenGL colour as a list of 4: a number is grey, [r, g, b] has alpha 1."""
-    c = _rgba_or_number(ctx, path, v)
-    c = [c, c, c] if isinstance(c, float) else c
-    return c + [1.0] if len(c) == 3 else c
-
-
-def _terms_check(ctx, path, v):
-    if not isinstance(v, (list, tuple)) or not v:
-        ctx.fail(path, f"must be a non-empty array of terms from {', '.join(map(repr, TERMS))}; got {_describe(v)}")
-    pick = _choice(TERMS)
-    out = [pick(ctx, _join(path, i), t) for i, t in enumerate(v)]
-    return [t for t in TERMS if t in out]  # canonical order, no duplicates
-
-
 def _table(ctx, path, value, spec: dict, what: str) -> dict:
-    """Check a table against ``spec`` (key → (check, default)); unknown keys get a suggestion."""
+    """Check a table against ``spec`` (key → :class:`Field`); unknown keys get a suggestion."""
     if not isinstance(value, dict):
         ctx.fail(path, f"must be a table ({what}); got {_describe(value)}")
     for k in value:
@@ -217,20 +268,14 @@ def _table(ctx, path, value, spec: dict, what: str) -> dict:
             hint = _suggest(k, spec)
             ctx.fail(_join(path, k), f"unknown key for {what}; {hint}allowed keys: {', '.join(spec)}")
     out = {}
-    for k, (check, default) in spec.items():
+    for k, field in spec.items():
         if k in value:
-            out[k] = check(ctx, _join(path, k), value[k])
-        elif default is REQUIRED:
+            out[k] = field.check(ctx, _join(path, k), value[k])
+        elif field.default is REQUIRED:
             ctx.fail(_join(path, k), f"is required in {what}")
-        elif default is not _ABSENT:
-            out[k] = default
+        elif field.default is not ABSENT:
+            out[k] = copy.copy(field.default)  # a list or table of its own: the field's stays as declared
     return out
-
-
-def _array_of_tables(ctx, path, value, what) -> list:
-    if not isinstance(value, (list, tuple)) or not all(isinstance(x, dict) for x in value):
-        ctx.fail(path, f"must be an array of tables ([[{path}]] entries, {what}); got {_describe(value)}")
-    return list(value)
 
 
 #: Deepest nesting of arrays and tables a scene may use (a scene needs about 7: objects[0].material.parts[0].kd).

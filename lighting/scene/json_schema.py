@@ -1,9 +1,10 @@
-"""A JSON Schema of the scene format, built from the tables of :mod:`lighting.scene.schema`, for editors.
+"""A JSON Schema of the scene format, generated from the fields of :mod:`lighting.scene.schema`, for editors.
 
 Editors that understand JSON Schema (VS Code with *Even Better TOML* or *Taplo*, JetBrains IDEs)
-complete keys, show their defaults and flag unknown keys in a scene file.  The schema is
-derived from the same tables the loader checks against, so it cannot list a key the loader
-refuses; it is written to ``docs/scene.schema.json`` by::
+complete keys, show their defaults and descriptions and flag unknown keys in a scene file.  Each key's
+schema is its :class:`~lighting.scene.checks.Field` (type, bounds, choices, lengths, default, description)
+stated as JSON Schema: the loader checks the same fields, so the schema cannot list a key the loader
+refuses nor a bound it does not enforce; it is written to ``docs/scene.schema.json`` by::
 
     python -m lighting.scene.json_schema docs/scene.schema.json
 
@@ -18,10 +19,8 @@ from __future__ import annotations
 import json
 import sys
 
-from ..models import model_class, model_names
-from ..shading.equation import TERMS
-from . import checks as _c
 from . import schema as _s
+from .checks import ABSENT, REQUIRED
 
 __all__ = ["scene_json_schema", "SCHEMA_ID"]
 
@@ -29,84 +28,66 @@ __all__ = ["scene_json_schema", "SCHEMA_ID"]
 SCHEMA_ID = "scene.schema.json"
 
 
-def _closure(fn) -> dict:
-    return dict(zip(fn.__code__.co_freevars, (c.cell_contents for c in fn.__closure__ or ()), strict=True))
+def _plain(v):
+    """A default as JSON holds it (a tuple is an array)."""
+    return [_plain(x) for x in v] if isinstance(v, (list, tuple)) else v
 
 
-def _numbers_schema(lengths) -> dict:
-    return {"type": "array", "items": {"type": "number"}, "minItems": min(lengths), "maxItems": max(lengths)}
-
-
-def _check_schema(check) -> dict:
-    """The JSON Schema of one value check of :mod:`lighting.scene.checks`."""
-    if check is _c._number:
-        return {"type": "number"}
-    if check is _c._boolean:
-        return {"type": "boolean"}
-    if check is _c._string:
-        return {"type": "string"}
-    if check is _c._rgba:
-        return {"anyOf": [{"type": "number"}, _numbers_schema((3, 4))]}
-    if check is _c._terms_check:
-        return {"type": "array", "items": {"enum": list(TERMS)}, "minItems": 1, "uniqueItems": True}
-    owner = check.__qualname__.split(".", 1)[0]
-    free = _closure(check)
-    if owner == "_choice":
-        choices = list(free["choices"])
-        # An integer whose text is a choice is that choice (denominator = 4).
-        return {"enum": choices + [int(c) for c in choices if c.isdigit()]}
-    if owner == "_integer_check":
-        out = {"type": "integer"}
-        if free.get("minimum") is not None:
-            out["minimum"] = free["minimum"]
-        if free.get("maximum") is not None:
-            out["maximum"] = free["maximum"]
-        return out
-    if owner == "_number_in":
-        return {"type": "number", "minimum": free["lo"], "maximum": free["hi"]}
-    if owner == "_numbers":
-        return _numbers_schema(free["lengths"])
-    if owner == "_number_or":
-        return {"anyOf": [{"type": "number"}, _check_schema(free["vec"])]}
-    raise TypeError(f"no JSON Schema for the check {check.__qualname__}")
-
-
-def _object(spec: dict, *, description: str = "", overrides: dict | None = None, const: dict | None = None) -> dict:
-    """A closed object (no unknown key) from a ``key -> (check, default)`` table."""
-    props, required = {}, []
-    for key, (check, default) in spec.items():
-        if overrides and key in overrides:
-            prop = dict(overrides[key])
-        elif const and key in const:
-            prop = {"const": const[key]}
-        else:
-            prop = _check_schema(check)
-        if default is _c.REQUIRED:
-            required.append(key)
-        elif default is not _c._ABSENT and "default" not in prop:
-            prop["default"] = default
-        props[key] = prop
-    out = {"type": "object", "properties": props, "additionalProperties": False}
-    if required:
-        out["required"] = required
-    if description:
-        out = {"description": description, **out}
+def _bounded(out: dict, field) -> dict:
+    for key, bound in (("minimum", field.minimum), ("maximum", field.maximum)):
+        if bound is not None:
+            out[key] = bound
     return out
 
 
+def _field_schema(field) -> dict:
+    """The JSON Schema of one :class:`~lighting.scene.checks.Field`: what its check enforces, stated as data."""
+    kind, ref = field.kind, {"$ref": f"#/$defs/{field.ref}"}
+    if kind in ("number", "integer"):
+        out = _bounded({"type": kind}, field)
+        if field.choices:
+            out = {"const": field.choices[0]} if len(field.choices) == 1 else {**out, "enum": list(field.choices)}
+    elif kind in ("bool", "string"):
+        out = {"type": "boolean" if kind == "bool" else "string"}
+    elif kind == "choice":
+        # An integer whose text is a choice is that choice (denominator = 4).
+        out = {"enum": list(field.choices) + [int(c) for c in field.choices if c.isdigit()]}
+    elif kind == "terms":
+        out = {"type": "array", "items": {"enum": list(field.choices)}, "minItems": 1, "uniqueItems": True}
+    elif kind == "table":
+        out = ref
+    elif kind == "named":
+        out = {"type": "object", "additionalProperties": ref}
+    elif kind == "name_or_table":
+        out = {"anyOf": [{"type": "string"}, ref]}
+    elif kind == "tables":
+        out = {"type": "array", **({"minItems": 1} if field.empty is not None else {}), "items": ref}
+    else:  # an array of numbers
+        entry = _bounded({"type": "number"}, field)
+        lengths = field.lengths
+        out = {"type": "array", "items": entry, "minItems": min(lengths), "maxItems": max(lengths)}
+        out = {"anyOf": [entry, out]} if field.scalar else out
+    if field.default is not REQUIRED and field.default is not ABSENT:
+        out["default"] = _plain(field.default)
+    if field.description:
+        out["description"] = field.description
+    return out
+
+
+def _object(spec: dict, *, description: str = "", const: dict | None = None) -> dict:
+    """A closed object (no unknown key) from a ``key -> Field`` table; ``const`` keys hold one value."""
+    props = {k: _field_schema(f) for k, f in spec.items()}
+    for k, value in (const or {}).items():  # the variant's tag: one value, and what the key is
+        props[k] = {"const": value, **({"description": spec[k].description} if spec[k].description else {})}
+    required = [k for k, f in spec.items() if f.default is REQUIRED]
+    out = {"type": "object", "properties": props, "additionalProperties": False}
+    if required:
+        out["required"] = required
+    return {"description": description, **out} if description else out
+
+
 def _model_parts() -> list:
-    parts = []
-    for name in model_names():
-        cls = model_class(name)
-        props = {"model": {"const": name}}
-        required = ["model"]
-        for p in cls.parameters:
-            prop = _check_schema(_s._parameter_check(p))
-            prop["default"] = list(p.default) if isinstance(p.default, tuple) else p.default
-            if getattr(p, "description", ""):
-                prop["description"] = p.description
-            props[p.name] = prop
-        parts.append({"type": "object", "properties": props, "required": required, "additionalProperties": False})
+    parts = [_object(spec, const={"model": name}) for name, spec in _s.model_keys().items()]
     parts.append(
         {
             "description": "A model read from a BRDF file (.brdf or MERL .binary), its parameters by name",
@@ -120,7 +101,7 @@ def _model_parts() -> list:
 
 
 def scene_json_schema() -> dict:
-    """The JSON Schema (draft 2020-12) of a scene file, from the loader's tables and the model registry.
+    """The JSON Schema (draft 2020-12) of a scene file, from the loader's fields and the model registry.
 
     Returns
     -------
@@ -142,35 +123,14 @@ def scene_json_schema() -> dict:
     ]
     material = {
         "oneOf": [
-            _object(
-                _s.MATERIAL_KEYS,
-                description="engine reflectance models, summed",
-                overrides={"parts": {"type": "array", "minItems": 1, "items": {"$ref": "#/$defs/part"}}},
-            ),
+            _object(_s.MATERIAL_KEYS, description="engine reflectance models, summed"),
             _object(_s.GL_MATERIAL_KEYS, description="an OpenGL fixed-function material", const={"model": "opengl"}),
         ]
     }
-    object_overrides = {
-        "material": {"anyOf": [{"type": "string"}, {"$ref": "#/$defs/material"}]},
-        "lights": {"type": "array", "items": {"$ref": "#/$defs/light"}},
-    }
     object_variants = [
-        _object(spec, description=f"a {kind}", overrides=object_overrides, const={"type": kind})
-        for kind, spec in _s.OBJECT_KEYS.items()
+        _object(spec, description=f"a {kind}", const={"type": kind}) for kind, spec in _s.OBJECT_KEYS.items()
     ]
-    top = _object(
-        _s.TOP_KEYS,
-        overrides={
-            "version": {"const": _s.FORMAT_VERSION, "default": _s.FORMAT_VERSION},
-            "camera": {"$ref": "#/$defs/camera"},
-            "image": {"$ref": "#/$defs/image"},
-            "render": {"$ref": "#/$defs/render"},
-            "opengl": {"$ref": "#/$defs/opengl"},
-            "materials": {"type": "object", "additionalProperties": {"$ref": "#/$defs/material"}},
-            "objects": {"type": "array", "minItems": 1, "items": {"$ref": "#/$defs/object"}},
-            "lights": {"type": "array", "items": {"$ref": "#/$defs/light"}},
-        },
-    )
+    top = _object(_s.TOP_KEYS)
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "$id": SCHEMA_ID,

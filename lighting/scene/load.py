@@ -28,12 +28,12 @@ from .budget import BRDF_FILE_BYTES, BYTES_PER_MESH_FILE_BYTE, BYTES_PER_TRIANGL
 from .checks import (
     MAX_NESTING,
     REQUIRED,
+    Field,
     _check_dict_nesting,
     _check_text_nesting,
     _choice,
     _Ctx,
     _is_number,
-    _string,
     _table,
 )
 from .envlights import check_one_environment, environment_light
@@ -43,7 +43,6 @@ from .model import GLLight, ImageOptions, OpenGLOptions, RenderOptions, Scene, S
 from .schema import (
     _LIGHT_CLASSES,
     CAMERA_KEYS,
-    FORMAT_VERSION,
     GL_MATERIAL_KEYS,
     IMAGE_KEYS,
     LIGHT_KEYS,
@@ -52,8 +51,8 @@ from .schema import (
     OPENGL_KEYS,
     RENDER_KEYS,
     TOP_KEYS,
-    _parameter_check,
     model_keys,
+    parameter_field,
 )
 
 __all__ = ["load_scene", "parse_scene", "object_matrix"]
@@ -155,11 +154,8 @@ def parse_scene(data, source: str = "<string>", *, base_dir=None) -> Scene:
     return _parse(ctx, data)
 
 
-
 def _parse(ctx: _Ctx, data: dict) -> Scene:
     top = _table(ctx, "", data, TOP_KEYS, "a scene file")
-    if top["version"] != FORMAT_VERSION:
-        ctx.fail("version", f"must be {FORMAT_VERSION} (the only format version); got {top['version']}")
 
     img = _table(ctx, "image", top["image"], IMAGE_KEYS, "the [image] table")
     image = ImageOptions(
@@ -190,8 +186,6 @@ def _parse(ctx: _Ctx, data: dict) -> Scene:
     lights = tuple(_light(ctx, _join("lights", i), t) for i, t in enumerate(top["lights"]))
     _check_light_mix(ctx, "lights", lights)
 
-    if not top["objects"]:
-        ctx.fail("objects", "a scene needs at least one [[objects]] entry")
     objects = tuple(
         _object(ctx, _join("objects", i), t, materials, lights, render) for i, t in enumerate(top["objects"])
     )
@@ -308,8 +302,6 @@ def _material(ctx, path, table):
             f"(models {', '.join(map(repr, models))}) or model = 'opengl' {hint}".rstrip(),
         )
     m = _table(ctx, path, table, MATERIAL_KEYS, "a material")
-    if not m["parts"]:
-        ctx.fail(_join(path, "parts"), "must list at least one reflectance model")
     brdf = None
     for i, part in enumerate(m["parts"]):
         ppath = _join(_join(path, "parts"), i)
@@ -360,7 +352,7 @@ def _file_part(ctx, path, part):
         except ValueError as e:
             ctx.fail(_join(path, "file"), str(e))
     cls = ctx.brdf_files[p]
-    keys = {"file": (_string, REQUIRED), **{q.name: (_parameter_check(q), q.default) for q in cls.parameters}}
+    keys = {"file": Field("string", REQUIRED), **{q.name: parameter_field(q) for q in cls.parameters}}
     params = _table(ctx, path, part, keys, f"the BRDF file {os.path.basename(p)!r}")
     params.pop("file")
     for q in cls.parameters:  # the table's own check names the key (a file's messages start with its name)

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import json
 import numbers
+import re
 
 import numpy as np
 
 from ..shading import opengl as gl
-from .errors import _toml_key
 from .model import GLLight, Scene
 from .schema import _LIGHT_CLASSES, FORMAT_VERSION, LIGHT_KEYS
 
@@ -117,26 +116,30 @@ def _scene_to_dict(scene: Scene) -> dict:
     return out
 
 
-def _toml_value(v) -> str:
-    """A value as TOML text (inline arrays and tables)."""
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, numbers.Integral):
-        return str(int(v))
-    if isinstance(v, numbers.Real):
-        r = repr(float(v))
-        return r if any(ch in r for ch in ".en") else r + ".0"
-    if isinstance(v, str):
-        return json.dumps(v, ensure_ascii=False)
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+# tomli-w writes an array one entry a line; a scene's arrays are vectors and colours, read best on one line.  Only
+# arrays of scalars are joined (an entry holding a bracket or brace stays as written); tomli-w writes no raw line
+# break inside a string, so a match never starts or ends inside one.
+_ARRAY = re.compile(r"\[\n((?:[ ]+[^\n\[\]{}]+,\n)+)[ ]*\]")
+
+
+def _plain(v):
+    """``v`` in the types tomli-w writes: NumPy numbers as Python's (a dict passed in may hold them)."""
     if isinstance(v, dict):
-        return "{" + ", ".join(f"{_toml_key(k)} = {_toml_value(x)}" for k, x in v.items()) + "}"
-    raise ValueError(f"cannot write {type(v).__name__} to TOML")
+        return {k: _plain(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_plain(x) for x in v]
+    if isinstance(v, (bool, np.bool_)):
+        return bool(v)
+    if isinstance(v, numbers.Integral):
+        return int(v)
+    return float(v) if isinstance(v, numbers.Real) else v
 
 
 def scene_to_toml(scene) -> str:
     """TOML text of a scene that :func:`~lighting.scene.load.parse_scene` reads back.
+
+    Written by tomli-w (floats as their shortest repr, so every value reads back bit for bit), with
+    arrays of numbers and names on one line.
 
     Parameters
     ----------
@@ -154,18 +157,16 @@ def scene_to_toml(scene) -> str:
     >>> s = parse_scene('[camera]\\neye = [0, 0, 5]\\n[[objects]]\\ntype = "sphere"\\n')
     >>> parse_scene(scene_to_toml(s)).to_dict() == s.to_dict()
     True
+    >>> print(scene_to_toml(s).split("[camera]")[1].split("\\n\\n")[0].strip())
+    eye = [0.0, 0.0, 5.0]
+    target = [0.0, 0.0, 0.0]
+    up = [0.0, 1.0, 0.0]
+    projection = "perspective"
+    fov_y_deg = 30.0
+    ortho_height = 2.5
     """
+    import tomli_w  # only saving a scene needs it
+
     d = scene.to_dict() if isinstance(scene, Scene) else scene
-    lines = []
-    for k, v in d.items():
-        if not isinstance(v, (dict, list)) or (isinstance(v, list) and not all(isinstance(x, dict) for x in v)):
-            lines.append(f"{_toml_key(k)} = {_toml_value(v)}")
-    for k in ("camera", "image", "render", "opengl"):
-        if k in d:
-            lines += ["", f"[{k}]"] + [f"{_toml_key(a)} = {_toml_value(b)}" for a, b in d[k].items()]
-    for name, m in d.get("materials", {}).items():
-        lines += ["", f"[materials.{_toml_key(name)}]"] + [f"{_toml_key(a)} = {_toml_value(b)}" for a, b in m.items()]
-    for k in ("objects", "lights"):
-        for entry in d.get(k, []):
-            lines += ["", f"[[{k}]]"] + [f"{_toml_key(a)} = {_toml_value(b)}" for a, b in entry.items()]
-    return "\n".join(lines).lstrip("\n") + "\n"
+    text = tomli_w.dumps(_plain(d))
+    return _ARRAY.sub(lambda m: "[" + ", ".join(x.strip()[:-1] for x in m.group(1).splitlines()) + "]", text)

@@ -1,8 +1,10 @@
-"""The scene-file schema: one table per kind of entry, ``key -> (check, default)``.
+"""The scene-file schema: one table per kind of entry, ``key -> Field`` (:class:`lighting.scene.checks.Field`).
 
-``docs/scenes.md`` lists the same keys (a test keeps them in step).  The models' keys are not
-written here: :func:`model_keys` builds them from the registry (:func:`lighting.models.model_names`)
-and each model's ``parameters`` table, so a model registered anywhere is accepted in scene files.
+Each field says, as data, what its key holds: the loader checks values against it and the JSON Schema for editors
+(``docs/scene.schema.json``) is generated from it.  ``docs/scenes.md`` lists the same keys (a test keeps them in
+step).  The models' keys are not written here: :func:`model_keys` builds them from the registry
+(:func:`lighting.models.model_names`) and each model's ``parameters`` table, so a model registered anywhere is
+accepted in scene files.
 """
 
 from __future__ import annotations
@@ -13,25 +15,9 @@ from ..models import model_class, model_names
 from ..render.image import MAX_EXPOSURE
 from ..render.renderer import SHADING_MODES
 from ..shading.equation import FORMS, TERMS
-from .checks import (
-    _ABSENT,
-    REQUIRED,
-    _array_of_tables,
-    _boolean,
-    _choice,
-    _color,
-    _integer_check,
-    _number,
-    _number_in,
-    _number_or,
-    _numbers,
-    _rgba,
-    _string,
-    _terms_check,
-    _vec3,
-)
+from .checks import ABSENT, REQUIRED, Field
 
-__all__ = ["FORMAT_VERSION", "MAX_SCENE_IMAGE_SIDE", "model_keys"]
+__all__ = ["FORMAT_VERSION", "MAX_SCENE_IMAGE_SIDE", "MAX_ENVIRONMENT_VALUE", "model_keys", "parameter_field"]
 
 #: The format version this module reads and writes (``version = 1`` in a file).
 FORMAT_VERSION = 1
@@ -39,60 +25,89 @@ FORMAT_VERSION = 1
 #: The largest ``[image]`` width and height, in pixels (``render --size`` is held to the same).
 MAX_SCENE_IMAGE_SIDE = 16384
 
+#: The largest entry of an environment light's ``radiance`` and ``intensity``.  An environment's radiance is held
+#: in float32 (image files, prefiltered levels; largest 3.4e38): a constant sky of 1e38 overflows the prefilter's
+#: sums while 1e36 renders with every method.  This keeps a factor of a million below that, and radiance times
+#: intensity (at most 1e60) far inside float64 in every method.
+MAX_ENVIRONMENT_VALUE = 1e30
+
+_ORIGIN = [0.0, 0.0, 0.0]
+_GL_BLACK = [0.0, 0.0, 0.0, 1.0]
+
 CAMERA_KEYS = {
-    "eye": (_vec3, REQUIRED),
-    "target": (_vec3, [0.0, 0.0, 0.0]),
-    "up": (_vec3, [0.0, 1.0, 0.0]),
-    "projection": (_choice(("perspective", "orthographic")), "perspective"),
-    "fov_y_deg": (_number, 30.0),
-    "ortho_height": (_number, 2.5),
-    "near": (_number, _ABSENT),
-    "far": (_number, _ABSENT),
+    "eye": Field("vec3", REQUIRED, "where the camera is; not at target"),
+    "target": Field("vec3", _ORIGIN, "the point at the image centre"),
+    "up": Field("vec3", [0.0, 1.0, 0.0], "the direction that is up in the image; not parallel to target - eye"),
+    "projection": Field("choice", "perspective", "the projection", choices=("perspective", "orthographic")),
+    "fov_y_deg": Field("number", 30.0, "vertical field of view in degrees, in (0, 180) (perspective)"),
+    "ortho_height": Field("number", 2.5, "world height of the image, > 0 (orthographic)"),
+    "near": Field("number", ABSENT, "near clipping distance, > 0 (absent: |target - eye| / 1000)"),
+    "far": Field("number", ABSENT, "far clipping distance, > near (absent: 1000 |target - eye|)"),
 }
 
 IMAGE_KEYS = {
-    "width": (_integer_check(1, MAX_SCENE_IMAGE_SIDE), 512),
-    "height": (_integer_check(1, MAX_SCENE_IMAGE_SIDE), 512),
-    "background": (_color, 0.0),
-    "exposure": (_number_in(-MAX_EXPOSURE, MAX_EXPOSURE, "stops"), 0.0),
-    "tonemap": (_choice(("clamp", "reinhard")), "clamp"),
-    "output": (_string, _ABSENT),
+    "width": Field("integer", 512, "image width in pixels", minimum=1, maximum=MAX_SCENE_IMAGE_SIDE),
+    "height": Field("integer", 512, "image height in pixels", minimum=1, maximum=MAX_SCENE_IMAGE_SIDE),
+    "background": Field("color", 0.0, "linear RGB, >= 0, where no object covers the pixel centre"),
+    "exposure": Field("number", 0.0, "the image is multiplied by 2^exposure when encoded",
+                      minimum=-MAX_EXPOSURE, maximum=MAX_EXPOSURE, unit="stops"),
+    "tonemap": Field("choice", "clamp", "clamp: values above 1 clip; reinhard: x / (1 + x)",
+                     choices=("clamp", "reinhard")),
+    "output": Field("string", ABSENT, "PNG path for the command line, inside the scene's folder or the current one"),
 }
 
 RENDER_KEYS = {
-    "mode": (_choice(SHADING_MODES), "phong"),
-    "form": (_choice(FORMS), "classic"),
-    "terms": (_terms_check, list(TERMS)),
-    "cull_backfaces": (_boolean, True),
+    "mode": Field("choice", "phong", "shading per triangle (flat), per vertex (gouraud) or per pixel (phong)",
+                  choices=SHADING_MODES),
+    "form": Field("choice", "classic", "the slides' I (classic) or radiance I / pi (physical)", choices=FORMS),
+    "terms": Field("terms", list(TERMS), "the terms of the illumination equation that are drawn", choices=TERMS),
+    "cull_backfaces": Field("bool", True, "drop triangles facing away from the camera"),
 }
 
 OPENGL_KEYS = {
-    "scene_ambient": (_rgba, [0.2, 0.2, 0.2, 1.0]),
-    "local_viewer": (_boolean, False),
+    "scene_ambient": Field("rgba", [0.2, 0.2, 0.2, 1.0], "OpenGL's scene ambient a_cs"),
+    "local_viewer": Field("bool", False, "half vector toward the eye (true) or along +z in eye space (false)"),
 }
 
-#: What a parameter of each kind is in a scene file; a "choice" parameter is checked against its own choices.
-_KIND_CHECKS = {"float": _number, "color": _color, "bool": _boolean}
+#: The kind of field of each kind of model parameter (:class:`lighting.models.Parameter`).
+_PARAMETER_KINDS = {"float": "number", "color": "color", "bool": "bool", "choice": "choice"}
 
 
-def _parameter_check(parameter):
-    """The check of one row of a model's parameter table (:class:`lighting.models.Parameter`)."""
-    if parameter.kind == "choice":
-        return _choice(tuple(parameter.choices))
-    return _KIND_CHECKS[parameter.kind]
+def parameter_field(parameter) -> Field:
+    """The field of one row of a model's parameter table (:class:`lighting.models.Parameter`).
+
+    Its kind, choices, default and description come from the row; its range is the model's own check
+    (the constructor's, run on every value).
+
+    Parameters
+    ----------
+    parameter : lighting.models.Parameter
+
+    Returns
+    -------
+    Field
+
+    Examples
+    --------
+    >>> from lighting.models import model_class
+    >>> parameter_field(model_class("cook-torrance").parameters[-1]).choices[:2]
+    ('none', 'gold')
+    """
+    kind = _PARAMETER_KINDS[parameter.kind]
+    return Field(kind, parameter.default, parameter.description, choices=tuple(parameter.choices))
 
 
 def model_keys() -> dict:
     """The keys of each registered model in a scene file, built from the registry when called.
 
     Each model's table is ``model`` (required) followed by its parameters in the order of its
-    ``parameters`` table, each with its check (by kind) and its default.  Built on each call, so a
-    model registered after import (by a test, or a plug-in) is accepted.
+    ``parameters`` table, each a :class:`~lighting.scene.checks.Field` (:func:`parameter_field`).  Built on
+    each call, so a model registered after import (by a test, or a plug-in) is accepted.
 
     Returns
     -------
     dict
-        Model name (in registration order) → ``{key: (check, default)}``.
+        Model name (in registration order) → ``{key: Field}``.
 
     Examples
     --------
@@ -101,96 +116,110 @@ def model_keys() -> dict:
     """
     return {
         name: {
-            "model": (_string, REQUIRED),
-            **{p.name: (_parameter_check(p), p.default) for p in model_class(name).parameters},
+            "model": Field("string", REQUIRED, "the reflectance model"),
+            **{p.name: parameter_field(p) for p in model_class(name).parameters},
         }
         for name in model_names()
     }
 
 
 MATERIAL_KEYS = {
-    "parts": (lambda ctx, path, v: _array_of_tables(ctx, path, v, "reflectance models"), REQUIRED),
-    "ambient": (_color, _ABSENT),
-    "emission": (_color, 0.0),
+    "parts": Field("tables", REQUIRED, "the reflectance models, summed", what="reflectance models", ref="part",
+                   empty="must list at least one reflectance model"),
+    "ambient": Field("color", ABSENT, "k_a, >= 0 (absent: the Lambert kd of the parts)"),
+    "emission": Field("color", 0.0, "k_e, >= 0 (classic units)"),
 }
 
 GL_MATERIAL_KEYS = {
-    "model": (_string, REQUIRED),
-    "ambient": (_rgba, [0.2, 0.2, 0.2, 1.0]),
-    "diffuse": (_rgba, [0.8, 0.8, 0.8, 1.0]),
-    "specular": (_rgba, [0.0, 0.0, 0.0, 1.0]),
-    "emission": (_rgba, [0.0, 0.0, 0.0, 1.0]),
-    "shininess": (_number, 0.0),
+    "model": Field("string", REQUIRED, "an OpenGL fixed-function material"),
+    "ambient": Field("rgba", [0.2, 0.2, 0.2, 1.0], "a_cm, >= 0"),
+    "diffuse": Field("rgba", [0.8, 0.8, 0.8, 1.0], "d_cm, >= 0 (its alpha is the vertex alpha)"),
+    "specular": Field("rgba", _GL_BLACK, "s_cm, >= 0"),
+    "emission": Field("rgba", _GL_BLACK, "e_cm"),
+    "shininess": Field("number", 0.0, "s_rm, in [0, 128]"),
 }
 
-_T = (_string, REQUIRED)  # the "type" key
+_TYPE = Field("string", REQUIRED, "the kind of entry")
+_COLOR = Field("color", 1.0, "linear RGB, >= 0 (times the intensity)")
+_INTENSITY = Field("number", 1.0, ">= 0")
+_ATTENUATION = Field("vec3", [1.0, 0.0, 0.0], "[a, b, c] of the falloff 1 / (a d^2 + b d + c), each >= 0")
 _AREA_COMMON = {
-    "color": (_color, 1.0),
-    "intensity": (_number, 1.0),
-    "samples": (_integer_check(1), 16),
-    "seed": (_integer_check(), _ABSENT),
-    "two_sided": (_boolean, False),
+    "color": _COLOR,
+    "intensity": Field("number", 1.0, "radiance of the emitter (times the colour), >= 0"),
+    "samples": Field("integer", 16, "points sampled on the emitter", minimum=1),
+    "seed": Field("integer", ABSENT, "the sampling pattern's seed"),
+    "two_sided": Field("bool", False, "emit from both faces"),
 }
 LIGHT_KEYS = {
-    "ambient": {"type": _T, "color": (_color, 1.0), "intensity": (_number, 0.2)},
-    "directional": {"type": _T, "direction": (_vec3, REQUIRED), "color": (_color, 1.0), "intensity": (_number, 1.0)},
+    "ambient": {"type": _TYPE, "color": _COLOR, "intensity": Field("number", 0.2, "the slides' I_a, >= 0")},
+    "directional": {
+        "type": _TYPE,
+        "direction": Field("vec3", REQUIRED, "toward the light; nonzero"),
+        "color": _COLOR,
+        "intensity": Field("number", 1.0, "irradiance at normal incidence (times the colour), >= 0"),
+    },
     "point": {
-        "type": _T,
-        "position": (_vec3, REQUIRED),
-        "color": (_color, 1.0),
-        "intensity": (_number, 1.0),
-        "attenuation": (_vec3, [1.0, 0.0, 0.0]),
+        "type": _TYPE,
+        "position": Field("vec3", REQUIRED, "where the light is"),
+        "color": _COLOR,
+        "intensity": _INTENSITY,
+        "attenuation": _ATTENUATION,
     },
     "spot": {
-        "type": _T,
-        "position": (_vec3, REQUIRED),
-        "direction": (_vec3, REQUIRED),
-        "cutoff_deg": (_number, 30.0),
-        "exponent": (_number, 0.0),
-        "color": (_color, 1.0),
-        "intensity": (_number, 1.0),
-        "attenuation": (_vec3, [1.0, 0.0, 0.0]),
+        "type": _TYPE,
+        "position": Field("vec3", REQUIRED, "where the light is"),
+        "direction": Field("vec3", REQUIRED, "where the spot points; nonzero"),
+        "cutoff_deg": Field("number", 30.0, "cone half-angle in degrees: [0, 90], or 180 for no cone"),
+        "exponent": Field("number", 0.0, "concentration toward the axis, >= 0"),
+        "color": _COLOR,
+        "intensity": _INTENSITY,
+        "attenuation": _ATTENUATION,
     },
     "rect": {
-        "type": _T,
-        "center": (_vec3, REQUIRED),
-        "edge_u": (_vec3, [1.0, 0.0, 0.0]),
-        "edge_v": (_vec3, [0.0, -1.0, 0.0]),
+        "type": _TYPE,
+        "center": Field("vec3", REQUIRED, "centre of the rectangle"),
+        "edge_u": Field("vec3", [1.0, 0.0, 0.0], "one edge; the lit face looks along edge_u x edge_v"),
+        "edge_v": Field("vec3", [0.0, -1.0, 0.0], "the other edge; not parallel to edge_u"),
         **_AREA_COMMON,
     },
     "disk": {
-        "type": _T,
-        "center": (_vec3, REQUIRED),
-        "normal_dir": (_vec3, [0.0, 0.0, -1.0]),
-        "radius": (_number, 0.5),
+        "type": _TYPE,
+        "center": Field("vec3", REQUIRED, "centre of the disk"),
+        "normal_dir": Field("vec3", [0.0, 0.0, -1.0], "the direction the lit face looks; nonzero"),
+        "radius": Field("number", 0.5, "> 0"),
         **_AREA_COMMON,
     },
     # One of source (an image file or a sky name) and radiance; neither: radiance 1.  samples and seed
     # belong to method = "monte-carlo" (absent: 64 and 0).  See lighting.scene.envlights.
     "environment": {
-        "type": _T,
-        "source": (_string, _ABSENT),
-        "radiance": (_color, _ABSENT),
-        "intensity": (_color, 1.0),
-        "rotation": (_number, 0.0),
-        "background": (_boolean, True),
-        "method": (_choice(ENVIRONMENT_METHODS), DEFAULT_ENVIRONMENT_METHOD),
-        "samples": (_integer_check(2, 1 << 16), _ABSENT),
-        "seed": (_integer_check(0), _ABSENT),
+        "type": _TYPE,
+        "source": Field("string", ABSENT, "an image file (relative to the scene's folder) or a sky name"),
+        "radiance": Field("color", ABSENT, "a constant sky instead of source (neither: 1), >= 0",
+                          maximum=MAX_ENVIRONMENT_VALUE),
+        "intensity": Field("color", 1.0, "multiplies the sky, >= 0", maximum=MAX_ENVIRONMENT_VALUE),
+        "rotation": Field("number", 0.0, "turn about +z, degrees"),
+        "background": Field("bool", True, "the camera sees the sky behind the objects"),
+        "method": Field("choice", DEFAULT_ENVIRONMENT_METHOD, "how the sky lights the objects",
+                        choices=ENVIRONMENT_METHODS),
+        "samples": Field("integer", ABSENT, "directions per pixel (monte-carlo only; absent: 64)",
+                         minimum=2, maximum=1 << 16),
+        "seed": Field("integer", ABSENT, "the sampling pattern's seed (monte-carlo only; absent: 0)", minimum=0),
     },
     "opengl": {
-        "type": _T,
-        "ambient": (_rgba, [0.0, 0.0, 0.0, 1.0]),
-        "diffuse": (_rgba, [1.0, 1.0, 1.0, 1.0]),
-        "specular": (_rgba, [1.0, 1.0, 1.0, 1.0]),
-        "position": (_numbers((3, 4), "a position [x, y, z] or [x, y, z, w]"), [0.0, 0.0, 1.0, 0.0]),
-        "spot_direction": (_vec3, [0.0, 0.0, -1.0]),
-        "spot_exponent": (_number, 0.0),
-        "spot_cutoff": (_number, 180.0),
-        "constant_attenuation": (_number, 1.0),
-        "linear_attenuation": (_number, 0.0),
-        "quadratic_attenuation": (_number, 0.0),
-        "space": (_choice(("world", "eye")), "world"),
+        "type": _TYPE,
+        "ambient": Field("rgba", _GL_BLACK, "a_cli"),
+        "diffuse": Field("rgba", [1.0, 1.0, 1.0, 1.0], "d_cli"),
+        "specular": Field("rgba", [1.0, 1.0, 1.0, 1.0], "s_cli"),
+        "position": Field("numbers", [0.0, 0.0, 1.0, 0.0], "w = 0: directional, x, y, z toward the light",
+                          lengths=(3, 4), what="a position [x, y, z] or [x, y, z, w]"),
+        "spot_direction": Field("vec3", [0.0, 0.0, -1.0], "axis of the spot cone; nonzero"),
+        "spot_exponent": Field("number", 0.0, "in [0, 128]"),
+        "spot_cutoff": Field("number", 180.0, "cone half-angle in degrees: [0, 90], or 180 for no cone"),
+        "constant_attenuation": Field("number", 1.0, "k_0 of 1 / (k_0 + k_1 d + k_2 d^2), >= 0; not all three 0"),
+        "linear_attenuation": Field("number", 0.0, "k_1, >= 0"),
+        "quadratic_attenuation": Field("number", 0.0, "k_2, >= 0"),
+        "space": Field("choice", "world", "position and spot_direction in world or eye coordinates",
+                       choices=("world", "eye")),
     },
 }
 _LIGHT_CLASSES = {
@@ -203,43 +232,49 @@ _LIGHT_CLASSES = {
     "environment": EnvironmentLight,  # built by lighting.scene.envlights (a file, a sky or a radiance)
 }
 
+_CENTER = Field("vec3", _ORIGIN, "centre before the transform")
+_RADIUS = Field("number", 1.0, "> 0")
 _OBJECT_COMMON = {
-    "type": _T,
-    "name": (_string, _ABSENT),
-    "material": (lambda ctx, path, v: v, _ABSENT),  # a name or an inline table: resolved later
-    "mode": (_choice(SHADING_MODES), _ABSENT),
-    "cull_backfaces": (_boolean, _ABSENT),
-    "lights": (lambda ctx, path, v: _array_of_tables(ctx, path, v, "lights for this object"), _ABSENT),
-    "translate": (_vec3, [0.0, 0.0, 0.0]),
-    "rotate_deg": (_vec3, [0.0, 0.0, 0.0]),
-    "scale": (_number_or((3,), "a scale: a number or [sx, sy, sz]"), 1.0),
+    "type": _TYPE,
+    "name": Field("string", ABSENT, "a label"),
+    "material": Field("name_or_table", ABSENT, "a [materials] name or an inline material", ref="material"),
+    "mode": Field("choice", ABSENT, "the shading mode for this object (absent: render.mode)", choices=SHADING_MODES),
+    "cull_backfaces": Field("bool", ABSENT, "for this object (absent: render.cull_backfaces)"),
+    "lights": Field("tables", ABSENT, "lights for this object instead of the scene's", what="lights for this object",
+                    ref="light"),
+    "translate": Field("vec3", _ORIGIN, "offset, applied last"),
+    "rotate_deg": Field("vec3", _ORIGIN, "degrees about world x, then y, then z"),
+    "scale": Field("numbers", 1.0, "uniform or per axis, nonzero, applied first", lengths=(3,), scalar=True,
+                   what="a scale: a number or [sx, sy, sz]"),
 }
 OBJECT_KEYS = {
-    "sphere": {**_OBJECT_COMMON, "center": (_vec3, [0.0, 0.0, 0.0]), "radius": (_number, 1.0)},
+    "sphere": {**_OBJECT_COMMON, "center": _CENTER, "radius": _RADIUS},
     "uv_sphere": {
         **_OBJECT_COMMON,
-        "center": (_vec3, [0.0, 0.0, 0.0]),
-        "radius": (_number, 1.0),
-        "n_lat": (_integer_check(), 16),
-        "n_lon": (_integer_check(), 32),
+        "center": _CENTER,
+        "radius": _RADIUS,
+        "n_lat": Field("integer", 16, "rings of latitude, >= 2"),
+        "n_lon": Field("integer", 32, "segments of longitude, >= 3"),
     },
-    "icosphere": {
+    "icosphere": {**_OBJECT_COMMON, "center": _CENTER, "radius": _RADIUS,
+                  "level": Field("integer", 3, "subdivisions, 0 to 9: 20 * 4^level triangles")},  # fmt: skip
+    "mesh": {
         **_OBJECT_COMMON,
-        "center": (_vec3, [0.0, 0.0, 0.0]),
-        "radius": (_number, 1.0),
-        "level": (_integer_check(), 3),
+        "path": Field("string", REQUIRED, "the mesh file, relative to the scene's folder"),
+        "weld": Field("bool", True, "merge coincident vertices of files without normals"),
     },
-    "mesh": {**_OBJECT_COMMON, "path": (_string, REQUIRED), "weld": (_boolean, True)},
 }
 
 TOP_KEYS = {
-    "version": (_integer_check(), FORMAT_VERSION),
-    "description": (_string, ""),
-    "camera": (lambda ctx, path, v: v, REQUIRED),
-    "image": (lambda ctx, path, v: v, {}),
-    "render": (lambda ctx, path, v: v, {}),
-    "opengl": (lambda ctx, path, v: v, {}),
-    "materials": (lambda ctx, path, v: v, {}),
-    "objects": (lambda ctx, path, v: _array_of_tables(ctx, path, v, "the things to draw"), REQUIRED),
-    "lights": (lambda ctx, path, v: _array_of_tables(ctx, path, v, "the light sources"), []),
+    "version": Field("integer", FORMAT_VERSION, "the format version", choices=(FORMAT_VERSION,),
+                     what=f"{FORMAT_VERSION} (the only format version)"),
+    "description": Field("string", "", "free text, shown by tools"),
+    "camera": Field("table", REQUIRED, "the viewpoint", ref="camera"),
+    "image": Field("table", {}, "size, background, encoding", ref="image"),
+    "render": Field("table", {}, "shading mode, form, terms", ref="render"),
+    "opengl": Field("table", {}, "light model for OpenGL-lit objects", ref="opengl"),
+    "materials": Field("named", {}, "named materials", ref="material"),
+    "objects": Field("tables", REQUIRED, "what to draw", what="the things to draw", ref="object",
+                     empty="a scene needs at least one [[objects]] entry"),
+    "lights": Field("tables", [], "the scene's lights", what="the light sources", ref="light"),
 }

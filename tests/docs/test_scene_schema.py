@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 import tomllib
 from pathlib import Path
 
 import pytest
 
-from lighting.scene import load_scene, schema
+from lighting.scene import SceneError, load_scene, schema
+from lighting.scene.checks import ABSENT, REQUIRED, _Ctx
 from lighting.scene.json_schema import main, scene_json_schema
 from lighting.scene.load import parse_scene
 
@@ -45,16 +47,94 @@ def test_schema_lists_every_key_of_the_loader_tables():
     lights = {v["properties"]["type"]["const"]: v for v in s["$defs"]["light"]["anyOf"]}
     assert {k: list(v["properties"]) for k, v in lights.items()} == {k: list(t) for k, t in schema.LIGHT_KEYS.items()}
     assert lights["spot"]["required"] == ["type", "position", "direction"]
-    assert lights["spot"]["properties"]["cutoff_deg"] == {"type": "number", "default": 30.0}
+    assert lights["spot"]["properties"]["cutoff_deg"] == {
+        "type": "number",
+        "default": 30.0,
+        "description": "cone half-angle in degrees: [0, 90], or 180 for no cone",
+    }
     assert s["$defs"]["image"]["properties"]["width"] == {
         "type": "integer",
         "minimum": 1,
         "maximum": 16384,
         "default": 512,
+        "description": "image width in pixels",
     }
     parts = {p["properties"]["model"]["const"]: p for p in s["$defs"]["part"]["anyOf"] if "model" in p["properties"]}
     assert list(parts["phong"]["properties"]) == ["model", "ks", "shininess"]
     assert parts["cook-torrance"]["properties"]["denominator"]["enum"] == ["4", "pi", 4]
+
+
+def _tables() -> list:
+    """Every table of the format: its name, its fields, and the properties the schema gives it."""
+    s = scene_json_schema()
+    d = s["$defs"]
+    out = [("top", schema.TOP_KEYS, s["properties"])]
+    out += [(n, getattr(schema, f"{n.upper()}_KEYS"), d[n]["properties"]) for n in ("camera", "image", "render")]
+    out += [("opengl", schema.OPENGL_KEYS, d["opengl"]["properties"])]
+    out += [("material", schema.MATERIAL_KEYS, d["material"]["oneOf"][0]["properties"])]
+    out += [("gl material", schema.GL_MATERIAL_KEYS, d["material"]["oneOf"][1]["properties"])]
+    for name, tables, variants, tag in (
+        ("light", schema.LIGHT_KEYS, d["light"]["anyOf"], "type"),
+        ("object", schema.OBJECT_KEYS, d["object"]["anyOf"], "type"),
+        ("part", schema.model_keys(), [p for p in d["part"]["anyOf"] if "model" in p["properties"]], "model"),
+    ):
+        by_kind = {v["properties"][tag]["const"]: v["properties"] for v in variants}
+        assert list(by_kind) == list(tables), name
+        out += [(f"{kind} {name}", fields, by_kind[kind]) for kind, fields in tables.items()]
+    return out
+
+
+def _bounds(prop) -> set:
+    """Every ``minimum`` and ``maximum`` anywhere in a property's schema (a colour states them twice)."""
+    if isinstance(prop, dict):
+        found = {(k, v) for k, v in prop.items() if k in ("minimum", "maximum")}
+        return found.union(*(_bounds(v) for v in prop.values()))
+    return set().union(*(_bounds(v) for v in prop)) if isinstance(prop, list) else set()
+
+
+def test_each_field_is_published_with_its_default_bounds_and_description():
+    tables = _tables()
+    assert len(tables) == 7 + len(schema.LIGHT_KEYS) + len(schema.OBJECT_KEYS) + len(schema.model_keys())
+    for name, fields, props in tables:
+        assert list(props) == list(fields), name
+        for key, field in fields.items():
+            prop = props[key]
+            if field.default is REQUIRED or field.default is ABSENT:
+                assert "default" not in prop, (name, key)
+            else:
+                assert prop["default"] == json.loads(json.dumps(field.default)), (name, key)
+            stated = {(k, v) for k, v in (("minimum", field.minimum), ("maximum", field.maximum)) if v is not None}
+            assert _bounds(prop) == stated, (name, key)
+            assert prop.get("description", "") == field.description, (name, key)
+            assert field.description, (name, key)
+
+
+def test_the_loader_enforces_the_bounds_the_schema_publishes():
+    fields = [(n, k, f) for n, table, _ in _tables() for k, f in table.items()]
+    bounded = [(n, k, f) for n, k, f in fields if f.minimum is not None or f.maximum is not None]
+    assert sorted((n, k) for n, k, _ in bounded) == [
+        ("disk light", "samples"),
+        ("environment light", "intensity"),
+        ("environment light", "radiance"),
+        ("environment light", "samples"),
+        ("environment light", "seed"),
+        ("image", "exposure"),
+        ("image", "height"),
+        ("image", "width"),
+        ("rect light", "samples"),
+    ]
+    assert schema.LIGHT_KEYS["environment"]["radiance"].maximum == schema.MAX_ENVIRONMENT_VALUE == 1e30
+    ctx = _Ctx("s.toml", str(ROOT))
+    for _, key, field in bounded:
+        for bound, side in ((field.minimum, -1), (field.maximum, 1)):
+            if bound is None:
+                continue
+            past = bound + side if field.kind == "integer" else math.nextafter(bound, side * math.inf)
+            assert field.check(ctx, key, bound) == bound
+            with pytest.raises(SceneError) as e:
+                field.check(ctx, key, past)
+            assert str(e.value).startswith(f"s.toml: {key}: must be ") and f"got {past!r}" in str(e.value)
+            assert (f"{bound:g}" if field.kind != "integer" else str(bound)) in str(e.value)
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)

@@ -1,4 +1,4 @@
-"""Scene files naming BRDF files: ``parts = [{file = "paint.brdf", name = value}]`` (issue 17).
+"""Scene files naming BRDF files: ``parts = [{file = "paint.brdf", name = value}]``.
 
 The file's model is the same model ``load_brdf`` gives; the path starts at the scene's folder; the
 file's parameter table is the part's keys; every problem is one ``SceneError`` naming the key.
@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import os
+import tomllib
 
 import numpy as np
 import pytest
@@ -123,7 +124,8 @@ def test_materials_naming_one_file_share_one_class_and_one_read(folder):
 def test_the_scene_writes_the_file_part_back_and_reads_it_again(folder):
     scene = load_scene_text(folder, '{file = "lambert.brdf", kd = 0.7}')
     text = scene_to_toml(scene)
-    assert f'{{file = "{folder / "lambert.brdf"}", kd = 0.7}}' in text
+    assert f'\nfile = "{folder / "lambert.brdf"}"\nkd = 0.7\n' in text
+    assert tomllib.loads(text)["materials"]["paint"]["parts"] == [{"file": str(folder / "lambert.brdf"), "kd": 0.7}]
     again = parse_scene(text, source="again")
     np.testing.assert_array_equal(render_scene(again)[0], render_scene(scene)[0])
 

@@ -19,6 +19,7 @@ from lighting.scene.budget import ENVIRONMENT_BYTES_PER_PIXEL, PREFILTER_BYTES_P
 from lighting.scene.envlights import declared_image_size
 from lighting.scene.errors import SceneBudgetError, SceneError
 from lighting.scene.examples import EXAMPLES_DIR
+from lighting.scene.schema import MAX_ENVIRONMENT_VALUE
 
 SKY_FILE = os.path.join(EXAMPLES_DIR, "daylight_sky.hdr")
 
@@ -90,6 +91,21 @@ def test_white_furnace_monte_carlo_is_unbiased_and_reproducible():
     np.testing.assert_array_equal(render(parse_scene(text))[0], image)  # seeded: the same image again
 
 
+@pytest.mark.parametrize("method", ["dominant", "split-sum", "monte-carlo"])
+def test_white_furnace_at_the_bound_of_radiance_and_intensity(method):
+    # Both at MAX_ENVIRONMENT_VALUE: L_o = 0.5 x 1e30 x 1e30 on the spheres, the sky 1e60 behind them, and no
+    # overflow on the way (a warning is an error here).
+    extra = f'intensity = {MAX_ENVIRONMENT_VALUE!r}\nmethod = "{method}"\n'
+    text = FURNACE.format(form="physical", mode="phong", extra=extra).replace("radiance = 1", "radiance = 1e30")
+    image, owner = render(parse_scene(text))
+    np.testing.assert_allclose(image[owner < 0], 1e60, rtol=1e-15)
+    values = image[owner >= 0][:, 0]
+    if method == "monte-carlo":  # 64 samples a pixel: the mean within 5 standard errors
+        assert abs(values.mean() - 0.5e60) < 5 * values.std() / math.sqrt(len(values))
+    else:  # the dominant-light method holds the sky in float32, where 1e30 is 1.5e-8 off
+        np.testing.assert_allclose(values, 0.5e60, rtol=1e-13 if method == "split-sum" else 2e-8)
+
+
 def test_intensity_scales_and_background_false_shows_the_image_background():
     text = FURNACE.format(form="physical", mode="phong", extra="intensity = [1.0, 0.5, 0.25]\nbackground = false\n")
     image, owner = render(parse_scene(text.replace("height = 32", "height = 32\nbackground = 0.1")))
@@ -136,6 +152,14 @@ BAD = [
     ("radiance = -1", "lights[0].radiance", "every entry >= 0"),
     ("radiance = [1, 2]", "lights[0].radiance", "must be a colour"),
     ("intensity = -2", "lights[0].intensity", "every entry >= 0"),
+    # The bound of the field specification (MAX_ENVIRONMENT_VALUE): float32 radiance and the prefilter's sums.
+    ("radiance = 1e308", "lights[0].radiance", "must be a colour: a number or [r, g, b], finite and <= 1e+30; "
+                                               "got 1e+308"),  # fmt: skip
+    ("radiance = [1, 1.0000000000000002e30, 1]", "lights[0].radiance[1]",
+     "must be a finite number <= 1e+30; got 1.0000000000000002e+30"),  # the next float above
+    ("intensity = 1e308", "lights[0].intensity", "must be a colour: a number or [r, g, b], finite and <= 1e+30; "
+                                                 "got 1e+308"),  # fmt: skip
+    ("intensity = [1e31, 1, 1]", "lights[0].intensity[0]", "must be a finite number <= 1e+30; got 1e+31"),
     ('rotation = "a"', "lights[0].rotation", "must be a finite number"),
     ("rotation = inf", "lights[0].rotation", "nan and inf are not allowed"),
     ("background = 1", "lights[0].background", "must be true or false"),
@@ -159,6 +183,12 @@ def test_every_bad_value_is_one_line_naming_file_and_key(tmp_path, extra, key, p
     assert "\n" not in msg
     assert msg.startswith(f"s.toml: {key}: "), msg
     assert phrase in msg, msg
+
+
+def test_radiance_and_intensity_at_their_bound_are_accepted():
+    text = FURNACE.format(form="physical", mode="phong", extra="").replace("radiance = 1\n", "")
+    light = parse_scene(text + "radiance = [1e30, 0.5, 0]\nintensity = 1e30\n").lights[0]
+    assert light.is_environment and light.to_dict()["intensity"] == 1e30
 
 
 def test_a_folder_or_a_malformed_file_is_named_by_its_key(tmp_path):
