@@ -32,10 +32,11 @@ Modules: :mod:`~lighting.scene.errors` (:class:`SceneError` and its messages),
 :mod:`~lighting.scene.checks` (:class:`~lighting.scene.checks.Field`: a key described as data, and its check; the
 nesting limit), :mod:`~lighting.scene.schema` (the fields of each table; the models' keys come from the model
 registry), :mod:`~lighting.scene.json_schema` (the JSON Schema generated from the same fields),
-:mod:`~lighting.scene.model` (:class:`Scene` and its parts), :mod:`~lighting.scene.load` (reading), :mod:`~lighting.scene.opengl` (OpenGL materials),
-:mod:`~lighting.scene.renderer` (:class:`SceneRenderer`), :mod:`~lighting.scene.budget` (memory and
-work estimates), :mod:`~lighting.scene.paths` (where a scene may write), :mod:`~lighting.scene.save`
-(writing back) and :mod:`~lighting.scene.examples` (the shipped scenes in ``examples/``).
+:mod:`~lighting.scene.model` (:class:`Scene` and its parts), :mod:`~lighting.scene.load` (reading),
+:mod:`~lighting.scene.opengl` (OpenGL materials), :mod:`~lighting.scene.renderer` (:class:`SceneRenderer`),
+:mod:`~lighting.scene.budget` (memory and work estimates), :mod:`~lighting.scene.paths` (where a scene may write),
+:mod:`~lighting.scene.save` (writing back) and :mod:`~lighting.scene.examples` (the shipped scenes in
+``examples/``).
 
 :class:`SceneRenderer` renders each object with its own
 :class:`~lighting.render.renderer.Renderer` (rasterized once, cached) and keeps, per
