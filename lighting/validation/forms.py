@@ -115,6 +115,10 @@ def plain_half_vector(g: Geometry) -> Geometry:
     Geometry
         ``g`` with ``h`` and ``v_dot_h`` given; ``n·h``, ``sin²θ_h`` and ``1 − n·h`` are the engine's
         from that ``h``.
+
+    References
+    ----------
+    Blinn (1977): ``H = (L + E)/|L + E|``.
     """
     s = g.l + g.v
     len2 = _dot(s, s)
@@ -136,6 +140,10 @@ def cos_squared_half_angle(g: Geometry) -> Geometry:
     -------
     Geometry
         ``g`` with ``sin2_h`` and ``one_minus_n_dot_h`` given.
+
+    References
+    ----------
+    Cook and Torrance (1982), Beckmann's ``D`` in ``tan²θ_h = (1 − cos²θ_h)/cos²θ_h``.
     """
     c = np.clip(g.n_dot_h, -1, 1)
     return with_quantities(g, sin2_h=np.clip(1 - c * c, 0, 1), one_minus_n_dot_h=1 - np.minimum(g.n_dot_h, 1))
@@ -153,6 +161,10 @@ def textbook_r_dot_v(g: Geometry) -> Geometry:
     -------
     Geometry
         ``g`` with ``one_minus_r_dot_v`` given.
+
+    References
+    ----------
+    Phong (1975); the slides' ``R_l = 2 n (n·l) − l``.
     """
     return with_quantities(g, one_minus_r_dot_v=np.clip(1 - g.r_dot_v, 0, 2))
 
@@ -170,6 +182,10 @@ def batch_normalize(a):
     -------
     ndarray
         ``a / |a|`` in the dtype of ``a`` (0 for a zero vector).
+
+    References
+    ----------
+    The engine's :func:`lighting.vec.normalize` before it chose the path per vector.
     """
     fi = np.finfo(a.dtype)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
@@ -208,6 +224,10 @@ def blinn_phong_peak_form_fr(model, g: Geometry):
     -------
     ndarray, shape (..., 3)
         In the dtype of ``g``.
+
+    References
+    ----------
+    Blinn (1977); the normalization ``(e+2)/(2π)`` as in Walter et al. (2007).
     """
     if not model.normalized:
         return model.eval_geometry(with_quantities(g, cls=_PeakFormLobe))
@@ -255,6 +275,10 @@ def cook_torrance_fr(model, g: Geometry, put_back=frozenset()):
     -------
     ndarray, shape (..., 3)
         In the dtype of ``g``.
+
+    References
+    ----------
+    Cook and Torrance (1982); Walter et al. (2007), the denominator 4; Schlick (1994).
     """
     g64 = in_float64(g)
     wide = np.float32 if "float32" in put_back else np.float64

@@ -100,6 +100,10 @@ def textbook_spot(light, l):  # noqa: E741
     -------
     ndarray
         The factor in [0, 1], float64.
+
+    References
+    ----------
+    The OpenGL 2.1 specification, §2.14.1 (``spot_i``).
     """
     d = light.direction
     c = -(l[..., 0] * d[0] + l[..., 1] * d[1] + l[..., 2] * d[2])
