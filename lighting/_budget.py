@@ -300,7 +300,8 @@ def _material_key(scene, i: int) -> str:
 
 
 def _covered_pixels(scene, i: int) -> float:
-    """At most how many pixels object ``i`` covers: its bounding sphere's projection, clipped to the image."""
+    """How many pixels object ``i`` covers at most: its bounding sphere's projection (an ellipse, a pixel wider
+    each way), clipped to the image by its bounding square."""
     import numpy as np
 
     from .render.plan import bounding_sphere
@@ -322,17 +323,20 @@ def _covered_pixels(scene, i: int) -> float:
             return float(w * h)
         f = cam.focal_px
         lo, hi = math.tan(beta - alpha), math.tan(beta + alpha)
-        radius = f * max(0.5 * (hi - lo), math.tan(alpha) / math.cos(beta))  # the ellipse's larger half-axis
+        squeeze = math.cos(beta) ** 2 - math.sin(alpha) ** 2  # the projected ellipse's axes (> 0: beta + alpha < π/2)
+        major = f * math.sin(alpha) * math.cos(alpha) / squeeze + 1  # a pixel's margin each way
+        minor = f * math.sin(alpha) / math.sqrt(squeeze) + 1
         centre = f * 0.5 * (hi + lo)
         u = (x, y) if beta > 0 else (1.0, 0.0)
         norm = math.hypot(*u) or 1.0
         cx, cy = w / 2 + centre * u[0] / norm, h / 2 - centre * u[1] / norm
     else:
         s = cam.pixels_per_unit
-        radius, cx, cy = r * s, w / 2 + x * s, h / 2 - y * s
-    side_x = max(0.0, min(w, cx + radius) - max(0.0, cx - radius))
-    side_y = max(0.0, min(h, cy + radius) - max(0.0, cy - radius))
-    return min(side_x * side_y, math.pi * radius * radius, float(w * h))
+        major = minor = r * s + 1
+        cx, cy = w / 2 + x * s, h / 2 - y * s
+    side_x = max(0.0, min(w, cx + major) - max(0.0, cx - major))
+    side_y = max(0.0, min(h, cy + major) - max(0.0, cy - major))
+    return min(side_x * side_y, math.pi * major * minor, float(w * h))
 
 
 class _Costs:
