@@ -592,7 +592,7 @@ def explain_lines(scene) -> list:
                          f"work budget{shown}")  # fmt: skip
     est = scene_estimate(scene)
     top = "; ".join(f"{k}: {_seconds(s)}, {what}" for k, s, what in est["time_parts"][:3])
-    allowed = " (allowed: the scene was loaded with allow_slow)" if est["seconds"] > TIME_LIMIT else ""
+    allowed = ", lifted (--allow-slow, allow_slow=True)" if est["seconds"] > TIME_LIMIT else ""
     lines.append(f"estimated time: about {_seconds(est['seconds'])} ({top}); the time limit is "
                  f"{_seconds(TIME_LIMIT)}{allowed}")  # fmt: skip
     return lines

@@ -128,7 +128,7 @@ def test_with_the_flag_explain_prints_the_estimate_and_renders_nothing(capsys, t
     est = scene_estimate(probe_scene())
     line = next(ln for ln in out.splitlines() if ln.startswith("estimated time: "))
     assert line.startswith(f"estimated time: about {est['seconds']:.0f} s (lights[0].samples: ")
-    assert line.endswith(f"the time limit is {TIME_LIMIT:.0f} s (allowed: the scene was loaded with allow_slow)")
+    assert line.endswith(f"the time limit is {TIME_LIMIT:.0f} s, lifted (--allow-slow, allow_slow=True)")
     assert not list(tmp_path.iterdir())
 
 
