@@ -190,18 +190,18 @@ def _overlaps(a: str, b: str) -> bool:
 
 
 def _check_size(size) -> None:
-    """Refuse a ``--size`` before the scene is read: an image of one object over the memory budget, or a side
-    longer than a scene's image may have."""
+    """Refuse a ``--size`` before the scene is read: a side longer than a scene's image may have (which no
+    budget lifts, so it is named first), or an image of one object over the memory budget."""
     from lighting._numeric import check_budget
     from lighting.scene import MAX_SCENE_IMAGE_SIDE
     from lighting.scene.budget import BYTES_PER_PIXEL, BYTES_PER_PIXEL_PER_OBJECT
 
     width, height = size
-    check_budget(f"--size {width}x{height}: the image", (BYTES_PER_PIXEL + BYTES_PER_PIXEL_PER_OBJECT) * width * height,
-                 what=f"{width}x{height} pixels of one object; more with more objects")  # fmt: skip
-    if max(width, height) > MAX_SCENE_IMAGE_SIDE:  # reached only with a raised --memory-budget
+    if max(width, height) > MAX_SCENE_IMAGE_SIDE:
         side = MAX_SCENE_IMAGE_SIDE
         raise ValueError(f"--size must be at most {side}x{side} pixels (a scene's largest image); got {width}x{height}")
+    check_budget(f"--size {width}x{height}: the image", (BYTES_PER_PIXEL + BYTES_PER_PIXEL_PER_OBJECT) * width * height,
+                 what=f"{width}x{height} pixels of one object; more with more objects")  # fmt: skip
 
 
 def _run(args) -> int:

@@ -130,9 +130,9 @@ def run(args) -> int:
     check_output_path(args.out, flag="-o")
     width, height = args.size
     shown = f"{width}x{height}" if width != height else str(width)
-    check_budget(f"--size {shown}", SPHERE_BYTES_PER_PIXEL * width * height, what=f"a {width}x{height} sphere image")
-    if max(width, height) > MAX_IMAGE_SIDE:  # reached only with a raised --memory-budget
+    if max(width, height) > MAX_IMAGE_SIDE:  # no budget lifts this one: named first
         raise ValueError(f"--size must be at most {MAX_IMAGE_SIDE}x{MAX_IMAGE_SIDE} pixels; got {width}x{height}")
+    check_budget(f"--size {shown}", SPHERE_BYTES_PER_PIXEL * width * height, what=f"a {width}x{height} sphere image")
     kd = _rgb("--kd", args.kd)
     ks = _rgb("--ks", args.ks)
     shininess = check_nonnegative("--shininess", args.shininess)

@@ -221,10 +221,32 @@ def test_a_size_over_the_budget_names_the_option_before_the_scene_is_read(monkey
     import lighting.scene
 
     monkeypatch.setattr(lighting.scene, "load_scene", lambda *a, **k: pytest.fail("read the scene first"))
-    assert error(["render", "cube", "--size", "100000x100000"], capsys) == (
-        "--size 100000x100000: the image needs about 3278.3 GiB (100000x100000 pixels of one object; more with more "
+    assert error(["render", "cube", "--size", "16000x16000"], capsys) == (
+        "--size 16000x16000: the image needs about 83.9 GiB (16000x16000 pixels of one object; more with more "
         "objects), over the memory budget of 2.0 GiB; reduce it or raise the budget (--memory-budget)"
     )
+
+
+@pytest.mark.parametrize("budget", [[], ["--memory-budget", "4T"]])
+def test_a_size_over_the_largest_side_names_the_option_the_value_and_the_limit_whatever_the_budget(budget, tmp_path,
+                                                                                                  monkeypatch, capsys):
+    import lighting.render.sphere
+    import lighting.scene
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(lighting.scene, "load_scene", lambda *a, **k: pytest.fail("read the scene"))
+    monkeypatch.setattr(lighting.render.sphere, "render_sphere", lambda *a, **k: pytest.fail("rendered"))
+    # No budget lifts these limits, so they are named first: the option, what was given and the largest side.
+    assert error([*budget, "render", "cube", "--size", "100000x100000"], capsys) == (
+        "--size must be at most 16384x16384 pixels (a scene's largest image); got 100000x100000"
+    )
+    assert error([*budget, "render", "cube", "--size", "16385x1"], capsys) == (
+        "--size must be at most 16384x16384 pixels (a scene's largest image); got 16385x1"
+    )
+    assert error([*budget, "sphere", "--size", "100000", "-o", "x.png"], capsys) == (
+        "--size must be at most 65536x65536 pixels; got 100000x100000"
+    )
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_a_size_within_a_raised_budget_but_too_large_names_the_option(monkeypatch, capsys):
@@ -329,3 +351,15 @@ def test_a_reader_that_closes_the_pipe_ends_the_command_quietly():
     proc.stderr.close()
     assert proc.wait(timeout=60) == 141
     assert err == ""
+
+
+def test_every_refusal_shown_in_the_command_line_page_is_the_line_printed(tmp_path, monkeypatch, capsys):
+    import shlex
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "cli.md").read_text(encoding="utf-8")
+    samples = re.findall(r"^\$ lighting-explorer (.+)\n(lighting-explorer: error: .+)$", text, re.M)
+    assert len(samples) >= 6
+    monkeypatch.chdir(tmp_path)
+    for argv, line in samples:
+        assert error(shlex.split(argv), capsys) == line[len(PREFIX):], argv
+    assert list(tmp_path.iterdir()) == []
