@@ -17,7 +17,8 @@ from ..render.renderer import SHADING_MODES
 from ..shading.equation import FORMS, TERMS
 from .checks import ABSENT, REQUIRED, Field
 
-__all__ = ["FORMAT_VERSION", "MAX_SCENE_IMAGE_SIDE", "MAX_ENVIRONMENT_VALUE", "model_keys", "parameter_field"]
+__all__ = ["FORMAT_VERSION", "MAX_SCENE_IMAGE_SIDE", "MAX_ENVIRONMENT_VALUE", "MAX_LIGHT_VALUE", "model_keys",
+           "parameter_field"]
 
 #: The format version this module reads and writes (``version = 1`` in a file).
 FORMAT_VERSION = 1
@@ -30,6 +31,11 @@ MAX_SCENE_IMAGE_SIDE = 16384
 #: sums while 1e36 renders with every method.  This keeps a factor of a million below that, and radiance times
 #: intensity (at most 1e60) far inside float64 in every method.
 MAX_ENVIRONMENT_VALUE = 1e30
+
+#: The largest ``color`` entry and ``intensity`` of every other light: the same bound, so that colour times
+#: intensity (at most 1e60), summed over the lights, stays far inside float64 (1e308 made pixels overflow or
+#: clip silently), and 100 stops of exposure (2**100, about 1.3e30) still bring such a light to the display.
+MAX_LIGHT_VALUE = MAX_ENVIRONMENT_VALUE
 
 _ORIGIN = [0.0, 0.0, 0.0]
 _GL_BLACK = [0.0, 0.0, 0.0, 1.0]
@@ -140,23 +146,25 @@ GL_MATERIAL_KEYS = {
 }
 
 _TYPE = Field("string", REQUIRED, "the kind of entry")
-_COLOR = Field("color", 1.0, "linear RGB, >= 0 (times the intensity)")
-_INTENSITY = Field("number", 1.0, ">= 0")
+_COLOR = Field("color", 1.0, "linear RGB, >= 0 (times the intensity)", maximum=MAX_LIGHT_VALUE)
+_INTENSITY = Field("number", 1.0, ">= 0", maximum=MAX_LIGHT_VALUE)
 _ATTENUATION = Field("vec3", [1.0, 0.0, 0.0], "[a, b, c] of the falloff 1 / (a d^2 + b d + c), each >= 0")
 _AREA_COMMON = {
     "color": _COLOR,
-    "intensity": Field("number", 1.0, "radiance of the emitter (times the colour), >= 0"),
+    "intensity": Field("number", 1.0, "radiance of the emitter (times the colour), >= 0", maximum=MAX_LIGHT_VALUE),
     "samples": Field("integer", 16, "points sampled on the emitter", minimum=1),
     "seed": Field("integer", ABSENT, "the sampling pattern's seed"),
     "two_sided": Field("bool", False, "emit from both faces"),
 }
 LIGHT_KEYS = {
-    "ambient": {"type": _TYPE, "color": _COLOR, "intensity": Field("number", 0.2, "the slides' I_a, >= 0")},
+    "ambient": {"type": _TYPE, "color": _COLOR, "intensity": Field("number", 0.2, "the slides' I_a, >= 0",
+                                                                           maximum=MAX_LIGHT_VALUE)},
     "directional": {
         "type": _TYPE,
         "direction": Field("vec3", REQUIRED, "toward the light; nonzero"),
         "color": _COLOR,
-        "intensity": Field("number", 1.0, "irradiance at normal incidence (times the colour), >= 0"),
+        "intensity": Field("number", 1.0, "irradiance at normal incidence (times the colour), >= 0",
+                           maximum=MAX_LIGHT_VALUE),
     },
     "point": {
         "type": _TYPE,

@@ -112,7 +112,10 @@ def test_each_field_is_published_with_its_default_bounds_and_description():
 def test_the_loader_enforces_the_bounds_the_schema_publishes():
     fields = [(n, k, f) for n, table, _ in _tables() for k, f in table.items()]
     bounded = [(n, k, f) for n, k, f in fields if f.minimum is not None or f.maximum is not None]
-    assert sorted((n, k) for n, k, _ in bounded) == [
+    lights = [(f"{kind} light", key) for kind in ("ambient", "directional", "disk", "point", "rect", "spot")
+              for key in ("color", "intensity")]  # fmt: skip
+    assert sorted((n, k) for n, k, _ in bounded) == sorted([
+        *lights,
         ("disk light", "samples"),
         ("environment light", "intensity"),
         ("environment light", "radiance"),
@@ -122,8 +125,10 @@ def test_the_loader_enforces_the_bounds_the_schema_publishes():
         ("image", "height"),
         ("image", "width"),
         ("rect light", "samples"),
-    ]
+    ])  # fmt: skip
     assert schema.LIGHT_KEYS["environment"]["radiance"].maximum == schema.MAX_ENVIRONMENT_VALUE == 1e30
+    assert schema.MAX_LIGHT_VALUE == 1e30
+    assert all(schema.LIGHT_KEYS[kind.split()[0]][key].maximum == schema.MAX_LIGHT_VALUE for kind, key in lights)
     ctx = _Ctx("s.toml", str(ROOT))
     for _, key, field in bounded:
         for bound, side in ((field.minimum, -1), (field.maximum, 1)):

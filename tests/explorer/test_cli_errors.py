@@ -363,3 +363,50 @@ def test_every_refusal_shown_in_the_command_line_page_is_the_line_printed(tmp_pa
     for argv, line in samples:
         assert error(shlex.split(argv), capsys) == line[len(PREFIX):], argv
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        (["render", "cube", "-D", "image.exposure=1e308"],
+         "cube: image.exposure: must be a number in [-100, 100] (stops); got 1e+308 (with -D image.exposure=1e308)"),
+        (["render", "cube", "-D", "lights[0].intensity=1e308"],
+         "cube: lights[0].intensity: must be a finite number <= 1e+30; got 1e+308 (with -D lights[0].intensity=1e308)"),
+        (["render", "spotlight", "-D", "lights[0].color=[1, 1, 1e31]"],
+         "spotlight: lights[0].color[2]: must be a finite number <= 1e+30; got 1e+31 "
+         "(with -D lights[0].color=[1, 1, 1e31])"),
+        (["render", "point_ambient", "-D", 'lights[0]={type="disk", center=[0, 2, 0], intensity=1e308}'],
+         "point_ambient: lights[0].intensity: must be a finite number <= 1e+30; got 1e+308 "
+         """(with -D lights[0]={type="disk", center=[0, 2, 0], intensity=1e308})"""),
+        (["render", "cube", "-D", 'lights[0]={type="environment", radiance=1e308}'],
+         "cube: lights[0].radiance: must be a colour: a number or [r, g, b], finite and <= 1e+30; got 1e+308 "
+         """(with -D lights[0]={type="environment", radiance=1e308})"""),
+        (["render", "studio", "-D", "lights[0].intensity=1e308"],
+         "studio: lights[0].intensity: must be a colour: a number or [r, g, b], finite and <= 1e+30; got 1e+308 "
+         "(with -D lights[0].intensity=1e308)"),
+    ],
+)  # fmt: skip
+def test_a_light_or_exposure_too_large_to_render_finitely_names_the_scene_the_key_and_the_limit(argv, line, tmp_path,
+                                                                                               monkeypatch, capsys):
+    import warnings
+
+    monkeypatch.chdir(tmp_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # refused before any arithmetic: no overflow warning on the way
+        assert error([*argv, "--size", "8", "-o", "x.png"], capsys) == line
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("defines", [["lights[0].intensity=1e30"],
+                                     ["lights[0].color=1e30", "lights[0].intensity=1e30"]])
+def test_the_brightest_light_allowed_renders_finite_pixels_without_warnings(defines, tmp_path, capsys):
+    import warnings
+
+    out = tmp_path / "bright.npy"
+    given = [a for d in [*defines, "lights[1].intensity=1e30"] for a in ("-D", d)]  # both of the cube's lights
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        status, _, err = run(["render", "cube", "--size", "12", *given, "-o", out], capsys)
+    assert status == 0, err
+    image = np.load(out)
+    assert np.all(np.isfinite(image)) and image.max() > 1e28
