@@ -135,7 +135,7 @@ def restrict(brdf, terms):
     >>> restrict(Lambert(0.5) + Phong(0.5, 20.0), ("specular",))
     Phong(ks=0.5, shininess=20)
     """
-    parts = [p for p in brdf.parts if any(BRDFFlags.of_term(t) in p.flags for t in terms)]
+    parts = [p for p in brdf.parts if p.flags & BRDFFlags.of_terms(terms)]
     if len(parts) == len(brdf.parts):
         return brdf
     return reduce(operator.add, parts) if parts else Lambert(0.0)

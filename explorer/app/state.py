@@ -456,7 +456,7 @@ class AppState:
         model = self.model_brdf()
         if "diffuse" in parts and not self.own_diffuse:
             out.append(Lambert(self.diffuse_albedo))
-        if any(BRDFFlags.of_term(t) in model.flags for t in parts):
+        if model.flags & BRDFFlags.of_terms(parts):
             out.append(model)
         if not out:
             return Lambert(0.0)

@@ -225,6 +225,21 @@ class BRDFFlags(enum.Flag):
         """The flag of a term of the decomposition: ``"diffuse"`` → ``DIFFUSE``, ``"specular"`` → ``SPECULAR``."""
         return cls.DIFFUSE if term == "diffuse" else cls.SPECULAR
 
+    @classmethod
+    def of_terms(cls, terms) -> BRDFFlags:
+        """The flags of the terms named in ``terms`` (``"diffuse"``, ``"specular"``; other names add nothing).
+
+        Examples
+        --------
+        >>> BRDFFlags.of_terms(("ambient", "specular")) == BRDFFlags.SPECULAR
+        True
+        """
+        out = cls(0)
+        for term in terms:
+            if term in ("diffuse", "specular"):
+                out |= cls.of_term(term)
+        return out
+
 
 @dataclass(frozen=True)
 class MicrofacetLobe:

@@ -352,8 +352,8 @@ def _table(ndf: str, geometry: str, resolution: int) -> AlbedoTable:
 def albedo_table(ndf: str, geometry: str, resolution: int = RESOLUTION) -> AlbedoTable:
     r"""The albedo table ``E(μ, α)``, ``E_avg(α)`` of a microfacet lobe with ``F = 1``, made on first use.
 
-    Computed by the quadrature of the module's Notes (about 0.1–0.4 s for 32 × 32 here) and kept in
-    memory for the session, one per ``(ndf, geometry, resolution)``.
+    Computed by the quadrature of the module's Notes and kept in memory for the session, one per
+    ``(ndf, geometry, resolution)``.
 
     Parameters
     ----------
