@@ -1,7 +1,8 @@
 """Shared fixtures of the test suite, and the fast loop.
 
-``python -m pytest`` runs every test, as CI does.  ``python -m pytest -m "not slow" -n 2`` is the fast loop (two
-pytest-xdist workers; each test file runs whole in one, ``--dist loadfile`` in pyproject.toml): it leaves out each
+``python -m pytest`` runs every test, as CI does, and ``python -m pytest -m "not slow"`` is the fast loop; both on
+pytest-xdist's workers, one per core (``-n auto --dist loadgroup`` in pyproject.toml; ``-n 0`` runs in one process,
+handy for a single test or a debugger). The fast loop leaves out each
 test file that says ``pytestmark = pytest.mark.slow`` at its top, with its reason (the seeded probes, the figure
 set, the Mesa comparison, the explorer window, the 80-digit references, the full χ² grids), and the few tests
 marked slow one by one.  A test that would make the loop slower goes whole into such a file,
@@ -26,6 +27,27 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 #: A test file marked slow as a whole says so at the start of a line of its own.
 _SLOW_FILE = re.compile(r"^pytestmark = pytest\.mark\.slow\b", re.MULTILINE)
+#: A fixture made once per module, class or session: its file's tests share it.
+_SHARED_FIXTURE = re.compile(r"@pytest\.fixture\([^)]*scope=\"(?:module|class|package|session)\"")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Keep each file that shares an expensive fixture on one worker; spread every other test one by one.
+
+    With ``--dist loadgroup`` (pyproject.toml) pytest-xdist sends the tests of one ``xdist_group`` to the same
+    worker and balances the rest test by test, so a long file of independent tests (the samplers' χ² grids) is
+    shared by both workers while a file that builds a site, a figure set or a window once builds it once.
+    """
+    shares = {}
+    for item in items:
+        path = item.path
+        if path not in shares:
+            try:
+                shares[path] = bool(_SHARED_FIXTURE.search(path.read_text(encoding="utf-8")))
+            except (OSError, UnicodeDecodeError):
+                shares[path] = False
+        if shares[path]:
+            item.add_marker(pytest.mark.xdist_group(path.name))
 
 
 def pytest_ignore_collect(collection_path, config):
