@@ -575,6 +575,19 @@ class BRDF:
         return BRDFSum(*self.parts, *other.parts)
 
     @property
+    def is_black(self) -> bool:
+        """Whether the model reflects nothing for any pair of directions (its colour is zero in every channel).
+
+        A render may then leave the part out.  The default, ``False``, is always safe; a model whose
+        reflectance is its colour times a lobe says so from its colour.
+
+        Returns
+        -------
+        bool
+        """
+        return False
+
+    @property
     def diffuse_albedo(self) -> np.ndarray:
         """The model's diffuse reflectance at normal incidence: the ``k_d`` its ambient term ``k_a = k_d`` uses.
 
@@ -720,6 +733,10 @@ class BRDFSum(BRDF):
     @property
     def diffuse_albedo(self):
         return sum((p.diffuse_albedo for p in self._parts), np.zeros(3))
+
+    @property
+    def is_black(self):
+        return all(p.is_black for p in self._parts)
 
     def _f(self, g):
         return _saturating_sum([p.eval_geometry(g) for p in self._parts], g.dtype)

@@ -76,6 +76,10 @@ class BlinnPhong(SeparableBRDF):
         self.shininess = check_nonnegative("shininess", shininess)
         self.normalized = check_bool("normalized", normalized)
 
+    @property
+    def is_black(self):
+        return not np.any(self.ks > 0)
+
     def _params(self):
         return {"ks": self.ks, "shininess": self.shininess, "normalized": self.normalized}
 

@@ -206,6 +206,10 @@ class CookTorrance(SeparableBRDF):
         self._ms = self._multiple_scattering() if self.energy_compensation else None
 
     @property
+    def is_black(self):
+        return not np.any(self.ks > 0)
+
+    @property
     def anisotropic(self) -> bool:
         """``α_x ≠ α_y`` (``BRDFFlags.ANISOTROPIC in flags``)."""
         return BRDFFlags.ANISOTROPIC in self.flags

@@ -50,6 +50,10 @@ class Lambert(SeparableBRDF):
     def __init__(self, kd=0.8):
         self.kd = _color("kd", kd)
 
+    @property
+    def is_black(self):
+        return not np.any(self.kd > 0)
+
     def lobe(self):
         """``Lobe("normal")``: spread over the hemisphere about ``n``."""
         return Lobe("normal")

@@ -123,6 +123,10 @@ class Mirror(SeparableBRDF):
         #: The conductor's η and k as used (RGB float64; None unless ``fresnel="conductor"``), the metal named.
         self.eta, self.k, self.metal, self.f0 = _fresnel._conductor_setup(self.fresnel, self.f0, eta, k, metal)
 
+    @property
+    def is_black(self):
+        return not np.any(self.ks > 0)
+
     def _params(self):
         if self.fresnel == "conductor":  # f0 follows from η and k
             return {"ks": self.ks, "fresnel": self.fresnel, **_fresnel._conductor_table(self, plain=False)}

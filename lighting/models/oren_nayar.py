@@ -209,6 +209,10 @@ class OrenNayar(SeparableBRDF):
             self._kd2 = np.minimum(self.kd * self.kd, _BIG)
 
     # -- the description ---------------------------------------------------------------
+    @property
+    def is_black(self):
+        return not np.any(self.kd > 0)
+
     def _params(self):
         return {"kd": self.kd, "sigma": self.sigma, "form": self.form}
 

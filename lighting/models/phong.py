@@ -64,6 +64,10 @@ class Phong(SeparableBRDF):
         self.ks = _color("ks", ks)
         self.shininess = check_nonnegative("shininess", shininess)
 
+    @property
+    def is_black(self):
+        return not np.any(self.ks > 0)
+
     def _params(self):
         return {"ks": self.ks, "shininess": self.shininess}
 

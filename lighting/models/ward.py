@@ -164,6 +164,10 @@ class Ward(SeparableBRDF):
             self.flags = type(self).flags | BRDFFlags.ANISOTROPIC
 
     @property
+    def is_black(self):
+        return not np.any(self.ks > 0)
+
+    @property
     def stackable(self) -> bool:
         """Isotropic instances read only what a stacked geometry provides (it carries no tangent frame)."""
         return self.isotropic

@@ -38,7 +38,7 @@ from .._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check
 from .._text import plural
 from ..lights.envlight import environment_terms, split_environment_lights
 from ..lights.punctual import AmbientLight, DirectionalLight, SpotLight
-from ..models.brdf import BRDF, BRDFSum
+from ..models.brdf import BRDFSum
 from ..shading.batch import accumulate, shade_prepared
 from ..shading.inputs import FORMS, TERMS, Samples, ShadeOptions, check_lights, check_terms, view_vectors
 from ..shading.material import Material, check_material
@@ -82,14 +82,6 @@ class Skip:
 def _label(obj) -> str:
     r = repr(obj)
     return r if len(r) <= 70 else r[:67] + "..."
-
-
-def _is_zero_part(model: BRDF) -> bool:
-    for name in ("kd", "ks"):
-        coeff = getattr(model, name, None)
-        if coeff is not None:
-            return not np.any(np.asarray(coeff) > 0)
-    return False
 
 
 def bounding_sphere(geometry) -> tuple[np.ndarray, float]:
@@ -256,7 +248,7 @@ class Plan:
         planes = [None, None, None]
         big = float(np.finfo(dt).max)
         with np.errstate(over="ignore"):
-            kd = np.minimum(sum((p.kd for p in self.kept_parts), np.zeros(3)), _BIG64)
+            kd = np.minimum(sum((p.diffuse_albedo for p in self.kept_parts), np.zeros(3)), _BIG64)
         for light in self.kept_lights:
             ld = light.direction.astype(dt)
             nl = nrm[:, 0] * ld[0] + nrm[:, 1] * ld[1] + nrm[:, 2] * ld[2]
@@ -386,7 +378,7 @@ def compile_plan(
     for part in material.brdf.parts:
         if part.term not in terms:
             skipped.append(Skip(_label(part), f"the {part.term} term was not asked for"))
-        elif _is_zero_part(part):
+        elif part.is_black:
             skipped.append(Skip(_label(part), "its coefficient is zero"))
         else:
             parts.append(part)

@@ -120,3 +120,18 @@ def test_a_sum_of_separable_and_plain_parts_adds_their_values():
     np.testing.assert_allclose(total.classic(n, l, v), [0.75 * 0.8] * 3, rtol=1e-15)
     np.testing.assert_allclose(total.eval_cos(n, l, v), [0.75 * 0.8 / math.pi] * 3, rtol=1e-15)
     assert len(total.separable_classic(Geometry(n, l, v))) == 1 + 3  # Lambert's one term, the plain part's channels
+
+
+def test_is_black_follows_the_colour_and_a_sum_is_black_only_when_every_part_is():
+    black = [Lambert(0.0), Phong(0.0, 10), BlinnPhong((0, 0, 0), 10), CookTorrance(0.0, 0.3, 0.04),
+             OrenNayar(0.0), Ward(ks=0.0), Mirror(ks=0.0)]  # fmt: skip
+    lit = [Lambert((0, 0, 0.1)), Phong(0.2, 10), CookTorrance((0.0, 1e-300, 0.0), 0.3, 0.04), Ward(ks=0.5)]
+    assert [m.is_black for m in black] == [True] * len(black)
+    assert [m.is_black for m in lit] == [False] * len(lit)
+    # A black model reflects nothing: eval is exactly 0 at a lit pair of directions.
+    n, l, v = np.array([0, 0, 1.0]), np.array([0.3, 0, 0.95]), np.array([-0.3, 0, 0.95])
+    for m in black[:4]:
+        assert not np.any(m.eval(n, l, v))
+    assert (Lambert(0.0) + Phong(0.0, 5)).is_black and not (Lambert(0.0) + Phong(0.1, 5)).is_black
+    # Models that do not say (Disney, measured data) are never taken for black.
+    assert Disney().is_black is False
