@@ -11,6 +11,9 @@ checked before anything is allocated, and a bad file gives one ``ValueError`` na
 the place in it and what is allowed.  The model a reader returns is a BRDF like any built-in
 one (``eval`` gives ``f_r`` in 1/sr, zero below the horizon).
 
+Image files (PNG, Radiance ``.hdr``, PFM, ``.npy``, OpenEXR) are read and written, with the same
+checks, by :mod:`lighting.files.images`.
+
 Examples
 --------
 >>> from lighting.files import load_brdf, reader_extensions

@@ -1,53 +1,33 @@
-r"""Environment images from files, rotated and scaled environments, and one loader for all sources.
+r"""Environments from image files, rotated and scaled environments, and one loader for all sources.
 
 Files
 -----
 :func:`read_environment_image` reads a latitude–longitude radiance image (the frame of
 :mod:`lighting.lights.environment`: row 0 the zenith, columns growing with ``φ``; width = 2 × height)
-as linear RGB ``float32``:
-
-* Radiance ``.hdr`` / ``.pic`` (RGBE, Ward 1991): the ``#?RADIANCE`` header, ``FORMAT=32-bit_rle_rgbe``,
-  ``EXPOSURE=`` lines (the pixels are divided by their product, as the format defines), the resolution
-  line ``-Y H +X W`` (``+Y`` stores the rows bottom to top, ``-X`` the columns right to left: both are
-  turned back), flat and run-length-encoded scanlines.  A pixel ``(r, g, b, e)`` is
-  ``(c + ½) 2^(e − 136)`` per channel, and 0 for ``e = 0`` (Radiance's ``colr_color``).  Old-style
-  run-length encoding (a ``1 1 1`` pixel repeating its predecessor) is refused.
-* ``.pfm``: ``PF`` (RGB) or ``Pf`` (grey), width and height, a scale whose sign gives the byte order
-  (negative: little-endian; its magnitude is ignored), rows stored bottom to top.
-* ``.npy``: an ``(H, W, 3)`` or ``(H, W)`` array of real numbers (read without pickles).
-* ``.exr``: when the ``OpenEXR`` Python package is installed (its ``R``, ``G``, ``B`` channels, or
-  ``Y`` for grey).
-
-Files are untrusted input: the size is read from the header, checked (at most
-:data:`MAX_HEIGHT` × :data:`MAX_WIDTH`, width = 2 × height) and its memory charged to the engine's
-budget (:func:`lighting._numeric.check_budget`) *before* the pixels are read.  Every malformed file
-is one ``ValueError`` line, ``"<path>: <what is wrong>; <what is allowed>"``; so is a negative, NaN
-or infinite radiance (naming the pixel).
+as linear RGB ``float32`` from a Radiance ``.hdr``/``.pic`` (RGBE), ``.pfm``, ``.npy`` or (with the
+``OpenEXR`` package) ``.exr`` file.  The formats, their checks and the writers live in
+:mod:`lighting.files.images`; this module adds what makes an environment of an image: the size
+(at most :data:`MAX_HEIGHT` × :data:`MAX_WIDTH`, width = 2 × height), checked on the header and
+charged to the engine's budget (:func:`lighting._budget.check_budget`) *before* the pixels are read,
+and messages that speak of an environment image.  Every malformed file is one ``ValueError`` line,
+``"<path>: <what is wrong>; <what is allowed>"``.
 
 Rotation and intensity
 ----------------------
 :class:`TransformedEnvironment` turns an environment by ``rotation`` degrees about ``+z`` (toward
 ``+φ``) and multiplies it by ``intensity``; :func:`load_environment` builds any environment from a
 path, a sky name (:mod:`lighting.lights.skies`) or a constant radiance.
-
-References
-----------
-G. Ward, "Real Pixels", Graphics Gems II (1991), 80–83; the Radiance file formats
-(``radsite.lbl.gov/radiance/refer/filefmts.pdf``).
 """
 
 from __future__ import annotations
 
-import math
 import os
-import re
-import stat
-import tempfile
 
 import numpy as np
 
-from .._budget import BudgetError, check_budget
 from .._numeric import ArgumentTypeError, _fmt, check_color, check_count, check_range, cos_sin_deg
+from ..files import images
+from ..files.images import write_hdr
 from .environment import ConstantEnvironment, Environment, LatLongEnvironment
 
 __all__ = [
@@ -65,17 +45,8 @@ __all__ = [
 MAX_HEIGHT = 8192
 MAX_WIDTH = 2 * MAX_HEIGHT
 #: The file extensions :func:`read_environment_image` reads.
-IMAGE_EXTENSIONS = (".hdr", ".pic", ".pfm", ".npy", ".exr")
-_HEADER_LIMIT = 1 << 16  # bytes of RGBE/PFM header scanned before giving up
+IMAGE_EXTENSIONS = images.LINEAR_EXTENSIONS
 _ASPECT = "a latitude-longitude image, width = 2 x height (e.g. 1024x512)"
-
-
-class _Bad(Exception):
-    """A problem found while decoding; turned into the one-line ValueError naming the file."""
-
-    def __init__(self, what: str, allowed: str):
-        super().__init__(what)
-        self.what, self.allowed = what, allowed
 
 
 def _error(path: str, what: str, allowed: str) -> ValueError:
@@ -89,7 +60,7 @@ def read_environment_image(path) -> np.ndarray:
     Parameters
     ----------
     path : str or os.PathLike
-        The file; the format is chosen by its extension (module notes).
+        The file; the format is chosen by its extension (:mod:`lighting.files.images`).
 
     Returns
     -------
@@ -113,34 +84,16 @@ def read_environment_image(path) -> np.ndarray:
     >>> read_environment_image(p)[:, :, 0].tolist()   # RGBE: 8 bits of mantissa, centred
     [[1.00390625, 1.00390625, 1.00390625, 1.00390625], [0.0, 0.0, 0.0, 0.0]]
     """
-    if not isinstance(path, str | os.PathLike):
-        raise ArgumentTypeError(f"path must be a str or os.PathLike; got {type(path).__name__} {_fmt(path)}")
-    name = os.fspath(path)
-    if isinstance(name, bytes):
-        name = os.fsdecode(name)
-    ext = os.path.splitext(name)[1].lower()
-    if ext not in IMAGE_EXTENSIONS:
-        raise _error(name, f"unknown extension {ext or '(none)'!r}", f"allowed: {', '.join(IMAGE_EXTENSIONS)}")
-    if ext == ".exr":
-        return _read_exr(name)
-    data = _read_bytes(name)
-    try:
-        if ext in (".hdr", ".pic"):
-            img = _decode_rgbe(data, name)
-        elif ext == ".pfm":
-            img = _decode_pfm(data, name)
-        else:
-            img = _decode_npy(data, name)
-    except _Bad as e:
-        raise _error(name, e.what, e.allowed) from None
-    return img
+    return images.read_linear(path, kind="environment image", max_height=MAX_HEIGHT, max_width=MAX_WIDTH,
+                              aspect=2, shape=_ASPECT)  # fmt: skip
 
 
 def declared_image_size(path) -> tuple[int, int] | None:
     """``(height, width)`` an environment image's header declares, read without reading its pixels.
 
-    The readers' own header parsers, on the file's first bytes: what a scene charges to the memory
-    budget before :func:`read_environment_image` reads the whole file (which checks it again).
+    The readers' own header parsers (:func:`lighting.files.images.declared_size`), on the file's first
+    bytes: what a scene charges to the memory budget before :func:`read_environment_image` reads the
+    whole file (which checks it again).
 
     Parameters
     ----------
@@ -151,7 +104,8 @@ def declared_image_size(path) -> tuple[int, int] | None:
     Returns
     -------
     tuple of int, or None
-        None when the header cannot be read or parsed: the reader then names the problem itself.
+        None when the header cannot be read or parsed, or the file is not one of :data:`IMAGE_EXTENSIONS`:
+        the reader then names the problem itself.
 
     Examples
     --------
@@ -162,449 +116,9 @@ def declared_image_size(path) -> tuple[int, int] | None:
     >>> declared_image_size(p)
     (4096, 8192)
     """
-    name = os.fspath(path)
-    ext = os.path.splitext(name)[1].lower()
-    try:
-        if ext == ".exr":
-            import OpenEXR
-
-            f = OpenEXR.InputFile(name)
-            try:
-                return _exr_window(f.header())
-            finally:
-                f.close()
-        with open(name, "rb") as f:
-            if ext == ".npy":
-                shape = _npy_header(f)[0]
-                return int(shape[0]), int(shape[1])
-            head = f.read(_HEADER_LIMIT + 128)
-        if ext in (".hdr", ".pic"):
-            return _rgbe_header(head)[:2]
-        if ext == ".pfm":
-            return _pfm_header(head)[:2]
-    except (_Bad, ImportError, OSError, ValueError):
+    if os.path.splitext(os.fspath(path))[1].lower() not in IMAGE_EXTENSIONS:
         return None
-    except Exception:  # noqa: BLE001 (OpenEXR raises several kinds on corrupt files: the reader names them)
-        return None
-    return None
-
-
-def _check_file(name: str) -> None:
-    """Refuse a missing file, a directory or a special file, and a file larger than the budget."""
-    try:
-        st = os.stat(name)  # before open: opening a FIFO for reading would wait for a writer
-    except FileNotFoundError:
-        raise _error(name, "no such file", "allowed: an existing environment image") from None
-    except OSError as e:
-        raise _error(name, f"cannot be opened ({e.strerror})", "allowed: a readable file") from None
-    if stat.S_ISDIR(st.st_mode):
-        raise _error(name, "is a directory", "allowed: a regular file")
-    if not stat.S_ISREG(st.st_mode):
-        raise _error(name, "is not a regular file", "allowed: a regular file")
-    check_budget(f"environment image {name!r}", st.st_size, what=f"a file of {st.st_size} bytes")
-
-
-def _read_bytes(name: str) -> bytes:
-    """The whole file, after :func:`_check_file`."""
-    _check_file(name)
-    try:
-        with open(name, "rb") as f:
-            return f.read()
-    except OSError as e:
-        raise _error(name, f"cannot be read ({e.strerror})", "allowed: a readable file") from None
-
-
-def _check_size(h: int, w: int, name: str, bytes_per_pixel: int) -> None:
-    """Refuse sizes that are zero, beyond the caps or not 2:1, then charge the decoder's memory."""
-    if h < 1 or w < 1:
-        raise _Bad(f"image size {w}x{h} is empty", f"allowed: {_ASPECT}")
-    if h > MAX_HEIGHT or w > MAX_WIDTH:
-        raise _Bad(f"image size {w}x{h} is too large", f"allowed: at most {MAX_WIDTH}x{MAX_HEIGHT}")
-    if w != 2 * h:
-        raise _Bad(f"image size {w}x{h} is not 2:1", f"allowed: {_ASPECT}")
-    check_budget(f"environment image {name!r}", h * w * bytes_per_pixel, what=f"a {w}x{h} image and its decoding")
-
-
-def _finish(img: np.ndarray, name: str, scale: float = 1.0) -> np.ndarray:
-    """float32 RGB, divided by ``scale``; refuses NaN, infinite (also by overflow) or negative pixels."""
-    src = img
-    if src.ndim == 2:
-        src = src[..., None]
-    with np.errstate(over="ignore", invalid="ignore"):
-        out = np.empty(src.shape[:2] + (3,), dtype=np.float32)
-        np.divide(src, scale, out=out, casting="unsafe")
-    bad = ~np.isfinite(out) | (out < 0)
-    if bad.any():
-        i, j, c = (int(k) for k in np.argwhere(bad)[0])
-        v = float(src[i, j, min(c, src.shape[2] - 1)]) / scale
-        what = "negative" if v < 0 else "NaN" if math.isnan(v) else "infinite" if math.isinf(v) else "beyond float32"
-        raise _Bad(
-            f"radiance {v!r} ({what}) at row {i}, column {j} (from the top)",
-            "allowed: finite radiance >= 0 within the float32 range",
-        )
-    return out
-
-
-# -- RGBE ---------------------------------------------------------------------------------
-_RES = re.compile(rb"^([-+])([YX]) +(\d{1,9}) +([-+])([YX]) +(\d{1,9})$")
-
-
-def _rgbe_header(data: bytes):
-    """``(h, w, rows_bottom_up, columns_right_to_left, exposure, offset of the pixels)`` of an RGBE file."""
-    if not data.startswith(b"#?"):
-        raise _Bad("not a Radiance file (no '#?' signature)", "allowed: an RGBE file starting '#?RADIANCE'")
-    end = data.find(b"\n\n", 0, _HEADER_LIMIT)
-    if end < 0:
-        raise _Bad(
-            "the header does not end (no empty line in the first 64 KiB)",
-            "allowed: header lines, an empty line, then the resolution line",
-        )
-    exposure = 1.0
-    for k, raw in enumerate(data[:end].split(b"\n")[1:], start=2):
-        line = raw.strip()
-        if line.startswith(b"FORMAT="):
-            fmt = line[7:].strip()
-            if fmt != b"32-bit_rle_rgbe":
-                raise _Bad(f"line {k}: FORMAT={fmt.decode('latin-1')!r}", "allowed: FORMAT=32-bit_rle_rgbe")
-        elif line.startswith(b"EXPOSURE="):
-            try:
-                e = float(line[9:].strip().decode("ascii"))
-            except (ValueError, UnicodeDecodeError):
-                e = float("nan")
-            if not (math.isfinite(e) and e > 0):
-                raise _Bad(f"line {k}: {line.decode('latin-1')!r}", "allowed: EXPOSURE= a finite number > 0")
-            exposure *= e
-    if not (math.isfinite(exposure) and exposure > 0):
-        raise _Bad(f"the EXPOSURE lines multiply to {exposure!r}", "allowed: a finite product > 0")
-    nl = data.find(b"\n", end + 2, end + 2 + 64)
-    if nl < 0:
-        raise _Bad("the resolution line is missing or too long", "allowed: '-Y H +X W' after the header")
-    res = data[end + 2 : nl].strip()
-    m = _RES.match(res)
-    if not m or m.group(2) != b"Y" or m.group(5) != b"X":
-        raise _Bad(
-            f"resolution line {res[:40].decode('latin-1')!r}",
-            "allowed: '-Y H +X W' (or +Y / -X: rows bottom-up / columns right-to-left)",
-        )
-    return int(m.group(3)), int(m.group(6)), m.group(1) == b"+", m.group(4) == b"-", exposure, nl + 1
-
-
-def _decode_rgbe(data: bytes, name: str) -> np.ndarray:
-    h, w, bottom_up, right_to_left, exposure, start = _rgbe_header(data)
-    # Output float32 RGB, the RGBE bytes and the float64 temporaries of the conversion.
-    _check_size(h, w, name, 12 + 4 + 48)
-    rgbe = _rgbe_scanlines(data, start, h, w)
-    if bottom_up:
-        rgbe = rgbe[::-1]
-    if right_to_left:
-        rgbe = rgbe[:, ::-1]
-    e = rgbe[..., 3].astype(np.int32)
-    f = np.where(e > 0, np.ldexp(1.0, e - 136), 0.0)
-    img = (rgbe[..., :3] + 0.5) * f[..., None]
-    return _finish(img, name, exposure)
-
-
-def _rgbe_scanlines(data: bytes, pos: int, h: int, w: int) -> np.ndarray:
-    out = np.empty((h, w, 4), dtype=np.uint8)
-    n = len(data)
-    rle_ok = 8 <= w <= 0x7FFF
-    line = bytearray(4 * w)
-    for y in range(h):
-        if rle_ok and pos + 4 <= n and data[pos] == 2 and data[pos + 1] == 2 and not data[pos + 2] & 0x80:
-            width = (data[pos + 2] << 8) | data[pos + 3]
-            if width != w:
-                raise _Bad(f"scanline {y}: run-length header for width {width}", f"allowed: width {w}")
-            pos += 4
-            for c in range(4):
-                x = c * w
-                stop = x + w
-                while x < stop:
-                    if pos >= n:
-                        raise _Bad(f"the file ends inside scanline {y}", f"allowed: {h} complete scanlines")
-                    count = data[pos]
-                    if count > 128:
-                        count -= 128
-                        if x + count > stop or pos + 1 >= n:
-                            raise _Bad(f"scanline {y}: a run overruns the scanline", f"allowed: runs within {w} pixels")
-                        line[x : x + count] = data[pos + 1 : pos + 2] * count
-                        pos += 2
-                    else:
-                        if count == 0 or x + count > stop:
-                            raise _Bad(f"scanline {y}: bad run length {count}", f"allowed: runs within {w} pixels")
-                        if pos + 1 + count > n:
-                            raise _Bad(f"the file ends inside scanline {y}", f"allowed: {h} complete scanlines")
-                        line[x : x + count] = data[pos + 1 : pos + 1 + count]
-                        pos += 1 + count
-                    x += count
-            out[y] = np.frombuffer(line, dtype=np.uint8).reshape(4, w).T
-        else:
-            if pos + 4 * w > n:
-                raise _Bad(f"the file ends inside scanline {y}", f"allowed: {h} complete scanlines")
-            px = np.frombuffer(data, dtype=np.uint8, count=4 * w, offset=pos).reshape(w, 4)
-            if np.any((px[:, 0] == 1) & (px[:, 1] == 1) & (px[:, 2] == 1)):
-                raise _Bad(
-                    f"scanline {y}: old-style run-length encoding (a 1 1 1 pixel)",
-                    "allowed: flat or new-style run-length scanlines (re-save the file with a current tool)",
-                )
-            out[y] = px
-            pos += 4 * w
-    if pos != n:
-        raise _Bad(f"{n - pos} bytes after the last scanline", f"allowed: exactly {h} scanlines")
-    return out
-
-
-# -- PFM ----------------------------------------------------------------------------------
-_PFM = re.compile(rb"^(P[Ff])\s+(\d{1,9})\s+(\d{1,9})\s+(\S{1,40})\s")
-
-
-def _pfm_header(data: bytes):
-    """``(h, w, channels, scale, offset of the pixels)`` of a PFM file."""
-    m = _PFM.match(data[:256])
-    if not m:
-        raise _Bad("not a PFM header", "allowed: 'PF' or 'Pf', width, height and scale, whitespace-separated")
-    channels = 3 if m.group(1) == b"PF" else 1
-    w, h = int(m.group(2)), int(m.group(3))
-    try:
-        scale = float(m.group(4).decode("ascii"))
-    except (ValueError, UnicodeDecodeError):
-        scale = float("nan")
-    if not (math.isfinite(scale) and scale != 0):
-        raise _Bad(
-            f"scale {m.group(4).decode('latin-1')!r}", "allowed: a finite nonzero number (negative: little-endian)"
-        )
-    return h, w, channels, scale, m.end()
-
-
-def _decode_pfm(data: bytes, name: str) -> np.ndarray:
-    h, w, channels, scale, start = _pfm_header(data)
-    _check_size(h, w, name, 12 + 12 + 4)
-    need = h * w * channels * 4
-    body = len(data) - start
-    if body < need:
-        raise _Bad(f"the file is truncated: {body} bytes of pixels", f"allowed: {need} bytes for {w}x{h}x{channels}")
-    if body > need:
-        raise _Bad(f"{body - need} extra bytes after the pixels", f"allowed: exactly {need} bytes of pixels")
-    dt = "<f4" if scale < 0 else ">f4"
-    px = np.frombuffer(data, dtype=dt, count=h * w * channels, offset=start).reshape(h, w, channels)
-    return _finish(px[::-1], name)
-
-
-# -- NPY ----------------------------------------------------------------------------------
-def _npy_header(f):
-    """``(shape, fortran_order, dtype)`` of the ``.npy`` file object ``f``, checked; ``f`` left at the values."""
-    fmt = np.lib.format
-    try:
-        version = fmt.read_magic(f)
-        if version == (1, 0):
-            shape, fortran, dtype = fmt.read_array_header_1_0(f)
-        elif version == (2, 0):
-            shape, fortran, dtype = fmt.read_array_header_2_0(f)
-        else:
-            raise _Bad(f"NPY format version {version}", "allowed: versions 1.0 and 2.0")
-    except _Bad:
-        raise
-    except Exception as e:  # noqa: BLE001 (any failure to parse the header is the file's fault)
-        msg = str(e).splitlines()[0][:120] if str(e) else type(e).__name__
-        raise _Bad(f"not a NumPy .npy file ({msg})", "allowed: a file written by numpy.save") from None
-    allowed = "allowed: a real array of shape (H, W, 3) or (H, W)"
-    if dtype.hasobject or dtype.kind not in "fiu" or dtype.fields is not None or dtype.subdtype is not None:
-        raise _Bad(f"dtype {dtype}", allowed)
-    if len(shape) not in (2, 3) or (len(shape) == 3 and shape[2] != 3):
-        raise _Bad(f"shape {shape}", allowed)
-    return shape, fortran, dtype
-
-
-def _decode_npy(data: bytes, name: str) -> np.ndarray:
-    import io
-
-    f = io.BytesIO(data)
-    shape, fortran, dtype = _npy_header(f)
-    h, w = shape[0], shape[1]
-    _check_size(h, w, name, 12 + 12 * dtype.itemsize + 4)
-    need = math.prod(shape) * dtype.itemsize
-    body = len(data) - f.tell()
-    if body < need:
-        raise _Bad(f"the file is truncated: {body} bytes of values", f"allowed: {need} bytes for shape {shape}")
-    if body > need:
-        raise _Bad(f"{body - need} extra bytes after the values", f"allowed: exactly {need} bytes")
-    flat = np.frombuffer(data, dtype=dtype, count=math.prod(shape), offset=f.tell())
-    arr = flat.reshape(shape[::-1]).transpose() if fortran else flat.reshape(shape)
-    return _finish(arr.astype(np.float64), name)
-
-
-# -- EXR ----------------------------------------------------------------------------------
-def _exr_window(header):
-    """``(h, w)`` of an OpenEXR header's data window."""
-    dw = header["dataWindow"]
-    return dw.max.y - dw.min.y + 1, dw.max.x - dw.min.x + 1
-
-
-def _read_exr(name: str) -> np.ndarray:
-    try:
-        import Imath
-        import OpenEXR
-    except ImportError:
-        raise _error(
-            name,
-            "reading .exr needs the OpenEXR Python package, which is not installed",
-            "allowed here: .hdr, .pic, .pfm, .npy (or pip install OpenEXR)",
-        ) from None
-    _check_file(name)
-    try:
-        try:
-            with open(name, "rb") as fh:
-                magic = fh.read(4)
-        except OSError as e:
-            raise _Bad(f"cannot be read ({e.strerror})", "allowed: a readable file") from None
-        if magic != b"\x76\x2f\x31\x01":
-            raise _Bad("not an OpenEXR file (no magic number)", "allowed: a scanline or tiled OpenEXR image")
-        f = OpenEXR.InputFile(name)
-        try:
-            header = f.header()
-            h, w = _exr_window(header)
-            chans = set(header["channels"])
-            names = ("R", "G", "B") if {"R", "G", "B"} <= chans else ("Y",) if "Y" in chans else None
-            if names is None:
-                raise _Bad(f"channels {sorted(chans)}", "allowed: R, G, B (or Y)")
-            _check_size(h, w, name, 12 + 12 + 4)
-            pt = Imath.PixelType(Imath.PixelType.FLOAT)
-            planes = [np.frombuffer(f.channel(c, pt), dtype=np.float32) for c in names]
-        finally:
-            f.close()
-        if any(p.size != h * w for p in planes):
-            raise _Bad(f"channels hold {[p.size for p in planes]} values", f"allowed: {h * w} each")
-        img = np.stack([p.reshape(h, w) for p in planes], axis=-1).astype(np.float64)
-        return _finish(img, name)
-    except _Bad as e:
-        raise _error(name, e.what, e.allowed) from None
-    except BudgetError:
-        raise
-    except ValueError as e:
-        if str(e).startswith(name):
-            raise
-        raise _error(name, f"cannot be decoded ({str(e)[:120]})", "allowed: a valid OpenEXR image") from None
-    except Exception as e:  # noqa: BLE001 (OpenEXR raises OSError and others on corrupt files)
-        raise _error(name, f"cannot be decoded ({type(e).__name__})", "allowed: a valid OpenEXR image") from None
-
-
-# --------------------------------------------------------------------------- writing
-def _rgbe_bytes(img: np.ndarray) -> np.ndarray:
-    """``(H, W, 4)`` uint8 RGBE of non-negative finite RGB (Radiance's ``setcolr``: mantissas truncated)."""
-    m = img.max(axis=-1)
-    mant, e = np.frexp(m)  # m = mant 2^e, mant in [0.5, 1)
-    ok = m >= 2.0**-127  # smaller maxima are black (exponent byte 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        scale = np.where(ok, mant * 256.0 / np.where(ok, m, 1.0), 0.0)
-    out = np.zeros(img.shape[:2] + (4,), dtype=np.uint8)
-    out[..., :3] = np.clip(np.floor(img * scale[..., None]), 0, 255).astype(np.uint8)
-    out[..., 3] = np.where(ok, e + 128, 0).astype(np.uint8)
-    return out
-
-
-def _rle_channel(a: bytes) -> bytearray:
-    """New-style run-length encoding of one channel of a scanline (runs of 4 or more, dumps up to 128)."""
-    out = bytearray()
-    n, i = len(a), 0
-    while i < n:
-        # Find the next run of at least 4 equal bytes starting at or after i.
-        j = i
-        run_start, run_len = n, 0
-        while j < n:
-            k = j + 1
-            while k < n and k - j < 127 and a[k] == a[j]:
-                k += 1
-            if k - j >= 4:
-                run_start, run_len = j, k - j
-                break
-            j = k
-        while i < run_start:  # the literal bytes before the run
-            c = min(128, run_start - i)
-            out.append(c)
-            out += a[i : i + c]
-            i += c
-        if run_len:
-            out.append(128 + run_len)
-            out.append(a[run_start])
-            i = run_start + run_len
-    return out
-
-
-def write_hdr(path, image, *, rle: bool = True) -> None:
-    """Write linear RGB radiance as a Radiance ``.hdr`` (RGBE) file, atomically.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        Destination; written to a temporary file in the same folder and renamed into place.
-    image : array_like, (H, W, 3)
-        Finite radiance ``>= 0`` and below ``2^127``; any shape (:func:`read_environment_image`
-        reads back only ``W = 2 H``).  Row 0 is stored first (``-Y H +X W``).
-    rle : bool
-        New-style run-length-encoded scanlines (default; used where the width is 8 to 32767), else
-        flat 4-byte pixels.
-
-    Notes
-    -----
-    Each pixel keeps 8 mantissa bits against its brightest channel (truncated, as Radiance's
-    ``setcolr``; the reader adds half a step back): read back, a channel is within ``2^-8`` of the
-    pixel's largest value.
-
-    Examples
-    --------
-    >>> import os, tempfile
-    >>> p = os.path.join(tempfile.mkdtemp(), "grey.hdr")
-    >>> write_hdr(p, np.full((4, 8, 3), 0.5))
-    >>> float(read_environment_image(p).max())   # (128 + ½) 2^-8
-    0.501953125
-    """
-    allowed = "an (H, W, 3) array of finite radiances >= 0 and < 2^127"
-    try:
-        img = np.asarray(image, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ArgumentTypeError(f"image must be {allowed}; got {type(image).__name__}") from None
-    if img.ndim != 3 or img.shape[2] != 3 or img.shape[0] < 1 or img.shape[1] < 1:
-        raise ValueError(f"image must be {allowed}; got shape {img.shape}")
-    if not np.all(np.isfinite(img)) or np.any(img < 0) or np.any(img >= 2.0**127):
-        raise ValueError(f"image must be {allowed}; got values in [{img.min()!r}, {img.max()!r}]")
-    h, w = img.shape[:2]
-    check_budget("image", img.size * 8 * 3, what=f"an RGBE encoding of {w}x{h}")
-    rgbe = _rgbe_bytes(img)
-    parts = [f"#?RADIANCE\n# lighting.lights.envfiles\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n".encode("ascii")]
-    if rle and 8 <= w <= 0x7FFF:
-        head = bytes([2, 2, w >> 8, w & 0xFF])
-        for y in range(h):
-            parts.append(head)
-            for c in range(4):
-                parts.append(bytes(_rle_channel(rgbe[y, :, c].tobytes())))
-    else:
-        # A flat (1, 1, 1, e) pixel would read as an old-style run: store the same value as (2, 2, 2, e − 1).
-        ones = np.all(rgbe[..., :3] == 1, axis=-1)
-        sel = ones & (rgbe[..., 3] > 1)
-        rgbe[ones & ~sel] = 0  # 2^-135: black
-        rgbe[sel, :3] = 2
-        rgbe[sel, 3] -= 1
-        parts.append(rgbe.tobytes())
-    _atomic_write(path, b"".join(parts))
-
-
-def _atomic_write(path, data: bytes) -> None:
-    """Write ``data`` to a temporary file beside ``path`` and rename it into place (mode as ``open`` gives)."""
-    from ..render.image import file_mode
-
-    path = os.fspath(path)
-    target = os.path.realpath(path) if os.path.islink(path) else os.path.abspath(path)
-    mode = file_mode(target)
-    tmp = None
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", suffix=".part", dir=os.path.dirname(target))
-        with os.fdopen(fd, "wb") as f:
-            os.fchmod(f.fileno(), mode)
-            f.write(data)
-        os.replace(tmp, target)
-        tmp = None
-    finally:
-        if tmp is not None and os.path.exists(tmp):
-            os.unlink(tmp)
+    return images.declared_size(path)
 
 
 # --------------------------------------------------------------------------- transformed environments
