@@ -8,7 +8,9 @@ One writer for ``render``, ``sphere``, ``explore --screenshot``, the figures and
 * **Atomic.**  The bytes go to a temporary file in the target folder, which is renamed over the target
   only when complete: a reader sees the old file or the whole new one, never half of one.  The temporary
   file is removed on any exception, on Ctrl-C (``KeyboardInterrupt``) and on ``SIGTERM`` (see
-  :func:`signals_as_exceptions`); error messages name the user's path, never the temporary one.
+  :func:`signals_as_exceptions`); error messages name the user's path, never the temporary one.  The
+  temporary file and the formats' bytes come from :mod:`lighting.files.images`, the engine's home of
+  image files; this module adds the flags, the checks before the work and the signals.
 * **Permissions.**  A new file gets ``0o666`` minus the user's umask, as ``open()`` would give it; a
   replaced file keeps its mode.  (``tempfile.mkstemp`` alone would leave ``0o600``.)
 * **Format from the extension** (:data:`IMAGE_FORMATS`): ``.png`` (always), ``.jpg``/``.jpeg``,
@@ -37,12 +39,12 @@ import io
 import os
 import signal
 import sys
-import tempfile
+import tempfile  # noqa: F401 (the temporary files come from tempfile.mkstemp, which the signal tests wrap here)
 import threading
 
 import numpy as np
 
-from lighting.render.image import file_mode
+from lighting.files.images import exr_writer, file_mode, npy_bytes, pfm_bytes, png_bytes, write_temporary
 
 __all__ = [
     "OutputError",
@@ -395,21 +397,6 @@ def signals_as_exceptions():
 
 
 # --------------------------------------------------------------------------- atomic writing
-def _target(path: str) -> str:
-    # Writing through a symbolic link updates the file it points to and keeps the link.
-    return os.path.realpath(path) if os.path.islink(path) else os.path.abspath(path)
-
-
-def _temp_for(target: str, flag: str, path: str):
-    folder = os.path.dirname(target)
-    base = os.path.basename(target)
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{base}.", suffix=".part", dir=folder)
-    except OSError as exc:
-        raise OutputError(f"{flag}: cannot write {_show(path)}: {exc.strerror or exc}") from None
-    return fd, tmp
-
-
 def _remove(tmp: str) -> None:
     with contextlib.suppress(OSError):
         os.unlink(tmp)
@@ -417,34 +404,14 @@ def _remove(tmp: str) -> None:
 
 def _prepare(path, data, flag):
     """Write ``data`` (bytes, or a callable taking a file path) to a temporary file beside ``path``."""
-    path = os.fspath(path)
-    target = _target(path)
-    mode = file_mode(target)
     raise_if_signalled()  # asked to stop (and a library swallowed the exception): write nothing
-    fd, tmp = -1, None
     try:
-        # Created with the signals held, so that an interrupt cannot land between the creation and the
-        # assignment: a signal held meanwhile is delivered inside this try, whose handler removes the file.
-        with deferred_signals():
-            fd, tmp = _temp_for(target, flag, path)
-        os.fchmod(fd, mode)
-        if callable(data):
-            os.close(fd)
-            fd = -1
-            data(tmp)
-        else:
-            with os.fdopen(fd, "wb") as f:
-                fd = -1
-                f.write(data)
-    except BaseException as exc:
-        if fd >= 0:
-            os.close(fd)
-        if tmp is not None:
-            _remove(tmp)
-        if isinstance(exc, OSError):
-            raise OutputError(f"{flag}: cannot write {_show(path)}: {exc.strerror or exc}") from None
-        raise
-    return tmp, target
+        # Created with the signals held, so that an interrupt cannot land between the creation and the moment
+        # the writer knows the name: a signal held meanwhile is raised as the guard ends, inside
+        # write_temporary, which removes the file.
+        return write_temporary(path, data, guard=deferred_signals)
+    except OSError as exc:
+        raise OutputError(f"{flag}: cannot write {_show(path)}: {exc.strerror or exc}") from None
 
 
 def atomic_write(path, data, *, flag: str = "-o") -> None:
@@ -508,32 +475,6 @@ def atomic_write_many(items, *, flag: str = "-o") -> None:
 
 
 # --------------------------------------------------------------------------- image formats
-def _pfm_bytes(linear: np.ndarray) -> bytes:
-    # Portable float map: "PF", width height, scale (negative: little-endian), rows bottom to top.
-    h, w, _ = linear.shape
-    body = np.ascontiguousarray(linear[::-1], dtype="<f4").tobytes()
-    return f"PF\n{w} {h}\n-1.0\n".encode("ascii") + body
-
-
-def _exr_writer(linear: np.ndarray):
-    def write(tmp: str) -> None:
-        import Imath
-        import OpenEXR
-
-        h, w, _ = linear.shape
-        header = OpenEXR.Header(w, h)
-        ch = Imath.Channel(Imath.PixelType(Imath.PixelType.FLOAT))
-        header["channels"] = {"R": ch, "G": ch, "B": ch}
-        out = OpenEXR.OutputFile(tmp, header)
-        try:
-            a = np.ascontiguousarray(linear, dtype=np.float32)
-            out.writePixels({c: a[..., i].tobytes() for i, c in enumerate("RGB")})
-        finally:
-            out.close()
-
-    return write
-
-
 def encode_image(fmt: str, *, rgb8=None, linear=None):
     """The file contents for ``fmt``.
 
@@ -558,14 +499,10 @@ def encode_image(fmt: str, *, rgb8=None, linear=None):
         if a.ndim != 3 or a.shape[-1] != 3 or a.dtype.kind != "f":
             raise OutputError(f"a linear image must be a float array of shape (H, W, 3); got {a.dtype} {a.shape}")
         if fmt == "npy":
-            buf = io.BytesIO()
-            np.save(buf, a, allow_pickle=False)
-            return buf.getvalue()
+            return npy_bytes(a)
         if fmt == "pfm":
-            return _pfm_bytes(a)
-        return _exr_writer(a)
-    from lighting.render.image import png_bytes
-
+            return pfm_bytes(a)
+        return exr_writer(a)
     a = np.asarray(rgb8)
     if a.dtype != np.uint8 or a.ndim != 3 or a.shape[-1] not in (3, 4):
         raise OutputError(f"an 8-bit image must be uint8 of shape (H, W, 3|4); got {a.dtype} {a.shape}")
