@@ -562,7 +562,7 @@ def _png_header(data: bytes):
 def _decode_png(data: bytes, limits: _Limits) -> np.ndarray:
     h, w, c, pos = _png_header(data)
     row = 1 + w * c
-    limits.check(h, w, 2 * row)  # the decompressed rows and the pixels' copy
+    limits.check(h, w, 2 * c + 1)  # the decompressed rows (c + 1 bytes a pixel at most) and the pixels' copy
     idat, n = [], len(data)
     while True:
         if pos + 12 > n:

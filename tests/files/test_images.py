@@ -127,12 +127,20 @@ def test_png_size_is_checked_before_the_pixels_are_decompressed(tmp_path, monkey
     monkeypatch.undo()
     ok = tmp_path / "ok.png"
     write_png(ok, np.zeros((64, 128, 3), np.uint8))
-    previous = set_memory_budget(64 * (1 + 128 * 3))
+    charged = 64 * 128 * (2 * 3 + 1)  # the rows (a filter byte and 3 a pixel) and the pixels' copy, at most
+    previous = set_memory_budget(charged - 1)
     try:
-        with pytest.raises(BudgetError, match="128x64"):
+        with pytest.raises(BudgetError, match=r"PNG image '.*ok\.png' needs about .* \(a 128x64 image and its"):
             read_png(ok)
+        set_memory_budget(charged)
+        assert read_png(ok).shape == (64, 128, 3)
     finally:
         set_memory_budget(previous)
+    # The largest side's image is refused by the default budget, not by a failed allocation.
+    wide = tmp_path / "huge.png"
+    wide.write_bytes(_png(65536, 65536, b""))
+    with pytest.raises(BudgetError, match="65536x65536"):
+        read_png(wide)
 
 
 # ---------------------------------------------------------------- linear formats
