@@ -12,6 +12,7 @@ import math
 import os
 import stat
 import tomllib
+from dataclasses import replace
 
 import numpy as np
 
@@ -58,7 +59,7 @@ from .schema import (
 __all__ = ["load_scene", "parse_scene", "object_matrix"]
 
 
-def load_scene(path, *, source: str | None = None) -> Scene:
+def load_scene(path, *, source: str | None = None, allow_slow: bool = False) -> Scene:
     """Read a scene file (TOML).  Relative mesh paths are relative to the file's folder.
 
     Parameters
@@ -68,6 +69,9 @@ def load_scene(path, *, source: str | None = None) -> Scene:
     source : str, optional
         The name error messages give the file (default: a shipped example's name, else the path as
         given; :func:`~lighting.scene.examples.scene_label`).
+    allow_slow : bool
+        Let renders of the scene take longer than the time budget (:data:`lighting._budget.TIME_LIMIT`);
+        otherwise a render estimated to take longer is refused before anything is drawn.
 
     Returns
     -------
@@ -100,10 +104,10 @@ def load_scene(path, *, source: str | None = None) -> Scene:
         raise SceneBudgetError(label, "", str(e)) from None
     except OSError as e:
         raise SceneError(label, "", f"cannot read the scene file: {e.strerror or e}") from None
-    return parse_scene(raw, source=label, base_dir=os.path.dirname(os.path.abspath(path)))
+    return parse_scene(raw, source=label, base_dir=os.path.dirname(os.path.abspath(path)), allow_slow=allow_slow)
 
 
-def parse_scene(data, source: str = "<string>", *, base_dir=None) -> Scene:
+def parse_scene(data, source: str = "<string>", *, base_dir=None, allow_slow: bool = False) -> Scene:
     """A :class:`Scene` from TOML text or from the equivalent dict.
 
     Parameters
@@ -115,6 +119,8 @@ def parse_scene(data, source: str = "<string>", *, base_dir=None) -> Scene:
         Name used in error messages (the file name).
     base_dir : path, optional
         Folder that relative mesh paths start from (default: the current folder).
+    allow_slow : bool
+        As for :func:`load_scene`.
 
     Returns
     -------
@@ -151,7 +157,10 @@ def parse_scene(data, source: str = "<string>", *, base_dir=None) -> Scene:
     if not isinstance(data, dict):
         raise SceneError(source, "", f"a scene must be TOML text or a dict; got {type(data).__name__}")
     _check_dict_nesting(ctx, data)
-    return _parse(ctx, data)
+    if allow_slow is not True and allow_slow is not False:
+        raise ValueError(f"allow_slow must be True or False; got {abbreviate(repr(allow_slow))}")
+    scene = _parse(ctx, data)
+    return replace(scene, allow_slow=True) if allow_slow else scene
 
 
 def _parse(ctx: _Ctx, data: dict) -> Scene:
