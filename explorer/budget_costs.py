@@ -93,9 +93,9 @@ def measure(repeat: int = 3) -> dict:
     """
     from lighting import _budget
     from lighting.files.merl import read_merl
-    from lighting.files.merl_sampler import MerlSampler
     from lighting.integrate.prefilter import prefilter_environment, prefilter_height
     from lighting.models.protocol import model_names
+    from lighting.sampling.merl import MerlSampler
     from lighting.scene import SceneRenderer, parse_scene
 
     out = {}

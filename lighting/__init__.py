@@ -41,7 +41,7 @@ _LAZY = {
     "integrate": "lighting.integrate",
     "audit": "lighting.analysis.audit",
     "machband": "lighting.analysis.machband",
-    "sampling": "lighting.integrate.sampling",
+    "sampling": "lighting.sampling.brdf",
 }
 
 

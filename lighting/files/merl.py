@@ -200,10 +200,10 @@ class MerlBRDF(BRDF):
 
         Returns
         -------
-        lighting.files.merl_sampler.MerlSampler
-            One instance per model, so its per-view tables are built once (:mod:`lighting.files.merl_sampler`).
+        lighting.sampling.merl.MerlSampler
+            One instance per model, so its per-view tables are built once (:mod:`lighting.sampling.merl`).
         """
-        from .merl_sampler import MerlSampler
+        from ..sampling.merl import MerlSampler
 
         # The instances of one file's model class (model_class) share its table, so those with the same lookup
         # share one sampler and its per-view tables: a material whose parts name one file builds them once.

@@ -35,11 +35,12 @@ Examples
 
 from __future__ import annotations
 
-from . import albedo, estimate, montecarlo, quadrature, radiance, sampling, sh  # noqa: F401
+from ..sampling import brdf as sampling  # noqa: F401
+from ..sampling.brdf import *  # noqa: F403
+from . import albedo, estimate, montecarlo, quadrature, radiance, sh  # noqa: F401
 from .albedo import *  # noqa: F403
 from .estimate import *  # noqa: F403
 from .radiance import *  # noqa: F403
-from .sampling import *  # noqa: F403
 from .sh import *  # noqa: F403
 
 __all__ = [

@@ -14,7 +14,8 @@ import numpy as np
 
 from .._numeric import check_budget, check_count
 from .._text import plural
-from .sampling import BYTES_PER_SAMPLE, _check_brdf  # noqa: F401  (_check_brdf: the one "is it a BRDF" check)
+from ..sampling.base import BYTES_PER_SAMPLE
+from ..sampling.brdf import _check_brdf  # noqa: F401  (_check_brdf: the one "is it a BRDF" check)
 
 _NODE_BUDGET = 1 << 18  # directions evaluated per vectorized batch (bounds memory)
 

@@ -28,12 +28,12 @@ import numpy as np
 
 from .._numeric import _fmt, check_bool, check_budget, check_choice, check_count, real_array, working_dtype
 from ..models.brdf import BRDF
+from ..sampling.brdf import _f_cos, as_generator
 from ._checks import _NODE_BUDGET, _check_brdf, _out, _replicates, _samples
 from ._delta import delta_albedo, split_delta
 from .estimate import _ROUNDING, Estimate, _combine
 from .montecarlo import _mc_estimates, _probe_count
 from .quadrature import _coarse_rules, _gl01, _lobe_rule, _split
-from .sampling import _f_cos, as_generator
 
 __all__ = ["METHODS", "AlbedoCurve", "directional_albedo", "albedo_curve", "hemispherical_albedo"]
 

@@ -53,10 +53,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._numeric import check_budget, check_count, check_vectors, working_dtype
+from ..sampling.brdf import _check_brdf
 from ._delta import delta_albedo, split_delta
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
-from .sampling import _check_brdf
 
 __all__ = [
     "DOMINANT_THRESHOLD",
@@ -477,7 +477,7 @@ def _fis_sampler(part):
     """
     mf = part.microfacet()
     if mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic and mf.alpha_x >= 0.1:
-        from ..models.microfacet_sampling import VisibleNormalSampler
+        from ..sampling.microfacet import VisibleNormalSampler
 
         return VisibleNormalSampler(mf.ndf, float(mf.alpha_x))
     return part.sampler()
@@ -625,7 +625,7 @@ def _half_table(part, samples: int):
     stratified points, ``D(h)(n·h)`` at each, and ``f_r (n·l)/p`` for views at :data:`_TABLE_ANGLES` (rows)
     and ``A`` azimuths (columns) in the frame of the half vectors; cached per part.
     """
-    from ..models.microfacet_sampling import MicrofacetSampler
+    from ..sampling.microfacet import MicrofacetSampler
 
     key = ("half", type(part).__qualname__, repr(part), samples)
     found = _tables.get(key)

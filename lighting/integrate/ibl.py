@@ -51,10 +51,10 @@ import numpy as np
 
 from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check_vectors, working_dtype
 from ..lights.environment import as_environment
+from ..sampling.brdf import _check_brdf
 from ._delta import delta_albedo, delta_radiance, split_delta
 from .prefilter import PrefilteredEnvironment, kernel_of_lobe, prefilter_environment
 from .radiance import _frames, _radiance_batch, _to_world
-from .sampling import _check_brdf
 
 __all__ = ["ALBEDO_ANGLES", "lobe_albedo", "lobe_sigma", "split_sum_radiance", "ProgressiveRadiance"]
 

@@ -5,12 +5,12 @@ evaluations per result):
 
 ``"uniform"``, ``"cosine"``
     Uniform or cosine-weighted hemisphere directions (the cosine warp through the concentric disk map
-    of Shirley & Chiu 1997, :mod:`lighting.integrate.sampling`).
+    of Shirley & Chiu 1997, :mod:`lighting.sampling.brdf`).
 ``"importance"``
-    :func:`lighting.integrate.sampling.importance_sampler`: each model's own lobe sampler, a
+    :func:`lighting.sampling.brdf.importance_sampler`: each model's own lobe sampler, a
     balance-heuristic mixture for sums.
 ``"stratified"``
-    The importance sampler fed a jittered grid (:func:`lighting.integrate.sampling.jittered`), in
+    The importance sampler fed a jittered grid (:func:`lighting.sampling.brdf.jittered`), in
     ``replicates`` independent copies whose spread gives the error.
 
 The estimate of ``∫ g(l) dω_l`` is the mean of ``g(l_k) / p(l_k)``; its error is the sample standard
@@ -32,9 +32,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..models.brdf import BRDF
+from ..sampling.brdf import CosineSampler, UniformSampler, _f_cos, importance_sampler, jittered_batch
 from .estimate import _mean_err, _ratio, _terms, _weight_range
 from .quadrature import _lobe_rule
-from .sampling import CosineSampler, UniformSampler, _f_cos, importance_sampler, jittered_batch
 
 __all__: list[str] = []
 

@@ -53,6 +53,8 @@ from .._numeric import (
 from ..lights.environment import SmallPatchEnvironment, as_environment
 from ..models.base import BRDFFlags
 from ..models.brdf import BRDF
+from ..sampling.base import BYTES_PER_SAMPLE
+from ..sampling.brdf import _f_cos, as_generator, importance_sampler
 from ..vec import orthonormal_basis
 from ._checks import _NODE_BUDGET, _check_brdf, _out, _replicates, _samples, _unit_rows
 from ._delta import delta_radiance, split_delta
@@ -60,7 +62,6 @@ from .albedo import METHODS
 from .estimate import _ROUNDING, Estimate, _combine, _mean_err, _ratio, _terms, _weight_range
 from .montecarlo import _ENV_PROBES, _lobe_probes, _method_sampler, _probe_count, _sampled_mean
 from .quadrature import _cap_rule, _coarse_rules, _lobe_rule, _split
-from .sampling import BYTES_PER_SAMPLE, _f_cos, as_generator, importance_sampler
 from .sh import _sh_error_bound, _sh_truncation_error, sh_coefficients, sh_irradiance
 
 __all__ = ["RADIANCE_METHODS", "outgoing_radiance", "point_light_limit"]

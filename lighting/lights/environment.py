@@ -62,8 +62,8 @@ from .._numeric import (
     safe_div,
     working_dtype,
 )
-from ..models.sampler import _unit_square as _checked_unit_square
-from .envsampling import (
+from ..sampling.base import _unit_square as _checked_unit_square
+from ..sampling.environment import (
     _bilinear_shape,
     _cell_corners,
     _cell_direction,

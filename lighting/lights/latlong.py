@@ -2,7 +2,7 @@
 
 One home for the layout every environment image uses (:class:`lighting.lights.environment.LatLongEnvironment`,
 the prefiltered levels of :mod:`lighting.integrate.prefilter`, the sampler of
-:mod:`lighting.lights.envsampling`): ``+z`` up; row ``i`` of ``H`` centred at ``θ = (i + ½)π/H`` from ``+z``;
+:mod:`lighting.sampling.environment`): ``+z`` up; row ``i`` of ``H`` centred at ``θ = (i + ½)π/H`` from ``+z``;
 the horizontal image coordinate ``u`` looks along ``φ = π − 2π u`` (the common orientation of panoramas:
 see :mod:`lighting.lights.environment` for the notes and the correspondence with other renderers).
 """

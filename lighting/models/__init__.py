@@ -12,22 +12,24 @@ from __future__ import annotations
 
 # isort: off
 # The order of these imports is the registry's order (each model's module registers its model).
-from . import protocol, microfacet, fresnel, geometry, base, sampler
-from . import lambert, phong, microfacet_sampling, blinn_phong, cook_torrance, brdf
+from . import protocol, microfacet, fresnel, geometry, base
+from ..sampling import base as sampler
+from . import lambert, phong, blinn_phong, cook_torrance, brdf
+from ..sampling import microfacet as microfacet_sampling
 # Beyond the slides, in the order lecturers compare them: diffuse, then glossy, then the principled model.
 from . import oren_nayar, ward, ashikhmin_shirley, disney, mirror  # noqa: F401  (mirror: registers "mirror")
 from . import custom
 from .custom import define_brdf
 
 # isort: on
+from ..sampling.base import *  # noqa: F403
+from ..sampling.microfacet import *  # noqa: F403
 from .brdf import *  # noqa: F403
 from .fresnel import *  # noqa: F403
 from .lambert import *  # noqa: F403
 from .microfacet import *  # noqa: F403
-from .microfacet_sampling import *  # noqa: F403
 from .phong import *  # noqa: F403
 from .protocol import *  # noqa: F403
-from .sampler import *  # noqa: F403
 
 __all__ = [
     "protocol",

@@ -12,10 +12,10 @@ import math
 import numpy as np
 
 from .._numeric import check_bool, check_nonnegative, safe_div, saturate_to
+from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
 from ..vec import _one_minus_cos_between, normalize
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text
 from .protocol import Lobe, Parameter, register_model
-from .sampler import _TWO_PI, Sampler, Samples, _dot, _local_v
 
 __all__ = ["AshikhminShirley", "AshikhminShirleySampler"]
 
@@ -172,7 +172,7 @@ class AshikhminShirley(SeparableBRDF):
         spec = AshikhminShirleySampler(self.nu, self.nv)
         if not self.diffuse or not np.any(self.rd > 0):
             return spec
-        from ..integrate.sampling import MixtureSampler  # the integrators import the models
+        from ..sampling.brdf import MixtureSampler  # the integrators import the models
         from .lambert import CosineSampler
 
         kd = float(np.mean(self.rd * (1.0 - self.rs)))
@@ -356,7 +356,7 @@ class AshikhminShirleySampler(Sampler):
         Samples
             Half vectors ``(..., 3)`` and ``p(h)`` ``(...)``.
         """
-        from .sampler import _check_size, _unit_square
+        from ..sampling.base import _check_size, _unit_square
 
         u = _unit_square("u", u)
         _check_size("u", u.shape[:-1])

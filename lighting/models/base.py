@@ -505,7 +505,7 @@ class BRDF:
 
         Returns
         -------
-        lighting.models.sampler.Sampler
+        lighting.sampling.base.Sampler
         """
         from .lambert import CosineSampler
 

@@ -10,11 +10,11 @@ import math
 import numpy as np
 
 from .._numeric import check_bool, check_nonnegative, saturate_to
+from ..sampling.base import UniformSampler
+from ..sampling.microfacet import MicrofacetSampler
 from .base import SeparableBRDF, _color, _color_text, _lobe_over_cos, _rgb
 from .lambert import CosineSampler
-from .microfacet_sampling import MicrofacetSampler
 from .protocol import Lobe, Parameter, register_model
-from .sampler import UniformSampler
 
 __all__ = ["BlinnPhong"]
 

@@ -1,7 +1,7 @@
 r"""Cook–Torrance microfacet reflection: ``f_r = k_s D G F / (4 (n·v)(n·l))`` (or the slide's π form).
 
 The factors live in :mod:`lighting.models.microfacet` (``D``, ``G``) and
-:mod:`lighting.models.fresnel` (``F``); the sampler in :mod:`lighting.models.microfacet_sampling`.
+:mod:`lighting.models.fresnel` (``F``); the sampler in :mod:`lighting.sampling.microfacet`.
 """
 
 from __future__ import annotations
@@ -11,11 +11,11 @@ import math
 import numpy as np
 
 from .._numeric import check_bool, check_choice, check_positive, saturate_to
+from ..sampling.microfacet import MicrofacetSampler, VisibleNormalSampler
 from . import fresnel as _fresnel
 from . import microfacet as _mf
 from .base import _UNIT_RGB, BRDFFlags, MicrofacetLobe, SeparableBRDF, _color, _color_text, _combine
 from .geometry import Geometry
-from .microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
 from .protocol import Lobe, Parameter, register_model
 
 __all__ = ["CookTorrance"]
@@ -280,7 +280,7 @@ class CookTorrance(SeparableBRDF):
         return self._single_sampler()
 
     def _mixture_sampler(self):
-        from ..integrate.sampling import MixtureSampler  # the integrators import the models
+        from ..sampling.brdf import MixtureSampler  # the integrators import the models
         from .energy import fresnel_average
         from .lambert import CosineSampler
 

@@ -15,11 +15,11 @@ import math
 import numpy as np
 
 from .._numeric import check_range, safe_div, saturate_to
+from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
 from ..vec import normalize
 from .base import BRDF, BRDFFlags, _color, _color_text
 from .geometry import Geometry
 from .protocol import Lobe, Parameter, register_model
-from .sampler import _TWO_PI, Sampler, Samples, _dot, _local_v
 
 __all__ = ["Disney", "DisneySampler", "gtr1", "gtr2_aniso", "smith_ggx_aniso_over_2cos", "smooth_cosine_pdf"]
 

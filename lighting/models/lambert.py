@@ -9,9 +9,9 @@ import math
 
 import numpy as np
 
+from ..sampling.base import Samples, _directions, _unit_square, _ViewIndependentSampler
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _rgb
 from .protocol import Lobe, Parameter, register_model
-from .sampler import Samples, _directions, _unit_square, _ViewIndependentSampler
 
 __all__ = ["Lambert", "CosineSampler", "square_to_cosine_hemisphere", "cosine_hemisphere_pdf"]
 

@@ -11,11 +11,11 @@ from __future__ import annotations
 import numpy as np
 
 from .._numeric import check_choice, check_vectors, saturate_to, working_dtype
+from ..sampling.base import Sampler, Samples
 from ..vec import normalize, reflect
 from . import fresnel as _fresnel
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text
 from .protocol import Lobe, Parameter, register_model
-from .sampler import Sampler, Samples
 
 __all__ = ["Mirror", "MirrorSampler"]
 
@@ -229,7 +229,7 @@ class Mirror(SeparableBRDF):
 class MirrorSampler(Sampler):
     r"""The delta sampler of a mirror: every draw is the reflected direction ``R_v = (−v_x, −v_y, v_z)``.
 
-    In the sampler protocol's terms (:class:`~lighting.models.sampler.Sampler`), as pbrt-v4's specular
+    In the sampler protocol's terms (:class:`~lighting.sampling.base.Sampler`), as pbrt-v4's specular
     ``BSDFSample``:
 
     * ``delta = True`` marks the sampler (smooth samplers have no such attribute, or ``False``);

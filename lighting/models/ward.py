@@ -18,11 +18,11 @@ import math
 import numpy as np
 
 from .._numeric import check_choice, check_positive, saturate_to
+from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
 from ..vec import normalize
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _combine
 from .geometry import Geometry
 from .protocol import Lobe, Parameter, register_model
-from .sampler import _TWO_PI, Sampler, Samples, _dot, _local_v
 
 __all__ = ["Ward", "WardSampler"]
 
@@ -358,7 +358,7 @@ class WardSampler(Sampler):
         Samples
             Half vectors ``(..., 3)`` and their density ``(...)`` per steradian of ``h``.
         """
-        from .sampler import _check_size, _unit_square
+        from ..sampling.base import _check_size, _unit_square
 
         u = _unit_square("u", u)
         _check_size("u", u.shape[:-1])

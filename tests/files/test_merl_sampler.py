@@ -1,4 +1,4 @@
-r"""The importance sampler of MERL tables (lighting.files.merl_sampler): χ², mass, albedo, variance.
+r"""The importance sampler of MERL tables (lighting.sampling.merl): χ², mass, albedo, variance.
 
 The χ² test uses :mod:`tests.chi2`'s half-vector cells, adaptive cell integrals and pooling, with one change:
 the cells' edges are edges of the sampler's own ``(θ_h, φ_h)`` bins (grouped), not pilot quantiles.  Its
@@ -19,9 +19,9 @@ from scipy import stats
 
 from lighting.brdf import BlinnPhong, CookTorrance, Lambert
 from lighting.files.merl import MerlBRDF, tabulate_merl
-from lighting.files.merl_sampler import MerlSampler
 from lighting.integrate import directional_albedo
 from lighting.models.lambert import CosineSampler
+from lighting.sampling.merl import MerlSampler
 
 pytestmark = pytest.mark.slow  # the MERL table sampler's χ², variance and mass checks
 

@@ -26,7 +26,14 @@ from lighting.integrate import (
     sh_coefficients,
     sh_irradiance,
 )
-from lighting.integrate.sampling import (
+from lighting.lights.environment import (
+    ConstantEnvironment,
+    FunctionEnvironment,
+    LatLongEnvironment,
+    SmallPatchEnvironment,
+)
+from lighting.models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
+from lighting.sampling.brdf import (
     CosineSampler,
     MicrofacetSampler,
     PhongSampler,
@@ -39,13 +46,6 @@ from lighting.integrate.sampling import (
     sample_stratified,
     sample_uniform,
 )
-from lighting.lights.environment import (
-    ConstantEnvironment,
-    FunctionEnvironment,
-    LatLongEnvironment,
-    SmallPatchEnvironment,
-)
-from lighting.models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
 
 MC = [m for m in METHODS if m != "quadrature"]
 

@@ -5,7 +5,7 @@
     patches, every method.  Each call must return finite values >= 0 with finite errors >= 0, keep
     the dtype, and raise no exception or NumPy warning.
 (b) Illegal arguments, one per call, over every public function of lighting.integrate,
-    lighting.integrate.sampling, lighting.lights.environment, lighting.analysis.audit and
+    lighting.sampling.brdf, lighting.lights.environment, lighting.analysis.audit and
     lighting.validation.accuracy: each must raise a ValueError or TypeError whose message names
     the parameter.
 

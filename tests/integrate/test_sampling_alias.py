@@ -6,10 +6,10 @@ import numpy as np
 
 
 def test_visible_normal_sampler_is_exported_like_the_others():
-    import lighting.integrate.sampling as home
     import lighting.sampling as s
+    import lighting.sampling.brdf as home
     from lighting.models.cook_torrance import CookTorrance
-    from lighting.models.microfacet_sampling import VisibleNormalSampler
+    from lighting.sampling.microfacet import VisibleNormalSampler
 
     # A plain re-export: every public name of the module where the code lives is the same object here.
     assert s.__all__ == home.__all__ and all(getattr(s, name) is getattr(home, name) for name in home.__all__)

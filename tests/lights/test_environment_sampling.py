@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from lighting.lights import envsampling as envmod
 from lighting.lights.environment import LatLongEnvironment, latlong_angles, latlong_azimuth, latlong_lookup
+from lighting.sampling import environment as envmod
 
 
 def _one_pixel(h, w, i, j, value=1.0):

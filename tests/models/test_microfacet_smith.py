@@ -24,7 +24,7 @@ from lighting.models import microfacet as mf
 from lighting.models.base import BRDFFlags
 from lighting.models.cook_torrance import CookTorrance
 from lighting.models.geometry import Geometry
-from lighting.models.microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
+from lighting.sampling.microfacet import MicrofacetSampler, VisibleNormalSampler
 from lighting.shading.separable import stacks
 from lighting.validation import model_references as mr
 

@@ -21,9 +21,9 @@ import math
 import numpy as np
 
 from .._numeric import check_choice, check_nonnegative, check_positive, safe_div
+from ..models import microfacet as _mf
 from ..vec import normalize
-from . import microfacet as _mf
-from .sampler import (
+from .base import (
     _TWO_PI,
     Sampler,
     Samples,

@@ -30,8 +30,8 @@ Strategies, from blind to informed:
   importance sampling (Veach & Guibas 1995).
 
 The samplers of single models belong to the models (each model's ``sampler()``, defined
-beside it: :mod:`lighting.models.sampler`, :mod:`lighting.models.lambert`,
-:mod:`lighting.models.phong`, :mod:`lighting.models.microfacet_sampling`) and are re-exported
+beside it: :mod:`lighting.sampling.base`, :mod:`lighting.models.lambert`,
+:mod:`lighting.models.phong`, :mod:`lighting.sampling.microfacet`) and are re-exported
 here; this module adds the jittered grids, the mixtures, the dispatch by model and the
 estimators' helpers.
 
@@ -45,21 +45,13 @@ import math
 
 import numpy as np
 
-from .._numeric import (
-    ArgumentTypeError,
-    _fmt,
-    check_bool,
-    check_choice,
-    real_array,
-)
+from .._numeric import ArgumentTypeError, _fmt, check_bool, check_choice, real_array
 from ..models.base import BRDFFlags
 from ..models.brdf import BRDF, Geometry
 from ..models.lambert import CosineSampler, cosine_hemisphere_pdf, square_to_cosine_hemisphere
-from ..models.microfacet_sampling import MicrofacetSampler, VisibleNormalSampler
 from ..models.mirror import MirrorSampler
 from ..models.phong import PhongSampler
-from ..models.sampler import (  # noqa: F401  (BYTES_PER_SAMPLE, _check_size: the integrators' memory estimates)
-    BYTES_PER_SAMPLE,
+from .base import (
     Sampler,
     Samples,
     UniformSampler,
@@ -71,7 +63,7 @@ from ..models.sampler import (  # noqa: F401  (BYTES_PER_SAMPLE, _check_size: th
     square_to_uniform_hemisphere,
     uniform_hemisphere_pdf,
 )
-from ._delta import _DeltaSum
+from .microfacet import MicrofacetSampler, VisibleNormalSampler
 
 __all__ = [
     "Samples",
@@ -418,7 +410,10 @@ def importance_sampler(brdf: BRDF) -> Sampler:
     parts = _check_brdf(brdf).parts
     smooth = tuple(p for p in parts if BRDFFlags.DELTA not in p.flags)
     if not smooth:
-        # Delta parts only: they share the one direction R_v, and their weights add.
+        # Delta parts only: they share the one direction R_v, and their weights add.  (Imported here: the
+        # integrators import this module.)
+        from ..integrate._delta import _DeltaSum
+
         return _part_sampler(parts[0]) if len(parts) == 1 else MirrorSampler(_DeltaSum(parts))
     parts = smooth
     if len(parts) == 1:

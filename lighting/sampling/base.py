@@ -3,11 +3,11 @@ r"""The sampler protocol of the models: :class:`Sampler`, :class:`Samples`, and 
 Each model owns its importance sampler (``model.sampler()``, the pbrt ``BxDF::Sample_f``/``PDF``
 pair) and defines it beside itself: :class:`~lighting.models.lambert.CosineSampler`,
 :class:`~lighting.models.phong.PhongSampler`,
-:class:`~lighting.models.microfacet_sampling.MicrofacetSampler`.  This module holds what
+:class:`~lighting.sampling.microfacet.MicrofacetSampler`.  This module holds what
 they share: the base class, the uniform hemisphere, the argument checks and the
 warps' building blocks.  Everything works in the **local shading frame** (``z`` = the
 normal) and in float64.  Mixtures, the dispatch by model and the estimators are in
-:mod:`lighting.integrate.sampling`.
+:mod:`lighting.sampling.brdf`.
 """
 
 from __future__ import annotations

@@ -34,8 +34,8 @@ from .._budget import check_budget
 from .._numeric import check_count, check_range, safe_div
 from ..models.base import BRDF
 from ..models.lambert import cosine_hemisphere_pdf, square_to_cosine_hemisphere
-from ..models.sampler import Sampler, Samples, _dot
 from ..vec import normalize
+from .base import Sampler, Samples, _dot
 
 __all__ = ["MerlSampler"]
 
