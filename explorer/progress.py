@@ -1,6 +1,6 @@
 """A tiny dependency-free progress bar for long reports.
 
-On a terminal it redraws one line on standard error::
+On a terminal it redraws one line on standard error:
 
     stability  [##########..........]  512/1024  50%  3.1 s  ETA 3.1 s
 

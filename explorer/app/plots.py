@@ -489,7 +489,7 @@ class PolarPlot(BlitFigure):
         label : str
             What the values are (:meth:`~explorer.app.state.AppState.quantity_label`).
 
-        The shown comparison entries' slices (``polar.overlays``) are drawn in their colours; the
+        The shown comparison entries' slices (polar.overlays) are drawn in their colours; the
         radial scale follows them and the current model's solid curve.
         """
         a = _finite(polar.light_fixed)

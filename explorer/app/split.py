@@ -55,7 +55,7 @@ def split_mask(shape, angle_deg: float) -> np.ndarray:
 
     Returns
     -------
-    ndarray of bool, shape ``shape``
+    ndarray of bool, shape shape
         True on the current model's half.
 
     Examples

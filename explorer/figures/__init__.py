@@ -23,7 +23,7 @@ Every figure is drawn with Matplotlib (Agg, no window) from numbers the engine
 computed; every sphere and scene is the engine's own image.  ``--quick`` draws
 the whole set at low resolution and sample counts in seconds (for tests).
 
-From Python::
+From Python:
 
     from explorer.figures import generate, REGISTRY
     records = generate("out/figures", formats=("png",), only=["brdf_polar"], quick=True)

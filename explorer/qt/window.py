@@ -1,6 +1,6 @@
 """The explorer's Qt window: :class:`ExplorerWindow`, the views around an explorer model and its controls.
 
-Layout (every part follows the window's size)::
+Layout (every part follows the window's size):
 
     +---------------------------------------------------------+----------------+
     | lit sphere | Gouraud | Phong interp. | scan-line profile |  Controls      |

@@ -2,9 +2,9 @@ r"""Fitting a model's parameters to a measured (or any other) BRDF by cosine-wei
 
 The loss compares the reflected radiance each BRDF gives under unit irradiance from ``l``:
 
-.. math::
-
-    \mathcal{L}(\theta) = \sum_{(l, v)} w_{lv}\,\bigl(f_\theta(l, v) - f_\text{target}(l, v)\bigr)^2 (n\cdot l)^2,
+$$
+\mathcal{L}(\theta) = \sum_{(l, v)} w_{lv}\,\bigl(f_\theta(l, v) - f_\text{target}(l, v)\bigr)^2 (n\cdot l)^2,
+$$
 
 over a fixed, dense set of direction pairs (:func:`lighting.analysis.audit.direction_pairs`, which
 includes near-mirror pairs where sharp lobes live), each channel a residual of its own.  Weighting by

@@ -67,7 +67,7 @@ def half_diff_to_dirs(theta_h, phi_h, theta_d, phi_d):
     Rusinkiewicz, "A New Change of Variables for Efficient BRDF Representation"
     (EGWR 1998): the half vector ``h`` has spherical angles ``(θ_h, φ_h)``; the
     *difference* vector ``d`` is ``l`` seen from a frame whose pole is ``h``,
-    ``d = rot_y(−θ_h) rot_z(−φ_h) l``, with spherical angles ``(θ_d, φ_d)``.  Hence::
+    ``d = rot_y(−θ_h) rot_z(−φ_h) l``, with spherical angles ``(θ_d, φ_d)``.  Hence:
 
         l = rot_z(φ_h) rot_y(θ_h) (sin θ_d cos φ_d, sin θ_d sin φ_d, cos θ_d)
         v = rot_z(φ_h) rot_y(θ_h) (−sin θ_d cos φ_d, −sin θ_d sin φ_d, cos θ_d)

@@ -180,7 +180,7 @@ def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_
 
     Along a scan line with intensity ``I_j`` (linear, 1 = display white), first differences
     ``Δ_j = I_{j+1} − I_j`` and second differences ``Δ²_j = Δ_{j+1} − Δ_j``, a triangle edge
-    between pixels ``k`` and ``k + 1`` has the kink::
+    between pixels ``k`` and ``k + 1`` has the kink:
 
         κ_k = (Δ_{k+1} − Δ_{k−1}) − 2 median(Δ²_{k−5}, …, Δ²_{k−2}, Δ²_{k+1}, …, Δ²_{k+4})
         K_k = e'((I_k + I_{k+1}) / 2) · |κ_k| / s,        s = KINK_SCALE = 1/255
@@ -193,7 +193,7 @@ def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_
     (``I ≤ 0`` or ``I ≥ 1``).  So ``K_k`` is the slope change in 8-bit display levels per pixel:
     ``K = 1`` means the slope changes by one display level per pixel at the edge.  ``|κ_k|`` below
     the rounding of the image's dtype (64 ulp of the largest value in the window ``k−5 … k+6``)
-    counts as 0.  The measure is::
+    counts as 0.  The measure is:
 
         M = median of K_k over the shaded crossings
 

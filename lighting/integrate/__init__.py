@@ -1,6 +1,6 @@
 r"""The rendering equation over the hemisphere: sampling, quadrature, albedo, radiance, SH irradiance.
 
-The CMSC 435 deck's rendering equation, for a surface with normal ``n`` seen from ``v``::
+The CMSC 435 deck's rendering equation, for a surface with normal ``n`` seen from ``v``:
 
     L_o(v) = ∫_Ω f_r(v, l) L_i(l) (n·l) dω(l)                (full environment)
     L_o(v) = Σ_i f_r(v, l_i) E_i (n·l_i)                      (point lights)

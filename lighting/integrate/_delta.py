@@ -2,7 +2,7 @@ r"""Delta parts of a model (the ideal mirror), integrated exactly before any qua
 
 A part flagged ``BRDFFlags.DELTA`` (:class:`~lighting.models.mirror.Mirror`) sends all it reflects into
 ``R_v = 2 n (n·v) − v``; its ``eval`` is 0, so no rule with finitely many nodes sees it.  Its
-integrals are closed forms instead::
+integrals are closed forms instead:
 
     ρ(v)   = ∫ f_r (n·l) dω_l       = R(cos θ_v)
     L_o(v) = ∫ f_r L_i (n·l) dω_l   = R(cos θ_v) L_i(R_v)

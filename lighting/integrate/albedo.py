@@ -1,6 +1,6 @@
 r"""Directional and hemispherical albedo: the rendering equation under a uniform white sky.
 
-With ``L_i = 1`` everywhere the rendering equation gives the directional albedo (conventions.md)::
+With ``L_i = 1`` everywhere the rendering equation gives the directional albedo (conventions.md):
 
     ρ(v) = ∫_Ω f_r(v, l) (n·l) dω(l),
 
@@ -180,7 +180,7 @@ def directional_albedo(
 
     Returns
     -------
-    ndarray, shape ``theta_v.shape + (3,)`` (RGB), or Estimate
+    ndarray, shape theta_v.shape + (3,) (RGB), or Estimate
         Dtype of ``theta_v`` when it is a float array, else float64.
 
     Raises
@@ -190,7 +190,7 @@ def directional_albedo(
         or over the memory budget (:func:`lighting._numeric.check_budget`); an
         unknown ``method``; ``replicates`` outside ``[2, samples]``; a negative
         ``seed``.
-    TypeError (:class:`~lighting._numeric.ArgumentTypeError`, also a ValueError)
+    TypeError (ArgumentTypeError, also a ValueError)
         ``brdf`` not a model; text, bytes, complex or None where a number is
         expected; a non-integer count; a non-bool ``return_error``.
 

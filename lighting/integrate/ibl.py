@@ -2,9 +2,9 @@ r"""Image-based lighting: the fast split-sum approximation beside its Monte-Carl
 
 Under a distant environment the rendering equation (CMSC 435 deck),
 
-.. math::
-
-    L_o(v) = ∫_Ω f_r(v, l)\, L_i(l)\, (n·l)\, dω_l,
+$$
+L_o(v) = ∫_Ω f_r(v, l)\, L_i(l)\, (n·l)\, dω_l,
+$$
 
 has two ways of being evaluated per pixel here:
 

@@ -3,10 +3,10 @@ r"""Prefiltered environments: the environment averaged over a lobe, once, for ev
 Real-time image-based lighting (Karis 2013, "split sum") splits the rendering equation of a glossy
 lobe into the lobe's albedo times the environment averaged over the lobe:
 
-.. math::
-
-    L_o(v) = ∫ f_r L_i (n·l)\, dω ≈ \underbrace{∫ f_r (n·l)\, dω}_{ρ(v)}
-             \cdot \underbrace{\frac{∫ K(r·l) L_i(l)\, dω}{∫ K(r·l)\, dω}}_{\bar L(r, σ)},
+$$
+L_o(v) = ∫ f_r L_i (n·l)\, dω ≈ \underbrace{∫ f_r (n·l)\, dω}_{ρ(v)}
+         \cdot \underbrace{\frac{∫ K(r·l) L_i(l)\, dω}{∫ K(r·l)\, dω}}_{\bar L(r, σ)},
+$$
 
 with ``r`` the lobe's axis (the mirror direction) and ``K`` a kernel as wide as the lobe.  The
 second factor depends on the environment alone, so it is computed once per environment for a
@@ -22,9 +22,9 @@ How a level is computed (a midpoint rule over the map's pixels, with no sampling
 of ``H × 2H`` pixels whose centres share their ``φ`` grid with the output, so between one output
 row ``θ`` and one source row ``θ'`` the kernel depends on ``Δφ`` alone,
 
-.. math::
-
-    1 − \cos ψ = 2 \sin^2\frac{θ − θ'}{2} + 2 \sin θ \sin θ' \sin^2\frac{Δφ}{2}
+$$
+1 − \cos ψ = 2 \sin^2\frac{θ − θ'}{2} + 2 \sin θ \sin θ' \sin^2\frac{Δφ}{2}
+$$
 
 (the cancellation-free form), and the sum over a source row is a circular convolution in ``φ``,
 done by FFT.  Only rows with ``|θ − θ'| <= 6σ`` contribute more than ``e^{−18}`` (the great-circle
@@ -533,7 +533,7 @@ class PrefilteredEnvironment:
         ----------
         directions : array_like, (..., 3)
             Lobe axes (world frame; need not be unit).
-        sigma : array_like, broadcasting to ``(...)``
+        sigma : array_like, broadcasting to (...)
             Lobe widths in radians, ``>= 0``.
         kernel : {"mirror", "beckmann", "ggx"}
             The family of levels (:func:`kernel_of_lobe` chooses one for a model's lobe).

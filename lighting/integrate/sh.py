@@ -194,7 +194,7 @@ def sh_irradiance(coeffs, normals, *, clamp: bool = True) -> np.ndarray:
 
     Returns
     -------
-    ndarray, (..., 3) (or (...) for scalar coefficients), dtype of ``normals``
+    ndarray, (..., 3) (or (...) for scalar coefficients), dtype of normals
 
     References
     ----------

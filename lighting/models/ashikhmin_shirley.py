@@ -59,7 +59,7 @@ class AshikhminShirley(SeparableBRDF):
     r"""The Ashikhmin–Shirley anisotropic Phong BRDF (2000): a coupled diffuse and specular pair.
 
     In the shading frame ``(t, b, n)`` (tangent, bitangent, normal), with ``k = v`` the viewer,
-    ``h = (l + v)/|l + v|`` and Schlick's ``F(c) = R_s + (1 − R_s)(1 − c)⁵``::
+    ``h = (l + v)/|l + v|`` and Schlick's ``F(c) = R_s + (1 − R_s)(1 − c)⁵``:
 
         f_r = f_s + f_d
         f_s = √((n_u+1)(n_v+1)) / (8π) · (n·h)^E / ((h·k) max(n·l, n·v)) · F(k·h)

@@ -22,11 +22,11 @@ __all__ = ["BlinnPhong"]
 class BlinnPhong(SeparableBRDF):
     r"""Blinn–Phong (Jim Blinn, 1977): the highlight from the half vector.
 
-    Unnormalized (the slides' and OpenGL's form, ``normalized=False``)::
+    Unnormalized (the slides' and OpenGL's form, ``normalized=False``):
 
         classic term: k_s (n·h)^e,     f_r = k_s (n·h)^e / (π (n·l))
 
-    Normalized (``normalized=True``), the CMSC 435 slide's "think of it as an NDF"::
+    Normalized (``normalized=True``), the CMSC 435 slide's "think of it as an NDF":
 
         f_r = k_s (e + 2)/(2π) (n·h)^e,   classic term: π f_r (n·l)
 

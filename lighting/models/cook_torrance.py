@@ -24,11 +24,11 @@ __all__ = ["CookTorrance"]
 class CookTorrance(SeparableBRDF):
     r"""Cook–Torrance microfacet specular reflection.
 
-    Default (energy-consistent, Walter et al. 2007)::
+    Default (energy-consistent, Walter et al. 2007):
 
         f_r = k_s D(h) G(n, v, l) F(v·h) / (4 (n·v)(n·l))
 
-    With ``denominator="pi"`` the slide's (and the 1982 paper's) form::
+    With ``denominator="pi"`` the slide's (and the 1982 paper's) form:
 
         f_r = k_s D G F / (π (n·v)(n·l))
 
@@ -38,7 +38,7 @@ class CookTorrance(SeparableBRDF):
     Parts: ``D`` Beckmann (Gaussian slopes, the slides'), GGX, or the slides'
     normalized Blinn–Phong lobe with exponent ``e = 2/α² − 2``; ``G`` the
     slides' V-cavity term, separable Smith ``G1(v) G1(l)`` or the height-correlated Smith
-    ``G2 = 1 / (1 + Λ(v) + Λ(l))`` for the chosen NDF (``G1 = 1/(1 + Λ)``)::
+    ``G2 = 1 / (1 + Λ(v) + Λ(l))`` for the chosen NDF (``G1 = 1/(1 + Λ)``):
 
         GGX:       Λ(θ) = (−1 + sqrt(1 + α² tan²θ)) / 2
         Beckmann:  Λ(θ) = (erf(a) − 1)/2 + exp(−a²) / (2 a √π),   a = 1 / (α tan θ)
@@ -68,7 +68,7 @@ class CookTorrance(SeparableBRDF):
     denominator : {"4", "pi"}
     alpha_x, alpha_y : float > 0 or None
         Anisotropic roughness along the tangent ``t`` and the bitangent ``b = n × t`` (GGX and Beckmann;
-        each defaults to ``roughness``).  With ``h = (h_t, h_b, h_n)`` in the frame ``(t, b, n)``::
+        each defaults to ``roughness``).  With ``h = (h_t, h_b, h_n)`` in the frame ``(t, b, n)``:
 
             GGX:       D(h) = 1 / (π α_x α_y ((h_t/α_x)² + (h_b/α_y)² + h_n²)²)
             Beckmann:  D(h) = exp(−((h_t/α_x)² + (h_b/α_y)²) / h_n²) / (π α_x α_y h_n⁴)
@@ -79,7 +79,7 @@ class CookTorrance(SeparableBRDF):
         (the isotropic code, with that α); an anisotropic model is not :attr:`stackable`.
     energy_compensation : bool
         Add Kulla and Conty's (2017) multiple-scattering lobe (:mod:`lighting.models.energy`), which gives
-        back the light that single scattering loses to shadowing on rough surfaces::
+        back the light that single scattering loses to shadowing on rough surfaces:
 
             f_ms = k_s F_ms (1 − E(n·v)) (1 − E(n·l)) / (π (1 − E_avg)),
             F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg)),
@@ -95,7 +95,7 @@ class CookTorrance(SeparableBRDF):
         (:func:`~lighting.models.fresnel.eta_from_f0`) and ``k = 0``, the exact dielectric.
     metal : {"none", "gold", "silver", "copper", "aluminium", "chromium"}
         A named metal's ``η`` and ``k`` (:data:`lighting.models.fresnel.METALS`: published optical constants
-        at 630, 532 and 465 nm), for ``fresnel="conductor"`` only; ``eta`` and ``k`` are then left unset::
+        at 630, 532 and 465 nm), for ``fresnel="conductor"`` only; ``eta`` and ``k`` are then left unset:
 
             CookTorrance(roughness=0.2, ndf="ggx", geometry="smith-correlated", fresnel="conductor", metal="gold")
 

@@ -158,7 +158,7 @@ class Disney(BRDF):
     r"""The Disney principled BRDF (Burley 2012) as Disney's BRDF Explorer shader ``disney.brdf`` has it.
 
     With ``θ_d`` the angle between ``l`` and ``h`` (``cos θ_d = l·h = v·h``), ``F_L = (1 − n·l)^5``,
-    ``F_V = (1 − n·v)^5``, ``F_H = (1 − cos θ_d)^5`` (Schlick weights), ``r`` the roughness::
+    ``F_V = (1 − n·v)^5``, ``F_H = (1 − cos θ_d)^5`` (Schlick weights), ``r`` the roughness:
 
         f_r = (1 − metallic) · ( base/π · mix(F_d, ss, subsurface) + sheen · C_sheen · F_H )
             + D_s G_s F_s / (4 (n·l)(n·v))

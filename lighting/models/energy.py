@@ -4,17 +4,17 @@ A microfacet BRDF counts light that leaves the surface after **one** bounce on t
 Light that hits a second facet is shadowed away, so a rough white metal (``F = 1``) reflects less
 than all the light it receives: its directional albedo with ``F = 1``,
 
-.. math::
-
-    E(μ_o, α) = ∫_Ω \frac{D(h)\, G(v, l)}{4\, μ_o μ_i}\, μ_i\, dω_i,\qquad μ = \cos θ,
+$$
+E(μ_o, α) = ∫_Ω \frac{D(h)\, G(v, l)}{4\, μ_o μ_i}\, μ_i\, dω_i,\qquad μ = \cos θ,
+$$
 
 falls to ``1 − ln 2 ≈ 0.307`` at normal incidence for GGX with ``α = 1``.  Kulla and Conty add the
-lobe that gives the lost energy back, with the same symmetric, separable shape for every view::
+lobe that gives the lost energy back, with the same symmetric, separable shape for every view:
 
     f_ms(l, v) = (1 − E(μ_o)) (1 − E(μ_i)) / (π (1 − E_avg)),     E_avg = 2 ∫_0^1 E(μ) μ dμ,
 
 whose directional albedo is exactly ``1 − E(μ_o)`` (so ``E + ∫ f_ms μ_i dω_i = 1``), and scale it by
-the colour of the light that survives the extra bounces (``F_avg`` the cosine-weighted mean of ``F``)::
+the colour of the light that survives the extra bounces (``F_avg`` the cosine-weighted mean of ``F``):
 
     F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg)),
 

@@ -276,7 +276,7 @@ def conductor_f0(eta, k) -> np.ndarray:
 def _dielectric_from_f0(cos_theta_i, f0) -> np.ndarray:
     """:func:`dielectric` with ``η = (1 + g)/(1 − g)``, ``g = √F0``, for light arriving from outside.
 
-    Multiplying numerators and denominators by ``1 − g`` removes ``η``::
+    Multiplying numerators and denominators by ``1 − g`` removes ``η``:
 
         r_par  = ((1+g)² c − (1−g) c_t') / ((1+g)² c + (1−g) c_t'),
         r_perp = ((1−g) c − c_t') / ((1−g) c + c_t'),

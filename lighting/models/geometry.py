@@ -278,7 +278,7 @@ def _unit_sum(l: np.ndarray, v: np.ndarray, s: np.ndarray, rows: np.ndarray) -> 
     """``s = l + v`` with the ``rows`` recomputed as ``l/|l| + v/|v|`` without cancellation.
 
     ``l`` and ``v`` are unit vectors up to rounding.  A component with ``l_i v_i < 0`` is
-    rewritten with ``a + b = (a² − b²)/(a − b)``::
+    rewritten with ``a + b = (a² − b²)/(a − b)``:
 
         l_i/|l| + v_i/|v| = (l_i²|v|² − v_i²|l|²) / (|l||v| (l_i|v| − v_i|l|)),
         l_i²|v|² − v_i²|l|² = Σ_{j≠i} (l_i v_j − v_i l_j)(l_i v_j + v_i l_j),

@@ -89,7 +89,7 @@ class Lambert(SeparableBRDF):
 def _concentric_disk(u: np.ndarray):
     r"""Shirley–Chiu concentric map of the square onto the unit disk (area preserving, low distortion).
 
-    With ``a = 2 u₀ − 1`` and ``b = 2 u₁ − 1``::
+    With ``a = 2 u₀ − 1`` and ``b = 2 u₁ − 1``:
 
         |a| > |b|:  r = a,  φ = (π/4) (b/a)
         otherwise:  r = b,  φ = π/2 − (π/4) (a/b)        (φ = 0 at a = b = 0)

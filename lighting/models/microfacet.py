@@ -3,7 +3,7 @@
 A microfacet surface is a field of tiny mirrors whose normals ``h`` follow a
 distribution ``D(h)``; ``G`` is the fraction of them that is neither shadowed
 (light blocked) nor masked (view blocked).  Every NDF here is normalized so that
-its projected area integrates to one::
+its projected area integrates to one:
 
     ∫_Ω D(h) (n·h) dω_h = 1.
 
@@ -498,7 +498,7 @@ def _beckmann_lambda_tail(a) -> np.ndarray:
 def _smith_lambda_cos_beckmann(cos_theta, alpha, sin2_theta) -> np.ndarray:
     """``Λ(θ) cos θ`` for Beckmann (float64), finite from the normal (0) to the horizon (``α/(2√π)``).
 
-    ``Λ = (erf(a) − 1)/2 + exp(−a²)/(2 a √π)``, ``a = cos θ / (α sin θ)``, times ``cos θ``::
+    ``Λ = (erf(a) − 1)/2 + exp(−a²)/(2 a √π)``, ``a = cos θ / (α sin θ)``, times ``cos θ``:
 
         Λ cos θ = (α sin θ exp(−a²)/√π − cos θ erfc(a)) / 2             (a < 2)
                 = (α sin θ exp(−a²) / (2√π)) (1 − a √π erfcx(a))      (a >= 2, continued fraction)

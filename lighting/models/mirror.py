@@ -25,7 +25,7 @@ _NORMAL = np.array([0.0, 0.0, 1.0])  # the local frame's normal
 class Mirror(SeparableBRDF):
     r"""The ideal (specular, "perfect") mirror: all reflected light leaves along ``R_v``.
 
-    As a distribution over directions::
+    As a distribution over directions:
 
         f_r(v, l) = R(cos θ_v) δ_ω(l − R_v) / (n·l),     R_v = 2 n (n·v) − v,
 
@@ -164,7 +164,7 @@ class Mirror(SeparableBRDF):
 
         Returns
         -------
-        ndarray, shape ``cos_theta.shape + (3,)``
+        ndarray, shape cos_theta.shape + (3,)
             ``k_s``, ``k_s F_Schlick``, ``k_s F_dielectric`` or ``k_s F_conductor``; 0 where
             ``cos_theta <= 0`` (the viewer at or below the horizon, as every BRDF of the engine).  In the float dtype of
             ``cos_theta`` (float64 for Python numbers), saturated at its largest value.

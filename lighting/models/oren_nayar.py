@@ -82,14 +82,14 @@ def _cos_dphi(xl, sl, xv, sv):
 class OrenNayar(SeparableBRDF):
     r"""Oren–Nayar reflection from a rough surface of Lambertian V-cavities (slopes with deviation σ).
 
-    The qualitative model (``form="qualitative"``, the paper's eq. 30 and the default)::
+    The qualitative model (``form="qualitative"``, the paper's eq. 30 and the default):
 
         f_r = k_d/π · (A + B · max(0, cos(φ_l − φ_v)) · sin α · tan β)
         A = 1 − 0.5 σ²/(σ² + 0.33),    B = 0.45 σ²/(σ² + 0.09)
         α = max(θ_l, θ_v),             β = min(θ_l, θ_v)
 
     The full model (``form="full"``): the direct (one-bounce) term with the three coefficients
-    C1, C2, C3 of the paper's functional approximation, plus its two-bounce interreflection term::
+    C1, C2, C3 of the paper's functional approximation, plus its two-bounce interreflection term:
 
         f_r = k_d/π · max(0, C1 + cos Δφ · C2 · tan β + (1 − |cos Δφ|) · C3 · tan((α + β)/2))
             + k_d²/π · 0.17 σ²/(σ² + 0.13) · (1 − cos Δφ · (2β/π)²)

@@ -548,7 +548,7 @@ class Camera:
         Returns
         -------
         v : (M, 3) column-major array, or (3,) for an orthographic camera
-        dist : (M,) float64, or None (orthographic, or no ``depth``)
+        dist : (M,) float64, or None (orthographic, or no depth)
 
         Examples
         --------

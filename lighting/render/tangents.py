@@ -99,7 +99,7 @@ def sphere_tangents(unit_normals, axis=(0.0, 1.0, 0.0)) -> np.ndarray:
     ----------
     unit_normals : numpy.ndarray, (..., 3)
         Unit normals of the sphere (its points relative to the centre, divided by the radius).
-    axis : 3-vector, default ``+y``
+    axis : 3-vector, default +y
         The polar axis (the spheres of :mod:`lighting.render.mesh` have their poles on ±y).
 
     Returns

@@ -1,7 +1,7 @@
 r"""Microfacet normal sampling (Walter et al. 2007): the importance sampler of the microfacet lobes.
 
 Draw ``h`` with density ``D(h) (n·h)``, reflect ``l = 2 (v·h) h − v``, and convert the
-density with the Jacobian of that reflection::
+density with the Jacobian of that reflection:
 
     p(l) = D(h) (n·h) / (4 (v·h))
 
@@ -180,11 +180,11 @@ class MicrofacetSampler(Sampler):
 class VisibleNormalSampler(MicrofacetSampler):
     r"""Sample the microfacet normals visible from ``v``, then reflect ``v`` about them.
 
-    The distribution of visible normals (Heitz 2014, eq. 38)::
+    The distribution of visible normals (Heitz 2014, eq. 38):
 
         D_v(h) = G1(v) max(0, v·h) D(h) / (n·v),
 
-    and with ``l = 2 (v·h) h − v``, ``dω_h / dω_l = 1 / (4 v·h)``::
+    and with ``l = 2 (v·h) h − v``, ``dω_h / dω_l = 1 / (4 v·h)``:
 
         p(l) = G1(v) D(h) / (4 n·v)     (v·h > 0, n·h > 0; else 0),
 

@@ -2,7 +2,7 @@ r"""Scenes as files: a TOML scene format, its loader, and a renderer that compos
 
 A scene file says what to draw and how — camera, image, shading options,
 materials, objects and lights — as data (the format is specified in full in
-``docs/scenes.md``)::
+``docs/scenes.md``):
 
     [camera]
     eye = [0.0, 0.0, 6.0]

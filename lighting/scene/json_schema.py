@@ -4,7 +4,7 @@ Editors that understand JSON Schema (VS Code with *Even Better TOML* or *Taplo*,
 complete keys, show their defaults and descriptions and flag unknown keys in a scene file.  Each key's
 schema is its :class:`~lighting.scene.checks.Field` (type, bounds, choices, lengths, default, description)
 stated as JSON Schema: the loader checks the same fields, so the schema cannot list a key the loader
-refuses nor a bound it does not enforce; it is written to ``docs/scene.schema.json`` by::
+refuses nor a bound it does not enforce; it is written to ``docs/scene.schema.json`` by:
 
     python -m lighting.scene.json_schema docs/scene.schema.json
 

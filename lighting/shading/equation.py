@@ -1,6 +1,6 @@
 r"""The illumination equation, in the slides' classic form and in physical form.
 
-Classic form (UBC deck, "Illumination Equation")::
+Classic form (UBC deck, "Illumination Equation"):
 
     I = k_e + I_a k_a + Σ_p  I_p / A(d_p) · (k_d (n·l_p) + k_s (r_p·v)^n)
 
@@ -9,7 +9,7 @@ black").  The bracket is, for any model, its :meth:`~lighting.models.brdf.BRDF.c
 term ``π f_r (n·l)``, so Blinn–Phong, normalized Blinn–Phong or Cook–Torrance
 drop into the same sum.
 
-Physical form (CMSC 435 deck, "Rendering Equation for Point Lights")::
+Physical form (CMSC 435 deck, "Rendering Equation for Point Lights"):
 
     L_o(v) = Σ_i f_r(v, l_i) E_i (n·l_i)
 

@@ -22,12 +22,12 @@ The equation
 ------------
 For a vertex ``V`` with unit normal ``n`` the primary colour is
 
-.. math::
-
-    c = e_{cm} + a_{cm} a_{cs}
-        + \sum_i att_i \, spot_i \,
-          \bigl[ a_{cm} a_{cli} + (n \odot \hat{VP}_{pli}) d_{cm} d_{cli}
-                 + f_i (n \odot \hat{h}_i)^{s_{rm}} s_{cm} s_{cli} \bigr]
+$$
+c = e_{cm} + a_{cm} a_{cs}
+    + \sum_i att_i \, spot_i \,
+      \bigl[ a_{cm} a_{cli} + (n \odot \hat{VP}_{pli}) d_{cm} d_{cli}
+             + f_i (n \odot \hat{h}_i)^{s_{rm}} s_{cm} s_{cli} \bigr]
+$$
 
 with, per colour channel (products of colours are componentwise):
 
@@ -408,11 +408,11 @@ def shade_vertices(
 ) -> np.ndarray:
     r"""Lit vertex colours of the OpenGL fixed-function pipeline (OpenGL 2.1 specification §2.14.1).
 
-    .. math::
-
-        c = e_{cm} + a_{cm} a_{cs} + \sum_i att_i\, spot_i\,
-            [a_{cm} a_{cli} + (n \odot VP_i) d_{cm} d_{cli}
-             + f_i (n \odot \hat h_i)^{s_{rm}} s_{cm} s_{cli}]
+    $$
+    c = e_{cm} + a_{cm} a_{cs} + \sum_i att_i\, spot_i\,
+        [a_{cm} a_{cli} + (n \odot VP_i) d_{cm} d_{cli}
+         + f_i (n \odot \hat h_i)^{s_{rm}} s_{cm} s_{cli}]
+    $$
 
     clamped to ``[0, 1]``; see the module docstring for every term and for the
     degenerate cases.

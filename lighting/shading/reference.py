@@ -1,10 +1,10 @@
 r"""The slides' illumination equation as a plain loop over lights: the reference.
 
-Classic form (UBC deck, "Illumination Equation")::
+Classic form (UBC deck, "Illumination Equation"):
 
     I = k_e + I_a k_a + Σ_p  I_p / A(d_p) · (k_d (n·l_p) + k_s (r_p·v)^e)
 
-Physical form (CMSC 435 deck, "Rendering Equation for Point Lights")::
+Physical form (CMSC 435 deck, "Rendering Equation for Point Lights"):
 
     L_o(v) = (k_e + I_a k_a) / π + Σ_p f_r(v, l_p) (n·l_p) · I_p / A(d_p)
 

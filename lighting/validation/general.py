@@ -6,7 +6,7 @@ height-correlated ``G2`` or anisotropic roughness) do not factor into the shared
 
 * the value: :func:`lighting.validation.model_references.model_value` on a
   :func:`~lighting.validation.model_references.frame` of the exact binary inputs;
-* the condition number by its definition, perturbing each input directly::
+* the condition number by its definition, perturbing each input directly:
 
       κ = Σ_i max_± |f(x with x_i → x_i (1 ± δ)) − f(x)| / (|f(x)| δ),   δ = 1e-30,
 

@@ -12,7 +12,7 @@ components, converted exactly).
 
 The error measure and the bound
 -------------------------------
-For a value ``f`` whose true value is a normal number of the type::
+For a value ``f`` whose true value is a normal number of the type:
 
     relative error  = |f_engine − f_true| / |f_true|
     bound           = 8 · max(κ, 1) · u,      u = 2^-24 (float32), 2^-53 (float64)
@@ -21,7 +21,7 @@ For a value ``f`` whose true value is a normal number of the type::
 point with respect to every input it is given: the nine vector components
 (``n``, ``l``, ``v``; for lights the surface point, the light position and the
 spot axis) and the model's shape parameters (shininess ``e``, roughness ``α``,
-``f0``; for lights the falloff coefficients and the spot exponent)::
+``f0``; for lights the falloff coefficients and the spot exponent):
 
     κ = Σ_i max_± |f(x with x_i → x_i (1 ± δ)) − f(x)| / (|f(x)| δ),   δ = 1e-30,
 
