@@ -91,7 +91,7 @@ def test_normalize_unit_or_zero(v):
         assert norm == 0
 
 
-# ----------------------------------------------------------------------------- illegal input (issue 14, item 10)
+# ------------------------------------------------------------------------------------------------- illegal input
 NAN3 = (float("nan"), 0.0, 1.0)
 INF3 = np.array([0.0, np.inf, 1.0])
 ILLEGAL_VEC = [

@@ -658,7 +658,7 @@ def test_light_exactly_on_the_horizon_reflects_nothing():
         assert np.all(polar_slice(model, math.pi / 2).values == 0)
 
 
-# --------------------------------------------------------------------------- issue 14: one function, one peak
+# ------------------------------------------------------------------------------------- one function, one peak
 def _views_of_one_slice(model, theta, cosine=False, log=False, dtype=np.float64):
     """The peak each view reports for a light at polar angle ``theta``, as the explorer draws them."""
     l = vec.spherical_direction(theta, math.pi)  # noqa: E741 - the explorer's lobe: light on the −x side
@@ -741,7 +741,7 @@ def test_lobe_mesh_holds_the_grazing_peak_as_a_vertex():
     mesh_is_valid(m)
 
 
-# --------------------------------------------------------------------------- issue 14: illegal input, named
+# ------------------------------------------------------------------------------------- illegal input, named
 ILLEGAL_ANALYSIS = [
     # (call, parameter the message must name, exception type)
     (lambda: polar_slice(Lambert(1.0), b"1"), "theta_in", TypeError),

@@ -676,7 +676,7 @@ def _peaks(m):
 )
 def test_the_views_of_one_slice_report_the_same_peak(case):
     # Item 3: the 3D lobe, the polar slice and the θ_v curve sample the peak lobe_peak finds;
-    # they agree to rounding (stated bound: 1e-9 relative; the issue allowed 1 %).
+    # they agree to rounding (stated bound: 1e-9 relative; 1 % would be acceptable).
     m = ExplorerModel(AppState(**case), sphere_size=32, mesh_size=32, lobe_resolution=40)
     m.update()
     lobe, polar, curve = _peaks(m)

@@ -1,4 +1,4 @@
-"""Event-storm probe of the explorer (issue 14): seeded, bounded storms over every control.
+"""Event-storm probe of the explorer: seeded, bounded storms over every control.
 
 Two storms, each counted by event kind and by kind of failure, each asserting zero failures and
 printing one summary line (``pytest -s`` shows it):
@@ -15,7 +15,7 @@ After each event, once the views are up to date (a drag leaves the plots for the
 * item 2: a light on or below the horizon (θ_l >= 90° at the facing point) reflects nothing in
   every BRDF view — the lobe, both polar slices, the θ_v and θ_h curves, the albedo;
 * item 3: otherwise the 3D lobe, the polar slice and the θ_v curve report the same peak (stated
-  bound: 1e-6 relative; the issue allowed 1 %);
+  bound: 1e-6 relative; 1 % would be acceptable);
 * the sliders, choice boxes and check boxes show the state (the model's own controls included);
 * an invalid value is refused with a message naming the control (a ValueError from the state, the
   same line in the window's status bar), and leaves the state and every view unchanged.

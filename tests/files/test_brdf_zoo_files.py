@@ -3,7 +3,7 @@
 Oren–Nayar (qualitative), Ward (its three normalizations, anisotropic through the file's X and Y),
 Ashikhmin–Shirley (anisotropic, with and without its diffuse term) and Cook–Torrance with the
 height-correlated Smith GGX: each transcribed from the formula in its module's docstring, compared on
-random direction pairs above and below the horizon to 1e-6 (issue 17: "the models of the model-zoo issue").
+random direction pairs above and below the horizon to 1e-6 (every model of the model zoo).
 """
 
 import numpy as np

@@ -587,7 +587,7 @@ def test_small_patch_monte_carlo_methods_are_unbiased():
         assert np.all(np.abs(runs.mean(axis=0) - ref) <= 3 * se), method
 
 
-# ================================================================ honest error estimates (issue 14, item 11)
+# ==================================================================================== honest error estimates
 # Every Estimate must cover its true error within 2σ in at least 90 % of seeds, rare events included:
 # the rule-of-three term bounds what no sample has seen.  References: the lobe-centred quadrature with
 # 2^18 nodes (its own error estimate is added to the tolerance; it is far below the Monte Carlo errors),

@@ -1,4 +1,4 @@
-"""Fuzz probe of the integration and sampling API (issue 14, items 10 and 11), seeded and bounded.
+"""Fuzz probe of the integration and sampling API (checked arguments, honest errors), seeded and bounded.
 
 (a) Legal extremes, drawn by hypothesis (derandomized) in float32 and float64: grazing views up to
     θ_v = π/2, shininess up to 1e6, roughness down to 1e-4, sample counts 1 … 48, tiny and huge

@@ -253,7 +253,7 @@ def test_small_patch_rejects_bad_parameters(kwargs, match):
         SmallPatchEnvironment(**kwargs)
 
 
-# ---------------------------------------------------------------- issue 14, item 10: bad input, a named error
+# ----------------------------------------------------------------------------------- bad input, a named error
 @pytest.mark.parametrize(
     "directions, exc",
     [

@@ -248,7 +248,7 @@ def test_shade_errors():
         Material("lambert")
 
 
-# ------------------------------------------------------------------ issue 14, item 8: finite in, finite out
+# ------------------------------------------------------------------------------------ finite in, finite out
 BIG = {np.float32: float(np.finfo(np.float32).max), np.float64: float(np.finfo(np.float64).max)}
 
 
@@ -341,7 +341,7 @@ def test_area_light_sample_very_close_saturates_or_gives_zero(dtype):
     assert next(rect.incident(np.array([[0, 0, -tiny]], dtype))).irradiance.tolist() == [[BIG[dtype]] * 3]
 
 
-# ------------------------------------------------------------------ issue 14, item 2: exact angles
+# ------------------------------------------------------------------------------------ exact angles
 def test_directions_from_angles_are_exact_at_right_angles():
     assert DirectionalLight.from_angles(0.0).direction.tolist() == [1.0, 0.0, 0.0]
     assert DirectionalLight.from_angles(90.0).direction.tolist() == [0.0, 0.0, 1.0]
@@ -372,7 +372,7 @@ def test_spot_cone_test_exact_at_0_and_90_degrees_and_resolves_tiny_cutoffs():
         assert irradiance(spot, pts)[:, 0].tolist() == [1.0, 0.0]
 
 
-# ------------------------------------------------------------------ issue 14, item 10: checked arguments
+# ------------------------------------------------------------------------------------- checked arguments
 P2, N2 = np.zeros((2, 3)), np.array([[0, 0, 1.0], [0, 1.0, 0]])
 MAT2 = Material(Lambert(0.5) + Phong(0.5, 10.0))
 LIGHTS2 = [AmbientLight(), DirectionalLight(), PointLight((1, 2, 3.0))]

@@ -201,7 +201,7 @@ def test_bad_parameters_raise_clear_errors(factory, match):
     assert "got" in str(info.value)
 
 
-# --------------------------------------------------------------------------- issue 14, items 7 and 9
+# -------------------------------------------------------------- extreme exponents and finite results
 def _stacked_fields(model, n, l, v, form):  # noqa: E741
     """The image path: ``separable_cos``/``separable_classic`` on a one-light :class:`StackedGeometry`."""
     from lighting.shading.stacked import StackedGeometry
@@ -283,7 +283,7 @@ def test_normalized_blinn_phong_keeps_its_digits_near_the_bottom_of_the_range(ta
         assert abs(float(got) - want) <= rel * want + 2 * tiny, (float(got), want)
 
 
-# --------------------------------------------------------------------------- issue 14, item 10 (found by the probe)
+# --------------------------------------------------------------------------- checked arguments (found by the probe)
 def test_public_eval_keeps_the_dtype_of_arrays_with_tuples_weak():
     # The boundary check converts every vector, but decides the dtype on the arguments as given.
     n = np.array([0, 0, 1.0], np.float32)

@@ -33,7 +33,7 @@ MODELS = [
     BlinnPhong(1.0, 1e6),
     BlinnPhong(1.0, 0.0, normalized=True),
     BlinnPhong(1.0, 1e6, normalized=True),
-    # Exponents that round to 0 or overflow in float32 (issue 14, item 7), and a huge colour.
+    # Exponents that round to 0 or overflow in float32, and a huge colour.
     Phong(1.0, 1e-300),
     Phong(1.0, 1e300),
     BlinnPhong(1.0, 1e-300),

@@ -1,6 +1,7 @@
 """Fuzz probe of the public API of the reflectance models, the microfacet and Fresnel functions and the OpenGL mode.
 
-Issue 14, items 7, 9, 10 and 12 kept as seeded, bounded probes (hypothesis with ``derandomize=True``):
+Extreme exponents, finite results, checked arguments and the spot cone kept as seeded, bounded probes (hypothesis
+with ``derandomize=True``):
 
 (a) legal extremes, float32 and float64: grazing and exactly-horizontal directions, ``l = −v``,
     the half vector on the horizon, mirror directions, zero and tiny and huge vectors, exponents

@@ -648,7 +648,7 @@ def test_gbuffer_is_the_public_type():
     assert isinstance(raycast_sphere(cam), GBuffer) and isinstance(rasterize(icosphere(0), cam), GBuffer)
 
 
-# ====================================================================== issue 14: items 10 and 16 (camera)
+# ============================================================== the camera: checked arguments and extremes
 def test_an_eye_1e308_away_is_a_distance_not_an_up_problem():
     # eye[0] = -1e308: |target - eye|² overflows float64, and the camera used to blame `up`.
     cam = Camera((-1e308, 0.0, 5.0), (0, 0, 0), width=16, height=16)

@@ -378,7 +378,7 @@ def test_load_keeps_degenerate_triangles_harmlessly(tmp_path):
     np.testing.assert_array_equal(m.normals[:3], [[0, 0, 1]] * 3)
 
 
-# ---------------------------------------------------------------------- untrusted sizes and files (issue 14)
+# --------------------------------------------------------------------------------- untrusted sizes and files
 def test_generators_refuse_over_the_budget_before_allocating():
     import tracemalloc
 

@@ -216,7 +216,7 @@ def test_hidden_objects_and_shared_materials_in_explain():
 
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
 def test_diffuse_directional_plan_saturates_like_the_general_path(dtype):
-    # Issue 14, item 8: a saturated colour times a zero weight (the far side) is 0, the lit side saturates.
+    # Finite in, finite out: a saturated colour times a zero weight (the far side) is 0, the lit side saturates.
     from lighting.render.mesh import icosphere
     from lighting.render.renderer import Renderer
 

@@ -1,4 +1,4 @@
-"""Probe: mutated scene files through ``lighting-explorer render`` (issue 14, items 13-16).
+"""Probe: mutated scene files through ``lighting-explorer render`` (untrusted files, budgets, interrupted runs).
 
 Every example scene under ``lighting/scene/examples/`` is mutated at random (seeded): keys deleted, types
 swapped, huge, tiny, NaN, negative and overlong numbers, values nested 500 deep, 100k-character

@@ -678,7 +678,7 @@ def test_the_full_example_in_the_docs_renders():
     assert all(v > 0 for v in info["visible_pixels"]) and np.all(np.isfinite(image))
 
 
-# ------------------------------------------------------------------ untrusted scene files (issue 14)
+# ----------------------------------------------------------------------------- untrusted scene files
 SMALL = '[camera]\neye = [0, 0, 5]\n[image]\nwidth = 8\nheight = 8\n[[objects]]\ntype = "sphere"\n'
 
 

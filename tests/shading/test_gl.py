@@ -190,7 +190,7 @@ def test_spot_exponent():
 
 
 def test_spot_cutoff_90_lights_a_hemisphere():
-    # Item 12 of issue 14: the raw cosine -VP·ŝ decides, as Mesa does (conventions.md).  A 90° cone
+    # The spot cone: the raw cosine -VP·ŝ decides, as Mesa does (conventions.md).  A 90° cone
     # is the half-space in front of the spot's plane: behind it nothing, whatever the exponent
     # (the specification's clamped cosine lit the whole sphere, with 0^0 = 1 behind the plane).
     m = Material(ambient=(0.5, 0.5, 0.5), diffuse=BLACK)

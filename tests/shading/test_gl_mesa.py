@@ -659,7 +659,7 @@ def test_special_rules_match_gl(configs, gl_answers, name):
 
 @pytest.mark.parametrize("name", ["spot cutoff 90, exponent 0", "spot cutoff 90, exponent 0, directional light"])
 def test_spot_cutoff_90_lights_a_hemisphere_as_gl_does(configs, gl_answers, name):
-    """Issue 14, item 12: behind a 90° spot's plane GL leaves the vertices dark, and so does the engine.
+    """Behind a 90° spot's plane GL leaves the vertices dark, and so does the engine.
 
     The specification's letter (the clamped cosine) would light them with 0^0 = 1: that reading must
     differ from GL there, or this comparison would prove nothing.

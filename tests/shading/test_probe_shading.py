@@ -1,6 +1,6 @@
 """Fuzz probe of the public API of lights, the illumination equation, the renderer, camera and rasterizer.
 
-Issue 14, items 8, 10 and 16 (the camera's part) kept as seeded, bounded probes (hypothesis with
+Finite in, finite out, checked arguments and the camera's extremes kept as seeded, bounded probes (hypothesis with
 ``derandomize=True``):
 
 (a) legal extremes, float32 and float64: lights at huge and tiny distances, attenuations from 1e-300

@@ -175,7 +175,7 @@ def test_log1p_through_log_is_accurate_to_a_few_ulp():
 
 
 def test_the_renderer_path_does_not_repeat_the_public_argument_checks(monkeypatch):
-    # Issue 14, item 10: arguments are checked once, at the public boundary (eval, eval_cos, classic and the
+    # Arguments are checked once, at the public boundary (eval, eval_cos, classic and the
     # public microfacet/Fresnel functions); shading and rendering call the unchecked forms.
     import lighting.models.base as base_mod
     import lighting.models.fresnel as fresnel_mod

@@ -99,7 +99,7 @@ def test_cli_writes_csv_and_figure(tmp_path, capsys):
     assert img.ndim == 3 and img.shape[0] > 200 and img.std() > 0.05
 
 
-# ---------------------------------------------------------------- issue 14: unconverged points are marked
+# -------------------------------------------------------------------------- unconverged points are marked
 def test_integration_points_carry_their_own_error_estimate_and_flag(studies):
     pts = _pts(studies, "integration")
     assert pts and all(np.isfinite(p.estimated_error) and 0 <= p.coverage <= 1 for p in pts)
