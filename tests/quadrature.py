@@ -7,12 +7,39 @@ accurate for smooth periodic integrands).
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
+
+
+@functools.cache
+def leggauss(order):
+    """``numpy.polynomial.legendre.leggauss(order)``, computed once per order (read-only arrays).
+
+    NumPy finds the nodes as the eigenvalues of a dense ``order × order`` matrix, which dominates a test
+    that asks for the same high-order rule again and again; the cached arrays are the very same numbers.
+    """
+    x, w = np.polynomial.legendre.leggauss(order)
+    x.flags.writeable = False
+    w.flags.writeable = False
+    return x, w
+
+
+def evaluate(func, points, block=1 << 14):
+    """``func(points)`` for ``(..., 3)`` points, evaluated in blocks of ``block`` points.
+
+    The same values as one call (``func`` acts point by point), with the temporaries of each block small
+    enough to stay in the processor's cache instead of streaming arrays of millions of points.
+    """
+    flat = points.reshape(-1, points.shape[-1])
+    parts = [np.asarray(func(flat[i : i + block])) for i in range(0, len(flat), block)]
+    out = np.concatenate(parts)
+    return out.reshape(points.shape[:-1] + out.shape[1:])
 
 
 def theta_nodes(lo=0.0, hi=np.pi / 2, *, scale=1e-3, panels=48, order=24):
     """Nodes and weights on [lo, hi], panels refined geometrically near ``lo``."""
-    x, w = np.polynomial.legendre.leggauss(order)
+    x, w = leggauss(order)
     edges = np.concatenate([[lo], lo + np.geomspace(scale, hi - lo, panels)])
     nodes, weights = [], []
     for a, b in zip(edges[:-1], edges[1:], strict=True):
@@ -27,7 +54,7 @@ def hemisphere(func, *, scale=1e-3, panels=48, order=24, n_phi=256):
     ph = (np.arange(n_phi) + 0.5) * (2 * np.pi / n_phi)
     T, P = np.meshgrid(th, ph, indexing="ij")
     d = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1)
-    vals = np.asarray(func(d))
+    vals = evaluate(func, d)
     w = (wt * np.sin(th))[:, None] * (2 * np.pi / n_phi)
     if vals.ndim == 3:
         w = w[..., None]

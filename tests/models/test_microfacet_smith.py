@@ -399,7 +399,7 @@ def _h_integral(func, alpha, v=None):
     θ_h: Gauss panels graded toward the pole by ``alpha``; φ: Gauss–Legendre over the interval where
     ``v·h > 0`` (``cos(φ − φ_v) > −cot θ_v cot θ_h``), so the integrand's kink there is an endpoint.
     """
-    from quadrature import theta_nodes
+    from quadrature import evaluate, leggauss, theta_nodes
 
     th, wt = theta_nodes(scale=alpha * 1e-3, panels=60, order=24)
     if v is None or v[2] >= 1:  # the whole circle: the periodic trapezoid rule, spectrally accurate
@@ -408,12 +408,12 @@ def _h_integral(func, alpha, v=None):
     else:
         tv, pv = math.acos(v[2]), math.atan2(v[1], v[0])
         half = np.arccos(np.clip(-math.cos(tv) * np.cos(th) / (math.sin(tv) * np.sin(th)), -1, 1))
-        x, w = np.polynomial.legendre.leggauss(384)
+        x, w = leggauss(384)
     ph = pv + half[:, None] * x
     h = np.stack(
         np.broadcast_arrays(np.sin(th)[:, None] * np.cos(ph), np.sin(th)[:, None] * np.sin(ph), np.cos(th)[:, None]), -1
     )
-    return float(np.sum(func(h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
+    return float(np.sum(evaluate(func, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
 
 
 @pytest.mark.parametrize("ndf", NDFS)
