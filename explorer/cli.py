@@ -5,7 +5,7 @@ Every sub-command answers a bad request with one line on standard error,
 Ctrl-C exits with 130 and ``SIGTERM`` with 143, leaving no temporary file behind (see
 :mod:`explorer.output`).  ``--memory-budget SIZE`` (anywhere on the line) sets the budget that
 image sizes, sample counts, worker counts and scene files are checked against before anything
-is allocated (:func:`lighting._numeric.set_memory_budget`; 2 GiB by default).
+is allocated (:func:`lighting._budget.set_memory_budget`; 2 GiB by default).
 """
 
 from __future__ import annotations
@@ -17,7 +17,8 @@ import shutil
 import sys
 import textwrap
 
-from lighting._numeric import _fmt, memory_budget, set_memory_budget
+from lighting._budget import memory_budget, set_memory_budget
+from lighting._text import quote
 
 PROG = "lighting-explorer"
 
@@ -118,7 +119,7 @@ class OneLineParser(argparse.ArgumentParser):
         UsageError
             The message, ending ``(see PROG COMMAND --help)`` with this parser's name.
         """
-        from lighting._numeric import abbreviate
+        from lighting._text import abbreviate
 
         # argparse quotes the whole value it refused: a 100,000-character one is cut short.
         message = re.sub(r"'[^']{81,}'", lambda m: abbreviate(m.group(0)), message)
@@ -276,7 +277,7 @@ def choice_type(choices):
             return text
         hint = did_you_mean(str(text), [str(c) for c in allowed])
         raise argparse.ArgumentTypeError(
-            f"invalid choice: {_fmt(text)}{hint} (choose from {', '.join(repr(c) for c in allowed)})"
+            f"invalid choice: {quote(text)}{hint} (choose from {', '.join(repr(c) for c in allowed)})"
         )
 
     return choice
@@ -457,7 +458,7 @@ def size_type(flag: str = "--size", *, minimum=(1, 1), maximum=None, example: st
             lo = "both >= 1" if tuple(minimum) == (1, 1) else f"at least {minimum[0]}x{minimum[1]}"
             hi = f" and at most {maximum[0]}x{maximum[1]}" if maximum is not None else ""
             raise argparse.ArgumentTypeError(
-                f"{flag} must be WIDTHxHEIGHT or N (a square) in pixels, {lo}{hi} (e.g. {example}); got {_fmt(text)}"
+                f"{flag} must be WIDTHxHEIGHT or N (a square) in pixels, {lo}{hi} (e.g. {example}); got {quote(text)}"
             )
         return size
 
@@ -516,7 +517,7 @@ def resolve_scene(arg: str, flag: str = "SCENE") -> str:
         raise SceneError(arg if flag == "SCENE" else f"{flag} {arg}", "", f"scene file does not exist{hint}")
     if arg in names:
         return example_path(arg)
-    raise ValueError(f"{flag}: no example scene named {_fmt(arg)}{did_you_mean(arg, names)} "
+    raise ValueError(f"{flag}: no example scene named {quote(arg)}{did_you_mean(arg, names)} "
                      f"(list them: {PROG} render --list)")  # fmt: skip
 
 
@@ -710,7 +711,7 @@ def command_parser(parser: argparse.ArgumentParser, argv: list[str]) -> argparse
         if not names or word.startswith("-"):
             break
         if word not in names:
-            node.error(f"argument {node.subcommand_metavar}: invalid choice: {_fmt(word)}{did_you_mean(word, names)} "
+            node.error(f"argument {node.subcommand_metavar}: invalid choice: {quote(word)}{did_you_mean(word, names)} "
                        f"(choose from {', '.join(repr(n) for n in names)})")  # fmt: skip
         node = names[word]
     return node
@@ -832,10 +833,10 @@ def parse_size(text: str, flag: str = "--memory-budget") -> int:
     allowed = "a size such as 2G, 512M or 1.5G (K, M, G, T are powers of 1024; at least 1M)"
     m = re.fullmatch(r"\s*(\d+(?:\.\d*)?|\.\d+)\s*([kmgt]?)(?:i?b)?\s*", str(text), flags=re.IGNORECASE)
     if not m:
-        raise UsageError(f"{flag} must be {allowed}; got {_fmt(text)}")
+        raise UsageError(f"{flag} must be {allowed}; got {quote(text)}")
     value = float(m.group(1)) * _UNITS[m.group(2).lower()]
     if not MIN_MEMORY_BUDGET <= value < 2.0**62:
-        raise UsageError(f"{flag} must be {allowed}; got {_fmt(text)}")
+        raise UsageError(f"{flag} must be {allowed}; got {quote(text)}")
     return int(value)
 
 

@@ -135,7 +135,7 @@ def available_formats(kinds=("rgb8", "linear")) -> tuple[str, ...]:
 
 
 def _show(path) -> str:
-    from lighting._numeric import abbreviate
+    from lighting._text import abbreviate
 
     return abbreviate(repr(os.fspath(path)))
 

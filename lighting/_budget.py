@@ -11,7 +11,7 @@ One home for every budget of the engine:
   line naming the key that costs most and the flag that allows a slow render.
 
 The time is a sum of units of work, each with its cost in :data:`SECONDS_PER`, measured by
-``python -m explorer.budget_costs``.  The names are also importable from :mod:`lighting._numeric` (memory) and
+``python -m explorer.budget_costs``.  The names are also importable from :mod:`lighting.numerics` (memory) and
 :mod:`lighting.scene.budget` (a scene).
 """
 
@@ -69,7 +69,7 @@ def set_memory_budget(nbytes: int) -> int:
     ValueError
         For ``nbytes < 1`` (``ArgumentTypeError`` for a value that is not an integer).
     """
-    from ._numeric import check_count  # the one integer check; imported here so _numeric can re-export this module
+    from ._validate import check_count
 
     previous = _memory_budget[0]
     _memory_budget[0] = check_count("memory budget", nbytes, 1)

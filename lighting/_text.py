@@ -1,8 +1,10 @@
-"""Words in messages: a count with its noun in the right number (``1 light``, ``2 lights``)."""
+"""Words in messages: a user's value shortened to one line, a count with its noun in the right number."""
 
 from __future__ import annotations
 
-__all__ = ["plural"]
+import numpy as np
+
+__all__ = ["plural", "abbreviate", "quote", "MAX_VALUE_CHARS"]
 
 #: Nouns whose plural is not the noun with ``s``.
 _IRREGULAR = {"entry": "entries", "index": "indices", "vertex": "vertices", "process": "processes"}
@@ -35,3 +37,57 @@ def plural(count: int, noun: str, plural_form: str | None = None) -> str:
     if count == 1:
         return f"{count} {noun}"
     return f"{count} {plural_form or _IRREGULAR.get(noun, noun + 's')}"
+
+
+#: Longest rendering of a user's value inside an error message.
+MAX_VALUE_CHARS = 80
+
+
+def abbreviate(text: str, limit: int = MAX_VALUE_CHARS) -> str:
+    """``text`` cut to ``limit`` characters, with the number of characters left out.
+
+    Parameters
+    ----------
+    text : str
+        The text (any other value is converted with ``str``).
+    limit : int, optional
+        The longest text kept whole (default :data:`MAX_VALUE_CHARS`, 80).
+
+    Returns
+    -------
+    str
+        ``text`` itself if it has at most ``limit`` characters; else its first ``max(limit // 2, 1)``
+        characters followed by ``…(+N chars)``, ``N`` the number left out.
+
+    Examples
+    --------
+    >>> abbreviate("x" * 200, 20)
+    'xxxxxxxxxx…(+190 chars)'
+    """
+    text = str(text)
+    if len(text) <= limit:
+        return text
+    keep = max(limit // 2, 1)
+    return f"{text[:keep]}…(+{len(text) - keep} chars)"
+
+
+def quote(value) -> str:
+    """A short rendering of a user's value for an error message (never more than ``MAX_VALUE_CHARS``)."""
+    try:
+        if isinstance(value, (str, bytes)):
+            return abbreviate(repr(value))
+        arr = np.asarray(value)
+        if arr.dtype.kind in "fiucb" and arr.ndim > 0:
+            # One line whatever the shape: messages are one line.
+            text = np.array2string(arr, separator=", ", threshold=8, edgeitems=2, max_line_width=10**6)
+            text = " ".join(text.split())
+        elif arr.dtype.kind in "fiucb":
+            text = repr(arr.item())
+        else:
+            text = repr(value)
+    except Exception:  # repr of exotic objects
+        try:
+            text = repr(value)
+        except Exception:
+            text = f"<{type(value).__name__}>"
+    return abbreviate(text)

@@ -2,7 +2,7 @@
 
 All functions take arrays of shape ``(..., 3)`` (or anything that broadcasts to
 it, including Python tuples), broadcast over the leading axes and keep the float
-dtype of their array inputs (see :mod:`lighting._numeric`).
+dtype of their array inputs (see :mod:`lighting.numerics`).
 
 Names follow the slides: ``n`` the unit normal, ``l`` the unit vector toward the
 light, ``v`` toward the viewer, ``h = (l + v) / |l + v|``,
@@ -13,16 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._numeric import (
-    _fmt,
-    check_float_dtype,
-    check_vectors,
-    cos_sin,
-    cos_sin_deg,
-    real_array,
-    safe_div,
-    working_dtype,
-)
+from ._text import quote
+from ._validate import check_float_dtype, check_vectors, real_array
+from .numerics import cos_sin, cos_sin_deg, safe_div, working_dtype
 
 __all__ = [
     "dot",
@@ -56,13 +49,13 @@ def _vec(x, dtype=None, name="a", *, finite=True) -> np.ndarray:
         return check_vectors(name, x, dtype=dt)
     a = x.astype(dt, copy=False)
     if a.shape[-1:] != (3,):
-        raise ValueError(f"{name} must be {_ALLOWED}; got shape {a.shape}: {_fmt(x)}")
+        raise ValueError(f"{name} must be {_ALLOWED}; got shape {a.shape}: {quote(x)}")
     return a
 
 
 def _refuse_nonfinite(name, a) -> None:
     if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be {_ALLOWED} (finite in {a.dtype.name}); got {_fmt(a)}")
+        raise ValueError(f"{name} must be {_ALLOWED} (finite in {a.dtype.name}); got {quote(a)}")
 
 
 def dot(a, b) -> np.ndarray:
@@ -303,7 +296,7 @@ def orthonormal_basis(n):
 def spherical_direction(theta, phi, dtype=None) -> np.ndarray:
     """Unit vector at polar angle ``theta`` (from +z) and azimuth ``phi`` (from +x toward +y).
 
-    Built through :func:`lighting._numeric.cos_sin`, so ``theta = π/2`` lies exactly on the horizon
+    Built through :func:`lighting.numerics.cos_sin`, so ``theta = π/2`` lies exactly on the horizon
     (``z = 0``, not ``cos(π/2) = 6.1e-17``) and ``phi = π/2`` exactly on the ``y`` axis: every view that
     builds a direction from angles agrees on which side of the horizon it is.
 

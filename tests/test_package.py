@@ -298,7 +298,7 @@ def test_sigterm_during_a_write_unwinds_and_removes_the_temporary_file(tmp_path)
 
 
 def test_memory_budget_flag_sets_the_budget_for_the_command_and_restores_it(tmp_path, capsys):
-    from lighting._numeric import memory_budget
+    from lighting._budget import memory_budget
 
     out = str(tmp_path / "s.png")
     # 100 x 100 pixels at 320 bytes each: 3.1 MiB.

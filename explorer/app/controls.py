@@ -3,7 +3,7 @@ r"""The explorer's controls: their choices, the table they are validated by, and
 :data:`CONTROLS` holds one :class:`Control` per control of :class:`~explorer.app.state.AppState` (the model,
 the light, shading and plot options): its kind, range, choices and help (the command line's help is made from
 it).  :func:`validate` checks one value for one control and raises ``ValueError`` (or
-:class:`~lighting._numeric.ArgumentTypeError`) naming the control, what is allowed and the value given.
+:class:`~lighting._validate.ArgumentTypeError`) naming the control, what is allowed and the value given.
 Nothing here imports PyVista, Qt or Matplotlib.
 
 Example
@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lighting._numeric import ArgumentTypeError, abbreviate, check_bool, check_count, check_range, real_array
+from lighting._text import abbreviate
+from lighting._validate import ArgumentTypeError, check_bool, check_count, check_range, real_array
 from lighting.lights import ATTENUATIONS, SKIES
 from lighting.models import model_variants
 from lighting.render import SHADING_MODES
@@ -154,15 +155,15 @@ CONTROLS: dict[str, Control] = {
 }
 
 
-def _fmt(x: float) -> str:
+def quote(x: float) -> str:
     return str(int(x)) if float(x).is_integer() and abs(x) < 1e7 else f"{x:g}"
 
 
 def _allowed(spec: Control) -> str:
     if spec.kind == "rgb":
-        return f"one number or three numbers r,g,b in [{_fmt(spec.lo)}, {_fmt(spec.hi)}]"
+        return f"one number or three numbers r,g,b in [{quote(spec.lo)}, {quote(spec.hi)}]"
     kind = "an integer" if spec.kind == "int" else "a number"
-    return f"{kind} in [{_fmt(spec.lo)}, {_fmt(spec.hi)}]"
+    return f"{kind} in [{quote(spec.lo)}, {quote(spec.hi)}]"
 
 
 def _refuse(name: str, spec: Control, value, exc_type=ValueError):
@@ -178,7 +179,7 @@ def validate(name: str, value):
 
     Numbers and colours are numbers: text and bytes are refused (``b'1'`` is not 1; the command
     line parses its text first, :meth:`AppState.from_args`), and so are bools.  A wrong type
-    raises :class:`~lighting._numeric.ArgumentTypeError` (a TypeError and a ValueError).
+    raises :class:`~lighting._validate.ArgumentTypeError` (a TypeError and a ValueError).
     """
     spec = CONTROLS[name]
     if spec.kind == "lights":

@@ -46,7 +46,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from lighting._numeric import ArgumentTypeError, abbreviate, check_color
+from lighting._text import abbreviate
+from lighting._validate import ArgumentTypeError, check_color
 from lighting.lights import AmbientLight, DirectionalLight, PointLight, SpotLight
 from lighting.scene.checks import _choice, _Ctx, _table
 from lighting.scene.errors import SceneError, _describe, _join

@@ -30,7 +30,8 @@ from collections.abc import Mapping
 import numpy as np
 
 from lighting import AmbientLight, DirectionalLight, Lambert, Material
-from lighting._numeric import ArgumentTypeError, abbreviate, real_array
+from lighting._text import abbreviate
+from lighting._validate import ArgumentTypeError, real_array
 from lighting.lights import PointLight, SpotLight, attenuation_polynomial
 from lighting.models import BRDFFlags, model_variants
 from lighting.vec import direction_from_elevation

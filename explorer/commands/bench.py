@@ -63,7 +63,7 @@ def run(args) -> int:
     int
         0 when done, 2 for a bad ``--repeat`` (one line on standard error).
     """
-    from lighting._numeric import check_count
+    from lighting._validate import check_count
 
     from .. import bench
     from .._allocator import tune_allocator

@@ -15,7 +15,7 @@ from __future__ import annotations
 import re
 import tomllib
 
-from lighting._numeric import _fmt
+from lighting._text import quote
 
 __all__ = ["Define", "parse_define", "apply_defines", "key_label"]
 
@@ -70,7 +70,7 @@ def parse_define(text: str) -> Define:
     'gouraud'
     """
     text = str(text)
-    shown = _fmt(text)
+    shown = quote(text)
     key, sep, raw = text.partition("=")
     if not sep:
         raise ValueError(f"-D {shown}: expected KEY=VALUE, e.g. -D image.width=320 or -D lights[0].intensity=2")
@@ -80,7 +80,7 @@ def parse_define(text: str) -> Define:
         if not m:
             raise ValueError(
                 f"-D {shown}: the key must be names joined by '.', each with optional [N] indices "
-                f"(e.g. lights[0].intensity); got {_fmt(key)}"
+                f"(e.g. lights[0].intensity); got {quote(key)}"
             )
         path.append(m.group(1) if m.group(1) is not None else m.group(2))
         path.extend(int(i) for i in re.findall(r"\[(\d+)\]", m.group(3)))
@@ -91,7 +91,7 @@ def parse_define(text: str) -> Define:
         if not _BARE_WORD.fullmatch(raw):
             raise ValueError(
                 f'-D {shown}: the value must be a TOML value (a number, true or false, "text", [a, list] or '
-                f"{{ a = table }}) or a bare word; got {_fmt(raw)}"
+                f"{{ a = table }}) or a bare word; got {quote(raw)}"
             ) from None
         value = raw
     return Define(text, path, value)
@@ -163,14 +163,14 @@ def apply_defines(data: dict, defines) -> dict:
             if isinstance(step, int):
                 if not isinstance(node, list):
                     raise ValueError(
-                        f"-D {_fmt(d.text)}: {where} is {_describe(node)}, not an array; [{step}] needs one"
+                        f"-D {quote(d.text)}: {where} is {_describe(node)}, not an array; [{step}] needs one"
                     )
                 if step >= len(node):
                     n = len(node)
                     has = {0: "no entries", 1: "1 entry (index 0)"}.get(n, f"{n} entries (indices 0 to {n - 1})")
-                    raise ValueError(f"-D {_fmt(d.text)}: {where} has {has}; got [{step}]")
+                    raise ValueError(f"-D {quote(d.text)}: {where} has {has}; got [{step}]")
             elif not isinstance(node, dict):
-                raise ValueError(f"-D {_fmt(d.text)}: {where} is {_describe(node)}, not a table; .{step} needs one")
+                raise ValueError(f"-D {quote(d.text)}: {where} is {_describe(node)}, not a table; .{step} needs one")
             if last:
                 node[step] = d.value
             else:

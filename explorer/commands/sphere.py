@@ -13,14 +13,9 @@ from __future__ import annotations
 
 import sys
 
-from lighting._numeric import (
-    ArgumentTypeError,
-    _fmt,
-    check_budget,
-    check_color,
-    check_nonnegative,
-    check_range,
-)
+from lighting._budget import check_budget
+from lighting._text import quote
+from lighting._validate import ArgumentTypeError, check_color, check_nonnegative, check_range
 
 __all__ = ["SPHERE_BYTES_PER_PIXEL", "add_parser", "run", "main"]
 
@@ -36,9 +31,9 @@ def _rgb(flag: str, text: str):
     try:
         parts = [float(x) for x in str(text).split(",")]
     except ValueError:
-        raise ArgumentTypeError(f"{flag} must be {allowed}; got {_fmt(text)}") from None
+        raise ArgumentTypeError(f"{flag} must be {allowed}; got {quote(text)}") from None
     if len(parts) not in (1, 3):
-        raise ValueError(f"{flag} must be {allowed}; got {_fmt(text)}")
+        raise ValueError(f"{flag} must be {allowed}; got {quote(text)}")
     value = check_color(flag, parts[0] if len(parts) == 1 else parts)
     return float(value[0]) if len(parts) == 1 else tuple(float(x) for x in value)
 

@@ -39,7 +39,9 @@ import sys
 import time
 import warnings
 
-from lighting._numeric import _fmt, check_budget, check_count, memory_budget, set_memory_budget
+from lighting._budget import check_budget, memory_budget, set_memory_budget
+from lighting._text import quote
+from lighting._validate import check_count
 
 from ..commands.figures import MAX_JOBS
 from ..output import (
@@ -131,7 +133,7 @@ def _check_names(only) -> list[str]:
         bad = unknown[0]
         close = difflib.get_close_matches(bad, names, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
-        raise FigureError(f"unknown figure {_fmt(bad)}; {hint}available: {', '.join(names)}")
+        raise FigureError(f"unknown figure {quote(bad)}; {hint}available: {', '.join(names)}")
     return [n for n in names if n in set(only)]
 
 
@@ -140,7 +142,7 @@ def _check_formats(formats) -> tuple[str, ...]:
     for f in formats:
         f = f.strip().lower().lstrip(".")
         if f not in FORMATS:
-            raise FigureError(f"unknown format {_fmt(f)}; allowed: {', '.join(FORMATS)}")
+            raise FigureError(f"unknown format {quote(f)}; allowed: {', '.join(FORMATS)}")
         if f not in out:
             out.append(f)
     if not out:
@@ -339,7 +341,7 @@ def check_accuracy_csv(path) -> str:
     """
     import csv
 
-    from lighting._numeric import abbreviate
+    from lighting._text import abbreviate
 
     shown = abbreviate(repr(os.fspath(path)))
     if not os.path.isfile(path):

@@ -80,10 +80,10 @@ def main(argv=None) -> int:
     if not argv:
         listed = " or ".join(f"{name} ({text})" for name, (_, text, *_) in REPORTS.items())
         return print_error(f"report needs the name of a report: {listed}")
-    from lighting._numeric import _fmt
+    from lighting._text import quote
 
     hint = did_you_mean(argv[0], REPORTS)
-    return print_error(f"unknown report {_fmt(argv[0])}{hint} (choose from {', '.join(REPORTS)})")
+    return print_error(f"unknown report {quote(argv[0])}{hint} (choose from {', '.join(REPORTS)})")
 
 
 if __name__ == "__main__":  # pragma: no cover

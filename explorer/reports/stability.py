@@ -60,7 +60,7 @@ MODEL_ORDER = (
 CASE_ORDER = st.CASE_FAMILIES + st.LIGHT_CASE_FAMILIES
 
 
-def _fmt(x: float, spec: str = ".1e") -> str:
+def quote(x: float, spec: str = ".1e") -> str:
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return "-"
     if x == 0:
@@ -152,7 +152,7 @@ def format_table(result: st.StabilityResult) -> str:
             if b is None:
                 line += f" | {'':>22} {'':>8} {'':>7}"
                 continue
-            line += f" | {_fmt(b['err']):>22} {_fmt(b['kappa'], '.2g'):>8} {_fmt(b['ratio'], '.2f'):>7}"
+            line += f" | {quote(b['err']):>22} {quote(b['kappa'], '.2g'):>8} {quote(b['ratio'], '.2f'):>7}"
         line += " | " + _checks(d["rows"])
         lines.append(line)
     lines.append("-" * len(head))
@@ -344,7 +344,8 @@ def check_args(args) -> None:
     -------
     None
     """
-    from lighting._numeric import check_budget, check_count
+    from lighting._budget import check_budget
+    from lighting._validate import check_count
 
     from ..output import check_output_dir
     from .options import MAX_WORKERS, WORKER_BYTES

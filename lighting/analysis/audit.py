@@ -48,17 +48,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numeric import (
-    ArgumentTypeError,
-    check_budget,
-    check_count,
-    check_nonnegative,
-    check_range,
-    real_array,
-)
-from .._numeric import (
-    _fmt as _fmt_value,
-)
+from .._budget import check_budget
+from .._text import quote as _fmt_value
+from .._validate import ArgumentTypeError, check_count, check_nonnegative, check_range, real_array
 from ..integrate import albedo_curve
 from ..models.base import BRDFFlags
 from ..models.brdf import BRDF, BlinnPhong, CookTorrance, Lambert, Phong
@@ -242,7 +234,7 @@ def _csv_value(x):
 
 
 # --------------------------------------------------------------------------- the model list
-def _fmt(x: float) -> str:
+def quote(x: float) -> str:
     return f"{x:g}"
 
 
@@ -274,29 +266,29 @@ def default_cases() -> list[AuditCase]:
     cases = [AuditCase("Lambert", Lambert(1.0), "f_r = kd/π")]
     for e in (0.0, 0.5, 1.0, 10.0, 1000.0):
         note = "ρ(0) = 2ks/(e+1); f/(n·l) breaks reciprocity" if e == 0 else ""
-        cases.append(AuditCase(f"Phong e={_fmt(e)}", Phong(1.0, e), note))
+        cases.append(AuditCase(f"Phong e={quote(e)}", Phong(1.0, e), note))
     for e in (0.0, 1.0, 10.0, 100.0):
         note = "raw (n·h)^e/(n·l): not reciprocal" if e == 0 else ""
-        cases.append(AuditCase(f"Blinn-Phong e={_fmt(e)}", BlinnPhong(1.0, e), note))
+        cases.append(AuditCase(f"Blinn-Phong e={quote(e)}", BlinnPhong(1.0, e), note))
     for e in (0.0, 10.0, 100.0, 1000.0):
         note = "slide's (e+2)/(2π)(n·h)^e used as a BRDF: ρ(0) → 4" if e == 1000 else ""
-        cases.append(AuditCase(f"normalized B-P e={_fmt(e)}", BlinnPhong(1.0, e, normalized=True), note))
+        cases.append(AuditCase(f"normalized B-P e={quote(e)}", BlinnPhong(1.0, e, normalized=True), note))
     for a in (0.1, 0.5):
         note = "the same lobe as an NDF, e = 2/α² − 2" if a == 0.1 else ""
         ct = CookTorrance(1.0, a, 1.0, ndf="blinn-phong", fresnel="none")
-        cases.append(AuditCase(f"C-T blinn-phong α={_fmt(a)}", ct, note))
+        cases.append(AuditCase(f"C-T blinn-phong α={quote(a)}", ct, note))
     cases.append(AuditCase("Cook-Torrance default", CookTorrance(), "defaults: α=0.3, Schlick f0=0.04"))
     for a in (0.1, 0.5, 1.0):
         note = "F=1: loses energy (never gains) as α grows" if a == 1.0 else ""
-        cases.append(AuditCase(f"C-T beckmann α={_fmt(a)}", CookTorrance(1.0, a, 1.0, fresnel="none"), note))
+        cases.append(AuditCase(f"C-T beckmann α={quote(a)}", CookTorrance(1.0, a, 1.0, fresnel="none"), note))
     for a in (0.1, 1.0):
         note = "ρ(0) = 1 − ln 2 at α = 1" if a == 1.0 else ""
         ct = CookTorrance(1.0, a, 1.0, ndf="ggx", geometry="smith", fresnel="none")
-        cases.append(AuditCase(f"C-T ggx/smith α={_fmt(a)}", ct, note))
+        cases.append(AuditCase(f"C-T ggx/smith α={quote(a)}", ct, note))
     for a in (0.1, 0.5):
         note = "slide's π denominator: 4/π too bright" if a == 0.1 else ""
         ct = CookTorrance(1.0, a, 1.0, fresnel="none", denominator="pi")
-        cases.append(AuditCase(f"C-T π-denominator α={_fmt(a)}", ct, note))
+        cases.append(AuditCase(f"C-T π-denominator α={quote(a)}", ct, note))
     return cases + beyond_slides_cases()
 
 
@@ -469,7 +461,7 @@ def audit(
     ValueError
         Naming the argument: counts out of range, negative tolerances, angles
         outside ``[0, 90]``, an empty model list, a request over the memory
-        budget; a :class:`~lighting._numeric.ArgumentTypeError` (a TypeError)
+        budget; a :class:`~lighting._validate.ArgumentTypeError` (a TypeError)
         for items that are not models and for text or objects given as numbers.
 
     Examples

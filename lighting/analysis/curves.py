@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import check_bool, check_count
+from .._validate import check_bool, check_count
 from . import _display
 from .halfdiff import _above_horizon, half_diff_to_dirs
 from .quantity import (

@@ -18,16 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import (
-    check_bool,
-    check_choice,
-    check_count,
-    check_vectors,
-    cos_sin,
-    real_array,
-    safe_div,
-    working_dtype,
-)
+from .._validate import check_bool, check_choice, check_count, check_vectors, real_array
+from ..numerics import cos_sin, safe_div, working_dtype
 from ..vec import halfway, normalize
 from . import _display
 from .quantity import (
@@ -45,7 +37,7 @@ from .quantity import (
 __all__ = ["HalfDiffImage", "half_diff_to_dirs", "dirs_to_half_diff", "half_diff_image"]
 
 #: Half/difference-angle samples with ``|z|`` below this are on the horizon.  Directions built
-#: from angles are exact there (:func:`lighting._numeric.cos_sin`), but the two rotations of
+#: from angles are exact there (:func:`lighting.numerics.cos_sin`), but the two rotations of
 #: :func:`half_diff_to_dirs` round each component by a few ulp: at ``φ_d = 0`` a pair with
 #: ``θ_h + θ_d = π/2`` would otherwise land a rounding error above the horizon, where the
 #: slides' Phong BRDF (``1/(n·l)``) is ~1e16.  Eight ulp of 1 bound that rounding.

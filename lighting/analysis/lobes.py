@@ -17,7 +17,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numeric import _fmt, check_vectors, working_dtype
+from .._text import quote
+from .._validate import check_vectors
+from ..numerics import working_dtype
 from . import _display
 from .quantity import (
     _HALF_PI,
@@ -191,7 +193,7 @@ def _polar(d) -> float:
 def _unit_light(l):  # noqa: E741
     arr = check_vectors("l", l, dtype=np.float64, nonzero=True)
     if arr.shape != (3,):
-        raise ValueError(f"l must be one direction of shape (3,); got shape {arr.shape}: {_fmt(l)}")
+        raise ValueError(f"l must be one direction of shape (3,); got shape {arr.shape}: {quote(l)}")
     m = np.max(np.abs(arr))
     s = arr / m
     return s / math.sqrt(float(s @ s))

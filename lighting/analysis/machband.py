@@ -32,7 +32,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_count, real_array
+from .._text import quote
+from .._validate import ArgumentTypeError, check_count, real_array
 from . import _display
 from .quantity import LUMINANCE
 
@@ -46,7 +47,7 @@ def _image(value, name: str = "image", *, gray_ok: bool = True) -> np.ndarray:
     allowed = "a finite linear image of shape (H, W, 3)" + (" or (H, W)" if gray_ok else "")
     img = real_array(name, value, allowed=allowed, dtype=np.float64)
     if not ((img.ndim == 3 and img.shape[-1] == 3) or (gray_ok and img.ndim == 2)):
-        raise ValueError(f"{name} must be {allowed}; got shape {img.shape}: {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}; got shape {img.shape}: {quote(value)}")
     return img
 
 
@@ -65,7 +66,7 @@ def luminance(image) -> np.ndarray:
     """
     img = real_array("image", image, allowed="finite linear RGB of shape (..., 3)", dtype=np.float64)
     if img.shape[-1:] != (3,):
-        raise ValueError(f"image must be finite linear RGB of shape (..., 3); got shape {img.shape}: {_fmt(image)}")
+        raise ValueError(f"image must be finite linear RGB of shape (..., 3); got shape {img.shape}: {quote(image)}")
     return img @ LUMA
 
 
@@ -94,9 +95,9 @@ def _channel(image, channel) -> np.ndarray:
     elif isinstance(channel, (int, np.integer)) and not isinstance(channel, (bool, np.bool_)):
         idx = int(channel)
     else:
-        raise ArgumentTypeError(f"channel must be {allowed}; got {type(channel).__name__} {_fmt(channel)}")
+        raise ArgumentTypeError(f"channel must be {allowed}; got {type(channel).__name__} {quote(channel)}")
     if idx not in (None, 0, 1, 2):
-        raise ValueError(f"channel must be {allowed}; got {_fmt(channel)}")
+        raise ValueError(f"channel must be {allowed}; got {quote(channel)}")
     if img.ndim == 2:
         return img
     return img @ LUMA if idx is None else img[..., idx]
@@ -107,7 +108,7 @@ def _mask(name: str, value, shape) -> np.ndarray:
     if arr is None or arr.dtype.kind != "b":
         arr = real_array(name, value, allowed=f"a boolean array of shape {shape}")
     if arr.shape != shape:
-        raise ValueError(f"{name} must be a boolean array of shape {shape}; got shape {arr.shape}: {_fmt(value)}")
+        raise ValueError(f"{name} must be a boolean array of shape {shape}; got shape {arr.shape}: {quote(value)}")
     return arr.astype(bool)
 
 
@@ -248,7 +249,7 @@ def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_
         tid = real_array("triangle_id", triangle_id, allowed=f"integer triangle ids (-1 for background) of shape "
                          f"{y.shape}")  # fmt: skip
         if np.any(tid != np.floor(tid)):
-            raise ValueError(f"triangle_id must be integer triangle ids (-1 for background); got {_fmt(triangle_id)}")
+            raise ValueError(f"triangle_id must be integer triangle ids (-1 for background); got {quote(triangle_id)}")
         tid = tid.astype(np.int64)
     if tid.shape != y.shape:
         raise ValueError(f"triangle_id must have the image's shape {y.shape}; got shape {tid.shape}")
@@ -258,7 +259,7 @@ def edge_jump_metric(image, triangle_id, *, rows=None, channel="luminance", min_
         rows = range(tid.shape[0])
     else:
         if isinstance(rows, (str, bytes)) or not hasattr(rows, "__iter__"):
-            raise ArgumentTypeError(f"rows must be an iterable of row indices; got {type(rows).__name__} {_fmt(rows)}")
+            raise ArgumentTypeError(f"rows must be an iterable of row indices; got {type(rows).__name__} {quote(rows)}")
         rows = [check_count("rows[]", r, 0, tid.shape[0] - 1) for r in rows]
     kinks = []
     for r in rows:

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import check_bool, check_count, working_dtype
+from .._validate import check_bool, check_count
+from ..numerics import working_dtype
 from ..vec import normalize
 from . import _display
 from .lobes import _MIN_COS, _half_ellipse, _lobe_widths, _numeric_width, _peak64, _polar, _unit_light

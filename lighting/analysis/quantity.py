@@ -49,7 +49,9 @@ import math
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_float_dtype, cos_sin, real_array, working_dtype
+from .._text import quote
+from .._validate import ArgumentTypeError, check_float_dtype, real_array
+from ..numerics import cos_sin, working_dtype
 from ..vec import spherical_direction
 
 __all__ = ["LUMINANCE"]
@@ -68,7 +70,7 @@ def _check_brdf(brdf):
     if not (callable(getattr(brdf, "eval", None)) and callable(getattr(brdf, "eval_cos", None))):
         raise ArgumentTypeError(
             f"brdf must be a reflectance model with eval and eval_cos (e.g. lighting.Lambert); "
-            f"got {type(brdf).__name__} {_fmt(brdf)}"
+            f"got {type(brdf).__name__} {quote(brdf)}"
         )
     return brdf
 
@@ -85,8 +87,8 @@ def _check_cosine(cosine):
         key = cosine.strip().lower()
         if key in ("light", "view"):
             return key
-        raise ValueError(f"cosine must be {_COSINE_ALLOWED}; got {_fmt(cosine)}")
-    raise ArgumentTypeError(f"cosine must be {_COSINE_ALLOWED}; got {type(cosine).__name__} {_fmt(cosine)}")
+        raise ValueError(f"cosine must be {_COSINE_ALLOWED}; got {quote(cosine)}")
+    raise ArgumentTypeError(f"cosine must be {_COSINE_ALLOWED}; got {type(cosine).__name__} {quote(cosine)}")
 
 
 _CHANNEL_NAMES = {"r": 0, "red": 0, "g": 1, "green": 1, "b": 2, "blue": 2, "luminance": "luminance", "y": "luminance"}
@@ -99,18 +101,18 @@ def _check_channel(channel, default):
     if isinstance(channel, (int, np.integer)) and not isinstance(channel, (bool, np.bool_)):
         if 0 <= int(channel) <= 2:
             return int(channel)
-        raise ValueError(f"channel must be {_CHANNEL_ALLOWED}; got {_fmt(channel)}")
+        raise ValueError(f"channel must be {_CHANNEL_ALLOWED}; got {quote(channel)}")
     if isinstance(channel, str):
         if channel.strip().lower() in _CHANNEL_NAMES:
             return _CHANNEL_NAMES[channel.strip().lower()]
-        raise ValueError(f"channel must be {_CHANNEL_ALLOWED}; got {_fmt(channel)}")
-    raise ArgumentTypeError(f"channel must be {_CHANNEL_ALLOWED}; got {type(channel).__name__} {_fmt(channel)}")
+        raise ValueError(f"channel must be {_CHANNEL_ALLOWED}; got {quote(channel)}")
+    raise ArgumentTypeError(f"channel must be {_CHANNEL_ALLOWED}; got {type(channel).__name__} {quote(channel)}")
 
 
 def _scalar_angle(name, value, allowed):
     arr = real_array(name, value, allowed=allowed, dtype=np.float64)
     if arr.ndim != 0:
-        raise ValueError(f"{name} must be {allowed}, a scalar; got shape {arr.shape}: {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}, a scalar; got shape {arr.shape}: {quote(value)}")
     return float(arr)
 
 
@@ -119,7 +121,7 @@ def _check_angle(name, value, lo, hi):
     allowed = f"a finite angle in radians in [{lo:g}, {hi:g}]"
     x = _scalar_angle(name, value, allowed)
     if not lo - 1e-6 <= x <= hi + 1e-6:
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}; got {quote(value)}")
     return min(max(x, lo), hi)
 
 
@@ -138,11 +140,11 @@ def _check_tangent(tangent):
     allowed = "None or a direction (3,) not along the normal n = +z"
     arr = real_array("tangent", tangent, allowed=allowed, dtype=np.float64)
     if arr.shape != (3,):
-        raise ValueError(f"tangent must be {allowed}; got shape {arr.shape}: {_fmt(tangent)}")
+        raise ValueError(f"tangent must be {allowed}; got shape {arr.shape}: {quote(tangent)}")
     t = np.array([arr[0], arr[1], 0.0])
     size = math.hypot(t[0], t[1])
     if not size > 0 or not math.isfinite(size):
-        raise ValueError(f"tangent must be {allowed}; got {_fmt(tangent)}")
+        raise ValueError(f"tangent must be {allowed}; got {quote(tangent)}")
     return t / size
 
 
@@ -187,7 +189,7 @@ def _log_scale(x, log):
 def _plane_dirs(t, phi, plane):
     """Unit directions (float64) at signed angle ``t`` across a plane through ``n``.
 
-    Built through :func:`lighting._numeric.cos_sin`, like every direction of this module, so
+    Built through :func:`lighting.numerics.cos_sin`, like every direction of this module, so
     ``|t| = π/2`` lands exactly on the horizon (z = 0), where every BRDF is 0.
     """
     c, s = cos_sin(np.asarray(t, dtype=np.float64))

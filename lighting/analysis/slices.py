@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import _fmt, check_bool, check_choice, check_count
+from .._text import quote
+from .._validate import check_bool, check_choice, check_count
 from . import _display
 from .lobes import _lobe_widths, _numeric_width, _peak_candidates, _zoom_grid
 from .quantity import (
@@ -285,7 +286,7 @@ def reciprocity_pair(brdf, theta_in, **kwargs) -> tuple[PolarSlice, PolarSlice]:
     True
     """
     if "fixed" in kwargs:
-        raise ValueError(f"fixed must not be given: reciprocity_pair makes both slices; got {_fmt(kwargs['fixed'])}")
+        raise ValueError(f"fixed must not be given: reciprocity_pair makes both slices; got {quote(kwargs['fixed'])}")
     return polar_slice(brdf, theta_in, fixed="light", **kwargs), polar_slice(brdf, theta_in, fixed="view", **kwargs)
 
 

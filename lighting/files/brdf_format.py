@@ -32,9 +32,9 @@ import re
 import numpy as np
 
 from .._budget import check_budget, memory_budget
-from .._numeric import saturate_to
 from ..models.base import BRDF, BRDFFlags
 from ..models.protocol import Parameter
+from ..numerics import saturate_to
 from .glsl import Interpreter, Value, parse, tokenize
 from .glsl.lexer import error
 

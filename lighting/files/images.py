@@ -71,7 +71,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._budget import BudgetError, check_budget
-from .._numeric import ArgumentTypeError, _fmt
+from .._text import quote
+from .._validate import ArgumentTypeError
 
 __all__ = [
     "MAX_SIDE",
@@ -136,7 +137,7 @@ class _Limits:
 
 def _path_name(path) -> str:
     if not isinstance(path, str | os.PathLike):
-        raise ArgumentTypeError(f"path must be a str or os.PathLike; got {type(path).__name__} {_fmt(path)}")
+        raise ArgumentTypeError(f"path must be a str or os.PathLike; got {type(path).__name__} {quote(path)}")
     name = os.fspath(path)
     return os.fsdecode(name) if isinstance(name, bytes) else name
 

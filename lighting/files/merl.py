@@ -46,10 +46,11 @@ import tempfile
 import numpy as np
 
 from .._budget import check_budget
-from .._numeric import check_choice, saturate_to
+from .._validate import check_choice
 from ..analysis.halfdiff import _HORIZON_TOL, dirs_to_half_diff, half_diff_to_dirs
 from ..models.base import BRDF, BRDFFlags
 from ..models.protocol import Parameter
+from ..numerics import saturate_to
 
 __all__ = ["MerlBRDF", "read_merl", "write_merl", "tabulate_merl", "bin_centres", "load", "DIMS", "SCALE"]
 

@@ -1,9 +1,9 @@
 """Argument checks and conversions shared by the integrators (private).
 
 Arguments are checked once, at the public boundary: ValueError (or the
-:class:`~lighting._numeric.ArgumentTypeError` TypeError for text, complex or
+:class:`~lighting._validate.ArgumentTypeError` TypeError for text, complex or
 objects) naming the parameter, the value and what is allowed; sample counts
-are estimated against the memory budget (:func:`lighting._numeric.check_budget`)
+are estimated against the memory budget (:func:`lighting._budget.check_budget`)
 before anything is allocated.  All integration runs in float64; results are
 returned in the working dtype of the array inputs (float32 in, float32 out) by :func:`_out`.
 """
@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import check_budget, check_count
+from .._budget import check_budget
 from .._text import plural
+from .._validate import check_count
 from ..sampling.base import BYTES_PER_SAMPLE
 from ..sampling.brdf import _check_brdf  # noqa: F401  (_check_brdf: the one "is it a BRDF" check)
 

@@ -26,8 +26,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numeric import _fmt, check_bool, check_budget, check_choice, check_count, real_array, working_dtype
+from .._budget import check_budget
+from .._text import quote
+from .._validate import check_bool, check_choice, check_count, real_array
 from ..models.brdf import BRDF
+from ..numerics import working_dtype
 from ..sampling.brdf import _f_cos, as_generator
 from ._checks import _NODE_BUDGET, _check_brdf, _out, _replicates, _samples
 from ._delta import delta_albedo, split_delta
@@ -79,7 +82,7 @@ def _thetas(theta_v, name="theta_v"):
     t = t.astype(np.float64)
     # π/2 rounded to float32 (1.5707964) is a little above π/2: accept it as π/2.
     if t.size and (np.min(t) < 0 or np.max(t) > math.pi / 2 * (1 + 1e-6)):
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(theta_v)}")
+        raise ValueError(f"{name} must be {allowed}; got {quote(theta_v)}")
     check_budget(name, t.size * 3 * 8 * 8, what=f"{t.size} view angles")
     return np.minimum(t, math.pi / 2), dt
 
@@ -187,7 +190,7 @@ def directional_albedo(
     ------
     ValueError
         ``theta_v`` outside ``[0, π/2]`` or not finite; ``samples`` below 1
-        or over the memory budget (:func:`lighting._numeric.check_budget`); an
+        or over the memory budget (:func:`lighting._budget.check_budget`); an
         unknown ``method``; ``replicates`` outside ``[2, samples]``; a negative
         ``seed``.
     TypeError (ArgumentTypeError, also a ValueError)

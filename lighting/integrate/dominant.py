@@ -52,7 +52,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import check_budget, check_count, check_vectors, working_dtype
+from .._budget import check_budget
+from .._validate import check_count, check_vectors
+from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
 from ._delta import delta_albedo, split_delta
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma

@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import safe_div
+from ..numerics import safe_div
 
 __all__ = ["UNCONVERGED_RELATIVE_ERROR", "Estimate"]
 

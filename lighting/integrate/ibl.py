@@ -49,8 +49,11 @@ from collections import OrderedDict
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check_vectors, working_dtype
+from .._budget import check_budget
+from .._text import quote
+from .._validate import ArgumentTypeError, check_count, check_vectors
 from ..lights.environment import as_environment
+from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
 from ._delta import delta_albedo, delta_radiance, split_delta
 from .prefilter import PrefilteredEnvironment, kernel_of_lobe, prefilter_environment
@@ -159,7 +162,7 @@ def _check_prefiltered(prefiltered):
     except ArgumentTypeError:
         raise ArgumentTypeError(
             f"prefiltered must be a PrefilteredEnvironment (prefilter_environment(env)) or an environment; "
-            f"got {type(prefiltered).__name__} {_fmt(prefiltered)}"
+            f"got {type(prefiltered).__name__} {quote(prefiltered)}"
         ) from None
 
 
@@ -269,7 +272,7 @@ class ProgressiveRadiance:
         self.dtype = working_dtype(n, v)
         self._shape, self._n, self._t, self._b, self._vl, self._valid = _frames(n, v)
         if seed is not None and (not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0):
-            raise ArgumentTypeError(f"seed must be an integer >= 0 or None; got {_fmt(seed)}")
+            raise ArgumentTypeError(f"seed must be an integer >= 0 or None; got {quote(seed)}")
         # Pass k, chunk j draws from SeedSequence(entropy, (k, j)): the same image whatever thread runs it.
         self._entropy = np.random.SeedSequence(seed).entropy
         count = self._n.shape[0]

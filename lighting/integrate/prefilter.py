@@ -61,7 +61,9 @@ import threading
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_budget, check_count, check_vectors, working_dtype
+from .._budget import check_budget
+from .._text import quote
+from .._validate import ArgumentTypeError, check_count, check_vectors
 from ..lights.environment import (
     ConstantEnvironment,
     Environment,
@@ -71,6 +73,7 @@ from ..lights.environment import (
     latlong_azimuth,
     latlong_lookup,
 )
+from ..numerics import working_dtype
 from .rowconv import _convolve_rows, _convolve_rows_fast, _row_bounds, _row_solid_angles, _RowSpectra
 from .sh import SH_CONSTANTS
 
@@ -309,7 +312,7 @@ def _source_height(env: Environment, height) -> int:
     if height is not None:
         h = check_count("height", height, _MIN_HEIGHT, 8192)
         if h & (h - 1):
-            raise ValueError(f"height must be a power of two (16, 32, …, 8192); got {_fmt(height)}")
+            raise ValueError(f"height must be a power of two (16, 32, …, 8192); got {quote(height)}")
         return h
     if isinstance(env, LatLongEnvironment):
         h = _MIN_HEIGHT
@@ -545,7 +548,7 @@ class PrefilteredEnvironment:
         """
         d = check_vectors("directions", directions)
         if kernel not in self.families:
-            raise ValueError(f"kernel must be one of {', '.join(map(repr, self.families))}; got {_fmt(kernel)}")
+            raise ValueError(f"kernel must be one of {', '.join(map(repr, self.families))}; got {quote(kernel)}")
         levels, flat, poles = self.families[kernel], self._flat[kernel], self._poles[kernel]
         dt = working_dtype(d)
         shape = d.shape[:-1]
@@ -668,10 +671,10 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
     try:
         sig = [float(s) for s in sigmas]
     except (TypeError, ValueError):
-        raise ArgumentTypeError(f"sigmas must be a sequence of lobe widths in radians; got {_fmt(sigmas)}") from None
+        raise ArgumentTypeError(f"sigmas must be a sequence of lobe widths in radians; got {quote(sigmas)}") from None
     increasing = all(b > a for a, b in zip(sig[:-1], sig[1:], strict=True))
     if not sig or sig[0] != 0.0 or not increasing or not math.isfinite(sig[-1]):
-        raise ValueError(f"sigmas must start at 0 and increase, finite (radians); got {_fmt(sigmas)}")
+        raise ValueError(f"sigmas must start at 0 and increase, finite (radians); got {quote(sigmas)}")
     h0 = prefilter_height(env, height)
     check_budget("height", h0 * 2 * h0 * 3 * 8 * 12, what=f"prefiltering a {2 * h0}x{h0} environment")
     base = _base_image(env, h0)
@@ -720,7 +723,7 @@ def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatL
     h_src = _source_height(env, source_height)
     h = check_count("height", height, 8, 1024)
     if h & (h - 1) or h > h_src:
-        raise ValueError(f"height must be a power of two from 8 to the source height {h_src}; got {_fmt(height)}")
+        raise ValueError(f"height must be a power of two from 8 to the source height {h_src}; got {quote(height)}")
     check_budget("source_height", h_src * 2 * h_src * 3 * 8 * 12, what=f"irradiance of a {2 * h_src}x{h_src} map")
     src = _base_image(env, h_src)
     factor = h_src // h

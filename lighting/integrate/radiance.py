@@ -39,20 +39,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numeric import (
-    _fmt,
-    check_bool,
-    check_budget,
-    check_choice,
-    check_color,
-    check_count,
-    check_vectors,
-    real_array,
-    working_dtype,
-)
+from .._budget import check_budget
+from .._text import quote
+from .._validate import check_bool, check_choice, check_color, check_count, check_vectors, real_array
 from ..lights.environment import SmallPatchEnvironment, as_environment
 from ..models.base import BRDFFlags
 from ..models.brdf import BRDF
+from ..numerics import working_dtype
 from ..sampling.base import BYTES_PER_SAMPLE
 from ..sampling.brdf import _f_cos, as_generator, importance_sampler
 from ..vec import orthonormal_basis
@@ -374,14 +367,14 @@ def point_light_limit(
     for name, value in (("light_dir", light_dir), ("normal", normal), ("view_dir", view_dir)):
         d = check_vectors(name, value, dtype=np.float64, nonzero=True)
         if d.shape != (3,):
-            raise ValueError(f"{name} must be one finite nonzero 3-vector; got shape {d.shape}: {_fmt(value)}")
+            raise ValueError(f"{name} must be one finite nonzero 3-vector; got shape {d.shape}: {quote(value)}")
         vectors.append(d / np.max(np.abs(d)))
     ld, n, v = vectors
     check_color("radiance", radiance)
     allowed = "a nonempty list of solid angles in (0, 4π] steradians"
     oms = real_array("solid_angles", solid_angles, allowed=allowed, dtype=np.float64)
     if oms.ndim != 1 or oms.size == 0 or oms.size > 64 or np.any(oms <= 0) or np.any(oms > 4 * math.pi):
-        raise ValueError(f"solid_angles must be {allowed} (at most 64); got {_fmt(solid_angles)}")
+        raise ValueError(f"solid_angles must be {allowed} (at most 64); got {quote(solid_angles)}")
     samples = _samples(samples, 1, "quadrature", brdf)
     rows = []
     for om in oms.tolist():

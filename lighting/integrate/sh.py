@@ -20,8 +20,10 @@ import time
 
 import numpy as np
 
-from .._numeric import check_bool, check_budget, check_vectors, real_array, working_dtype
+from .._budget import check_budget
+from .._validate import check_bool, check_vectors, real_array
 from ..lights.environment import Environment, as_environment
+from ..numerics import working_dtype
 from ..vec import orthonormal_basis
 from ._checks import _out, _samples, _unit_rows
 from .estimate import Estimate

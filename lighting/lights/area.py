@@ -21,18 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import (
-    _fmt,
-    as_float,
-    check_bool,
-    check_budget,
-    check_color,
-    check_count,
-    check_nonnegative,
-    check_positive,
-    saturate_to,
-)
+from .._budget import check_budget
+from .._text import quote
+from .._validate import check_bool, check_color, check_count, check_nonnegative, check_positive
 from ..models.lambert import _concentric_disk
+from ..numerics import as_float, saturate_to
 from ..vec import length, normalize, orthonormal_basis
 from .punctual import _BIG64, Incidence, Light, _directions_and_distances, _vector3
 
@@ -162,7 +155,7 @@ class RectLight(AreaLight):
         if not 0 < area < math.inf:
             raise ValueError(
                 "edge_u and edge_v must span a rectangle (non-parallel, non-zero, its area |edge_u × edge_v| "
-                f"inside the float64 range); got edge_u={_fmt(u)}, edge_v={_fmt(v)}"
+                f"inside the float64 range); got edge_u={quote(u)}, edge_v={quote(v)}"
             )
         object.__setattr__(self, "edge_u", u)
         object.__setattr__(self, "edge_v", v)
@@ -217,7 +210,7 @@ class DiskLight(AreaLight):
         area = math.pi * r * r  # floats: 1e200² is inf, not an OverflowError
         if not 0 < area < math.inf:
             raise ValueError(f"radius must be a finite number > 0 whose disk area π r² is inside the float64 range "
-                             f"(about 1e-161 to 7e153); got {_fmt(self.radius)}")  # fmt: skip
+                             f"(about 1e-161 to 7e153); got {quote(self.radius)}")  # fmt: skip
         object.__setattr__(self, "radius", r)
 
     def area(self):

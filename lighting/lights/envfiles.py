@@ -25,9 +25,11 @@ import os
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_color, check_count, check_range, cos_sin_deg
+from .._text import quote
+from .._validate import ArgumentTypeError, check_color, check_count, check_range
 from ..files import images
 from ..files.images import write_hdr
+from ..numerics import cos_sin_deg
 from .environment import ConstantEnvironment, Environment, LatLongEnvironment
 
 __all__ = [
@@ -158,7 +160,7 @@ class TransformedEnvironment(Environment):
 
     def __init__(self, base: Environment, intensity=1.0, rotation: float = 0.0):
         if not isinstance(base, Environment):
-            raise ArgumentTypeError(f"base must be an Environment; got {type(base).__name__} {_fmt(base)}")
+            raise ArgumentTypeError(f"base must be an Environment; got {type(base).__name__} {quote(base)}")
         self.base = base
         scale = check_color("intensity", intensity)
         self.intensity = float(scale[0]) if np.ndim(intensity) == 0 else scale
@@ -302,7 +304,7 @@ def load_environment(source, *, intensity=1.0, rotation: float = 0.0, height: in
         except ValueError:
             raise ValueError(
                 f"environment source must be a path, a sky name ({', '.join(SKIES)}) or a radiance >= 0; "
-                f"got {type(source).__name__} {_fmt(source)}"
+                f"got {type(source).__name__} {quote(source)}"
             ) from None
     if np.all(scale == 1.0) and rotation == 0.0:
         return env

@@ -51,17 +51,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .._numeric import (
-    ArgumentTypeError,
-    _fmt,
-    check_budget,
-    check_color,
-    check_count,
-    check_range,
-    check_vectors,
-    safe_div,
-    working_dtype,
-)
+from .._budget import check_budget
+from .._text import quote
+from .._validate import ArgumentTypeError, check_color, check_count, check_range, check_vectors
+from ..numerics import safe_div, working_dtype
 from ..sampling.base import _unit_square as _checked_unit_square
 from ..sampling.environment import (
     _bilinear_shape,
@@ -311,7 +304,7 @@ class LatLongEnvironment(Environment):
     def __init__(self, image):
         allowed = "an (H, W, 3) array of finite radiances >= 0"
         if image is None or isinstance(image, (str, bytes, bytearray, dict, set)):
-            raise ArgumentTypeError(f"image must be {allowed}; got {type(image).__name__} {_fmt(image)}")
+            raise ArgumentTypeError(f"image must be {allowed}; got {type(image).__name__} {quote(image)}")
         try:
             raw = np.asarray(image)
         except (TypeError, ValueError):
@@ -353,7 +346,7 @@ class LatLongEnvironment(Environment):
         LatLongEnvironment
         """
         if not callable(func):
-            raise ArgumentTypeError(f"func must be a callable directions (H, W, 3) -> radiance; got {_fmt(func)}")
+            raise ArgumentTypeError(f"func must be a callable directions (H, W, 3) -> radiance; got {quote(func)}")
         height, width = _image_size(height, width)
         d = cls.pixel_directions(height, width)
         vals = np.broadcast_to(np.asarray(func(d), dtype=np.float64), (height, width, 3))
@@ -452,7 +445,7 @@ class FunctionEnvironment(Environment):
         if not callable(func):
             raise ArgumentTypeError(
                 f"func must be a callable directions (..., 3) -> radiance (..., 3); "
-                f"got {type(func).__name__} {_fmt(func)}"
+                f"got {type(func).__name__} {quote(func)}"
             )
         self.func = func
 
@@ -601,6 +594,6 @@ def as_environment(env) -> Environment:
     try:
         return ConstantEnvironment(env)
     except ArgumentTypeError:
-        raise ArgumentTypeError(f"environment must be {allowed}; got {type(env).__name__} {_fmt(env)}") from None
+        raise ArgumentTypeError(f"environment must be {allowed}; got {type(env).__name__} {quote(env)}") from None
     except ValueError:
-        raise ValueError(f"environment must be {allowed}; got {_fmt(env)}") from None
+        raise ValueError(f"environment must be {allowed}; got {quote(env)}") from None

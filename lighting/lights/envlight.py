@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_bool, check_choice, check_count
+from .._text import quote
+from .._validate import ArgumentTypeError, check_bool, check_choice, check_count
 from .environment import Environment, as_environment
 
 __all__ = ["ENVIRONMENT_METHODS", "DEFAULT_ENVIRONMENT_METHOD", "EnvironmentLight", "environment_terms",
@@ -88,7 +89,7 @@ class EnvironmentLight:
         self.method = check_choice("method", method, ENVIRONMENT_METHODS)
         self.samples = check_count("samples", samples, 2, 1 << 16)
         if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool):
-            raise ArgumentTypeError(f"seed must be an integer; got {_fmt(seed)}")
+            raise ArgumentTypeError(f"seed must be an integer; got {quote(seed)}")
         self.seed = int(seed)
         self._prefiltered = None if prefiltered is None else prefiltered.for_environment(self.environment)
 

@@ -30,9 +30,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numeric import (
-    _fmt,
-    as_float,
+from .._text import quote
+from .._validate import (
     check_choice,
     check_color,
     check_finite,
@@ -40,11 +39,9 @@ from .._numeric import (
     check_nonnegative,
     check_range,
     check_vectors,
-    cos_sin_deg,
     real_array,
-    saturate_to,
-    working_dtype,
 )
+from ..numerics import as_float, cos_sin_deg, saturate_to, working_dtype
 from ..vec import _one_minus_cos_between, direction_from_elevation, normalize
 
 __all__ = [
@@ -86,7 +83,7 @@ class Incidence(NamedTuple):
 def _vector3(name: str, value, *, nonzero: bool = False) -> np.ndarray:
     arr = check_vectors(name, value, dtype=np.float64, nonzero=nonzero)
     if arr.shape != (3,):
-        raise ValueError(f"{name} must be one finite 3-vector; got shape {arr.shape}: {_fmt(value)}")
+        raise ValueError(f"{name} must be one finite 3-vector; got shape {arr.shape}: {quote(value)}")
     return arr
 
 
@@ -106,7 +103,7 @@ def check_attenuation(value) -> tuple[float, float, float]:
     allowed = "three finite numbers (a, b, c) >= 0, not all zero, for 1/(a r² + b r + c)"
     arr = check_finite("attenuation", value, shape_hint=allowed)
     if arr.shape != (3,) or np.any(arr < 0) or not np.any(arr > 0):
-        raise ValueError(f"attenuation must be {allowed}; got {_fmt(value)}")
+        raise ValueError(f"attenuation must be {allowed}; got {quote(value)}")
     return tuple(float(x) for x in arr)
 
 
@@ -126,14 +123,14 @@ def check_cutoff(value, name: str = "cutoff_deg") -> float:
     """
     c = check_range(name, value)
     if not (0 <= c <= 90 or c == 180):
-        raise ValueError(f"{name} must be in [0, 90] degrees or exactly 180 (no cone); got {_fmt(value)}")
+        raise ValueError(f"{name} must be in [0, 90] degrees or exactly 180 (no cone); got {quote(value)}")
     return c
 
 
 def _one_minus_cos_deg(deg: float) -> float:
     """``1 − cos(deg°)`` without cancellation: ``2 sin²(deg°/2)`` while ``cos > 1/2``, ``1 − cos`` beyond.
 
-    Both branches take their sine and cosine from :func:`lighting._numeric.cos_sin_deg`, exact at
+    Both branches take their sine and cosine from :func:`lighting.numerics.cos_sin_deg`, exact at
     multiples of 90° (so 0 at 0° and exactly 1 at 90°); ``1 − cos`` is exact for ``cos <= 1/2``
     (Sterbenz), ``2 sin²`` keeps the digits of a tiny cutoff (1e-8°) that ``1 − cos`` would lose.
     """
@@ -144,7 +141,7 @@ def _one_minus_cos_deg(deg: float) -> float:
 
 
 def _cos_deg(deg: float) -> float:
-    """``cos(deg°)`` as a float, from :func:`lighting._numeric.cos_sin_deg` (exact at multiples of 90°)."""
+    """``cos(deg°)`` as a float, from :func:`lighting.numerics.cos_sin_deg` (exact at multiples of 90°)."""
     return float(cos_sin_deg(deg)[0])
 
 
@@ -160,7 +157,7 @@ def _real_array_nonneg(name: str, value) -> np.ndarray:
     """Finite real numbers >= 0 as a float64 array."""
     arr = real_array(name, value, allowed="finite real numbers >= 0", dtype=np.float64)
     if np.any(arr < 0):
-        raise ValueError(f"{name} must be finite real numbers >= 0; got {_fmt(value)}")
+        raise ValueError(f"{name} must be finite real numbers >= 0; got {quote(value)}")
     return arr
 
 

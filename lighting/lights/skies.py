@@ -32,7 +32,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_nonnegative, check_range, check_vectors, working_dtype
+from .._text import quote
+from .._validate import ArgumentTypeError, check_nonnegative, check_range, check_vectors
+from ..numerics import working_dtype
 from ..vec import direction_from_elevation
 from .environment import FunctionEnvironment
 
@@ -306,13 +308,13 @@ def sky_names() -> tuple[str, ...]:
 
 def _lookup(name) -> Sky:
     if not isinstance(name, str):
-        raise ArgumentTypeError(f"sky name must be one of {', '.join(SKIES)}; got {type(name).__name__} {_fmt(name)}")
+        raise ArgumentTypeError(f"sky name must be one of {', '.join(SKIES)}; got {type(name).__name__} {quote(name)}")
     key = name.strip().lower().replace("_", "-")
     if key in SKIES:
         return SKIES[key]
     near = difflib.get_close_matches(key, list(SKIES), n=1, cutoff=0.5)
     hint = f" (did you mean {near[0]!r}?)" if near else ""
-    raise ValueError(f"unknown sky {_fmt(name)}{hint}; allowed: {', '.join(SKIES)}")
+    raise ValueError(f"unknown sky {quote(name)}{hint}; allowed: {', '.join(SKIES)}")
 
 
 def sky(name: str, **params) -> FunctionEnvironment:

@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 
-from .._numeric import check_bool, check_nonnegative, safe_div, saturate_to
+from .._validate import check_bool, check_nonnegative
+from ..numerics import safe_div, saturate_to
 from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
 from ..vec import _one_minus_cos_between, normalize
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text

@@ -45,19 +45,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import (
-    ArgumentTypeError,
-    _exponent_in,
-    _fmt,
-    check_budget,
-    check_color,
-    check_vectors,
-    log1p,
-    real_array,
-    safe_div,
-    saturate_to,
-    working_dtype,
-)
+from .._budget import check_budget
+from .._text import quote
+from .._validate import ArgumentTypeError, check_color, check_vectors, real_array
+from ..numerics import _exponent_in, log1p, safe_div, saturate_to, working_dtype
 from .geometry import Geometry
 from .protocol import Lobe, Parameter
 
@@ -145,15 +136,15 @@ def _combine(terms, dt) -> np.ndarray:
 def _color(name: str, value, hi: float | None = None) -> np.ndarray:
     """A reflectance coefficient: a finite scalar or RGB triple, every entry >= 0 (and <= ``hi``).
 
-    :func:`~lighting._numeric.real_array` first, so that complex values, booleans and text are
+    :func:`~lighting._validate.real_array` first, so that complex values, booleans and text are
     refused as types (``check_color`` alone would drop an imaginary part).
     """
     allowed = "a finite scalar or RGB triple with every entry >= 0" + (f" and <= {hi:g}" if hi is not None else "")
     arr = real_array(name, value, allowed=allowed, dtype=np.float64)
     if arr.shape not in ((), (3,)):
-        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {quote(value)}")
     if np.any(arr < 0) or (hi is not None and np.any(arr > hi)):
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}; got {quote(value)}")
     return check_color(name, arr)
 
 
@@ -720,7 +711,7 @@ class BRDFSum(BRDF):
             raise ValueError("parts must be one or more BRDF models; got none")
         for i, p in enumerate(parts):
             if not isinstance(p, BRDF):
-                raise ArgumentTypeError(f"parts[{i}] must be a BRDF model; got {type(p).__name__} {_fmt(p)}")
+                raise ArgumentTypeError(f"parts[{i}] must be a BRDF model; got {type(p).__name__} {quote(p)}")
         flat = []
         for p in parts:
             flat.extend(p.parts)

@@ -9,7 +9,8 @@ import math
 
 import numpy as np
 
-from .._numeric import check_bool, check_nonnegative, saturate_to
+from .._validate import check_bool, check_nonnegative
+from ..numerics import saturate_to
 from ..sampling.base import UniformSampler
 from ..sampling.microfacet import MicrofacetSampler
 from .base import SeparableBRDF, _color, _color_text, _lobe_over_cos, _rgb

@@ -10,7 +10,8 @@ import math
 
 import numpy as np
 
-from .._numeric import check_bool, check_choice, check_positive, saturate_to
+from .._validate import check_bool, check_choice, check_positive
+from ..numerics import saturate_to
 from ..sampling.microfacet import MicrofacetSampler, VisibleNormalSampler
 from . import fresnel as _fresnel
 from . import microfacet as _mf

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import saturate_to
+from ..numerics import saturate_to
 from .base import BRDF, BRDFFlags
 from .protocol import Parameter, register_model
 

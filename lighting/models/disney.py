@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 
-from .._numeric import check_range, safe_div, saturate_to
+from .._validate import check_range
+from ..numerics import safe_div, saturate_to
 from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
 from ..vec import normalize
 from .base import BRDF, BRDFFlags, _color, _color_text

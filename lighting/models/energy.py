@@ -79,7 +79,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from .._numeric import check_choice, check_color, check_count, real_array, working_dtype
+from .._validate import check_choice, check_color, check_count, real_array
+from ..numerics import working_dtype
 from . import microfacet as _mf
 
 __all__ = [

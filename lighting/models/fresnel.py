@@ -11,7 +11,10 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_budget, real_array, safe_div, working_dtype
+from .._budget import check_budget
+from .._text import quote
+from .._validate import ArgumentTypeError, real_array
+from ..numerics import safe_div, working_dtype
 from .protocol import Parameter
 
 __all__ = [
@@ -37,7 +40,7 @@ def _cosines(name: str, value, lo: float = -1.0) -> np.ndarray:
     arr = real_array(name, value, allowed=allowed, dtype=np.float64)
     if arr.size and (np.min(arr) < lo - COS_SLACK or np.max(arr) > 1 + COS_SLACK):
         bad = arr[(arr < lo - COS_SLACK) | (arr > 1 + COS_SLACK)]
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(bad.flat[0])} in {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}; got {quote(bad.flat[0])} in {quote(value)}")
     return np.clip(arr, lo, 1)
 
 
@@ -45,9 +48,9 @@ def _param(name: str, value, allowed: str, ok) -> np.ndarray:
     """A scalar or RGB-triple parameter as float64: real, finite, shape () or (3,), and ``ok(arr)`` everywhere."""
     arr = real_array(name, value, allowed=allowed, dtype=np.float64)
     if arr.shape not in ((), (3,)):
-        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {quote(value)}")
     if not np.all(ok(arr)):
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}; got {quote(value)}")
     return arr
 
 
@@ -328,7 +331,7 @@ def f0_from_eta(eta):
     allowed = "finite real numbers > 0"
     eta = real_array("eta", eta, allowed=allowed, dtype=np.float64)
     if np.any(eta <= 0):
-        raise ValueError(f"eta must be {allowed}; got {_fmt(eta)}")
+        raise ValueError(f"eta must be {allowed}; got {quote(eta)}")
     return ((eta - 1) / (eta + 1)) ** 2
 
 
@@ -360,7 +363,7 @@ def eta_from_f0(f0):
     allowed = "finite real numbers in [0, 1]"
     f0 = real_array("f0", f0, allowed=allowed, dtype=np.float64)
     if np.any((f0 < 0) | (f0 > 1)):
-        raise ValueError(f"f0 must be {allowed}; got {_fmt(f0)}")
+        raise ValueError(f"f0 must be {allowed}; got {quote(f0)}")
     s = np.sqrt(f0)
     return (1 + s) / np.maximum(1 - s, 1e-12)
 
@@ -456,10 +459,10 @@ def _metal_name(param: str, value, allowed_extra: tuple = ()) -> str:
         return key
     allowed = ", ".join(repr(c) for c in choices)
     if key is None:
-        raise ArgumentTypeError(f"{param} must be one of {allowed}; got {type(value).__name__} {_fmt(value)}")
+        raise ArgumentTypeError(f"{param} must be one of {allowed}; got {type(value).__name__} {quote(value)}")
     near = difflib.get_close_matches(key, list(choices), n=1)
     hint = f" (did you mean {near[0]!r}?)" if near else ""
-    raise ValueError(f"{param} must be one of {allowed}; got {_fmt(value)}{hint}")
+    raise ValueError(f"{param} must be one of {allowed}; got {quote(value)}{hint}")
 
 
 #: The ``metal`` choices of the models: ``"none"`` (the index from ``eta`` and ``k``) or a named metal.
@@ -491,12 +494,12 @@ def _conductor_setup(fresnel: str, f0, eta, k, metal):
     if fresnel != "conductor":
         for name, value in (("eta", eta), ("k", k), ("metal", None if metal == "none" else metal)):
             if value is not None:
-                raise ValueError(f"{name} applies to fresnel 'conductor' only; got {name}={_fmt(value)} with fresnel "
+                raise ValueError(f"{name} applies to fresnel 'conductor' only; got {name}={quote(value)} with fresnel "
                                  f"{fresnel!r} (set fresnel='conductor', or leave {name} unset)")  # fmt: skip
         return None, None, "none", f0
     if metal != "none":
         if eta is not None or k is not None:
-            given = ", ".join(f"{n}={_fmt(v)}" for n, v in (("eta", eta), ("k", k)) if v is not None)
+            given = ", ".join(f"{n}={quote(v)}" for n, v in (("eta", eta), ("k", k)) if v is not None)
             raise ValueError(f"metal={metal!r} sets eta and k; got {given} as well (give a metal, or eta and k)")
         e, kk = metal_index(metal)
     else:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import _exponent_in, as_float, log_corrected, working_dtype
+from ..numerics import _exponent_in, as_float, log_corrected, working_dtype
 from ..vec import _one_minus_cos_between, normalize
 
 __all__ = ["Geometry"]

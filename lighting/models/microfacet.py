@@ -39,7 +39,10 @@ import math
 
 import numpy as np
 
-from .._numeric import _fmt, check_budget, real_array, safe_div, working_dtype
+from .._budget import check_budget
+from .._text import quote
+from .._validate import real_array
+from ..numerics import safe_div, working_dtype
 
 __all__ = [
     "beckmann_ndf",
@@ -78,7 +81,7 @@ def check_alpha(alpha, name: str = "alpha") -> np.ndarray:
     allowed = "a finite number > 0 (the roughness α), or an array of them"
     a = real_array(name, alpha, allowed=allowed, dtype=np.float64)
     if np.any(a <= 0):
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(alpha)}")
+        raise ValueError(f"{name} must be {allowed}; got {quote(alpha)}")
     return a
 
 
@@ -111,7 +114,7 @@ def _public(name_values: dict, *, ranges: dict, scalars: tuple = (),
         arr = real_array(name, value, allowed=allowed, dtype=np.float64)
         if arr.size and (np.min(arr) < lo - COS_SLACK or np.max(arr) > hi + COS_SLACK):
             bad = arr[(arr < lo - COS_SLACK) | (arr > hi + COS_SLACK)]
-            raise ValueError(f"{name} must be {allowed}; got {_fmt(bad.flat[0])} in {_fmt(value)}")
+            raise ValueError(f"{name} must be {allowed}; got {quote(bad.flat[0])} in {quote(value)}")
         out.append(np.clip(arr, lo, hi))
     shapes = [np.shape(x) for x in out if x is not None]
     try:
@@ -315,7 +318,7 @@ def blinn_phong_ndf(cos_theta_h, exponent, sin2_theta_h=None) -> np.ndarray:
     allowed = "a finite number >= 0 (the Blinn–Phong exponent), or an array of them"
     e = real_array("exponent", exponent, allowed=allowed, dtype=np.float64)
     if np.any(e < 0):
-        raise ValueError(f"exponent must be {allowed}; got {_fmt(exponent)}")
+        raise ValueError(f"exponent must be {allowed}; got {quote(exponent)}")
     dt, (c, s2, _) = _public({"cos_theta_h": cos_theta_h, "sin2_theta_h": sin2_theta_h, "exponent": e},
                              ranges={"cos_theta_h": _COS, "sin2_theta_h": _SIN2}, scalars=("exponent",))
     return _blinn_phong_ndf(c, e, s2, dt)

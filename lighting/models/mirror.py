@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import check_choice, check_vectors, saturate_to, working_dtype
+from .._validate import check_choice, check_vectors
+from ..numerics import saturate_to, working_dtype
 from ..sampling.base import Sampler, Samples
 from ..vec import normalize, reflect
 from . import fresnel as _fresnel

@@ -12,7 +12,9 @@ import math
 
 import numpy as np
 
-from .._numeric import _fmt, check_choice, real_array, saturate_to
+from .._text import quote
+from .._validate import check_choice, real_array
+from ..numerics import saturate_to
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _combine
 from .geometry import Geometry
 from .lambert import CosineSampler
@@ -29,7 +31,7 @@ def _check_sigma(sigma) -> float:
     allowed = "a finite number >= 0 (radians)"
     arr = real_array("sigma", sigma, allowed=allowed, dtype=np.float64)
     if arr.shape != () or not np.isfinite(arr) or arr < 0:
-        raise ValueError(f"sigma must be {allowed}; got {_fmt(sigma)}")
+        raise ValueError(f"sigma must be {allowed}; got {quote(sigma)}")
     return float(arr)
 
 

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from .._numeric import check_nonnegative
+from .._validate import check_nonnegative
 from ..sampling.base import _TWO_PI, Sampler, Samples, UniformSampler, _around, _local_v, _one_minus_cos_power
 from ..vec import _one_minus_cos_between
 from .base import SeparableBRDF, _color, _color_text, _lobe_over_cos, cos_power

@@ -84,7 +84,7 @@ class Parameter:
         """``value`` checked for this row; a ``ValueError`` naming the parameter, the value and what is allowed.
 
         Numbers are numbers (text, bytes and bools are refused with
-        :class:`~lighting._numeric.ArgumentTypeError`, both a TypeError and a ValueError); colours are one
+        :class:`~lighting._validate.ArgumentTypeError`, both a TypeError and a ValueError); colours are one
         number (grey) or three; choices accept any case and ``_`` for ``-``.  Constructors may check more
         (combinations of parameters); this is what the table alone says.
 
@@ -107,7 +107,8 @@ class Parameter:
         ...
         ValueError: sigma must be a number in [0, 1.5]; got 2
         """
-        from .._numeric import ArgumentTypeError, abbreviate, check_bool, real_array
+        from .._text import abbreviate
+        from .._validate import ArgumentTypeError, check_bool, real_array
 
         name, given = self.name, abbreviate(repr(value))
         if self.kind == "bool":

@@ -17,7 +17,8 @@ import math
 
 import numpy as np
 
-from .._numeric import check_choice, check_positive, saturate_to
+from .._validate import check_choice, check_positive
+from ..numerics import saturate_to
 from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
 from ..vec import normalize
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _combine

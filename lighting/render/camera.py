@@ -42,20 +42,18 @@ import math
 
 import numpy as np
 
-from .._numeric import (
+from .._budget import check_budget
+from .._text import quote
+from .._validate import (
     ArgumentTypeError,
-    _fmt,
-    as_float,
-    check_budget,
     check_choice,
     check_float_dtype,
     check_positive,
     check_range,
     check_vectors,
-    cos_sin_deg,
     real_array,
-    working_dtype,
 )
+from ..numerics import as_float, cos_sin_deg, working_dtype
 from ..vec import length, normalize
 
 __all__ = ["Camera", "MAX_IMAGE_SIDE"]
@@ -69,7 +67,7 @@ _BIG = float(np.finfo(np.float64).max)
 def _vec3(name: str, value) -> np.ndarray:
     a = real_array(name, value, allowed="a finite 3-vector (x, y, z)", dtype=np.float64)
     if a.shape != (3,):
-        raise ValueError(f"{name} must be a finite 3-vector (x, y, z); got shape {a.shape}: {_fmt(value)}")
+        raise ValueError(f"{name} must be a finite 3-vector (x, y, z); got shape {a.shape}: {quote(value)}")
     a = a.copy()
     a.setflags(write=False)
     return a
@@ -77,11 +75,11 @@ def _vec3(name: str, value) -> np.ndarray:
 
 def _size(name: str, value) -> int:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise ArgumentTypeError(f"{name} must be an integer >= 1 (pixels); got {type(value).__name__} {_fmt(value)}")
+        raise ArgumentTypeError(f"{name} must be an integer >= 1 (pixels); got {type(value).__name__} {quote(value)}")
     if value < 1:
-        raise ValueError(f"{name} must be an integer >= 1 (pixels); got {_fmt(value)}")
+        raise ValueError(f"{name} must be an integer >= 1 (pixels); got {quote(value)}")
     if value > MAX_IMAGE_SIDE:
-        raise ValueError(f"{name} must be an integer <= {MAX_IMAGE_SIDE} (pixels); got {_fmt(value)}")
+        raise ValueError(f"{name} must be an integer <= {MAX_IMAGE_SIDE} (pixels); got {quote(value)}")
     return int(value)
 
 
@@ -134,7 +132,7 @@ class Camera:
         self.projection = check_choice("projection", projection, ("perspective", "orthographic"))
         self.fov_y_deg = check_range("fov_y_deg", fov_y_deg)
         if not 0 < self.fov_y_deg < 180:
-            raise ValueError(f"fov_y_deg must be in (0, 180) degrees; got {_fmt(fov_y_deg)}")
+            raise ValueError(f"fov_y_deg must be in (0, 180) degrees; got {quote(fov_y_deg)}")
         self.ortho_height = check_positive("ortho_height", ortho_height)
         self.width = _size("width", width)
         self.height = _size("height", height)
@@ -170,7 +168,7 @@ class Camera:
         self.near = check_positive("near", near) if near is not None else max(dist / 1000, 5e-324)
         self.far = check_positive("far", far) if far is not None else min(dist * 1000, _BIG)
         if not self.far > self.near:
-            raise ValueError(f"far must be > near = {self.near!r}; got far={_fmt(self.far)}")
+            raise ValueError(f"far must be > near = {self.near!r}; got far={quote(self.far)}")
         self._memo = {}  # quantities derived from the (immutable) camera alone, made on first use
         self._frozen = True
 
@@ -243,7 +241,7 @@ class Camera:
         az = check_range("azimuth_deg", azimuth_deg)
         el = check_range("elevation_deg", elevation_deg)
         if not abs(el) < 90:
-            raise ValueError(f"elevation_deg must be in (-90, 90); got {_fmt(elevation_deg)}")
+            raise ValueError(f"elevation_deg must be in (-90, 90); got {quote(elevation_deg)}")
         t = _vec3("target", target)
         # Exact at multiples of 90° (azimuth 90 puts the eye exactly on +x).
         ca, sa = (float(x) for x in cos_sin_deg(az))
@@ -251,8 +249,8 @@ class Camera:
         with np.errstate(over="ignore"):
             eye = t + dist * np.array([ce * sa, se, ce * ca])
         if not np.all(np.isfinite(eye)):
-            raise ValueError(f"distance must keep the eye inside the float64 range around target={_fmt(t)}; "
-                             f"got distance={_fmt(dist)}")  # fmt: skip
+            raise ValueError(f"distance must keep the eye inside the float64 range around target={quote(t)}; "
+                             f"got distance={quote(dist)}")  # fmt: skip
         return cls(eye, t, options.pop("up", (0.0, 1.0, 0.0)), **options)
 
     def replace(self, **changes) -> Camera:
@@ -285,7 +283,7 @@ class Camera:
         )
         unknown = set(changes) - set(args)
         if unknown:
-            raise ValueError(f"unknown Camera parameter(s) {_fmt(sorted(unknown))}; allowed: {sorted(args)}")
+            raise ValueError(f"unknown Camera parameter(s) {quote(sorted(unknown))}; allowed: {sorted(args)}")
         if ("eye" in changes or "target" in changes) and not {"near", "far"} & set(changes):
             args["near"] = args["far"] = None  # keep the defaults relative to the new distance
         args.update(changes)
@@ -562,11 +560,11 @@ class Camera:
         p = real_array("pixels", pixels, allowed=f"integer pixel indices in [0, {n_pix})")
         if p.ndim != 1 or not np.all((p >= 0) & (p < n_pix) & (p == np.floor(p))):
             raise ValueError(f"pixels must be a 1-D array of integer pixel indices in [0, {n_pix}); "
-                             f"got {_fmt(pixels)}")  # fmt: skip
+                             f"got {quote(pixels)}")  # fmt: skip
         if depth is not None:
             depth = real_array("depth", depth)
             if depth.shape != p.shape or np.any(depth < 0):
-                raise ValueError(f"depth must be finite depths >= 0, one per pixel ({len(p)}); got {_fmt(depth)}")
+                raise ValueError(f"depth must be finite depths >= 0, one per pixel ({len(p)}); got {quote(depth)}")
         return self._pixel_view_vectors(np.asarray(pixels).astype(np.int64), depth, dtype=dt)
 
     def _pixel_view_vectors(self, pixels, depth=None, *, dtype=np.float64):
@@ -644,5 +642,5 @@ def check_camera(camera) -> Camera:
         The same object.
     """
     if not isinstance(camera, Camera):
-        raise ArgumentTypeError(f"camera must be a Camera; got {type(camera).__name__} {_fmt(camera)}")
+        raise ArgumentTypeError(f"camera must be a Camera; got {type(camera).__name__} {quote(camera)}")
     return camera

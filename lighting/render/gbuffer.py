@@ -17,7 +17,9 @@ from functools import cached_property
 
 import numpy as np
 
-from .._numeric import check_budget, real_array, working_dtype
+from .._budget import check_budget
+from .._validate import real_array
+from ..numerics import working_dtype
 from ..vec import normalize
 from .camera import Camera
 from .mesh import TriangleMesh
@@ -345,7 +347,7 @@ class GBuffer:
 
 
 def check_image_budget(camera: Camera, bytes_per_pixel: float, what: str) -> None:
-    """Refuse (:class:`lighting._numeric.BudgetError`) an image whose per-pixel work exceeds the memory budget.
+    """Refuse (:class:`lighting._budget.BudgetError`) an image whose per-pixel work exceeds the memory budget.
 
     Parameters
     ----------

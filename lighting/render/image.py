@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import check_choice, check_range
+from .._validate import check_choice, check_range
 from ..files.images import file_mode, png_bytes, read_png, write_png
 
 #: Largest exposure, in stops, either way (2**100 is about 1e30): beyond it nothing is left to see.

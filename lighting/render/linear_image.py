@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import check_choice, check_range
+from .._validate import check_choice, check_range
 from .image import MAX_EXPOSURE, encode_srgb8, png_bytes, write_png
 
 __all__ = ["LinearImage", "as_linear_image"]

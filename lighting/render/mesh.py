@@ -50,7 +50,9 @@ import stat
 
 import numpy as np
 
-from .._numeric import BudgetError, abbreviate, check_budget, check_choice, check_count, check_positive
+from .._budget import BudgetError, check_budget
+from .._text import abbreviate
+from .._validate import check_choice, check_count, check_positive
 from ..vec import normalize
 from .obj import read_obj
 from .tangents import default_tangents, orthonormal_tangents, sphere_tangents, uv_tangents

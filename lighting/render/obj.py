@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import abbreviate
+from .._text import abbreviate
 
 __all__ = ["read_obj"]
 

@@ -34,11 +34,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_choice, check_color, check_nonnegative, real_array, saturate_to
-from .._text import plural
+from .._text import plural, quote
+from .._validate import ArgumentTypeError, check_choice, check_color, check_nonnegative, real_array
 from ..lights.envlight import environment_terms, split_environment_lights
 from ..lights.punctual import AmbientLight, DirectionalLight, SpotLight
 from ..models.brdf import BRDFSum
+from ..numerics import saturate_to
 from ..shading.batch import accumulate, shade_prepared
 from ..shading.inputs import FORMS, TERMS, Samples, ShadeOptions, check_lights, check_terms, view_vectors
 from ..shading.material import Material, check_material
@@ -52,7 +53,7 @@ _BIG64 = float(np.finfo(np.float64).max)
 def _check_renderer(renderer) -> Renderer:
     if not isinstance(renderer, Renderer):
         raise ArgumentTypeError(f"renderer must be a lighting.render.renderer.Renderer; got {type(renderer).__name__} "
-                                f"{_fmt(renderer)}")  # fmt: skip
+                                f"{quote(renderer)}")  # fmt: skip
     return renderer
 
 
@@ -62,10 +63,10 @@ def _check_bounds(bounds):
     if bounds is None:
         return None
     if isinstance(bounds, (str, bytes)) or not isinstance(bounds, (tuple, list)) or len(bounds) != 2:
-        raise ArgumentTypeError(f"bounds must be {allowed}; got {type(bounds).__name__} {_fmt(bounds)}")
+        raise ArgumentTypeError(f"bounds must be {allowed}; got {type(bounds).__name__} {quote(bounds)}")
     c = real_array("bounds centre", bounds[0], allowed="a finite 3-vector", dtype=np.float64)
     if c.shape != (3,):
-        raise ValueError(f"bounds must be {allowed}; got a centre of shape {c.shape}: {_fmt(bounds)}")
+        raise ValueError(f"bounds must be {allowed}; got a centre of shape {c.shape}: {quote(bounds)}")
     return c, check_nonnegative("bounds radius", bounds[1])
 
 __all__ = ["Plan", "Skip", "compile_plan", "evaluate_full", "bounding_sphere"]
@@ -102,7 +103,7 @@ def bounding_sphere(geometry) -> tuple[np.ndarray, float]:
         return np.asarray(geometry.center, dtype=np.float64), float(geometry.radius)
     if not isinstance(geometry, TriangleMesh):
         raise ArgumentTypeError(f"geometry must be a TriangleMesh or an AnalyticSphere; got {type(geometry).__name__} "
-                                f"{_fmt(geometry)}")  # fmt: skip
+                                f"{quote(geometry)}")  # fmt: skip
     v = np.asarray(geometry.vertices, dtype=np.float64)
     if len(v) == 0:
         return np.zeros(3), 0.0

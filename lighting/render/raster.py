@@ -73,7 +73,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_bool, check_float_dtype
+from .._text import quote
+from .._validate import ArgumentTypeError, check_bool, check_float_dtype
 from .camera import Camera, check_camera
 from .gbuffer import GBuffer, check_image_budget
 from .mesh import TriangleMesh
@@ -244,7 +245,7 @@ def rasterize(mesh: TriangleMesh, camera: Camera, *, cull_backfaces: bool = True
            [0, 0, 0, 0, 0, 0]])
     """
     if not isinstance(mesh, TriangleMesh):
-        raise ArgumentTypeError(f"mesh must be a TriangleMesh; got {type(mesh).__name__} {_fmt(mesh)}")
+        raise ArgumentTypeError(f"mesh must be a TriangleMesh; got {type(mesh).__name__} {quote(mesh)}")
     check_camera(camera)
     cull_backfaces = check_bool("cull_backfaces", cull_backfaces)
     out_dt = check_float_dtype(dtype)

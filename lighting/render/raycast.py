@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import _fmt, check_float_dtype, check_positive, real_array
+from .._text import quote
+from .._validate import check_float_dtype, check_positive, real_array
 from .camera import Camera, check_camera
 from .gbuffer import GBuffer, check_image_budget
 
@@ -64,7 +65,7 @@ def raycast_sphere(camera: Camera, center=(0.0, 0.0, 0.0), radius: float = 1.0, 
     r = check_positive("radius", radius)
     c = real_array("center", center, allowed="one finite 3-vector (x, y, z)", dtype=np.float64)
     if c.shape != (3,):
-        raise ValueError(f"center must be one finite 3-vector (x, y, z); got shape {c.shape}: {_fmt(center)}")
+        raise ValueError(f"center must be one finite 3-vector (x, y, z); got shape {c.shape}: {quote(center)}")
     check_image_budget(camera, RAYCAST_BYTES_PER_PIXEL, "ray casting a sphere")
     # Spheres and cameras near the float range (radius 1e200, an eye 1e308 away) overflow the quadratic's
     # terms: such pixels are misses (or their hits are dropped below), never NaN in the buffer.

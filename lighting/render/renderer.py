@@ -34,9 +34,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import (
+from .._text import quote
+from .._validate import (
     ArgumentTypeError,
-    _fmt,
     check_bool,
     check_choice,
     check_color,
@@ -76,7 +76,7 @@ class AnalyticSphere:
     def __post_init__(self):
         c = real_array("center", self.center, allowed="one finite 3-vector (x, y, z)", dtype=np.float64)
         if c.shape != (3,):
-            raise ValueError(f"center must be one finite 3-vector (x, y, z); got shape {c.shape}: {_fmt(self.center)}")
+            raise ValueError(f"center must be one finite 3-vector (x, y, z); got shape {c.shape}: {quote(self.center)}")
         object.__setattr__(self, "center", tuple(float(x) for x in c))
         object.__setattr__(self, "radius", check_positive("radius", self.radius))
 
@@ -234,7 +234,7 @@ class Renderer:
                 arr = real_array("subset", subset, allowed=f"indices into gbuffer.pixels (integers in [0, {n}))")
             if arr.ndim != 1 or (arr.size and (arr.min() < 0 or arr.max() >= n or np.any(arr != np.floor(arr)))):
                 raise ValueError(f"subset must be a 1-D array of indices into gbuffer.pixels (integers in [0, {n})) "
-                                 f"or None; got {_fmt(subset)}")  # fmt: skip
+                                 f"or None; got {quote(subset)}")  # fmt: skip
             subset = arr.astype(np.int64, copy=False)
         same = (subset is None and self._subset is None) or (
             subset is not None and self._subset is not None and np.array_equal(subset, self._subset)
@@ -640,7 +640,7 @@ class Renderer:
 def _check_geometry(geometry) -> None:
     if not isinstance(geometry, (TriangleMesh, AnalyticSphere)):
         raise ArgumentTypeError(f"geometry must be a TriangleMesh or an AnalyticSphere; got {type(geometry).__name__} "
-                                f"{_fmt(geometry)}")  # fmt: skip
+                                f"{quote(geometry)}")  # fmt: skip
 
 
 def needs_tangents(material: Material) -> bool:

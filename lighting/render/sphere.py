@@ -8,7 +8,8 @@ pixel with exact normals (ray casting, :func:`lighting.render.raster.raycast_sph
 
 from __future__ import annotations
 
-from .._numeric import check_budget, check_count, check_positive
+from .._budget import check_budget
+from .._validate import check_count, check_positive
 from ..shading.equation import Material
 from .camera import MAX_IMAGE_SIDE, Camera
 from .renderer import RENDER_BYTES_PER_PIXEL, AnalyticSphere, Renderer

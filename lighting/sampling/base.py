@@ -17,7 +17,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numeric import _fmt, check_budget, check_count, check_vectors, real_array
+from .._budget import check_budget
+from .._text import quote
+from .._validate import check_count, check_vectors, real_array
 from ..vec import orthonormal_basis
 
 __all__ = [
@@ -72,7 +74,7 @@ def _unit_square(name: str, u) -> np.ndarray:
     allowed = "points of the unit square [0, 1]², shape (..., 2)"
     arr = real_array(name, u, allowed=allowed, dtype=np.float64)
     if arr.shape[-1:] != (2,):
-        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {_fmt(u)}")
+        raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {quote(u)}")
     if arr.size and (np.min(arr) < 0 or np.max(arr) > 1):
         raise ValueError(f"{name} must be {allowed}; got values in [{np.min(arr):.6g}, {np.max(arr):.6g}]")
     return arr
@@ -145,7 +147,7 @@ class Sampler:
     ``[0, 1]``) and view directions ``v`` broadcastable to ``(..., 3)`` (finite
     real vectors); ``pdf(l, v)`` is the density per steradian of the
     directions it produces, on the whole sphere.  Both check their arguments
-    (ValueError naming the parameter; :class:`~lighting._numeric.ArgumentTypeError`
+    (ValueError naming the parameter; :class:`~lighting._validate.ArgumentTypeError`
     for text, complex or objects) and then call ``_sample`` / ``_pdf``, which
     subclasses implement and the integrators call directly on checked data.
     """

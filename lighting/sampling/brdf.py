@@ -45,7 +45,8 @@ import math
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_bool, check_choice, real_array
+from .._text import quote
+from .._validate import ArgumentTypeError, check_bool, check_choice, real_array
 from ..models.base import BRDFFlags
 from ..models.brdf import BRDF, Geometry
 from ..models.lambert import CosineSampler, cosine_hemisphere_pdf, square_to_cosine_hemisphere
@@ -111,9 +112,9 @@ def as_generator(seed=None) -> np.random.Generator:
     if seed is None:
         return np.random.default_rng()
     if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
-        raise ArgumentTypeError(f"seed must be {allowed}; got {type(seed).__name__} {_fmt(seed)}")
+        raise ArgumentTypeError(f"seed must be {allowed}; got {type(seed).__name__} {quote(seed)}")
     if seed < 0:
-        raise ValueError(f"seed must be {allowed}; got {_fmt(seed)}")
+        raise ValueError(f"seed must be {allowed}; got {quote(seed)}")
     return np.random.default_rng(int(seed))
 
 
@@ -164,7 +165,7 @@ def jittered_batch(batch: tuple, count: int, seed=None) -> np.ndarray:
     """
     count = _count("count", count)
     if not isinstance(batch, tuple) or not all(isinstance(k, (int, np.integer)) and k >= 0 for k in batch):
-        raise ArgumentTypeError(f"batch must be a tuple of integers >= 0; got {_fmt(batch)}")
+        raise ArgumentTypeError(f"batch must be a tuple of integers >= 0; got {quote(batch)}")
     _check_size("batch", tuple(int(k) for k in batch) + (count,))
     rng = as_generator(seed)
     kx = math.isqrt(count)
@@ -247,19 +248,19 @@ class MixtureSampler(Sampler):
     def __init__(self, samplers, weights):
         allowed = "a nonempty sequence of Sampler"
         if isinstance(samplers, (str, bytes, Sampler)) or not hasattr(samplers, "__iter__"):
-            raise ArgumentTypeError(f"samplers must be {allowed}; got {type(samplers).__name__} {_fmt(samplers)}")
+            raise ArgumentTypeError(f"samplers must be {allowed}; got {type(samplers).__name__} {quote(samplers)}")
         self.samplers = tuple(samplers)
         if not self.samplers:
             raise ValueError(f"samplers must be {allowed}; got an empty sequence")
         if not all(isinstance(s, Sampler) for s in self.samplers):
-            raise ArgumentTypeError(f"samplers must be {allowed}; got {_fmt(samplers)}")
+            raise ArgumentTypeError(f"samplers must be {allowed}; got {quote(samplers)}")
         if callable(weights):
             self._weights = weights
         else:
             allowed = f"{len(self.samplers)} finite numbers >= 0, not all 0, or a callable"
             w = real_array("weights", weights, allowed=allowed, dtype=np.float64)
             if w.shape != (len(self.samplers),) or np.any(w < 0) or w.sum() <= 0:
-                raise ValueError(f"weights must be {allowed}; got {_fmt(weights)}")
+                raise ValueError(f"weights must be {allowed}; got {quote(weights)}")
             w = w / w.sum()
             self._weights = lambda v: np.broadcast_to(w, np.shape(v)[:-1] + w.shape)
 
@@ -320,7 +321,7 @@ class MixtureSampler(Sampler):
 def _check_brdf(brdf) -> BRDF:
     if not isinstance(brdf, BRDF):
         raise ArgumentTypeError(
-            f"brdf must be a lighting.models.brdf model (Lambert, Phong, ...); got {type(brdf).__name__} {_fmt(brdf)}"
+            f"brdf must be a lighting.models.brdf model (Lambert, Phong, ...); got {type(brdf).__name__} {quote(brdf)}"
         )
     return brdf
 

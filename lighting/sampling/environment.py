@@ -10,8 +10,8 @@ import math
 
 import numpy as np
 
-from .._numeric import safe_div
 from ..lights.latlong import _pixel_rows, latlong_angles, latlong_azimuth, latlong_lookup
+from ..numerics import safe_div
 
 # The image's half-pixel cells: row i and column j cut at the pixel centre into 2 x 2 cells, half row
 # q = 2i (upper) or 2i + 1 (lower) between θ = q π/(2H) and (q + 1) π/(2H), half column s = 2j (left) or

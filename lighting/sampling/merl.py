@@ -31,9 +31,10 @@ import math
 import numpy as np
 
 from .._budget import check_budget
-from .._numeric import check_count, check_range, safe_div
+from .._validate import check_count, check_range
 from ..models.base import BRDF
 from ..models.lambert import cosine_hemisphere_pdf, square_to_cosine_hemisphere
+from ..numerics import safe_div
 from ..vec import normalize
 from .base import Sampler, Samples, _dot
 

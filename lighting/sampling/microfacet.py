@@ -20,8 +20,9 @@ import math
 
 import numpy as np
 
-from .._numeric import check_choice, check_nonnegative, check_positive, safe_div
+from .._validate import check_choice, check_nonnegative, check_positive
 from ..models import microfacet as _mf
+from ..numerics import safe_div
 from ..vec import normalize
 from .base import (
     _TWO_PI,

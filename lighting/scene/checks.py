@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import BudgetError, abbreviate, check_budget
+from .._budget import BudgetError, check_budget
+from .._text import abbreviate
 from ..render.mesh import TriangleMesh
 from .budget import _clamp
 from .errors import SceneBudgetError, SceneError, _describe, _fmt_value, _int_text, _join, _norm_name, _suggest

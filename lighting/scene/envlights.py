@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import os
 
-from .._numeric import BudgetError, check_color
+from .._budget import BudgetError
+from .._validate import check_color
 from ..lights.envfiles import IMAGE_EXTENSIONS, declared_image_size, load_environment
 from ..lights.envlight import EnvironmentLight
 from ..lights.skies import SKIES

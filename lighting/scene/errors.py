@@ -12,7 +12,8 @@ import math
 import numbers
 import re
 
-from .._numeric import BudgetError, abbreviate
+from .._budget import BudgetError
+from .._text import abbreviate
 
 __all__ = ["SceneError", "SceneBudgetError"]
 
@@ -32,7 +33,7 @@ class SceneError(ValueError):
 
     def __init__(self, source: str, key: str, detail: str):
         # One line, of bounded length, whatever the file holds: a 100k-character key or value is cut
-        # (lighting._numeric.abbreviate) and line breaks inside passed-on messages become spaces.
+        # (lighting._text.abbreviate) and line breaks inside passed-on messages become spaces.
         source, key, detail = (" ".join(str(x).splitlines()) for x in (source, key, detail))
         source, key, detail = abbreviate(source, 200), abbreviate(key, 160), abbreviate(detail, 800)
         self.source, self.key, self.detail = source, key, detail
@@ -115,4 +116,4 @@ def _suggest(word: str, candidates) -> str:
 
 class SceneBudgetError(SceneError, BudgetError):
     """A scene (or one of its values) whose estimated memory or work is over the budget
-    (:func:`lighting._numeric.memory_budget`)."""
+    (:func:`lighting._budget.memory_budget`)."""

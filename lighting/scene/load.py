@@ -17,7 +17,9 @@ from dataclasses import replace
 import numpy as np
 
 from .. import vec
-from .._numeric import BudgetError, abbreviate, check_color
+from .._budget import BudgetError
+from .._text import abbreviate
+from .._validate import check_color
 from ..files import file_model, reader_extensions
 from ..models import model_class
 from ..render.camera import Camera

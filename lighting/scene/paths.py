@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 
-from .._numeric import abbreviate
+from .._text import abbreviate
 from .errors import SceneError, _describe, _fmt_value
 from .examples import scene_label
 

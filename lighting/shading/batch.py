@@ -20,10 +20,10 @@ import os
 
 import numpy as np
 
-from .._numeric import working_dtype
 from ..lights.punctual import AmbientLight
 from ..models.base import BRDFFlags
 from ..models.geometry import Geometry
+from ..numerics import working_dtype
 from .inputs import TERMS, Samples, ShadeOptions, check_lights, points_needed_error, positional_lights
 from .material import check_material
 from .separable import stacks

@@ -13,8 +13,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, as_float, check_choice, check_vectors, working_dtype
+from .._text import quote
+from .._validate import ArgumentTypeError, check_choice, check_vectors
 from ..lights.punctual import AmbientLight, DirectionalLight, Light
+from ..numerics import as_float, working_dtype
 from ..vec import length, normalize
 from .material import check_material
 
@@ -41,16 +43,16 @@ def check_lights(lights, name: str = "lights") -> list:
     """
     if isinstance(lights, (Light, AmbientLight)):
         raise ArgumentTypeError(f"{name} must be a sequence of lights; got a single {type(lights).__name__}: "
-                                f"{_fmt(lights)} (wrap it in a list)")  # fmt: skip
+                                f"{quote(lights)} (wrap it in a list)")  # fmt: skip
     if isinstance(lights, (str, bytes, dict)) or not hasattr(lights, "__iter__"):
         raise ArgumentTypeError(f"{name} must be a sequence of lights (AmbientLight, DirectionalLight, ...); "
-                                f"got {type(lights).__name__} {_fmt(lights)}")  # fmt: skip
+                                f"got {type(lights).__name__} {quote(lights)}")  # fmt: skip
     out = list(lights)
     for i, lt in enumerate(out):
         if not isinstance(lt, (Light, AmbientLight)):
             raise ArgumentTypeError(f"{name}[{i}] must be a light (AmbientLight, DirectionalLight, PointLight, "
                                     f"SpotLight, RectLight, DiskLight); got {type(lt).__name__} "
-                                    f"{_fmt(lt)}")  # fmt: skip
+                                    f"{quote(lt)}")  # fmt: skip
     return out
 
 
@@ -69,7 +71,7 @@ def points_needed_error(light) -> ArgumentTypeError:
     """
     i = type(light).__name__
     return ArgumentTypeError(f"points=None is allowed only for ambient and directional lights; {i} needs the "
-                             f"surface positions (points: finite real vectors of shape (..., 3)): {_fmt(light)}")
+                             f"surface positions (points: finite real vectors of shape (..., 3)): {quote(light)}")
 
 
 def positional_lights(lights) -> list:
@@ -100,7 +102,7 @@ def check_terms(terms) -> list:
     """
     if isinstance(terms, (str, bytes, dict, set, frozenset)) or not hasattr(terms, "__iter__"):
         raise ArgumentTypeError(f"terms must be a sequence of names from {TERMS}; got {type(terms).__name__} "
-                                f"{_fmt(terms)}")  # fmt: skip
+                                f"{quote(terms)}")  # fmt: skip
     return [check_choice("terms", t, TERMS) for t in terms]
 
 
@@ -246,7 +248,7 @@ def prepare(points, normals, material, eye, view_dir, lights):
     if (eye is None) == (view_dir is None):
         raise ValueError(
             "give exactly one of eye (viewer position) or view_dir (direction toward a distant viewer); "
-            f"got eye={_fmt(eye)}, view_dir={_fmt(view_dir)}"
+            f"got eye={quote(eye)}, view_dir={quote(view_dir)}"
         )
     n = check_vectors("normals", normals)
     if points is None:
@@ -265,7 +267,7 @@ def prepare(points, normals, material, eye, view_dir, lights):
         e = check_vectors("eye", eye, dtype=np.float64)
         if e.shape != (3,):
             raise ValueError(f"eye must be one finite 3-vector (the viewer's position); got shape {e.shape}: "
-                             f"{_fmt(eye)}")  # fmt: skip
+                             f"{quote(eye)}")  # fmt: skip
     else:
         vd = check_vectors("view_dir", view_dir, nonzero=True)
     shapes = {"points": None if p is None else p.shape, "normals": n.shape,

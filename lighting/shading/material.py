@@ -6,7 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_color
+from .._text import quote
+from .._validate import ArgumentTypeError, check_color
 from ..models.base import BRDF
 
 __all__ = ["Material"]
@@ -36,7 +37,7 @@ class Material:
         if not isinstance(self.brdf, BRDF):
             raise ArgumentTypeError(
                 f"brdf must be a lighting.models.brdf model (Lambert, Phong, ...); got {type(self.brdf).__name__} "
-                f"{_fmt(self.brdf)}"
+                f"{quote(self.brdf)}"
             )
         ka = self.brdf.diffuse_albedo if self.ambient is None else self.ambient
         object.__setattr__(self, "ambient", check_color("ambient", ka))
@@ -71,5 +72,6 @@ def check_material(material) -> Material:
         The same object.
     """
     if not isinstance(material, Material):
-        raise ArgumentTypeError(f"material must be a lighting.Material; got {type(material).__name__} {_fmt(material)}")
+        raise ArgumentTypeError(
+            f"material must be a lighting.Material; got {type(material).__name__} {quote(material)}")
     return material

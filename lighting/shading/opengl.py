@@ -82,7 +82,7 @@ the spot factor is ``max(-VP·ŝ, 0)^{s_rli}`` there.  For every cutoff below
 Exactly on the spot's plane at 90° (``-VP·ŝ = 0``) this module, like the
 specification and Mesa's classic path, counts the vertex as inside; Mesa's
 vertex-program path uses a strict ``>`` there.  ``cos(c_rli)`` is exact at
-0° and 90° (:func:`lighting._numeric.cos_sin_deg`), so ``cos 90°`` is 0,
+0° and 90° (:func:`lighting.numerics.cos_sin_deg`), so ``cos 90°`` is 0,
 not 6.1e-17.
 
 Degenerate cases (the specification leaves them undefined)
@@ -113,17 +113,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._numeric import (
-    ArgumentTypeError,
-    _fmt,
-    check_bool,
-    check_budget,
-    check_count,
-    check_vectors,
-    cos_sin_deg,
-    real_array,
-    working_dtype,
-)
+from .._budget import check_budget
+from .._text import quote
+from .._validate import ArgumentTypeError, check_bool, check_count, check_vectors, real_array
+from ..numerics import cos_sin_deg, working_dtype
 
 __all__ = ["Material", "Light", "shade_vertices", "GL_MAX_SHININESS", "GL_MAX_SPOT_EXPONENT"]
 
@@ -144,7 +137,7 @@ def _rgba(name: str, value) -> tuple[float, float, float, float]:
     allowed = "an RGB triple or RGBA 4-tuple of finite numbers"
     arr = real_array(name, value, allowed=allowed, dtype=np.float64)
     if arr.shape not in ((3,), (4,)):
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}")
+        raise ValueError(f"{name} must be {allowed}; got {quote(value)}")
     if arr.shape == (3,):
         arr = np.append(arr, 1.0)
     return tuple(float(c) for c in arr)
@@ -155,11 +148,11 @@ def _real(name: str, value, allowed: str) -> float:
     if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "fiu":
         value = value.item()
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.integer, np.floating)):
-        raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {_fmt(value)}")
+        raise ArgumentTypeError(f"{name} must be {allowed}; got {type(value).__name__} {quote(value)}")
     try:
         v = float(value)
     except OverflowError:  # a Python int beyond the float range
-        raise ValueError(f"{name} must be {allowed}; got {_fmt(value)}") from None
+        raise ValueError(f"{name} must be {allowed}; got {quote(value)}") from None
     if not math.isfinite(v):
         raise ValueError(f"{name} must be {allowed}; got {v!r}")
     return v
@@ -268,18 +261,18 @@ class Light:
         if pos.shape == (3,):
             pos = np.append(pos, 1.0)
         if pos.shape != (4,):
-            raise ValueError(f"position must be {allowed}; got {_fmt(self.position)}")
+            raise ValueError(f"position must be {allowed}; got {quote(self.position)}")
         if pos[3] == 0.0 and not np.any(pos[:3]):
             raise ValueError(
                 "position must give a nonzero direction (x, y, z) when w = 0 "
-                f"(a directional light); got {_fmt(self.position)}"
+                f"(a directional light); got {quote(self.position)}"
             )
         object.__setattr__(self, "position", tuple(float(c) for c in pos))
 
         allowed = "a nonzero (x, y, z) of finite numbers"
         sd = real_array("spot_direction", self.spot_direction, allowed=allowed, dtype=np.float64)
         if sd.shape != (3,) or not np.any(sd):
-            raise ValueError(f"spot_direction must be {allowed}; got {_fmt(self.spot_direction)}")
+            raise ValueError(f"spot_direction must be {allowed}; got {quote(self.spot_direction)}")
         object.__setattr__(self, "spot_direction", tuple(float(c) for c in sd))
 
         object.__setattr__(
@@ -377,17 +370,17 @@ def _light_list(lights) -> list[Light]:
         return [lights]
     if isinstance(lights, (str, bytes, bytearray, dict)):
         raise ArgumentTypeError(
-            f"lights must be a Light or a sequence of Light; got {type(lights).__name__} {_fmt(lights)}"
+            f"lights must be a Light or a sequence of Light; got {type(lights).__name__} {quote(lights)}"
         )
     try:
         out = list(lights)
     except TypeError:
         raise ArgumentTypeError(
-            f"lights must be a Light or a sequence of Light; got {type(lights).__name__} {_fmt(lights)}"
+            f"lights must be a Light or a sequence of Light; got {type(lights).__name__} {quote(lights)}"
         ) from None
     for i, light in enumerate(out):
         if not isinstance(light, Light):
-            raise ArgumentTypeError(f"lights[{i}] must be a Light; got {type(light).__name__} {_fmt(light)}")
+            raise ArgumentTypeError(f"lights[{i}] must be a Light; got {type(light).__name__} {quote(light)}")
     return out
 
 
@@ -455,7 +448,7 @@ def shade_vertices(
     ValueError
         Naming the argument: non-finite or wrongly shaped positions/normals,
         shapes that do not broadcast, more vertices than the memory budget
-        allows (:func:`lighting._numeric.memory_budget`), a bad
+        allows (:func:`lighting._budget.memory_budget`), a bad
         ``scene_ambient``.  Wrong types (text, complex, booleans as numbers,
         ``None``, a non-Material ``material``, a non-Light entry in
         ``lights``, a non-bool flag) raise ``ArgumentTypeError``, which is both
@@ -473,7 +466,7 @@ def shade_vertices(
     [0.0, 0.0, 0.0, 1.0]
     """
     if not isinstance(material, Material):
-        raise ArgumentTypeError(f"material must be a Material; got {type(material).__name__} {_fmt(material)}")
+        raise ArgumentTypeError(f"material must be a Material; got {type(material).__name__} {quote(material)}")
     lights = _light_list(lights)
     a_cs = np.array(_rgba("scene_ambient", scene_ambient)[:3])
     local_viewer = check_bool("local_viewer", local_viewer)

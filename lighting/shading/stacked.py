@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._numeric import _exponent_in, as_float, log1p, working_dtype
 from ..models.geometry import Geometry, _cached, _unit_sum
+from ..numerics import _exponent_in, as_float, log1p, working_dtype
 from ..vec import normalize
 
 __all__ = ["StackedGeometry"]

@@ -46,7 +46,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._numeric import ArgumentTypeError, _fmt, check_bool, real_array
+from .._text import quote
+from .._validate import ArgumentTypeError, check_bool, real_array
 from ..lights import AmbientLight, DirectionalLight, PointLight, RectLight
 from ..lights.environment import FunctionEnvironment, LatLongEnvironment, latlong_azimuth
 from ..models.brdf import BlinnPhong, CookTorrance, Lambert, Phong
@@ -638,7 +639,7 @@ def study_settings(name: str, quick: bool = False) -> dict:
     """
     quick = check_bool("quick", quick)
     if not isinstance(name, str) or name not in STUDY_SETTINGS:
-        raise ValueError(f"study must be one of {', '.join(STUDY_NAMES)}; got {_fmt(name)}")
+        raise ValueError(f"study must be one of {', '.join(STUDY_NAMES)}; got {quote(name)}")
     cfg = _settings(quick)
     out = {}
     for key in STUDY_SETTINGS[name]:
@@ -681,7 +682,7 @@ def run_studies(*, quick: bool = False, only=None, progress_factory=None) -> lis
     if progress_factory is not None and not callable(progress_factory):
         raise ArgumentTypeError(
             f"progress_factory must be None or a callable (total, label); got {type(progress_factory).__name__} "
-            f"{_fmt(progress_factory)}"
+            f"{quote(progress_factory)}"
         )
     cfg = _settings(quick)
     if only is None:
@@ -691,12 +692,12 @@ def run_studies(*, quick: bool = False, only=None, progress_factory=None) -> lis
     elif hasattr(only, "__iter__") and not isinstance(only, bytes):
         names = tuple(only)
     else:
-        raise ArgumentTypeError(f"only must be None or study names; got {type(only).__name__} {_fmt(only)}")
+        raise ArgumentTypeError(f"only must be None or study names; got {type(only).__name__} {quote(only)}")
     for n in names:
         if not isinstance(n, str):
-            raise ArgumentTypeError(f"only must hold study names ({', '.join(STUDY_NAMES)}); got {_fmt(n)}")
+            raise ArgumentTypeError(f"only must hold study names ({', '.join(STUDY_NAMES)}); got {quote(n)}")
         if n not in STUDY_NAMES:
-            raise ValueError(f"study must be one of {', '.join(STUDY_NAMES)}; got {_fmt(n)}")
+            raise ValueError(f"study must be one of {', '.join(STUDY_NAMES)}; got {quote(n)}")
 
     def bar(total, label):
         if progress_factory is None:
@@ -759,13 +760,13 @@ def summary(studies, thresholds=(1e-2, 1e-3)) -> list[dict]:
     allowed = "error thresholds, finite numbers > 0"
     thr_arr = real_array("thresholds", thresholds, allowed=allowed, dtype=np.float64)
     if thr_arr.ndim != 1 or thr_arr.size == 0 or np.any(thr_arr <= 0):
-        raise ValueError(f"thresholds must be {allowed}, a nonempty 1-D list; got {_fmt(thresholds)}")
+        raise ValueError(f"thresholds must be {allowed}, a nonempty 1-D list; got {quote(thresholds)}")
     thresholds = thr_arr.tolist()
     if isinstance(studies, Study) or not hasattr(studies, "__iter__"):
-        raise ArgumentTypeError(f"studies must be a list of Study (from run_studies); got {_fmt(studies)}")
+        raise ArgumentTypeError(f"studies must be a list of Study (from run_studies); got {quote(studies)}")
     studies = list(studies)
     if not all(isinstance(st, Study) for st in studies):
-        raise ArgumentTypeError(f"studies must be a list of Study (from run_studies); got {_fmt(studies)}")
+        raise ArgumentTypeError(f"studies must be a list of Study (from run_studies); got {quote(studies)}")
     rows = []
     for st in studies:
         cases = sorted({p.case for p in st.points}, key=[p.case for p in st.points].index)

@@ -42,10 +42,10 @@ import math
 
 import numpy as np
 
-from .._numeric import _exponent_in, log1p, saturate_to
 from ..fresnel import dielectric, eta_from_f0
 from ..models import Geometry
 from ..models.base import cos_power
+from ..numerics import _exponent_in, log1p, saturate_to
 from ..vec import normalize
 
 

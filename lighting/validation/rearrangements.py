@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._numeric import cos_sin_deg, safe_div, saturate_to
 from ..models import Geometry
+from ..numerics import cos_sin_deg, safe_div, saturate_to
 from .cases import LIGHT_FORMS
 from .classify import NORMAL
 from .forms import (

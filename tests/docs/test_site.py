@@ -319,7 +319,7 @@ def test_no_rest_left_as_text(site):
     assert len([h for h in api.hrefs if h.startswith("#lighting.")]) > 300
     api_html = (out / "api.html").read_text(encoding="utf-8")
     assert re.search(r'<a class="autorefs autorefs-internal"[^>]*href="#lighting.vec.normalize"><code>', api_html)
-    assert '<span title="lighting._numeric"><code>lighting._numeric</code></span>' in api_html
+    assert '<span title="lighting._budget.memory_budget"><code>lighting._budget.memory_budget</code></span>' in api_html
 
 
 @pytest.mark.slow

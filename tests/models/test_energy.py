@@ -23,7 +23,7 @@ import pytest
 from chi2 import chi2_pvalue
 from quadrature import hemisphere
 
-from lighting._numeric import ArgumentTypeError
+from lighting._validate import ArgumentTypeError
 from lighting.integrate import directional_albedo, hemispherical_albedo
 from lighting.models import energy
 from lighting.models.base import _combine

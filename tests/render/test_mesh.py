@@ -382,7 +382,7 @@ def test_load_keeps_degenerate_triangles_harmlessly(tmp_path):
 def test_generators_refuse_over_the_budget_before_allocating():
     import tracemalloc
 
-    from lighting._numeric import BudgetError
+    from lighting._budget import BudgetError
 
     tracemalloc.start()
     try:
@@ -412,7 +412,7 @@ def test_transforms_with_huge_scales_are_judged_scale_free():
 def test_load_mesh_reads_only_regular_files_and_checks_the_size_first(tmp_path, monkeypatch):
     import os
 
-    from lighting._numeric import BudgetError
+    from lighting._budget import BudgetError
 
     monkeypatch.chdir(tmp_path)  # names as given, whole: a long temporary folder would be abbreviated
     os.mkfifo("fifo.obj")

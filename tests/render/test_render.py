@@ -259,7 +259,8 @@ def test_gouraud_interpolating_saturated_vertex_colours_stays_finite(dtype):
 
 
 def test_renderer_arguments_and_memory_are_checked_before_work():
-    from lighting._numeric import ArgumentTypeError, BudgetError
+    from lighting._budget import BudgetError
+    from lighting._validate import ArgumentTypeError
     from lighting.render.sphere import render_sphere
 
     with pytest.raises(BudgetError, match=r"^size needs about .* \(a 60000x60000 image\), over the memory budget"):

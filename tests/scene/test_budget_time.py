@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import lighting._budget as home
-import lighting._numeric
+import lighting.numerics
 import lighting.scene.budget
 from explorer.commands import render as render_cmd
 from explorer.commands.render import load_with_defines
@@ -81,9 +81,9 @@ def run_cli(argv, capsys):
 
 def test_one_home_for_the_budget():
     # The memory check, the scene's estimate and its refusal are the same objects wherever they are imported from.
-    assert lighting._numeric.check_budget is home.check_budget
-    assert lighting._numeric.BudgetError is home.BudgetError
-    assert lighting._numeric.memory_budget is home.memory_budget
+    assert lighting._budget.check_budget is home.check_budget
+    assert lighting._budget.BudgetError is home.BudgetError
+    assert lighting._budget.memory_budget is home.memory_budget
     assert lighting.scene.budget.check_scene_budget is home.check_scene_budget
     assert lighting.scene.budget.scene_estimate is home.scene_estimate
     assert lighting.scene.budget.PREFILTER_BYTES_PER_PIXEL is home.PREFILTER_BYTES_PER_PIXEL

@@ -41,7 +41,8 @@ POINTS = "".join(f'[[lights]]\ntype = "point"\nposition = [{x}, -3.0, {z}]\ninte
 MC = '[[lights]]\ntype = "environment"\nsource = "daylight"\nmethod = "monte-carlo"\nsamples = {samples}\n'
 
 
-@pytest.mark.parametrize("module", ["lighting._budget", "lighting.scene.budget", "lighting._numeric"])
+@pytest.mark.parametrize("module", ["lighting._budget", "lighting.scene.budget", "lighting._validate",
+                                    "lighting.numerics"])
 def test_the_budget_modules_import_alone(module):
     # No import cycle: each module imports first in a fresh interpreter.
     done = subprocess.run([sys.executable, "-c", f"import {module}"], capture_output=True, text=True, timeout=120)

@@ -30,7 +30,7 @@ import tracemalloc
 import pytest
 
 from explorer.commands import render as render_cmd
-from lighting._numeric import set_memory_budget
+from lighting._budget import set_memory_budget
 from lighting.scene import list_examples
 from lighting.scene.examples import EXAMPLES_DIR
 

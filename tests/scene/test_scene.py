@@ -827,7 +827,7 @@ def budget_error(text, tmp_path, capsys, *extra):
 def test_image_size_samples_and_meshes_are_refused_before_allocating(tmp_path, capsys):
     import tracemalloc
 
-    from lighting._numeric import memory_budget
+    from lighting._budget import memory_budget
 
     assert memory_budget() == 2 * 1024**3
     tracemalloc.start()
@@ -857,7 +857,7 @@ def test_image_size_samples_and_meshes_are_refused_before_allocating(tmp_path, c
 
 
 def test_the_budget_is_the_shared_one_and_raising_it_lets_a_scene_through(tmp_path):
-    from lighting._numeric import set_memory_budget
+    from lighting._budget import set_memory_budget
     from lighting.scene import SceneBudgetError, check_scene_budget, scene_estimate
 
     scene = parse_scene(SMALL.replace("width = 8", "width = 300").replace("height = 8", "height = 200"))

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from lighting import Lambert, Phong
-from lighting._numeric import set_memory_budget
+from lighting._budget import set_memory_budget
 from lighting.files import file_model, load_brdf
 from lighting.files.merl import write_merl
 from lighting.scene import SceneBudgetError, SceneError, load_scene, parse_scene

@@ -10,7 +10,7 @@ import shutil
 import numpy as np
 import pytest
 
-from lighting._numeric import set_memory_budget
+from lighting._budget import set_memory_budget
 from lighting.lights import envfiles
 from lighting.lights.environment import LatLongEnvironment
 from lighting.lights.skies import sky

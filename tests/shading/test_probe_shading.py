@@ -40,7 +40,7 @@ from lighting import (
     shade,
     shade_terms,
 )
-from lighting._numeric import _fmt
+from lighting._text import quote
 from lighting.analysis.machband import edge_jump_metric, luminance, scanline_profile
 from lighting.render.camera import Camera
 from lighting.render.mesh import icosphere
@@ -384,9 +384,9 @@ def _illegal_calls():
     for bad in [[-1], [n_pix], [1.5], ["1"], [[0, 1]], NAN, "0"]:
         add(f"Renderer.restrict(subset={bad!r})", "subset", lambda b=bad: r.restrict(b))
     for bad in [np.full((len(MESH.vertices), 3), NAN), np.zeros((3, 3)), "abc", None, np.zeros(5, complex)]:
-        add(f"GBuffer.interpolate(vertex_values={_fmt(bad)})", "vertex_values", lambda b=bad: gb.interpolate(b))
+        add(f"GBuffer.interpolate(vertex_values={quote(bad)})", "vertex_values", lambda b=bad: gb.interpolate(b))
     for bad in [np.full(MESH.n_triangles, NAN), np.zeros(3), "abc", None]:
-        add(f"GBuffer.per_face(face_values={_fmt(bad)})", "face_values", lambda b=bad: gb.per_face(b))
+        add(f"GBuffer.per_face(face_values={quote(bad)})", "face_values", lambda b=bad: gb.per_face(b))
     for bad in [0, -1, 1.5, "64", None, True, 10**6, 60000]:
         add(f"render_sphere(size={bad!r})", "size", lambda b=bad: render_sphere(MAT, LIGHTS, size=b))
         add(f"sphere_camera(size={bad!r})", "size", lambda b=bad: sphere_camera(b) if b != 60000 else
@@ -404,18 +404,18 @@ def _illegal_calls():
     img = np.zeros((8, 8, 3))
     tid = np.zeros((8, 8), int)
     for bad in ["abc", None, np.zeros((8, 8, 2)), np.full((8, 8, 3), NAN), np.zeros(8, complex), b"12"]:
-        add(f"luminance(image={_fmt(bad)})", "image", lambda b=bad: luminance(b))
-        add(f"scanline_profile(image={_fmt(bad)})", "image", lambda b=bad: scanline_profile(b, 0))
-        add(f"edge_jump_metric(image={_fmt(bad)})", "image", lambda b=bad: edge_jump_metric(b, tid))
+        add(f"luminance(image={quote(bad)})", "image", lambda b=bad: luminance(b))
+        add(f"scanline_profile(image={quote(bad)})", "image", lambda b=bad: scanline_profile(b, 0))
+        add(f"edge_jump_metric(image={quote(bad)})", "image", lambda b=bad: edge_jump_metric(b, tid))
     for bad in [-1, 8, 1.5, "0", None, True]:
         add(f"scanline_profile(row={bad!r})", "row", lambda b=bad: scanline_profile(img, b))
     for bad in [np.ones((4, 4), bool), "abc", np.full((8, 8), NAN)]:
-        add(f"scanline_profile(coverage={_fmt(bad)})", "coverage", lambda b=bad: scanline_profile(img, 0, coverage=b))
+        add(f"scanline_profile(coverage={quote(bad)})", "coverage", lambda b=bad: scanline_profile(img, 0, coverage=b))
     for bad in ["x", 5, -1, True, 1.5, b"r"]:
         add(f"scanline_profile(channel={bad!r})", "channel", lambda b=bad: scanline_profile(img, 0, channel=b))
         add(f"edge_jump_metric(channel={bad!r})", "channel", lambda b=bad: edge_jump_metric(img, tid, channel=b))
     for bad in [np.zeros((4, 4), int), "abc", None, np.full((8, 8), 0.5), np.full((8, 8), NAN)]:
-        add(f"edge_jump_metric(triangle_id={_fmt(bad)})", "triangle_id", lambda b=bad: edge_jump_metric(img, b))
+        add(f"edge_jump_metric(triangle_id={quote(bad)})", "triangle_id", lambda b=bad: edge_jump_metric(img, b))
     for bad in [[8], [-1], [1.5], "0", 5]:
         add(f"edge_jump_metric(rows={bad!r})", "rows", lambda b=bad: edge_jump_metric(img, tid, rows=b))
     for bad in [0, -1, 1.5, "16", None]:

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from lighting import AmbientLight, DirectionalLight, Material, PointLight
-from lighting._numeric import log1p
 from lighting.models.brdf import BlinnPhong, CookTorrance, Geometry, Lambert, Phong
+from lighting.numerics import log1p
 from lighting.render.camera import Camera
 from lighting.render.mesh import sphere_for_triangles
 from lighting.render.renderer import Renderer
