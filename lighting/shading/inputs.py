@@ -270,6 +270,9 @@ def prepare(points, normals, material, eye, view_dir, lights):
                              f"{quote(eye)}")  # fmt: skip
     else:
         vd = check_vectors("view_dir", view_dir, nonzero=True)
+        if vd.shape != (3,):
+            raise ValueError(f"view_dir must be one finite nonzero 3-vector (the direction toward a viewer at "
+                             f"infinity); got shape {vd.shape}: {quote(view_dir)}")  # fmt: skip
     shapes = {"points": None if p is None else p.shape, "normals": n.shape,
               "view_dir": None if view_dir is None else vd.shape}  # fmt: skip
     try:

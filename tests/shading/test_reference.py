@@ -101,3 +101,13 @@ def test_renderer_matches_the_reference_loop(seed, form, dtype):
         else:
             # Colours at the vertices (gouraud) or faces (flat), spread by the same interpolation.
             _check(img, r.spread(mode, ref).astype(np.float64), dtype, sharp)
+
+
+def test_shade_takes_one_view_direction_and_names_any_other_shape():
+    mat = Material(Lambert(0.5))
+    light = [DirectionalLight((0, 0, 1.0))]
+    one = shade(None, (0, 0, 1.0), mat, light, view_dir=(1.0, 2.0, 3.0))
+    np.testing.assert_allclose(one, [0.5, 0.5, 0.5], rtol=1e-15)  # k_d (n·l) with n = l
+    for bad, shape in ((((1.0, 2.0, 3.0),), r"\(1, 3\)"), (np.ones((4, 3)), r"\(4, 3\)")):
+        with pytest.raises(ValueError, match=rf"^view_dir must be one finite nonzero 3-vector .*got shape {shape}"):
+            shade(None, (0, 0, 1.0), mat, light, view_dir=bad)
