@@ -97,7 +97,8 @@ def _one_error_line(err: str) -> str:
 @pytest.mark.parametrize(
     ("argv", "expected", "absent"),
     [
-        (["--size", "100000"], ["--size 100000 needs about", "GiB", "memory budget of 2.0 GiB"], []),
+        (["--size", "20000"], ["--size 20000 needs about", "GiB", "memory budget of 2.0 GiB"], []),
+        (["--size", "100000"], ["--size must be at most 65536x65536 pixels; got 100000x100000"], ["budget"]),
         (["--size", "0"], ["--size must be WIDTHxHEIGHT or N (a square) in pixels, both >= 1 (e.g. 384 or 640x480); "
                            "got '0'"], []),
         (["--exposure", "1e308"], ["--exposure must be a finite number >= -100 and <= 100; got 1e+308"], []),

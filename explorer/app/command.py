@@ -275,16 +275,16 @@ def run(args) -> int:
             compare.add(cls(), os.path.basename(path))
     except (ValueError, OSError) as exc:
         return print_error(exc)
+    off_screen = bool(args.off_screen or args.screenshot)
+    problem = None if off_screen else display_problem()  # before loading Qt and VTK: said at once
+    if problem:
+        print(no_display_message(problem), file=sys.stderr)
+        return 1
     try:
         # The window is Qt's, its 3D view VTK's: the one line names the extra to install.
         require("explore", "PySide6", "pyvista", "pyvistaqt")
     except ValueError as exc:
         return print_error(exc)
-    off_screen = bool(args.off_screen or args.screenshot)
-    problem = None if off_screen else display_problem()
-    if problem:
-        print(no_display_message(problem), file=sys.stderr)
-        return 1
     from ..qt.app import qt_application, run_window
 
     qt_application(off_screen=off_screen)

@@ -52,7 +52,9 @@ def display_problem(timeout: float = DISPLAY_TIMEOUT) -> str | None:
     VTK had set everything up (no message of ours, exit status 0).  The server is asked as
     Xlib asks it, first its socket (``/tmp/.X11-unix/X<n>`` or TCP port ``6000 + n``, within
     ``timeout`` seconds), then ``XOpenDisplay`` (which also checks the X authority).  Without
-    ``DISPLAY``, a Wayland session (``WAYLAND_DISPLAY``) is trusted.  Other systems: ``None``.
+    ``DISPLAY``, the Wayland compositor that ``WAYLAND_DISPLAY`` names must answer on its socket (a
+    name where nobody listens made Qt abort with a page of plugin messages), unless ``QT_QPA_PLATFORM``
+    names another Qt platform, which does not use it.  Other systems: ``None``.
 
     Parameters
     ----------
@@ -68,8 +70,31 @@ def display_problem(timeout: float = DISPLAY_TIMEOUT) -> str | None:
         return None
     display = os.environ.get("DISPLAY")
     if not display:
-        return None if os.environ.get("WAYLAND_DISPLAY") else "no display (DISPLAY/WAYLAND_DISPLAY unset)"
+        wayland = os.environ.get("WAYLAND_DISPLAY")
+        if not wayland:
+            return "no display (DISPLAY/WAYLAND_DISPLAY unset)"
+        platform = os.environ.get("QT_QPA_PLATFORM", "").strip().lower()
+        if platform and not platform.startswith("wayland"):
+            return None  # a Qt platform chosen by name (offscreen, eglfs, ...) does not connect to the compositor
+        return _wayland_problem(wayland, timeout)
     return _x_server_problem(display, timeout)
+
+
+def _wayland_problem(name: str, timeout: float) -> str | None:
+    import socket
+
+    # libwayland's rule: an absolute name is the socket itself, else it lies in XDG_RUNTIME_DIR.
+    runtime = os.environ.get("XDG_RUNTIME_DIR")
+    if not os.path.isabs(name) and not runtime:
+        return f"DISPLAY is unset and WAYLAND_DISPLAY={name} needs XDG_RUNTIME_DIR, which is unset"
+    path = name if os.path.isabs(name) else os.path.join(runtime, name)
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as sock:
+        sock.settimeout(timeout)
+        try:
+            sock.connect(path)
+        except OSError:
+            return f"DISPLAY is unset and no Wayland compositor answers at WAYLAND_DISPLAY={name}"
+    return None
 
 
 def _x_server_problem(display: str, timeout: float) -> str | None:
