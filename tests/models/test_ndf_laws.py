@@ -54,6 +54,12 @@ def _dir(theta, phi=0.0):
 
 def _h_integral(func, alpha, v=None):
     """``∫ func(h) dω_h`` over the upper hemisphere; with ``v``, over the arc of φ where ``v·h > 0``."""
+    h, half, w, th, wt = _h_nodes(alpha, v)
+    return float(np.sum(evaluate(func, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
+
+
+def _h_nodes(alpha, v=None):
+    """The nodes ``h`` of :func:`_h_integral` and the factors of its weights (``half``, ``w``, ``θ``, ``w_θ``)."""
     th, wt = theta_nodes(scale=alpha * 1e-3, panels=60, order=24)
     if v is None or v[2] >= 1:
         half, pv = np.full(th.shape, math.pi), 0.0
@@ -67,7 +73,7 @@ def _h_integral(func, alpha, v=None):
         np.broadcast_arrays(np.sin(th)[:, None] * np.cos(ph), np.sin(th)[:, None] * np.sin(ph), np.cos(th)[:, None]),
         -1,
     )
-    return float(np.sum(evaluate(func, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
+    return h, half, w, th, wt
 
 
 def _s2(h):
@@ -192,7 +198,11 @@ def test_signed_projected_area_holds_for_every_ndf(name, ax, ay):
         d = lambda h: dm.gtr1(h[..., 2], _s2(h), ax)  # noqa: E731
     else:
         d = _ndf(name, ax, ay)[0]
+    # The whole hemisphere's nodes do not depend on the view: D on them once, then each view's integral
+    # exactly as _h_integral(lambda h: d(h) * (h @ v), ...) sums it.
+    h, half, w, th, wt = _h_nodes(min(ax, ay))
+    dh = evaluate(d, h)
     for tv, pv in VIEWS_DEG:
         v = _dir(math.radians(tv), pv)
-        got = _h_integral(lambda h, v=v: d(h) * (h @ v), min(ax, ay))
+        got = float(np.sum(dh * evaluate(lambda x, v=v: x @ v, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
         assert got == pytest.approx(v[2], rel=1e-8, abs=1e-12), (tv, pv)
