@@ -112,12 +112,12 @@ def _concentric_disk(u: np.ndarray):
     b = 2 * u[..., 1] - 1
     first = np.abs(a) > np.abs(b)
     r = np.where(first, a, b)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        phi = np.where(
-            first,
-            (math.pi / 4) * (b / np.where(a != 0, a, 1.0)),
-            (math.pi / 2) - (math.pi / 4) * (a / np.where(b != 0, b, 1.0)),
-        )
+    # a, b lie in [−1, 1] and a zero divisor is replaced by 1: the quotients are finite.
+    phi = np.where(
+        first,
+        (math.pi / 4) * (b / np.where(a != 0, a, 1.0)),
+        (math.pi / 2) - (math.pi / 4) * (a / np.where(b != 0, b, 1.0)),
+    )
     phi = np.where((a == 0) & (b == 0), 0.0, phi)
     return r * np.cos(phi), r * np.sin(phi)
 

@@ -73,9 +73,9 @@ def _cos_dphi(xl, sl, xv, sv):
     its value to a sine clamped at 1).  Both are 0 and 1 where either direction is along ``n``.
     """
     ok = (sl > 0) & (sv > 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a = xl / np.where(ok, sl, 1.0)[..., None]
-        b = xv / np.where(ok, sv, 1.0)[..., None]
+    # Each projection divided by its own length (or by 1 where that is 0): finite, of length <= 1.
+    a = xl / np.where(ok, sl, 1.0)[..., None]
+    b = xv / np.where(ok, sv, 1.0)[..., None]
     cphi = np.clip(_dot(a, b), -1.0, 1.0)
     d = a - np.where(cphi >= 0, 1.0, -1.0)[..., None] * b
     return np.where(ok, cphi, 0.0), np.where(ok, np.minimum(_dot(d, d) / 2, 1.0), 1.0)
