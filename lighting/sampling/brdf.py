@@ -296,10 +296,10 @@ class MixtureSampler(Sampler):
         k = np.minimum(np.sum(u0[..., None] >= cdf, axis=-1), len(self.samplers) - 1)
         lo = np.take_along_axis(cdf, k[..., None], -1)[..., 0] - np.take_along_axis(wk, k[..., None], -1)[..., 0]
         width = np.take_along_axis(wk, k[..., None], -1)[..., 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            u0r = np.clip(
-                np.where(width > 0, (u0 - lo) / np.where(width > 0, width, 1.0), 0.5), 0.0, np.nextafter(1, 0)
-            )
+        # An empty slot's width is replaced by 1: no division by zero.
+        u0r = np.clip(
+            np.where(width > 0, (u0 - lo) / np.where(width > 0, width, 1.0), 0.5), 0.0, np.nextafter(1, 0)
+        )
         ur = np.stack([u0r, np.broadcast_to(u[..., 1], shape)], axis=-1)
         l = np.zeros(shape + (3,))  # noqa: E741
         for i, s in enumerate(self.samplers):

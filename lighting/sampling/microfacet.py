@@ -275,8 +275,8 @@ class VisibleNormalSampler(MicrofacetSampler):
         vs = normalize(np.stack([al * v[..., 0], ay * v[..., 1], v[..., 2]], axis=-1))
         if self.ndf == "ggx":
             lensq = vs[..., 0] ** 2 + vs[..., 1] ** 2
-            with np.errstate(divide="ignore", invalid="ignore"):
-                inv = np.where(lensq > 0, 1 / np.sqrt(np.where(lensq > 0, lensq, 1.0)), 0.0)
+            # 1/√lensq of a positive lensq (even subnormal) is finite; 0 is replaced by 1 before dividing.
+            inv = np.where(lensq > 0, 1 / np.sqrt(np.where(lensq > 0, lensq, 1.0)), 0.0)
             t1 = np.stack([np.where(lensq > 0, -vs[..., 1] * inv, 1.0), np.where(lensq > 0, vs[..., 0] * inv, 0.0),
                            np.zeros_like(lensq)], axis=-1)
             t2 = np.cross(vs, t1)
@@ -293,9 +293,9 @@ class VisibleNormalSampler(MicrofacetSampler):
         # Beckmann: slopes of the stretched configuration, along the view's azimuth and across it.
         sin_t = np.hypot(vs[..., 0], vs[..., 1])
         cos_t = vs[..., 2]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cos_p = np.where(sin_t > 0, vs[..., 0] / np.where(sin_t > 0, sin_t, 1.0), 1.0)
-            sin_p = np.where(sin_t > 0, vs[..., 1] / np.where(sin_t > 0, sin_t, 1.0), 0.0)
+        # sin_t = hypot(vs_x, vs_y) >= |vs_x|, |vs_y| (1 where it is 0): quotients in [−1, 1].
+        cos_p = np.where(sin_t > 0, vs[..., 0] / np.where(sin_t > 0, sin_t, 1.0), 1.0)
+        sin_p = np.where(sin_t > 0, vs[..., 1] / np.where(sin_t > 0, sin_t, 1.0), 0.0)
         sx = _beckmann_slope_x(cos_t, sin_t, u[..., 0])
         sy = _erfinv(2 * np.clip(u[..., 1], 1e-12, 1 - 1e-12) - 1)
         x = al * (cos_p * sx - sin_p * sy)
