@@ -439,20 +439,18 @@ def _directions_and_distances(position: np.ndarray, points: np.ndarray):
     if np.all(fast):
         dist = np.sqrt(len2)
         return d / dist[..., None], dist
-    with np.errstate(divide="ignore", invalid="ignore"):
-        dist = np.sqrt(np.where(fast, len2, 1.0))
-        l = np.where(fast[..., None], d / dist[..., None], 0.0)  # noqa: E741
+    dist = np.sqrt(np.where(fast, len2, 1.0))  # > 1e-145: the division cannot warn
+    l = np.where(fast[..., None], d / dist[..., None], 0.0)  # noqa: E741
     slow = ~fast
     ds = d[slow]
     twice = ~np.all(np.isfinite(ds), axis=-1)
     if np.any(twice):  # the difference itself overflowed: form it from halves (exact for normal numbers)
         ds[twice] = 0.5 * position - 0.5 * p[slow][twice]
     m = np.max(np.abs(ds), axis=-1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(m[..., None] > 0, ds / np.where(m > 0, m, 1.0)[..., None], 0.0)
+    s = np.where(m[..., None] > 0, ds / np.where(m > 0, m, 1.0)[..., None], 0.0)  # finite ds over its max |ds|
     len_s = np.sqrt(s[..., 0] ** 2 + s[..., 1] ** 2 + s[..., 2] ** 2)  # in [1, √3] where m > 0
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        l[slow] = np.where(len_s[..., None] > 0, s / np.where(len_s > 0, len_s, 1.0)[..., None], 0.0)
+    l[slow] = np.where(len_s[..., None] > 0, s / np.where(len_s > 0, len_s, 1.0)[..., None], 0.0)
+    with np.errstate(over="ignore"):  # 2 m √3 overflows for distances near the largest float: saturated
         dist[slow] = np.minimum(np.where(twice, 2.0, 1.0) * m * len_s, _BIG64)
     return l, dist
 
@@ -588,8 +586,7 @@ class SpotLight(PointLight):
             return np.ones_like(cos_a)
         if one_minus is None:
             inside = cos_a >= _cos_deg(self.cutoff_deg)
-            with np.errstate(over="ignore", invalid="ignore"):
-                one_minus = np.maximum(1.0 - cos_a, 0.0)
+            one_minus = np.maximum(1.0 - cos_a, 0.0)  # cos_a finite: 1 − cos_a rounds, never overflows
         else:
             inside = one_minus <= _one_minus_cos_deg(self.cutoff_deg)
         if self.exponent == 0:
