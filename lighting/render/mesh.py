@@ -412,21 +412,22 @@ class TriangleMesh:
 
 
 # ---------------------------------------------------------------------- generators
-def _check_count(name, value, minimum):
-    return check_count(name, value, minimum)
-
-
 #: Peak bytes per triangle while a sphere is generated (measured with tracemalloc: 160–170 for uv and icospheres).
 BYTES_PER_GENERATED_TRIANGLE = 192
 #: Peak bytes per byte of a mesh file while trimesh reads it (measured 5–23 for OBJ, PLY, STL, OFF and GLB).
 BYTES_PER_FILE_BYTE = 32
 
 
-def _sphere_mesh(unit: np.ndarray, faces: np.ndarray, radius, center) -> TriangleMesh:
-    r = check_positive("radius", radius)
+def _sphere_center(center) -> np.ndarray:
+    """The ``center`` of :func:`uv_sphere` and :func:`icosphere`: a finite 3-vector, float64."""
     c = np.asarray(center, dtype=np.float64)
     if c.shape != (3,) or not np.all(np.isfinite(c)):
         raise ValueError(f"center must be a finite 3-vector; got {center!r}")
+    return c
+
+
+def _sphere_mesh(unit: np.ndarray, faces: np.ndarray, r: float, c: np.ndarray) -> TriangleMesh:
+    """The unit sphere ``unit`` scaled by a checked radius ``r`` about a checked centre ``c``."""
     return TriangleMesh(c + r * unit, faces, normals=unit, tangents=sphere_tangents(unit))
 
 
@@ -470,11 +471,12 @@ def uv_sphere(n_lat: int, n_lon: int, radius: float = 1.0, center=(0.0, 0.0, 0.0
     >>> len(m.vertices), m.n_triangles
     (26, 48)
     """
-    n_lat = _check_count("n_lat", n_lat, 2)
-    n_lon = _check_count("n_lon", n_lon, 3)
+    n_lat = check_count("n_lat", n_lat, 2)
+    n_lon = check_count("n_lon", n_lon, 3)
     triangles = 2 * n_lon * (n_lat - 1)
     check_budget(f"n_lat = {n_lat}, n_lon = {n_lon}", float(min(triangles * BYTES_PER_GENERATED_TRIANGLE, 1e300)),
                  what=f"{triangles} triangles")  # fmt: skip
+    radius, center = check_positive("radius", radius), _sphere_center(center)
     theta = np.pi * np.arange(1, n_lat) / n_lat
     phi = 2 * np.pi * np.arange(n_lon) / n_lon
     st, ct = np.sin(theta)[:, None], np.cos(theta)[:, None]
@@ -579,11 +581,12 @@ def icosphere(level: int, radius: float = 1.0, center=(0.0, 0.0, 0.0)) -> Triang
     >>> [icosphere(k).n_triangles for k in range(3)]
     [20, 80, 320]
     """
-    level = _check_count("level", level, 0)
+    level = check_count("level", level, 0)
     if level > 9:
         raise ValueError(f"level must be an integer in 0..9 (level 9 has 5,242,880 triangles); got {level!r}")
     triangles = 20 * 4**level
     check_budget(f"level = {level}", triangles * BYTES_PER_GENERATED_TRIANGLE, what=f"{triangles} triangles")
+    radius, center = check_positive("radius", radius), _sphere_center(center)
     unit = _unit_rows(_ICO_V)
     faces = _ICO_F
     for _ in range(level):
@@ -628,7 +631,7 @@ def sphere_for_triangles(n: int, radius: float = 1.0, center=(0.0, 0.0, 0.0)) ->
     >>> [sphere_for_triangles(n).n_triangles for n in (80, 100, 1000, 5000, 20000)]
     [80, 100, 992, 5120, 20480]
     """
-    n = _check_count("n", n, 8)
+    n = check_count("n", n, 8)
     k = max(0, round(math.log(n / 20, 4)))
     if k <= 9 and abs(20 * 4**k - n) <= 0.1 * n:
         return icosphere(k, radius, center)

@@ -91,8 +91,8 @@ def _raycast_sphere(camera, c, r, dt):
     sq = np.sqrt(disc)
     q = -(b + np.where(b >= 0, sq, -sq))
     cc = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r * r
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_other = np.where(q != 0, cc / np.where(q != 0, q, 1), 0)
+    # q = 0 is replaced by 1 before dividing; overflow and NaN are silenced by raycast_sphere's errstate.
+    t_other = np.where(q != 0, cc / np.where(q != 0, q, 1), 0)
     t_near = np.minimum(q, t_other)
     t_far = np.maximum(q, t_other)
     fw = camera.forward
