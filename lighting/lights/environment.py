@@ -267,6 +267,14 @@ def _image_size(height, width):
     return height, width
 
 
+def _pixel_directions(height: int, width: int) -> np.ndarray:
+    """:meth:`LatLongEnvironment.pixel_directions` for a checked size."""
+    th = (np.arange(height) + 0.5) * (math.pi / height)
+    ph = latlong_azimuth((np.arange(width) + 0.5) * (2 * math.pi / width))
+    st, ct = np.sin(th)[:, None], np.cos(th)[:, None]
+    return np.stack(np.broadcast_arrays(st * np.cos(ph), st * np.sin(ph), ct), axis=-1)
+
+
 class LatLongEnvironment(Environment):
     r"""An equirectangular (latitude–longitude) radiance image.
 
@@ -348,7 +356,7 @@ class LatLongEnvironment(Environment):
         if not callable(func):
             raise ArgumentTypeError(f"func must be a callable directions (H, W, 3) -> radiance; got {quote(func)}")
         height, width = _image_size(height, width)
-        d = cls.pixel_directions(height, width)
+        d = _pixel_directions(height, width)
         vals = np.broadcast_to(np.asarray(func(d), dtype=np.float64), (height, width, 3))
         return cls(vals)
 
@@ -365,11 +373,9 @@ class LatLongEnvironment(Environment):
         ndarray, (height, width, 3)
             Float64 unit directions (see the class notes for the orientation).
         """
-        height, width = _image_size(height, check_count("width", width, 1))
-        th = (np.arange(height) + 0.5) * (math.pi / height)
-        ph = latlong_azimuth((np.arange(width) + 0.5) * (2 * math.pi / width))
-        st, ct = np.sin(th)[:, None], np.cos(th)[:, None]
-        return np.stack(np.broadcast_arrays(st * np.cos(ph), st * np.sin(ph), ct), axis=-1)
+        if width is None:  # required here: refused with the message of any other bad width
+            check_count("width", width, 1)
+        return _pixel_directions(*_image_size(height, width))
 
     def solid_angles(self) -> np.ndarray:
         """Exact solid angle of each pixel: ``(cos θ_top − cos θ_bottom) 2π / W``; sums to 4π.
