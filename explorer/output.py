@@ -39,7 +39,6 @@ import io
 import os
 import signal
 import sys
-import tempfile  # noqa: F401 (the temporary files come from tempfile.mkstemp, which the signal tests wrap here)
 import threading
 
 import numpy as np

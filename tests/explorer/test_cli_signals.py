@@ -1,8 +1,9 @@
 """A stop signal the instant a command's temporary output file appears: no ``.part`` file is left behind.
 
-The file is created by ``tempfile.mkstemp`` in :mod:`explorer.output`; here that call is wrapped so that the
-signal is sent right after the file exists and before the writer has its name, which is the moment where a
-name not yet registered for removal would be lost.  Each test runs the real command (``explorer.cli.main``).
+The file is created by ``tempfile.mkstemp`` (in :func:`lighting.files.images.write_temporary`, which
+:mod:`explorer.output` calls with the stop signals held); here that call is wrapped so that the signal is sent
+right after the file exists and before the writer has its name, which is the moment where a name not yet
+registered for removal would be lost.  Each test runs the real command (``explorer.cli.main``).
 """
 
 from __future__ import annotations
@@ -18,9 +19,7 @@ from explorer import cli
 
 
 def _signal_when_created(monkeypatch, send):
-    """Make every temporary file of explorer.output call ``send()`` the instant it exists; return the names."""
-    import explorer.output
-
+    """Make every temporary file call ``send()`` the instant it exists; return their names."""
     real = tempfile.mkstemp
     made = []
 
@@ -30,7 +29,7 @@ def _signal_when_created(monkeypatch, send):
         send()
         return fd, name
 
-    monkeypatch.setattr(explorer.output.tempfile, "mkstemp", mkstemp_then_signal)
+    monkeypatch.setattr(tempfile, "mkstemp", mkstemp_then_signal)
     return made
 
 
