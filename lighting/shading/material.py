@@ -52,7 +52,8 @@ class Material:
         from ..models.base import _short
 
         fields = [repr(self.brdf)]
-        if not np.array_equal(self.ambient, check_color("ambient", self.brdf.diffuse_albedo)):
+        default = np.broadcast_to(np.asarray(self.brdf.diffuse_albedo, dtype=np.float64), (3,))
+        if not np.array_equal(self.ambient, default):
             fields.append(f"ambient={_short(self.ambient)}")
         if np.any(self.emission != 0):
             fields.append(f"emission={_short(self.emission)}")
