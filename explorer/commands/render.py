@@ -102,13 +102,15 @@ def add_parser(subparsers):
         action="store_true",
         help="print the evaluation plan (what the scene needs) and stop; with -o, also render and write",
     )
+    p.add_argument("--allow-slow", action="store_true",
+                   help="render even when its estimated time is over the time budget (--explain prints the estimate)")
     p.add_argument("--list", action="store_true", help="list the example scenes with their descriptions")
     p.set_defaults(func=run)
     return p
 
 
 def _short(text) -> str:
-    from lighting._numeric import abbreviate
+    from lighting._text import abbreviate
 
     return abbreviate(repr(text))
 
@@ -172,7 +174,7 @@ def load_with_defines(path: str, defines=()):
     try:
         return parse_scene(data, source=scene_label(path), base_dir=os.path.dirname(os.path.abspath(path)))
     except ValueError as exc:
-        from lighting._numeric import abbreviate
+        from lighting._text import abbreviate
 
         key = exc.key if isinstance(exc, SceneError) else ""
         # The -D that set the key at fault (or a table above it, or a value below it); the last one wins.
@@ -192,7 +194,7 @@ def _overlaps(a: str, b: str) -> bool:
 def _check_size(size) -> None:
     """Refuse a ``--size`` before the scene is read: a side longer than a scene's image may have (which no
     budget lifts, so it is named first), or an image of one object over the memory budget."""
-    from lighting._numeric import check_budget
+    from lighting._budget import check_budget
     from lighting.scene import MAX_SCENE_IMAGE_SIDE
     from lighting.scene.budget import BYTES_PER_PIXEL, BYTES_PER_PIXEL_PER_OBJECT
 
@@ -227,6 +229,10 @@ def _run(args) -> int:
     scene = load_with_defines(path, args.defines)
     if args.size:
         scene = scene.with_size(*args.size)
+    if args.allow_slow:
+        from dataclasses import replace
+
+        scene = replace(scene, allow_slow=True)
     check_scene_budget(scene, size_flag=f"--size {args.size[0]}x{args.size[1]}" if args.size else None)
     write = not args.explain or args.out is not None
     if write:
