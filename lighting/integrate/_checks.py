@@ -57,6 +57,5 @@ def _unit_rows(d: np.ndarray, fallback):
     """
     d = d / np.maximum(np.max(np.abs(d), axis=-1, keepdims=True), np.finfo(np.float64).tiny)
     length = np.sqrt(np.sum(d * d, axis=-1, keepdims=True))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d = np.where(length > 0, d / np.where(length > 0, length, 1.0), fallback)
+    d = np.where(length > 0, d / np.where(length > 0, length, 1.0), fallback)  # length in [1, √3] or replaced by 1
     return d, length

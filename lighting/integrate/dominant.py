@@ -739,7 +739,7 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     smooth, deltas = split_delta(brdf)
     if deltas:
         reflectance = delta_albedo(deltas, np.clip(cos_v, 0, 1).astype(np.float64))
-        specular += reflectance * pre.lookup(r, 0.0)
+        specular += reflectance * pre._lookup(r, 0.0, "mirror")
     parts = () if smooth is None else smooth.parts
     if parts:
         dom = dominant_environment(pre)
@@ -784,8 +784,8 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
                     mean[sl], ok[sl] = fis(part, rest, levels, n32[sl], v32[sl], c32[sl], count)
                 if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value
                     miss = ~ok
-                    mean[miss] = rest.lookup(rb[miss], min(sigma, rest.sigmas[-1]),
-                                                 kernel_of_lobe(lobe)).astype(np.float64)  # fmt: skip
+                    mean[miss] = rest._lookup(rb[miss], min(sigma, rest.sigmas[-1]),
+                                              kernel_of_lobe(lobe)).astype(np.float64)  # fmt: skip
                 value += rho * mean
             (diffuse if math.isinf(sigma) else specular)[:] += value * scale
     diffuse[~seen] = 0

@@ -213,7 +213,7 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
     smooth, deltas = split_delta(brdf)
     if deltas:
         reflectance = delta_albedo(deltas, np.clip(cos_v, 0, 1).astype(np.float64)).astype(dt)
-        specular += reflectance * pre.lookup(r, 0.0)
+        specular += reflectance * pre._lookup(r, 0.0, "mirror")
     irradiance = None
     theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
     for part in () if smooth is None else smooth.parts:
@@ -222,10 +222,10 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
         rho = _albedo_at(lobe_albedo(part), theta_v, dt)
         if math.isinf(sigma):
             if irradiance is None:
-                irradiance = pre.irradiance_sh(n) * np.asarray(1 / math.pi, dtype=dt)
+                irradiance = pre._irradiance_sh(n) * np.asarray(1 / math.pi, dtype=dt)
             diffuse += rho * irradiance
         else:
-            specular += rho * pre.lookup(r, min(sigma, pre.sigmas[-1]), kernel_of_lobe(lobe))
+            specular += rho * pre._lookup(r, min(sigma, pre.sigmas[-1]), kernel_of_lobe(lobe))
     diffuse[~seen] = 0
     specular[~seen] = 0
     out_shape = shape[:-1] + (3,)

@@ -549,6 +549,10 @@ class PrefilteredEnvironment:
         d = check_vectors("directions", directions)
         if kernel not in self.families:
             raise ValueError(f"kernel must be one of {', '.join(map(repr, self.families))}; got {quote(kernel)}")
+        return self._lookup(d, sigma, kernel)
+
+    def _lookup(self, d: np.ndarray, sigma, kernel: str) -> np.ndarray:
+        """:meth:`lookup` for finite float directions and a kernel of :attr:`families`: the integrators' path."""
         levels, flat, poles = self.families[kernel], self._flat[kernel], self._poles[kernel]
         dt = working_dtype(d)
         shape = d.shape[:-1]
@@ -584,7 +588,10 @@ class PrefilteredEnvironment:
         -------
         ndarray, (..., 3)
         """
-        n = check_vectors("normals", normals)
+        return self._irradiance_sh(check_vectors("normals", normals))
+
+    def _irradiance_sh(self, n: np.ndarray) -> np.ndarray:
+        """:meth:`irradiance_sh` for finite float normals: the integrators' path."""
         dt = working_dtype(n)
         shape = n.shape
         n = self._base(n.reshape(-1, 3)).astype(dt, copy=False)

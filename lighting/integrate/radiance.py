@@ -55,7 +55,7 @@ from .albedo import METHODS
 from .estimate import _ROUNDING, Estimate, _combine, _mean_err, _ratio, _terms, _weight_range
 from .montecarlo import _ENV_PROBES, _lobe_probes, _method_sampler, _probe_count, _sampled_mean
 from .quadrature import _cap_rule, _coarse_rules, _lobe_rule, _split
-from .sh import _sh_error_bound, _sh_truncation_error, sh_coefficients, sh_irradiance
+from .sh import _sh_coefficients, _sh_error_bound, _sh_irradiance, _sh_truncation_error
 
 __all__ = ["RADIANCE_METHODS", "outgoing_radiance", "point_light_limit"]
 
@@ -270,8 +270,9 @@ def outgoing_radiance(
         pass
     elif method == "sh":
         kd = _lambertian_albedo(smooth)
-        coeffs = sh_coefficients(env, sh_samples, return_error=True)
-        e = sh_irradiance(coeffs.value, n)
+        # sh_samples and the normals are checked and budgeted above (more strictly than sh.py's own checks).
+        coeffs = _sh_coefficients(env, sh_samples, True, time.perf_counter())
+        e = _sh_irradiance(coeffs.value, n, True)
         e_err = _sh_error_bound(coeffs.error, n) + _sh_truncation_error(env, coeffs.value, n, sh_samples)
         val += np.where((valid & (vl[:, 2] > 0))[:, None], kd / math.pi * e, 0.0)
         err = np.where((valid & (vl[:, 2] > 0))[:, None], kd / math.pi * e_err, 0.0)

@@ -147,6 +147,11 @@ def sh_coefficients(environment, samples: int = 4096, *, return_error: bool = Fa
     env = as_environment(environment)
     samples = _samples(samples, 8)
     return_error = check_bool("return_error", return_error)
+    return _sh_coefficients(env, samples, return_error, t0)
+
+
+def _sh_coefficients(env, samples: int, return_error: bool, t0: float):
+    """:func:`sh_coefficients` of a checked environment and sample count; ``t0`` starts the clock."""
     vals = []
     used = 0
     for s in (samples * 4 // 5, max(8, samples // 5)):
@@ -215,9 +220,14 @@ def sh_irradiance(coeffs, normals, *, clamp: bool = True) -> np.ndarray:
     if c.shape not in ((9,), (9, 3)):
         raise ValueError(f"coeffs must be {allowed}; got shape {c.shape}")
     d = check_vectors("normals", normals)
-    dt = working_dtype(d)
     clamp = check_bool("clamp", clamp)
     check_budget("normals", d.size * 8 * 12, what=f"{d.size // 3} normals")
+    return _sh_irradiance(c, d, clamp)
+
+
+def _sh_irradiance(c: np.ndarray, d: np.ndarray, clamp: bool) -> np.ndarray:
+    """:func:`sh_irradiance` of checked float64 coefficients ``(9,)``/``(9, 3)`` and finite float normals."""
+    dt = working_dtype(d)
     scalar = c.ndim == 1
     c = c.reshape(9, -1)
     d, length = _unit_rows(d.astype(np.float64), 0.0)
