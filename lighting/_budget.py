@@ -11,7 +11,7 @@ One home for every budget of the engine:
   line naming the key that costs most and the flag that allows a slow render.
 
 The time is a sum of units of work, each with its cost in :data:`SECONDS_PER`, measured by
-``python -m explorer.budget_costs``.  The names are also importable from :mod:`lighting.numerics` (memory) and
+``python -m explorer.bench.costs``.  The names are also importable from :mod:`lighting.numerics` (memory) and
 :mod:`lighting.scene.budget` (a scene).
 """
 
@@ -158,7 +158,7 @@ BYTES_PER_SAMPLE_EVALUATION = 8
 #: ``allow_slow=True`` when loading a scene), in seconds as :data:`SECONDS_PER` estimates them.
 TIME_LIMIT = 30.0
 
-#: Seconds per unit of work, measured by ``python -m explorer.budget_costs`` (each stage renders a scene built to
+#: Seconds per unit of work, measured by ``python -m explorer.bench.costs`` (each stage renders a scene built to
 #: isolate it and keeps its fastest run; the machine's other work lengthens them, which makes them conservative):
 #: ``render`` and ``pixel``: a render's fixed part and rasterizing, compositing and encoding one pixel of one
 #: object; ``shade KIND``: one light at one shading point for one model part of that kind (an area light counts

@@ -491,7 +491,7 @@ def _module_constants(path: str) -> dict:
 
 def test_the_explorers_timing_constants_and_targets_on_its_page_are_the_codes():
     window = _module_constants("explorer/qt/window.py")
-    targets = _module_constants("explorer/qt/bench.py")["TARGETS_MS"]
+    targets = _module_constants("explorer/bench/window.py")["TARGETS_MS"]
     text = _prose("explorer.md")
     for phrase in (
         f"rested for {window['IDLE_MS']} ms with the button still held (`explorer.qt.window.IDLE_MS`)",

@@ -4,6 +4,7 @@ import json
 import numpy as np
 
 from explorer import bench
+from explorer.commands.bench import main as bench_main
 
 
 def test_bench_scene_is_the_stated_one():
@@ -16,7 +17,7 @@ def test_bench_scene_is_the_stated_one():
 
 def test_bench_json_line_is_consistent(capsys, monkeypatch):
     monkeypatch.setattr(bench, "SIZE", 64)
-    assert bench.main(["--json", "--repeat", "1"]) == 0
+    assert bench_main(["--json", "--repeat", "1"]) == 0
     line = capsys.readouterr().out.strip().splitlines()[-1]
     r = json.loads(line)
     for key in ("reshade_ms", "raster_ms", "raster_shade_ms", "vtk_ms", "reshade_f32_ms"):
@@ -67,7 +68,7 @@ def test_bench_ibl_json_line_is_consistent(capsys, monkeypatch):
     # A 64×32 sky instead of the bench's 512×256 (ibl_frames' own env_height): the same JSON, a fraction
     # of the prefiltering and the Monte-Carlo pass.
     monkeypatch.setattr(bench, "ibl_frames", functools.partial(bench.ibl_frames, env_height=32))
-    assert bench.main(["--ibl", "--json", "--repeat", "1"]) == 0
+    assert bench_main(["--ibl", "--json", "--repeat", "1"]) == 0
     r = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     for key in ("ibl_reshade_ms", "ibl_reshade_f64_ms", "ibl_dominant_ms", "ibl_dominant_setup_ms", "ibl_prefilter_ms",
                 "ibl_mc64_ms"):
@@ -86,5 +87,5 @@ def test_bench_ibl_json_line_is_consistent(capsys, monkeypatch):
 
 
 def test_bench_ibl_and_plan_are_exclusive(capsys):
-    assert bench.main(["--ibl", "--plan"]) == 2
+    assert bench_main(["--ibl", "--plan"]) == 2
     assert "--plan and --ibl" in capsys.readouterr().err

@@ -1,4 +1,8 @@
-"""``lighting-explorer bench``: the engine's image pipeline against VTK, in one run.
+"""The bench, in one place: what ``lighting-explorer bench`` measures (the command is :mod:`explorer.commands.bench`).
+
+This module times the engine's image pipeline against VTK, in one run; :mod:`.window` times the desktop
+window (``bench --app``), and :mod:`.costs` measures the costs behind the render time budget
+(``python -m explorer.bench.costs``).
 
 These numbers, each the median of repeated runs on the machine that runs the command:
 
@@ -356,7 +360,7 @@ APP_RUNS = (
 
 
 def run_app(repeat: int = 15) -> list[dict]:
-    """The desktop window's interactions (:func:`explorer.qt.bench.benchmark_window`), each run in a process.
+    """The desktop window's interactions (:func:`explorer.bench.window.benchmark_window`), each run in a process.
 
     On Qt's ``offscreen`` platform, and in a real X server (``DISPLAY``, else a private Xvfb through
     ``xvfb-run`` when it is installed) with the 3D lobe drawn as VTK images and as pyvistaqt's OpenGL widget.
@@ -377,7 +381,7 @@ def run_app(repeat: int = 15) -> list[dict]:
 
     rows = []
     for platform, view3d, flags, env in APP_RUNS:
-        cmd = [sys.executable, "-m", "explorer.qt.bench", *flags, str(repeat)]
+        cmd = [sys.executable, "-m", "explorer.bench.window", *flags, str(repeat)]
         if env["QT_QPA_PLATFORM"] == "xcb" and not os.environ.get("DISPLAY"):
             xvfb = shutil.which("xvfb-run")
             if xvfb is None:
@@ -473,25 +477,3 @@ def format_plans(rows) -> str:
             f"{r['scene']:22s} {r['pixels']:8d} {r['planned_ms']:9.2f} {r['full_ms']:9.2f} {r['speedup']:8.1f}x"
         )
     return "\n".join(lines)
-
-
-def main(argv=None) -> int:
-    """``lighting-explorer bench`` run alone (the command is :mod:`explorer.commands.bench`).
-
-    Parameters
-    ----------
-    argv : list of str, optional
-        The options (default: ``sys.argv[1:]``).
-
-    Returns
-    -------
-    int
-        The exit status: 0 when done, 2 for a bad option (one line on standard error).
-    """
-    from .commands.bench import main as bench_main
-
-    return bench_main(argv)
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

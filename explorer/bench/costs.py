@@ -1,4 +1,4 @@
-"""Measure the costs behind the render time budget: ``python -m explorer.budget_costs``.
+"""Measure the costs behind the render time budget: ``python -m explorer.bench.costs``.
 
 Renders small scenes built to isolate one stage each (an image of one sphere under ambient light, the same
 sphere under four point lights with one model, under a Monte-Carlo sky, under the split sum and the dominant
@@ -192,7 +192,7 @@ def main(argv=None) -> int:
     int
         0.
     """
-    p = argparse.ArgumentParser(prog="python -m explorer.budget_costs", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m explorer.bench.costs", description=__doc__.splitlines()[0])
     p.add_argument("--repeat", type=int, default=3, help="runs per stage; the fastest counts (default 3)")
     p.add_argument("--json", action="store_true", help="one JSON object instead of the table's lines")
     args = p.parse_args(argv)

@@ -61,8 +61,8 @@ def benchmark_window(repeat: int = 15, window_size=(1280, 768), *, interactive_3
     dict
         The keys above.
     """
-    from .app import qt_application
-    from .window import ExplorerWindow
+    from ..qt.app import qt_application
+    from ..qt.window import ExplorerWindow
 
     app = qt_application()
     window = ExplorerWindow(window_size=window_size, interactive_3d=interactive_3d)
@@ -124,14 +124,14 @@ def benchmark_window(repeat: int = 15, window_size=(1280, 768), *, interactive_3
 
 
 def main(argv=None) -> int:
-    """``python -m explorer.qt.bench [--repeat N] [--opengl-3d]``: one JSON line of :func:`benchmark_window`.
+    """``python -m explorer.bench.window [--repeat N] [--opengl-3d]``: one JSON line of :func:`benchmark_window`.
 
     ``lighting-explorer bench --app`` runs this in processes of their own, one per Qt platform.
     """
     import argparse
     import json
 
-    p = argparse.ArgumentParser(prog="python -m explorer.qt.bench")
+    p = argparse.ArgumentParser(prog="python -m explorer.bench.window")
     p.add_argument("--repeat", type=int, default=15)
     p.add_argument("--opengl-3d", dest="opengl_3d", action="store_true")
     args = p.parse_args(argv)
