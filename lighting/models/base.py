@@ -47,7 +47,7 @@ import numpy as np
 
 from .._budget import check_budget
 from .._text import quote
-from .._validate import ArgumentTypeError, check_color, check_vectors, real_array
+from .._validate import ArgumentTypeError, check_vectors, real_array
 from ..numerics import _exponent_in, log1p, safe_div, saturate_to, working_dtype
 from .geometry import Geometry
 from .protocol import Lobe, Parameter
@@ -145,7 +145,7 @@ def _color(name: str, value, hi: float | None = None) -> np.ndarray:
         raise ValueError(f"{name} must be {allowed}; got shape {arr.shape}: {quote(value)}")
     if np.any(arr < 0) or (hi is not None and np.any(arr > hi)):
         raise ValueError(f"{name} must be {allowed}; got {quote(value)}")
-    return check_color(name, arr)
+    return np.full(3, float(arr)) if arr.ndim == 0 else arr.astype(np.float64)  # an RGB triple, as check_color gives
 
 
 #: Peak bytes per shading point of one public ``eval`` call: the normalized vectors, the cached
