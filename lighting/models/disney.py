@@ -116,8 +116,7 @@ def smith_ggx_aniso_over_2cos(w_local, ax: float, ay: float) -> np.ndarray:
     x, y, z = w_local[..., 0], w_local[..., 1], w_local[..., 2]
     zp = np.maximum(z, 0.0)
     den = zp + np.sqrt((x * ax) ** 2 + (y * ay) ** 2 + zp * zp)
-    with np.errstate(divide="ignore"):
-        return np.where((z > 0) & (den > 0), 1.0 / np.where(den > 0, den, 1.0), 0.0)
+    return np.where((z > 0) & (den > 0), 1.0 / np.where(den > 0, den, 1.0), 0.0)  # no 1/0: 0 is replaced by 1
 
 
 def _schlick_weight(c) -> np.ndarray:
@@ -453,8 +452,7 @@ class Disney(BRDF):
                 # where 1 − F_L = 1 − (1 − n·l)^5 is itself small (5 n·l) and is taken without cancelling.
                 fss = (_one_minus_pow5(nl, fl) + cd2r * fl) * (_one_minus_pow5(nv, fv) + cd2r * fv)
                 s = nl + nv
-                with np.errstate(divide="ignore"):
-                    inv = np.where(s > 0, 1.0 / np.where(s > 0, s, 1.0), 0.0)
+                inv = np.where(s > 0, 1.0 / np.where(s > 0, s, 1.0), 0.0)
                 ss = 1.25 * (fss * (inv - 0.5) + 0.5)
                 diffuse = (1 - self.subsurface) * diffuse + self.subsurface * ss
             k = (1 - self.metallic) * _INV_PI
@@ -499,8 +497,7 @@ def _iso_g_over_2cos(c, s2, a2: float) -> np.ndarray:
     """Isotropic ``G1/(2 cos θ) = 1/(cos θ + √(cos²θ + α² sin²θ))`` (the explorer's ``smithG_GGX``), float64."""
     cp = np.maximum(c, 0.0)
     den = cp + np.sqrt(cp * cp + a2 * s2)
-    with np.errstate(divide="ignore"):
-        return np.where((c > 0) & (den > 0), 1.0 / np.where(den > 0, den, 1.0), 0.0)
+    return np.where((c > 0) & (den > 0), 1.0 / np.where(den > 0, den, 1.0), 0.0)  # no 1/0: 0 is replaced by 1
 
 
 # --------------------------------------------------------------------------- the sampler
@@ -621,8 +618,8 @@ class DisneySampler(Sampler):
         )
         total = np.sum(w, axis=-1, keepdims=True)
         fallback = np.array([1.0, 0.0, 0.0])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(total > 0, w / np.where(total > 0, total, 1.0), fallback)
+        # Weights in [0, 1] over their positive sum (or 1): quotients in [0, 1].
+        return np.where(total > 0, w / np.where(total > 0, total, 1.0), fallback)
 
     # -- half vectors ------------------------------------------------------------------
     def _gtr2_normals(self, u) -> np.ndarray:
@@ -673,8 +670,7 @@ class DisneySampler(Sampler):
         k = np.where((k == 2) & (wc <= 0), np.where(ws > 0, 1, 0), k)
         lo = np.where(k == 0, 0.0, np.where(k == 1, wd, wd + ws))
         width = np.where(k == 0, wd, np.where(k == 1, ws, wc))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ur0 = np.where(width > 0, (u0 - lo) / np.where(width > 0, width, 1.0), 0.5)
+        ur0 = np.where(width > 0, (u0 - lo) / np.where(width > 0, width, 1.0), 0.5)  # an empty slot's width is 1
         ur = np.stack([np.clip(ur0, 0.0, np.nextafter(1.0, 0.0)), u1], axis=-1)
         vb = np.broadcast_to(v, shape + (3,))
         l_cos = _smooth_cosine_directions(ur)
