@@ -134,9 +134,9 @@ class DiskLights:
 
 def _pixel_geometry(h: int, w: int):
     """Pixel-centre unit directions ``(h, w, 3)`` and solid angles ``(h, w)`` of an ``h × w`` lat-long map."""
-    from ..lights.environment import LatLongEnvironment
+    from ..lights.environment import _pixel_directions
 
-    d = LatLongEnvironment.pixel_directions(h, w)
+    d = _pixel_directions(h, w)  # the size of a map that exists: nothing to check or budget
     c = np.cos(np.arange(h + 1) * (math.pi / h))
     omega = np.broadcast_to(((c[:-1] - c[1:]) * (2 * math.pi / w))[:, None], (h, w))
     return d, omega

@@ -68,6 +68,7 @@ from ..lights.environment import (
     ConstantEnvironment,
     Environment,
     LatLongEnvironment,
+    _pixel_directions,
     as_environment,
     latlong_angles,
     latlong_azimuth,
@@ -191,7 +192,7 @@ def _ggx_level(convolve, sigma: float, h0: int, *, fast: bool = False) -> np.nda
         tail = _upsample(tail, h)
     elif ht < h:
         flat = tail.reshape(-1, 4)
-        tail = latlong_lookup(flat, ht, 2 * ht, LatLongEnvironment.pixel_directions(h, 2 * h))
+        tail = latlong_lookup(flat, ht, 2 * ht, _pixel_directions(h, 2 * h))
     return (conv + tail[..., :3]) / (norm[:, None, None] + tail[..., 3:])
 
 
@@ -304,7 +305,7 @@ def _base_image(env: Environment, height: int) -> np.ndarray:
             img = _halve(img)
         if img.shape[0] == height:
             return img
-    d = LatLongEnvironment.pixel_directions(height, 2 * height)
+    d = _pixel_directions(height, 2 * height)  # the callers checked and budgeted this size
     return np.broadcast_to(np.asarray(env._radiance(d), dtype=np.float64), (height, 2 * height, 3)).copy()
 
 
@@ -740,4 +741,4 @@ def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatL
     if factor == 1:
         return LatLongEnvironment(np.maximum(conv, 0.0))
     full = LatLongEnvironment(np.maximum(conv, 0.0))
-    return LatLongEnvironment(full._radiance(LatLongEnvironment.pixel_directions(h, 2 * h)))
+    return LatLongEnvironment(full._radiance(_pixel_directions(h, 2 * h)))

@@ -121,11 +121,11 @@ def _star(c, t1, t2, psi_max, width, n_r: int, n_phi: int, breaks=None, eps=None
         ux, uw = _gl01(n_r)
     else:
         kinks = np.clip(np.concatenate(cuts, axis=-1), 0.0, pm)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            if width is None:
-                ub = np.where(pm > 0, kinks / np.where(pm > 0, pm, 1.0), 0.0)
-            else:
-                ub = np.where(a > 0, np.arcsinh(kinks / width) / np.where(a > 0, a, 1.0), 0.0)
+        # Zero divisors are replaced by 1, and width > 0 (a = arcsinh(pm / width) above): nothing to warn of.
+        if width is None:
+            ub = np.where(pm > 0, kinks / np.where(pm > 0, pm, 1.0), 0.0)
+        else:
+            ub = np.where(a > 0, np.arcsinh(kinks / width) / np.where(a > 0, a, 1.0), 0.0)
         ub = np.sort(np.clip(ub, 0.0, 1.0), axis=-1)
         edges = np.concatenate([np.zeros(ub.shape[:-1] + (1,)), ub, np.ones(ub.shape[:-1] + (1,))], axis=-1)
         x, wx = _gl01(max(min_order, n_r // (edges.shape[-1] - 1)))

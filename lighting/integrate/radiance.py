@@ -382,7 +382,6 @@ def point_light_limit(
         env = SmallPatchEnvironment(ld, om, radiance)
         patch = outgoing_radiance(brdf, env, n, v, method="quadrature", samples=samples)
         point = brdf.eval_cos(n, env.direction, v) * env.irradiance_limit
-        with np.errstate(divide="ignore", invalid="ignore"):
-            rel = np.where(point > 0, np.abs(patch - point) / np.where(point > 0, point, 1.0), np.abs(patch - point))
+        rel = np.where(point > 0, np.abs(patch - point) / np.where(point > 0, point, 1.0), np.abs(patch - point))
         rows.append(PointLimitRow(float(om), patch, point, float(np.max(rel))))
     return rows
