@@ -240,9 +240,10 @@ class CookTorrance(SeparableBRDF):
             refuse.append(f"alpha_x = alpha_y (got {self._ax:g} and {self._ay:g}; the tables are isotropic)")
         if refuse:
             raise ValueError("energy_compensation=True needs " + "; ".join(refuse))
-        table = energy.albedo_table(self.ndf, self.geometry)
-        f_avg = energy.fresnel_average(self.fresnel, self.f0, self.eta, self.k)
-        colour = self.ks * energy.multiple_scattering_colour(f_avg, table.E_avg(self._alpha))
+        # The settings are the model's, checked and refused above where no table applies.
+        table = energy._table(self.ndf, self.geometry, energy.RESOLUTION)
+        f_avg = energy._fresnel_average(self.fresnel, self.f0, self.eta, self.k)
+        colour = self.ks * energy.multiple_scattering_colour(f_avg, table._e_avg(self._alpha))
         return energy.MultipleScattering(table, self._alpha, colour)
 
     def lobe(self):
@@ -282,11 +283,11 @@ class CookTorrance(SeparableBRDF):
 
     def _mixture_sampler(self):
         from ..sampling.brdf import MixtureSampler  # the integrators import the models
-        from .energy import fresnel_average
+        from .energy import _fresnel_average
         from .lambert import CosineSampler
 
         ms = self._ms
-        s = float(np.mean(self.ks * fresnel_average(self.fresnel, self.f0, self.eta, self.k)))
+        s = float(np.mean(self.ks * _fresnel_average(self.fresnel, self.f0, self.eta, self.k)))
         m = float(np.mean(ms.colour))
 
         def weights(v):

@@ -301,9 +301,12 @@ class AlbedoTable:
             ``E_avg`` in (0, 1], of ``alpha``'s shape, in its float dtype (float64 for Python numbers).
         """
         dt = working_dtype(alpha)
-        a = real_array("alpha", alpha, dtype=np.float64)
-        j, ta = self._alpha_cell(a)
-        return np.asarray((1 - ta) * self.average[j] + ta * self.average[j + 1], dtype=dt)
+        return np.asarray(self._e_avg(real_array("alpha", alpha, dtype=np.float64)), dtype=dt)
+
+    def _e_avg(self, a) -> np.ndarray:
+        """:meth:`E_avg` of a checked float64 roughness (the models' path), float64."""
+        j, ta = self._alpha_cell(np.asarray(a, dtype=np.float64))
+        return (1 - ta) * self.average[j] + ta * self.average[j + 1]
 
     def row(self, alpha: float) -> np.ndarray:
         """``E`` at every ``μ`` node for one roughness: what a model interpolates in ``μ``.
@@ -416,10 +419,19 @@ def fresnel_average(fresnel: str, f0, eta=None, k=None) -> np.ndarray:
 
         if eta is None or k is None:
             raise ValueError(f"fresnel_average: fresnel 'conductor' needs eta and k; got eta={eta!r}, k={k!r}")
-        eta = np.broadcast_to(_param("eta", eta, "a finite scalar or RGB triple > 0", lambda a: a > 0), (3,))
-        k = np.broadcast_to(_param("k", k, "a finite scalar or RGB triple >= 0", lambda a: a >= 0), (3,))
+        eta = _param("eta", eta, "a finite scalar or RGB triple > 0", lambda a: a > 0)
+        k = _param("k", k, "a finite scalar or RGB triple >= 0", lambda a: a >= 0)
+        return _fresnel_average(fresnel, None, eta, k)
+    return _fresnel_average(fresnel, check_color("f0", f0), None, None)
+
+
+def _fresnel_average(fresnel: str, f0, eta, k) -> np.ndarray:
+    """:func:`fresnel_average` of checked values (a model's own): ``eta`` and ``k`` for ``"conductor"``, else ``f0``."""
+    if fresnel == "conductor":
+        eta = np.broadcast_to(np.asarray(eta, dtype=np.float64), (3,))
+        k = np.broadcast_to(np.asarray(k, dtype=np.float64), (3,))
         return np.array([_conductor_average(float(e), float(kk)) for e, kk in zip(eta, k, strict=True)])
-    f0 = np.broadcast_to(check_color("f0", f0), (3,)).astype(np.float64)
+    f0 = np.broadcast_to(np.asarray(f0, dtype=np.float64), (3,)).astype(np.float64)
     if fresnel == "none":
         return np.ones(3)
     if fresnel == "schlick":
@@ -509,7 +521,7 @@ class MultipleScattering:
         self.alpha = float(alpha)
         self.colour = np.asarray(colour, dtype=np.float64)
         self._row = 1.0 - table.row(self.alpha)  # 1 − E at the μ nodes
-        self.e_avg = float(table.E_avg(self.alpha))
+        self.e_avg = float(table._e_avg(self.alpha))
         loss = 1.0 - self.e_avg
         self._scale = 1.0 / (math.pi * loss) if loss > 0 else 0.0
 
