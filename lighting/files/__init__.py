@@ -12,7 +12,8 @@ the place in it and what is allowed.  The model a reader returns is a BRDF like 
 one (``eval`` gives ``f_r`` in 1/sr, zero below the horizon).
 
 Image files (PNG, Radiance ``.hdr``, PFM, ``.npy``, OpenEXR) are read and written, with the same
-checks, by :mod:`lighting.files.images`.
+checks, by :mod:`lighting.files.images` (each format in a module of its own: ``png``, ``rgbe``, ``pfm``,
+``npy``, ``exr``).
 
 Examples
 --------

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from lighting._budget import BudgetError, set_memory_budget
-from lighting.files import images
+from lighting.files import images, png
 from lighting.files.images import (
     atomic_write,
     declared_size,
@@ -121,7 +121,7 @@ def test_png_size_is_checked_before_the_pixels_are_decompressed(tmp_path, monkey
         def eof(self):
             return self.z.eof
 
-    monkeypatch.setattr(images.zlib, "decompressobj", Recording)
+    monkeypatch.setattr(png.zlib, "decompressobj", Recording)  # the PNG reader's zlib
     _one_line(read_png, bomb, r"holds more than 1x1 pixels")
     assert seen == [(5, 5)]  # one row of 1 + 3 bytes, plus one byte to see that more follows
     monkeypatch.undo()

@@ -13,7 +13,7 @@ from scipy import stats
 from explorer.output import encode_image
 from lighting import Lambert
 from lighting._budget import BudgetError, set_memory_budget
-from lighting.files import images
+from lighting.files import rgbe
 from lighting.integrate import outgoing_radiance
 from lighting.lights.envfiles import (
     TransformedEnvironment,
@@ -330,8 +330,8 @@ def test_exr_channels_are_assembled_and_checked(tmp_path, monkeypatch):
 
 def test_budget_is_charged_before_the_pixels_are_decoded(tmp_path, monkeypatch):
     decoded = []
-    real = images._rgbe_scanlines  # the RGBE decoder lives with every image format
-    monkeypatch.setattr(images, "_rgbe_scanlines", lambda *a: decoded.append(a[2:]) or real(*a))
+    real = rgbe._rgbe_scanlines  # the RGBE decoder (lighting.files.rgbe)
+    monkeypatch.setattr(rgbe, "_rgbe_scanlines", lambda *a: decoded.append(a[2:]) or real(*a))
     # A 34-byte file declaring the largest allowed image: refused by the default budget, unread.
     p = tmp_path / "big.hdr"
     p.write_bytes(_hdr_header(8192, 16384))
