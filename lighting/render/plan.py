@@ -248,27 +248,26 @@ class Plan:
         scale = 1.0 if self.form == "classic" else 1.0 / math.pi
         planes = [None, None, None]
         big = float(np.finfo(dt).max)
+        out = np.empty((len(nrm), 3), dtype=dt)
+        # The albedo sum, the colours and the planes saturate (finite or +inf, clamped; the unit-vector
+        # dot products in between cannot overflow): one errstate for the whole evaluation.
         with np.errstate(over="ignore"):
             kd = np.minimum(sum((p.diffuse_albedo for p in self.kept_parts), np.zeros(3)), _BIG64)
-        for light in self.kept_lights:
-            ld = light.direction.astype(dt)
-            nl = nrm[:, 0] * ld[0] + nrm[:, 1] * ld[1] + nrm[:, 2] * ld[2]
-            w = np.where(front & (nl > 0), nl, 0).astype(dt, copy=False)
-            # The colour saturates at the dtype's largest value before the cast (a weight of 0 must give 0,
-            # not 0 · inf); the sums of non-negative terms are finite or +inf, clamped below.
-            with np.errstate(over="ignore"):
+            for light in self.kept_lights:
+                ld = light.direction.astype(dt)
+                nl = nrm[:, 0] * ld[0] + nrm[:, 1] * ld[1] + nrm[:, 2] * ld[2]
+                w = np.where(front & (nl > 0), nl, 0).astype(dt, copy=False)
+                # The colour saturates at the dtype's largest value before the cast (a weight of 0 must give 0,
+                # not 0 · inf).
                 colour = np.minimum(kd * light.radiant * scale, big)
-            for ch in range(3):
-                if colour[ch] == 0:
-                    continue
-                with np.errstate(over="ignore"):
+                for ch in range(3):
+                    if colour[ch] == 0:
+                        continue
                     term = w * dt(colour[ch])
                     planes[ch] = term if planes[ch] is None else planes[ch] + term
-        out = np.empty((len(nrm), 3), dtype=dt)
-        constant = saturate_to(self.constant, dt)
-        for ch in range(3):
-            c = constant[ch]
-            with np.errstate(over="ignore"):
+            constant = saturate_to(self.constant, dt)
+            for ch in range(3):
+                c = constant[ch]
                 out[:, ch] = c if planes[ch] is None else planes[ch] + c
         np.minimum(out, big, out=out)
         return out
@@ -365,15 +364,12 @@ def compile_plan(
     # largest float64, like the general path's.
     with np.errstate(over="ignore"):
         ambient = np.minimum(sum((lt.radiant for lt in lights if isinstance(lt, AmbientLight)), np.zeros(3)), _BIG64)
-    if "ambient" in terms:
-        with np.errstate(over="ignore"):
-            reflected = ambient * material.ambient
-        if np.any(reflected):
-            with np.errstate(over="ignore"):
-                constant = np.minimum(constant + reflected * scale, _BIG64)
-        else:
-            why = "no ambient light" if not np.any(ambient) else "the material reflects no ambient light (k_a = 0)"
-            skipped.append(Skip("ambient term", why))
+        reflected = ambient * material.ambient if "ambient" in terms else None
+        if reflected is not None and np.any(reflected):
+            constant = np.minimum(constant + reflected * scale, _BIG64)
+    if "ambient" in terms and not np.any(reflected):
+        why = "no ambient light" if not np.any(ambient) else "the material reflects no ambient light (k_a = 0)"
+        skipped.append(Skip("ambient term", why))
 
     parts = []
     for part in material.brdf.parts:
