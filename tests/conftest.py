@@ -26,28 +26,20 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 
 #: A test file marked slow as a whole says so at the start of a line of its own.
-_SLOW_FILE = re.compile(r"^pytestmark = pytest\.mark\.slow\b", re.MULTILINE)
-#: A fixture made once per module, class or session: its file's tests share it.
-_SHARED_FIXTURE = re.compile(r"@pytest\.fixture\([^)]*scope=\"(?:module|class|package|session)\"")
-
-
+_SLOW_FILE = re.compile(r"^pytestmark = \[?pytest\.mark\.slow\b", re.MULTILINE)
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the groups
 def pytest_collection_modifyitems(config, items):
-    """Keep each file that shares an expensive fixture on one worker; spread every other test one by one.
+    """Keep each test file on one worker, except files marked ``independent``, whose tests are spread one by one.
 
     With ``--dist loadgroup`` (pyproject.toml) pytest-xdist sends the tests of one ``xdist_group`` to the same
-    worker and balances the rest test by test, so a long file of independent tests (the samplers' χ² grids) is
-    shared by both workers while a file that builds a site, a figure set or a window once builds it once.
+    worker and balances the rest test by test.  A file's tests may share what a module, class or session fixture
+    made (a built site, a figure set, a window) or what earlier tests counted (a probe's summary), so a file stays
+    whole unless it says ``pytest.mark.independent`` at its top: a long file of independent tests (the samplers'
+    χ² grids, the 80-digit references) is then shared by both workers.
     """
-    shares = {}
     for item in items:
-        path = item.path
-        if path not in shares:
-            try:
-                shares[path] = bool(_SHARED_FIXTURE.search(path.read_text(encoding="utf-8")))
-            except (OSError, UnicodeDecodeError):
-                shares[path] = False
-        if shares[path]:
-            item.add_marker(pytest.mark.xdist_group(path.name))
+        if item.get_closest_marker("independent") is None:
+            item.add_marker(pytest.mark.xdist_group(item.path.name))
 
 
 def pytest_ignore_collect(collection_path, config):

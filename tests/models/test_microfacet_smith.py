@@ -28,7 +28,8 @@ from lighting.sampling.microfacet import MicrofacetSampler, VisibleNormalSampler
 from lighting.shading.separable import stacks
 from lighting.validation import model_references as mr
 
-pytestmark = pytest.mark.slow  # 80-digit references, quadratures, grazing χ²; fast: test_contract.py
+# 80-digit references, quadratures, grazing χ²; fast: test_contract.py.
+pytestmark = [pytest.mark.slow, pytest.mark.independent]
 
 N = np.array([0.0, 0.0, 1.0])
 NDFS = ("beckmann", "ggx")

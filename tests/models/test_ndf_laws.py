@@ -43,7 +43,8 @@ from lighting.models import microfacet as mf
 from lighting.models.ashikhmin_shirley import AshikhminShirleySampler
 from lighting.models.ward import WardSampler
 
-pytestmark = pytest.mark.slow  # normalization and projected area by quadrature for every NDF
+# Normalization and projected area by quadrature for every NDF.
+pytestmark = [pytest.mark.slow, pytest.mark.independent]
 
 VIEWS_DEG = ((0.0, 0.0), (60.0, 0.4), (85.0, 2.0), (89.0, -0.9))
 
