@@ -200,7 +200,7 @@ def _albedo_normal_incidence_mp(ndf, alpha, geometry):
 
 
 def test_correlated_ggx_albedo_at_normal_incidence_alpha_one_is_one_minus_ln2():
-    # Issue 16 asks for 1 − ln 2 exactly.  It holds: at θ_v = 0, Λ(v) = 0, so G2 = G1(l) (the same as the
+    # The closed form is 1 − ln 2 exactly.  It holds: at θ_v = 0, Λ(v) = 0, so G2 = G1(l) (the same as the
     # separable form), and with α = 1 GGX's D = 1/π, G1(l) = 2 cos 2θ_h / (1 + cos 2θ_h) = cos 2θ_h / cos²θ_h:
     # ρ = ∫_0^{π/4} (1/π) (cos 2θ/cos²θ) cos θ 2π sin θ dθ = ∫_{1/√2}^{1} 2 (2c² − 1)/c dc = 1 − ln 2.
     with mpmath.workdps(40):
