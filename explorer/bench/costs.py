@@ -6,6 +6,10 @@ lights, a measured BRDF's sampler tables, prefiltering a sky) and prints the sec
 stage, as the table :data:`lighting._budget.SECONDS_PER` keeps them.  Each stage runs ``--repeat`` times and the
 fastest run counts (the others wait on the rest of the machine).  The shading stages time a second render of
 the same :class:`~lighting.scene.SceneRenderer`, so rasterizing and prefiltering are left out of them.
+
+``--check`` instead renders four small scenes (point lights, a Monte-Carlo sky, measured data under a sky, the
+split sum) and prints each one's estimated time against its measured time, with the target: within a factor of
+four either way.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ import sys
 import tempfile
 import time
 
-__all__ = ["measure", "main"]
+__all__ = ["measure", "estimate_against_clock", "main"]
 
 _CAMERA = """
 [camera]
@@ -179,6 +183,73 @@ def measure(repeat: int = 3) -> dict:
     return out
 
 
+#: A render's estimate should be within this factor of its measured time, either way.
+CHECK_FACTOR = 4.0
+
+
+def estimate_against_clock(repeat: int = 2) -> list[dict]:
+    """Four small renders' estimated time (:func:`lighting._budget.scene_estimate`) against their measured time.
+
+    Each scene is made afresh for every run (rasterized, prefiltered and shaded anew), and the fastest of
+    ``repeat`` runs counts.  A clock on a shared machine is no test: this is the bench's check, not the suite's.
+
+    Parameters
+    ----------
+    repeat : int, optional
+        Runs per scene (default 2).
+
+    Returns
+    -------
+    list of dict
+        ``{"scene", "estimate_s", "measured_s", "ratio", "within"}`` per scene; ``within`` says whether the ratio
+        is inside ``[1/CHECK_FACTOR, CHECK_FACTOR]``.
+    """
+    import numpy as np
+
+    from lighting._budget import scene_estimate
+    from lighting.files.merl import write_merl
+    from lighting.scene import SceneRenderer, parse_scene
+
+    mc = '[[lights]]\ntype = "environment"\nsource = "daylight"\nmethod = "monte-carlo"\nsamples = {samples}\n'
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        merl = os.path.join(tmp, "m.binary")
+        write_merl(merl, np.full((3, 90, 90, 180), 0.05))
+
+        def spheres(size, parts, lights):
+            return _CAMERA.format(size=size) + _SPHERE.format(parts=parts) + lights
+
+        two, mc32 = '{model = "lambert"}, {model = "cook-torrance"}', mc.format(samples=32)
+        makers = {
+            "point lights": lambda: parse_scene(spheres(160, two, _POINTS)),
+            "Monte Carlo": lambda: parse_scene(spheres(48, '{model = "lambert"}, {model = "phong"}', mc32)),
+            "measured": lambda: parse_scene(spheres(32, ", ".join(['{file = "m.binary"}'] * 4), mc.format(samples=8)),
+                                            base_dir=tmp),
+            "split sum": _split_sum_environment,
+        }  # fmt: skip
+        for label, make in makers.items():
+            estimate = scene_estimate(make())["seconds"]
+            seconds = _best(lambda make=make: SceneRenderer(make()).render(), repeat)
+            ratio = estimate / seconds
+            rows.append({"scene": label, "estimate_s": estimate, "measured_s": seconds, "ratio": ratio,
+                         "within": 1 / CHECK_FACTOR <= ratio <= CHECK_FACTOR})  # fmt: skip
+    return rows
+
+
+def _split_sum_environment():
+    """The ``environment`` example at 280x160 under the split sum."""
+    import tomllib
+
+    from lighting.scene import example_path, parse_scene
+
+    path = example_path("environment")
+    with open(path, "rb") as f:
+        data = tomllib.load(f)
+    data["lights"][0]["method"] = "split-sum"
+    data["image"].update(width=280, height=160)
+    return parse_scene(data, base_dir=os.path.dirname(path))
+
+
 def main(argv=None) -> int:
     """Print the measured costs, one ``"stage": seconds,`` line each (``--json``: one JSON object).
 
@@ -195,7 +266,18 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m explorer.bench.costs", description=__doc__.splitlines()[0])
     p.add_argument("--repeat", type=int, default=3, help="runs per stage; the fastest counts (default 3)")
     p.add_argument("--json", action="store_true", help="one JSON object instead of the table's lines")
+    p.add_argument("--check", action="store_true",
+                   help="estimated against measured time of four small renders, with the target (within 4x)")
     args = p.parse_args(argv)
+    if args.check:
+        rows = estimate_against_clock(max(1, args.repeat))
+        if args.json:
+            print(json.dumps(rows))
+        for r in rows if not args.json else ():
+            verdict = "within" if r["within"] else "OUTSIDE"
+            print(f"{r['scene']:14s} estimate {r['estimate_s']:8.3f} s  measured {r['measured_s']:8.3f} s  "
+                  f"ratio {r['ratio']:5.2f}  {verdict} 1/{CHECK_FACTOR:g}..{CHECK_FACTOR:g}")
+        return 0
     costs = measure(max(1, args.repeat))
     if args.json:
         print(json.dumps(costs))
