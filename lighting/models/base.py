@@ -312,10 +312,6 @@ class BRDF:
     parameters: tuple[Parameter, ...] = ()
     #: Named variants a model list shows as entries of their own: name → fixed keyword arguments.
     variants: dict = {}
-    #: Whether separable forms accept a stacked geometry; False unless a model implements the extension
-    #: (:class:`SeparableBRDF`).  The shading pass asks :func:`lighting.shading.separable.stacks`.
-    stackable = False
-
     def __init_subclass__(cls, **kwargs):
         # The older spelling (``term = "diffuse"``, ``is_delta = True`` … as class attributes) still
         # defines a model: it becomes the class's flags, and the read-only properties answer from them.
@@ -674,6 +670,9 @@ class SeparableBRDF(BRDF):
     ``separable_cos``) and ``stackable`` (default False).  ``eval_cos`` and ``classic`` are the sums of
     those terms, so the shading pass and the public methods compute the same numbers.
     """
+
+    #: Whether the separable forms accept a stacked geometry (:func:`lighting.shading.separable.stacks`).
+    stackable = False
 
     def separable_cos(self, g) -> list[tuple[np.ndarray, np.ndarray]]:
         """``f_r (n·l)`` as ``[(s_k, c_k), ...]`` (:meth:`lighting.shading.separable.Separable.separable_cos`)."""

@@ -47,6 +47,7 @@ def _engine_brdf_stacked(specs, cols, n, l, v, eng):  # noqa: E741
     """
     import warnings
 
+    from ..shading.separable import stacks
     from ..shading.stacked import StackedGeometry
     from ..vec import normalize
 
@@ -57,7 +58,7 @@ def _engine_brdf_stacked(specs, cols, n, l, v, eng):  # noqa: E741
         idx = np.arange(n.shape[0])
         for c, (si, form) in enumerate(cols):
             model = specs[si].model
-            if form not in ("eval_cos", "classic") or not all(p.stackable for p in model.parts):
+            if form not in ("eval_cos", "classic") or not all(stacks(p) for p in model.parts):
                 continue
             fields = model.separable_cos(g) if form == "eval_cos" else model.separable_classic(g)
             with np.errstate(over="ignore"):
