@@ -1,12 +1,12 @@
 """Shared fixtures of the test suite, and the fast loop.
 
 ``python -m pytest`` runs every test, as CI does, and ``python -m pytest -m "not slow"`` is the fast loop; both on
-pytest-xdist's workers, one per core (``-n auto --dist loadgroup`` in pyproject.toml; ``-n 0`` runs in one process,
-handy for a single test or a debugger). The fast loop leaves out each
-test file that says ``pytestmark = pytest.mark.slow`` at its top, with its reason (the seeded probes, the figure
-set, the Mesa comparison, the explorer window, the 80-digit references, the full χ² grids), and the few tests
-marked slow one by one.  A test that would make the loop slower goes whole into such a file,
-``test_<topic>_full.py`` beside its fast ``test_<topic>.py``.
+pytest-xdist's workers, one per core (``-n auto --dist loadfile`` in pyproject.toml: each test file runs whole in
+one worker, so its module fixtures are made once; ``-n 0`` runs in one process, for a single test or a debugger).
+The fast loop leaves out each test file that says ``pytestmark = pytest.mark.slow`` at its top, with its reason (the
+seeded probes, the figure set, the Mesa comparison, the explorer window, the 80-digit references, the full χ²
+grids), and the few tests marked slow one by one. A test that would make the loop slower goes whole into such a
+file, ``test_<topic>_full.py`` beside its fast ``test_<topic>.py``.
 """
 
 import os
@@ -26,20 +26,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 
 #: A test file marked slow as a whole says so at the start of a line of its own.
-_SLOW_FILE = re.compile(r"^pytestmark = \[?pytest\.mark\.slow\b", re.MULTILINE)
-@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the groups
-def pytest_collection_modifyitems(config, items):
-    """Keep each test file on one worker, except files marked ``independent``, whose tests are spread one by one.
-
-    With ``--dist loadgroup`` (pyproject.toml) pytest-xdist sends the tests of one ``xdist_group`` to the same
-    worker and balances the rest test by test.  A file's tests may share what a module, class or session fixture
-    made (a built site, a figure set, a window) or what earlier tests counted (a probe's summary), so a file stays
-    whole unless it says ``pytest.mark.independent`` at its top: a long file of independent tests (the samplers'
-    χ² grids, the 80-digit references) is then shared by both workers.
-    """
-    for item in items:
-        if item.get_closest_marker("independent") is None:
-            item.add_marker(pytest.mark.xdist_group(item.path.name))
+_SLOW_FILE = re.compile(r"^pytestmark = pytest\.mark\.slow\b", re.MULTILINE)
 
 
 def pytest_ignore_collect(collection_path, config):

@@ -9,8 +9,7 @@ from lighting.integrate.prefilter import prefilter_environment
 from lighting.models.brdf import CookTorrance, Lambert
 from lighting.validation.accuracy import ibl_environment, ibl_pixel_errors, ibl_sphere
 
-# A 16,384-spp Monte-Carlo reference on 256 pixels for each of twelve cases.
-pytestmark = [pytest.mark.slow, pytest.mark.independent]
+pytestmark = pytest.mark.slow  # a 16,384-spp Monte-Carlo reference on 256 pixels for each of twelve cases
 
 MODELS = {"Lambert": Lambert(0.8)} | {
     f"GGX α={a}": CookTorrance(1.0, a, 1.0, ndf="ggx", fresnel="none") for a in (0.05, 0.2, 0.5)

@@ -28,8 +28,7 @@ from lighting.sampling.microfacet import MicrofacetSampler, VisibleNormalSampler
 from lighting.shading.separable import stacks
 from lighting.validation import model_references as mr
 
-# 80-digit references, quadratures, grazing χ²; fast: test_contract.py.
-pytestmark = [pytest.mark.slow, pytest.mark.independent]
+pytestmark = pytest.mark.slow  # 80-digit references, quadratures, grazing χ²; fast: test_contract.py
 
 N = np.array([0.0, 0.0, 1.0])
 NDFS = ("beckmann", "ggx")

@@ -43,8 +43,7 @@ from lighting.models import microfacet as mf
 from lighting.models.ashikhmin_shirley import AshikhminShirleySampler
 from lighting.models.ward import WardSampler
 
-# Normalization and projected area by quadrature for every NDF.
-pytestmark = [pytest.mark.slow, pytest.mark.independent]
+pytestmark = pytest.mark.slow  # normalization and projected area by quadrature for every NDF
 
 VIEWS_DEG = ((0.0, 0.0), (60.0, 0.4), (85.0, 2.0), (89.0, -0.9))
 

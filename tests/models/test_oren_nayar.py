@@ -28,8 +28,7 @@ from lighting.models.oren_nayar import OrenNayar
 from lighting.models.protocol import Lobe
 from lighting.validation import model_references as mr
 
-# 80-digit references, quadratures, grazing χ²; fast: test_contract.py.
-pytestmark = [pytest.mark.slow, pytest.mark.independent]
+pytestmark = pytest.mark.slow  # 80-digit references, quadratures, grazing χ²; fast: test_contract.py
 
 FORMS = ("qualitative", "full")
 

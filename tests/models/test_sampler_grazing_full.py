@@ -16,8 +16,7 @@ import pytest
 from chi2 import chi2_test, sidak
 from grazing_cases import VIEWS_DEG, anisotropic, last_degree, registered, roughness_range, view
 
-# Χ² of every sampler at four views; test_sampler_grazing.py is the fast subset.
-pytestmark = [pytest.mark.slow, pytest.mark.independent]
+pytestmark = pytest.mark.slow  # χ² of every sampler at four views; test_sampler_grazing.py is the fast subset
 
 REGISTERED = [pytest.param(s, why, id=name) for name, s, why in registered()]
 ANISOTROPIC = [pytest.param(s, id=name) for name, s in anisotropic()]
