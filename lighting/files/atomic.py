@@ -98,7 +98,10 @@ def write_temporary(path, data, *, guard=None) -> tuple[str, str]:
                 os.fsync(f.fileno())
     except BaseException:
         if fd >= 0:
-            os.close(fd)
+            # A stop signal may land between a close (or fdopen taking the descriptor over) and ``fd = -1``:
+            # then the descriptor is closed already, and EBADF must not hide the exception on its way.
+            with contextlib.suppress(OSError):
+                os.close(fd)
         if tmp is not None:
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
