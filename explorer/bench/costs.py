@@ -42,6 +42,11 @@ _POINTS = "".join(f'[[lights]]\ntype = "point"\nposition = [{x}, -3.0, {z}]\nint
 _SKY = '[[lights]]\ntype = "environment"\nsource = "daylight"\nbackground = false\nmethod = "{method}"\n'
 
 
+def _scene(size: int, parts: str, lights: str = "") -> str:
+    """A scene file's text: one sphere of the given parts, seen at ``size`` x ``size``, under ``lights``."""
+    return _CAMERA.format(size=size) + _SPHERE.format(parts=parts) + lights
+
+
 def _part(kind: str, files: dict) -> str:
     if kind in files:
         return f'{{file = "{files[kind]}"}}'
@@ -110,7 +115,7 @@ def measure(repeat: int = 3) -> dict:
         # An image: rasterizing, compositing and the ambient constant: a fixed part and one per pixel of one object.
         timed = []
         for size in (64, 384):
-            text = _CAMERA.format(size=size) + _SPHERE.format(parts=_part("lambert", files))
+            text = _scene(size, _part("lambert", files))
             text += '[[lights]]\ntype = "ambient"\nintensity = 0.2\n'
             timed.append((size**2, _best(lambda text=text: SceneRenderer(parse_scene(text)).render(), repeat)))
         (n0, t0), (n1, t1) = timed
@@ -120,14 +125,14 @@ def measure(repeat: int = 3) -> dict:
         # One light at one shading point, per model part of each kind.
         for kind in kinds:
             size = 24 if kind == "shader" else 96
-            text = _CAMERA.format(size=size) + _SPHERE.format(parts=_part(kind, files)) + _POINTS
+            text = _scene(size, _part(kind, files), _POINTS)
             seconds, covered = _second_render(text, folder, repeat)
             out[f"shade {kind}"] = seconds / (covered * 4)
 
         # One Monte-Carlo sample at one shading point, per part of each kind (sampler tables built already).
         for kind in kinds:
             size, samples = (12, 4) if kind == "shader" else (32, 16)
-            text = _CAMERA.format(size=size) + _SPHERE.format(parts=_part(kind, files))
+            text = _scene(size, _part(kind, files))
             text += _SKY.format(method="monte-carlo") + f"samples = {samples}\n"
             seconds, covered = _second_render(text, folder, repeat)
             out[f"monte-carlo {kind}"] = seconds / (covered * samples)
@@ -142,8 +147,7 @@ def measure(repeat: int = 3) -> dict:
         from lighting.scene import example_path, load_scene
 
         timed = []
-        for light in (parse_scene(_CAMERA.format(size=8) + _SPHERE.format(parts=_part("lambert", files))
-                                  + _SKY.format(method="split-sum")).lights[0],
+        for light in (parse_scene(_scene(8, _part("lambert", files), _SKY.format(method="split-sum"))).lights[0],
                       load_scene(example_path("environment")).lights[0]):  # fmt: skip
             h = prefilter_height(light.environment)
             timed.append((2 * h * h, _best(lambda env=light.environment: prefilter_environment(env), repeat)))
@@ -161,20 +165,20 @@ def measure(repeat: int = 3) -> dict:
             for lobe, part in parts.items():
                 if method == "split-sum" and lobe == "narrow":
                     continue
-                text = _CAMERA.format(size=64) + _SPHERE.format(parts=part) + _SKY.format(method=method)
+                text = _scene(64, part, _SKY.format(method=method))
                 seconds, covered = _second_render(text, folder, repeat)
                 out[f"{method} {lobe}"] = seconds / covered
 
         # The dominant lights' first frame: finding the lights in a sky (once per environment), and a narrow
         # lobe's table of half vectors (once per part), beyond prefiltering and the frame itself.
         def first(part, roughness=None):
-            text = _CAMERA.format(size=8) + _SPHERE.format(parts=part) + _SKY.format(method="dominant")
+            text = _scene(8, part, _SKY.format(method="dominant"))
             if roughness is not None:  # a lobe not met before: its table is not cached yet
                 text = text.replace("roughness = 0.1", f"roughness = {roughness}")
             return SceneRenderer(parse_scene(text)).render()
 
-        sky_pixels = 2 * prefilter_height(parse_scene(_CAMERA.format(size=8) + _SPHERE.format(parts=parts["diffuse"])
-                                                      + _SKY.format(method="split-sum")).lights[0].environment) ** 2
+        sky = parse_scene(_scene(8, parts["diffuse"], _SKY.format(method="split-sum"))).lights[0]
+        sky_pixels = 2 * prefilter_height(sky.environment) ** 2
         base = out["render"] + out["prefilter"] + sky_pixels * out["prefilter pixel"]
         out["dominant"] = max(_best(lambda: first(parts["diffuse"]), repeat) - base, 0.0)
         rough = iter(0.1 + 0.001 * k for k in range(1, 100))
@@ -216,14 +220,11 @@ def estimate_against_clock(repeat: int = 2) -> list[dict]:
         merl = os.path.join(tmp, "m.binary")
         write_merl(merl, np.full((3, 90, 90, 180), 0.05))
 
-        def spheres(size, parts, lights):
-            return _CAMERA.format(size=size) + _SPHERE.format(parts=parts) + lights
-
         two, mc32 = '{model = "lambert"}, {model = "cook-torrance"}', mc.format(samples=32)
         makers = {
-            "point lights": lambda: parse_scene(spheres(160, two, _POINTS)),
-            "Monte Carlo": lambda: parse_scene(spheres(48, '{model = "lambert"}, {model = "phong"}', mc32)),
-            "measured": lambda: parse_scene(spheres(32, ", ".join(['{file = "m.binary"}'] * 4), mc.format(samples=8)),
+            "point lights": lambda: parse_scene(_scene(160, two, _POINTS)),
+            "Monte Carlo": lambda: parse_scene(_scene(48, '{model = "lambert"}, {model = "phong"}', mc32)),
+            "measured": lambda: parse_scene(_scene(32, ", ".join(['{file = "m.binary"}'] * 4), mc.format(samples=8)),
                                             base_dir=tmp),
             "split sum": _split_sum_environment,
         }  # fmt: skip
