@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 import pytest
+from sphere_scene import one_sphere
 
 from lighting.models import BRDF, Lobe, Parameter, register_model
 from lighting.models.protocol import unregister_model
@@ -114,30 +115,11 @@ def test_polar_slice_and_lobe(minnaert):
     assert np.all(np.isfinite(mesh.vertices)) and mesh.vertices.shape[-1] == 3
 
 
-_SCENE = """
-[camera]
-eye = [0.0, 0.0, 4.0]
-[image]
-width = 32
-height = 32
-[materials.m]
-parts = [PART]
-[[objects]]
-type = "sphere"
-center = [0.0, 0.0, 0.0]
-radius = 1.0
-material = "m"
-[[lights]]
-type = "directional"
-direction = [0.3, 0.5, 1.0]
-"""
-
-
 def test_scene_file_loads_renders_and_writes_it_back(minnaert):
     from lighting.scene import parse_scene, render_scene, scene_to_toml
 
-    scene = parse_scene(_SCENE.replace("PART", '{model = "test-minnaert", kd = 0.7, k = 1.0}'))
-    lambert = parse_scene(_SCENE.replace("PART", '{model = "lambert", kd = 0.7}'))
+    scene = parse_scene(one_sphere('{model = "test-minnaert", kd = 0.7, k = 1.0}', size=32))
+    lambert = parse_scene(one_sphere('{model = "lambert", kd = 0.7}', size=32))
     image, reference = np.asarray(render_scene(scene)[0]), np.asarray(render_scene(lambert)[0])
     assert reference.max() > 0.1
     # Minnaert at k = 1 is Lambert: the same image, pixel for pixel (to rounding).

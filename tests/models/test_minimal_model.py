@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from sphere_scene import one_sphere
 
 from lighting.models import BRDF, Parameter, register_model
 from lighting.models.base import BRDFFlags
@@ -143,30 +144,11 @@ def test_shading_falls_back_to_the_channels():
     np.testing.assert_allclose(np.stack([s for s, _ in fields], axis=-1), RHO * np.cos(THETA)[:, None], rtol=1e-12)
 
 
-_SCENE = """
-[camera]
-eye = [0.0, 0.0, 4.0]
-[image]
-width = 24
-height = 24
-[materials.m]
-parts = [PART]
-[[objects]]
-type = "sphere"
-center = [0.0, 0.0, 0.0]
-radius = 1.0
-material = "m"
-[[lights]]
-type = "directional"
-direction = [0.3, 0.5, 1.0]
-"""
-
-
 def test_a_scene_renders_it_as_lambert(registered):
     from lighting.scene import parse_scene, render_scene
 
-    minimal = parse_scene(_SCENE.replace("PART", '{model = "test-minimal-constant", rho = [0.6, 0.3, 0.9]}'))
-    lambert = parse_scene(_SCENE.replace("PART", '{model = "lambert", kd = [0.6, 0.3, 0.9]}'))
+    minimal = parse_scene(one_sphere('{model = "test-minimal-constant", rho = [0.6, 0.3, 0.9]}'))
+    lambert = parse_scene(one_sphere('{model = "lambert", kd = [0.6, 0.3, 0.9]}'))
     image, reference = np.asarray(render_scene(minimal)[0]), np.asarray(render_scene(lambert)[0])
     assert reference.max() > 0.1 and np.count_nonzero(reference.max(axis=-1) > 0) > 100
     np.testing.assert_allclose(image, reference, rtol=1e-12, atol=1e-15)
