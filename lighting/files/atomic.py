@@ -76,32 +76,33 @@ def write_temporary(path, data, *, guard=None) -> tuple[str, str]:
     path = os.fspath(path)
     target = os.path.realpath(path) if os.path.islink(path) else os.path.abspath(path)
     mode = file_mode(target)
-    fd, tmp = -1, None
+    hold = guard if guard is not None else contextlib.nullcontext
+    fd, tmp, f = -1, None, None
     try:
-        with guard() if guard is not None else contextlib.nullcontext():
+        # The descriptor is owned by a file object before the guard lets a stop signal in: a signal landing
+        # between a bare descriptor and the object made from it would leave one of them open or closed twice.
+        with hold():
             fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", suffix=".part",
                                        dir=os.path.dirname(target))  # fmt: skip
-        os.fchmod(fd, mode)
+            f = os.fdopen(fd, "wb")
+        os.fchmod(f.fileno(), mode)
         if callable(data):
-            os.close(fd)
-            fd = -1
+            f.close()
             data(tmp)
-            fd = os.open(tmp, os.O_RDONLY)
-            os.fsync(fd)
-            os.close(fd)
-            fd = -1
+            with hold():
+                f = open(tmp, "rb")  # closed below, or on the way out
+            os.fsync(f.fileno())
         else:
-            with os.fdopen(fd, "wb") as f:
-                fd = -1
-                f.write(data)
-                f.flush()
-                os.fsync(f.fileno())
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        f.close()
     except BaseException:
-        if fd >= 0:
-            # A stop signal may land between a close (or fdopen taking the descriptor over) and ``fd = -1``:
-            # then the descriptor is closed already, and EBADF must not hide the exception on its way.
-            with contextlib.suppress(OSError):
-                os.close(fd)
+        if f is not None:
+            with contextlib.suppress(OSError):  # closing twice is allowed; a failed flush must not hide the cause
+                f.close()
+        elif fd >= 0:
+            os.close(fd)
         if tmp is not None:
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
