@@ -4,6 +4,7 @@ import csv
 import io
 import math
 
+import numpy as np
 import pytest
 
 from lighting.analysis.audit import AuditCase, audit, default_cases, direction_pairs
@@ -222,3 +223,49 @@ def test_a_delta_inside_a_sum():
     assert (
         r.plausible and r.albedo_max == pytest.approx(0.75, rel=1e-12) and r.albedo_error < 1e-9
     )  # Lambert's quadrature
+
+
+# --------------------------------------------------------------------------- metals
+_METAL_LABELS = [f"C-T {name} α=0.3" for name in ("gold", "silver", "copper", "aluminium", "chromium")]
+
+
+def test_the_default_cases_end_with_one_row_per_named_metal():
+    from lighting.analysis.audit import metal_cases
+    from lighting.models.fresnel import METALS
+
+    labels = [c.label for c in default_cases()]
+    assert labels[-len(METALS) :] == _METAL_LABELS == [c.label for c in metal_cases()]
+    for case, name in zip(metal_cases(), METALS, strict=True):
+        (part,) = case.brdf.parts
+        assert (part.fresnel, part.metal, part.ndf, part.geometry) == ("conductor", name, "ggx", "smith-correlated")
+
+
+@pytest.mark.parametrize("label", _METAL_LABELS)
+def test_metals_are_plausible_and_take_energy_per_channel(table, label):
+    """F in [0, 1]: a metal reflects at most the F = 1 lobe, and at normal view about its largest F0 times it."""
+    from lighting.integrate import albedo_curve
+    from lighting.models import create_model
+    from lighting.models.fresnel import conductor, conductor_f0, metal_index
+
+    r = table[label]
+    assert r.plausible and r.min_value > 0 and r.reciprocity < 1e-12
+    one = create_model("cook-torrance", ks=1.0, roughness=0.3, f0=1.0, ndf="ggx", geometry="smith-correlated",
+                       fresnel="none")  # fmt: skip
+    ref = audit([("F=1", one)])["F=1"]
+    assert r.albedo_max <= ref.albedo_max + r.albedo_error + ref.albedo_error
+    f0 = conductor_f0(*metal_index(label.split()[1]))
+    assert r.albedo_normal == pytest.approx(float(f0.max()) * ref.albedo_normal, rel=3e-3)
+    # Per channel, at every view angle: the metal's albedo lies between F's least and largest value over
+    # incidence (F dips below F0 near the pseudo-Brewster angle, then rises to 1) times the F = 1 albedo.
+    f = conductor(np.linspace(0.0, 1.0, 20001), *metal_index(label.split()[1]))
+    theta = np.radians([0.0, 30.0, 60.0, 80.0, 89.0])
+    metal = albedo_curve(table_case(label), theta, 4096)
+    plain = albedo_curve(one, theta, 4096)
+    slack = metal.error + plain.error + 1e-12
+    assert np.all(metal.albedo <= plain.albedo + slack)
+    assert np.all(metal.albedo >= f.min(axis=0) * plain.albedo - slack)
+    assert np.all(metal.albedo[0] >= 0.99 * f0 * plain.albedo[0])
+
+
+def table_case(label):
+    return next(c.brdf for c in default_cases() if c.label == label)
