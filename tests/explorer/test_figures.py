@@ -1,7 +1,7 @@
 """The lecture-note figure set: every figure is written, valid, not blank, reproducible; the command's errors.
 
-The whole set is drawn once in quick mode (module fixture, ~20 s) and the deterministic part a second
-time; the numbers each figure measured while drawing are checked against the laws they illustrate.
+The whole set is drawn once in quick mode (module fixture) and a second time from the installed wheel; the
+numbers each figure measured while drawing are checked against the laws they illustrate.
 """
 
 from __future__ import annotations
@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 
 import numpy as np
 import pytest
@@ -17,6 +18,8 @@ pytestmark = pytest.mark.slow  # draws the whole lecture-note figure set
 
 PIL = pytest.importorskip("PIL.Image")
 pytest.importorskip("matplotlib")
+
+from installed_wheel import install_wheel, run_command  # noqa: E402
 
 from explorer import figures  # noqa: E402
 
@@ -73,12 +76,28 @@ def test_every_file_is_a_valid_image_of_the_stated_size_and_not_blank(quick_set)
         assert np.unique(packed).size > 16, rec["name"]
 
 
-def test_two_runs_give_identical_pixels(quick_set, tmp_path):
+def test_the_installed_package_draws_the_same_set_pixel_for_pixel(quick_set, tmp_path_factory):
+    # A second run, from the wheel installed in a fresh virtual environment: the whole set draws from the
+    # package's own files, and every deterministic figure is the same image, byte for byte, as this process drew.
     out, _, manifest = quick_set
-    again = [r["name"] for r in manifest["figures"] if r["deterministic"]]
-    figures.generate(tmp_path, formats=("png",), quick=True, only=again)
-    for name in again:
-        a, b = out / f"{name}.png", tmp_path / f"{name}.png"
+    bin_dir, work, _ = install_wheel(tmp_path_factory.mktemp("installed"))
+    again = work / "figures"
+    env = dict(os.environ, LIGHTING_EXPLORER_CACHE=str(work / "cache"))
+    command = [str(bin_dir / "lighting-explorer"), "figures", "--quick", "--out", str(again)]
+    res = run_command(command, cwd=work, env=env)
+    names = figures.figure_names()
+    assert f"wrote {len(names)} figures" in res.stdout
+    installed = json.loads((again / "figures.json").read_text(encoding="utf-8"))
+    assert [r["name"] for r in installed["figures"]] == names
+    for rec in installed["figures"]:
+        png = (again / rec["files"]["png"]).read_bytes()
+        assert png[:8] == b"\x89PNG\r\n\x1a\n"
+        assert (int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")) == tuple(rec["size_px"])
+    deterministic = {r["name"] for r in installed["figures"] if r["deterministic"]}
+    same = [r["name"] for r in manifest["figures"] if r["deterministic"] and r["name"] in deterministic]
+    assert len(same) >= len(names) - 6  # only the figures that plot measured run times may differ
+    for name in same:
+        a, b = out / f"{name}.png", again / f"{name}.png"
         assert np.array_equal(_pixels(a), _pixels(b)), name
         assert a.read_bytes() == b.read_bytes(), name  # no date or version stamp either
 
