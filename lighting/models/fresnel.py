@@ -7,6 +7,7 @@ parameters as a trailing axis of length 3 when given a triple.
 from __future__ import annotations
 
 import difflib
+import math
 from types import MappingProxyType
 
 import numpy as np
@@ -179,11 +180,14 @@ def conductor(cos_theta_i, eta, k) -> np.ndarray:
     :func:`dielectric` for light arriving from outside (``cos θ_i >= 0``).  A conductor is lit from
     outside only: ``cos_theta_i`` below 0 is taken as ``|cos θ_i|``.
 
-    Written without dividing by ``ñ`` (``w`` instead of ``cos θ_t``), with ``ñ² − sin²θ_i`` as
-    ``(η − 1)(η + 1) − k² + cos²θ_i + 2iηk`` and with ``|x ∓ w|²`` in real arithmetic, so that the result
-    stays accurate at grazing incidence for indices near 1 and finite for any finite ``η > 0``,
-    ``k >= 0``: where ``|ñ|`` is so large or so small that a coefficient overflows or becomes 0/0, ``F``
-    takes its limit there, 1 (as :func:`dielectric` does at grazing incidence for ``η = 1``).
+    Written without dividing by ``ñ`` (``w`` instead of ``cos θ_t``), with the real part of ``ñ² − sin²θ_i``
+    as ``(η − 1)(η + 1) − k² + cos²θ_i`` or ``η² − k² − (1 − cos θ_i)(1 + cos θ_i)``, whichever has the smaller
+    terms, and with ``|x ∓ w|²`` in real arithmetic, so that the result stays accurate at grazing incidence
+    for indices near 1 and at normal incidence for small ``η``.  From ``max(η, k) = 2^500`` on, where ``ñ²``
+    could overflow, numerators and denominators are divided by ``ñ`` instead, so that a huge index keeps its
+    pseudo-Brewster dip near ``cos θ_i = 1/|ñ|``.  The result is finite for any finite ``η > 0``,
+    ``k >= 0``; where a coefficient is 0/0 or underflows, ``F`` takes its limit there, 1 (as
+    :func:`dielectric` does at grazing incidence for ``η = 1``).
 
     Parameters
     ----------
@@ -235,11 +239,19 @@ def _conductor(c, eta, k) -> np.ndarray:
         eta, k = np.broadcast_to(eta, (3,)), np.broadcast_to(k, (3,))
         return np.stack([_conductor(c, eta[i], k[i]) for i in range(3)], axis=-1)
     eta, k = float(eta), float(k)
+    if max(eta, k) >= _HUGE_INDEX:
+        return _conductor_huge(c, eta, k)
     with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
         n = np.complex128(complex(eta, k))
         n2 = n * n
-        # ñ² − sin²θ_i = (η − 1)(η + 1) − k² + cos²θ_i + 2iηk: no cancellation of 1 − sin²θ_i near grazing.
-        w = np.sqrt(((eta - 1) * (eta + 1) - k * k + c * c) + 2j * eta * k)
+        # Re(ñ² − sin²θ_i) + k² = η² − sin²θ_i, from the two terms of smaller magnitude: (η − 1)(η + 1) + cos²θ_i
+        # where η² and sin²θ_i are both near 1 (near grazing for indices near 1), η² − (1 − c)(1 + c) where
+        # η² − 1 and cos²θ_i are (small η near normal incidence): each term is accurate, and the one sum
+        # cancels at most as much as the value itself requires.
+        s2 = (1 - c) * (1 + c)
+        e2m1 = (eta - 1) * (eta + 1)
+        re = np.where(abs(e2m1) + c * c <= eta * eta + s2, e2m1 + c * c, eta * eta - s2)
+        w = np.sqrt((re - k * k) + 2j * eta * k)
         ar, ai = n2.real * c, n2.imag * c
         # |x − w|² / |x + w|² in real arithmetic: exactly 1 at grazing incidence (x = 0), no complex division.
         wr, wi = w.real, w.imag
@@ -248,6 +260,32 @@ def _conductor(c, eta, k) -> np.ndarray:
         f = 0.5 * (r_par2 + r_perp2)
         # Non-finite only where |ñ| is so large or small, or the incidence so grazing, that F's limit is 1.
         return np.where(np.isfinite(f), np.clip(f, 0, 1), 1.0)
+
+
+#: From this ``max(η, k)`` on, ``ñ² cos θ`` may overflow: :func:`_conductor_huge` divides by ``ñ`` instead.
+_HUGE_INDEX = 2.0**500
+
+
+def _conductor_huge(c, eta: float, k: float) -> np.ndarray:
+    """:func:`_conductor` for ``max(η, k) >= 2^500``, where ``ñ²`` would overflow (one channel, float64).
+
+    Numerators and denominators divided by ``ñ``: ``r_perp = (c/ñ − cos θ_t)/(c/ñ + cos θ_t)``,
+    ``r_par = (c − cos θ_t/ñ)/(c + cos θ_t/ñ)``, ``cos θ_t = sqrt(1 − sin²θ_i/ñ²)``: every term is at most
+    about 2, so nothing overflows, and ``F`` keeps its value between grazing incidence and the
+    pseudo-Brewster angle ``cos θ ≈ 1/|ñ|`` (``0.5`` there for a real index) instead of a blanket 1.
+    """
+    e = math.frexp(max(eta, k))[1]  # ñ 2^-e has its larger part in [1/2, 1): 1/ñ without overflow, exactly scaled
+    with np.errstate(under="ignore"):  # 1/ñ, sin²θ/ñ² and products with 1/ñ may underflow to 0, their limit
+        inv = np.ldexp(1.0, -e) / np.complex128(complex(math.ldexp(eta, -e), math.ldexp(k, -e)))
+        ct = np.sqrt(1 - (1 - c) * (1 + c) * (inv * inv))
+        a = c * inv
+        b = ct * inv
+        # Moduli (hypot) before squaring: c and |b| may be so small that their squares underflow.
+        r_perp2 = (np.abs(a - ct) / np.abs(a + ct)) ** 2  # |a + ct| >= Re cos θ_t > 0
+        num, den = np.abs(c - b), np.abs(c + b)
+        # den is 0 only at grazing incidence (c = 0 and b underflowed): r_par's limit there is −1.
+        r_par2 = np.where(den > 0, num / np.where(den > 0, den, 1.0), 1.0) ** 2
+    return np.clip(0.5 * (r_par2 + r_perp2), 0, 1)
 
 
 def conductor_f0(eta, k) -> np.ndarray:

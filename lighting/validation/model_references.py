@@ -40,6 +40,7 @@ __all__ = [
     "microfacet_ndf",
     "smith_lambda",
     "microfacet",
+    "conductor_fresnel",
     "model_value",
     "model_parameters",
     "condition_parameters",
@@ -406,9 +407,9 @@ def _smith_lambda(mp, ndf, wt, wb, wn, ax, ay):
     return -mp.erfc(a) / 2 + mp.exp(-a * a) / (2 * a * mp.sqrt(mp.pi))
 
 
-def microfacet(q: dict, ks, ndf: str, ax, ay, geometry: str, fresnel: str, f0, denominator="4"):
+def microfacet(q: dict, ks, ndf: str, ax, ay, geometry: str, fresnel: str, f0, denominator="4", eta=None, k=None):
     """Cook–Torrance ``k_s D G F/(c (n·v)(n·l))`` with Smith's ``G`` (separable ``1/((1+Λ_v)(1+Λ_l))`` or
-    height-correlated ``1/(1 + Λ_v + Λ_l)``), anisotropic or not, Schlick or no Fresnel.
+    height-correlated ``1/(1 + Λ_v + Λ_l)``), anisotropic or not, Schlick, conductor or no Fresnel.
 
     Parameters
     ----------
@@ -419,9 +420,11 @@ def microfacet(q: dict, ks, ndf: str, ax, ay, geometry: str, fresnel: str, f0, d
     ax, ay : mpf
         ``α`` along ``t`` and ``b`` (equal: isotropic).
     geometry : {"smith", "smith-correlated"}
-    fresnel : {"schlick", "none"}
+    fresnel : {"schlick", "none", "conductor"}
     f0 : mpf
     denominator : {"4", "pi"}
+    eta, k : mpf, optional
+        The conductor's index ``η + i k`` (``fresnel="conductor"``): :func:`conductor_fresnel` of ``v·h``.
 
     Returns
     -------
@@ -433,9 +436,47 @@ def microfacet(q: dict, ks, ndf: str, ax, ay, geometry: str, fresnel: str, f0, d
     lv = smith_lambda(lam, q["vt"], q["vb"], q["nv"], ax, ay)
     ll = smith_lambda(lam, q["lt"], q["lb"], q["nl"], ax, ay)
     g = 1 / (1 + lv + ll) if geometry == "smith-correlated" else 1 / ((1 + lv) * (1 + ll))
-    f = f0 + (1 - f0) * (1 - q["vh"]) ** 5 if fresnel == "schlick" else mp.one
+    if fresnel == "conductor":
+        f = conductor_fresnel(q["vh"], eta, k)
+    else:
+        f = f0 + (1 - f0) * (1 - q["vh"]) ** 5 if fresnel == "schlick" else mp.one
     c = 4 if denominator == "4" else mp.pi
     return ks * d * g * f / (c * q["nv"] * q["nl"])
+
+
+def conductor_fresnel(c, eta, k):
+    """The exact unpolarized Fresnel reflectance of a conductor ``ñ = η + i k`` at ``cos θ_i = c`` (Born and Wolf).
+
+    ``w = sqrt(ñ² − sin²θ_i)`` (principal root), ``r_perp = (c − w)/(c + w)``,
+    ``r_par = (ñ² c − w)/(ñ² c + w)``, ``F = (|r_par|² + |r_perp|²)/2``, in complex mpmath arithmetic at the
+    working precision; ``F = 1`` at ``c = 0`` (its limit, where ``ñ² = sin²θ_i`` would make it 0/0).
+
+    Parameters
+    ----------
+    c, eta, k : mpf or float
+        ``cos θ_i`` in [0, 1], ``η > 0``, ``k >= 0``.
+
+    Returns
+    -------
+    mpf
+
+    Examples
+    --------
+    >>> import mpmath
+    >>> with mpmath.workdps(30):
+    ...     f = conductor_fresnel(1, 0.2, 3)   # ((0.2 - 1)^2 + 9) / ((0.2 + 1)^2 + 9)
+    >>> round(float(f), 12)
+    0.92337164751
+    """
+    mp = _mp()
+    c, n = mp.mpf(c), mp.mpc(eta, k)
+    if c == 0:
+        return mp.one
+    n2 = n * n
+    w = mp.sqrt(n2 - (1 - c) * (1 + c))
+    r_perp = (c - w) / (c + w)
+    r_par = (n2 * c - w) / (n2 * c + w)
+    return (abs(r_par) ** 2 + abs(r_perp) ** 2) / 2
 
 
 # ============================================================================ a model object's reference
@@ -475,6 +516,11 @@ def model_parameters(model) -> dict:
         out["base_color"] = grey(model.base_color)
         out.update(alpha_x_factor=1.0, alpha_y_factor=1.0, alpha_c_factor=1.0)
         return out
+    if name == "cook-torrance" and model.fresnel == "conductor":
+        idx = {"eta": grey(model.eta), "k": grey(model.k)}
+        if not model.anisotropic:
+            return {"ks": grey(model.ks), "alpha": model._alpha, **idx}
+        return {"ks": grey(model.ks), "alpha_x": model._ax, "alpha_y": model._ay, **idx}
     if name == "cook-torrance":
         if not model.anisotropic:
             return {"ks": grey(model.ks), "alpha": model._alpha, "f0": grey(model.f0)}
@@ -544,7 +590,7 @@ def model_value(model, q: dict, prm: dict):
         return disney(q, prm, (b, b, b), (0,))[0]
     if name == "cook-torrance":
         return microfacet(
-            q, prm["ks"], model.ndf, ax, ay, model.geometry, model.fresnel, prm["f0"],
-            model.denominator,
+            q, prm["ks"], model.ndf, ax, ay, model.geometry, model.fresnel, prm.get("f0"),
+            model.denominator, prm.get("eta"), prm.get("k"),
         )  # fmt: skip
     raise ValueError(f"no 80-digit reference for the model {name!r}")
