@@ -130,15 +130,23 @@ def _cell_masses(q, cells, order=8, rel_tol=1e-7, abs_tol=1e-10, min_depth=1, ma
     x, w = (x + 1) / 2, w / 2  # on [0, 1]
     ww = (w[:, None] * w[None, :]).ravel()
 
-    def rule(t0, t1, p0, p1):
+    def trig(a0, a1):
+        """The sines and cosines of the ``order`` nodes of each interval ``[a0, a1]``: ``(sin, cos)``, (n, order)."""
+        aa = a0[:, None] + (a1 - a0)[:, None] * x
+        return np.sin(aa), np.cos(aa)
+
+    def rule(t0, t1, p0, p1, theta, phi):
+        """The tensor rule on rectangles ``[t0, t1] × [p0, p1]``, given the trig of their θ and φ nodes.
+
+        Each depth's four quarters share two θ-intervals and two φ-intervals: their nodes' sines and cosines
+        are computed once per interval (the same numbers as per quarter).
+        """
+        (st, ct), (sp, cp) = theta, phi
         dt, dp = t1 - t0, p1 - p0
-        tt = t0[:, None] + dt[:, None] * x  # (rectangles, order) nodes in θ
-        pp = p0[:, None] + dp[:, None] * x  # (rectangles, order) nodes in φ
-        # The tensor grid's node (i, j) is (tt[:, i], pp[:, j]): the sines and cosines of each axis, once.
-        st, ct, cp, sp = np.sin(tt), np.cos(tt), np.cos(pp), np.sin(pp)
+        # The tensor grid's node (i, j) is (θ_i, φ_j), written straight into the columns of h.
         h = np.empty((len(t0), order, order, 3))
-        h[..., 0] = st[:, :, None] * cp[:, None, :]
-        h[..., 1] = st[:, :, None] * sp[:, None, :]
+        np.multiply(st[:, :, None], cp[:, None, :], out=h[..., 0])
+        np.multiply(st[:, :, None], sp[:, None, :], out=h[..., 1])
         h[..., 2] = ct[:, :, None]
         h = h.reshape(-1, 3)
         # In blocks of 2^14 nodes: the samplers refuse arrays over their memory budget, and a block's
@@ -151,11 +159,16 @@ def _cell_masses(q, cells, order=8, rel_tol=1e-7, abs_tol=1e-10, min_depth=1, ma
     mass = np.zeros(cells.rings * cells.sectors)
     unresolved = 0.0
     # Below min_depth no rectangle is accepted, so the whole rectangle's rule is never compared: skip it.
-    coarse = rule(t0, t1, p0, p1) if min_depth == 0 or max_depth == 0 else np.zeros(len(t0))
+    if min_depth == 0 or max_depth == 0:
+        coarse = rule(t0, t1, p0, p1, trig(t0, t1), trig(p0, p1))
+    else:
+        coarse = np.zeros(len(t0))
     for depth in range(max_depth + 1):
         tm, pm = (t0 + t1) / 2, (p0 + p1) / 2
+        lo_t, hi_t, lo_p, hi_p = trig(t0, tm), trig(tm, t1), trig(p0, pm), trig(pm, p1)
         kids = [(t0, tm, p0, pm), (tm, t1, p0, pm), (t0, tm, pm, p1), (tm, t1, pm, p1)]
-        parts = [rule(*k) for k in kids]
+        parts = [rule(*k, th, ph) for k, th, ph in zip(kids, (lo_t, hi_t, lo_t, hi_t), (lo_p, lo_p, hi_p, hi_p),
+                                                       strict=True)]  # fmt: skip
         fine = sum(parts)
         ok = (np.abs(fine - coarse) <= np.maximum(abs_tol, rel_tol * np.abs(fine))) & (depth >= min_depth)
         if depth == max_depth or len(t0) * 4 > max_rects:

@@ -139,7 +139,8 @@ def _cos_sin2(cos_theta, sin2_theta):
 
 def _finish(x: np.ndarray, dt) -> np.ndarray:
     big = float(np.finfo(dt).max)
-    x = np.nan_to_num(x, nan=0.0, posinf=big, neginf=0.0)
+    if not np.isfinite(x).all():  # one pass where every value is finite (the usual case), four otherwise
+        x = np.nan_to_num(x, nan=0.0, posinf=big, neginf=0.0)
     return np.minimum(x, big).astype(dt)
 
 
@@ -519,8 +520,14 @@ def _smith_lambda_cos_beckmann(cos_theta, alpha, sin2_theta) -> np.ndarray:
         a = np.clip(np.where(al * s > 0, cp / (al * s), np.inf), 0.0, 1e8)
         near = (al * _INV_SQRT_PI) * s * np.exp(-a * a)
         direct = (near - cp * erfc(a)) / 2
-        tail = near / 2 * _beckmann_lambda_tail(np.maximum(a, _LAMBDA_CF_FROM))
-        lc = np.where(a < _LAMBDA_CF_FROM, direct, tail)
+        # The continued fraction (48 passes) only where it is used.
+        far = ~(a < _LAMBDA_CF_FROM)
+        if np.ndim(far) == 0 or np.all(far):
+            lc = np.where(far, near / 2 * _beckmann_lambda_tail(np.maximum(a, _LAMBDA_CF_FROM)), direct)
+        else:
+            lc = np.array(direct, dtype=np.float64)
+            if np.any(far):
+                lc[far] = near[far] / 2 * _beckmann_lambda_tail(a[far])
     return np.where(c > 0, np.maximum(lc, 0.0), 0.0)
 
 

@@ -337,20 +337,27 @@ class VisibleNormalSampler(MicrofacetSampler):
 
     def _pdf(self, l, v):  # noqa: E741
         l, v = np.asarray(l, dtype=np.float64), _local_v(v)  # noqa: E741
+        if np.all(v[..., 2] > 0):
+            # Every view above the horizon (an integrator's usual call): no fallback to evaluate, and each
+            # view's d_v once, however many directions share it.
+            return self._visible_pdf_of(l, v)
         shape = np.broadcast_shapes(l.shape[:-1], v.shape[:-1])
         fallback = np.array(np.broadcast_to(super()._pdf(l, v), shape), dtype=np.float64)
         vb = np.broadcast_to(v, shape + (3,))
         up = vb[..., 2] > 0
         if not np.any(up):
             return fallback
-        vu = normalize(vb[up])
-        lb = normalize(np.broadcast_to(l, shape + (3,))[up])
-        s = lb + vu
+        fallback[up] = self._visible_pdf_of(np.broadcast_to(l, shape + (3,))[up], vb[up])
+        return fallback
+
+    def _visible_pdf_of(self, l, v):  # noqa: E741
+        """The visible-normal density of directions ``l`` for views ``v`` above the horizon (broadcasting)."""
+        vu = normalize(v)
+        s = normalize(l) + vu
         h = normalize(s)
         h = np.where(h[..., 2:3] < 0, -h, h)  # l is unchanged by h → −h; the sampled h is the upper one
         vh = _dot(vu, h)
-        fallback[up] = np.where(_dot(s, s) > 0, self._visible_pdf(h, vu, vh), 0.0)
-        return fallback
+        return np.where(_dot(s, s) > 0, self._visible_pdf(h, vu, vh), 0.0)
 
 
 def _erfinv(x):
