@@ -60,6 +60,10 @@ def add_stability_arguments(p):
     p.add_argument("--dtype", choices=("float32", "float64", "both"), default="both", help="which float types")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help=f"processes for the mpmath reference, 1 to {MAX_WORKERS} (default: 2)")  # fmt: skip
+    p.add_argument("--docs", metavar="PAGE", default=None,
+                   help="also write the table and its numbers into PAGE (docs/stability.md) between its "
+                        "'<!-- stability: table -->' and '<!-- /stability -->' lines, and the figure to "
+                        "PAGE's images/stability.png; a default run only (both dtypes, not --quick)")  # fmt: skip
     return p
 
 

@@ -36,7 +36,11 @@ from lighting.validation import stability as st
 from ..output import atomic_write
 from ..progress import Progress
 
-__all__ = ["main", "run", "build_parser", "format_table", "write_csv", "make_figure", "CSV_COLUMNS"]
+__all__ = ["main", "run", "build_parser", "format_table", "write_csv", "make_figure", "docs_block", "write_docs",
+           "CSV_COLUMNS", "DOCS_START", "DOCS_END"]
+
+#: The lines of a documentation page between which ``--docs`` writes the table and its numbers.
+DOCS_START, DOCS_END = "<!-- stability: table -->", "<!-- /stability -->"
 
 CSV_COLUMNS = [f.name for f in fields(st.SummaryRow)] + ["passed", "u", "bound_factor"]
 
@@ -54,6 +58,7 @@ MODEL_ORDER = (
     "Disney",
     "CT correlated",
     "CT anisotropic",
+    "CT conductor",
     "Point light",
     "Spot light",
 )
@@ -355,6 +360,100 @@ def check_args(args) -> None:
         check_budget(f"--workers {args.workers}", WORKER_BYTES * args.workers,
                      what=f"{args.workers} reference processes")  # fmt: skip
     check_output_dir(args.out, flag="--out")
+    if getattr(args, "docs", None) is not None:
+        _docs_page(args)
+
+
+def _docs_page(args) -> str:
+    """The text of ``--docs PAGE``, checked: a default run, a readable file with each marker line once."""
+    page = Path(args.docs)
+    if args.quick or args.dtype != "both":
+        given = "--quick" if args.quick else f"--dtype {args.dtype}"
+        raise ValueError(f"--docs takes the default run (both dtypes, not --quick); got {given} with --docs {page}")
+    try:
+        text = page.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.__class__.__name__
+        raise ValueError(f"--docs must name a readable UTF-8 page; got {str(page)!r} ({reason})") from None
+    lines = text.splitlines()
+    for mark in (DOCS_START, DOCS_END):
+        if lines.count(mark) != 1:
+            raise ValueError(f"--docs page must hold the line {mark!r} once; {str(page)!r} holds it "
+                             f"{lines.count(mark)} times")  # fmt: skip
+    if lines.index(DOCS_START) > lines.index(DOCS_END):
+        raise ValueError(f"--docs page must hold {DOCS_START!r} before {DOCS_END!r}; {str(page)!r} has them reversed")
+    return text
+
+
+def _spaced(n: int) -> str:
+    return f"{n:,}".replace(",", " ")
+
+
+def docs_block(result: st.StabilityResult, table: str) -> str:
+    """The documentation's sample of a run: the table as printed, then a paragraph of that run's numbers.
+
+    Parameters
+    ----------
+    result : StabilityResult
+    table : str
+        :func:`format_table` of ``result``.
+
+    Returns
+    -------
+    str
+        Markdown: a fenced ``text`` block and one paragraph (the worst ratio and where, the count of values
+        of each class), every number taken from ``result``.
+    """
+    rows = result.rows
+    beyond = sum(1 for sp in st.brdf_specs() if sp.general)
+    worst = max(rows, key=lambda r: r.max_ratio)
+    count = {name: sum(getattr(r, name) for r in rows) for name in ("normal", "ill", "edge", "zero", "under", "over")}
+    failed = sum(1 for r in rows if not r.passed)
+    verdict = ("every row met the bound" if not failed else
+               f"{_spaced(failed)} of {_spaced(len(rows))} rows missed the bound or a check (see `stability.csv`)")
+    saturated = all(r.failures == 0 for r in rows if r.over)
+    para = (
+        f"In that run {verdict}, the {beyond} variants of the models beyond the slides included: the worst "
+        f"ratio was {worst.max_ratio:.2f} ({worst.model}, `{worst.form}`, {worst.dtype}, {worst.worst_ratio_case}). "
+        f"In numbers, from the same run: {_spaced(count['normal'])} normal values ({', '.join(result.dtypes)}) "
+        f"checked against the bound, {_spaced(count['ill'])} ill-conditioned ones (worst `|ln(f/f_true)|` "
+        f"{max(r.ill_max_ratio for r in rows):.2f} `κ u`, bound `8 κ u`), {_spaced(count['edge'])} edge points, "
+        f"{_spaced(count['zero'])} exact zeros, {_spaced(count['under'])} below the normal range, "
+        f"{_spaced(count['over'])} beyond the largest float ({'all saturated' if saturated else 'not all saturated'})."
+    )
+    return "```text\n" + table + "\n```\n\n" + para + "\n\n"
+
+
+def write_docs(result: st.StabilityResult, table: str, page: Path, figure: Path | None = None) -> list[Path]:
+    """Replace the text between ``page``'s :data:`DOCS_START` and :data:`DOCS_END` lines with :func:`docs_block`.
+
+    Parameters
+    ----------
+    result : StabilityResult
+    table : str
+        :func:`format_table` of ``result``.
+    page : pathlib.Path
+        The documentation page (checked by ``--docs``).
+    figure : pathlib.Path, optional
+        The run's figure, copied to ``images/stability.png`` beside the page.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    text = page.read_text(encoding="utf-8")
+    head, rest = text.split(DOCS_START + "\n", 1)
+    _, tail = rest.split(DOCS_END + "\n", 1)
+    new = head + DOCS_START + "\n" + docs_block(result, table) + DOCS_END + "\n" + tail
+    atomic_write(page, new.encode("utf-8"), flag="--docs")
+    written = [page]
+    if figure is not None:
+        target = page.parent / "images" / "stability.png"
+        target.parent.mkdir(exist_ok=True)
+        atomic_write(target, figure.read_bytes(), flag="--docs")
+        written.append(target)
+    return written
 
 
 def main(argv=None) -> int:
@@ -424,6 +523,9 @@ def run(args) -> int:
     if not args.no_figure:
         make_figure(result, out / "stability.png")
         written.append(out / "stability.png")
+    if args.docs is not None:
+        figure = None if args.no_figure else out / "stability.png"
+        written += write_docs(result, table, Path(args.docs), figure)
     secs = result.seconds
     print(
         f"\ntime: {time.perf_counter() - t0:.1f} s (references {secs['reference']:.1f} s,"

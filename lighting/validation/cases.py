@@ -369,7 +369,9 @@ def beyond_slides_specs() -> list[ModelSpec]:
     α = 1, 0.1, 1e-4 and anisotropic (α_x, α_y) = (1e-3, 1); Ashikhmin–Shirley from a broad lobe to
     exponents of 1e8 and 1000:1 anisotropy; Disney with each lobe turned on; Cook–Torrance with the
     height-correlated Smith G2 (Beckmann, GGX, Blinn–Phong NDF; α = 1, 0.1, 1e-4) and anisotropic
-    GGX and Beckmann, separable and correlated, at 1000:1.  Colours are grey (``k_s = k_d = 1``).
+    GGX and Beckmann, separable and correlated, at 1000:1; Cook–Torrance GGX with the exact conductor
+    Fresnel term (:func:`conductor_variants`: gold channel by channel, ``η → 0``, huge ``k``, ``k = 0``).
+    Colours are grey (``k_s = k_d = 1``).
 
     Returns
     -------
@@ -425,6 +427,41 @@ def beyond_slides_specs() -> list[ModelSpec]:
                     create_model("cook-torrance", ks=KS, f0=F0, ndf=ndf, geometry=geo, alpha_x=ax, alpha_y=ay),
                     "D",
                 )
+    for label, alpha, eta, k in conductor_variants():
+        add(
+            "CT conductor",
+            f"CT ggx smith-correlated conductor {label} α={_fmt_param(alpha)}",
+            create_model("cook-torrance", ks=KS, roughness=alpha, ndf="ggx", geometry="smith-correlated",
+                         fresnel="conductor", eta=eta, k=k),  # fmt: skip
+            "D",
+        )
+    return out
+
+
+#: The conductor indices of the sweep beyond the named metals' channels: ``η → 0`` (``F → 1`` at every
+#: angle), a huge extinction ``k`` (``F → 1``, its complement ``4η/k²`` tiny) and ``k = 0`` (the dielectric
+#: seen from outside, through the conductor's formula).
+CONDUCTOR_EXTREMES = (("η=1e-3 k=0", 1e-3, 0.0), ("η=0.2 k=1e4", 0.2, 1e4), ("η=1.5 k=0", 1.5, 0.0))
+
+
+def conductor_variants() -> list[tuple[str, float, float, float]]:
+    """The Cook–Torrance conductors of the sweep: ``(label, α, η, k)``, one channel's index each.
+
+    The sweep's references take grey parameters, and the engine computes a metal's RGB channels
+    independently (:func:`lighting.models.fresnel.conductor`), so a named metal is swept one channel at a
+    time: gold's R, G and B index at ``α = 0.1``, gold's G also at ``α = 1`` and ``1e-4`` (a sharp lobe on
+    the peak sweeps); then :data:`CONDUCTOR_EXTREMES` at ``α = 0.1``.
+
+    Returns
+    -------
+    list of tuple
+    """
+    from ..models.fresnel import METALS
+
+    eta, k = METALS["gold"]
+    out = [(f"gold {ch}", 0.1, eta[i], k[i]) for i, ch in enumerate("RGB")]
+    out += [("gold G", a, eta[1], k[1]) for a in (ALPHAS_BEYOND[0], ALPHAS_BEYOND[2])]
+    out += [(label, 0.1, e, kk) for label, e, kk in CONDUCTOR_EXTREMES]
     return out
 
 

@@ -199,7 +199,7 @@ def test_the_stability_sample_has_the_rows_and_counts_the_report_prints():
         after)}  # fmt: skip
     assert counts["ill-conditioned"] == int(ill) and counts["edge points"] == int(edge)
     assert sum(counts.values()) == total and len(counts) == 6
-    beyond = {"Oren-Nayar", "Ward", "Ashikhmin-Shirley", "Disney", "CT correlated", "CT anisotropic"}
+    beyond = {"Oren-Nayar", "Ward", "Ashikhmin-Shirley", "Disney", "CT correlated", "CT anisotropic", "CT conductor"}
     assert beyond <= set(per_model)
     assert f"the {sum(per_model[f] for f in beyond)} variants of the models beyond the slides" in after
 
