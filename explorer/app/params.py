@@ -50,6 +50,8 @@ __all__ = [
     "validate_parameter",
     "slider_range",
     "none_label",
+    "implied_parameters",
+    "conductor_none_value",
 ]
 
 
@@ -341,3 +343,94 @@ def none_label(p) -> str:
     k = text.find("None:")
     meaning = text[k + 5 :].strip(" )") if k >= 0 else "default"
     return meaning.split(",")[0].strip() or "default"
+
+
+def implied_parameters(table: Mapping, params: Mapping, given: Mapping) -> dict:
+    """What a change of a model's Fresnel controls implies for the rows the same change does not set.
+
+    The conductor rows of a model (:data:`lighting.models.fresnel.CONDUCTOR_PARAMETERS`: ``metal``, ``eta``
+    and ``k`` beside its ``fresnel`` choice) hang together; a person picks one of them and expects the
+    others to follow, not a refusal:
+
+    * picking a named metal turns the Fresnel term to ``"conductor"`` and hands ``η`` and ``k`` to the
+      metal (``None``);
+    * picking another Fresnel term leaves the metal (``"none"``) and ``η``, ``k`` (``None``), which apply
+      to the conductor only;
+    * setting ``η`` or ``k`` of a conductor while a metal is named leaves the metal, keeping its index as
+      the starting point: the other of the two takes the metal's value (per channel).
+
+    A row the change sets itself is never touched, so a contradictory request (``metal="gold"`` with
+    ``fresnel="schlick"``) is still refused by the model.
+
+    Parameters
+    ----------
+    table : mapping
+        The model's offered rows, name → :class:`~lighting.models.protocol.Parameter`.
+    params : mapping
+        The model's parameters with the change applied (validated).
+    given : mapping
+        The rows the change sets, name → validated value.
+
+    Returns
+    -------
+    dict
+        Row → implied value (empty for a model without the conductor rows, or when nothing follows).
+
+    Examples
+    --------
+    >>> table = parameter_table("cook-torrance")
+    >>> implied_parameters(table, {**parameter_defaults("cook-torrance"), "metal": "gold"}, {"metal": "gold"})
+    {'fresnel': 'conductor'}
+    >>> implied_parameters(table, {**parameter_defaults("cook-torrance"), "fresnel": "conductor", "metal": "gold",
+    ...                            "eta": 0.5}, {"eta": 0.5})["k"]   # gold's k, per channel
+    (3.403381733021077, 2.2308700361010834, 1.869292682926829)
+    """
+    if not {"fresnel", "metal", "eta", "k"} <= set(table):
+        return {}
+    out = {}
+    metal = params.get("metal", "none")
+    if "metal" in given and metal != "none":
+        out = {"fresnel": "conductor", "eta": None, "k": None}
+    elif "fresnel" in given and params.get("fresnel") != "conductor":
+        out = {"metal": "none", "eta": None, "k": None}
+    elif metal != "none" and any(given.get(name) is not None for name in ("eta", "k")):
+        from lighting.models.fresnel import metal_index
+
+        eta, k = metal_index(metal)
+        out = {"metal": "none", "eta": tuple(float(x) for x in eta), "k": tuple(float(x) for x in k)}
+    return {name: value for name, value in out.items() if name not in given and params.get(name) != value}
+
+
+def conductor_none_value(name: str, params: Mapping):
+    """The index a conductor row set to ``None`` stands for: the named metal's, else ``η`` of ``F0`` and ``k = 0``.
+
+    A slider shows one number, so an RGB index shows its largest channel (as an RGB value from a scene file does).
+
+    Parameters
+    ----------
+    name : str
+        ``"eta"`` or ``"k"`` (any other row: None).
+    params : mapping
+        The model's parameters (``metal`` and ``f0`` are read).
+
+    Returns
+    -------
+    float or None
+
+    Examples
+    --------
+    >>> round(conductor_none_value("eta", {"metal": "none", "f0": 0.04}), 6)
+    1.5
+    >>> round(conductor_none_value("k", {"metal": "gold", "f0": 0.04}), 3)
+    3.403
+    """
+    if name not in ("eta", "k"):
+        return None
+    from lighting.models.fresnel import eta_from_f0, metal_index
+
+    metal = params.get("metal", "none")
+    if metal not in (None, "none"):
+        return float(np.max(metal_index(metal)[0 if name == "eta" else 1]))
+    if name == "k":
+        return 0.0
+    return float(np.max(eta_from_f0(params.get("f0", 0.04))))

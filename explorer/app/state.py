@@ -61,6 +61,7 @@ from .params import (
     MODEL_LABELS,
     MODELS,
     carries_diffuse,
+    implied_parameters,
     model_choices,
     model_label,
     offered_parameters,
@@ -278,6 +279,11 @@ class AppState:
 
         ``model`` is set first; ``params`` (a dict) and names that are parameters of the model, not
         controls, then set its parameters; the model is built once to let its constructor check them.
+        A change of the Fresnel rows carries the rows that follow from it
+        (:func:`~explorer.app.params.implied_parameters`: a named metal turns the Fresnel term to the
+        conductor's), and turning to a named metal from none also sets ``kd`` to 0 unless the same
+        request sets it: a metal reflects no diffuse light, and the explorer's own Lambert part would
+        tint it with the surface colour.
 
         Parameters
         ----------
@@ -318,6 +324,12 @@ class AppState:
                                  f"got {k}={abbreviate(repr(v))}")  # fmt: skip
             params[k] = validate_parameter(table[k], v)
         if given:
+            checked = {k: params[k] for k in given}
+            for k, v in implied_parameters(table, params, checked).items():
+                params[k] = validate_parameter(table[k], v)
+            before = self._model_params(model).get("metal", "none") if model == self.model else "none"
+            if "kd" not in values and before == "none" and params.get("metal", "none") != "none":
+                new["kd"] = 0.0
             _build(model, params, new)  # the constructor's own checks (e.g. combinations)
         changed = {k for k, v in new.items() if self._values[k] != v}
         if model != self.model or params != self._model_params(model):

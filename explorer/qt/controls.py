@@ -23,7 +23,7 @@ from PySide6 import QtCore, QtWidgets
 
 from ..app.captions import kd_control_label
 from ..app.environment import ENVIRONMENT_LABELS
-from ..app.params import none_label, offered_parameters, slider_range
+from ..app.params import conductor_none_value, none_label, offered_parameters, slider_range
 from ..app.state import CHANNEL_LABELS, CONTROLS, FIT_MODELS, MODEL_LABELS, AppState
 from ._controls_editors import CheckEditor, ChoiceEditor, ColourEditor, NumberEditor, TermsEditor
 
@@ -420,6 +420,7 @@ class ControlPanel(QtWidgets.QScrollArea):
         rows.addWidget(line)
         editor.none_box = box
         editor.none_meaning = meaning
+        editor.param_name = p.name
 
         def toggled(on, _live=False, editor=editor):
             # Released: the value None stood for (the parameter it names, if it is one), so the look holds.
@@ -447,7 +448,9 @@ class ControlPanel(QtWidgets.QScrollArea):
         if value is None:
             # Show what None stands for where that is another number of the table ("α_y = α_x").
             # Else the knob rests mid-way, and that value is the one a released box starts from.
-            linked = self._linked(editor.none_meaning, params)
+            linked = conductor_none_value(editor.param_name, params)
+            if linked is None:
+                linked = self._linked(editor.none_meaning, params)
             if linked is None:
                 linked = editor.from_position((editor.slider.minimum() + editor.slider.maximum()) // 2)
             editor.linked_value = linked
