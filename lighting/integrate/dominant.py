@@ -21,7 +21,9 @@ round lobe about the mirror direction, which is far off where the sky holds a sm
 * **the areas of light** — what is still bright in the residual (above :data:`AREA_THRESHOLD` times its
   mean: a studio's soft boxes, a sky's glow) — are, for a lobe at least :data:`WIDE_LOBE` wide, cut into
   the cells of a coarse lat-long grid (:data:`AREA_CELL_ROWS` rows), each shaded like a small light with
-  the BRDF, and only the calm rest is filtered; a narrower lobe reads them by its filtered samples.
+  the BRDF (read from a table of the part's ``f_r (n·l)`` over the view's and the light's angles,
+  :mod:`lighting.integrate._cells`), and only the calm rest is filtered; a narrower lobe reads them by its
+  filtered samples.
 
 A lobe narrower than :data:`WIDE_LOBE` reads everything by its samples, :data:`NARROW_FACTOR` times as many: the
 sharp edges of large bright areas (a studio's boxes) and what its long tails gather from them over a dark ground
@@ -33,8 +35,10 @@ there.  Where it errs most is there, and on coarse maps; the accuracy report giv
 An ideal mirror part reflects ``R(μ_v) L(r)`` of the whole map, exactly as in the split sum.
 
 The extraction, the residual's levels and its irradiance map are computed once per environment (cached
-on the prefiltered environment's base: a turned or scaled light reuses them); a re-shade is then the
-lights' BRDF evaluations plus ``samples`` lookups per glossy part and pixel.  How close it comes to the
+on the prefiltered environment's base: a turned or scaled light reuses them), and the sample tables once per
+part; a re-shade is then, for the pixels that face the viewer, the lights' BRDF evaluations, the cells' table
+reads and ``samples`` lookups per glossy part and pixel, each a few multiply-adds and eight gathers of float32
+texels (:mod:`lighting.integrate._fis`).  How close it comes to the
 Monte-Carlo reference, and at what cost, is measured by ``lighting-explorer report accuracy --only ibl``
 and ``lighting-explorer bench --ibl``.
 
@@ -54,9 +58,12 @@ import numpy as np
 
 from .._budget import check_budget
 from .._validate import check_count, check_vectors
+from ..models.base import BRDFFlags
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
+from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
+from ._fis import LevelStack, half_vector_mean, view_table_mean
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
 
@@ -82,8 +89,6 @@ DOMINANT_MAX_LIGHTS = 4
 DOMINANT_MAX_SOLID_ANGLE = 0.05
 #: Filtered-importance samples per glossy part and pixel (the default of :func:`dominant_radiance`).
 DOMINANT_SAMPLES = 16
-#: ``c_σ``: a sample's blur width relative to the width ``√(Ω_s / 2π)`` of its share ``Ω_s = 1/(N p)`` of the lobe.
-FILTER_SCALE = 0.8
 #: A pixel of the map without its dominant lights belongs to an area of light (shaded cell by cell for wide lobes)
 #: when its luminance is above this many times that map's mean.
 AREA_THRESHOLD = 4.0
@@ -94,8 +99,6 @@ AREA_CELL_ROWS = 16
 WIDE_LOBE = 0.25
 #: A glossy lobe narrower than :data:`WIDE_LOBE` takes this many times ``samples`` filtered samples.
 NARROW_FACTOR = 4
-#: Pixels whose filtered samples are drawn and read at once.
-_FIS_CHUNK = 1 << 15
 #: Rows of the residual's irradiance map (E is smooth once the small sources are out).
 IRRADIANCE_HEIGHT = 64
 
@@ -346,13 +349,13 @@ class DominantEnvironment:
         else:
             env = LatLongEnvironment(base)
             self.residual = prefiltered.for_environment(prefiltered.environment)  # unturned, unscaled
-        self.levels = _Levels(self.residual)
+        self.levels = LevelStack(self.residual)
         rest = np.asarray(self.residual.levels[0], dtype=np.float64)
         self.cell_directions, self.cell_power, calm = find_area_cells(rest, threshold=area_threshold,
                                                                       cell_rows=cell_rows)  # fmt: skip
         if len(self.cell_power):
             self.calm = prefilter_environment(LatLongEnvironment(calm), sigmas=prefiltered.sigmas)
-            self.calm_levels = _Levels(self.calm)
+            self.calm_levels = LevelStack(self.calm)
         else:
             self.calm, self.calm_levels = self.residual, self.levels
         h0 = base.shape[0]
@@ -393,13 +396,6 @@ def dominant_environment(prefiltered) -> DominantEnvironment:
     return found
 
 
-def _stratified_square(count: int) -> np.ndarray:
-    """``count`` points of the unit square, a rank-1 lattice (Fibonacci when it can): stratified in both axes."""
-    k = np.arange(count)
-    golden = (math.sqrt(5.0) - 1.0) / 2.0
-    return np.stack([(k + 0.5) / count, np.mod(0.5 + k * golden, 1.0)], axis=-1)
-
-
 def _disk_points(half_angle: float, lobe: float) -> tuple[np.ndarray, np.ndarray]:
     """Offsets ``(x, y)`` (radians, tangent plane) and weights of the stratified points shading a disk light.
 
@@ -429,261 +425,41 @@ def _to_base_matrix(pre):
 
 
 def _light_term(part, lights, n, v, dt, widths):
-    """``Σ_k f_r(v, l) (n·l) L_k dω`` over the disks of ``lights``: stratified points, each its share of ``Ω``."""
+    """``Σ_k f_r(v, l) (n·l) L_k dω`` over the disks of ``lights``: stratified points, each its share of ``Ω``.
+
+    Only the pixels that see some of a disk above their horizon evaluate the BRDF for it.
+    """
     out = np.zeros(n.shape, dtype=np.float64)
     for k in range(len(lights)):
         c = lights.directions[k]
         gamma = float(lights.half_angles[k])
+        lit = np.flatnonzero(n @ c.astype(dt) > -math.sin(gamma))
+        if not lit.size:
+            continue
+        nl, vl = n[lit], v[lit]
         offsets, weights = _disk_points(gamma, widths)
         t = np.cross([0.0, 0.0, 1.0] if abs(c[2]) < 0.9 else [1.0, 0.0, 0.0], c)
         t /= np.linalg.norm(t)
         b = np.cross(c, t)
         irradiance = lights.radiance[k] * lights.solid_angles[k]  # L Ω
+        # A Lambertian part's f_r is one constant: the disk's points add up their n·l alone.
+        constant = BRDFFlags.LAMBERTIAN in part.flags
+        acc = np.zeros(nl.shape[:1] + ((1,) if constant else (3,)), dtype=np.float64)
         for (x, y), wgt in zip(offsets, weights, strict=True):
             off = math.hypot(x, y)
             ld = c * math.cos(off) + (t * x + b * y) * (math.sin(off) / off if off > 0 else 1.0)
             ld = ld / np.linalg.norm(ld)
-            lw = np.broadcast_to(ld.astype(dt), n.shape)
-            cos_l = np.maximum(n @ ld.astype(dt), 0)
-            f = np.asarray(part.eval(n, lw, v), dtype=np.float64)
-            out += f * (cos_l[:, None] * wgt) * irradiance
+            cos_l = np.maximum(nl @ ld.astype(dt), 0)
+            if constant:
+                acc[:, 0] += cos_l * wgt
+            else:
+                f = np.asarray(part.eval(nl, np.broadcast_to(ld.astype(dt), nl.shape), vl), dtype=np.float64)
+                acc += f * (cos_l[:, None] * wgt)
+        if constant:
+            up = np.array([0.0, 0.0, 1.0])
+            acc = acc * np.asarray(part.eval(up, up, up), dtype=np.float64)
+        out[lit] += acc * irradiance
     return out
-
-
-def _cell_term(part, directions, power, n, v, dt, chunk=1 << 19):
-    """``Σ_c f_r(v, l_c) (n·l_c) Φ_c`` over cells of light (directions ``l_c``, powers ``Φ_c``), per pixel.
-
-    The BRDF is evaluated only for the (pixel, cell) pairs above the pixel's horizon.
-    """
-    out = np.zeros(n.shape, dtype=np.float64)
-    lc = directions.astype(dt)
-    pc = power.astype(np.float64)
-    step = max(1, chunk // max(len(lc), 1))
-    for i in range(0, n.shape[0], step):
-        nn, vv = n[i : i + step], v[i : i + step]
-        cos_l = nn @ lc.T
-        p_idx, c_idx = np.nonzero(cos_l > 0)
-        if not p_idx.size:
-            continue
-        f = np.asarray(part.eval(nn[p_idx], lc[c_idx], vv[p_idx]), dtype=np.float64)
-        contrib = f * (cos_l[p_idx, c_idx].astype(np.float64)[:, None] * pc[c_idx])
-        for c in range(3):
-            out[i : i + step, c] += np.bincount(p_idx, contrib[:, c], nn.shape[0])
-    return out
-
-
-def _fis_sampler(part):
-    """The part's sampler; for a rough isotropic GGX or Beckmann part the visible normals' (its weights vary least).
-
-    Below ``α = 0.1`` the lobe is narrow and ``D(h)(n·h)`` sampling, stratified in ``θ_h``, reads it better.
-    """
-    mf = part.microfacet()
-    if mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic and mf.alpha_x >= 0.1:
-        from ..sampling.microfacet import VisibleNormalSampler
-
-        return VisibleNormalSampler(mf.ndf, float(mf.alpha_x))
-    return part.sampler()
-
-
-#: View angles of the per-part sample tables: 0° to 89.5° in 0.5° steps (a pixel reads the nearest).
-_TABLE_STEP = math.radians(0.5)
-_TABLE_ANGLES = np.arange(0.0, math.radians(89.75), _TABLE_STEP)
-_tables: dict = {}
-
-
-def _sample_table(part, samples: int, sigmas: tuple):
-    """The filtered-importance samples of one part at :data:`_TABLE_ANGLES`, in the frame where ``v`` is in ``xz``.
-
-    Returns ``(directions (M, N, 3) float32, weights (M, N) float32 summing to 1 per row (or 0 where every
-    sample is below the horizon), level (M, N) fractional level index into ``sigmas``)``; cached per part.
-    """
-    key = (type(part).__qualname__, repr(part), samples, sigmas)
-    found = _tables.get(key)
-    if found is not None:
-        return found
-    th = _TABLE_ANGLES
-    vl = np.stack([np.sin(th), np.zeros_like(th), np.cos(th)], axis=-1)[:, None, :]
-    u = _stratified_square(samples)[None, :, :]
-    s = _fis_sampler(part).sample(u, vl)
-    ld = np.asarray(s.directions, dtype=np.float64)
-    p = np.asarray(s.pdf, dtype=np.float64)
-    f = np.asarray(part.eval(np.array([0.0, 0.0, 1.0]), ld, vl), dtype=np.float64)
-    cos_l = ld[..., 2]
-    ok = (p > 0) & (cos_l > 0)
-    safe_p = np.where(ok, p, 1.0)
-    w = np.where(ok, f.mean(axis=-1) * np.maximum(cos_l, 0.0) / safe_p, 0.0)
-    total = w.sum(axis=-1, keepdims=True)
-    w = np.where(total > 0, w / np.where(total > 0, total, 1.0), 0.0)
-    sigma = FILTER_SCALE * np.sqrt(np.where(ok, 1.0 / (samples * safe_p), 0.0) / (2 * math.pi))
-    sig = np.asarray(sigmas, dtype=np.float64)
-    with np.errstate(divide="ignore"):
-        logs = np.log(np.maximum(sigma, sig[1]))
-    level = np.where(sigma < sig[1], np.clip(sigma / sig[1], 0.0, 1.0),
-                     np.interp(logs, np.log(sig[1:]), np.arange(1, len(sig))))  # fmt: skip
-    found = (ld.astype(np.float32), w.astype(np.float32), level)
-    _tables[key] = found
-    if len(_tables) > 64:
-        _tables.pop(next(iter(_tables)))
-    return found
-
-
-class _Levels:
-    """Every level of a prefiltered environment's von Mises–Fisher family in one flat array, for one gather."""
-
-    def __init__(self, pre):
-        levels = pre.families["mirror"]
-        self.heights = np.array([im.shape[0] for im in levels], dtype=np.int64)
-        sizes = [im.shape[0] * im.shape[1] for im in levels]
-        self.offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
-        self.flat = np.concatenate([im.reshape(-1, 3) for im in levels]).astype(np.float32)
-        self.count = len(levels)
-
-    def read(self, d, level):
-        """Bilinear in each of the two levels around ``level`` (fractional index), linear between: ``(..., 3)``.
-
-        Float32 throughout (the levels are float32); the pixels' rows and columns as :func:`latlong_lookup`
-        (:mod:`lighting.lights.latlong`), the edge rows clamped.
-        """
-        from ..lights.latlong import latlong_angles
-
-        theta, a = latlong_angles(d)
-        shape = theta.shape
-        theta, a = theta.reshape(-1).astype(np.float32), a.reshape(-1).astype(np.float32)
-        level = np.asarray(level).reshape(-1)
-        k0 = np.minimum(level.astype(np.int64), self.count - 1)  # level >= 0: truncation is the floor
-        t = (level - k0).astype(np.float32)[:, None]
-        out = np.zeros((theta.size, 3), dtype=np.float32)
-        inv_pi = np.float32(1 / math.pi)
-        for k, wt in ((k0, 1 - t), (np.minimum(k0 + 1, self.count - 1), t)):
-            hi = self.heights[k]
-            h = hi.astype(np.float32)
-            wi = 2 * hi
-            fx = a * (h * inv_pi) - np.float32(0.5)  # columns: w / (2π) = h / π per radian
-            j0 = np.floor(fx)
-            tx = (fx - j0)[:, None]
-            j0 = j0.astype(np.int64)
-            j0 += np.where(j0 < 0, wi, 0)
-            j1 = j0 + 1
-            j1 -= np.where(j1 >= wi, wi, 0)
-            fy = np.minimum(np.maximum(theta * (h * inv_pi) - np.float32(0.5), np.float32(0)), h - 1)
-            i0 = np.minimum(fy.astype(np.int64), np.maximum(hi - 2, 0))
-            ty = np.clip(fy - i0.astype(np.float32), np.float32(0), np.float32(1))[:, None]
-            r0 = self.offsets[k] + i0 * wi
-            r1 = r0 + np.where(i0 + 1 < hi, wi, 0)
-            f = self.flat
-            top = np.take(f, r0 + j0, axis=0) * (1 - tx) + np.take(f, r0 + j1, axis=0) * tx
-            bot = np.take(f, r1 + j0, axis=0) * (1 - tx) + np.take(f, r1 + j1, axis=0) * tx
-            out += (top + (bot - top) * ty) * wt
-        return out.reshape(shape + (3,))
-
-
-def _fis_term(part, pre, levels, n, v, cos_v, samples):
-    """The residual's mean over the part's lobe by filtered importance sampling (module notes), per pixel.
-
-    The samples of the nearest tabulated view angle, turned into each pixel's frame (``x`` along the view's
-    projection on the surface, ``z`` the normal); their weights sum to 1.
-    """
-    ld, w, level = _sample_table(part, samples, pre.sigmas)
-    theta = np.arccos(np.clip(cos_v, 0.0, 1.0))
-    m = np.minimum(np.rint(theta / _TABLE_STEP).astype(np.int64), len(_TABLE_ANGLES) - 1)
-    t = v - n * cos_v[:, None]
-    tl = np.sqrt(np.einsum("ij,ij->i", t, t))
-    facing = tl < 1e-6  # v along n: any tangent (the lobe is symmetric about the normal there)
-    if np.any(facing):
-        from ..vec import orthonormal_basis
-
-        t[facing] = orthonormal_basis(n[facing])[0]
-        tl[facing] = 1.0
-    t = t / tl[:, None]
-    b = np.cross(n, t)
-    loc = ld[m]  # (P, N, 3)
-    world = loc[..., 0:1] * t[:, None, :] + loc[..., 1:2] * b[:, None, :] + loc[..., 2:3] * n[:, None, :]
-    vals = levels.read(world, level[m])
-    return np.einsum("pk,pkc->pc", w[m], vals), w[m].sum(axis=-1) > 0
-
-
-def _smooth_frame(n):
-    """Tangents ``(t, b)`` of unit normals ``n`` varying smoothly with ``n`` but at ``n = −z`` (Frisvad 2012)."""
-    x, y, z = n[:, 0], n[:, 1], n[:, 2]
-    south = z < -0.9999
-    a = 1 / np.where(south, 1.0, 1 + z)
-    c = -x * y * a
-    t = np.stack([1 - x * x * a, c, -x], axis=-1)
-    b = np.stack([c, 1 - y * y * a, -y], axis=-1)
-    t[south], b[south] = (0.0, -1.0, 0.0), (-1.0, 0.0, 0.0)
-    return t, b
-
-
-#: ``c_σ`` of the half-vector samples of a narrow microfacet lobe (:func:`_fis_half`).
-HALF_FILTER_SCALE = 1.2
-#: View azimuths of the half-vector weight tables (a pixel reads the nearest).
-_AZIMUTHS = 64
-
-
-def _half_table(part, samples: int):
-    """A narrow microfacet lobe's fixed half vectors and their weights over view angles (see :func:`_fis_half`).
-
-    Returns ``(h (N, 3), d (N,), weights (M, A, N))``: the half vectors of ``D(h)(n·h)`` sampling at the fixed
-    stratified points, ``D(h)(n·h)`` at each, and ``f_r (n·l)/p`` for views at :data:`_TABLE_ANGLES` (rows)
-    and ``A`` azimuths (columns) in the frame of the half vectors; cached per part.
-    """
-    from ..sampling.microfacet import MicrofacetSampler
-
-    key = ("half", type(part).__qualname__, repr(part), samples)
-    found = _tables.get(key)
-    if found is not None:
-        return found
-    mf = part.microfacet()
-    sampler = MicrofacetSampler(mf.ndf, float(mf.alpha_x))
-    up = np.array([0.0, 0.0, 1.0])
-    s = sampler.sample(_stratified_square(samples), up)  # at normal incidence l = 2 h_z h − z
-    ld = np.asarray(s.directions, dtype=np.float64)
-    h = ld + up
-    h /= np.linalg.norm(h, axis=-1, keepdims=True)
-    d = 4 * h[:, 2] * np.asarray(s.pdf, dtype=np.float64)  # p(l) = D (n·h) / (4 v·h)
-    th = _TABLE_ANGLES[:, None]
-    ph = (np.arange(_AZIMUTHS) * (2 * math.pi / _AZIMUTHS))[None, :]
-    v = np.stack(np.broadcast_arrays(np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)), -1)[..., None, :]
-    vh = np.sum(v * h, axis=-1)
-    lw = 2 * vh[..., None] * h - v
-    ok = (vh > 0) & (lw[..., 2] > 0) & (d > 0)
-    f = np.asarray(part.eval(up, lw, np.broadcast_to(v, lw.shape)), dtype=np.float64).mean(axis=-1)
-    w = np.where(ok, f * np.maximum(lw[..., 2], 0) * 4 * np.where(ok, vh, 1) / np.where(ok, d, 1), 0.0)
-    found = (h.astype(np.float32), d.astype(np.float32), w.astype(np.float32))
-    _tables[key] = found
-    return found
-
-
-def _fis_half(part, pre, levels, n, v, cos_v, samples):
-    """Filtered importance sampling of a narrow microfacet lobe with half vectors fixed to the surface.
-
-    ``D(h)(n·h)`` sampling does not depend on the view, so the half vectors stay put in a frame that turns
-    smoothly with the normal (:func:`_smooth_frame`); each pixel reflects its own ``v`` about them.  Turning
-    the pattern with the plane of incidence instead would make it spin about the point that faces the viewer,
-    where a narrow lobe's sparse tail samples then draw a pinwheel.  The weights come from a table over the
-    view's angles in that frame, times each pixel's own horizon; the levels from each sample's exact density.
-    """
-    h_loc, d, wtab = _half_table(part, samples)
-    t, b = _smooth_frame(n)
-    vt, vb = np.einsum("ij,ij->i", v, t), np.einsum("ij,ij->i", v, b)
-    mt = np.minimum(np.rint(np.arccos(np.clip(cos_v, 0.0, 1.0)) / _TABLE_STEP).astype(np.int64), len(_TABLE_ANGLES) - 1)
-    ma = np.rint(np.arctan2(vb, vt) * (_AZIMUTHS / (2 * math.pi))).astype(np.int64) % _AZIMUTHS
-    h = h_loc[None, :, 0:1] * t[:, None, :] + h_loc[None, :, 1:2] * b[:, None, :] + h_loc[None, :, 2:3] * n[:, None, :]
-    vh = np.einsum("pkc,pc->pk", h, v)
-    ld = 2 * vh[..., None] * h - v[:, None, :]
-    nl = np.einsum("pkc,pc->pk", ld, n)
-    ok = (vh > 0) & (nl > 0)
-    w = np.where(ok, wtab[mt, ma], np.float32(0))
-    total = w.sum(axis=-1)
-    w = w / np.where(total > 0, total, 1)[:, None]
-    share = 4 * np.maximum(vh, np.float32(1e-6)) / (samples * np.maximum(d, np.float32(1e-30)))  # 1 / (N p)
-    sigma = HALF_FILTER_SCALE * np.sqrt(share / np.float32(2 * math.pi))
-    sig = np.asarray(pre.sigmas, dtype=np.float64)
-    s64 = sigma.astype(np.float64)
-    level = np.where(s64 < sig[1], np.clip(s64 / sig[1], 0.0, 1.0),
-                     np.interp(np.log(np.maximum(s64, sig[1])), np.log(sig[1:]), np.arange(1, len(sig))))  # fmt: skip
-    vals = levels.read(ld, level)
-    return np.einsum("pk,pkc->pc", w, vals), total > 0
 
 
 def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = DOMINANT_SAMPLES,
@@ -727,12 +503,28 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     dt = working_dtype(n, v)
     shape = np.broadcast_shapes(n.shape, v.shape)
     pixels = math.prod(shape) // 3
-    check_budget("normals", pixels * 512 + min(pixels, _FIS_CHUNK) * NARROW_FACTOR * samples * 192,
-                 what=f"{pixels} pixels at {samples} samples")  # fmt: skip
+    # The filtered samples are read a block of pixels at a time (lighting.integrate._fis): the memory of a block.
+    check_budget("normals", pixels * 512 + (1 << 15) * 256, what=f"{pixels} pixels at {samples} samples")
     n = np.broadcast_to(n, shape).reshape(-1, 3).astype(dt, copy=False)
     v = np.broadcast_to(v, shape).reshape(-1, 3).astype(dt, copy=False)
     cos_v = np.einsum("ij,ij->i", n, v)
-    seen = cos_v > 0
+    # Only the pixels facing the viewer reflect anything (a pixel off the object has a zero normal).
+    seen = np.flatnonzero(cos_v > 0)
+    out_shape = shape[:-1] + (3,)
+    if seen.size < cos_v.size:
+        terms = _radiance(brdf, pre, n[seen], v[seen], cos_v[seen], dt, samples)
+        for key, value in terms.items():
+            terms[key] = np.zeros(n.shape, dtype=np.float64)
+            terms[key][seen] = value
+    else:
+        terms = _radiance(brdf, pre, n, v, cos_v, dt, samples)
+    if split_terms:
+        return {key: value.astype(dt).reshape(out_shape) for key, value in terms.items()}
+    return (terms["diffuse"] + terms["specular"]).astype(dt).reshape(out_shape)
+
+
+def _radiance(brdf, pre, n, v, cos_v, dt, samples):
+    """:func:`dominant_radiance` of pixels that face the viewer, ``n``, ``v`` (P, 3) in ``dt``: ``{term: (P, 3)}``."""
     r = 2 * cos_v[:, None] * n - v
     diffuse = np.zeros(n.shape, dtype=np.float64)
     specular = np.zeros(n.shape, dtype=np.float64)
@@ -767,30 +559,22 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
                 value += rho * irradiance
             else:
                 wide = sigma >= WIDE_LOBE and len(dom.cell_power)
+                n32, v32, c32 = nb.astype(np.float32), vb.astype(np.float32), cos_v.astype(np.float32)
                 if wide:  # the areas of light cell by cell; the calm rest by filtered samples
-                    value += _cell_term(part, dom.cell_directions, dom.cell_power, nb, vb, dt)
+                    value += cell_sum(part, dom.cell_directions, dom.cell_power, n32, v32, c32)
                 rest, levels = (dom.calm, dom.calm_levels) if wide else (residual, dom.levels)
                 # A narrow lobe reads sharp areas of light (a box's edge, its long tails over a dark ground) by its
                 # samples alone: it takes NARROW_FACTOR times as many.
                 count = samples if sigma >= WIDE_LOBE else NARROW_FACTOR * samples
                 mf = part.microfacet()
                 half = sigma < WIDE_LOBE and mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic
-                fis = _fis_half if half else _fis_term
-                mean = np.empty(n.shape, dtype=np.float64)
-                ok = np.empty(n.shape[0], dtype=bool)
-                n32, v32, c32 = nb.astype(np.float32), vb.astype(np.float32), cos_v.astype(np.float32)
-                for i in range(0, n.shape[0], _FIS_CHUNK):  # pixels at a time: the memory of a chunk, not the image
-                    sl = slice(i, i + _FIS_CHUNK)
-                    mean[sl], ok[sl] = fis(part, rest, levels, n32[sl], v32[sl], c32[sl], count)
+                fis = half_vector_mean if half else view_table_mean
+                mean, ok = fis(part, levels, n32, v32, c32, count, rest.sigmas)
+                mean = mean.astype(np.float64)
                 if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value
                     miss = ~ok
                     mean[miss] = rest._lookup(rb[miss], min(sigma, rest.sigmas[-1]),
                                               kernel_of_lobe(lobe)).astype(np.float64)  # fmt: skip
                 value += rho * mean
             (diffuse if math.isinf(sigma) else specular)[:] += value * scale
-    diffuse[~seen] = 0
-    specular[~seen] = 0
-    out_shape = shape[:-1] + (3,)
-    if split_terms:
-        return {"diffuse": diffuse.astype(dt).reshape(out_shape), "specular": specular.astype(dt).reshape(out_shape)}
-    return (diffuse + specular).astype(dt).reshape(out_shape)
+    return {"diffuse": diffuse, "specular": specular}
