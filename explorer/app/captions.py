@@ -107,7 +107,7 @@ KEYS: tuple[Key, ...] = (
     Key("V", "split lit sphere: current | first shown entry, divided along the light"),
     Key("X", "next environment (none, the skies, the file)"),
     Key("O", "3D panel: BRDF lobe / lit object"),
-    Key("K", "environment by the Monte-Carlo reference (refined while the view rests) / by the split sum"),
+    Key("K", "environment by the Monte-Carlo reference (refined while the view rests) / by the dominant lights"),
     Key("Up", "move the scan line up"),
     Key("Down", "move the scan line down"),
     Key("Left", "coarser coarse sphere"),

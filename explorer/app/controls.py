@@ -145,7 +145,7 @@ CONTROLS: dict[str, Control] = {
     "env_intensity": Control("float", 0.0, 10.0, help="environment radiance multiplier"),
     "view3d": Control("choice", choices=VIEWS_3D, help="the 3D panel: the BRDF lobe, or the lit object (--mesh)"),
     "reference": Control(
-        "bool", help="environment by the Monte-Carlo reference, refined while the view rests (off: split sum)"
+        "bool", help="environment by the Monte-Carlo reference, refined while the view rests (off: dominant lights)"
     ),
     "scene_lights": Control(
         "lights",

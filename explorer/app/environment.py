@@ -8,7 +8,9 @@ elevation and azimuth give it on screen, the sky is above the object and the gro
 Mesh files are taken as ``+y`` up (the OBJ and glTF habit) and turned the same way.
 
 Everything is the engine's: the environment is an :class:`lighting.lights.EnvironmentLight` given
-to :meth:`lighting.render.Renderer.render` (split sum), and the reference is
+to :meth:`lighting.render.Renderer.render` (the engine's default method, the dominant lights; while a
+control is dragged the split sum, several times cheaper, and the release re-shades the image by the
+dominant lights once), and the reference is
 :class:`lighting.integrate.ibl.ProgressiveRadiance` on the renderer's own per-pixel normals and view
 vectors, its values spread into the image by the renderer (:meth:`~lighting.render.Renderer.spread`).
 With an environment the ambient light is dropped (the environment is the light from everywhere,
@@ -236,7 +238,7 @@ class ObjectView:
     rgb8: np.ndarray
     coverage: np.ndarray  # (H, W) bool: the object's pixels
     triangles: int
-    method: str  # "split sum", "reference" or "key light" (no environment)
+    method: str  # "dominant lights", "split sum" (while a control is dragged), "reference" or "key light"
     clipped: int
 
 
@@ -351,6 +353,10 @@ class EnvironmentMixin:
     :attr:`object_mesh` and :attr:`refinement` (the running reference, or None).
     """
 
+    #: Whether the views being computed follow a drag (``update(only=...)``, set by the update): the environment's
+    #: images are then made by the split sum and left pending for the release.
+    live_update: bool = False
+
     def _init_environment(self, *, object_size=(320, 224), mesh=None, environment_file=None):
         from lighting.render.mesh import TriangleMesh, load_mesh
 
@@ -413,7 +419,7 @@ class EnvironmentMixin:
         env = self.state.environment
         return env != "none" and (env != "file" or "file" in self._bases)
 
-    def environment_light(self, *, background=True) -> EnvironmentLight | None:
+    def environment_light(self, *, background=True, live=False) -> EnvironmentLight | None:
         """The chosen environment as a light (intensity and rotation of the controls), or None.
 
         The environment is prefiltered once per source; turning it or scaling it reuses that (the
@@ -423,6 +429,10 @@ class EnvironmentMixin:
         ----------
         background : bool
             Show it behind the geometry.
+        live : bool
+            For an image shown while a control is dragged: the split sum instead of the engine's default,
+            the dominant lights (whose re-shade of a glossy lobe costs many times the split sum's:
+            ``lighting-explorer bench --ibl``).
 
         Returns
         -------
@@ -438,13 +448,16 @@ class EnvironmentMixin:
         if pre is None:
             pre = self._prefiltered[s.environment] = prefilter_environment(base)
         # The base's levels, the intensity and rotation applied at lookup: a slider makes a new light at every
-        # move, and prefiltering once per source keeps the drag at a re-shade.
-        # The split sum, not the engine's default (dominant lights): a drag needs a re-shade in milliseconds, and
-        # the dominant-light method costs seconds a 512² re-shade for a glossy lobe (bench --ibl).  The window's
-        # accurate picture is the Monte-Carlo reference (``reference``), refined while the view rests.
-        light = EnvironmentLight(base, intensity=s.env_intensity, rotation=s.env_rotation, background=background,
-                                 prefiltered=pre, method="split-sum")  # fmt: skip
-        return light
+        # move, and prefiltering once per source (the dominant lights' extraction too) keeps the drag at a re-shade.
+        return EnvironmentLight(base, intensity=s.env_intensity, rotation=s.env_rotation, background=background,
+                                prefiltered=pre, method="split-sum" if live else "dominant")  # fmt: skip
+
+    def _shown_live(self, view: str) -> bool:
+        """Whether ``view`` is being computed for a drag (:attr:`live_update`); then it is left pending as well,
+        so that the release computes it again by the dominant lights."""
+        if self.live_update:
+            self.pending.add(view)
+        return self.live_update
 
     def apply_auto_exposure(self) -> set[str]:
         """What a front end calls after the ``environment`` control changed: the exposure follows the light.
@@ -535,12 +548,12 @@ class EnvironmentMixin:
 
     # ------------------------------------------------------------------ views
     def _env_sphere_view(self, material):
-        """The lit sphere under the environment (split sum; the reference refines it): a SphereView."""
+        """The lit sphere under the environment (dominant lights; the reference refines it): a SphereView."""
         from .views import SphereView
 
         s = self.state
         r, geometry = self._sphere_renderer_world(s.mode, s.tessellation)
-        lights = self.world_lights() + [self.environment_light(background=False)]
+        lights = self.world_lights() + [self.environment_light(background=False, live=self._shown_live("sphere"))]
         img = r.render(material, lights, mode=s.mode, form=s.form, terms=s.terms)
         target = self.split_target() if s.split and not s.reference else None
         from .split import split_angle, split_render
@@ -558,13 +571,14 @@ class EnvironmentMixin:
     def _object_view(self, material) -> ObjectView:
         s = self.state
         r = self.object_renderer()
-        env = self.environment_light()
+        live = self.environment_active and self._shown_live("object")
+        env = self.environment_light(live=live)
         if env is None:
             lights = [AmbientLight(intensity=s.ambient)] + self.world_lights()
             method = "key light"
         else:
             lights = self.world_lights() + [env]
-            method = "split sum"
+            method = "split sum" if live else "dominant lights"
         img = r.render(material, lights, mode="phong", form=s.form, terms=s.terms)
         cov = r.gbuffer.coverage
         return self._object_record(img, cov, method)
@@ -586,7 +600,7 @@ class EnvironmentMixin:
         shown = {"sphere"} | ({"object"} if s.view3d == "object" else set())
         if self.refinement is not None and not (set(views) & shown):
             return
-        env = self.environment_light()
+        env = self.environment_light(live=True)  # its environment and background are what is used: either method
         material = s.material()
         key_only = Material(material.brdf, ambient=material.ambient)
         normals, views_, targets, start = [], [], [], 0
@@ -660,7 +674,7 @@ class EnvironmentMixin:
             return ""
         spp = ref.samples
         if spp == 0:
-            return "reference: starting (split sum shown)"
+            return "reference: starting (dominant lights shown)"
         rel = ref.relative_error()
         err = f"±{100 * rel:.2g} %" if math.isfinite(rel) else "± ?"
         per_pass = 1e3 * ref.seconds / max(ref.passes, 1)

@@ -573,6 +573,7 @@ class ExplorerModel(CompareMixin, EnvironmentMixin):
         if "profile" in views and "coarse" in stale:
             views.add("coarse")  # the profile is read off the coarse sphere's images
         self.pending = stale - views
+        self.live_update = only is not None
         s = self.state
         if views & {"sphere", "coarse", "profile"}:
             material, lights = s.material(), s.lights()

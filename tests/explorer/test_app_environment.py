@@ -90,7 +90,7 @@ def test_uniform_sky_on_lambert_is_the_white_furnace(form, factor):
     np.testing.assert_allclose(ov.image[ov.coverage], np.broadcast_to(factor * albedo, (ov.coverage.sum(), 3)),
                                rtol=2e-6)  # fmt: skip
     np.testing.assert_allclose(ov.image[~ov.coverage], factor, rtol=1e-6)
-    assert 0.15 < ov.coverage.mean() < 0.85 and ov.method == "split sum"
+    assert 0.15 < ov.coverage.mean() < 0.85 and ov.method == "dominant lights"
 
 
 def test_key_light_keeps_its_place_on_screen_under_an_environment():
@@ -121,6 +121,34 @@ def test_rotation_and_intensity_reuse_one_prefiltered_environment():
     assert np.abs(turned - first).max() > 0.05  # the glow's sun went round: the image changed
 
 
+def test_a_drag_shows_the_split_sum_and_the_release_the_dominant_lights():
+    # A glossy sphere under a sky with a sun, where the two methods differ: the image a drag shows is the split
+    # sum's, the same light rendered by the engine; the release re-shades it once by the engine's default.
+    from lighting.lights import EnvironmentLight
+
+    state = AppState(environment="sunset", model="cook-torrance", roughness=0.2, light="ambient", form="physical")
+    model = ExplorerModel(state, **SMALL)
+    model.update()
+    r, _ = model._sphere_renderer_world(state.mode, state.tessellation)
+    pre = model._prefiltered["sunset"]
+
+    def render(method, rotation):
+        light = EnvironmentLight(model._base("sunset"), rotation=rotation, background=False, prefiltered=pre,
+                                 method=method)  # fmt: skip
+        return np.asarray(r.render(state.material(), [light], mode=state.mode, form=state.form))
+
+    np.testing.assert_array_equal(model.views["sphere"].image, render("dominant", 0.0))
+    state.env_rotation = 30.0
+    assert model.update(only={"sphere", "coarse"}) == {"sphere"} and "sphere" in model.pending
+    live = render("split-sum", 30.0)
+    np.testing.assert_array_equal(model.views["sphere"].image, live)
+    assert model.update() == {"sphere"} and model.pending == set()
+    rest = render("dominant", 30.0)
+    np.testing.assert_array_equal(model.views["sphere"].image, rest)
+    assert np.abs(rest - live).max() > 0.01 * rest.max()  # the two methods differ here: the release is seen
+    assert model.update() == set()  # nothing left: one re-shade
+
+
 # ------------------------------------------------------------------ the reference
 def _run_to(ref, spp):
     while ref.samples < spp:
@@ -133,7 +161,7 @@ def test_reference_refines_and_its_error_shrinks_like_one_over_root_spp():
     model = ExplorerModel(state, **SMALL)
     model.update()
     ref = model.refinement
-    assert ref.samples == 0 and model.refine_caption() == "reference: starting (split sum shown)"
+    assert ref.samples == 0 and model.refine_caption() == "reference: starting (dominant lights shown)"
     counts = []
     for _ in range(3):
         assert model.refine(0.0) == {"sphere", "object"}
@@ -172,13 +200,14 @@ def test_a_control_change_restarts_the_reference_and_others_do_not():
     state.env_rotation = 40.0
     model.update()
     assert model.refinement is not old and model.refinement.samples == 0
-    # A drag (the lit sphere live, the object left pending) stops it; the release starts it again.
+    # A drag (the lit sphere live by the split sum, then pending for the dominant lights; the object left pending)
+    # stops it; the release starts it again.
     state.view3d = "object"
     model.update()
     state.env_rotation = 50.0
-    assert model.update(only={"sphere", "coarse"}) == {"sphere"} and model.pending == {"object"}
+    assert model.update(only={"sphere", "coarse"}) == {"sphere"} and model.pending == {"object", "sphere"}
     assert model.refinement is None and model.refine(0.0) == set()
-    assert model.update() == {"object"} and model.refinement.samples == 0
+    assert model.update() == {"object", "sphere"} and model.refinement.samples == 0
     assert model.refine(0.0) == {"sphere", "object"}
     state.reference = False
     model.update()

@@ -210,7 +210,7 @@ def test_profile_coarse_and_object_captions():
     assert captions.object_caption(state, ov) == "no environment (key + ambient light) · key light"
     state.environment = "band-limited"
     model.update()
-    assert captions.object_caption(state, model.views["object"]) == "sky band-limited · split sum"
+    assert captions.object_caption(state, model.views["object"]) == "sky band-limited · dominant lights"
     assert captions.object_title(state, model.views["object"]).endswith(f"{ov.triangles} triangles, Phong normals")
 
 
