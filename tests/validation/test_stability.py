@@ -109,7 +109,8 @@ def test_saturation_instead_of_inf(result):
     assert all(r.failures == 0 for r in over)
 
 
-BEYOND_FAMILIES = ("Oren-Nayar", "Ward", "Ashikhmin-Shirley", "Disney", "CT correlated", "CT anisotropic")
+BEYOND_FAMILIES = ("Oren-Nayar", "Ward", "Ashikhmin-Shirley", "Disney", "CT correlated", "CT anisotropic",
+                   "CT conductor")
 
 
 def test_the_models_beyond_the_slides_meet_the_bound_in_both_dtypes(result):
