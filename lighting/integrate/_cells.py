@@ -3,10 +3,11 @@ r"""The areas of light of the dominant-light method, cell by cell: ``Σ_c f_r(v,
 Every pixel meets every cell, so the BRDF is read from a table rather than evaluated: an isotropic part's
 ``f_r (n·l)`` depends only on the view's and the light's angles from the normal, ``θ_v`` and ``θ_l``, and on the
 azimuth ``φ`` between them, ``cos φ = (v·l − cos θ_v cos θ_l) / (sin θ_v sin θ_l)``.  The table holds it at
-:data:`VIEW_ROWS` × :data:`LIGHT_ROWS` × :data:`AZIMUTH_ROWS` points (once per part), and a pixel–cell pair
-reads it trilinearly: eight gathers of 16-byte RGBA texels and a weighted sum, where the model's own
-evaluation costs tens of passes over the pairs.  An anisotropic part (``BRDFFlags.ANISOTROPIC``) is evaluated
-pair by pair.
+:data:`VIEW_ROWS` × :data:`LIGHT_ROWS` × :data:`AZIMUTH_ROWS` points (once per part), the azimuth evenly in
+``cos(φ/2) = √((1 + cos φ)/2)``: finest toward ``φ = π``, the plane of the mirror direction where a glossy
+lobe peaks, and no arc cosine to take.  A pixel–cell pair reads it trilinearly: eight gathers of 16-byte
+RGBA texels and a weighted sum, where the model's own evaluation costs tens of passes over the pairs.  An
+anisotropic part (``BRDFFlags.ANISOTROPIC``) is evaluated pair by pair.
 """
 
 from __future__ import annotations
@@ -16,33 +17,39 @@ import math
 import numpy as np
 
 from ..models.base import BRDFFlags
-from ._fis import _remember, _tables
+from ._fis import in_blocks
 
-#: Rows of the cosine-weighted BRDF table in ``θ_v`` (0 to :data:`VIEW_LIMIT`), ``θ_l`` (0 to 90°) and ``φ`` (0 to
-#: 180°), each angle evenly spaced.
-VIEW_ROWS, LIGHT_ROWS, AZIMUTH_ROWS = 91, 65, 65
+#: Rows of the cosine-weighted BRDF table in ``θ_v`` (0 to :data:`VIEW_LIMIT`) and ``θ_l`` (0 to 90°), each evenly
+#: spaced, and in ``cos(φ/2)`` (1 to 0: ``φ`` from 0 to 180°).
+VIEW_ROWS, LIGHT_ROWS, AZIMUTH_ROWS = 91, 65, 129
 #: The largest view angle of the table (radians); a grazing pixel reads this row (the BRDF is 0 at 90°).
 VIEW_LIMIT = math.radians(89.5)
 #: Pixel–cell pairs whose table reads are made at once: a block's arrays stay within the processor's cache.
 _BLOCK = 1 << 14
+#: The tables of the parts met last (each holds ``VIEW_ROWS × LIGHT_ROWS × AZIMUTH_ROWS`` texels of 16 bytes).
+_tables: dict = {}
+_KEPT = 8
 
 
 def cosine_table(part):
     """``f_r (n·l)`` of an isotropic part over ``(θ_v, θ_l, φ)`` (module notes): flat RGBA texels, complex128."""
-    key = ("cos", type(part).__qualname__, repr(part))
+    key = (type(part).__qualname__, repr(part))
     found = _tables.get(key)
     if found is not None:
         return found
     tv = np.linspace(0.0, VIEW_LIMIT, VIEW_ROWS)[:, None, None]
     tl = np.linspace(0.0, math.pi / 2, LIGHT_ROWS)[None, :, None]
-    ph = np.linspace(0.0, math.pi, AZIMUTH_ROWS)[None, None, :]
+    ph = 2 * np.arccos(np.linspace(1.0, 0.0, AZIMUTH_ROWS))[None, None, :]
     v = np.stack(np.broadcast_arrays(np.sin(tv), 0 * tv, np.cos(tv)), axis=-1)
     l = np.stack(np.broadcast_arrays(np.sin(tl) * np.cos(ph), np.sin(tl) * np.sin(ph), np.cos(tl)), axis=-1)  # noqa: E741
     g = np.asarray(part.eval_cos(np.array([0.0, 0.0, 1.0]), l, v), dtype=np.float64)
     g[:, -1] = 0.0  # l on the horizon
     rgba = np.zeros(g.shape[:-1] + (4,), dtype=np.float32)
     rgba[..., :3] = g
-    return _remember(key, rgba.reshape(-1, 4).view(np.complex128).reshape(-1))
+    found = _tables[key] = rgba.reshape(-1, 4).view(np.complex128).reshape(-1)
+    if len(_tables) > _KEPT:
+        _tables.pop(next(iter(_tables)))
+    return found
 
 
 def cell_sum(part, directions, power, n, v, cos_v):
@@ -64,19 +71,18 @@ def cell_sum(part, directions, power, n, v, cos_v):
     sin_v = np.sqrt(np.maximum(1 - cos_v * cos_v, 0))[:, None]
     cos_v = cos_v[:, None]
     kl = np.float32((LIGHT_ROWS - 1) / (math.pi / 2))
-    kp = np.float32((AZIMUTH_ROWS - 1) / math.pi)
+    kp = np.float32(AZIMUTH_ROWS - 1)
     one, tiny = np.float32(1), np.float32(1e-12)
     out = np.zeros(n.shape, dtype=np.float64)
-    step = max(1, _BLOCK // max(cells, 1))
     plane, row = LIGHT_ROWS * AZIMUTH_ROWS, AZIMUTH_ROWS
-    for i in range(0, n.shape[0], step):
-        s = slice(i, i + step)
+
+    def block(s):
         mu_l = n[s] @ lc.T  # (p, C)
         vl = v[s] @ lc.T
         sin_l = np.sqrt(np.maximum(one - mu_l * mu_l, 0))
         cos_p = np.clip((vl - cos_v[s] * mu_l) / np.maximum(sin_v[s] * sin_l, tiny), -one, one)
         fl = np.arccos(np.clip(mu_l, 0, one)) * kl
-        fp = np.arccos(cos_p) * kp
+        fp = (one - np.sqrt((one + cos_p) * np.float32(0.5))) * kp  # 1 − cos(φ/2): the rows run from φ = 0
         il = np.minimum(fl.astype(np.int32), LIGHT_ROWS - 2)
         ip = np.minimum(fp.astype(np.int32), AZIMUTH_ROWS - 2)
         tl, tp = fl - il, fp - ip
@@ -91,6 +97,8 @@ def cell_sum(part, directions, power, n, v, cos_v):
                 weight += [wvl * (one - tp), wvl * tp]
         texel = np.take(table, np.concatenate(index, axis=1)).view(np.float32).reshape(-1, 8 * cells, 4) * pw
         out[s] = np.matmul(np.concatenate(weight, axis=1)[:, None, :], texel)[:, 0, :3]
+
+    in_blocks(n.shape[0], max(1, _BLOCK // max(cells, 1)), block)
     return out
 
 

@@ -187,16 +187,32 @@ def view_table_mean(part, stack, n, v, cos_v, samples, sigmas):
     t = t / tl[:, None]
     b = np.cross(n, t)
     out = np.empty(n.shape, dtype=np.float32)
-    step = max(1, _BLOCK // samples)
-    for i in range(0, n.shape[0], step):
-        s = slice(i, i + step)
+
+    def block(s):
         mm = m[s]
         lx, ly, lz = ld[mm, :, 0], ld[mm, :, 1], ld[mm, :, 2]
         x = _turn(lx, ly, lz, t[s, 0], b[s, 0], n[s, 0])
         y = _turn(lx, ly, lz, t[s, 1], b[s, 1], n[s, 1])
         z = _turn(lx, ly, lz, t[s, 2], b[s, 2], n[s, 2])
         out[s] = stack.mean(x, y, z, level[mm], w[mm])
+
+    in_blocks(n.shape[0], max(1, _BLOCK // samples), block)
     return out, w[m].sum(axis=-1) > 0
+
+
+def in_blocks(count: int, step: int, fn) -> None:
+    """``fn(rows)`` for consecutive slices of ``step`` of ``count`` rows; each shading thread takes a run of them.
+
+    The blocks write disjoint rows: the result does not depend on which thread computed which block.
+    """
+    from ..shading.batch import each_chunk
+
+    def run(rows):
+        start, stop, _ = rows.indices(count)
+        for i in range(start, stop, step):
+            fn(slice(i, min(i + step, stop)))
+
+    each_chunk(count, run)
 
 
 def _turn(lx, ly, lz, tc, bc, nc):
@@ -269,10 +285,9 @@ def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):
     hx, hy, hz = h_loc[:, 0], h_loc[:, 1], h_loc[:, 2]
     out = np.empty(n.shape, dtype=np.float32)
     any_ok = np.empty(n.shape[0], dtype=bool)
-    step = max(1, _BLOCK // samples)
     tiny = np.float32(1e-6)
-    for i in range(0, n.shape[0], step):
-        s = slice(i, i + step)
+
+    def block(s):
         nn, vv = n[s], v[s]
         h = [hx * t[s, c, None] + hy * b[s, c, None] + hz * nn[:, c, None] for c in range(3)]  # world, (P, N) each
         vh = h[0] * vv[:, 0, None] + h[1] * vv[:, 1, None] + h[2] * vv[:, 2, None]
@@ -285,4 +300,6 @@ def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):
         w /= np.where(total > 0, total, 1)[:, None]
         level = stack.level_of(np.float32(0.5) * np.log(np.maximum(vh, tiny)) + log_c)
         out[s] = stack.mean(x, y, z, level, w)
+
+    in_blocks(n.shape[0], max(1, _BLOCK // samples), block)
     return out, any_ok

@@ -204,3 +204,64 @@ def test_a_narrow_lobe_does_not_spin_about_the_point_facing_the_viewer():
         diff = (dominant_radiance(m, pre, n, v)[:, 0] - r) / r.mean()
         # The part of the error that turns with the view, the reference's noise (1 to 1.4 %) included: 3 to 6.5 %.
         assert np.ptp(diff) < 0.1, (n0, np.ptp(diff))
+
+
+# ------------------------------------------------------------------ the building blocks of a re-shade
+def test_the_level_stack_reads_what_the_lat_long_lookup_reads_blended_between_two_levels():
+    # One sample of weight 1 at a fractional level: the engine's bilinear lat-long lookup of the two levels around
+    # it, blended linearly (the stack's padded borders standing in for the lookup's wrap and clamp).
+    from lighting.integrate._fis import LevelStack
+    from lighting.lights.latlong import latlong_lookup
+
+    rng = np.random.default_rng(5)
+    pre = prefilter_environment(LatLongEnvironment(rng.random((32, 64, 3))))
+    stack = LevelStack(pre)
+    d = rng.normal(size=(400, 3))
+    d[:8] = [[0, 0, 1], [0, 0, -1], [-1, 0, 0], [-1, 1e-7, 0], [-1, -1e-7, 0], [1, 0, 0], [0, 1, 0], [0, -1, 1e-3]]
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    level = rng.uniform(0, len(pre.sigmas) - 1, 400)
+    level[:8] = [0, 0, 0.5, 1, 2, 6.5, 7, 3.25]
+    d32 = d.astype(np.float32)
+    got = stack.mean(d32[:, 0:1], d32[:, 1:2], d32[:, 2:3], level[:, None].astype(np.float32),
+                     np.ones((400, 1), np.float32))  # fmt: skip
+    levels = pre.families["mirror"]
+    k0 = np.floor(level).astype(int)
+    want = np.empty((400, 3))
+    for i in range(400):
+        k1 = min(k0[i] + 1, len(levels) - 1)
+        a, b = (latlong_lookup(levels[k].reshape(-1, 3).astype(np.float64), *levels[k].shape[:2], d[i])
+                for k in (k0[i], k1))
+        want[i] = a + (level[i] - k0[i]) * (b - a)
+    np.testing.assert_allclose(got, want, rtol=2e-4, atol=2e-5)
+
+
+@pytest.mark.parametrize("part", [
+    CookTorrance(1.0, 0.2, 1.0, ndf="ggx", fresnel="none"),
+    CookTorrance(1.0, 0.5, (0.95, 0.64, 0.54), ndf="beckmann", fresnel="schlick"),
+    Lambert(0.7),
+], ids=["ggx-0.2", "beckmann-0.5-gold", "lambert"])  # fmt: skip
+def test_the_cells_table_gives_the_models_own_sum_over_the_cells(part):
+    # Σ_c f_r(v, l_c)(n·l_c) Φ_c read from the (θ_v, θ_l, φ) table against the model's own evaluation of every pair.
+    from lighting.integrate._cells import _cell_exact, cell_sum
+
+    rng = np.random.default_rng(8)
+    n = rng.normal(size=(2000, 3))
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    v = rng.normal(size=(2000, 3))
+    v /= np.linalg.norm(v, axis=-1, keepdims=True)
+    v = np.where((np.sum(n * v, -1) < 0.02)[:, None], -v, v)
+    keep = np.sum(n * v, -1) > 0.02
+    n, v = n[keep], v[keep]
+    cells = rng.normal(size=(30, 3))
+    cells /= np.linalg.norm(cells, axis=-1, keepdims=True)
+    power = rng.uniform(0.1, 1.0, (30, 3))
+    n32, v32 = n.astype(np.float32), v.astype(np.float32)
+    got = cell_sum(part.parts[0], cells, power, n32, v32, np.sum(n32 * v32, -1))
+    want = _cell_exact(part.parts[0], cells, power, n, v)
+    rel = np.max(np.abs(got - want), axis=-1) / np.max(want, axis=-1)
+    # Trilinear between table points 1° (θ_v), 1.4° (θ_l) and at most 1.8° (φ, near the mirror plane) apart: the
+    # median pixel within 0.2 %, the 99th percentile within 3 %; away from grazing views (n·v > 0.2, θ_v < 78°),
+    # where the lobe changes fastest with the view, within 1 % and at most 5 %.
+    front = np.sum(n * v, -1) > 0.2
+    assert np.median(rel) < 0.002 and np.percentile(rel, 99) < 0.03, (np.median(rel), np.percentile(rel, 99))
+    assert np.percentile(rel[front], 99) < 0.01 and rel[front].max() < 0.05
