@@ -401,10 +401,12 @@ def implied_parameters(table: Mapping, params: Mapping, given: Mapping) -> dict:
     return {name: value for name, value in out.items() if name not in given and params.get(name) != value}
 
 
-def conductor_none_value(name: str, params: Mapping):
+def conductor_none_value(name: str, params: Mapping, *, whole: bool = False):
     """The index a conductor row set to ``None`` stands for: the named metal's, else ``η`` of ``F0`` and ``k = 0``.
 
-    A slider shows one number, so an RGB index shows its largest channel (as an RGB value from a scene file does).
+    A slider shows one number, so an RGB index shows its largest channel (as an RGB value from a scene file does);
+    ``whole=True`` gives the index itself, an RGB tuple where it differs per channel (what a released lock sets, so
+    that the material looks the same after the release).
 
     Parameters
     ----------
@@ -412,10 +414,12 @@ def conductor_none_value(name: str, params: Mapping):
         ``"eta"`` or ``"k"`` (any other row: None).
     params : mapping
         The model's parameters (``metal`` and ``f0`` are read).
+    whole : bool
+        The whole index instead of its largest channel.
 
     Returns
     -------
-    float or None
+    float, tuple of float or None
 
     Examples
     --------
@@ -423,6 +427,8 @@ def conductor_none_value(name: str, params: Mapping):
     1.5
     >>> round(conductor_none_value("k", {"metal": "gold", "f0": 0.04}), 3)
     3.403
+    >>> [round(x, 3) for x in conductor_none_value("k", {"metal": "gold"}, whole=True)]
+    [3.403, 2.231, 1.869]
     """
     if name not in ("eta", "k"):
         return None
@@ -430,7 +436,11 @@ def conductor_none_value(name: str, params: Mapping):
 
     metal = params.get("metal", "none")
     if metal not in (None, "none"):
-        return float(np.max(metal_index(metal)[0 if name == "eta" else 1]))
-    if name == "k":
-        return 0.0
-    return float(np.max(eta_from_f0(params.get("f0", 0.04))))
+        value = metal_index(metal)[0 if name == "eta" else 1]
+    elif name == "k":
+        value = np.zeros(1)
+    else:
+        value = np.atleast_1d(eta_from_f0(params.get("f0", 0.04)))
+    if not whole or np.all(value == value.flat[0]):
+        return float(np.max(value))
+    return tuple(float(x) for x in value)

@@ -429,7 +429,10 @@ class ControlPanel(QtWidgets.QScrollArea):
         box.edited.connect(toggled)
 
     @staticmethod
-    def _released_value(editor: NumberEditor) -> float:
+    def _released_value(editor: NumberEditor) -> float | tuple:
+        whole = getattr(editor, "linked_whole", None)  # a conductor's RGB index: released as it is
+        if whole is not None:
+            return whole
         value = getattr(editor, "linked_value", None)
         return float(value if value is not None else editor.from_position(editor.slider.value()))
 
@@ -449,6 +452,7 @@ class ControlPanel(QtWidgets.QScrollArea):
             # Show what None stands for where that is another number of the table ("α_y = α_x").
             # Else the knob rests mid-way, and that value is the one a released box starts from.
             linked = conductor_none_value(editor.param_name, params)
+            editor.linked_whole = conductor_none_value(editor.param_name, params, whole=True)
             if linked is None:
                 linked = self._linked(editor.none_meaning, params)
             if linked is None:
@@ -456,7 +460,7 @@ class ControlPanel(QtWidgets.QScrollArea):
             editor.linked_value = linked
             editor.set_value(linked)
         else:
-            editor.linked_value = None
+            editor.linked_value = editor.linked_whole = None
             editor.set_value(max(value) if isinstance(value, tuple) else value)
 
     @staticmethod

@@ -22,6 +22,7 @@ pytest.importorskip("pytestqt")
 
 import numpy as np  # noqa: E402
 from PySide6 import QtCore, QtGui  # noqa: E402
+from qt_window_support import click_box  # noqa: E402
 from test_qt_window import current, make_window, qapp  # noqa: E402, F401 (qapp: the explorer's QApplication)
 
 from lighting.models.fresnel import METALS, metal_index  # noqa: E402
@@ -86,8 +87,22 @@ def test_each_metal_is_taken_shown_and_painted_in_its_colour(qtbot, tmp_path):
     silver = colour["silver"][2] / colour["silver"][0]
     assert colour["gold"][2] / colour["gold"][0] < silver - 0.15
     assert colour["copper"][2] / colour["copper"][0] < silver - 0.1
+    # Released, the η lock keeps the look: η and k take gold's index per channel, the metal is left.
+    _choose(window, "metal", "gold")
+    before = np.array(window.model.views["sphere"].image, copy=True)
+    lock = panel.widget("eta").none_box
+    window.controls.ensureWidgetVisible(lock)
+    click_box(qtbot, lock)
+    current(window)
+    eta, k = metal_index("gold")
+    params = window.state.params
+    assert window.last_error in (None, "") and not lock.isChecked()
+    assert (params["metal"], params["fresnel"]) == ("none", "conductor")
+    assert params["eta"] == tuple(eta) and params["k"] == tuple(k)
+    np.testing.assert_array_equal(window.model.views["sphere"].image, before)
     # Back to Schlick: the metal and its index are left, nothing refused.
     _choose(window, "fresnel", "schlick")
     assert window.last_error in (None, "")
-    assert (window.state.params["metal"], window.state.params["fresnel"]) == ("none", "schlick")
+    assert window.state.params["fresnel"] == "schlick"
+    assert (window.state.params["metal"], window.state.params["eta"], window.state.params["k"]) == ("none", None, None)
     window.close()
