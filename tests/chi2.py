@@ -142,18 +142,22 @@ def _cell_masses(q, cells, order=8, rel_tol=1e-7, abs_tol=1e-10, min_depth=1, ma
         are computed once per interval (the same numbers as per quarter).
         """
         (st, ct), (sp, cp) = theta, phi
-        dt, dp = t1 - t0, p1 - p0
-        # The tensor grid's node (i, j) is (θ_i, φ_j), written straight into the columns of h.
-        h = np.empty((len(t0), order, order, 3))
-        np.multiply(st[:, :, None], cp[:, None, :], out=h[..., 0])
-        np.multiply(st[:, :, None], sp[:, None, :], out=h[..., 1])
-        h[..., 2] = ct[:, :, None]
-        h = h.reshape(-1, 3)
+        n, nodes = len(t0), order * order
+        fw = np.empty((n, nodes))  # q(h) sin θ at each rectangle's nodes
+        columns = getattr(q, "columns", None)
         # In blocks of 2^14 nodes: the samplers refuse arrays over their memory budget, and a block's
-        # temporaries stay in the processor's cache.
-        f = np.concatenate([q(h[i : i + _BLOCK]) for i in range(0, len(h), _BLOCK)] or [np.zeros(0)])
-        sin_w = (st[:, :, None] * np.ones(order)).reshape(len(t0), -1)
-        return ((f.reshape(len(t0), -1) * sin_w) @ ww) * dt * dp
+        # temporaries stay in the processor's cache (and in memory the process already has).
+        step = max(_BLOCK // nodes, 1)
+        for i in range(0, n, step):
+            j = min(i + step, n)
+            # The tensor grid's node (a, b) is (θ_a, φ_b): its three components as three contiguous arrays.
+            s = st[i:j, :, None]
+            hx = (s * cp[i:j, None, :]).reshape(-1)
+            hy = (s * sp[i:j, None, :]).reshape(-1)
+            hz = np.broadcast_to(ct[i:j, :, None], (j - i, order, order)).reshape(-1)
+            f = columns(hx, hy, hz) if columns is not None else q(np.stack([hx, hy, hz], axis=-1))
+            np.multiply(f.reshape(j - i, nodes), (s * np.ones(order)).reshape(j - i, nodes), out=fw[i:j])
+        return (fw @ ww) * (t1 - t0) * (p1 - p0)
 
     t0, t1, p0, p1, cell = cells.rectangles()
     mass = np.zeros(cells.rings * cells.sectors)
@@ -223,24 +227,25 @@ def _setup(sampler, v, rings, sectors, pilot_seed, pilot):
         l = 2 * vh[..., None] * h - v  # noqa: E741
         return sampler.pdf(l, v) * 4 * np.abs(vh) * (sx * sy / r**3)
 
-    def q(g):
-        """:func:`q_reference` column by column: the same operations on each value (the same numbers, bit for
-        bit), without NumPy's broadcasts over an axis of length 3, whose inner loops are slow."""
-        m = np.empty_like(g)
-        for k in range(3):
-            np.divide(g[:, k], stretch[k], out=m[:, k])
+    def q_columns(gx, gy, gz):
+        """:func:`q_reference` on the three components of ``g``, each a contiguous array: the same operations on
+        each value (the same numbers, bit for bit), without NumPy's broadcasts over an axis of length 3 or its
+        strided columns, whose inner loops are slow.  ``h`` is stacked for ``h @ v`` alone (the same product
+        as the reference's), and ``l`` for the sampler."""
+        mx, my, mz = gx / stretch[0], gy / stretch[1], gz / stretch[2]
         # |m| summed as np.linalg.norm sums it.
-        r = np.sqrt(m[:, 0] * m[:, 0] + m[:, 1] * m[:, 1] + m[:, 2] * m[:, 2])
-        h = np.empty_like(m)
-        for k in range(3):
-            np.divide(m[:, k], r, out=h[:, k])
-        vh = h @ v
-        l = np.empty_like(h)  # noqa: E741
+        r = np.sqrt(mx * mx + my * my + mz * mz)
+        hx, hy, hz = mx / r, my / r, mz / r
+        vh = np.stack([hx, hy, hz], axis=-1) @ v
         two_vh = 2 * vh
-        for k in range(3):
-            np.subtract(two_vh * h[:, k], v[k], out=l[:, k])
+        l = np.stack([two_vh * hx - v[0], two_vh * hy - v[1], two_vh * hz - v[2]], axis=-1)  # noqa: E741
         return sampler.pdf(l, v) * 4 * np.abs(vh) * (sx * sy / r**3)
 
+    def q(g):
+        """:func:`q_columns` of an array of ``g`` (n, 3)."""
+        return q_columns(*(np.ascontiguousarray(g[:, k]) for k in range(3)))
+
+    q.columns = q_columns
     q.reference = q_reference
     return cells, q, to_g, draw
 
