@@ -9,8 +9,9 @@ read by one gather per bilinear tap from a flat array of 16-byte RGBA texels (ev
 pixels a block at a time so that the block's arrays stay in the processor's cache.
 
 Each sample reads the two levels around its width and blends them (linear in ``log σ``): reading only the
-nearest level (half the gathers) moves the value by a whole level's blur where the width crosses a midpoint,
-and the error of a narrow lobe over a studio's sharp-edged boxes grows by a quarter.
+nearest level moves the value by a whole level's blur where the width crosses a midpoint, and the error of a
+narrow lobe over a studio's sharp-edged boxes grows by a quarter.  The two levels sit side by side in each
+texel (:class:`LevelStack`), so that one gather per bilinear tap reads both.
 """
 
 from __future__ import annotations
@@ -50,9 +51,11 @@ def _remember(key, value):
 class LevelStack:
     """Every level of a prefiltered environment's von Mises–Fisher family, for one gather per bilinear tap.
 
-    The levels' texels follow each other in one flat array, each texel its RGB and a zero packed into one
-    16-byte element: a one-dimensional gather moves a texel whole (a gather of rows of three float32 values
-    costs several times as much).  Each level is stored with a border of one texel, the first and last columns
+    A sample between levels ``k`` and ``k + 1`` is bilinear in each and linear between them.  Level ``k`` is stored
+    with level ``k + 1`` beside it, read at level ``k``'s texel centres (bilinearly where it is coarser: its blur
+    spans several of its own texels), each texel the RGB and a zero of both, 32 bytes: one gather per bilinear
+    tap moves both levels' values (a gather of rows of three float32 values costs several times as much).  The
+    levels follow each other in one flat array, each with a border of one texel: the first and last columns
     repeated across the seam (the map wraps in azimuth) and the first and last rows repeated (the edge rows are
     clamped), so that a lookup needs no wrapping or clamping.  Rows and columns as
     :func:`lighting.lights.latlong.latlong_lookup`: row ``i`` of ``h`` centred at ``θ = (i + ½)π/h``, column
@@ -64,18 +67,28 @@ class LevelStack:
     """
 
     def __init__(self, pre):
+        from ..lights.environment import LatLongEnvironment
+        from ..lights.latlong import latlong_lookup
+
         levels = [np.asarray(im, dtype=np.float32) for im in pre.families["mirror"]]
-        padded = [np.pad(np.pad(im, ((0, 0), (1, 1), (0, 0)), mode="wrap"), ((1, 1), (0, 0), (0, 0)), mode="edge")
-                  for im in levels]  # fmt: skip
-        sizes = [im.shape[0] * im.shape[1] for im in padded]
         self.count = len(levels)
+        padded = []
+        for k, im in enumerate(levels):
+            nxt = levels[min(k + 1, self.count - 1)]
+            if nxt.shape != im.shape:  # coarser: read at this level's texel centres
+                d = LatLongEnvironment.pixel_directions(*im.shape[:2])
+                nxt = latlong_lookup(nxt.reshape(-1, 3), *nxt.shape[:2], d).astype(np.float32)
+            pair = np.zeros(im.shape[:2] + (8,), dtype=np.float32)
+            pair[..., :3], pair[..., 4:7] = im, nxt
+            padded.append(np.pad(np.pad(pair, ((0, 0), (1, 1), (0, 0)), mode="wrap"), ((1, 1), (0, 0), (0, 0)),
+                                 mode="edge"))  # fmt: skip
+        sizes = [im.shape[0] * im.shape[1] for im in padded]
         #: Per level: texels per radian (``h/π`` both ways), the padded row length, the first texel.
         self.scale = np.array([im.shape[0] / math.pi for im in levels], dtype=np.float32)
         self.row = np.array([im.shape[1] for im in padded], dtype=np.int32)
         self.offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int32)
-        rgba = np.zeros((sum(sizes), 4), dtype=np.float32)
-        rgba[:, :3] = np.concatenate([im.reshape(-1, 3) for im in padded])
-        self.texels = rgba.view(np.complex128).reshape(-1)
+        flat = np.concatenate([im.reshape(-1, 8) for im in padded])
+        self.texels = flat.view(np.dtype((np.void, 32))).reshape(-1)
         sig = np.asarray(pre.sigmas, dtype=np.float64)
         self.sigma1 = np.float32(sig[1])
         self.log_sigmas = np.log(sig[1:])
@@ -96,32 +109,27 @@ class LevelStack:
         """
         theta = np.arccos(np.clip(z, np.float32(-1), np.float32(1)))
         a = np.float32(math.pi) - np.arctan2(y, x)  # (π − φ) ∈ [0, 2π]
-        k0 = level.astype(np.int32)  # level >= 0: the truncation is the floor
-        t = level - k0
-        k1 = np.minimum(k0 + 1, self.count - 1)
-        index, weight = [], []
-        for k, wk in ((k0, w * (np.float32(1) - t)), (k1, w * t)):
-            self._taps(theta, a, k, wk, index, weight)
-        # Every tap of every sample side by side: one gather, then one weighted sum per pixel (a matrix product).
-        index = np.concatenate(index, axis=1)
-        texel = np.take(self.texels, index).view(np.float32).reshape(index.shape + (4,))
-        return np.matmul(np.concatenate(weight, axis=1)[:, None, :], texel)[:, 0, :3]
-
-    def _taps(self, theta, a, level, w, index, weight):
-        """Append the four bilinear taps of directions ``(θ, a)`` in integer ``level``, weighted by ``w``."""
-        scale = np.take(self.scale, level)
+        k = level.astype(np.int32)  # level >= 0: the truncation is the floor
+        t = level - k
+        scale = np.take(self.scale, k)
         # Texel coordinates in the padded level (one texel of border: + 1, centres at + ½): positive, so the
         # truncation to an integer is the floor.
         fx = a * scale + np.float32(0.5)
         fy = theta * scale + np.float32(0.5)
         jx, iy = fx.astype(np.int32), fy.astype(np.int32)
         tx, ty = fx - jx, fy - iy
-        row = np.take(self.row, level)
-        base = np.take(self.offsets, level) + iy * row + jx
+        row = np.take(self.row, k)
+        base = np.take(self.offsets, k) + iy * row + jx
         one = np.float32(1)
         wy0, wy1 = w * (one - ty), w * ty
-        index += [base, base + 1, base + row, base + row + 1]
-        weight += [wy0 * (one - tx), wy0 * tx, wy1 * (one - tx), wy1 * tx]
+        # Every tap of every sample side by side: one gather, then one weighted sum per pixel (a matrix product)
+        # over the taps' two levels, weighted 1 − t and t.
+        index = np.concatenate([base, base + 1, base + row, base + row + 1], axis=1)
+        tap = np.concatenate([wy0 * (one - tx), wy0 * tx, wy1 * (one - tx), wy1 * tx], axis=1)
+        t4 = np.concatenate([t, t, t, t], axis=1)
+        weight = np.stack([tap - tap * t4, tap * t4], axis=-1).reshape(index.shape[0], 1, -1)
+        texel = np.take(self.texels, index).view(np.float32).reshape(index.shape[0], -1, 4)
+        return np.matmul(weight, texel)[:, 0, :3]
 
 
 def _sampler(part):
