@@ -37,8 +37,8 @@ An ideal mirror part reflects ``R(μ_v) L(r)`` of the whole map, exactly as in t
 The extraction, the residual's levels and its irradiance map are computed once per environment (cached
 on the prefiltered environment's base: a turned or scaled light reuses them), and the sample tables once per
 part; a re-shade is then, for the pixels that face the viewer, the lights' BRDF evaluations, the cells' table
-reads and ``samples`` lookups per glossy part and pixel, each a few multiply-adds and eight gathers of float32
-texels (:mod:`lighting.integrate._fis`).  How close it comes to the
+reads and ``samples`` lookups per glossy part and pixel, each a few multiply-adds and four gathers of texels
+that hold both levels a sample blends (:mod:`lighting.integrate._fis`).  How close it comes to the
 Monte-Carlo reference, and at what cost, is measured by ``lighting-explorer report accuracy --only ibl``
 and ``lighting-explorer bench --ibl``.
 
