@@ -53,6 +53,7 @@ from .._budget import check_budget
 from .._text import quote
 from .._validate import ArgumentTypeError, check_count, check_vectors
 from ..lights.environment import as_environment
+from ..models.base import BRDFFlags
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
 from ._delta import delta_albedo, delta_radiance, split_delta
@@ -270,7 +271,8 @@ class ProgressiveRadiance:
         n = check_vectors("normals", normals)
         v = check_vectors("view_dirs", view_dirs)
         self.dtype = working_dtype(n, v)
-        self._shape, self._n, self._t, self._b, self._vl, self._valid = _frames(n, v)
+        anisotropic = BRDFFlags.ANISOTROPIC in self.brdf.flags
+        self._shape, self._n, self._t, self._b, self._vl, self._valid = _frames(n, v, anisotropic)
         if seed is not None and (not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0):
             raise ArgumentTypeError(f"seed must be an integer >= 0 or None; got {quote(seed)}")
         # Pass k, chunk j draws from SeedSequence(entropy, (k, j)): the same image whatever thread runs it.
@@ -301,6 +303,7 @@ class ProgressiveRadiance:
         """
         samples = check_count("samples", samples, 2, 1 << 16)
         chunk = check_count("chunk", chunk, 1, 1 << 22)
+        chunk = min(chunk, max(self._n.shape[0], 1))  # a pass never holds more pixels than there are
         check_budget("samples", chunk * samples * 200, what=f"a pass of {samples} samples on {chunk} pixels")
         t0 = time.perf_counter()
         count = self._n.shape[0]

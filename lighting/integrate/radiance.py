@@ -45,6 +45,7 @@ from .._validate import check_bool, check_choice, check_color, check_count, chec
 from ..lights.environment import SmallPatchEnvironment, as_environment
 from ..models.base import BRDFFlags
 from ..models.brdf import BRDF
+from ..models.geometry import Geometry
 from ..numerics import working_dtype
 from ..sampling.base import BYTES_PER_SAMPLE
 from ..sampling.brdf import _f_cos, as_generator, importance_sampler
@@ -63,11 +64,15 @@ __all__ = ["RADIANCE_METHODS", "outgoing_radiance", "point_light_limit"]
 RADIANCE_METHODS = METHODS + ("environment", "mis", "sh")
 
 
-def _frames(normals, view_dirs):
+def _frames(normals, view_dirs, anisotropic=False):
     """Each point's shading frame: ``(shape, n, t, b, v_local, valid)``, flat over the points.
 
     Normals and view directions are broadcast together and made unit (a zero vector becomes ``+z`` and
-    marks its point invalid); ``t, b`` complete ``n`` (:func:`lighting.vec.orthonormal_basis`).
+    marks its point invalid).  ``t, b`` complete ``n``: for an anisotropic model, the frame its lobe is
+    oriented in everywhere else in the engine (the default tangent ``ẑ × n``, :class:`Geometry`), so that an
+    integral over the sphere and a direct light agree on where its long axis lies; an isotropic lobe turns
+    with any frame, and takes Duff et al.'s, continuous everywhere but at one normal
+    (:func:`lighting.vec.orthonormal_basis`).
     """
     n = np.asarray(normals, dtype=np.float64)
     v = np.asarray(view_dirs, dtype=np.float64)
@@ -79,7 +84,11 @@ def _frames(normals, view_dirs):
     n, nlen = _unit_rows(np.broadcast_to(n, shape).reshape(-1, 3), np.array([0.0, 0.0, 1.0]))
     v, vlen = _unit_rows(np.broadcast_to(v, shape).reshape(-1, 3), np.array([0.0, 0.0, 1.0]))
     valid = (nlen[:, 0] > 0) & (vlen[:, 0] > 0)
-    t, b = orthonormal_basis(n)
+    if anisotropic:
+        frame = Geometry(n, n, n, unit=True, dtype=np.float64)
+        t, b = frame.t, frame.b
+    else:
+        t, b = orthonormal_basis(n)
     vl = np.stack([np.sum(v * t, -1), np.sum(v * b, -1), np.sum(v * n, -1)], axis=-1)
     return shape[:-1], n, t, b, vl, valid
 
@@ -254,7 +263,7 @@ def outgoing_radiance(
     normals = check_vectors("normals", normals)
     view_dirs = check_vectors("view_dirs", view_dirs)
     dt = working_dtype(normals, view_dirs)
-    shape, n, t, b, vl, valid = _frames(normals, view_dirs)
+    shape, n, t, b, vl, valid = _frames(normals, view_dirs, BRDFFlags.ANISOTROPIC in brdf.flags)
     samples = _samples(samples, 1, method, brdf, n.shape[0])
     reps = _replicates(replicates, samples)
     sh_samples = check_count("sh_samples", sh_samples, 8)
