@@ -308,6 +308,14 @@ class VisibleNormalSampler(MicrofacetSampler):
         u = np.broadcast_to(u, shape + (2,))
         vb = np.broadcast_to(v, shape + (3,))
         up = vb[..., 2] > 0
+        if np.all(up):
+            # Every view above the horizon: the visible normals alone (the same batch, in the same order, as
+            # the masked rows below), and no fallback to draw.
+            vu = normalize(vb.reshape(-1, 3))
+            h = self._visible_normals(u.reshape(-1, 2), vu)
+            vh = _dot(vu, h)
+            l = 2 * vh[..., None] * h - vu  # noqa: E741
+            return Samples(l.reshape(shape + (3,)), self._visible_pdf(h, vu, vh).reshape(shape))
         fallback = super()._sample(u, vb)
         if not np.any(up):
             return fallback
