@@ -24,7 +24,8 @@ the sum over ``k >= 2`` bounces of ``F_avg^k E_avg (1 − E_avg)^{k−1}`` divid
 What this module holds:
 
 * :func:`albedo_table` — ``E(μ, α)`` and ``E_avg(α)`` of one NDF and Smith geometry, computed by the
-  engine on first use (deterministic quadrature, below) and cached in memory; an
+  engine's deterministic quadrature (below; shipped precomputed at the default resolution, and checked against
+  it by the tests) and cached in memory; an
   :class:`AlbedoTable` interpolates them;
 * :func:`fresnel_average` and :func:`multiple_scattering_colour` — ``F_avg`` and ``F_ms``;
 * :class:`MultipleScattering` — the lobe ``f_ms`` of one model, which
@@ -75,6 +76,7 @@ Examples
 from __future__ import annotations
 
 import math
+import os
 from functools import lru_cache
 
 import numpy as np
@@ -337,8 +339,8 @@ def _linear_moment_weights(nodes: np.ndarray) -> np.ndarray:
     return w
 
 
-@lru_cache(maxsize=16)
-def _table(ndf: str, geometry: str, resolution: int) -> AlbedoTable:
+def _computed_table(ndf: str, geometry: str, resolution: int) -> AlbedoTable:
+    """The table by the module's quadrature: the reference the shipped tables are checked against."""
     mu = np.linspace(0.0, 1.0, resolution)
     r = np.linspace(0.0, 1.0, resolution)
     values = np.ones((resolution, resolution))
@@ -353,10 +355,43 @@ def _table(ndf: str, geometry: str, resolution: int) -> AlbedoTable:
     return AlbedoTable(ndf, geometry, mu, r, values, average)
 
 
+#: The tables of every NDF and geometry at :data:`RESOLUTION`, as :func:`_computed_table` makes them, shipped
+#: with the package: the quadrature costs a noticeable fraction of a second per table in every process that
+#: first shades a compensated lobe (each test worker, each command).  ``tests/models/test_energy_tables.py``
+#: recomputes them and compares; :func:`_write_shipped_tables` rewrites the file.
+_SHIPPED_TABLES = os.path.join(os.path.dirname(__file__), "energy_tables.npz")
+
+
+def _write_shipped_tables(path: str = _SHIPPED_TABLES) -> None:
+    """Compute every table at :data:`RESOLUTION` and write them to ``path`` (for the package's maintainers)."""
+    arrays = {}
+    for ndf in NDFS:
+        for geometry in GEOMETRIES:
+            t = _computed_table(ndf, geometry, RESOLUTION)
+            arrays[f"{ndf}/{geometry}/values"] = t.values
+            arrays[f"{ndf}/{geometry}/average"] = t.average
+    np.savez(path, **arrays)
+
+
+@lru_cache(maxsize=16)
+def _table(ndf: str, geometry: str, resolution: int) -> AlbedoTable:
+    if resolution == RESOLUTION:
+        try:
+            with np.load(_SHIPPED_TABLES, allow_pickle=False) as data:
+                values, average = data[f"{ndf}/{geometry}/values"], data[f"{ndf}/{geometry}/average"]
+        except (OSError, KeyError, ValueError):
+            pass  # a package without its data file still works, at the quadrature's cost
+        else:
+            nodes = np.linspace(0.0, 1.0, resolution)
+            return AlbedoTable(ndf, geometry, nodes, nodes, values, average)
+    return _computed_table(ndf, geometry, resolution)
+
+
 def albedo_table(ndf: str, geometry: str, resolution: int = RESOLUTION) -> AlbedoTable:
     r"""The albedo table ``E(μ, α)``, ``E_avg(α)`` of a microfacet lobe with ``F = 1``, made on first use.
 
-    Computed by the quadrature of the module's Notes and kept in memory for the session, one per
+    Computed by the quadrature of the module's Notes (read from the package's copy of that computation at the
+    default resolution) and kept in memory for the session, one per
     ``(ndf, geometry, resolution)``.
 
     Parameters
