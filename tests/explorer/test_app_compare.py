@@ -201,19 +201,6 @@ def test_brdf_option_opens_merl_data(tmp_path, monkeypatch):
 
 
 # ----------------------------------------------------------------------------- fitting and the split sphere
-def test_fit_recovers_the_roughness_of_a_ggx_file_and_the_split_sphere_shows_both(tmp_path):
-    path = tmp_path / "ggx.brdf"
-    path.write_text(GGX)
-    m = small_model()
-    name = m.open_brdf(path)
-    assert m.state.model == name and m.state.params == {"ks": (1.0, 1.0, 1.0), "roughness": 0.25,
-                                                        "f0": (0.9, 0.6, 0.3)}  # fmt: skip
-    m.state.update(params={"roughness": 0.4})
-    entry, result = m.fit()
-    assert abs(result.parameters["roughness"] / 0.4 - 1) < 0.03 and result.relative_rms < 0.01
-    assert entry.label.startswith("GGX fit α=0.4") and "rel. rms" in entry.label
-
-
 def test_split_sphere_halves_are_the_single_model_renders():
     m = small_model(model="cook-torrance", roughness=0.15, elevation=30.0, azimuth=160.0)
     m.update()

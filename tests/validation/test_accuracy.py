@@ -1,3 +1,5 @@
+"""The accuracy studies' laws on their quick run (slow set; fine references and the report: test_accuracy_full.py)."""
+
 import csv
 
 import numpy as np
@@ -5,6 +7,8 @@ import pytest
 
 from explorer.reports import accuracy as report_accuracy
 from lighting.validation.accuracy import run_studies, summary
+
+pytestmark = pytest.mark.slow  # the quick accuracy studies, measured once per session: seconds of work
 
 
 @pytest.fixture(scope="module")
@@ -17,7 +21,6 @@ def _pts(studies, study, case=None, method=None):
     return [p for p in st.points if (case is None or case in p.case) and (method is None or p.method == method)]
 
 
-@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_quadrature_converges_to_the_reference(studies):
     for case in ("Lambert, glowing sky", "GGX/Smith"):
         q = sorted(_pts(studies, "integration", case, "quadrature"), key=lambda p: p.cost)
