@@ -90,6 +90,7 @@ def test_what_a_none_index_stands_for():
     assert conductor_none_value("roughness", {"metal": "gold"}) is None
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_the_engines_sphere_under_a_sky_takes_each_metals_colour():
     """Gold and copper reflect red most and blue least, silver and aluminium nearly grey (their F0's order)."""
     from explorer.app.views import ExplorerModel

@@ -116,6 +116,7 @@ def test_every_sky_switched_on_clips_at_most_five_percent(sky):
         assert before > 0.8
 
 
+@pytest.mark.slow  # seconds of work: the full run has it, the fast loop leaves it out
 def test_switching_the_environment_off_restores_the_exposure():
     state = AppState(exposure=0.5)
     model = _model(state, size=32)

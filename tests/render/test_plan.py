@@ -123,7 +123,14 @@ def test_plans_do_not_rasterize_again():
 from lighting.scene import SceneRenderer, example_path, list_examples, load_scene, parse_scene  # noqa: E402
 
 
-@pytest.mark.parametrize("name", list_examples())
+def _example_params():
+    """Every example; those lit by an environment (seconds of work each) only in the full run."""
+    lit_by_sky = {n for n in list_examples() if any(getattr(lt, "is_environment", False)
+                                                    for lt in load_scene(example_path(n)).lights)}  # fmt: skip
+    return [pytest.param(n, marks=[pytest.mark.slow] if n in lit_by_sky else []) for n in list_examples()]
+
+
+@pytest.mark.parametrize("name", _example_params())
 def test_every_example_scene_planned_equals_full(name):
     scene = load_scene(example_path(name)).with_size(96, 64)
     planned, _ = SceneRenderer(scene, plan=True).render()
