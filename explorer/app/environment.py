@@ -354,7 +354,7 @@ class EnvironmentMixin:
     """
 
     #: Whether the views being computed follow a drag (``update(only=...)``, set by the update): the environment's
-    #: images are then made by the split sum and left pending for the release.
+    #: images are then made by the split sum and marked provisional, for the release to make again.
     live_update: bool = False
 
     def _init_environment(self, *, object_size=(320, 224), mesh=None, environment_file=None):
@@ -453,10 +453,10 @@ class EnvironmentMixin:
                                 prefiltered=pre, method="split-sum" if live else "dominant")  # fmt: skip
 
     def _shown_live(self, view: str) -> bool:
-        """Whether ``view`` is being computed for a drag (:attr:`live_update`); then it is left pending as well,
-        so that the release computes it again by the dominant lights."""
+        """Whether ``view`` is being computed for a drag (:attr:`live_update`); then it is marked provisional, so
+        that the release computes it again by the dominant lights."""
         if self.live_update:
-            self.pending.add(view)
+            self.provisional.add(view)
         return self.live_update
 
     def apply_auto_exposure(self) -> set[str]:
@@ -593,8 +593,9 @@ class EnvironmentMixin:
     def _restart_refinement(self, views):
         """A new reference when the images it refines were recomputed (or it is switched off)."""
         s = self.state
-        if not (s.reference and self.environment_active) or (self.pending and set(views) & {"sphere", "object"}):
-            # Off, or a drag in progress (views left pending): the reference starts again once it is released.
+        drag = (self.pending or self.provisional) and set(views) & {"sphere", "object"}
+        if not (s.reference and self.environment_active) or drag:
+            # Off, or a drag in progress (views left for later): the reference starts again once it is released.
             self.refinement, self._targets = None, []
             return
         shown = {"sphere"} | ({"object"} if s.view3d == "object" else set())

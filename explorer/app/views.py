@@ -430,6 +430,9 @@ class ExplorerModel(CompareMixin, EnvironmentMixin):
         self.views: dict = {}
         #: Views whose controls changed but which an ``update(only=...)`` left for later.
         self.pending: set[str] = set()
+        #: Views an ``update(only=...)`` made by a cheaper method for the drag (an environment's split sum): current
+        #: for what they show, made again by the accurate method at the next full update.
+        self.provisional: set[str] = set()
         self._snapshot: dict | None = None
         self._sphere = Renderer(AnalyticSphere(), sphere_camera(self.sphere_size), dtype=dtype)
         self._meshes: dict = {}
@@ -568,11 +571,12 @@ class ExplorerModel(CompareMixin, EnvironmentMixin):
             The names of the views recomputed.
         """
         diff = self.changed_fields() | set(changed or ())
-        stale = self.stale_views(diff) | self.pending
+        stale = self.stale_views(diff) | self.pending | (self.provisional if only is None else set())
         views = stale if only is None else stale & set(only)
         if "profile" in views and "coarse" in stale:
             views.add("coarse")  # the profile is read off the coarse sphere's images
         self.pending = stale - views
+        self.provisional -= views  # a view made for a drag adds itself back (EnvironmentMixin._shown_live)
         self.live_update = only is not None
         s = self.state
         if views & {"sphere", "coarse", "profile"}:
@@ -633,7 +637,7 @@ class ExplorerModel(CompareMixin, EnvironmentMixin):
             The names of every view (:data:`VIEWS`).
         """
         self._snapshot = None
-        self.pending = set()
+        self.pending, self.provisional = set(), set()
         return self.update()
 
     def compute(self) -> dict:

@@ -15,7 +15,7 @@ from explorer import app as app_mod
 from explorer.app import environment as environment_mod
 from explorer.app.environment import PASS_SAMPLES, VIEW_TO_WORLD, world_light
 from explorer.app.state import CONTROLS, DEFAULTS, AppState
-from explorer.app.views import VIEWS, ExplorerModel
+from explorer.app.views import LIVE_VIEWS, VIEWS, ExplorerModel
 from lighting import DirectionalLight, PointLight
 from lighting.lights import SKIES
 from lighting.render import AnalyticSphere, Renderer, sphere_camera
@@ -139,10 +139,11 @@ def test_a_drag_shows_the_split_sum_and_the_release_the_dominant_lights():
 
     np.testing.assert_array_equal(model.views["sphere"].image, render("dominant", 0.0))
     state.env_rotation = 30.0
-    assert model.update(only={"sphere", "coarse"}) == {"sphere"} and "sphere" in model.pending
+    assert model.update(only={"sphere", "coarse"}) == {"sphere"} and model.provisional == {"sphere"}
+    assert not model.pending & LIVE_VIEWS  # what the drag shows is current, by the cheaper method
     live = render("split-sum", 30.0)
     np.testing.assert_array_equal(model.views["sphere"].image, live)
-    assert model.update() == {"sphere"} and model.pending == set()
+    assert model.update() == {"sphere"} and model.pending == set() and model.provisional == set()
     rest = render("dominant", 30.0)
     np.testing.assert_array_equal(model.views["sphere"].image, rest)
     assert np.abs(rest - live).max() > 0.01 * rest.max()  # the two methods differ here: the release is seen
@@ -200,12 +201,13 @@ def test_a_control_change_restarts_the_reference_and_others_do_not():
     state.env_rotation = 40.0
     model.update()
     assert model.refinement is not old and model.refinement.samples == 0
-    # A drag (the lit sphere live by the split sum, then pending for the dominant lights; the object left pending)
+    # A drag (the lit sphere live by the split sum, provisional until the dominant lights; the object left pending)
     # stops it; the release starts it again.
     state.view3d = "object"
     model.update()
     state.env_rotation = 50.0
-    assert model.update(only={"sphere", "coarse"}) == {"sphere"} and model.pending == {"object", "sphere"}
+    assert model.update(only={"sphere", "coarse"}) == {"sphere"}
+    assert model.pending == {"object"} and model.provisional == {"sphere"}
     assert model.refinement is None and model.refine(0.0) == set()
     assert model.update() == {"object", "sphere"} and model.refinement.samples == 0
     assert model.refine(0.0) == {"sphere", "object"}
