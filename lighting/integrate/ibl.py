@@ -53,7 +53,6 @@ from .._budget import check_budget
 from .._text import quote
 from .._validate import ArgumentTypeError, check_count, check_vectors
 from ..lights.environment import as_environment
-from ..models.base import BRDFFlags
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
 from ._delta import delta_albedo, delta_radiance, split_delta
@@ -271,8 +270,7 @@ class ProgressiveRadiance:
         n = check_vectors("normals", normals)
         v = check_vectors("view_dirs", view_dirs)
         self.dtype = working_dtype(n, v)
-        anisotropic = BRDFFlags.ANISOTROPIC in self.brdf.flags
-        self._shape, self._n, self._t, self._b, self._vl, self._valid = _frames(n, v, anisotropic)
+        self._shape, self._n, self._t, self._b, self._vl, self._valid = _frames(n, v, self.brdf)
         if seed is not None and (not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0):
             raise ArgumentTypeError(f"seed must be an integer >= 0 or None; got {quote(seed)}")
         # Pass k, chunk j draws from SeedSequence(entropy, (k, j)): the same image whatever thread runs it.

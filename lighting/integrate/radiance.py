@@ -64,7 +64,7 @@ __all__ = ["RADIANCE_METHODS", "outgoing_radiance", "point_light_limit"]
 RADIANCE_METHODS = METHODS + ("environment", "mis", "sh")
 
 
-def _frames(normals, view_dirs, anisotropic=False):
+def _frames(normals, view_dirs, brdf):
     """Each point's shading frame: ``(shape, n, t, b, v_local, valid)``, flat over the points.
 
     Normals and view directions are broadcast together and made unit (a zero vector becomes ``+z`` and
@@ -84,7 +84,7 @@ def _frames(normals, view_dirs, anisotropic=False):
     n, nlen = _unit_rows(np.broadcast_to(n, shape).reshape(-1, 3), np.array([0.0, 0.0, 1.0]))
     v, vlen = _unit_rows(np.broadcast_to(v, shape).reshape(-1, 3), np.array([0.0, 0.0, 1.0]))
     valid = (nlen[:, 0] > 0) & (vlen[:, 0] > 0)
-    if anisotropic:
+    if BRDFFlags.ANISOTROPIC in brdf.flags:
         frame = Geometry(n, n, n, unit=True, dtype=np.float64)
         t, b = frame.t, frame.b
     else:
@@ -263,7 +263,7 @@ def outgoing_radiance(
     normals = check_vectors("normals", normals)
     view_dirs = check_vectors("view_dirs", view_dirs)
     dt = working_dtype(normals, view_dirs)
-    shape, n, t, b, vl, valid = _frames(normals, view_dirs, BRDFFlags.ANISOTROPIC in brdf.flags)
+    shape, n, t, b, vl, valid = _frames(normals, view_dirs, brdf)
     samples = _samples(samples, 1, method, brdf, n.shape[0])
     reps = _replicates(replicates, samples)
     sh_samples = check_count("sh_samples", sh_samples, 8)
