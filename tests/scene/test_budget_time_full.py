@@ -13,26 +13,6 @@ import pytest
 
 pytestmark = pytest.mark.slow
 
-SPHERES = """
-[camera]
-eye = [0.0, -3.2, 0.0]
-up = [0.0, 0.0, 1.0]
-fov_y_deg = 40.0
-[image]
-width = {size}
-height = {size}
-[render]
-form = "physical"
-[[objects]]
-type = "sphere"
-material = {{parts = [{parts}]}}
-{lights}
-"""
-POINTS = "".join(f'[[lights]]\ntype = "point"\nposition = [{x}, -3.0, {z}]\nintensity = 3.0\n'
-                 for x, z in ((2, 2), (-2, 2), (2, -2), (-2, -2)))  # fmt: skip
-MC = '[[lights]]\ntype = "environment"\nsource = "daylight"\nmethod = "monte-carlo"\nsamples = {samples}\n'
-
-
 @pytest.mark.parametrize("module", ["lighting._budget", "lighting.scene.budget", "lighting._validate",
                                     "lighting.numerics"])
 def test_the_budget_modules_import_alone(module):
