@@ -6,6 +6,8 @@ needs no network; the package itself is the wheel's copy (``tests/test_installed
 
 from __future__ import annotations
 
+import fcntl
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -20,8 +22,30 @@ def run_command(args, cwd, **kw):
     return res
 
 
-def install_wheel(tmp: Path):
-    """``(bin folder, work folder, wheel)`` of a virtual environment under ``tmp`` holding the checkout's wheel."""
+def shared_install(tmp_path_factory):
+    """``(bin folder, work folder, wheel)``: the checkout's wheel in a virtual environment, built once per test run.
+
+    Under pytest-xdist the workers share the run's temporary root: the first to get there builds the wheel and the
+    environment (a file lock holds the others), the rest use them.  Each caller gets a fresh work folder.
+    """
+    base = tmp_path_factory.getbasetemp()
+    root = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+    shared = root / "installed-wheel"
+    with open(root / "installed-wheel.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        done = shared / "done.txt"
+        if done.is_file():
+            bin_dir, wheel = (Path(p) for p in done.read_text(encoding="utf-8").splitlines())
+        else:
+            shared.mkdir(exist_ok=True)
+            bin_dir, wheel = _build_and_install(shared)
+            done.write_text(f"{bin_dir}\n{wheel}\n", encoding="utf-8")
+    work = tmp_path_factory.mktemp("work")  # not the checkout: nothing can be imported from the working tree
+    return bin_dir, work, wheel
+
+
+def _build_and_install(tmp: Path):
+    """``(bin folder, wheel)``: the checkout's wheel built under ``tmp``, installed in a virtual environment there."""
     wheels = tmp / "wheels"
     run_command([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "--no-build-isolation",
          "--disable-pip-version-check", "-w", str(wheels), str(ROOT)], cwd=tmp)  # fmt: skip
@@ -31,6 +55,4 @@ def install_wheel(tmp: Path):
     bin_dir = venv / "bin"
     run_command([str(bin_dir / "python"), "-m", "pip", "install", "--quiet", "--no-deps", "--no-index",
          "--disable-pip-version-check", "--force-reinstall", str(wheel)], cwd=tmp)  # fmt: skip
-    work = tmp / "work"  # not the checkout: nothing can be imported from the working tree
-    work.mkdir()
-    return bin_dir, work, wheel
+    return bin_dir, wheel

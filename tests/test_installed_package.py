@@ -14,7 +14,7 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from installed_wheel import ROOT, install_wheel
+from installed_wheel import ROOT, shared_install
 from installed_wheel import run_command as _run
 
 from explorer.cli import main
@@ -29,7 +29,7 @@ SIZE = "96x72"
 @pytest.fixture(scope="module")
 def installed(tmp_path_factory):
     """``(bin folder, work folder, wheel)`` of a virtual environment with the checkout's wheel installed."""
-    return install_wheel(tmp_path_factory.mktemp("installed"))
+    return shared_install(tmp_path_factory)
 
 
 def test_the_wheel_holds_every_file_the_packages_ship(installed):

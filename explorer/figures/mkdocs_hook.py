@@ -106,8 +106,8 @@ def _figures_dir(log) -> str:
                 log.info(f"gallery: reusing the figures in {out} (sources unchanged)")
                 return out
     log.info(f"gallery: drawing the figure set into {out}{' (quick)' if quick else ''}")
-    # The quick set is done faster in this process than worker processes take to start.
-    jobs = 1 if quick else max(1, min(4, os.cpu_count() or 1))
+    # One worker process per core, up to four: even the quick set's figures take longer than a worker to start.
+    jobs = max(1, min(4, os.cpu_count() or 1))
     # PNG for the page; SVG and PDF for a lecturer's slides and notes (linked under each figure).
     generate(out, formats=("png", "svg", "pdf"), quick=quick, jobs=jobs,
              log=lambda name, sec: log.info(f"gallery: {name} ({sec:.1f} s)"))  # fmt: skip

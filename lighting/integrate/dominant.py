@@ -50,6 +50,7 @@ B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes.
 
 from __future__ import annotations
 
+import functools
 import math
 import weakref
 from dataclasses import dataclass
@@ -363,11 +364,25 @@ class DominantEnvironment:
         irr = irradiance_map(env, h, source_height=h0)
         # The map's quadrature errs by O((π/H)²) on each row alike: divided by what it gives for a uniform sky
         # (π exactly), a uniform sky's irradiance is exact — the furnace — and smooth ones gain too.
-        one = irradiance_map(LatLongEnvironment(np.ones((h0, base.shape[1], 3))), h, source_height=h0).image
-        self.irradiance = LatLongEnvironment(irr.image * (math.pi / one))
+        self.irradiance = LatLongEnvironment(irr.image * (math.pi / _uniform_irradiance(h0, base.shape[1], h)))
 
     def __repr__(self):
         return f"DominantEnvironment({len(self.lights)} lights, residual {self.residual!r})"
+
+
+@functools.lru_cache(maxsize=8)
+def _uniform_irradiance(height: int, width: int, rows: int) -> np.ndarray:
+    """The irradiance map (``rows`` rows) of a uniform sky of radiance 1 sampled at ``height × width`` pixels.
+
+    π everywhere but for the map's quadrature error: what :class:`DominantEnvironment` divides by.  The same for
+    every map of that size, so made once (read-only).
+    """
+    from ..lights.environment import LatLongEnvironment
+    from .prefilter import irradiance_map
+
+    one = irradiance_map(LatLongEnvironment(np.ones((height, width, 3))), rows, source_height=height).image
+    one.setflags(write=False)
+    return one
 
 
 _cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()

@@ -10,6 +10,7 @@ import csv
 import json
 import math
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,7 +20,7 @@ pytestmark = pytest.mark.slow  # draws the whole lecture-note figure set
 PIL = pytest.importorskip("PIL.Image")
 pytest.importorskip("matplotlib")
 
-from installed_wheel import install_wheel, run_command  # noqa: E402
+from installed_wheel import run_command, shared_install  # noqa: E402
 
 from explorer import figures  # noqa: E402
 
@@ -30,12 +31,38 @@ def _run(argv, capsys=None):
     return rc, out
 
 
+def _docs_quick_set():
+    """The quick set the docs build drew from these very sources, when the run checks that build (``.ci/run``).
+
+    ``LIGHTING_DOCS_SITE`` names a site built from this tree (tests/docs/test_site.py checks it); its build drew the
+    quick set into ``build/gallery-quick`` beside it, stamped with the digest of the sources the figures are drawn
+    from (``explorer/figures/mkdocs_hook.py``).  Drawn from the same sources, it is this module's first draw.
+    """
+    site = os.environ.get("LIGHTING_DOCS_SITE")
+    if not site:
+        return None
+    from explorer.figures.mkdocs_hook import _sources_digest
+
+    folder = Path(site).resolve().parent / "gallery-quick"
+    stamp = folder / "sources.txt"
+    if not (stamp.is_file() and (folder / "figures.json").is_file()):
+        return None
+    if stamp.read_text(encoding="utf-8").strip() != _sources_digest():
+        return None
+    return folder
+
+
 @pytest.fixture(scope="module")
 def quick_set(tmp_path_factory):
-    out = tmp_path_factory.mktemp("figures")
-    records = figures.generate(out, formats=("png",), quick=True)
+    """``(folder, manifest)`` of the whole set drawn in quick mode: by this process (PNG), or by the docs build (PNG
+    for the pages, SVG and PDF for slides)."""
+    out, formats = _docs_quick_set(), ["png", "svg", "pdf"]
+    if out is None:
+        out, formats = tmp_path_factory.mktemp("figures"), ["png"]
+        figures.generate(out, formats=tuple(formats), quick=True)
     manifest = json.loads((out / "figures.json").read_text(encoding="utf-8"))
-    return out, records, manifest
+    assert manifest["formats"] == formats
+    return out, manifest
 
 
 def _pixels(path):
@@ -45,10 +72,10 @@ def _pixels(path):
 
 
 def test_manifest_lists_every_registered_figure_in_order(quick_set):
-    out, records, manifest = quick_set
+    out, manifest = quick_set
     names = figures.figure_names()
     assert [r["name"] for r in manifest["figures"]] == names
-    assert manifest["quick"] is True and manifest["formats"] == ["png"]
+    assert manifest["quick"] is True
     assert len(names) == len(set(names)) >= 20
     for rec in manifest["figures"]:
         assert rec["caption"] and "{" not in rec["caption"], rec["name"]  # every measured field filled in
@@ -59,7 +86,7 @@ def test_manifest_lists_every_registered_figure_in_order(quick_set):
 
 
 def test_every_file_is_a_valid_image_of_the_stated_size_and_not_blank(quick_set):
-    out, _, manifest = quick_set
+    out, manifest = quick_set
     for rec in manifest["figures"]:
         path = out / rec["files"]["png"]
         with PIL.open(path) as im:
@@ -79,8 +106,8 @@ def test_every_file_is_a_valid_image_of_the_stated_size_and_not_blank(quick_set)
 def test_the_installed_package_draws_the_same_set_pixel_for_pixel(quick_set, tmp_path_factory):
     # A second run, from the wheel installed in a fresh virtual environment: the whole set draws from the
     # package's own files, and every deterministic figure is the same image, byte for byte, as this process drew.
-    out, _, manifest = quick_set
-    bin_dir, work, _ = install_wheel(tmp_path_factory.mktemp("installed"))
+    out, manifest = quick_set
+    bin_dir, work, _ = shared_install(tmp_path_factory)
     again = work / "figures"
     env = dict(os.environ, LIGHTING_EXPLORER_CACHE=str(work / "cache"))
     command = [str(bin_dir / "lighting-explorer"), "figures", "--quick", "--out", str(again)]
@@ -108,7 +135,7 @@ ACCURACY_FIGURES = ["accuracy_integration", "accuracy_area_light", "accuracy_tes
 
 
 def test_only_the_timed_figures_are_nondeterministic(quick_set):
-    _, _, manifest = quick_set
+    _, manifest = quick_set
     nondet = {r["name"]: r["nondeterministic_reason"] for r in manifest["figures"] if not r["deterministic"]}
     measured = {r["name"]: r["measured"] for r in manifest["figures"]}
     # Both plot measured run times: an accuracy figure only when it measured its study while drawing (drawn
@@ -121,7 +148,7 @@ def test_only_the_timed_figures_are_nondeterministic(quick_set):
 
 
 def test_measured_values_follow_the_laws_the_figures_show(quick_set):
-    _, _, manifest = quick_set
+    _, manifest = quick_set
     m = {r["name"]: r["measured"] for r in manifest["figures"]}
     # Lambert: the engine's k_d (n·l) is max(cos θ, 0).
     assert m["lambert_cosine_law"]["max_abs_difference_from_cos"] < 1e-15
@@ -355,7 +382,7 @@ READABLE_PX_AT_1280 = 10.0
 def test_every_figure_is_slide_shaped_and_readable_at_1280_pixels(quick_set):
     # The rule a lecturer needs: each figure drops onto a 16:9 or a 4:3 slide as it is, at the size it was
     # registered with, and its smallest text is legible when the figure is shown 1280 pixels wide.
-    _, _, manifest = quick_set
+    _, manifest = quick_set
     shapes = {16 / 9: "16:9", 4 / 3: "4:3"}
     for rec in manifest["figures"]:
         spec = figures.REGISTRY[rec["name"]]
