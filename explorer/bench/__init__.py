@@ -245,7 +245,7 @@ def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
         "ibl_reshade_f64_ms": lambda: split_sum_radiance(model, pre, n, v),
         "ibl_dominant_ms": lambda: dominant_radiance(model, pre, n32, v32),
         "ibl_dominant_setup_ms": lambda: DominantEnvironment(pre),
-        "ibl_prefilter_ms": lambda: prefilter_environment(env, sigmas=PREFILTER_SIGMAS),
+        "ibl_prefilter_ms": lambda: prefilter_environment(env, sigmas=PREFILTER_SIGMAS, reuse=False),
         "ibl_mc64_ms": lambda: ProgressiveRadiance(model, env, n, v, seed=0).add(64),
         "ibl_pixels": int(n.shape[0]),
     }

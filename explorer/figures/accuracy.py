@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import csv
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -639,8 +640,44 @@ def accuracy_ibl(q, *, csv):
         skies_text=skies_text, models=len(models), environments=len(envs),
         ref_spp=", ".join(f"{r:,}" for r in ref_spp), spp_text=", ".join(str(s) for s in spp_all),
         line_models=", ".join(lines), timed=timed, split_sum=split, dominant=dominant, sh9=sh9,
-        table=ibl_table(points),
+        table=ibl_table(points), exact_table=ibl_exact_table(points),
     )  # fmt: skip
+
+
+def ibl_exact_table(points) -> str:
+    """The fast methods against the pixel sum (the ``ibl`` study's ``· pixel sum`` points) as a Markdown table.
+
+    Parameters
+    ----------
+    points : list of Point
+        The study's points; the full settings judge four models on part of the pixels by the pixel sum.
+
+    Returns
+    -------
+    str
+        One row per model, one column per environment; each cell ``split sum → dominant lights``, median relative
+        error over the lit pixels and, in brackets, its 95th percentile; below, the largest of the pixel sum's own
+        median relative errors.  A sentence saying so where the study has no such points (the quick settings).
+
+    Examples
+    --------
+    >>> from lighting.validation.accuracy import Point
+    >>> pts = [Point("ibl", "Lambert · sky", m, 1, "", e, 0.0, 1e-3, "", error_p95=2 * e, reference_error=1e-5)
+    ...        for m, e in (("split sum · pixel sum", 0.05), ("dominant lights · pixel sum", 0.01))]
+    >>> print(ibl_exact_table(pts))
+    | model | sky |
+    |---|---|
+    | Lambert | 5 % (10 %) → 1 % (2 %) |
+    <BLANKLINE>
+    The pixel sum's own median relative error: at most 0.001 %.
+    """
+    suffix = " · pixel sum"
+    exact = [replace(p, method=p.method.removesuffix(suffix)) for p in points if p.method.endswith(suffix)]
+    if not exact:
+        return ("*(The quick study judges no method against the pixel sum: `lighting-explorer report accuracy "
+                "--only ibl` does.)*")  # fmt: skip
+    own = max(p.reference_error for p in exact)
+    return ibl_table(exact) + f"\n\nThe pixel sum's own median relative error: at most {100 * own:.2g} %."
 
 
 def ibl_table(points) -> str:

@@ -147,7 +147,9 @@ def _panels(studies) -> list:
         by_env = {}
         for case in cases:
             model, _, env = case.rpartition(" · ")
-            by_env.setdefault(env, []).append((model, [p for p in st.points if p.case == case]))
+            # The methods judged again against the pixel sum are the same methods: drawn once, against Monte Carlo.
+            pts = [p for p in st.points if p.case == case and not p.method.endswith(" · pixel sum")]
+            by_env.setdefault(env, []).append((model, pts))
         panels += [(f"IBL, {env}", series) for env, series in by_env.items()]
     return panels
 

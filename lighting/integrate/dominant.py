@@ -53,6 +53,7 @@ from __future__ import annotations
 import functools
 import math
 import weakref
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -386,10 +387,13 @@ def _uniform_irradiance(height: int, width: int, rows: int) -> np.ndarray:
 
 
 _cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: The last few, by the content of their base image (``PrefilteredEnvironment.content_key``).
+_by_content: OrderedDict = OrderedDict()
+_BY_CONTENT = 4
 
 
 def dominant_environment(prefiltered) -> DominantEnvironment:
-    """The :class:`DominantEnvironment` of a prefiltered environment, made once per base environment.
+    """The :class:`DominantEnvironment` of a prefiltered environment, made once per base environment and image.
 
     Parameters
     ----------
@@ -403,12 +407,35 @@ def dominant_environment(prefiltered) -> DominantEnvironment:
     key = pre.environment
     try:
         found = _cache.get(key)
-    except TypeError:  # not weakly referable: no cache
-        return DominantEnvironment(pre)
+    except TypeError:  # not weakly referable: no cache by object
+        key, found = None, None
+    content = getattr(pre, "content_key", None)
+    if found is None and content is not None:
+        # The same image under another environment object (a scene loaded again): its lights and residual.
+        found = _by_content.get(content)
     if found is None:
         found = DominantEnvironment(pre)
+    if key is not None:
         _cache[key] = found
+    if content is not None:
+        _by_content[content] = found
+        _by_content.move_to_end(content)
+        while len(_by_content) > _BY_CONTENT:
+            _by_content.popitem(last=False)
     return found
+
+
+def forget_environments() -> None:
+    """Forget the prefiltered images and dominant lights kept by content, so that the next sky is made afresh.
+
+    What a benchmark of a first frame calls before each run (:mod:`explorer.bench.costs`).
+    """
+    from . import prefilter
+
+    with prefilter._recent_lock:
+        prefilter._recent.clear()
+    _by_content.clear()
+    _cache.clear()
 
 
 def _disk_points(half_angle: float, lobe: float) -> tuple[np.ndarray, np.ndarray]:

@@ -56,14 +56,16 @@ B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes (the spl
 from __future__ import annotations
 
 import copy
+import hashlib
 import math
 import threading
+from collections import OrderedDict
 
 import numpy as np
 
 from .._budget import check_budget
 from .._text import quote
-from .._validate import ArgumentTypeError, check_count, check_vectors
+from .._validate import ArgumentTypeError, check_bool, check_count, check_vectors
 from ..lights.environment import (
     ConstantEnvironment,
     Environment,
@@ -455,6 +457,8 @@ class PrefilteredEnvironment:
 
     def __init__(self, environment, sigmas, families, sh, scale=1.0, to_base=None):
         self.environment = environment
+        #: What the levels were made from (see :func:`prefilter_environment`), or None.
+        self.content_key = None
         self.sigmas = tuple(float(s) for s in sigmas)
         self.families = families
         self.levels = families["mirror"]
@@ -649,7 +653,8 @@ def _prefilter_levels(base: np.ndarray, sigmas, h0: int, *, fast: bool = True) -
     return families
 
 
-def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) -> PrefilteredEnvironment:
+def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None,
+                          reuse: bool = True) -> PrefilteredEnvironment:  # fmt: skip
     r"""Prefilter an environment for the split sum: one lat-long level per lobe width ``σ``.
 
     Parameters
@@ -663,6 +668,9 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
         Increasing lobe widths in radians, the first 0 (default :data:`PREFILTER_SIGMAS`).
     height : int, optional
         The source height, a power of two from 16 to 8192.
+    reuse : bool, optional
+        Share the levels of an image among the last few prefiltered that is equal to this one, bit for bit, at
+        the same widths (a sky loaded again); ``False`` prefilters in any case (what a benchmark times).
 
     Returns
     -------
@@ -693,9 +701,40 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None) 
         level = base.astype(np.float32)
         families = {k: [level] * len(sig) for k in ("mirror", "beckmann", "ggx")}
         return PrefilteredEnvironment(env, sig, families, latlong_sh(base), scale=scale, to_base=to_base)
-    families = _prefilter_levels(base, sig, h0)
-    return PrefilteredEnvironment(env, sig, families, latlong_sh(base), scale=scale,
-                                  to_base=to_base)  # fmt: skip
+    reuse = check_bool("reuse", reuse)
+    key = _content_key(base, sig)
+    found = _recent.get(key) if reuse else None
+    if found is None:
+        families = _prefilter_levels(base, sig, h0)
+        for levels in families.values():
+            for level in levels:
+                level.setflags(write=False)  # shared by every environment of the same image
+        found = _remember(key, (families, latlong_sh(base)))
+    pre = PrefilteredEnvironment(env, sig, found[0], found[1], scale=scale, to_base=to_base)
+    pre.content_key = key
+    return pre
+
+
+#: The levels of the last few images prefiltered, by content: a sky loaded again (a scene rendered once more, the
+#: explorer switching back) is not prefiltered again.  Each entry holds what one PrefilteredEnvironment holds.
+_recent: OrderedDict = OrderedDict()
+_RECENT = 4
+_recent_lock = threading.Lock()
+
+
+def _content_key(base: np.ndarray, sigmas) -> tuple:
+    """What the levels depend on: the base image's bytes (as a digest), its shape and dtype, and the widths."""
+    data = np.ascontiguousarray(base)
+    return hashlib.sha256(data.tobytes()).hexdigest(), data.shape, data.dtype.str, tuple(sigmas)
+
+
+def _remember(key, value):
+    with _recent_lock:
+        _recent[key] = value
+        _recent.move_to_end(key)
+        while len(_recent) > _RECENT:
+            _recent.popitem(last=False)
+    return value
 
 
 def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatLongEnvironment:

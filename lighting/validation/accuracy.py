@@ -527,6 +527,8 @@ def _ibl_points(cfg, progress):
                       float(np.median(errs)), 0.0, t, ref_text,
                       error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
             )  # fmt: skip
+            if cfg["ibl_exact_pixels"] and label in IBL_EXACT_MODELS:
+                points += _exact_points(case, model, env, pre, n, v, cfg["ibl_exact_pixels"])
             for spp in cfg["ibl_spp"]:
                 mc = _progressive(model, env, n, v, spp, seed + 1 + spp)
                 errs, _, own_ref = ibl_pixel_errors(mc.value, ref_value, ref_err)
@@ -539,6 +541,34 @@ def _ibl_points(cfg, progress):
                           error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
                 )  # fmt: skip
             progress()
+    return points
+
+
+#: The models the fast methods are also judged on against the pixel sum (the targets' four materials).
+IBL_EXACT_MODELS = ("Lambert", "GGX α=0.05, F=1", "GGX α=0.2, F=1", "GGX α=0.5, F=1")
+
+
+def _exact_points(case, model, env, pre, n, v, count):
+    """The split sum and the dominant lights against the pixel sum (:mod:`lighting.integrate.pixelsum`), whose own
+    error is far below the Monte-Carlo reference's, on ``count`` of the study's pixels spread over the sphere."""
+    from ..integrate.dominant import DOMINANT_SAMPLES, dominant_radiance
+    from ..integrate.ibl import split_sum_radiance
+    from ..integrate.pixelsum import environment_sum_radiance
+
+    sub = np.unique(np.linspace(0, n.shape[0] - 1, min(count, n.shape[0])).astype(np.int64))
+    n, v = n[sub], v[sub]
+    exact = environment_sum_radiance(model, env, n, v)
+    text = f"the environment's cells summed by adaptive Gauss–Legendre ({sub.size} of the pixels)"
+    points = []
+    n32, v32 = n.astype(np.float32), v.astype(np.float32)
+    for method, fn, cost, unit in (("split sum", split_sum_radiance, 1, "lookup per lobe"),
+                                   ("dominant lights", dominant_radiance, DOMINANT_SAMPLES,
+                                    "filtered samples per glossy lobe")):  # fmt: skip
+        fast, t = _median_time(lambda fn=fn: fn(model, pre, n32, v32), 1)
+        errs, _, own = ibl_pixel_errors(fast, exact.value, exact.error)
+        points.append(Point("ibl", case, f"{method} · pixel sum", cost, unit, float(np.median(errs)), 0.0, t,
+                            text, error_p95=float(np.percentile(errs, 95)),
+                            reference_error=float(np.median(own))))  # fmt: skip
     return points
 
 
@@ -569,6 +599,7 @@ def _settings(quick: bool):
             "ibl_irradiance_height": 16,
             "ibl_reference_spp": 512,
             "ibl_spp": [8, 32, 128],
+            "ibl_exact_pixels": 0,
             "ibl_models": ibl_models(quick=True),
             "ibl_environments": dict(list(IBL_ENVIRONMENTS.items())[:2]),
         }
@@ -589,6 +620,7 @@ def _settings(quick: bool):
         "ibl_irradiance_height": 64,
         "ibl_reference_spp": 8192,
         "ibl_spp": [8, 32, 128, 512],
+        "ibl_exact_pixels": 128,
         "ibl_models": ibl_models(),
         "ibl_environments": dict(IBL_ENVIRONMENTS),
     }
@@ -601,7 +633,7 @@ STUDY_SETTINGS = {
     "tessellation": ("levels", "tess_size", "repeat"),
     "precision": ("precision_size", "repeat"),
     "ibl": ("ibl_size", "ibl_pixels", "repeat", "ibl_env_height", "ibl_irradiance_height", "ibl_reference_spp",
-            "ibl_spp", "ibl_models", "ibl_environments"),
+            "ibl_spp", "ibl_exact_pixels", "ibl_models", "ibl_environments"),
 }  # fmt: skip
 
 

@@ -278,3 +278,23 @@ def test_a_lookup_near_a_pole_is_continuous(sunny):
         # 1e-6 rad from the pole the columns are weighted 2e-4 against the pole's mean (the clamp to the edge
         # row, before, spread them by the whole ring's variation).
         assert np.ptp(around, axis=0).max() < 1e-3 * float(np.max(around))
+
+
+def test_an_image_prefiltered_again_shares_its_levels_and_its_dominant_lights():
+    from lighting.integrate.dominant import dominant_environment, forget_environments
+
+    image = np.random.default_rng(3).random((32, 64, 3)) + np.where(np.arange(64) == 9, 500.0, 0.0)[None, :, None]
+    first, again = LatLongEnvironment(image), LatLongEnvironment(image.copy())
+    a, b = prefilter_environment(first), prefilter_environment(again)
+    assert b.environment is again and all(x is y for x, y in zip(a.levels, b.levels, strict=True))
+    kept = dominant_environment(a)
+    assert dominant_environment(b) is kept
+    assert not a.levels[1].flags.writeable  # shared: nobody may write into it
+    fresh = prefilter_environment(again, reuse=False)
+    assert fresh.levels[1] is not a.levels[1]
+    assert all(np.array_equal(x, y) for x, y in zip(a.levels, fresh.levels, strict=True))  # bit for bit
+    other = prefilter_environment(LatLongEnvironment(image * 2))  # another image: its own levels
+    assert other.levels[1] is not a.levels[1] and not np.array_equal(other.levels[1], a.levels[1])
+    forget_environments()  # what a benchmark of a first frame does: the next sky is made afresh
+    again_pre = prefilter_environment(first)
+    assert again_pre.levels[1] is not a.levels[1] and dominant_environment(again_pre) is not kept
