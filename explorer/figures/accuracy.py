@@ -657,19 +657,21 @@ def ibl_exact_table(points) -> str:
     str
         One row per model, one column per environment; each cell ``split sum → dominant lights``, median relative
         error over the lit pixels and, in brackets, its 95th percentile; below, the largest of the pixel sum's own
-        median relative errors.  A sentence saying so where the study has no such points (the quick settings).
+        median relative errors and what they were measured on.  A sentence saying so where the study has no such
+        points (the quick settings).
 
     Examples
     --------
     >>> from lighting.validation.accuracy import Point
-    >>> pts = [Point("ibl", "Lambert · sky", m, 1, "", e, 0.0, 1e-3, "", error_p95=2 * e, reference_error=1e-5)
-    ...        for m, e in (("split sum · pixel sum", 0.05), ("dominant lights · pixel sum", 0.01))]
+    >>> methods = (("split sum · pixel sum", 0.05), ("dominant lights · pixel sum", 0.01))
+    >>> pts = [Point("ibl", "Lambert · sky", m, 1, "", e, 0.0, 1e-3, "the pixel sum", error_p95=2 * e,
+    ...              reference_error=1e-5) for m, e in methods]
     >>> print(ibl_exact_table(pts))
     | model | sky |
     |---|---|
     | Lambert | 5 % (10 %) → 1 % (2 %) |
     <BLANKLINE>
-    The pixel sum's own median relative error: at most 0.001 %.
+    Reference: the pixel sum; its own median relative error: at most 0.001 %.
     """
     suffix = " · pixel sum"
     exact = [replace(p, method=p.method.removesuffix(suffix)) for p in points if p.method.endswith(suffix)]
@@ -677,7 +679,8 @@ def ibl_exact_table(points) -> str:
         return ("*(The quick study judges no method against the pixel sum: `lighting-explorer report accuracy "
                 "--only ibl` does.)*")  # fmt: skip
     own = max(p.reference_error for p in exact)
-    return ibl_table(exact) + f"\n\nThe pixel sum's own median relative error: at most {100 * own:.2g} %."
+    return (ibl_table(exact) + f"\n\nReference: {exact[0].reference}; its own median relative error: at most "
+            f"{100 * own:.2g} %.")  # fmt: skip
 
 
 def ibl_table(points) -> str:

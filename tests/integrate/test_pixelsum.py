@@ -76,3 +76,22 @@ def test_refusals_name_what_is_allowed():
         environment_sum_radiance(Lambert(0.5), ConstantEnvironment(1.0), up, up)
     with pytest.raises(ValueError, match="rtol must be a number from 1e-6 to 1e-2; got 0.5"):
         environment_sum_radiance(Lambert(0.5), sky, up, up, rtol=0.5)
+
+
+def test_the_ibl_study_judges_the_fast_methods_against_the_pixel_sum():
+    from lighting.validation import accuracy
+
+    cfg = accuracy._settings(True) | {"ibl_exact_pixels": 4, "ibl_size": 16, "ibl_pixels": 16, "ibl_env_height": 32,
+                                      "ibl_reference_spp": 64, "ibl_spp": [8]}  # fmt: skip
+    cfg["ibl_environments"] = dict(list(accuracy.IBL_ENVIRONMENTS.items())[:1])
+    points = accuracy._ibl_points(cfg, lambda *a: None)
+    judged = {(p.case, p.method): p for p in points if p.method.endswith(" · pixel sum")}
+    models = [label for label, _ in cfg["ibl_models"] if label in accuracy.IBL_EXACT_MODELS]
+    assert models and len(judged) == 2 * len(models)
+    for p in judged.values():
+        assert p.reference_error <= accuracy.IBL_EXACT_RTOL and math.isfinite(p.error) and p.error_p95 >= p.error
+        assert "on 4 of the 16 pixels" in p.reference
+    lambert = [p for (case, _), p in judged.items() if case.startswith("Lambert")]
+    split, dominant = sorted(lambert, key=lambda p: p.method, reverse=True)
+    # The dominant lights shade a Lambertian part by the map's exact irradiance; the split sum by SH9.
+    assert split.method.startswith("split sum") and dominant.error < split.error / 10
