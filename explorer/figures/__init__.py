@@ -35,6 +35,7 @@ import difflib
 import json
 import math
 import os
+import re
 import sys
 import time
 import warnings
@@ -56,7 +57,7 @@ from ..output import (
 )
 from .base import REGISTRY, FigureSpec, Quality
 
-__all__ = ["REGISTRY", "FORMATS", "figure_names", "generate", "make_figure", "main"]
+__all__ = ["REGISTRY", "FORMATS", "figure_names", "generate", "make_figure", "main", "stable_svg_ids"]
 
 PROG = "lighting-explorer figures"
 FORMATS = ("png", "svg", "pdf")
@@ -68,6 +69,41 @@ _SAVE_METADATA = {
     "svg": {"Date": None, "Creator": None},
     "pdf": {"CreationDate": None, "ModDate": None, "Creator": None, "Producer": None},
 }
+
+
+#: A clip path's name where Matplotlib defines and uses it in an SVG file.
+_SVG_CLIP_NAME = re.compile(rb'(id="|url\(#)(p[0-9a-f]{10})\b')
+
+
+def stable_svg_ids(data: bytes) -> bytes:
+    """An SVG file whose clip paths are named by their order of first use, not by the process that drew it.
+
+    Matplotlib names a clip path after a hash of the Python ``id()`` of the path object (``backend_svg``), so the
+    same figure saved twice, in one process or two, gets other names — and other bytes — even with
+    ``svg.hashsalt`` fixed.  Renamed ``p0000000000``, ``p0000000001``, … the file is the same on every run.
+
+    Parameters
+    ----------
+    data : bytes
+        An SVG file as Matplotlib writes it.
+
+    Returns
+    -------
+    bytes
+        The same file, every clip path renamed where it is defined and where it is used.
+
+    Examples
+    --------
+    >>> stable_svg_ids(b'<clipPath id="p3fa9c02b1e"/><g clip-path="url(#p3fa9c02b1e)"/>')
+    b'<clipPath id="p0000000000"/><g clip-path="url(#p0000000000)"/>'
+    """
+    names: dict = {}
+
+    def rename(m):
+        new = names.setdefault(m.group(2), b"p%010d" % len(names))
+        return m.group(1) + new
+
+    return _SVG_CLIP_NAME.sub(rename, data)
 
 
 #: The figure modules in lecture order; within a module, figures keep the order they are defined in.
@@ -237,7 +273,8 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
             buf = io.BytesIO()
             fig.savefig(buf, format=fmt, dpi=q.dpi, metadata=_SAVE_METADATA[fmt])
             files[fmt] = f"{name}.{fmt}"
-            contents.append((os.path.join(out_dir, files[fmt]), buf.getvalue()))
+            data = stable_svg_ids(buf.getvalue()) if fmt == "svg" else buf.getvalue()
+            contents.append((os.path.join(out_dir, files[fmt]), data))
     smallest_pt = _smallest_text_pt(fig)
     if "png" in files:
         size = list(_png_size(contents[list(files).index("png")][1]))
