@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from .._recent import Recent
 from ..models.base import BRDFFlags
 from ._fis import in_blocks
 
@@ -27,8 +28,7 @@ VIEW_LIMIT = math.radians(89.5)
 #: Pixel–cell pairs whose table reads are made at once: a block's arrays stay within the processor's cache.
 _BLOCK = 1 << 14
 #: The tables of the parts met last (each holds ``VIEW_ROWS × LIGHT_ROWS × AZIMUTH_ROWS`` texels of 16 bytes).
-_tables: dict = {}
-_KEPT = 8
+_tables = Recent(8)
 
 
 def cosine_table(part):
@@ -46,10 +46,7 @@ def cosine_table(part):
     g[:, -1] = 0.0  # l on the horizon
     rgba = np.zeros(g.shape[:-1] + (4,), dtype=np.float32)
     rgba[..., :3] = g
-    found = _tables[key] = rgba.reshape(-1, 4).view(np.complex128).reshape(-1)
-    if len(_tables) > _KEPT:
-        _tables.pop(next(iter(_tables)))
-    return found
+    return _tables.put(key, rgba.reshape(-1, 4).view(np.complex128).reshape(-1))
 
 
 def cell_sum(part, directions, power, n, v, cos_v):

@@ -20,6 +20,8 @@ import math
 
 import numpy as np
 
+from .._recent import Recent
+
 #: ``c_σ``: a sample's blur width relative to the width ``√(Ω_s / 2π)`` of its share ``Ω_s = 1/(N p)`` of the lobe.
 FILTER_SCALE = 0.8
 #: ``c_σ`` of the half-vector samples of a narrow microfacet lobe (:func:`half_vector_mean`).
@@ -31,7 +33,8 @@ TABLE_ANGLES = np.arange(0.0, math.radians(89.75), TABLE_STEP)
 AZIMUTHS = 64
 #: Pixel-samples (pixels times samples) per block: the block's float32 arrays stay within the processor's cache.
 _BLOCK = 1 << 13
-_tables: dict = {}
+#: The sample tables of the parts met last.
+_tables = Recent(64)
 
 
 def stratified_square(count: int) -> np.ndarray:
@@ -39,13 +42,6 @@ def stratified_square(count: int) -> np.ndarray:
     k = np.arange(count)
     golden = (math.sqrt(5.0) - 1.0) / 2.0
     return np.stack([(k + 0.5) / count, np.mod(0.5 + k * golden, 1.0)], axis=-1)
-
-
-def _remember(key, value):
-    _tables[key] = value
-    if len(_tables) > 64:
-        _tables.pop(next(iter(_tables)))
-    return value
 
 
 class LevelStack:
@@ -171,7 +167,7 @@ def view_table(part, samples: int, stack: LevelStack, sigmas: tuple):
     # σ_k = c_σ √(Ω_k / 2π), Ω_k = 1 / (N p_k): the sample's share of the lobe.
     sigma = FILTER_SCALE * np.sqrt(1.0 / (samples * safe_p) / (2 * math.pi))
     level = np.where(ok, stack.level_of(np.log(sigma).astype(np.float32)), 0).astype(np.float32)
-    return _remember(key, (ld.astype(np.float32), w.astype(np.float32), level))
+    return _tables.put(key, (ld.astype(np.float32), w.astype(np.float32), level))
 
 
 def view_table_mean(part, stack, n, v, cos_v, samples, sigmas):
@@ -269,7 +265,7 @@ def half_table(part, samples: int):
     ok = (vh > 0) & (lw[..., 2] > 0) & (d > 0)
     f = np.asarray(part.eval(up, lw, np.broadcast_to(v, lw.shape)), dtype=np.float64).mean(axis=-1)
     w = np.where(ok, f * np.maximum(lw[..., 2], 0) * 4 * np.where(ok, vh, 1) / np.where(ok, d, 1), 0.0)
-    return _remember(key, (h.astype(np.float32), d.astype(np.float32), w.astype(np.float32)))
+    return _tables.put(key, (h.astype(np.float32), d.astype(np.float32), w.astype(np.float32)))
 
 
 def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):

@@ -53,12 +53,12 @@ from __future__ import annotations
 import functools
 import math
 import weakref
-from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._budget import check_budget
+from .._recent import Recent
 from .._validate import check_count, check_vectors
 from ..models.base import BRDFFlags
 from ..numerics import working_dtype
@@ -388,8 +388,7 @@ def _uniform_irradiance(height: int, width: int, rows: int) -> np.ndarray:
 
 _cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 #: The last few, by the content of their base image (``PrefilteredEnvironment.content_key``).
-_by_content: OrderedDict = OrderedDict()
-_BY_CONTENT = 4
+_by_content = Recent(4)
 
 
 def dominant_environment(prefiltered) -> DominantEnvironment:
@@ -418,10 +417,7 @@ def dominant_environment(prefiltered) -> DominantEnvironment:
     if key is not None:
         _cache[key] = found
     if content is not None:
-        _by_content[content] = found
-        _by_content.move_to_end(content)
-        while len(_by_content) > _BY_CONTENT:
-            _by_content.popitem(last=False)
+        _by_content.put(content, found)
     return found
 
 
@@ -432,8 +428,7 @@ def forget_environments() -> None:
     """
     from . import prefilter
 
-    with prefilter._recent_lock:
-        prefilter._recent.clear()
+    prefilter._recent.clear()
     _by_content.clear()
     _cache.clear()
 

@@ -45,11 +45,11 @@ from __future__ import annotations
 
 import math
 import time
-from collections import OrderedDict
 
 import numpy as np
 
 from .._budget import check_budget
+from .._recent import Recent
 from .._text import quote
 from .._validate import ArgumentTypeError, check_count, check_vectors
 from ..lights.environment import as_environment
@@ -63,9 +63,8 @@ __all__ = ["ALBEDO_ANGLES", "lobe_albedo", "lobe_sigma", "split_sum_radiance", "
 
 #: View angles (radians) of the albedo tables: 0° to 88.5° in 1.5° steps, and 90° (held at the 88.5° value).
 ALBEDO_ANGLES = np.append(np.radians(np.arange(0.0, 89.6, 1.5)), math.pi / 2)
-#: Albedo tables kept (most recently used first out last).
-_CACHE_SIZE = 64
-_albedo_cache: OrderedDict = OrderedDict()
+#: Albedo tables kept (the one used longest ago goes first).
+_albedo_cache = Recent(64)
 
 
 def lobe_sigma(lobe) -> float:
@@ -132,7 +131,6 @@ def lobe_albedo(part) -> np.ndarray:
     key = (type(part).__qualname__, repr(part))
     table = _albedo_cache.get(key)
     if table is not None:
-        _albedo_cache.move_to_end(key)
         return table
     table = _energy_table_albedo(part)
     if table is None:
@@ -142,10 +140,7 @@ def lobe_albedo(part) -> np.ndarray:
         table = np.concatenate([table, table[-1:]])
     table = np.asarray(table, dtype=np.float64)
     table.setflags(write=False)
-    _albedo_cache[key] = table
-    while len(_albedo_cache) > _CACHE_SIZE:
-        _albedo_cache.popitem(last=False)
-    return table
+    return _albedo_cache.put(key, table)
 
 
 def _albedo_at(table, theta, dt):

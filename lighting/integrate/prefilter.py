@@ -59,11 +59,11 @@ import copy
 import hashlib
 import math
 import threading
-from collections import OrderedDict
 
 import numpy as np
 
 from .._budget import check_budget
+from .._recent import Recent
 from .._text import quote
 from .._validate import ArgumentTypeError, check_bool, check_count, check_vectors
 from ..lights.environment import (
@@ -709,7 +709,7 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None,
         for levels in families.values():
             for level in levels:
                 level.setflags(write=False)  # shared by every environment of the same image
-        found = _remember(key, (families, latlong_sh(base)))
+        found = _recent.put(key, (families, latlong_sh(base)))
     pre = PrefilteredEnvironment(env, sig, found[0], found[1], scale=scale, to_base=to_base)
     pre.content_key = key
     return pre
@@ -717,24 +717,13 @@ def prefilter_environment(environment, *, sigmas=PREFILTER_SIGMAS, height=None,
 
 #: The levels of the last few images prefiltered, by content: a sky loaded again (a scene rendered once more, the
 #: explorer switching back) is not prefiltered again.  Each entry holds what one PrefilteredEnvironment holds.
-_recent: OrderedDict = OrderedDict()
-_RECENT = 4
-_recent_lock = threading.Lock()
+_recent = Recent(4)
 
 
 def _content_key(base: np.ndarray, sigmas) -> tuple:
     """What the levels depend on: the base image's bytes (as a digest), its shape and dtype, and the widths."""
     data = np.ascontiguousarray(base)
     return hashlib.sha256(data.tobytes()).hexdigest(), data.shape, data.dtype.str, tuple(sigmas)
-
-
-def _remember(key, value):
-    with _recent_lock:
-        _recent[key] = value
-        _recent.move_to_end(key)
-        while len(_recent) > _RECENT:
-            _recent.popitem(last=False)
-    return value
 
 
 def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatLongEnvironment:
