@@ -27,7 +27,7 @@ import time
 import numpy as np
 
 from .._budget import check_budget
-from .._validate import check_vectors
+from .._validate import check_range, check_vectors
 from ..sampling.brdf import _check_brdf
 from ._delta import split_delta
 from .estimate import Estimate
@@ -158,8 +158,7 @@ def environment_sum_radiance(brdf, environment, normals, view_dirs, *, rtol: flo
         raise ValueError(f"brdf must have no delta part (a mirror is a lookup, not an integral); got {brdf!r}")
     if not isinstance(environment, LatLongEnvironment):
         raise TypeError(f"environment must be a LatLongEnvironment; got {type(environment).__name__}")
-    if not (isinstance(rtol, (int, float)) and 1e-6 <= rtol <= 1e-2):
-        raise ValueError(f"rtol must be a number from 1e-6 to 1e-2; got {rtol!r}")
+    rtol = check_range("rtol", rtol, 1e-6, 1e-2)
     n = check_vectors("normals", normals).astype(np.float64)
     v = check_vectors("view_dirs", view_dirs).astype(np.float64)
     shape = np.broadcast_shapes(n.shape, v.shape)
@@ -183,21 +182,23 @@ def environment_sum_radiance(brdf, environment, normals, view_dirs, *, rtol: flo
     def pixel(p):
         if n[p] @ v[p] <= 0:
             return
-        lit = np.flatnonzero(coarse.dirs @ n[p] > -reach)
+        cos_centre = coarse.dirs @ n[p]
+        lit = np.flatnonzero(cos_centre > -reach)
         s1 = coarse.sums(brdf, n[p], v[p], lit)
         s2 = fine.sums(brdf, n[p], v[p], lit)
-        diff = np.abs(s2 - s1).max(axis=1)
+        differ = np.abs(s2 - s1)
+        diff = differ.max(axis=1)
         scale = max(float(np.max(s2.sum(axis=0))), np.finfo(np.float64).tiny)
         # The cells with the largest differences are refined, until those left add up to half of rtol of the sum;
         # the cells the horizon may cross first of all (a kink of max(n·l, 0) inside a cell: two low rules can
         # agree there by chance).
-        crossing = np.abs(coarse.dirs[lit] @ n[p]) < reach
+        crossing = np.abs(cos_centre[lit]) < reach
         order = np.lexsort((-diff, ~crossing))
         left = np.cumsum(diff[order][::-1])[::-1]  # what stays unrefined if refining stops at each index
         count = max(int(np.searchsorted(-left, -0.5 * rtol * scale)), int(crossing.sum()))
         keep = np.ones(lit.size, dtype=bool)
         keep[order[:count]] = False
-        total, err = s2[keep].sum(axis=0), np.abs(s2 - s1)[keep].sum(axis=0)
+        total, err = s2[keep].sum(axis=0), differ[keep].sum(axis=0)
         chosen = lit[~keep]
         more, more_err, spent = _refine(environment, brdf, n[p], v[p], tuple(b[chosen] for b in bounds),
                                         max(rtol * scale - float(err.max()), 0.0))  # fmt: skip
