@@ -205,11 +205,11 @@ def environment_sum_radiance(brdf, environment, normals, view_dirs, *, rtol: flo
         value[p], error[p] = total + more, err + more_err
         evaluations[p] = lit.size * (_COARSE**2 + _FINE**2) + spent
 
-    # Pixels are independent: the shading threads take every k-th (NumPy's kernels release the interpreter).
-    from ..shading.batch import _pool, _threads
+    # Pixels are independent and each is costly: the shading threads share them out (NumPy's kernels release the
+    # interpreter), each thread's run of them spread over the image, so that no thread gets all the costly ones.
+    from ..shading.batch import each_chunk
 
-    k = max(1, min(_threads(), n.shape[0]))
-    for _ in _pool().map(lambda i: [pixel(p) for p in range(i, n.shape[0], k)], range(k)):
-        pass
+    spread = np.argsort(np.arange(n.shape[0]) % 8, kind="stable")
+    each_chunk(n.shape[0], lambda rows: [pixel(p) for p in spread[rows]], min_rows=1)
     most = int(evaluations.max(initial=0))
     return Estimate(value.reshape(shape), error.reshape(shape), most, time.perf_counter() - t0, "pixel sum")
