@@ -673,8 +673,10 @@ def ibl_exact_table(points) -> str:
     <BLANKLINE>
     Reference: the pixel sum; its own median relative error: at most 0.001 %.
     """
-    suffix = " · pixel sum"
-    exact = [replace(p, method=p.method.removesuffix(suffix)) for p in points if p.method.endswith(suffix)]
+    from lighting.validation.accuracy import PIXEL_SUM_SUFFIX
+
+    exact = [replace(p, method=p.method.removesuffix(PIXEL_SUM_SUFFIX)) for p in points
+             if p.method.endswith(PIXEL_SUM_SUFFIX)]  # fmt: skip
     if not exact:
         return ("*(The quick study judges no method against the pixel sum: `lighting-explorer report accuracy "
                 "--only ibl` does.)*")  # fmt: skip

@@ -11,7 +11,7 @@ import time
 from dataclasses import asdict
 
 from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
-from lighting.validation.accuracy import run_studies, summary
+from lighting.validation.accuracy import PIXEL_SUM_SUFFIX, run_studies, summary
 
 from ..progress import Progress
 from .cache import save_study
@@ -148,7 +148,7 @@ def _panels(studies) -> list:
         for case in cases:
             model, _, env = case.rpartition(" · ")
             # The methods judged again against the pixel sum are the same methods: drawn once, against Monte Carlo.
-            pts = [p for p in st.points if p.case == case and not p.method.endswith(" · pixel sum")]
+            pts = [p for p in st.points if p.case == case and not p.method.endswith(PIXEL_SUM_SUFFIX)]
             by_env.setdefault(env, []).append((model, pts))
         panels += [(f"IBL, {env}", series) for env, series in by_env.items()]
     return panels

@@ -310,6 +310,7 @@ from .ibl_study import (  # noqa: E402, F401  (the ibl study's names, where the 
     IBL_LIT_FRACTION,
     IBL_SUN,
     IBL_VIEW_ROTATION,
+    PIXEL_SUM_SUFFIX,
     _ibl_points,
     _ibl_work,
     _progressive,

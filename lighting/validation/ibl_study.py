@@ -261,6 +261,8 @@ def _ibl_points(cfg, progress):
 
 #: The models the fast methods are also judged on against the pixel sum (the targets' four materials).
 IBL_EXACT_MODELS = ("Lambert", "GGX α=0.05, F=1", "GGX α=0.2, F=1", "GGX α=0.5, F=1")
+#: What the method of a point judged against the pixel sum ends with (``"dominant lights · pixel sum"``).
+PIXEL_SUM_SUFFIX = " · pixel sum"
 #: The pixel sum's tolerance there: its reported error is at most this fraction of each pixel's value.
 IBL_EXACT_RTOL = 1e-4
 
@@ -285,7 +287,7 @@ def _exact_points(case, model, env, pre, n, v, count):
                                     "filtered samples per glossy lobe")):  # fmt: skip
         fast, t = _median_time(lambda fn=fn: fn(model, pre, n32, v32), 1)
         errs, _, own = ibl_pixel_errors(fast, exact.value, exact.error)
-        points.append(Point("ibl", case, f"{method} · pixel sum", cost, unit, float(np.median(errs)), 0.0, t,
+        points.append(Point("ibl", case, f"{method}{PIXEL_SUM_SUFFIX}", cost, unit, float(np.median(errs)), 0.0, t,
                             text, error_p95=float(np.percentile(errs, 95)),
                             reference_error=float(np.median(own))))  # fmt: skip
     return points
