@@ -29,6 +29,14 @@ sys.path.insert(0, str(Path(__file__).parent))
 _SLOW_FILE = re.compile(r"^pytestmark = pytest\.mark\.slow\b", re.MULTILINE)
 
 
+def _slow_file(path: Path) -> bool:
+    """Whether the test file ``path`` is marked slow as a whole (False for one that cannot be read)."""
+    try:
+        return bool(_SLOW_FILE.search(path.read_text(encoding="utf-8")))
+    except (OSError, UnicodeDecodeError):
+        return False
+
+
 def pytest_ignore_collect(collection_path, config):
     """Under ``-m "not slow"``, a test file marked slow as a whole is not imported at all.
 
@@ -39,11 +47,7 @@ def pytest_ignore_collect(collection_path, config):
         return None
     if not collection_path.name.startswith("test_"):
         return None
-    try:
-        text = collection_path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        return None
-    return True if _SLOW_FILE.search(text) else None
+    return True if _slow_file(collection_path) else None
 
 
 def pytest_collection_modifyitems(config, items):
@@ -59,11 +63,7 @@ def pytest_collection_modifyitems(config, items):
         files.setdefault(item.nodeid.split("::", 1)[0], []).append(index)
 
     def weight(path):
-        try:
-            slow = bool(_SLOW_FILE.search((config.rootpath / path).read_text(encoding="utf-8")))
-        except (OSError, UnicodeDecodeError):
-            slow = False
-        return (0, 0) if slow else (1, -len(files[path]))
+        return (0, 0) if _slow_file(config.rootpath / path) else (1, -len(files[path]))
 
     order = sorted(files, key=weight)  # stable: files of equal weight keep the collection's order
     items[:] = [items[i] for path in order for i in files[path]]
