@@ -315,6 +315,7 @@ from .ibl_study import (  # noqa: E402, F401  (the ibl study's names, where the 
     _ibl_work,
     _progressive,
     ibl_environment,
+    ibl_front_pixels,
     ibl_models,
     ibl_pixel_errors,
     ibl_sphere,

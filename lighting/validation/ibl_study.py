@@ -146,6 +146,29 @@ def ibl_sphere(size: int, dtype=np.float64):
     return r.gbuffer.coverage, np.ascontiguousarray(n @ rot.T), np.ascontiguousarray(v @ rot.T)
 
 
+def ibl_front_pixels(size: int, count: int, *, min_cos: float = 0.0):
+    """``count`` pixels of :func:`ibl_sphere` spread evenly over those facing the viewer: ``(normals, views)``.
+
+    Parameters
+    ----------
+    size : int
+        The sphere's image size.
+    count : int
+        Pixels wanted (all of them where fewer face the viewer).
+    min_cos : float, optional
+        The pixels facing the viewer are those with ``n·v`` above this.
+
+    Returns
+    -------
+    normals, views : ndarray, (count, 3)
+        In scan order, float64.
+    """
+    _, n, v = ibl_sphere(size)
+    front = np.flatnonzero(np.sum(n * v, axis=-1) > min_cos)
+    pick = front[np.unique(np.linspace(0, front.size - 1, min(count, front.size)).astype(np.int64))]
+    return n[pick], v[pick]
+
+
 def ibl_pixel_errors(value, reference, reference_error=None):
     """Per-pixel relative errors over the lit pixels: ``max_c |value − ref| / max_c ref``.
 
@@ -196,12 +219,9 @@ def _ibl_points(cfg, progress):
     from .accuracy import Point, _median_time
 
     size, subset, repeat = cfg["ibl_size"], cfg["ibl_pixels"], cfg["repeat"]
-    _, n_all, v_all = ibl_sphere(size)
-    front = np.flatnonzero(np.sum(n_all * v_all, axis=-1) > 0)
-    pick = front[np.unique(np.linspace(0, front.size - 1, min(subset, front.size)).astype(np.int64))]
-    n, v = n_all[pick], v_all[pick]
+    n, v = ibl_front_pixels(size, subset)
     n32, v32 = n.astype(np.float32), v.astype(np.float32)
-    where = f"{pick.size} pixels of a {size}² sphere"
+    where = f"{n.shape[0]} pixels of a {size}² sphere"
     points = []
     for e_i, (env_label, sky_name) in enumerate(cfg["ibl_environments"].items()):
         env = ibl_environment(sky_name, cfg["ibl_env_height"])

@@ -138,13 +138,11 @@ def test_the_precomputation_is_made_once_per_base_environment(disk_pre):
 # ------------------------------------------------------------------ against the Monte-Carlo reference, small
 def _small_case(sky):
     """48 pixels of the accuracy study's sphere under a 64-row map of ``sky``, with its prefiltered levels."""
-    from lighting.validation.accuracy import ibl_environment, ibl_sphere
+    from lighting.validation.accuracy import ibl_environment, ibl_front_pixels
 
-    _, n, v = ibl_sphere(32)
-    front = np.flatnonzero(np.sum(n * v, -1) > 0.0)
-    pick = front[np.linspace(0, front.size - 1, 48).astype(int)]
+    n, v = ibl_front_pixels(32, 48)
     env = ibl_environment(sky, 64)
-    return env, prefilter_environment(env), n[pick], v[pick]
+    return env, prefilter_environment(env), n, v
 
 
 MODELS = {"Lambert": Lambert(0.8)} | {

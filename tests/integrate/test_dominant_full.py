@@ -7,7 +7,7 @@ from lighting.integrate.dominant import dominant_radiance
 from lighting.integrate.ibl import ProgressiveRadiance, split_sum_radiance
 from lighting.integrate.prefilter import prefilter_environment
 from lighting.models.brdf import CookTorrance, Lambert
-from lighting.validation.accuracy import ibl_environment, ibl_pixel_errors, ibl_sphere
+from lighting.validation.accuracy import ibl_environment, ibl_front_pixels, ibl_pixel_errors
 
 pytestmark = pytest.mark.slow  # a 16,384-spp Monte-Carlo reference on 256 pixels for each of twelve cases
 
@@ -19,10 +19,7 @@ MODELS = {"Lambert": Lambert(0.8)} | {
 @pytest.mark.parametrize("sky", ["daylight", "sun-gradient", "studio"])
 def test_the_targets_at_the_studys_size(sky):
     # The study's sphere (128² pixels) and map (256 rows), 256 pixels spread over the sphere's front.
-    _, n, v = ibl_sphere(128)
-    front = np.flatnonzero(np.sum(n * v, -1) > 0.0)
-    pick = front[np.linspace(0, front.size - 1, 256).astype(int)]
-    n, v = n[pick], v[pick]
+    n, v = ibl_front_pixels(128, 256)
     env = ibl_environment(sky, 256)
     pre = prefilter_environment(env)
     for label, m in MODELS.items():
