@@ -82,15 +82,20 @@ def test_lambert_is_the_closed_form_uniform_sky_plus_the_disk(disk_pre, dtype):
     assert np.max(np.abs(ss - expected) / expected) > 0.05
 
 
+def _random_pairs(seed, count, flip_below):
+    """``count`` random unit normals and views, each view turned round (``v → −v``) where ``n·v < flip_below``."""
+    rng = np.random.default_rng(seed)
+    n = rng.normal(size=(count, 3))
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    v = rng.normal(size=(count, 3))
+    v /= np.linalg.norm(v, axis=-1, keepdims=True)
+    return n, np.where((np.sum(n * v, -1) < flip_below)[:, None], -v, v)
+
+
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
 def test_the_white_furnace_gives_each_part_its_albedo(dtype):
     pre = prefilter_environment(ConstantEnvironment(1.5), height=32)
-    rng = np.random.default_rng(3)
-    n = rng.normal(size=(300, 3))
-    n /= np.linalg.norm(n, axis=-1, keepdims=True)
-    v = rng.normal(size=(300, 3))
-    v /= np.linalg.norm(v, axis=-1, keepdims=True)
-    v = np.where((np.sum(n * v, -1) < 0)[:, None], -v, v)
+    n, v = _random_pairs(3, 300, flip_below=0.0)
     ggx = CookTorrance(1.0, 0.3, 1.0, ndf="ggx", fresnel="none")
     out = dominant_radiance(Lambert(0.6) + ggx, pre, n.astype(dtype), v.astype(dtype), split_terms=True)
     assert out["diffuse"].dtype == dtype
@@ -243,11 +248,7 @@ def test_the_cells_table_gives_the_models_own_sum_over_the_cells(part):
     from lighting.integrate._cells import _cell_exact, cell_sum
 
     rng = np.random.default_rng(8)
-    n = rng.normal(size=(2000, 3))
-    n /= np.linalg.norm(n, axis=-1, keepdims=True)
-    v = rng.normal(size=(2000, 3))
-    v /= np.linalg.norm(v, axis=-1, keepdims=True)
-    v = np.where((np.sum(n * v, -1) < 0.02)[:, None], -v, v)
+    n, v = _random_pairs(rng, 2000, flip_below=0.02)
     keep = np.sum(n * v, -1) > 0.02
     n, v = n[keep], v[keep]
     cells = rng.normal(size=(30, 3))
