@@ -417,15 +417,15 @@ def _threads() -> int:
     return max(1, min(os.cpu_count() or 1, 8))
 
 
-def _chunks(n_rows: int, min_rows: int = _MIN_ROWS_PER_THREAD) -> list[slice]:
-    k = min(_threads(), n_rows // min_rows)
+def _chunks(n_rows: int, min_rows: int | None = None) -> list[slice]:
+    k = min(_threads(), n_rows // (_MIN_ROWS_PER_THREAD if min_rows is None else min_rows))
     if k <= 1:
         return [slice(None)]
     edges = np.linspace(0, n_rows, k + 1).astype(int)
     return [slice(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
-def each_chunk(n_rows: int, fn, *, min_rows: int = _MIN_ROWS_PER_THREAD) -> None:
+def each_chunk(n_rows: int, fn, *, min_rows: int | None = None) -> None:
     """``fn(row_slice)`` for the chunks of ``n_rows`` rows, on the shading threads when there are several.
 
     Parameters
@@ -435,8 +435,8 @@ def each_chunk(n_rows: int, fn, *, min_rows: int = _MIN_ROWS_PER_THREAD) -> None
     fn : callable
         Called once per disjoint ``slice`` of rows; chunks may run concurrently.
     min_rows : int, optional
-        The fewest rows worth a thread of their own (a row of costly work, such as a whole pixel's quadrature,
-        is worth one).
+        The fewest rows worth a thread of their own (default: the shading's; a row of costly work, such as a
+        whole pixel's quadrature, is worth one).
 
     Returns
     -------
