@@ -22,6 +22,8 @@ from dataclasses import replace
 
 import numpy as np
 
+from lighting.validation.accuracy import GRID_METHOD
+
 from .base import PALETTE, new_figure, register, series_colours
 
 #: Error thresholds drawn on every error axis: (value, line style, label).
@@ -685,6 +687,10 @@ def ibl_exact_table(points) -> str:
             f"{100 * own:.2g} %.")  # fmt: skip
 
 
+#: The fast methods of the ``ibl`` tables, in the order of each cell.
+_TABLE_METHODS = ("split sum", "dominant lights", GRID_METHOD)
+
+
 def ibl_table(points) -> str:
     """The ``ibl`` study's fast methods as a Markdown table: per model and environment, median (95th percentile).
 
@@ -696,8 +702,9 @@ def ibl_table(points) -> str:
     Returns
     -------
     str
-        One row per model, one column per environment; each cell ``split sum → dominant lights``, each as the
-        median relative error over the lit pixels and, in brackets, its 95th percentile; the first row is SH9
+        One row per model, one column per environment; each cell ``split sum → dominant lights → dominant lights,
+        normal grid`` (those the study measured), each as the median relative error over the lit pixels and, in
+        brackets, its 95th percentile; the first row is SH9
         irradiance against the exact irradiance of the map.  A value the reference is too noisy to resolve
         (its own median error above it) is marked ``*``.
 
@@ -720,7 +727,7 @@ def ibl_table(points) -> str:
         model, _, env = p.case.rpartition(" · ")
         if p.method == "SH9 irradiance":
             model = "SH9 irradiance"
-        elif p.method not in ("split sum", "dominant lights"):
+        elif p.method not in _TABLE_METHODS:
             continue
         envs += [env] if env not in envs else []
         models += [model] if model not in models else []
@@ -733,6 +740,6 @@ def ibl_table(points) -> str:
             if "SH9 irradiance" in c:
                 out.append(pct(c["SH9 irradiance"]))
             else:
-                out.append(" → ".join(pct(c[m]) for m in ("split sum", "dominant lights") if m in c))
+                out.append(" → ".join(pct(c[m]) for m in _TABLE_METHODS if m in c))
         rows.append(f"| {model} | {' | '.join(out)} |")
     return "\n".join(rows)

@@ -59,13 +59,14 @@ import numpy as np
 
 from .._budget import check_budget
 from .._recent import Recent
-from .._validate import check_count, check_vectors
+from .._validate import check_bool, check_count, check_vectors
 from ..models.base import BRDFFlags
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
 from ._fis import LevelStack, half_vector_mean, view_table_mean
+from ._normalgrid import GRID_SHARE, NormalGrid, grid_spacing
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
 
@@ -500,7 +501,7 @@ def _light_term(part, lights, n, v, dt, widths):
 
 
 def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = DOMINANT_SAMPLES,
-                      split_terms: bool = False):  # fmt: skip
+                      split_terms: bool = False, normal_grid: bool | None = None):  # fmt: skip
     r"""Reflected radiance under an environment: the dominant lights exactly, the residual filtered (module notes).
 
     Parameters
@@ -517,6 +518,11 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
         :data:`NARROW_FACTOR` times as many).
     split_terms : bool
         Return ``{"diffuse": ..., "specular": ...}`` (normal lobes; the others) instead of their sum.
+    normal_grid : bool or None
+        Shade each glossy lobe's blurred terms at the points of a grid over the normals and read them at each
+        pixel (:mod:`lighting.integrate._normalgrid`); only where every pixel shares one view direction.  None
+        (default): when they do and the grid has at most :data:`~lighting.integrate._normalgrid.GRID_SHARE` of the
+        pixels' count of points; False: pixel by pixel; True: always (refused when the views differ).
 
     Returns
     -------
@@ -535,6 +541,8 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     brdf = _check_brdf(brdf)
     pre = _check_prefiltered(prefiltered)
     samples = check_count("samples", samples, 1, 1024)
+    if normal_grid is not None:
+        normal_grid = check_bool("normal_grid", normal_grid)
     n = check_vectors("normals", normals)
     v = check_vectors("view_dirs", view_dirs)
     dt = working_dtype(n, v)
@@ -548,70 +556,122 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     # Only the pixels facing the viewer reflect anything (a pixel off the object has a zero normal).
     seen = np.flatnonzero(cos_v > 0)
     out_shape = shape[:-1] + (3,)
+    if normal_grid is not False and not np.all(v[seen] == v[seen[0]] if seen.size else True):
+        if normal_grid:
+            raise ValueError("normal_grid=True needs every pixel to share one view direction; these differ")
+        normal_grid = False
     if seen.size < cos_v.size:
-        terms = _radiance(brdf, pre, n[seen], v[seen], cos_v[seen], dt, samples)
+        terms = _radiance(brdf, pre, n[seen], v[seen], cos_v[seen], dt, samples, normal_grid)
         for key, value in terms.items():
             terms[key] = np.zeros(n.shape, dtype=np.float64)
             terms[key][seen] = value
     else:
-        terms = _radiance(brdf, pre, n, v, cos_v, dt, samples)
+        terms = _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid)
     if split_terms:
         return {key: value.astype(dt).reshape(out_shape) for key, value in terms.items()}
     return (terms["diffuse"] + terms["specular"]).astype(dt).reshape(out_shape)
 
 
-def _radiance(brdf, pre, n, v, cos_v, dt, samples):
+def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     """:func:`dominant_radiance` of pixels that face the viewer, ``n``, ``v`` (P, 3) in ``dt``: ``{term: (P, 3)}``."""
-    r = 2 * cos_v[:, None] * n - v
     diffuse = np.zeros(n.shape, dtype=np.float64)
     specular = np.zeros(n.shape, dtype=np.float64)
     smooth, deltas = split_delta(brdf)
     if deltas:
         reflectance = delta_albedo(deltas, np.clip(cos_v, 0, 1).astype(np.float64))
-        specular += reflectance * pre._lookup(r, 0.0, "mirror")
+        specular += reflectance * pre._lookup(2 * cos_v[:, None] * n - v, 0.0, "mirror")
     parts = () if smooth is None else smooth.parts
-    if parts:
-        dom = dominant_environment(pre)
-        # The lights, the residual and its irradiance are in the frame of the environment's base: turn the
-        # pixels into it (an isotropic BRDF does not change under a turn of n, v and l together).
-        turn = _to_base_matrix(pre)
-        nb = n.astype(np.float64) if turn is None else n.astype(np.float64) @ turn
-        vb = v.astype(np.float64) if turn is None else v.astype(np.float64) @ turn
-        nb, vb = nb.astype(dt), vb.astype(dt)
-        rb = 2 * cos_v[:, None] * nb - vb
-        scale = np.asarray(pre._scale, dtype=np.float64)
-        residual = dom.residual
-        theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
-        irradiance = None
-        for part in parts:
-            lobe = part.lobe()
-            sigma = lobe_sigma(lobe)
-            value = np.zeros(n.shape, dtype=np.float64)
-            if len(dom.lights):
-                value += _light_term(part, dom.lights, nb, vb, dt, sigma)
-            rho = _albedo_at(lobe_albedo(part), theta_v, np.float64)
-            if math.isinf(sigma):
-                if irradiance is None:
-                    irradiance = dom.irradiance.radiance(nb).astype(np.float64) / math.pi
-                value += rho * irradiance
-            else:
-                wide = sigma >= WIDE_LOBE and len(dom.cell_power)
-                n32, v32, c32 = nb.astype(np.float32), vb.astype(np.float32), cos_v.astype(np.float32)
-                if wide:  # the areas of light cell by cell; the calm rest by filtered samples
-                    value += cell_sum(part, dom.cell_directions, dom.cell_power, n32, v32, c32)
-                rest, levels = (dom.calm, dom.calm_levels) if wide else (residual, dom.levels)
-                # A narrow lobe reads sharp areas of light (a box's edge, its long tails over a dark ground) by its
-                # samples alone: it takes NARROW_FACTOR times as many.
-                count = samples if sigma >= WIDE_LOBE else NARROW_FACTOR * samples
-                mf = part.microfacet()
-                half = sigma < WIDE_LOBE and mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic
-                fis = half_vector_mean if half else view_table_mean
-                mean, ok = fis(part, levels, n32, v32, c32, count, rest.sigmas)
-                mean = mean.astype(np.float64)
-                if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value
-                    miss = ~ok
-                    mean[miss] = rest._lookup(rb[miss], min(sigma, rest.sigmas[-1]),
-                                              kernel_of_lobe(lobe)).astype(np.float64)  # fmt: skip
-                value += rho * mean
-            (diffuse if math.isinf(sigma) else specular)[:] += value * scale
+    if not parts:
+        return {"diffuse": diffuse, "specular": specular}
+    dom = dominant_environment(pre)
+    # The lights, the residual and its irradiance are in the frame of the environment's base: turn the
+    # pixels into it (an isotropic BRDF does not change under a turn of n, v and l together).
+    turn = _to_base_matrix(pre)
+    nb = n if turn is None else (n.astype(np.float64) @ turn).astype(dt)
+    vb = v if turn is None else (v.astype(np.float64) @ turn).astype(dt)
+    scale = np.asarray(pre._scale, dtype=np.float64)
+    theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
+    sigmas = [lobe_sigma(part.lobe()) for part in parts]
+    grid = _grid_for(sigmas, normal_grid, n.shape[0], vb)
+    # What a lobe blurs, per part: the diffuse parts' irradiance E(n)/π (RGB, one for all of them); a glossy part's
+    # areas of light and residual mean (6 channels, :func:`_glossy_terms`).  On the grid when there is one: each
+    # part's channels made at its points, then all of them read at the pixels at once.
+    blurred, on_grid = {}, []
+    for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
+        if math.isinf(sigma):
+            if "irradiance" not in blurred:
+                if grid is None:
+                    blurred["irradiance"] = dom.irradiance.radiance(nb) / math.pi
+                else:
+                    blurred["irradiance"] = None
+                    on_grid.append(("irradiance", dom.irradiance.radiance(grid.normals.reshape(-1, 3)) / math.pi))
+        elif grid is not None and grid_spacing(sigma) >= grid.spacing:
+            gn = grid.normals.reshape(-1, 3).astype(dt)
+            gv = np.broadcast_to(vb[0], gn.shape)
+            gc = gn @ vb[0]
+            blurred[i] = None
+            on_grid.append((i, _glossy_terms(part, sigma, dom, gn, gv, gc, 2 * gc[:, None] * gn - gv, samples)))
+        else:
+            blurred[i] = _glossy_terms(part, sigma, dom, nb, vb, cos_v, 2 * cos_v[:, None] * nb - vb, samples)
+    if on_grid:
+        widths = [value.shape[-1] for _, value in on_grid]
+        stacked = np.concatenate([value.astype(np.float32) for _, value in on_grid], axis=-1)
+        read = grid.interpolate(stacked.reshape(grid.rows + 1, grid.cols, -1), nb)
+        for (key, _), start, width in zip(on_grid, np.cumsum([0] + widths[:-1]), widths, strict=True):
+            blurred[key] = read[:, start : start + width]
+    for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
+        value = np.zeros(n.shape, dtype=np.float64)
+        if len(dom.lights):
+            value += _light_term(part, dom.lights, nb, vb, dt, sigma)
+        rho = _albedo_at(lobe_albedo(part), theta_v, np.float64)
+        if math.isinf(sigma):
+            value += rho * blurred["irradiance"]
+        else:
+            value += blurred[i][:, :3]
+            value += rho * blurred[i][:, 3:]
+        (diffuse if math.isinf(sigma) else specular)[:] += value * scale
     return {"diffuse": diffuse, "specular": specular}
+
+
+def _grid_for(sigmas, normal_grid, pixels, vb):
+    """The :class:`~lighting.integrate._normalgrid.NormalGrid` that the parts' blurred terms are shaded on, or None.
+
+    Its spacing is the finest of the parts whose own grid would qualify: ``normal_grid`` False, none; True, every
+    part; None, those whose grid has at most :data:`GRID_SHARE` of ``pixels``' count of points.  Every pixel shares
+    the view ``vb[0]`` unless ``normal_grid`` is False.  A part whose spacing is finer than the grid's is shaded
+    pixel by pixel.
+    """
+    if normal_grid is False or not pixels:
+        return None
+    best = None
+    for spacing in sorted({grid_spacing(s) for s in sigmas}, reverse=True):
+        grid = NormalGrid(vb[0], spacing)
+        if normal_grid is None and grid.size > GRID_SHARE * pixels:
+            break
+        best = grid
+    return best
+
+
+def _glossy_terms(part, sigma, dom, n, v, cos_v, r, samples):
+    """A glossy part's terms that its lobe blurs, ``(P, 6)`` float64: the areas of light cell by cell (RGB), then
+    the residual's filtered mean over the lobe (RGB, to be weighted by the part's albedo).  ``n``, ``v``, ``r`` in
+    the frame of the environment's base."""
+    lobe = part.lobe()
+    out = np.zeros((n.shape[0], 6), dtype=np.float64)
+    wide = sigma >= WIDE_LOBE and len(dom.cell_power)
+    n32, v32, c32 = n.astype(np.float32), v.astype(np.float32), cos_v.astype(np.float32)
+    if wide:  # the areas of light cell by cell; the calm rest by filtered samples
+        out[:, :3] = cell_sum(part, dom.cell_directions, dom.cell_power, n32, v32, c32)
+    rest, levels = (dom.calm, dom.calm_levels) if wide else (dom.residual, dom.levels)
+    # A narrow lobe reads sharp areas of light (a box's edge, its long tails over a dark ground) by its samples
+    # alone: it takes NARROW_FACTOR times as many.
+    count = samples if sigma >= WIDE_LOBE else NARROW_FACTOR * samples
+    mf = part.microfacet()
+    half = sigma < WIDE_LOBE and mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic
+    fis = half_vector_mean if half else view_table_mean
+    mean, ok = fis(part, levels, n32, v32, c32, count, rest.sigmas)
+    out[:, 3:] = mean
+    if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value
+        miss = ~ok
+        out[miss, 3:] = rest._lookup(r[miss], min(sigma, rest.sigmas[-1]), kernel_of_lobe(lobe))
+    return out

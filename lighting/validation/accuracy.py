@@ -304,6 +304,7 @@ def _precision_points(size, repeat, progress):
 
 # ---------------------------------------------------------------------- image-based lighting
 from .ibl_study import (  # noqa: E402, F401  (the ibl study's names, where the studies' users read them)
+    GRID_METHOD,
     IBL_ENVIRONMENTS,
     IBL_EXACT_MODELS,
     IBL_EXACT_RTOL,

@@ -8,6 +8,7 @@ every study pixel and, for the four materials of :data:`IBL_EXACT_MODELS`, again
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -254,14 +255,17 @@ def _ibl_points(cfg, progress):
                 Point("ibl", case, "split sum", 1, "lookup per lobe", float(np.median(errs)), 0.0, t, ref_text,
                       error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
             )  # fmt: skip
-            dominant_radiance(model, pre, n32, v32)  # the sample tables once, out of the timings
-            fast, t = _median_time(lambda m=model, pre=pre: dominant_radiance(m, pre, n32, v32), repeat)
-            errs, _, own_ref = ibl_pixel_errors(fast, ref_value, ref_err)
-            points.append(
-                Point("ibl", case, "dominant lights", DOMINANT_SAMPLES, "filtered samples per glossy lobe",
-                      float(np.median(errs)), 0.0, t, ref_text,
-                      error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
-            )  # fmt: skip
+            for method, grid in (("dominant lights", False), (GRID_METHOD, True)):
+                dominant_radiance(model, pre, n32, v32, normal_grid=grid)  # the sample tables once, untimed
+                fast, t = _median_time(
+                    lambda m=model, pre=pre, g=grid: dominant_radiance(m, pre, n32, v32, normal_grid=g), repeat
+                )
+                errs, _, own_ref = ibl_pixel_errors(fast, ref_value, ref_err)
+                points.append(
+                    Point("ibl", case, method, DOMINANT_SAMPLES, "filtered samples per glossy lobe",
+                          float(np.median(errs)), 0.0, t, ref_text,
+                          error_p95=float(np.percentile(errs, 95)), reference_error=float(np.median(own_ref)))
+                )  # fmt: skip
             if cfg["ibl_exact_pixels"] and label in IBL_EXACT_MODELS:
                 points += _exact_points(case, model, env, pre, n, v, cfg["ibl_exact_pixels"])
             for spp in cfg["ibl_spp"]:
@@ -279,6 +283,9 @@ def _ibl_points(cfg, progress):
     return points
 
 
+#: The dominant-light method with its blurred terms shaded on the grid of normals (what a large image of one view
+#: direction gets: :mod:`lighting.integrate._normalgrid`); ``"dominant lights"`` is the same shaded pixel by pixel.
+GRID_METHOD = "dominant lights, normal grid"
 #: The models the fast methods are also judged on against the pixel sum (the targets' four materials).
 IBL_EXACT_MODELS = ("Lambert", "GGX α=0.05, F=1", "GGX α=0.2, F=1", "GGX α=0.5, F=1")
 #: What the method of a point judged against the pixel sum ends with (``"dominant lights · pixel sum"``).
@@ -302,9 +309,13 @@ def _exact_points(case, model, env, pre, n, v, count):
     exact = environment_sum_radiance(model, env, n, v, rtol=IBL_EXACT_RTOL)
     points = []
     n32, v32 = n.astype(np.float32), v.astype(np.float32)
-    for method, fn, cost, unit in (("split sum", split_sum_radiance, 1, "lookup per lobe"),
-                                   ("dominant lights", dominant_radiance, DOMINANT_SAMPLES,
-                                    "filtered samples per glossy lobe")):  # fmt: skip
+    per_pixel = functools.partial(dominant_radiance, normal_grid=False)
+    on_grid = functools.partial(dominant_radiance, normal_grid=True)
+    for method, fn, cost, unit in (
+        ("split sum", split_sum_radiance, 1, "lookup per lobe"),
+        ("dominant lights", per_pixel, DOMINANT_SAMPLES, "filtered samples per glossy lobe"),
+        (GRID_METHOD, on_grid, DOMINANT_SAMPLES, "filtered samples per glossy lobe"),
+    ):
         fast, t = _median_time(lambda fn=fn: fn(model, pre, n32, v32), 1)
         errs, _, own = ibl_pixel_errors(fast, exact.value, exact.error)
         points.append(Point("ibl", case, f"{method}{PIXEL_SUM_SUFFIX}", cost, unit, float(np.median(errs)), 0.0, t,
@@ -315,5 +326,3 @@ def _exact_points(case, model, env, pre, n, v, count):
 
 def _ibl_work(cfg):
     return len(cfg["ibl_environments"]) * (1 + len(cfg["ibl_models"]))
-
-

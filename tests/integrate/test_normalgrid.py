@@ -1,0 +1,109 @@
+"""The grid of normals of the dominant-light method (lighting.integrate._normalgrid): geometry, interpolation bounds,
+the furnace and when it is used."""
+
+import math
+
+import numpy as np
+import pytest
+
+from lighting.integrate._normalgrid import GRID_SHARE, MAX_SPACING, NormalGrid, grid_spacing
+from lighting.integrate.dominant import dominant_radiance
+from lighting.integrate.ibl import ALBEDO_ANGLES, lobe_albedo
+from lighting.integrate.prefilter import prefilter_environment
+from lighting.lights.environment import ConstantEnvironment
+from lighting.models.brdf import CookTorrance, Lambert
+
+VIEW = np.array([0.48, -0.6, 0.64])
+
+
+def _facing(view, count, seed=0):
+    """``count`` random unit normals facing ``view`` (``n·v >= 0``), grazing ones included."""
+    rng = np.random.default_rng(seed)
+    n = rng.normal(size=(count, 3))
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    n = np.where((n @ view < 0)[:, None], -n, n)
+    return n
+
+
+def test_the_grid_is_polar_about_the_view_from_the_view_to_the_silhouette():
+    g = NormalGrid(VIEW, math.radians(2.0))
+    assert g.normals.shape == (g.rows + 1, g.cols, 3) and g.size == (g.rows + 1) * g.cols
+    np.testing.assert_allclose(np.linalg.norm(g.normals, axis=-1), 1.0, atol=1e-15)
+    np.testing.assert_allclose(g.normals[0], np.broadcast_to(VIEW, (g.cols, 3)), atol=1e-15)
+    np.testing.assert_allclose(g.normals[-1] @ VIEW, 0.0, atol=1e-15)
+    # Rows evenly in θ (whole rows to π/2, no wider than asked), columns evenly in ψ.
+    theta = np.arccos(np.clip(g.normals[:, 0] @ VIEW, -1, 1))
+    np.testing.assert_allclose(np.diff(theta), g.d_theta, atol=1e-7)
+    assert g.d_theta <= math.radians(2.0) and g.rows * g.d_theta == pytest.approx(math.pi / 2)
+    ring = g.normals[g.rows // 2]
+    np.testing.assert_allclose(np.sum(ring * np.roll(ring, -1, axis=0), -1), np.dot(ring[0], ring[1]), atol=1e-14)
+    assert g.cols * g.d_psi == pytest.approx(2 * math.pi) and g.d_psi <= g.d_theta
+
+
+def test_grid_spacing_is_a_sixth_of_the_lobe_at_most_the_cap():
+    assert grid_spacing(0.06) == pytest.approx(0.01)
+    assert grid_spacing(0.6) == MAX_SPACING and grid_spacing(math.inf) == MAX_SPACING
+
+
+def test_interpolation_is_exact_along_theta_and_within_the_bilinear_bound():
+    g = NormalGrid(VIEW, math.radians(3.0))
+    n = _facing(VIEW, 5000).astype(np.float32)
+    theta = np.arccos(np.clip(n @ VIEW, 0, 1))
+    # A function linear in θ is read exactly (float32 arithmetic).
+    rows = np.arange(g.rows + 1) * g.d_theta
+    at_grid = np.broadcast_to(rows[:, None, None], (g.rows + 1, g.cols, 1))
+    np.testing.assert_allclose(g.interpolate(at_grid, n)[:, 0], theta, atol=2e-6)
+    # f(n) = exp(n·d): bilinear in (θ, ψ) errs by at most (Δθ² max|f_θθ| + Δψ² max|f_ψψ|)/8, and both second
+    # derivatives are at most e (|∂²n/∂θ²| = 1, |∂²n/∂ψ²| = sin θ, |n·d| ≤ 1, first derivatives bounded by 1 too:
+    # f'' = (n''·d + (n'·d)²) f ≤ 2e).
+    d = np.array([0.2, 0.9, -0.3])
+    d /= np.linalg.norm(d)
+    values = np.exp(g.normals @ d)[..., None]
+    got = g.interpolate(values, n)[:, 0]
+    bound = (g.d_theta**2 + g.d_psi**2) * 2 * math.e / 8
+    err = np.abs(got - np.exp(n.astype(np.float64) @ d))
+    assert err.max() <= bound + 1e-5, (err.max(), bound)
+    assert err.max() > bound / 20  # the bound is near what is met: the test would see a coarser read
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_the_white_furnace_on_the_grid_gives_each_part_its_albedo(dtype):
+    # A uniform sky: every grid point holds L (E/π and every lobe's normalized mean), so the pixels read L exactly
+    # and each part reflects its albedo times L, as pixel by pixel.
+    pre = prefilter_environment(ConstantEnvironment(1.5), height=32)
+    n = _facing(VIEW, 400, seed=2)
+    v = np.broadcast_to(VIEW, n.shape)
+    ggx = CookTorrance(1.0, 0.3, 1.0, ndf="ggx", fresnel="none")
+    out = dominant_radiance(Lambert(0.6) + ggx, pre, n.astype(dtype), v.astype(dtype), split_terms=True,
+                            normal_grid=True)  # fmt: skip
+    assert out["diffuse"].dtype == dtype
+    lit = n @ VIEW > 0
+    np.testing.assert_allclose(out["diffuse"][lit], 0.9, rtol=1e-5)
+    rho = np.interp(np.arccos(np.clip(n @ VIEW, 0, 1)), ALBEDO_ANGLES, lobe_albedo(ggx)[:, 0])
+    np.testing.assert_allclose(out["specular"][lit, 0], 1.5 * rho[lit], rtol=2e-5)
+
+
+def test_the_grid_is_used_for_one_view_and_enough_pixels_only():
+    from lighting.validation.accuracy import ibl_environment, ibl_sphere
+
+    pre = prefilter_environment(ibl_environment("daylight", 64))
+    m = Lambert(0.4) + CookTorrance(1.0, 0.4, 1.0, ndf="ggx", fresnel="none")
+    _, n, v = ibl_sphere(200)  # 31,000 pixels: more than four times the grid's 5,500 points
+    n, v = n.astype(np.float32), v.astype(np.float32)
+    assert NormalGrid(v[0], grid_spacing(math.inf)).size <= GRID_SHARE * n.shape[0]
+    auto, on, off = (dominant_radiance(m, pre, n, v, normal_grid=g) for g in (None, True, False))
+    np.testing.assert_array_equal(auto, on)
+    assert not np.array_equal(on, off)
+    # The grid reads what the pixels compute within the interpolation's error on this smooth sky.
+    rel = np.max(np.abs(on - off), -1) / np.max(off, -1)
+    assert np.median(rel) < 1e-3 and np.percentile(rel, 95) < 5e-3, (np.median(rel), np.percentile(rel, 95))
+    # Too few pixels for the grid to pay: pixel by pixel.
+    np.testing.assert_array_equal(dominant_radiance(m, pre, n[:2000], v[:2000]), off[:2000])
+    # Views that differ: pixel by pixel, and the grid asked for is refused in one line.
+    turned = v.copy()
+    turned[0] = n[0]
+    np.testing.assert_array_equal(dominant_radiance(m, pre, n, turned)[1:], off[1:])
+    with pytest.raises(ValueError, match="normal_grid=True needs every pixel to share one view direction"):
+        dominant_radiance(m, pre, n, turned, normal_grid=True)
+    with pytest.raises(TypeError, match="normal_grid"):
+        dominant_radiance(m, pre, n, v, normal_grid="yes")
