@@ -202,7 +202,8 @@ def _run(repeat: int, size: int) -> dict:
 
 
 #: The ``bench --ibl`` targets, ms.
-IBL_TARGETS = {"ibl_reshade_ms": 50.0, "ibl_dominant_ms": 50.0, "ibl_prefilter_ms": 300.0, "ibl_mc64_ms": 5000.0}
+IBL_TARGETS = {"ibl_reshade_ms": 50.0, "ibl_dominant_ms": 50.0, "ibl_dominant_studio_ms": 50.0,
+               "ibl_dominant_sun_ms": 50.0, "ibl_prefilter_ms": 300.0, "ibl_mc64_ms": 5000.0}  # fmt: skip
 
 
 def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
@@ -222,8 +223,12 @@ def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
     dict
         ``{result key: callable}``: ``ibl_reshade_ms`` (split sum, float32, prefiltered once),
         ``ibl_reshade_f64_ms`` (the same in float64), ``ibl_dominant_ms`` (the dominant-light method,
-        float32, its lights and residual made once), ``ibl_dominant_setup_ms`` (making them: the lights, the
-        residual's levels and irradiance map), ``ibl_prefilter_ms`` (8 levels),
+        float32, its lights and residual made once; on the grid of normals, as every pixel shares one view),
+        ``ibl_dominant_studio_ms`` and ``ibl_dominant_sun_ms`` (the same under the studio's two soft boxes and under a
+        1.5° sun over a gradient sky), ``ibl_dominant_pixels_ms`` (daylight, pixel by pixel: ``normal_grid=False``),
+        ``ibl_dominant_narrow_ms`` (daylight, GGX ``α`` = 0.05: a lobe too narrow for the grid to pay),
+        ``ibl_dominant_setup_ms`` (making them: the lights, the residual's levels and irradiance map),
+        ``ibl_prefilter_ms`` (8 levels),
         ``ibl_mc64_ms`` (:class:`~lighting.integrate.ibl.ProgressiveRadiance`, one 64-sample pass),
         and ``ibl_pixels`` (the sphere's pixel count, an int).
     """
@@ -238,12 +243,20 @@ def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
     _, n, v = ibl_sphere(size)
     n32, v32 = n.astype(np.float32), v.astype(np.float32)
     pre = prefilter_environment(env, sigmas=PREFILTER_SIGMAS)
+    studio, sun = (prefilter_environment(ibl_environment(sky, env_height), sigmas=PREFILTER_SIGMAS)
+                   for sky in ("studio", "sun-gradient"))  # fmt: skip
+    narrow = Lambert(0.3) + CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")
     split_sum_radiance(model, pre, n32, v32)  # albedo tables: once per model, not per frame
-    dominant_radiance(model, pre, n32, v32)  # its lights, residual and sample tables: once per environment
+    for m, p in ((model, pre), (model, studio), (model, sun), (narrow, pre)):
+        dominant_radiance(m, p, n32, v32)  # its lights, residual and sample tables: once per environment
     return {
         "ibl_reshade_ms": lambda: split_sum_radiance(model, pre, n32, v32),
         "ibl_reshade_f64_ms": lambda: split_sum_radiance(model, pre, n, v),
         "ibl_dominant_ms": lambda: dominant_radiance(model, pre, n32, v32),
+        "ibl_dominant_studio_ms": lambda: dominant_radiance(model, studio, n32, v32),
+        "ibl_dominant_sun_ms": lambda: dominant_radiance(model, sun, n32, v32),
+        "ibl_dominant_pixels_ms": lambda: dominant_radiance(model, pre, n32, v32, normal_grid=False),
+        "ibl_dominant_narrow_ms": lambda: dominant_radiance(narrow, pre, n32, v32),
         "ibl_dominant_setup_ms": lambda: DominantEnvironment(pre),
         "ibl_prefilter_ms": lambda: prefilter_environment(env, sigmas=PREFILTER_SIGMAS, reuse=False),
         "ibl_mc64_ms": lambda: ProgressiveRadiance(model, env, n, v, seed=0).add(64),
@@ -266,7 +279,8 @@ def run_ibl(repeat: int = 3, size: int | None = None) -> dict:
     dict
         ``ibl_*_ms`` medians, ``ibl_reshade_over_f64`` (float32 split sum ÷ float64 split sum),
         ``ibl_mc64_over_reshade`` (the reference ÷ the fast path), ``ibl_dominant_over_reshade`` (the
-        dominant-light method ÷ the split sum), ``targets`` and ``size``, ``pixels``.
+        dominant-light method ÷ the split sum), ``ibl_pixels_over_grid`` (pixel by pixel ÷ on the grid of normals),
+        ``targets`` and ``size``, ``pixels``.
     """
     fns = ibl_frames(SIZE if size is None else size)
     pixels = fns.pop("ibl_pixels")
@@ -274,6 +288,7 @@ def run_ibl(repeat: int = 3, size: int | None = None) -> dict:
     r["ibl_reshade_over_f64"] = r["ibl_reshade_ms"] / r["ibl_reshade_f64_ms"]
     r["ibl_mc64_over_reshade"] = r["ibl_mc64_ms"] / r["ibl_reshade_ms"]
     r["ibl_dominant_over_reshade"] = r["ibl_dominant_ms"] / r["ibl_reshade_ms"]
+    r["ibl_pixels_over_grid"] = r["ibl_dominant_pixels_ms"] / r["ibl_dominant_ms"]
     r["targets"] = dict(IBL_TARGETS)
     return r
 
@@ -301,6 +316,10 @@ def format_ibl(r: dict) -> str:
         ("re-shade, SH9 + split sum, float32 (prefiltered)", "ibl_reshade_ms"),
         ("re-shade, SH9 + split sum, float64 (same run)", "ibl_reshade_f64_ms"),
         ("re-shade, dominant lights + filtered samples, float32", "ibl_dominant_ms"),
+        ("  the same under the studio (two soft boxes)", "ibl_dominant_studio_ms"),
+        ("  the same under a 1.5° sun over a gradient sky", "ibl_dominant_sun_ms"),
+        ("  daylight, pixel by pixel (no grid of normals)", "ibl_dominant_pixels_ms"),
+        ("  daylight, GGX α=0.05 (too narrow for the grid)", "ibl_dominant_narrow_ms"),
         ("  its lights, residual levels and irradiance, once", "ibl_dominant_setup_ms"),
         ("prefilter 512x256, 8 lobe widths", "ibl_prefilter_ms"),
         ("Monte Carlo MIS reference, 64 spp", "ibl_mc64_ms"),
@@ -314,6 +333,7 @@ def format_ibl(r: dict) -> str:
     lines.append(f"float32 re-shade ÷ float64 re-shade: {r['ibl_reshade_over_f64']:.2f}")
     lines.append(f"Monte Carlo 64 spp ÷ float32 re-shade: {r['ibl_mc64_over_reshade']:.0f}x")
     lines.append(f"dominant lights ÷ split sum (float32 re-shades): {r['ibl_dominant_over_reshade']:.1f}x")
+    lines.append(f"dominant lights pixel by pixel ÷ on the grid of normals: {r['ibl_pixels_over_grid']:.1f}x")
     return "\n".join(lines)
 
 

@@ -471,17 +471,21 @@ def _light_term(part, lights, n, v, dt, widths):
     for k in range(len(lights)):
         c = lights.directions[k]
         gamma = float(lights.half_angles[k])
-        lit = np.flatnonzero(n @ c.astype(dt) > -math.sin(gamma))
-        if not lit.size:
-            continue
-        nl, vl = n[lit], v[lit]
+        # A Lambertian part's f_r is one constant: the disk's points add up their n·l alone, over every pixel (picking
+        # out the lit ones would cost more than the products it saves).
+        constant = BRDFFlags.LAMBERTIAN in part.flags
+        if constant:
+            lit, nl = slice(None), n
+        else:
+            lit = np.flatnonzero(n @ c.astype(dt) > -math.sin(gamma))
+            if not lit.size:
+                continue
+            nl, vl = n[lit], v[lit]
         offsets, weights = _disk_points(gamma, widths)
         t = np.cross([0.0, 0.0, 1.0] if abs(c[2]) < 0.9 else [1.0, 0.0, 0.0], c)
         t /= np.linalg.norm(t)
         b = np.cross(c, t)
         irradiance = lights.radiance[k] * lights.solid_angles[k]  # L Ω
-        # A Lambertian part's f_r is one constant: the disk's points add up their n·l alone.
-        constant = BRDFFlags.LAMBERTIAN in part.flags
         acc = np.zeros(nl.shape[:1] + ((1,) if constant else (3,)), dtype=np.float64)
         for (x, y), wgt in zip(offsets, weights, strict=True):
             off = math.hypot(x, y)
@@ -556,7 +560,8 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     # Only the pixels facing the viewer reflect anything (a pixel off the object has a zero normal).
     seen = np.flatnonzero(cos_v > 0)
     out_shape = shape[:-1] + (3,)
-    if normal_grid is not False and not np.all(v[seen] == v[seen[0]] if seen.size else True):
+    # One view for every pixel (off the object too: an orthographic camera), else pixel by pixel.
+    if normal_grid is not False and not (seen.size and np.all(v == v[0])):
         if normal_grid:
             raise ValueError("normal_grid=True needs every pixel to share one view direction; these differ")
         normal_grid = False
@@ -590,12 +595,15 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     nb = n if turn is None else (n.astype(np.float64) @ turn).astype(dt)
     vb = v if turn is None else (v.astype(np.float64) @ turn).astype(dt)
     scale = np.asarray(pre._scale, dtype=np.float64)
-    theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
     sigmas = [lobe_sigma(part.lobe()) for part in parts]
     grid = _grid_for(sigmas, normal_grid, n.shape[0], vb)
+    # Pixel by pixel the terms add up in float64; read from the grid (float32 already), in the pixels' dtype.
+    work = np.float64 if grid is None else dt
+    theta_v = np.arccos(np.clip(cos_v.astype(work), 0.0, 1.0))
     # What a lobe blurs, per part: the diffuse parts' irradiance E(n)/π (RGB, one for all of them); a glossy part's
     # areas of light and residual mean (6 channels, :func:`_glossy_terms`).  On the grid when there is one: each
-    # part's channels made at its points, then all of them read at the pixels at once.
+    # part's channels made at its points (a glossy part's dominant lights added to its areas'), then all of them read
+    # at the pixels at once.
     blurred, on_grid = {}, []
     for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
         if math.isinf(sigma):
@@ -610,7 +618,10 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
             gv = np.broadcast_to(vb[0], gn.shape)
             gc = gn @ vb[0]
             blurred[i] = None
-            on_grid.append((i, _glossy_terms(part, sigma, dom, gn, gv, gc, 2 * gc[:, None] * gn - gv, samples)))
+            terms = _glossy_terms(part, sigma, dom, gn, gv, gc, 2 * gc[:, None] * gn - gv, samples)
+            if len(dom.lights):  # the lights through a lobe that the grid's spacing resolves, with the areas' cells
+                terms[:, :3] += _light_term(part, dom.lights, gn, gv, dt, sigma)
+            on_grid.append((i, terms))
         else:
             blurred[i] = _glossy_terms(part, sigma, dom, nb, vb, cos_v, 2 * cos_v[:, None] * nb - vb, samples)
     if on_grid:
@@ -619,17 +630,22 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
         read = grid.interpolate(stacked.reshape(grid.rows + 1, grid.cols, -1), nb)
         for (key, _), start, width in zip(on_grid, np.cumsum([0] + widths[:-1]), widths, strict=True):
             blurred[key] = read[:, start : start + width]
+    read_on_grid = {key for key, _ in on_grid}
+    if work is not np.float64:
+        diffuse, specular = diffuse.astype(work), specular.astype(work)
     for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
-        value = np.zeros(n.shape, dtype=np.float64)
-        if len(dom.lights):
+        value = np.zeros(n.shape, dtype=work)
+        if len(dom.lights) and (math.isinf(sigma) or i not in read_on_grid):  # else the grid holds them
             value += _light_term(part, dom.lights, nb, vb, dt, sigma)
-        rho = _albedo_at(lobe_albedo(part), theta_v, np.float64)
+        table = lobe_albedo(part)
+        # A constant albedo (Lambert's k_d) is what the interpolation would give at every angle, exactly.
+        rho = table[0].astype(work) if np.all(table == table[0]) else _albedo_at(table, theta_v, work)
         if math.isinf(sigma):
             value += rho * blurred["irradiance"]
         else:
             value += blurred[i][:, :3]
             value += rho * blurred[i][:, 3:]
-        (diffuse if math.isinf(sigma) else specular)[:] += value * scale
+        (diffuse if math.isinf(sigma) else specular)[:] += value * scale.astype(work)
     return {"diffuse": diffuse, "specular": specular}
 
 

@@ -70,16 +70,18 @@ def test_bench_ibl_json_line_is_consistent(capsys, monkeypatch):
     monkeypatch.setattr(bench, "ibl_frames", functools.partial(bench.ibl_frames, env_height=32))
     assert bench_main(["--ibl", "--json", "--repeat", "1"]) == 0
     r = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
-    for key in ("ibl_reshade_ms", "ibl_reshade_f64_ms", "ibl_dominant_ms", "ibl_dominant_setup_ms", "ibl_prefilter_ms",
-                "ibl_mc64_ms"):
+    for key in ("ibl_reshade_ms", "ibl_reshade_f64_ms", "ibl_dominant_ms", "ibl_dominant_studio_ms",
+                "ibl_dominant_sun_ms", "ibl_dominant_pixels_ms", "ibl_dominant_narrow_ms", "ibl_dominant_setup_ms",
+                "ibl_prefilter_ms", "ibl_mc64_ms"):  # fmt: skip
         assert r[key] > 0
     assert np.isclose(r["ibl_dominant_over_reshade"], r["ibl_dominant_ms"] / r["ibl_reshade_ms"])
+    assert np.isclose(r["ibl_pixels_over_grid"], r["ibl_dominant_pixels_ms"] / r["ibl_dominant_ms"])
     assert np.isclose(r["ibl_reshade_over_f64"], r["ibl_reshade_ms"] / r["ibl_reshade_f64_ms"])
     assert np.isclose(r["ibl_mc64_over_reshade"], r["ibl_mc64_ms"] / r["ibl_reshade_ms"])
     # The targets the bench holds the image-based lighting to, and the sphere's pixel count as the renderer
     # covers it.
-    assert r["targets"] == {"ibl_reshade_ms": 50.0, "ibl_dominant_ms": 50.0, "ibl_prefilter_ms": 300.0,
-                            "ibl_mc64_ms": 5000.0}
+    assert r["targets"] == {"ibl_reshade_ms": 50.0, "ibl_dominant_ms": 50.0, "ibl_dominant_studio_ms": 50.0,
+                            "ibl_dominant_sun_ms": 50.0, "ibl_prefilter_ms": 300.0, "ibl_mc64_ms": 5000.0}
     assert r["size"] == 32
     assert r["pixels"] == int(Renderer(AnalyticSphere(), sphere_camera(32)).gbuffer.coverage.sum())
     table = bench.format_ibl(r)
