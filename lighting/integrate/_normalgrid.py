@@ -35,6 +35,18 @@ def grid_spacing(sigma: float) -> float:
     return min(sigma / GRID_DENSITY, MAX_SPACING)
 
 
+def _shape(spacing: float) -> tuple[int, int]:
+    """``(rows, cols)`` of the grid of spacing at most ``spacing``: ``rows + 1`` rows from the view to π/2."""
+    rows = max(2, math.ceil((math.pi / 2) / spacing))
+    return rows, max(8, math.ceil(2 * math.pi / ((math.pi / 2) / rows)))
+
+
+def grid_points(spacing: float) -> int:
+    """The number of points of :class:`NormalGrid` ``(view, spacing)`` (without making it)."""
+    rows, cols = _shape(spacing)
+    return (rows + 1) * cols
+
+
 class NormalGrid:
     """The normals facing one view direction on a polar grid about it, and bilinear reads of values at them.
 
@@ -50,11 +62,11 @@ class NormalGrid:
         from ..vec import orthonormal_basis
 
         self.view = np.asarray(view, dtype=np.float64)
+        self.view = self.view / np.linalg.norm(self.view)
         #: The spacing asked for (the rows' ``Δθ`` is at most this).
         self.spacing = float(spacing)
-        self.rows = max(2, math.ceil((math.pi / 2) / spacing))
+        self.rows, self.cols = _shape(spacing)
         self.d_theta = (math.pi / 2) / self.rows
-        self.cols = max(8, math.ceil(2 * math.pi / self.d_theta))
         self.d_psi = 2 * math.pi / self.cols
         e1, e2 = (np.asarray(a, dtype=np.float64) for a in orthonormal_basis(self.view))
         self.e1, self.e2 = e1, e2

@@ -66,7 +66,7 @@ from ..sampling.brdf import _check_brdf
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
 from ._fis import LevelStack, half_vector_mean, view_table_mean
-from ._normalgrid import GRID_SHARE, NormalGrid, grid_spacing
+from ._normalgrid import GRID_SHARE, NormalGrid, grid_points, grid_spacing
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
 
@@ -661,11 +661,10 @@ def _grid_for(sigmas, normal_grid, pixels, vb):
         return None
     best = None
     for spacing in sorted({grid_spacing(s) for s in sigmas}, reverse=True):
-        grid = NormalGrid(vb[0], spacing)
-        if normal_grid is None and grid.size > GRID_SHARE * pixels:
+        if normal_grid is None and grid_points(spacing) > GRID_SHARE * pixels:
             break
-        best = grid
-    return best
+        best = spacing
+    return None if best is None else NormalGrid(vb[0], best)
 
 
 def _glossy_terms(part, sigma, dom, n, v, cos_v, r, samples):

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from lighting.integrate._normalgrid import GRID_SHARE, MAX_SPACING, NormalGrid, grid_spacing
+from lighting.integrate._normalgrid import GRID_SHARE, MAX_SPACING, NormalGrid, grid_points, grid_spacing
 from lighting.integrate.dominant import dominant_radiance
 from lighting.integrate.ibl import ALBEDO_ANGLES, lobe_albedo
 from lighting.integrate.prefilter import prefilter_environment
@@ -27,7 +27,7 @@ def _facing(view, count, seed=0):
 
 def test_the_grid_is_polar_about_the_view_from_the_view_to_the_silhouette():
     g = NormalGrid(VIEW, math.radians(2.0))
-    assert g.normals.shape == (g.rows + 1, g.cols, 3) and g.size == (g.rows + 1) * g.cols
+    assert g.normals.shape == (g.rows + 1, g.cols, 3) and g.size == (g.rows + 1) * g.cols == grid_points(g.spacing)
     np.testing.assert_allclose(np.linalg.norm(g.normals, axis=-1), 1.0, atol=1e-15)
     np.testing.assert_allclose(g.normals[0], np.broadcast_to(VIEW, (g.cols, 3)), atol=1e-15)
     np.testing.assert_allclose(g.normals[-1] @ VIEW, 0.0, atol=1e-15)
