@@ -462,12 +462,12 @@ def _to_base_matrix(pre):
     return np.asarray(pre._to_base(np.eye(3)), dtype=np.float64)
 
 
-def _light_term(part, lights, n, v, dt, widths):
+def _light_term(part, lights, n, v, dt, widths, work=np.float64):
     """``Σ_k f_r(v, l) (n·l) L_k dω`` over the disks of ``lights``: stratified points, each its share of ``Ω``.
 
-    Only the pixels that see some of a disk above their horizon evaluate the BRDF for it.
+    Only the pixels that see some of a disk above their horizon evaluate the BRDF for it.  Summed in ``work``.
     """
-    out = np.zeros(n.shape, dtype=np.float64)
+    out = np.zeros(n.shape, dtype=work)
     for k in range(len(lights)):
         c = lights.directions[k]
         gamma = float(lights.half_angles[k])
@@ -485,8 +485,8 @@ def _light_term(part, lights, n, v, dt, widths):
         t = np.cross([0.0, 0.0, 1.0] if abs(c[2]) < 0.9 else [1.0, 0.0, 0.0], c)
         t /= np.linalg.norm(t)
         b = np.cross(c, t)
-        irradiance = lights.radiance[k] * lights.solid_angles[k]  # L Ω
-        acc = np.zeros(nl.shape[:1] + ((1,) if constant else (3,)), dtype=np.float64)
+        irradiance = (lights.radiance[k] * lights.solid_angles[k]).astype(work)  # L Ω
+        acc = np.zeros(nl.shape[:1] + ((1,) if constant else (3,)), dtype=work)
         for (x, y), wgt in zip(offsets, weights, strict=True):
             off = math.hypot(x, y)
             ld = c * math.cos(off) + (t * x + b * y) * (math.sin(off) / off if off > 0 else 1.0)
@@ -495,11 +495,11 @@ def _light_term(part, lights, n, v, dt, widths):
             if constant:
                 acc[:, 0] += cos_l * wgt
             else:
-                f = np.asarray(part.eval(nl, np.broadcast_to(ld.astype(dt), nl.shape), vl), dtype=np.float64)
+                f = np.asarray(part.eval(nl, np.broadcast_to(ld.astype(dt), nl.shape), vl), dtype=work)
                 acc += f * (cos_l[:, None] * wgt)
         if constant:
             up = np.array([0.0, 0.0, 1.0])
-            acc = acc * np.asarray(part.eval(up, up, up), dtype=np.float64)
+            acc = acc * np.asarray(part.eval(up, up, up), dtype=work)
         out[lit] += acc * irradiance
     return out
 
@@ -636,7 +636,7 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
         value = np.zeros(n.shape, dtype=work)
         if len(dom.lights) and (math.isinf(sigma) or i not in read_on_grid):  # else the grid holds them
-            value += _light_term(part, dom.lights, nb, vb, dt, sigma)
+            value += _light_term(part, dom.lights, nb, vb, dt, sigma, work)
         table = lobe_albedo(part)
         # A constant albedo (Lambert's k_d) is what the interpolation would give at every angle, exactly.
         rho = table[0].astype(work) if np.all(table == table[0]) else _albedo_at(table, theta_v, work)
