@@ -11,7 +11,7 @@ import time
 from dataclasses import asdict
 
 from lighting.integrate import UNCONVERGED_RELATIVE_ERROR
-from lighting.validation.accuracy import PIXEL_SUM_SUFFIX, run_studies, summary
+from lighting.validation.accuracy import GRID_METHOD, PIXEL_SUM_SUFFIX, run_studies, summary
 
 from ..progress import Progress
 from .cache import save_study
@@ -128,7 +128,7 @@ def write_csv(path, rows, fields) -> None:
 
 
 #: Methods drawn as one marker (not a line over cost) in the figure, and their marker.
-_MARKED = {"split sum": "*", "dominant lights": "D", "SH9 irradiance": "s"}
+_MARKED = {"split sum": "*", "dominant lights": "D", GRID_METHOD: "d", "SH9 irradiance": "s"}
 
 
 def _panels(studies) -> list:
@@ -223,7 +223,7 @@ def make_figure(studies, path) -> None:
         "ringed: unconverged, own estimate > 2 %)"
         + (
             "\nIBL panels: lines Monte Carlo (MIS) by spp, stars the split sum,\n"
-            "diamonds the dominant lights, squares SH9, one colour per model"
+            "diamonds the dominant lights (thin: on the grid of normals), squares SH9, one colour per model"
             if any(st.name == "ibl" for st in studies)
             else ""
         ),

@@ -204,6 +204,19 @@ def test_ibl_points_are_finite_ordered_and_honestly_flagged(studies):
         assert 0.5 < mc[-1].estimated_error / mc[-1].error < 2.0, case
 
 
+def test_the_reports_ibl_panels_draw_only_monte_carlo_as_lines(studies):
+    # Every other method is one point per case (a marker): were one of them left out of the markers, it would be
+    # joined to the Monte-Carlo line of its model, sorted in by its cost.
+    panels = [series for title, series in report_accuracy._panels(studies) if title.startswith("IBL, ")]
+    assert panels and all(any(p.method == "Monte Carlo, MIS" for _, pts in series for p in pts) for series in panels)
+    for series in panels:
+        for _, pts in series:
+            lines = {p.method for p in pts if p.method not in report_accuracy._MARKED}
+            assert lines <= {"Monte Carlo, MIS"}, lines  # (the SH9 series has no line)
+            marked = [p.method for p in pts if p.method in report_accuracy._MARKED]
+            assert len(marked) == len(set(marked))  # one marker per method and model
+
+
 def test_split_sum_is_a_white_furnace_for_lambert_on_the_ibl_sphere():
     from lighting.integrate.ibl import split_sum_radiance
     from lighting.integrate.prefilter import prefilter_environment
