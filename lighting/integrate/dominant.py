@@ -604,38 +604,39 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     # areas of light and residual mean (6 channels, :func:`_glossy_terms`).  On the grid when there is one: each
     # part's channels made at its points (a glossy part's dominant lights added to its areas'), then all of them read
     # at the pixels at once.
-    blurred, on_grid = {}, []
+    if grid is not None:  # the grid's points as pixels of the one view
+        gn = grid.normals.reshape(-1, 3)
+        gn_dt = gn.astype(dt)
+        gv = np.broadcast_to(vb[0], gn.shape)
+        gc = gn_dt @ vb[0]
+    blurred, on_grid = {}, {}
     for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
         if math.isinf(sigma):
-            if "irradiance" not in blurred:
-                if grid is None:
-                    blurred["irradiance"] = dom.irradiance.radiance(nb) / math.pi
-                else:
-                    blurred["irradiance"] = None
-                    on_grid.append(("irradiance", dom.irradiance.radiance(grid.normals.reshape(-1, 3)) / math.pi))
+            if "irradiance" in blurred or "irradiance" in on_grid:
+                continue
+            if grid is None:
+                blurred["irradiance"] = dom.irradiance.radiance(nb) / math.pi
+            else:
+                on_grid["irradiance"] = dom.irradiance.radiance(gn) / math.pi
         elif grid is not None and grid_spacing(sigma) >= grid.spacing:
-            gn = grid.normals.reshape(-1, 3).astype(dt)
-            gv = np.broadcast_to(vb[0], gn.shape)
-            gc = gn @ vb[0]
-            blurred[i] = None
-            terms = _glossy_terms(part, sigma, dom, gn, gv, gc, 2 * gc[:, None] * gn - gv, samples)
+            terms = _glossy_terms(part, sigma, dom, gn_dt, gv, gc, 2 * gc[:, None] * gn_dt - gv, samples)
             if len(dom.lights):  # the lights through a lobe that the grid's spacing resolves, with the areas' cells
-                terms[:, :3] += _light_term(part, dom.lights, gn, gv, dt, sigma)
-            on_grid.append((i, terms))
+                terms[:, :3] += _light_term(part, dom.lights, gn_dt, gv, dt, sigma)
+            on_grid[i] = terms
         else:
             blurred[i] = _glossy_terms(part, sigma, dom, nb, vb, cos_v, 2 * cos_v[:, None] * nb - vb, samples)
     if on_grid:
-        widths = [value.shape[-1] for _, value in on_grid]
-        stacked = np.concatenate([value.astype(np.float32) for _, value in on_grid], axis=-1)
+        stacked = np.concatenate([value.astype(np.float32) for value in on_grid.values()], axis=-1)
         read = grid.interpolate(stacked.reshape(grid.rows + 1, grid.cols, -1), nb)
-        for (key, _), start, width in zip(on_grid, np.cumsum([0] + widths[:-1]), widths, strict=True):
-            blurred[key] = read[:, start : start + width]
-    read_on_grid = {key for key, _ in on_grid}
+        start = 0
+        for key, value in on_grid.items():
+            blurred[key] = read[:, start : start + value.shape[-1]]
+            start += value.shape[-1]
     if work is not np.float64:
         diffuse, specular = diffuse.astype(work), specular.astype(work)
     for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
         value = np.zeros(n.shape, dtype=work)
-        if len(dom.lights) and (math.isinf(sigma) or i not in read_on_grid):  # else the grid holds them
+        if len(dom.lights) and (math.isinf(sigma) or i not in on_grid):  # else the grid holds them
             value += _light_term(part, dom.lights, nb, vb, dt, sigma, work)
         table = lobe_albedo(part)
         # A constant albedo (Lambert's k_d) is what the interpolation would give at every angle, exactly.
