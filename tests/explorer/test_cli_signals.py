@@ -33,11 +33,23 @@ def _signal_when_created(monkeypatch, send):
     return made
 
 
+@pytest.fixture
+def sigint_not_ignored():
+    """Python's own SIGINT handler for the test, even when the run itself was started with SIGINT ignored.
+
+    A background job of a non-interactive shell starts with SIGINT ignored, and the command keeps a signal that is
+    ignored (as under ``nohup``): its interruption is tested as a terminal's Ctrl+C reaches it.
+    """
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 @pytest.mark.parametrize(("sig", "status", "word"), [(signal.SIGTERM, 143, "terminated"),
                                                       (signal.SIGINT, 130, "interrupted")])  # fmt: skip
 @pytest.mark.parametrize("old", [None, b"old contents"])
 def test_a_signal_as_the_temporary_file_appears_leaves_no_part_file(sig, status, word, old, tmp_path, monkeypatch,
-                                                                     capsys):  # fmt: skip
+                                                                     capsys, sigint_not_ignored):  # fmt: skip
     out = tmp_path / "out.png"
     if old is not None:
         out.write_bytes(old)
