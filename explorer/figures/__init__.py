@@ -487,6 +487,7 @@ def _run_job(args):
 def _stop_workers(pool) -> None:
     """Cancel what has not started and end the workers now (SIGTERM, then SIGKILL after 5 s)."""
     procs = list(getattr(pool, "_processes", {}).values())
+    manager = getattr(pool, "_executor_manager_thread", None)
     pool.shutdown(wait=False, cancel_futures=True)
     for p in procs:
         if p.is_alive():
@@ -497,6 +498,12 @@ def _stop_workers(pool) -> None:
         if p.is_alive():
             p.kill()
             p.join(1.0)
+    # The pool's manager thread closes its wake-up pipe as it finishes; at exit, concurrent.futures wakes every
+    # manager thread still known through that pipe.  Were this one still finishing then, the two would race and
+    # the exit would print "OSError: [Errno 9] Bad file descriptor" under "Exception ignored in" (Python 3.11).
+    # Its workers are gone, so it finishes at once: wait for it here.
+    if manager is not None and manager.is_alive():
+        manager.join(max(0.0, deadline - time.monotonic()) + 1.0)
 
 
 def _merge_records(out_dir: str, new: list[dict]) -> list[dict]:
