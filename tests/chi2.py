@@ -49,7 +49,7 @@ from typing import NamedTuple
 
 import numpy as np
 import pytest
-from scipy import stats
+from scipy.special import chdtrc
 
 
 class Chi2Result(NamedTuple):
@@ -62,6 +62,15 @@ class Chi2Result(NamedTuple):
     unresolved: float
     bins: int
     chi2: float
+
+
+def chi2_sf(statistic, dof):
+    """The χ² distribution's survival function ``P(X² > statistic)`` with ``dof`` degrees of freedom.
+
+    ``scipy.stats.chi2.sf`` computes exactly this (``scipy.special.chdtrc``, the same values bit for bit); SciPy's
+    special functions import in a fraction of the time its ``stats`` package takes, which every test worker pays.
+    """
+    return chdtrc(dof, statistic)
 
 
 def sidak(alpha: float, tests: int) -> float:
@@ -289,7 +298,7 @@ def chi2_test(sampler, v, count=100_000, rings=16, sectors=32, seed=2024, pilot_
     # A draw where the density says none can be is a failure outright.
     assert np.sum(c_bins[~keep]) == 0, "samples in cells of zero density"
     chi2 = float(np.sum((c_bins[keep] - e_bins[keep]) ** 2 / e_bins[keep]))
-    p = float(stats.chi2.sf(chi2, keep.sum() - 1))
+    p = float(chi2_sf(chi2, keep.sum() - 1))
     return Chi2Result(p, mass, unresolved, int(keep.sum()), chi2)
 
 

@@ -24,8 +24,8 @@ import warnings
 import mpmath as mp
 import numpy as np
 import pytest
+from chi2 import chi2_sf
 from quadrature import hemisphere
-from scipy import stats
 
 from lighting.integrate import directional_albedo
 from lighting.models import create_model, model_names
@@ -339,7 +339,7 @@ def _chi_square_p(sampler, v, count=100_000, seed=2024, gauss=8):
     c_bins = np.r_[c_sorted[small].sum(), c_sorted[~small]]
     keep = e_bins > 0
     chi2 = np.sum((c_bins[keep] - e_bins[keep]) ** 2 / e_bins[keep])
-    return float(stats.chi2.sf(chi2, keep.sum() - 1)), float(expected.sum() / count)
+    return float(chi2_sf(chi2, keep.sum() - 1)), float(expected.sum() / count)
 
 
 SAMPLER_SETTINGS = {
