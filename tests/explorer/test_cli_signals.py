@@ -4,6 +4,9 @@ The file is created by ``tempfile.mkstemp`` (in :func:`lighting.files.images.wri
 :mod:`explorer.output` calls with the stop signals held); here that call is wrapped so that the signal is sent
 right after the file exists and before the writer has its name, which is the moment where a name not yet
 registered for removal would be lost.  Each test runs the real command (``explorer.cli.main``).
+
+The last test stops the process pool of ``figures --jobs N`` as a signal does, and checks that nothing of the pool
+is left running for the interpreter's exit to race with.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-import chi2  # tests/chi2.py: the Šidák level of a family of χ² tests
+import chi2  # tests/chi2.py: the χ² p-value and the Šidák level of a family of χ² tests
 import numpy as np
 import pytest
 
