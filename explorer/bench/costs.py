@@ -8,8 +8,8 @@ fastest run counts (the others wait on the rest of the machine).  The shading st
 the same :class:`~lighting.scene.SceneRenderer`, so rasterizing and prefiltering are left out of them.
 
 ``--check`` instead renders five small scenes (point lights, a Monte-Carlo sky, measured data under a sky, the
-split sum, the dominant lights with two narrow lobes) and prints each one's estimated time against its measured time, with the target: within a factor of
-four either way.
+split sum, the dominant lights with two narrow lobes) and prints each one's estimated time against its measured
+time, with the target: within a factor of four either way.
 """
 
 from __future__ import annotations

@@ -33,8 +33,9 @@ def _srgb8(f0) -> tuple[int, ...]:
     caption=(
         "Top: spheres of five metals (Cook–Torrance, GGX with the height-correlated Smith term, α = {alpha:g}, "
         "k_s = 1, the exact conductor Fresnel term) under the engine's daylight sky, image-based lighting by its "
-        "default method (the sky's dominant lights shaded exactly, the rest filtered). Bottom: each metal's unpolarized Fresnel reflectance F(θ) of its complex index η + ik per "
-        "channel, the index read at {wavelengths} nm for R, G and B (Johnson and Christy 1972 for gold, "
+        "default method (the sky's dominant lights shaded exactly, the rest filtered). Bottom: each metal's "
+        "unpolarized Fresnel reflectance F(θ) of its complex index η + ik per channel, the index read at "
+        "{wavelengths} nm for R, G and B (Johnson and Christy 1972 for gold, "
         "silver and copper; Rakić et al. 1998 for aluminium and chromium). F rises to 1 at grazing incidence "
         "for every channel, some after a shallow dip between 70° and 85° (near the parallel polarization's "
         "pseudo-Brewster angle): a metal's tint is strongest at normal incidence, its F0, and fades at grazing "
