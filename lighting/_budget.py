@@ -31,6 +31,7 @@ __all__ = [
     "check_scene_budget",
     "explain_lines",
     "prefilter_size",
+    "environment_setup_bytes",
 ]
 
 # ---------------------------------------------------------------------------------------------------- memory
@@ -144,10 +145,19 @@ MEASURED_SAMPLER_BYTES = 90 * 90 * (2 * 361 + 360) * 8
 #: and the tables), and prefiltering it for the split sum, per pixel of the prefiltered source (peak over the three
 #: families' levels, computed two at a time on the shading threads: 1002 bytes per pixel at 64 rows, 798 at 128,
 #: 639 at 256, 172 at 512, where the levels stop at 256 rows; a lat-long image is prefiltered at its largest
-#: power-of-two height up to 1024, a sky at 512 x 256).
+#: power-of-two height up to 1024, a sky at 512 x 256): PREFILTER_BYTES_PER_PIXEL for the pixels of a source up to
+#: PREFILTER_LEVEL_PIXELS, PREFILTER_LARGE_BYTES_PER_PIXEL for each pixel beyond (halved down to the levels; a
+#: 1024-row file peaks at 325 MB over the interpreter's, the process measured whole).  The dominant lights (the
+#: default method) add their tables and the residual's levels: DOMINANT_BYTES and DOMINANT_BYTES_PER_PIXEL of the
+#: prefiltered source (the process's peak over the split sum's, a sphere of one glossy part: 146 MB at 64 rows, 212
+#: at 256, 1210 at 1024).
 ENVIRONMENT_BYTES_PER_PIXEL = 168
 ENVIRONMENT_HELD_BYTES_PER_PIXEL = 128
 PREFILTER_BYTES_PER_PIXEL = 1024
+PREFILTER_LEVEL_PIXELS = 512 * 256
+PREFILTER_LARGE_BYTES_PER_PIXEL = 192
+DOMINANT_BYTES = 48 * 2**20
+DOMINANT_BYTES_PER_PIXEL = 640
 #: Work is counted against the memory budget too: one light sample at one shading point counts as 8 bytes, so
 #: the 2 GiB default allows 268 million light-sample evaluations.  The time limit below is the finer bound.
 BYTES_PER_SAMPLE_EVALUATION = 8
@@ -286,6 +296,30 @@ def prefilter_size(light) -> tuple[int, int]:
 
     h = prefilter_height(light.environment)
     return h, 2 * h
+
+
+def environment_setup_bytes(light) -> int:
+    """Peak bytes of making an environment light ready to shade (prefiltering, and the dominant lights' setup).
+
+    Parameters
+    ----------
+    light : EnvironmentLight
+        A light whose method is not Monte Carlo.
+
+    Returns
+    -------
+    int
+        :data:`PREFILTER_BYTES_PER_PIXEL` per pixel of the prefiltered source up to :data:`PREFILTER_LEVEL_PIXELS`
+        and :data:`PREFILTER_LARGE_BYTES_PER_PIXEL` per pixel beyond; under the dominant lights, plus
+        :data:`DOMINANT_BYTES` and :data:`DOMINANT_BYTES_PER_PIXEL` per pixel.
+    """
+    h, w = prefilter_size(light)
+    pixels = h * w
+    total = PREFILTER_BYTES_PER_PIXEL * min(pixels, PREFILTER_LEVEL_PIXELS)
+    total += PREFILTER_LARGE_BYTES_PER_PIXEL * max(pixels - PREFILTER_LEVEL_PIXELS, 0)
+    if light.method == "dominant":
+        total += DOMINANT_BYTES + DOMINANT_BYTES_PER_PIXEL * pixels
+    return total
 
 
 def _material_key(scene, i: int) -> str:
@@ -504,7 +538,7 @@ def scene_estimate(scene) -> dict:
     for key, lt in _environment_lights(scene):
         if lt.method != "monte-carlo":
             h, w = prefilter_size(lt)
-            parts.append((key, h * w * PREFILTER_BYTES_PER_PIXEL, f"prefiltering a {w}x{h} environment"))
+            parts.append((key, environment_setup_bytes(lt), f"prefiltering a {w}x{h} environment"))
     if best[0] <= 1:
         best = (best[0], "lights")
     time_parts = _time_estimate(scene).parts()
@@ -584,7 +618,7 @@ def explain_lines(scene) -> list:
         shown = "; drawn behind the objects" if lt.background and key.startswith("lights[") else ""
         if lt.method != "monte-carlo":
             h, w = prefilter_size(lt)
-            mib = h * w * PREFILTER_BYTES_PER_PIXEL / 2**20
+            mib = environment_setup_bytes(lt) / 2**20
             lines.append(f"environment {key}: prefiltering {w}x{h} needs about {mib:.1f} MiB at its peak "
                          f"(budget estimate){shown}")  # fmt: skip
         else:

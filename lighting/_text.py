@@ -43,7 +43,7 @@ def plural(count: int, noun: str, plural_form: str | None = None) -> str:
 MAX_VALUE_CHARS = 80
 
 
-def abbreviate(text: str, limit: int = MAX_VALUE_CHARS) -> str:
+def abbreviate(text: str, limit: int = MAX_VALUE_CHARS, *, keep_end: bool = False) -> str:
     """``text`` cut to ``limit`` characters, with the number of characters left out.
 
     Parameters
@@ -52,22 +52,29 @@ def abbreviate(text: str, limit: int = MAX_VALUE_CHARS) -> str:
         The text (any other value is converted with ``str``).
     limit : int, optional
         The longest text kept whole (default :data:`MAX_VALUE_CHARS`, 80).
+    keep_end : bool, optional
+        Keep the end instead of the start (a path: where it leads is at its end).
 
     Returns
     -------
     str
         ``text`` itself if it has at most ``limit`` characters; else its first ``max(limit // 2, 1)``
-        characters followed by ``…(+N chars)``, ``N`` the number left out.
+        characters followed by ``…(+N chars)``, ``N`` the number left out (with ``keep_end``, ``(N chars)…``
+        followed by the last ones).
 
     Examples
     --------
     >>> abbreviate("x" * 200, 20)
     'xxxxxxxxxx…(+190 chars)'
+    >>> abbreviate("/" + "d" * 100 + "/file.png", 20, keep_end=True)
+    '(+100 chars)…d/file.png'
     """
     text = str(text)
     if len(text) <= limit:
         return text
     keep = max(limit // 2, 1)
+    if keep_end:
+        return f"(+{len(text) - keep} chars)…{text[-keep:]}"
     return f"{text[:keep]}…(+{len(text) - keep} chars)"
 
 

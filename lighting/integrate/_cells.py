@@ -29,6 +29,8 @@ VIEW_LIMIT = math.radians(89.5)
 _BLOCK = 1 << 14
 #: The tables of the parts met last (each holds ``VIEW_ROWS × LIGHT_ROWS × AZIMUTH_ROWS`` texels of 16 bytes).
 _tables = Recent(8)
+#: View rows of a table evaluated at once (:func:`cosine_table`).
+_VIEW_BLOCK = 8
 
 
 def cosine_table(part):
@@ -37,15 +39,19 @@ def cosine_table(part):
     found = _tables.get(key)
     if found is not None:
         return found
-    tv = np.linspace(0.0, VIEW_LIMIT, VIEW_ROWS)[:, None, None]
+    views = np.linspace(0.0, VIEW_LIMIT, VIEW_ROWS)
     tl = np.linspace(0.0, math.pi / 2, LIGHT_ROWS)[None, :, None]
     ph = 2 * np.arccos(np.linspace(1.0, 0.0, AZIMUTH_ROWS))[None, None, :]
-    v = np.stack(np.broadcast_arrays(np.sin(tv), 0 * tv, np.cos(tv)), axis=-1)
     l = np.stack(np.broadcast_arrays(np.sin(tl) * np.cos(ph), np.sin(tl) * np.sin(ph), np.cos(tl)), axis=-1)  # noqa: E741
-    g = np.asarray(part.eval_cos(np.array([0.0, 0.0, 1.0]), l, v), dtype=np.float64)
-    g[:, -1] = 0.0  # l on the horizon
-    rgba = np.zeros(g.shape[:-1] + (4,), dtype=np.float32)
-    rgba[..., :3] = g
+    rgba = np.zeros((VIEW_ROWS, LIGHT_ROWS, AZIMUTH_ROWS, 4), dtype=np.float32)
+    # A few view rows at a time: the model's evaluation over the whole table at once would hold a hundred MiB of
+    # temporaries; each value is the same computed either way.
+    for start in range(0, VIEW_ROWS, _VIEW_BLOCK):
+        tv = views[start : start + _VIEW_BLOCK, None, None]
+        v = np.stack(np.broadcast_arrays(np.sin(tv), 0 * tv, np.cos(tv)), axis=-1)
+        g = np.asarray(part.eval_cos(np.array([0.0, 0.0, 1.0]), l, v), dtype=np.float64)
+        g[:, -1] = 0.0  # l on the horizon
+        rgba[start : start + len(tv), ..., :3] = g
     return _tables.put(key, rgba.reshape(-1, 4).view(np.complex128).reshape(-1))
 
 

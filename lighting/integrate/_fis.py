@@ -35,6 +35,8 @@ AZIMUTHS = 64
 _BLOCK = 1 << 13
 #: The sample tables of the parts met last.
 _tables = Recent(64)
+#: View angles of a half-vector table evaluated at once (:func:`half_table`).
+_TABLE_ROWS = 12
 
 
 def stratified_square(count: int) -> np.ndarray:
@@ -257,15 +259,21 @@ def half_table(part, samples: int):
     h = ld + up
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     d = 4 * h[:, 2] * np.asarray(s.pdf, dtype=np.float64)  # p(l) = D (n·h) / (4 v·h)
-    th = TABLE_ANGLES[:, None]
     ph = (np.arange(AZIMUTHS) * (2 * math.pi / AZIMUTHS))[None, :]
-    v = np.stack(np.broadcast_arrays(np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)), -1)[..., None, :]
-    vh = np.sum(v * h, axis=-1)
-    lw = 2 * vh[..., None] * h - v
-    ok = (vh > 0) & (lw[..., 2] > 0) & (d > 0)
-    f = np.asarray(part.eval(up, lw, np.broadcast_to(v, lw.shape)), dtype=np.float64).mean(axis=-1)
-    w = np.where(ok, f * np.maximum(lw[..., 2], 0) * 4 * np.where(ok, vh, 1) / np.where(ok, d, 1), 0.0)
-    return _tables.put(key, (h.astype(np.float32), d.astype(np.float32), w.astype(np.float32)))
+    w = np.empty((len(TABLE_ANGLES), AZIMUTHS, samples), dtype=np.float32)
+    # A few view angles at a time: the model's evaluation over every view, azimuth and sample at once would hold
+    # hundreds of MiB of temporaries; each value is the same computed either way.
+    for start in range(0, len(TABLE_ANGLES), _TABLE_ROWS):
+        th = TABLE_ANGLES[start : start + _TABLE_ROWS, None]
+        v = np.stack(np.broadcast_arrays(np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)),
+                     -1)[..., None, :]  # fmt: skip
+        vh = np.sum(v * h, axis=-1)
+        lw = 2 * vh[..., None] * h - v
+        ok = (vh > 0) & (lw[..., 2] > 0) & (d > 0)
+        f = np.asarray(part.eval(up, lw, np.broadcast_to(v, lw.shape)), dtype=np.float64).mean(axis=-1)
+        w[start : start + len(th)] = np.where(ok, f * np.maximum(lw[..., 2], 0) * 4 * np.where(ok, vh, 1)
+                                              / np.where(ok, d, 1), 0.0)  # fmt: skip
+    return _tables.put(key, (h.astype(np.float32), d.astype(np.float32), w))
 
 
 def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):

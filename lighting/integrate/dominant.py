@@ -104,6 +104,8 @@ WIDE_LOBE = 0.25
 NARROW_FACTOR = 4
 #: Rows of the residual's irradiance map (E is smooth once the small sources are out).
 IRRADIANCE_HEIGHT = 64
+#: The irradiance map integrates the residual at most this many rows high (a larger map is averaged down first).
+IRRADIANCE_SOURCE_HEIGHT = 256
 
 
 @dataclass(frozen=True)
@@ -361,12 +363,15 @@ class DominantEnvironment:
             self.calm_levels = LevelStack(self.calm)
         else:
             self.calm, self.calm_levels = self.residual, self.levels
-        h0 = base.shape[0]
+        # E is smooth: the residual averaged down to IRRADIANCE_SOURCE_HEIGHT rows (each 2 × 2 block weighted by
+        # its solid angle, which keeps the power) integrates to within the quadrature's own O((π/H)²) of the full
+        # map, and the row convolution's work grows as the cube of the height.
+        h0 = min(base.shape[0], IRRADIANCE_SOURCE_HEIGHT)
         h = min(IRRADIANCE_HEIGHT, h0)
         irr = irradiance_map(env, h, source_height=h0)
         # The map's quadrature errs by O((π/H)²) on each row alike: divided by what it gives for a uniform sky
         # (π exactly), a uniform sky's irradiance is exact — the furnace — and smooth ones gain too.
-        self.irradiance = LatLongEnvironment(irr.image * (math.pi / _uniform_irradiance(h0, base.shape[1], h)))
+        self.irradiance = LatLongEnvironment(irr.image * (math.pi / _uniform_irradiance(h0, 2 * h0, h)))
 
     def __repr__(self):
         return f"DominantEnvironment({len(self.lights)} lights, residual {self.residual!r})"

@@ -61,7 +61,8 @@ def scene_output_path(output, scene_file, *, key: str = "image.output", cwd=None
                                           f"through one: it must be {allowed}")  # fmt: skip
     real = os.path.realpath(given)
     if not any(_within(real, f) for f in folders):
-        raise SceneError(label, key, f"{_fmt_value(output)} resolves to {abbreviate(real)}; it must be {allowed}")
+        shown = abbreviate(real, keep_end=True)
+        raise SceneError(label, key, f"{_fmt_value(output)} resolves to {shown}; it must be {allowed}")
     if os.path.isdir(real):
         raise SceneError(label, key, f"{_fmt_value(output)} is a directory; it must be a file name, {allowed}")
     if not os.path.isdir(os.path.dirname(real)):

@@ -258,6 +258,14 @@ def _size_phrases() -> dict[str, list[str]]:
     def image(side):
         return side**2 * (b.BYTES_PER_PIXEL + 2 * b.BYTES_PER_PIXEL_PER_OBJECT)
 
+    def _panorama_bytes(b, rows):
+        """A ``2 rows × rows`` file's part of a scene's estimate under the dominant lights: prefiltered, and the
+        dominant lights' own (reading the file is checked alone, before)."""
+        px = 2 * rows * rows
+        prefilter = b.PREFILTER_BYTES_PER_PIXEL * min(px, b.PREFILTER_LEVEL_PIXELS)
+        prefilter += b.PREFILTER_LARGE_BYTES_PER_PIXEL * max(px - b.PREFILTER_LEVEL_PIXELS, 0)
+        return prefilter + b.DOMINANT_BYTES + b.DOMINANT_BYTES_PER_PIXEL * px
+
     return {
         "scenes.md": [
             f"a MERL table {merl_per_byte} bytes per byte of the file, a `.brdf` file {brdf_per_byte} bytes per byte "
@@ -272,14 +280,20 @@ def _size_phrases() -> dict[str, list[str]]:
             f"{b.ENVIRONMENT_BYTES_PER_PIXEL} bytes per pixel its header declares to read it "
             f"(`ENVIRONMENT_BYTES_PER_PIXEL`), then {b.ENVIRONMENT_HELD_BYTES_PER_PIXEL} held "
             "(`ENVIRONMENT_HELD_BYTES_PER_PIXEL`)",
-            f"{b.PREFILTER_BYTES_PER_PIXEL} bytes per pixel of the prefiltered image (`PREFILTER_BYTES_PER_PIXEL`;",
+            f"{b.PREFILTER_BYTES_PER_PIXEL} bytes per pixel of the prefiltered image up to "
+            f"{b.PREFILTER_LEVEL_PIXELS // 256} × 256 pixels (`PREFILTER_BYTES_PER_PIXEL`, `PREFILTER_LEVEL_PIXELS`), "
+            f"{b.PREFILTER_LARGE_BYTES_PER_PIXEL} bytes per pixel beyond (`PREFILTER_LARGE_BYTES_PER_PIXEL`:",
+            f"add {b.DOMINANT_BYTES // mib} MiB and {b.DOMINANT_BYTES_PER_PIXEL} bytes per pixel (`DOMINANT_BYTES`, "
+            "`DOMINANT_BYTES_PER_PIXEL`:",
+            # a 2048 × 1024 panorama under the default method fits the default budget
+            "or a 2048 × 1024 panorama" * (_panorama_bytes(b, 1024) <= default),
             f"`width × height × ({b.BYTES_PER_PIXEL} + {b.BYTES_PER_PIXEL_PER_OBJECT} × objects)` bytes plus the "
             "meshes (`BYTES_PER_PIXEL`, `BYTES_PER_PIXEL_PER_OBJECT`)",
             f"counts {b.BYTES_PER_SAMPLE_EVALUATION} bytes (`BYTES_PER_SAMPLE_EVALUATION`)",
             # the examples the default budget allows (two objects at 2048² fit; at 2560² they would not)
             "a 2048 × 2048 image of two objects" * (image(2048) <= default < image(2560)),
             f"a {default / b.BYTES_PER_TRIANGLE / 1e6:.1f}-million-triangle mesh",
-            f"or {default // b.BYTES_PER_SAMPLE_EVALUATION // 10**6} million light-sample evaluations",
+            f"{default // b.BYTES_PER_SAMPLE_EVALUATION // 10**6} million light-sample evaluations",
             # a file of the examples
             "8 KB" * (round((ROOT / "lighting/scene/examples/daylight_sky.hdr").stat().st_size / 1000) == 8),
         ],

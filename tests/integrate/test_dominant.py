@@ -109,6 +109,31 @@ def test_the_white_furnace_gives_each_part_its_albedo(dtype):
     np.testing.assert_allclose(out["specular"][:, 0], 1.5 * rho, rtol=2e-5)
 
 
+def test_a_large_maps_irradiance_is_integrated_at_256_rows_and_keeps_its_closed_form(monkeypatch):
+    # E(n) of (1 + 0.5 z + 0.3 x) is π + (2π/3)(0.5 n_z + 0.3 n_x) (Â_0 = π, Â_1 = 2π/3).  A 1024 × 512 map is
+    # averaged down to 256 rows before the row convolution, whose work grows as the cube of the height.
+    from lighting.integrate import prefilter
+    from lighting.integrate.dominant import IRRADIANCE_SOURCE_HEIGHT
+
+    rgb = np.array([1.0, 0.8, 0.6])
+
+    def linear(d):
+        return (1 + 0.5 * d[..., 2:3] + 0.3 * d[..., 0:1]) * rgb
+
+    env = LatLongEnvironment(linear(LatLongEnvironment.pixel_directions(512, 1024)))
+    pre = prefilter_environment(env)
+    heights = []
+    real = prefilter.irradiance_map
+    monkeypatch.setattr(prefilter, "irradiance_map",
+                        lambda *a, **k: heights.append(k["source_height"]) or real(*a, **k))  # fmt: skip
+    dom = DominantEnvironment(pre)
+    assert len(dom.lights) == 0 and set(heights) == {IRRADIANCE_SOURCE_HEIGHT} == {256}  # the residual, the uniform sky
+    d = LatLongEnvironment.pixel_directions(64, 128)
+    exact = (math.pi + 2 * math.pi / 3 * (0.5 * d[..., 2:3] + 0.3 * d[..., 0:1])) * rgb
+    assert np.abs(dom.irradiance.image / exact - 1).max() < 3e-5  # measured 2.0e-5 (test_dominant_full.py: the
+    # whole map's 512 rows integrated, 3.4e-6 from it, and within 3e-5 of this)
+
+
 def test_behind_the_surface_is_black_and_terms_add_up(disk_pre):
     n = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
     v = np.array([[0.0, 0.6, 0.8], [0.0, 0.6, -0.8]])

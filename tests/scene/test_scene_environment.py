@@ -15,7 +15,13 @@ from lighting.lights import envfiles
 from lighting.lights.environment import LatLongEnvironment
 from lighting.lights.skies import sky
 from lighting.scene import SceneRenderer, parse_scene, scene_to_toml
-from lighting.scene.budget import ENVIRONMENT_BYTES_PER_PIXEL, PREFILTER_BYTES_PER_PIXEL, scene_estimate
+from lighting.scene.budget import (
+    DOMINANT_BYTES,
+    DOMINANT_BYTES_PER_PIXEL,
+    ENVIRONMENT_BYTES_PER_PIXEL,
+    PREFILTER_BYTES_PER_PIXEL,
+    scene_estimate,
+)
 from lighting.scene.envlights import declared_image_size
 from lighting.scene.errors import SceneBudgetError, SceneError
 from lighting.scene.examples import EXAMPLES_DIR
@@ -135,7 +141,8 @@ def test_environment_example_explains_its_environment(capsys):
     assert ("environment light 'daylight_sky.hdr', a 128x64 image: dominant lights and filtered importance sampling "
             "per pixel") in text
     assert "prefiltered at 128x64 for 8 lobe widths" in text
-    mib = 128 * 64 * PREFILTER_BYTES_PER_PIXEL / 2**20
+    # Its own 64 rows prefiltered, and the dominant lights (the example's method): their tables and residual.
+    mib = (128 * 64 * (PREFILTER_BYTES_PER_PIXEL + DOMINANT_BYTES_PER_PIXEL) + DOMINANT_BYTES) / 2**20
     assert f"environment lights[0]: prefiltering 128x64 needs about {mib:.1f} MiB at its peak" in text
     assert "left out: the light loop — no punctual or area light" in text
 
@@ -228,7 +235,8 @@ def test_the_budget_counts_a_small_image_and_a_lowered_budget_refuses_it(tmp_pat
     text = FURNACE.format(form="physical", mode="phong", extra="").replace("radiance = 1", 'source = "sky.hdr"')
     scene = parse_scene(text, base_dir=tmp_path)
     parts = dict((k, b) for k, b, _ in scene_estimate(scene)["parts"])
-    assert parts["lights[0]"] == 64 * 128 * PREFILTER_BYTES_PER_PIXEL  # the file's own height: 64 rows
+    # The file's own height, 64 rows, prefiltered; the dominant lights (the default method) add their part.
+    assert parts["lights[0]"] == 64 * 128 * (PREFILTER_BYTES_PER_PIXEL + DOMINANT_BYTES_PER_PIXEL) + DOMINANT_BYTES
     previous = set_memory_budget(64 * 128 * ENVIRONMENT_BYTES_PER_PIXEL - 1)
     try:
         with pytest.raises(SceneBudgetError, match=r"lights\[0\]\.source: .*reading a 128x64 environment image"):
@@ -269,3 +277,51 @@ def test_a_light_made_in_python_saves_itself():
     assert d == {"type": "environment", "source": "glow", "rotation": 45.0, "method": "monte-carlo", "samples": 4,
                  "seed": 0}  # fmt: skip
     np.testing.assert_array_equal(render(parse_scene(scene_to_toml(moved)))[0], render(moved)[0])
+
+
+def test_a_2048_by_1024_panorama_fits_the_default_budget_under_either_method():
+    # The usual size of a downloaded HDR panorama: prefiltered at its 1024 rows, the levels from 256 rows down.
+    from lighting._budget import DEFAULT_MEMORY_BUDGET, environment_setup_bytes
+    from lighting.lights.envlight import EnvironmentLight
+    from lighting.scene.budget import PREFILTER_LARGE_BYTES_PER_PIXEL, PREFILTER_LEVEL_PIXELS
+
+    pano = LatLongEnvironment(np.ones((1024, 2048, 3)))
+    pixels = 1024 * 2048
+    prefilter = PREFILTER_BYTES_PER_PIXEL * PREFILTER_LEVEL_PIXELS
+    prefilter += PREFILTER_LARGE_BYTES_PER_PIXEL * (pixels - PREFILTER_LEVEL_PIXELS)
+    split = EnvironmentLight(pano, method="split-sum")
+    default = EnvironmentLight(pano)
+    assert default.method == "dominant"
+    assert environment_setup_bytes(split) == prefilter
+    assert environment_setup_bytes(default) == prefilter + DOMINANT_BYTES + DOMINANT_BYTES_PER_PIXEL * pixels
+    assert environment_setup_bytes(split) < environment_setup_bytes(default) < DEFAULT_MEMORY_BUDGET
+
+
+def test_the_estimate_covers_what_the_default_method_allocates_to_shade_its_first_frame():
+    # Everything traced from the sky's prefilter to a glossy sphere's first frame under the dominant lights (the
+    # tables of a part not met before, the residual's levels) stays within the estimate; the parts' albedo tables,
+    # which every method but Monte Carlo reads, are made before.
+    import tracemalloc
+
+    from lighting._budget import environment_setup_bytes
+    from lighting.integrate.dominant import dominant_radiance, forget_environments
+    from lighting.integrate.ibl import lobe_albedo
+    from lighting.integrate.prefilter import prefilter_environment
+    from lighting.lights.envlight import EnvironmentLight
+    from lighting.models.brdf import CookTorrance, Lambert
+
+    forget_environments()
+    env = LatLongEnvironment(sky("daylight").radiance(LatLongEnvironment.pixel_directions(64, 128)))
+    model = Lambert(0.3) + CookTorrance(1.0, 0.0731, ndf="ggx")  # a roughness no other test shades
+    n = LatLongEnvironment.pixel_directions(96, 96).reshape(-1, 3)
+    n = n[n[:, 1] < 0]
+    v = np.broadcast_to([0.0, -1.0, 0.0], n.shape)
+    for part in model.parts:
+        lobe_albedo(part)
+    tracemalloc.start()
+    try:
+        dominant_radiance(model, prefilter_environment(env, reuse=False), n, v)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < environment_setup_bytes(EnvironmentLight(env)), peak
