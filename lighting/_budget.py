@@ -169,7 +169,8 @@ BYTES_PER_SAMPLE_EVALUATION = 8
 TIME_LIMIT = 30.0
 
 #: Seconds per unit of work, measured by ``python -m explorer.bench.costs`` (each stage renders a scene built to
-#: isolate it and keeps its fastest run; the machine's other work lengthens them, which makes them conservative):
+#: isolate it and keeps its fastest run; the table holds the least of three such measurements: on a busy machine
+#: renders take longer than it says, within the 4x that ``python -m explorer.bench.costs --check`` checks):
 #: ``render`` and ``pixel``: a render's fixed part and rasterizing, compositing and encoding one pixel of one
 #: object; ``shade KIND``: one light at one shading point for one model part of that kind (an area light counts
 #: once per sample); ``monte-carlo KIND``: one Monte-Carlo sample of an environment at one shading point per part
@@ -177,43 +178,45 @@ TIME_LIMIT = 30.0
 #: once per file); ``prefilter`` and ``prefilter pixel``: prefiltering an environment for the split sum and the
 #: dominant lights, once and per pixel of the prefiltered image; ``split-sum`` / ``dominant`` + ``diffuse`` /
 #: ``glossy`` / ``narrow`` (a lobe narrower than the dominant method's ``WIDE_LOBE``): one shading point per part
-#: under those methods; ``dominant``: finding an environment's dominant lights; ``dominant narrow table``: a
-#: narrow lobe's table of half vectors (once per part).
+#: under those methods; ``dominant`` and ``dominant pixel``: finding an environment's dominant lights and making
+#: the residual's levels, once and per pixel of the prefiltered image; ``dominant narrow table``: a narrow lobe's
+#: table of half vectors (once per part).
 SECONDS_PER = {
     "pixel": 2.5e-07,
-    "render": 0.0011,
-    "shade lambert": 5.5e-08,
-    "shade phong": 7.4e-08,
-    "shade blinn-phong": 8.5e-08,
+    "render": 0.001,
+    "shade lambert": 5.3e-08,
+    "shade phong": 7.8e-08,
+    "shade blinn-phong": 8.8e-08,
     "shade cook-torrance": 1.1e-07,
-    "shade oren-nayar": 8.7e-08,
-    "shade ward": 1e-07,
+    "shade oren-nayar": 8.9e-08,
+    "shade ward": 1.1e-07,
     "shade ashikhmin-shirley": 1.9e-07,
-    "shade disney": 2.5e-07,
-    "shade mirror": 4.8e-08,
-    "shade measured": 3.9e-07,
+    "shade disney": 2.6e-07,
+    "shade mirror": 5e-08,
+    "shade measured": 4e-07,
     "shade shader": 1.3e-06,
-    "monte-carlo lambert": 6.3e-07,
-    "monte-carlo phong": 7.2e-07,
-    "monte-carlo blinn-phong": 8.1e-07,
-    "monte-carlo cook-torrance": 8.2e-07,
-    "monte-carlo oren-nayar": 6.6e-07,
-    "monte-carlo ward": 8.4e-07,
-    "monte-carlo ashikhmin-shirley": 1.2e-06,
+    "monte-carlo lambert": 6.2e-07,
+    "monte-carlo phong": 7.1e-07,
+    "monte-carlo blinn-phong": 7.7e-07,
+    "monte-carlo cook-torrance": 8.3e-07,
+    "monte-carlo oren-nayar": 6.7e-07,
+    "monte-carlo ward": 8.5e-07,
+    "monte-carlo ashikhmin-shirley": 1.3e-06,
     "monte-carlo disney": 1.3e-06,
-    "monte-carlo mirror": 8e-08,
+    "monte-carlo mirror": 9.2e-08,
     "monte-carlo measured": 2.7e-06,
-    "monte-carlo shader": 7.1e-06,
-    "measured table": 0.0088,
-    "prefilter": 0.0067,
+    "monte-carlo shader": 6.6e-06,
+    "measured table": 0.0087,
+    "prefilter": 0.0041,
     "prefilter pixel": 1.3e-06,
     "split-sum diffuse": 2.9e-07,
     "split-sum glossy": 4.9e-07,
     "dominant diffuse": 3.5e-07,
-    "dominant glossy": 4.4e-06,
-    "dominant narrow": 7.7e-06,
-    "dominant": 0.5,
-    "dominant narrow table": 0.35,
+    "dominant glossy": 3.9e-06,
+    "dominant narrow": 7.1e-06,
+    "dominant pixel": 3.7e-06,
+    "dominant": 0.0006,
+    "dominant narrow table": 0.19,
 }
 #: The registered models whose costs :data:`SECONDS_PER` holds; a model of another kind counts as the dearest
 #: analytic kind.
@@ -471,7 +474,9 @@ def _time_estimate(scene) -> _Costs:
                 if id(lt) not in prefiltered:
                     prefiltered.add(id(lt))
                     h, w = prefilter_size(lt)
-                    first = SECONDS_PER["dominant"] if lt.method == "dominant" else 0.0
+                    first = 0.0
+                    if lt.method == "dominant":
+                        first = SECONDS_PER["dominant"] + h * w * SECONDS_PER["dominant pixel"]
                     costs.add(key, first + SECONDS_PER["prefilter"] + h * w * SECONDS_PER["prefilter pixel"],
                               f"prefiltering a {w}x{h} environment")  # fmt: skip
     return costs

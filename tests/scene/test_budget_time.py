@@ -91,7 +91,8 @@ def test_one_home_for_the_budget():
     # Every unit of work the estimate counts has its measured cost, positive (or a fixed part of 0) and finite.
     kinds = home.MODEL_KINDS + ("measured", "shader")
     needed = {f"{stage} {k}" for stage in ("shade", "monte-carlo") for k in kinds}
-    needed |= {"pixel", "render", "measured table", "prefilter", "prefilter pixel", "dominant", "dominant narrow table"}
+    needed |= {"pixel", "render", "measured table", "prefilter", "prefilter pixel", "dominant", "dominant pixel",
+               "dominant narrow table"}
     needed |= {f"{m} {lobe}" for m in ("split-sum", "dominant") for lobe in ("diffuse", "glossy")} | {"dominant narrow"}
     assert set(SECONDS_PER) == needed
     assert all(math.isfinite(v) and v >= 0 for v in SECONDS_PER.values())
