@@ -37,6 +37,8 @@ _BLOCK = 1 << 13
 _tables = Recent(64)
 #: View angles of a half-vector table evaluated at once (:func:`half_table`).
 _TABLE_ROWS = 12
+#: Texels of a level read from the next at once while a :class:`LevelStack` is made (the lookup's temporaries).
+_LOOKUP_PIXELS = 1 << 16
 
 
 def stratified_square(count: int) -> np.ndarray:
@@ -73,9 +75,12 @@ class LevelStack:
         padded = []
         for k, im in enumerate(levels):
             nxt = levels[min(k + 1, self.count - 1)]
-            if nxt.shape != im.shape:  # coarser: read at this level's texel centres
+            if nxt.shape != im.shape:  # coarser: read at this level's texel centres, a band of rows at a time
                 d = LatLongEnvironment.pixel_directions(*im.shape[:2])
-                nxt = latlong_lookup(nxt.reshape(-1, 3), *nxt.shape[:2], d).astype(np.float32)
+                coarse, nxt = nxt, np.empty(im.shape, dtype=np.float32)
+                step = max(1, _LOOKUP_PIXELS // im.shape[1])
+                for r in range(0, im.shape[0], step):
+                    nxt[r : r + step] = latlong_lookup(coarse.reshape(-1, 3), *coarse.shape[:2], d[r : r + step])
             pair = np.zeros(im.shape[:2] + (8,), dtype=np.float32)
             pair[..., :3], pair[..., 4:7] = im, nxt
             padded.append(np.pad(np.pad(pair, ((0, 0), (1, 1), (0, 0)), mode="wrap"), ((1, 1), (0, 0), (0, 0)),
