@@ -147,17 +147,17 @@ MEASURED_SAMPLER_BYTES = 90 * 90 * (2 * 361 + 360) * 8
 #: 639 at 256, 172 at 512, where the levels stop at 256 rows; a lat-long image is prefiltered at its largest
 #: power-of-two height up to 1024, a sky at 512 x 256): PREFILTER_BYTES_PER_PIXEL for the pixels of a source up to
 #: PREFILTER_LEVEL_PIXELS, PREFILTER_LARGE_BYTES_PER_PIXEL for each pixel beyond (halved down to the levels; a
-#: 1024-row file peaks at 325 MB over the interpreter's, the process measured whole).  The dominant lights (the
-#: default method) add their tables and the residual's levels: DOMINANT_BYTES and DOMINANT_BYTES_PER_PIXEL of the
-#: prefiltered source (the process's peak over the split sum's, a sphere of one glossy part: 146 MB at 64 rows, 212
-#: at 256, 1210 at 1024).
+#: 1024-row file peaks at 125 MB over a 64-row one, the process measured whole).  The dominant lights (the default
+#: method) add their tables and the residual's levels: DOMINANT_BYTES and DOMINANT_BYTES_PER_PIXEL of the
+#: prefiltered source (the process's peak over the split sum's, a sphere of one glossy part: 36 MB at 64 rows, 91
+#: at 256, 639 at 1024).
 ENVIRONMENT_BYTES_PER_PIXEL = 168
 ENVIRONMENT_HELD_BYTES_PER_PIXEL = 128
 PREFILTER_BYTES_PER_PIXEL = 1024
 PREFILTER_LEVEL_PIXELS = 512 * 256
-PREFILTER_LARGE_BYTES_PER_PIXEL = 192
+PREFILTER_LARGE_BYTES_PER_PIXEL = 96
 DOMINANT_BYTES = 48 * 2**20
-DOMINANT_BYTES_PER_PIXEL = 640
+DOMINANT_BYTES_PER_PIXEL = 384
 #: Work is counted against the memory budget too: one light sample at one shading point counts as 8 bytes, so
 #: the 2 GiB default allows 268 million light-sample evaluations.  The time limit below is the finer bound.
 BYTES_PER_SAMPLE_EVALUATION = 8

@@ -332,7 +332,18 @@ class LatLongEnvironment(Environment):
         self._flat = np.ascontiguousarray(img.reshape(-1, 3))
         h, w = img.shape[:2]
         self.height, self.width = h, w
-        self._build_sampling()
+
+    #: The attributes :meth:`_build_sampling` makes (a subclass that samples otherwise names its own).
+    _sampling_tables = frozenset({"_rows_cdf", "_cols_cdf", "_last_col", "_density", "_corners"})
+
+    def __getattr__(self, name):
+        # The sampling tables are made on first use: a map that is only looked up or prefiltered (the dominant
+        # lights' residual, a sky under the split sum) never holds them.  Made twice by two threads at once, they
+        # are the same arrays either way.
+        if name in type(self)._sampling_tables and "image" in self.__dict__:
+            self._build_sampling()
+            return self.__dict__[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __repr__(self):
         return f"LatLongEnvironment(image of shape {self.image.shape})"

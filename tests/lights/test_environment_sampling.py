@@ -307,6 +307,8 @@ class _DilatedPixels(LatLongEnvironment):
     """The sampler this one replaced, for comparison: pixels with probability their 3 x 3 neighbourhood's
     largest mean channel value times their solid angle, uniform inside."""
 
+    _sampling_tables = frozenset({"_prob", "_cdf", "_dens"})
+
     def _build_sampling(self):
         lum = _lum(self.image)
         h, w = lum.shape
@@ -348,3 +350,21 @@ def _sphere(px=24):
     g = (np.arange(px) + 0.5) / px * 2 - 1
     x, y = (c[np.add.outer(g * g, g * g) < 1] for c in np.meshgrid(g, g, indexing="ij"))
     return x[:, None] * t + y[:, None] * b + np.sqrt(1 - x * x - y * y)[:, None] * v, v, sun
+
+
+def test_the_sampling_tables_are_made_on_first_use_and_the_same_as_made_before():
+    # A map only looked up or prefiltered (the dominant lights' residual) holds no sampling tables; the first
+    # sample makes them, and a map made afresh draws and weighs the same directions.
+    img = _sunny_image()
+    env = LatLongEnvironment(img)
+    env.radiance(np.array([[0.0, 0.0, 1.0]]))
+    assert not {"_rows_cdf", "_density", "_corners"} & set(vars(env))
+    u = np.random.default_rng(3).random((500, 2))
+    d, p = env.sample(u)
+    assert {"_rows_cdf", "_cols_cdf", "_last_col", "_density", "_corners"} <= set(vars(env))
+    other = LatLongEnvironment(img)
+    np.testing.assert_allclose(other.pdf(d), p, rtol=1e-12)  # tables made by pdf first: the same density
+    d2, p2 = other.sample(u)
+    assert np.array_equal(d2, d) and np.array_equal(p2, p)
+    with pytest.raises(AttributeError, match="no attribute '_nothing'"):
+        env._nothing  # noqa: B018
