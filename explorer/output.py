@@ -134,9 +134,9 @@ def available_formats(kinds=("rgb8", "linear")) -> tuple[str, ...]:
 
 
 def _show(path) -> str:
-    from lighting._text import abbreviate
+    from lighting._text import quote_path
 
-    return abbreviate(repr(os.fspath(path)))
+    return quote_path(path)
 
 
 def _writable_folder(flag: str, path: str, folder: str) -> None:

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
-__all__ = ["plural", "abbreviate", "quote", "MAX_VALUE_CHARS"]
+__all__ = ["plural", "abbreviate", "quote", "quote_path", "MAX_VALUE_CHARS"]
 
 #: Nouns whose plural is not the noun with ``s``.
 _IRREGULAR = {"entry": "entries", "index": "indices", "vertex": "vertices", "process": "processes"}
@@ -76,6 +78,32 @@ def abbreviate(text: str, limit: int = MAX_VALUE_CHARS, *, keep_end: bool = Fals
     if keep_end:
         return f"(+{len(text) - keep} chars)…{text[-keep:]}"
     return f"{text[:keep]}…(+{len(text) - keep} chars)"
+
+
+def quote_path(path, limit: int = MAX_VALUE_CHARS) -> str:
+    """A file path quoted for an error message: whole if short, else its end (the file's name and folders).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    limit : int, optional
+        The longest quoted path kept whole (default :data:`MAX_VALUE_CHARS`, 80).
+
+    Returns
+    -------
+    str
+        ``repr`` of the path, or its opening quote, ``…(+N chars)`` and the last ``limit // 2`` characters.
+
+    Examples
+    --------
+    >>> quote_path("/" + "d" * 100 + "/mesh.obj", 20)
+    "'…(+101 chars)/mesh.obj'"
+    """
+    text = repr(os.fspath(path))
+    if len(text) <= limit:
+        return text
+    keep = max(limit // 2, 1)
+    return f"{text[0]}…(+{len(text) - keep - 1} chars){text[-keep:]}"
 
 
 def quote(value) -> str:

@@ -378,9 +378,9 @@ def check_accuracy_csv(path) -> str:
     """
     import csv
 
-    from lighting._text import abbreviate
+    from lighting._text import abbreviate, quote_path
 
-    shown = abbreviate(repr(os.fspath(path)))
+    shown = quote_path(path)
     if not os.path.isfile(path):
         raise FigureError(f"--accuracy-csv: no such file: {os.fspath(path)}")
     try:

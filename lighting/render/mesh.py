@@ -51,7 +51,7 @@ import stat
 import numpy as np
 
 from .._budget import BudgetError, check_budget
-from .._text import abbreviate
+from .._text import abbreviate, quote_path
 from .._validate import check_choice, check_count, check_positive
 from ..vec import normalize
 from .obj import read_obj
@@ -691,7 +691,7 @@ def load_mesh(path, *, weld: bool = True) -> TriangleMesh:
         of range, or only zero-area triangles.
     """
     p = os.fspath(path)
-    name = abbreviate(repr(p))
+    name = quote_path(p)
     try:
         st = os.stat(p)
     except (OSError, ValueError):  # missing, a dangling link, a NUL in the name

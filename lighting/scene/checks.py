@@ -59,7 +59,7 @@ class _Ctx:
 
     def resolved(self, given: str, path: str) -> str:
         """`` (path)``: where a file the scene names was looked for, when that says more than the name given."""
-        return "" if self.shown(path) == given else f" ({abbreviate(path)})"
+        return "" if self.shown(path) == given else f" ({abbreviate(path, keep_end=True)})"
 
     def fail(self, path: str, detail: str):
         raise SceneError(self.source, path, self.shown(detail))
