@@ -24,6 +24,8 @@ from ..files.images import file_mode, png_bytes, read_png, write_png
 
 #: Largest exposure, in stops, either way (2**100 is about 1e30): beyond it nothing is left to see.
 MAX_EXPOSURE = 100.0
+#: Pixels encoded at once by :func:`encode_srgb8`.
+_ENCODE_PIXELS = 1 << 17
 
 __all__ = [
     "EncodeReport", "linear_to_srgb", "srgb_to_linear", "encode_srgb8", "png_bytes", "write_png", "read_png",
@@ -112,17 +114,28 @@ def encode_srgb8(image, *, exposure: float = 0.0, tonemap: str = "clamp"):
     """
     tonemap = check_choice("tonemap", tonemap, ("clamp", "reinhard"))
     exposure = check_range("exposure", exposure, -MAX_EXPOSURE, MAX_EXPOSURE)
-    x = np.asarray(image, dtype=np.float64)
-    if x.ndim != 3 or x.shape[-1] != 3:
-        raise ValueError(f"image must have shape (H, W, 3); got {x.shape}")
-    if np.isnan(x).any():
+    given, image = image, np.asarray(image)
+    if image.dtype.kind not in "fiu":
+        image = np.asarray(given, dtype=np.float64)
+    if image.ndim != 3 or image.shape[-1] != 3:
+        raise ValueError(f"image must have shape (H, W, 3); got {image.shape}")
+    if np.isnan(image).any():
         raise ValueError("image contains NaN")
-    with np.errstate(over="ignore"):  # a value near the float64 limit, brightened: saturate, never inf
-        x = np.minimum(np.maximum(x, 0) * 2.0**exposure, np.finfo(np.float64).max)
-    peak = float(x.max()) if x.size else 0.0
-    clipped = int(np.count_nonzero(np.any(x > 1, axis=-1)))
+    y = np.empty(image.shape, dtype=np.uint8)
+    peak, clipped = 0.0, 0
+    # A band of rows at a time: every value is encoded alone, and the whole image's float64 temporaries would be
+    # several times its size (a large render's encoding would need more memory than the render's own buffers).
+    rows = max(1, _ENCODE_PIXELS // max(image.shape[1], 1))
+    for r in range(0, image.shape[0], rows):
+        x = np.asarray(image[r : r + rows], dtype=np.float64)
+        with np.errstate(over="ignore"):  # a value near the float64 limit, brightened: saturate, never inf
+            x = np.minimum(np.maximum(x, 0) * 2.0**exposure, np.finfo(np.float64).max)
+        if x.size:
+            peak = max(peak, float(x.max()))
+        clipped += int(np.count_nonzero(np.any(x > 1, axis=-1)))
+        if tonemap == "reinhard":
+            x = x / (1 + x)
+        y[r : r + rows] = np.round(linear_to_srgb(x) * 255).astype(np.uint8)
     if tonemap == "reinhard":
-        x = x / (1 + x)
         clipped = 0
-    y = np.round(linear_to_srgb(x) * 255).astype(np.uint8)
-    return y, EncodeReport(clipped, x.shape[0] * x.shape[1], peak)
+    return y, EncodeReport(clipped, image.shape[0] * image.shape[1], peak)

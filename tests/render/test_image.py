@@ -46,6 +46,30 @@ def test_png_decodes_to_the_closed_form_srgb_codes(dtype):
     assert np.array_equal(pixels, li.srgb8())
 
 
+def test_a_large_image_is_encoded_band_by_band_in_a_fraction_of_its_size():
+    # Each value is encoded alone, so the bands give the closed-form codes and report of the whole (the clipped
+    # pixels and the brightest value), with temporaries far below the float64 image (several times it, whole).
+    import tracemalloc
+
+    from lighting.render.image import encode_srgb8
+
+    values = np.array([0.0, 0.001, 0.004, 0.2140, 0.5, 0.9, 1.0, 1.5, 40.0])
+    img = np.resize(values, (1000, 2000, 3)).astype(np.float32)  # 24 MB; 48 MB in float64
+    img[999, 1999, 2] = 41.0
+    tracemalloc.start()
+    try:
+        rgb8, report = encode_srgb8(img)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < img.size * 8 / 2, peak  # rgb8 itself is 6 MB
+    v32 = values.astype(np.float32)
+    expected = np.select([img == v for v in v32], [srgb_code(float(v)) for v in v32], 255).astype(np.uint8)
+    assert np.array_equal(rgb8, expected)
+    assert report.max_value == 41.0 and report.total_pixels == 2_000_000
+    assert report.clipped_pixels == int(np.count_nonzero((img > 1).any(axis=-1)))
+
+
 def test_linear_half_is_188_not_128():
     li = LinearImage(np.full((4, 5, 3), 0.5))
     assert srgb_code(0.5) == 188
