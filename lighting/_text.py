@@ -61,7 +61,7 @@ def abbreviate(text: str, limit: int = MAX_VALUE_CHARS, *, keep_end: bool = Fals
     -------
     str
         ``text`` itself if it has at most ``limit`` characters; else its first ``max(limit // 2, 1)``
-        characters followed by ``…(+N chars)``, ``N`` the number left out (with ``keep_end``, ``(N chars)…``
+        characters followed by ``…(+N chars)``, ``N`` the number left out (with ``keep_end``, ``…(+N chars)``
         followed by the last ones).
 
     Examples
@@ -69,15 +69,20 @@ def abbreviate(text: str, limit: int = MAX_VALUE_CHARS, *, keep_end: bool = Fals
     >>> abbreviate("x" * 200, 20)
     'xxxxxxxxxx…(+190 chars)'
     >>> abbreviate("/" + "d" * 100 + "/file.png", 20, keep_end=True)
-    '(+100 chars)…d/file.png'
+    '…(+100 chars)d/file.png'
     """
     text = str(text)
     if len(text) <= limit:
         return text
     keep = max(limit // 2, 1)
     if keep_end:
-        return f"(+{len(text) - keep} chars)…{text[-keep:]}"
+        return _end_of(text, keep)
     return f"{text[:keep]}…(+{len(text) - keep} chars)"
+
+
+def _end_of(text: str, keep: int) -> str:
+    """The last ``keep`` characters of ``text`` after ``…(+N chars)``, ``N`` the number left out."""
+    return f"…(+{len(text) - keep} chars){text[-keep:]}"
 
 
 def quote_path(path, limit: int = MAX_VALUE_CHARS) -> str:
@@ -102,8 +107,7 @@ def quote_path(path, limit: int = MAX_VALUE_CHARS) -> str:
     text = repr(os.fspath(path))
     if len(text) <= limit:
         return text
-    keep = max(limit // 2, 1)
-    return f"{text[0]}…(+{len(text) - keep - 1} chars){text[-keep:]}"
+    return text[0] + _end_of(text[1:], max(limit // 2, 1))  # the opening quote kept
 
 
 def quote(value) -> str:

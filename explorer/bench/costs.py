@@ -40,7 +40,12 @@ form = "physical"
 _SPHERE = '[[objects]]\ntype = "sphere"\nmaterial = {{parts = [{parts}]}}\n'
 _POINTS = "".join(f'[[lights]]\ntype = "point"\nposition = [{x}, -3.0, {z}]\nintensity = 3.0\n'
                   for x, z in ((2, 2), (-2, 2), (2, -2), (-2, -2)))  # fmt: skip
-_SKY = '[[lights]]\ntype = "environment"\nsource = "daylight"\nbackground = false\nmethod = "{method}"\n'
+_SKY = '[[lights]]\ntype = "environment"\nsource = {source}\nbackground = false\nmethod = "{method}"\n'
+
+
+def _sky(method: str, source: str = "daylight") -> str:
+    """A scene file's environment light: ``source`` (a sky's name or an image file) under ``method``."""
+    return _SKY.format(method=method, source=json.dumps(source))
 
 
 def _scene(size: int, parts: str, lights: str = "") -> str:
@@ -139,7 +144,7 @@ def measure(repeat: int = 3) -> dict:
         for kind in kinds:
             size, samples = (12, 4) if kind == "shader" else (32, 16)
             text = _scene(size, _part(kind, files))
-            text += _SKY.format(method="monte-carlo").replace('"daylight"', json.dumps(sky_file))
+            text += _sky("monte-carlo", sky_file)
             text += f"samples = {samples}\n"
             seconds, covered = _second_render(text, folder, repeat)
             out[f"monte-carlo {kind}"] = seconds / (covered * samples)
@@ -154,7 +159,7 @@ def measure(repeat: int = 3) -> dict:
         from lighting.scene import load_scene
 
         timed = []
-        for light in (parse_scene(_scene(8, _part("lambert", files), _SKY.format(method="split-sum"))).lights[0],
+        for light in (parse_scene(_scene(8, _part("lambert", files), _sky("split-sum"))).lights[0],
                       load_scene(example_path("environment")).lights[0]):  # fmt: skip
             h = prefilter_height(light.environment)
             fresh = functools.partial(prefilter_environment, light.environment, reuse=False)
@@ -173,7 +178,7 @@ def measure(repeat: int = 3) -> dict:
             for lobe, part in parts.items():
                 if method == "split-sum" and lobe == "narrow":
                     continue
-                text = _scene(64, part, _SKY.format(method=method))
+                text = _scene(64, part, _sky(method))
                 seconds, covered = _second_render(text, folder, repeat)
                 out[f"{method} {lobe}"] = seconds / covered
 
@@ -182,7 +187,7 @@ def measure(repeat: int = 3) -> dict:
         # example's 64-row file), and a narrow lobe's table of half vectors (once per part), beyond prefiltering
         # and the frame itself.
         def first(part, roughness=None, source="daylight"):
-            text = _scene(8, part, _SKY.format(method="dominant").replace('"daylight"', json.dumps(source)))
+            text = _scene(8, part, _sky("dominant", source))
             if roughness is not None:  # a lobe not met before: its table is not cached yet
                 text = text.replace("roughness = 0.1", f"roughness = {roughness}")
             forget_environments()  # the sky made afresh, not the one the last run left
@@ -190,19 +195,17 @@ def measure(repeat: int = 3) -> dict:
 
         def before(source):
             """A first frame's time before the dominant lights' own, and the pixels of the prefiltered image."""
-            sky_text = _SKY.format(method="split-sum").replace('"daylight"', json.dumps(source))
-            text = _scene(8, parts["diffuse"], sky_text)
+            text = _scene(8, parts["diffuse"], _sky("split-sum", source))
             pixels = 2 * prefilter_height(parse_scene(text, base_dir=folder).lights[0].environment) ** 2
             return out["render"] + out["prefilter"] + pixels * out["prefilter pixel"], pixels
 
-        timed = []
-        for source in ("daylight", sky_file):
-            base, pixels = before(source)
-            timed.append((pixels, max(_best(lambda s=source: first(parts["diffuse"], source=s), repeat) - base, 0.0)))
+        bases = {source: before(source) for source in ("daylight", sky_file)}
+        timed = [(pixels, max(_best(lambda s=source: first(parts["diffuse"], source=s), repeat) - base, 0.0))
+                 for source, (base, pixels) in bases.items()]  # fmt: skip
         (n0, t0), (n1, t1) = sorted(timed)
         out["dominant pixel"] = max((t1 - t0) / (n1 - n0), 0.0)
         out["dominant"] = max(t0 - out["dominant pixel"] * n0, 0.0)
-        base, pixels = before("daylight")
+        base, pixels = bases["daylight"]
         rough = iter(0.1 + 0.001 * k for k in range(1, 100))
         narrow = _best(lambda: first(parts["narrow"], next(rough)), repeat)
         out["dominant narrow table"] = max(narrow - base - out["dominant"] - pixels * out["dominant pixel"], 0.0)

@@ -258,7 +258,7 @@ def _size_phrases() -> dict[str, list[str]]:
     def image(side):
         return side**2 * (b.BYTES_PER_PIXEL + 2 * b.BYTES_PER_PIXEL_PER_OBJECT)
 
-    def _panorama_bytes(b, rows):
+    def _panorama_bytes(rows):
         """A ``2 rows × rows`` file's part of a scene's estimate under the dominant lights: prefiltered, and the
         dominant lights' own (reading the file is checked alone, before)."""
         px = 2 * rows * rows
@@ -286,7 +286,7 @@ def _size_phrases() -> dict[str, list[str]]:
             f"add {b.DOMINANT_BYTES // mib} MiB and {b.DOMINANT_BYTES_PER_PIXEL} bytes per pixel (`DOMINANT_BYTES`, "
             "`DOMINANT_BYTES_PER_PIXEL`:",
             # a 2048 × 1024 panorama under the default method fits the default budget
-            "or a 2048 × 1024 panorama" * (_panorama_bytes(b, 1024) <= default),
+            "or a 2048 × 1024 panorama" * (_panorama_bytes(1024) <= default),
             f"`width × height × ({b.BYTES_PER_PIXEL} + {b.BYTES_PER_PIXEL_PER_OBJECT} × objects)` bytes plus the "
             "meshes (`BYTES_PER_PIXEL`, `BYTES_PER_PIXEL_PER_OBJECT`)",
             f"counts {b.BYTES_PER_SAMPLE_EVALUATION} bytes (`BYTES_PER_SAMPLE_EVALUATION`)",
