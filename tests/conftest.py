@@ -28,6 +28,12 @@ if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
 # one drawn here).
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+# pytest keeps each test module with its assertions rewritten in __pycache__, and reads it back on the next run,
+# but writes nothing where the environment sets PYTHONDONTWRITEBYTECODE: every worker of every run would then parse
+# and rewrite the whole suite again, seconds of each worker's start.  The suite's own processes write those files
+# (and the checkout's compiled modules, as .ci/run's compileall does); the commands the tests start keep the setting.
+sys.dont_write_bytecode = False
+
 # Let tests import the sibling helper modules `quadrature` and `probes`.
 sys.path.insert(0, str(Path(__file__).parent))
 
