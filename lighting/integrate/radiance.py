@@ -168,9 +168,10 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
             return (val, *_terms(val, se, n_env, lo, hi), n_env)
         sampler = importance_sampler(brdf)
         s = sampler._sample(rng.random((bsz, n_env, 2)), vv)
-        gb = integrand(s.directions)
+        # The environment's radiance and density at the BRDF's samples, from one turn of them into the world.
+        radiance_b, pe_b = env._radiance_and_pdf(_to_world(s.directions, t, b, n))
+        gb = _f_cos(brdf, s.directions, np.broadcast_to(vv, s.directions.shape)) * radiance_b
         pb_e = sampler._pdf(le, vv)  # BRDF density at the environment's samples
-        pe_b = env_pdf(s.directions)
         # Two-sample balance heuristic with equal counts: each pair contributes g/(p_b + p_e) twice.
         wa, wb = _ratio(ge, pe + pb_e), _ratio(gb, s.pdf + pe_b)
         val, se = _mean_err(wa + wb, axis=1)

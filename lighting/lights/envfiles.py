@@ -226,6 +226,10 @@ class TransformedEnvironment(Environment):
     def _pdf(self, d):
         return self.base._pdf(self.to_base(d))
 
+    def _radiance_and_pdf(self, d):
+        radiance, pdf = self.base._radiance_and_pdf(self.to_base(d))
+        return radiance * self._scale, pdf
+
 
 # --------------------------------------------------------------------------- one loader
 def _downsample(img: np.ndarray, height: int, name: str) -> np.ndarray:

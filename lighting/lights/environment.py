@@ -232,6 +232,11 @@ class Environment:
     def _pdf(self, d):
         return np.full(d.shape[:-1], _INV_4PI)
 
+    def _radiance_and_pdf(self, d):
+        """``(_radiance(d), _pdf(d))``: what multiple importance sampling asks of the directions a BRDF drew; a
+        subclass that finds both from one computation (the lat-long image's angles) does it once."""
+        return self._radiance(d), self._pdf(d)
+
 
 class ConstantEnvironment(Environment):
     r"""The same radiance ``L`` from every direction (the white furnace when ``L = 1``).
@@ -434,10 +439,18 @@ class LatLongEnvironment(Environment):
         # The density at the direction as pdf() finds it: bit for bit the same for a caller's pdf(d).
         return d, self._pdf(d)
 
-    def _pdf(self, d):
+    def _pdf(self, d, angles=None):
         h, w = self.height, self.width
-        q, s, fz, fa = _cell_of(d, h, w)
+        q, s, fz, fa = _cell_of(d, h, w, angles)
         return self._density[q * (2 * w) + s] * _bilinear_shape(_corner_values(self._corners, q, s), fz, fa)
+
+    def _radiance_and_pdf(self, d):
+        cls = type(self)
+        if cls._radiance is not LatLongEnvironment._radiance or cls._pdf is not LatLongEnvironment._pdf:
+            return super()._radiance_and_pdf(d)  # a subclass reads or samples its own way
+        # The image's lookup and the sampler's cells both start from the directions' lat-long angles.
+        angles = latlong_angles(d)
+        return latlong_lookup(self._flat, self.height, self.width, d, angles=angles), self._pdf(d, angles)
 
 
 class FunctionEnvironment(Environment):

@@ -208,10 +208,10 @@ def _cell_direction(q, s, fz, fa, h: int, w: int) -> np.ndarray:
     return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
 
 
-def _cell_of(d, h: int, w: int):
+def _cell_of(d, h: int, w: int, angles=None):
     """The half-pixel cell ``(q, s)`` of directions ``d`` ``(..., 3)`` and the fractions ``(fz, fa)`` across it
-    (the inverse of :func:`_cell_direction`)."""
-    theta, a = latlong_angles(d)
+    (the inverse of :func:`_cell_direction`); ``angles``: :func:`latlong_angles` of ``d``, when the caller has them."""
+    theta, a = latlong_angles(d) if angles is None else angles
     half = math.pi / (2 * h)
     q = np.clip(np.floor(theta * (2 * h / math.pi)).astype(np.int64), 0, 2 * h - 1)
     xa = a * (w / math.pi)

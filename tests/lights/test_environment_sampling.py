@@ -368,3 +368,23 @@ def test_the_sampling_tables_are_made_on_first_use_and_the_same_as_made_before()
     assert np.array_equal(d2, d) and np.array_equal(p2, p)
     with pytest.raises(AttributeError, match="no attribute '_nothing'"):
         env._nothing  # noqa: B018
+
+
+def test_radiance_and_density_read_together_are_each_read_alone_bit_for_bit():
+    # Multiple importance sampling asks the environment for both at the directions a BRDF drew; a lat-long map
+    # finds both from one set of angles, a turned one turns the directions once. A subclass with its own density
+    # (the replaced sampler above) is asked for its own.
+    from lighting.lights.envfiles import TransformedEnvironment
+    from lighting.lights.environment import ConstantEnvironment, FunctionEnvironment
+
+    img = _sunny_image()
+    d = np.random.default_rng(5).normal(size=(400, 3))
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    envs = [LatLongEnvironment(img), _DilatedPixels(img), ConstantEnvironment(0.5),
+            FunctionEnvironment(lambda x: 1.0 + x[..., 2]), TransformedEnvironment(LatLongEnvironment(img), 2.0, 40.0),
+            TransformedEnvironment(_DilatedPixels(img), 0.5, -15.0)]  # fmt: skip
+    for env in envs:
+        radiance, density = env._radiance_and_pdf(d)
+        assert np.array_equal(radiance, env._radiance(d)) and np.array_equal(density, env._pdf(d)), env
+    dilated = _DilatedPixels(img)
+    assert not np.array_equal(dilated._radiance_and_pdf(d)[1], LatLongEnvironment(img)._pdf(d))
