@@ -81,7 +81,8 @@ def test_bench_ibl_json_line_is_consistent(capsys, monkeypatch):
     # The targets the bench holds the image-based lighting to, and the sphere's pixel count as the renderer
     # covers it.
     assert r["targets"] == {"ibl_reshade_ms": 50.0, "ibl_dominant_ms": 50.0, "ibl_dominant_studio_ms": 50.0,
-                            "ibl_dominant_sun_ms": 50.0, "ibl_prefilter_ms": 300.0, "ibl_mc64_ms": 5000.0}
+                            "ibl_dominant_sun_ms": 50.0, "ibl_dominant_narrow_ms": 50.0, "ibl_prefilter_ms": 300.0,
+                            "ibl_mc64_ms": 5000.0}
     assert r["size"] == 32
     assert r["pixels"] == int(Renderer(AnalyticSphere(), sphere_camera(32)).gbuffer.coverage.sum())
     table = bench.format_ibl(r)
