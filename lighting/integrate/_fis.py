@@ -31,8 +31,14 @@ TABLE_STEP = math.radians(0.5)
 TABLE_ANGLES = np.arange(0.0, math.radians(89.75), TABLE_STEP)
 #: View azimuths of the half-vector weight tables (a pixel reads the nearest).
 AZIMUTHS = 64
-#: Pixel-samples (pixels times samples) per block: the block's float32 arrays stay within the processor's cache.
-_BLOCK = 1 << 13
+#: Pixel-samples (pixels times samples) per block: enough that each of a block's NumPy passes outlasts the Python
+#: between them, so that the shading threads run side by side (blocks a quarter of this size spend most of a
+#: re-shade waiting on each other for the interpreter), few enough that its arrays stay in the processor's caches.
+#: ``lighting-explorer bench --ibl`` measures it: the rows pixel by pixel and of the narrow lobe.
+_BLOCK = 1 << 15
+#: Bytes of a block's arrays at their peak (its directions, levels and weights, and each of the four taps' index,
+#: weight and texels of two levels): about 640 per pixel-sample, traced; this with a margin.
+BLOCK_BYTES = 704 * _BLOCK
 #: The sample tables of the parts met last.
 _tables = Recent(64)
 #: View angles of a half-vector table evaluated at once (:func:`half_table`).

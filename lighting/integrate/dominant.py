@@ -63,9 +63,10 @@ from .._validate import check_bool, check_count, check_vectors
 from ..models.base import BRDFFlags
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
+from ..shading.batch import _threads
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
-from ._fis import LevelStack, half_vector_mean, view_table_mean
+from ._fis import BLOCK_BYTES, LevelStack, half_vector_mean, view_table_mean
 from ._normalgrid import GRID_SHARE, NormalGrid, grid_points, grid_spacing
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
@@ -557,8 +558,8 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     dt = working_dtype(n, v)
     shape = np.broadcast_shapes(n.shape, v.shape)
     pixels = math.prod(shape) // 3
-    # The filtered samples are read a block of pixels at a time (lighting.integrate._fis): the memory of a block.
-    check_budget("normals", pixels * 512 + (1 << 15) * 256, what=f"{pixels} pixels at {samples} samples")
+    # The filtered samples are read a block of pixels at a time (lighting.integrate._fis), a block per shading thread.
+    check_budget("normals", pixels * 512 + _threads() * BLOCK_BYTES, what=f"{pixels} pixels at {samples} samples")
     n = np.broadcast_to(n, shape).reshape(-1, 3).astype(dt, copy=False)
     v = np.broadcast_to(v, shape).reshape(-1, 3).astype(dt, copy=False)
     cos_v = np.einsum("ij,ij->i", n, v)

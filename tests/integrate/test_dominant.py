@@ -289,3 +289,28 @@ def test_the_cells_table_gives_the_models_own_sum_over_the_cells(part):
     front = np.sum(n * v, -1) > 0.2
     assert np.median(rel) < 0.002 and np.percentile(rel, 99) < 0.03, (np.median(rel), np.percentile(rel, 99))
     assert np.percentile(rel[front], 99) < 0.01 and rel[front].max() < 0.05
+
+
+def test_a_block_of_filtered_samples_stays_within_its_share_of_the_memory_estimate(disk_pre):
+    # One block of a narrow lobe's filtered samples (512 pixels at 64 samples, one shading thread): traced, under
+    # the bytes dominant_radiance's budget sets aside per thread, and not far under them.
+    import tracemalloc
+
+    from lighting.integrate._fis import _BLOCK, BLOCK_BYTES
+
+    pre = disk_pre
+    model = CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")
+    rng = np.random.default_rng(4)
+    n = rng.normal(size=(_BLOCK // 64, 3))
+    n[:, 2] = np.abs(n[:, 2]) + 0.2
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    v = np.broadcast_to(np.array([0.0, 0.6, 0.8]), n.shape)
+    n32, v32 = n.astype(np.float32), v.astype(np.float32)
+    dominant_radiance(model, pre, n32, v32, normal_grid=False)  # the tables, once
+    tracemalloc.start()
+    try:
+        dominant_radiance(model, pre, n32, v32, normal_grid=False)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert BLOCK_BYTES / 2 < peak < n.shape[0] * 512 + BLOCK_BYTES, (peak, BLOCK_BYTES)
