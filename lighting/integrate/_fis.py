@@ -36,6 +36,10 @@ AZIMUTHS = 64
 #: re-shade waiting on each other for the interpreter), few enough that its arrays stay in the processor's caches.
 #: ``lighting-explorer bench --ibl`` measures it: the rows pixel by pixel and of the narrow lobe.
 _BLOCK = 1 << 15
+#: Pixels per block of a re-shade that computes each pixel on its own (:func:`in_blocks`): its arrays of a few
+#: values per pixel stay in the processor's caches, and each thread takes several blocks of a large image.  A
+#: multiple of 64, so that every pixel gets the bits of one pass over the whole image.
+PIXEL_BLOCK = 1 << 15
 #: Bytes of a block's arrays at their peak (its directions, levels and weights, and each of the four taps' index,
 #: weight and texels of two levels): about 640 per pixel-sample, traced; this with a margin.
 BLOCK_BYTES = 704 * _BLOCK
@@ -220,16 +224,21 @@ def view_table_mean(part, stack, n, v, cos_v, samples, sigmas):
 def in_blocks(count: int, step: int, fn) -> None:
     """``fn(rows)`` for consecutive slices of ``step`` of ``count`` rows; each shading thread takes a run of them.
 
-    The blocks write disjoint rows: the result does not depend on which thread computed which block.
+    The blocks start at the multiples of ``step`` whatever the number of threads, and each is a thread's worth of
+    work however few its rows (a grid's few thousand points, each with dozens of samples or cells): every thread
+    gets a run of blocks as soon as there are two.  The blocks write disjoint rows, so the result does not depend
+    on which thread computed which block; a multiple of 64 rows per block also gives each row the bits that one
+    call over every row would (BLAS's products treat rows in groups).
     """
     from ..shading.batch import each_chunk
 
-    def run(rows):
-        start, stop, _ = rows.indices(count)
-        for i in range(start, stop, step):
-            fn(slice(i, min(i + step, stop)))
+    starts = range(0, count, step)
 
-    each_chunk(count, run)
+    def run(blocks):
+        for i in starts[blocks]:
+            fn(slice(i, min(i + step, count)))
+
+    each_chunk(len(starts), run, min_rows=1)
 
 
 def _turn(lx, ly, lz, tc, bc, nc):

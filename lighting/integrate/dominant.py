@@ -66,7 +66,7 @@ from ..sampling.brdf import _check_brdf
 from ..shading.batch import _threads
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
-from ._fis import BLOCK_BYTES, LevelStack, half_vector_mean, view_table_mean
+from ._fis import BLOCK_BYTES, PIXEL_BLOCK, LevelStack, half_vector_mean, in_blocks, view_table_mean
 from ._normalgrid import GRID_SHARE, NormalGrid, grid_points, grid_spacing
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
@@ -605,7 +605,6 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     grid = _grid_for(sigmas, normal_grid, n.shape[0], vb)
     # Pixel by pixel the terms add up in float64; read from the grid (float32 already), in the pixels' dtype.
     work = np.float64 if grid is None else dt
-    theta_v = np.arccos(np.clip(cos_v.astype(work), 0.0, 1.0))
     # What a lobe blurs, per part: the diffuse parts' irradiance E(n)/π (RGB, one for all of them); a glossy part's
     # areas of light and residual mean (6 channels, :func:`_glossy_terms`).  On the grid when there is one: each
     # part's channels made at its points (a glossy part's dominant lights added to its areas'), then all of them read
@@ -633,26 +632,37 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
             blurred[i] = _glossy_terms(part, sigma, dom, nb, vb, cos_v, 2 * cos_v[:, None] * nb - vb, samples)
     if on_grid:
         stacked = np.concatenate([value.astype(np.float32) for value in on_grid.values()], axis=-1)
-        read = grid.interpolate(stacked.reshape(grid.rows + 1, grid.cols, -1), nb)
-        start = 0
-        for key, value in on_grid.items():
-            blurred[key] = read[:, start : start + value.shape[-1]]
-            start += value.shape[-1]
+        stacked = stacked.reshape(grid.rows + 1, grid.cols, -1)
     if work is not np.float64:
         diffuse, specular = diffuse.astype(work), specular.astype(work)
-    for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
-        value = np.zeros(n.shape, dtype=work)
-        if len(dom.lights) and (math.isinf(sigma) or i not in on_grid):  # else the grid holds them
-            value += _light_term(part, dom.lights, nb, vb, dt, sigma, work)
-        table = lobe_albedo(part)
-        # A constant albedo (Lambert's k_d) is what the interpolation would give at every angle, exactly.
-        rho = table[0].astype(work) if np.all(table == table[0]) else _albedo_at(table, theta_v, work)
-        if math.isinf(sigma):
-            value += rho * blurred["irradiance"]
-        else:
-            value += blurred[i][:, :3]
-            value += rho * blurred[i][:, 3:]
-        (diffuse if math.isinf(sigma) else specular)[:] += value * scale.astype(work)
+    albedos = [lobe_albedo(part) for part in parts]
+
+    def finish(rows):
+        """The pixels ``rows``: the grid's terms read, the dominant lights shaded, each lobe weighted by its albedo."""
+        here = {key: value[rows] for key, value in blurred.items()}
+        if on_grid:
+            read = grid.interpolate(stacked, nb[rows])
+            start = 0
+            for key, value in on_grid.items():
+                here[key] = read[:, start : start + value.shape[-1]]
+                start += value.shape[-1]
+        theta_v = np.arccos(np.clip(cos_v[rows].astype(work), 0.0, 1.0))
+        dif, spec = diffuse[rows], specular[rows]
+        for i, (part, sigma, table) in enumerate(zip(parts, sigmas, albedos, strict=True)):
+            value = np.zeros(dif.shape, dtype=work)
+            if len(dom.lights) and (math.isinf(sigma) or i not in on_grid):  # else the grid holds them
+                value += _light_term(part, dom.lights, nb[rows], vb[rows], dt, sigma, work)
+            # A constant albedo (Lambert's k_d) is what the interpolation would give at every angle, exactly.
+            rho = table[0].astype(work) if np.all(table == table[0]) else _albedo_at(table, theta_v, work)
+            if math.isinf(sigma):
+                value += rho * here["irradiance"]
+            else:
+                value += here[i][:, :3]
+                value += rho * here[i][:, 3:]
+            (dif if math.isinf(sigma) else spec)[:] += value * scale.astype(work)
+
+    # Every pixel on its own from here: blocks of pixels that stay in the processor's caches, on the shading threads.
+    in_blocks(n.shape[0], PIXEL_BLOCK, finish)
     return {"diffuse": diffuse, "specular": specular}
 
 

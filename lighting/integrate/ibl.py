@@ -56,6 +56,7 @@ from ..lights.environment import as_environment
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
 from ._delta import delta_albedo, delta_radiance, split_delta
+from ._fis import PIXEL_BLOCK, in_blocks
 from .prefilter import PrefilteredEnvironment, kernel_of_lobe, prefilter_environment
 from .radiance import _frames, _radiance_batch, _to_world
 
@@ -200,29 +201,39 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
     check_budget("normals", math.prod(shape) * np.dtype(dt).itemsize * 12, what=f"{math.prod(shape) // 3} pixels")
     n = np.broadcast_to(n, shape).reshape(-1, 3).astype(dt, copy=False)
     v = np.broadcast_to(v, shape).reshape(-1, 3).astype(dt, copy=False)
-    cos_v = np.einsum("ij,ij->i", n, v)
-    seen = cos_v > 0
-    r = 2 * cos_v[:, None] * n - v
     diffuse = np.zeros(n.shape, dtype=dt)
     specular = np.zeros(n.shape, dtype=dt)
     smooth, deltas = split_delta(brdf)
-    if deltas:
-        reflectance = delta_albedo(deltas, np.clip(cos_v, 0, 1).astype(np.float64)).astype(dt)
-        specular += reflectance * pre._lookup(r, 0.0, "mirror")
-    irradiance = None
-    theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
+    # What every pixel reads of a part, made once before the blocks: its lobe's width and kernel, its albedo table.
+    lobes = []
     for part in () if smooth is None else smooth.parts:
         lobe = part.lobe()
-        sigma = lobe_sigma(lobe)
-        rho = _albedo_at(lobe_albedo(part), theta_v, dt)
-        if math.isinf(sigma):
-            if irradiance is None:
-                irradiance = pre._irradiance_sh(n) * np.asarray(1 / math.pi, dtype=dt)
-            diffuse += rho * irradiance
-        else:
-            specular += rho * pre._lookup(r, min(sigma, pre.sigmas[-1]), kernel_of_lobe(lobe))
-    diffuse[~seen] = 0
-    specular[~seen] = 0
+        lobes.append((lobe_sigma(lobe), kernel_of_lobe(lobe), lobe_albedo(part)))
+
+    def block(rows):
+        nn, vv = n[rows], v[rows]
+        cos_v = np.einsum("ij,ij->i", nn, vv)
+        r = 2 * cos_v[:, None] * nn - vv
+        dif, spec = diffuse[rows], specular[rows]
+        if deltas:
+            reflectance = delta_albedo(deltas, np.clip(cos_v, 0, 1).astype(np.float64)).astype(dt)
+            spec += reflectance * pre._lookup(r, 0.0, "mirror")
+        irradiance = None
+        theta_v = np.arccos(np.clip(cos_v.astype(np.float64), 0.0, 1.0))
+        for sigma, kernel, table in lobes:
+            rho = _albedo_at(table, theta_v, dt)
+            if math.isinf(sigma):
+                if irradiance is None:
+                    irradiance = pre._irradiance_sh(nn) * np.asarray(1 / math.pi, dtype=dt)
+                dif += rho * irradiance
+            else:
+                spec += rho * pre._lookup(r, min(sigma, pre.sigmas[-1]), kernel)
+        unseen = ~(cos_v > 0)
+        dif[unseen] = 0
+        spec[unseen] = 0
+
+    # Every pixel on its own: blocks of pixels that stay in the processor's caches, on the shading threads.
+    in_blocks(n.shape[0], PIXEL_BLOCK, block)
     out_shape = shape[:-1] + (3,)
     if split_terms:
         return {"diffuse": diffuse.reshape(out_shape), "specular": specular.reshape(out_shape)}

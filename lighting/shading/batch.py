@@ -17,6 +17,7 @@ Models are consumed only through that protocol: nothing here asks which class a 
 from __future__ import annotations
 
 import os
+import threading
 
 import numpy as np
 
@@ -410,6 +411,8 @@ def shade_prepared_into(sink, points, unit_normals, view, material, lights, *, e
 
 
 _MIN_ROWS_PER_THREAD = 32768
+#: The names of the shading threads begin so.
+_THREAD_PREFIX = "lighting-shade"
 _POOL = None
 
 
@@ -446,6 +449,11 @@ def each_chunk(n_rows: int, fn, *, min_rows: int | None = None) -> None:
     if len(chunks) == 1:
         fn(chunks[0])
         return
+    if threading.current_thread().name.startswith(_THREAD_PREFIX):
+        # Called from a shading thread: the pool's threads may all be waiting here, none left to run the chunks.
+        for chunk in chunks:
+            fn(chunk)
+        return
     for _ in _pool().map(fn, chunks):
         pass
 
@@ -455,5 +463,5 @@ def _pool():
     if _POOL is None:
         from concurrent.futures import ThreadPoolExecutor
 
-        _POOL = ThreadPoolExecutor(max_workers=_threads(), thread_name_prefix="lighting-shade")
+        _POOL = ThreadPoolExecutor(max_workers=_threads(), thread_name_prefix=_THREAD_PREFIX)
     return _POOL

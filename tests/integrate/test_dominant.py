@@ -314,3 +314,37 @@ def test_a_block_of_filtered_samples_stays_within_its_share_of_the_memory_estima
     finally:
         tracemalloc.stop()
     assert BLOCK_BYTES / 2 < peak < n.shape[0] * 512 + BLOCK_BYTES, (peak, BLOCK_BYTES)
+
+
+def test_blocks_and_threads_change_no_pixel(disk_pre, monkeypatch):
+    # Both fast methods compute each pixel on its own: in blocks of any multiple of 64 pixels, on any number of
+    # threads, the same values bit for bit (on the grid of normals and pixel by pixel, float32 and float64, with a
+    # mirror part).
+    import lighting.integrate.dominant as dominant_module
+    import lighting.integrate.ibl as ibl_module
+    import lighting.shading.batch as batch
+    from lighting.models.mirror import Mirror
+
+    models = [Lambert(0.3) + CookTorrance(1.0, 0.3, 1.0, ndf="ggx"), Lambert(0.2) + Mirror(),
+              CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")]  # fmt: skip
+    g = np.linspace(-0.95, 0.95, 60)
+    x, y = (c[np.add.outer(g * g, g * g) < 0.95] for c in np.meshgrid(g, g, indexing="ij"))
+    n = np.stack([x, y, np.sqrt(1 - x * x - y * y)], axis=-1)
+    v = np.broadcast_to(np.array([0.0, 0.0, 1.0]), n.shape)
+
+    def images():
+        out = []
+        for m in models:
+            for dt in (np.float32, np.float64):
+                nd, vd = n.astype(dt), v.astype(dt)
+                out += [split_sum_radiance(m, disk_pre, nd, vd), dominant_radiance(m, disk_pre, nd, vd),
+                        dominant_radiance(m, disk_pre, nd, vd, normal_grid=False)]  # fmt: skip
+        return out
+
+    whole = images()
+    monkeypatch.setattr(ibl_module, "PIXEL_BLOCK", 128)
+    monkeypatch.setattr(dominant_module, "PIXEL_BLOCK", 128)
+    monkeypatch.setattr(batch, "_MIN_ROWS_PER_THREAD", 50)
+    monkeypatch.setattr(batch, "_threads", lambda: 3)
+    for blocked, one in zip(images(), whole, strict=True):
+        assert blocked.dtype == one.dtype and np.array_equal(blocked, one)

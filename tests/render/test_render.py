@@ -323,3 +323,28 @@ def test_face_viewer_turns_silhouette_normals_toward_the_eye_and_nothing_else():
     # n = −v exactly has no plane to turn in: the normal becomes v.
     np.testing.assert_array_equal(face_toward(np.array([[0.0, 0.0, -1.0]]), np.array([0.0, 0.0, 1.0])),
                                   [[0.0, 0.0, 1.0]])  # fmt: skip
+
+
+def test_a_shading_thread_that_asks_for_chunks_computes_them_itself(monkeypatch):
+    """Work split into chunks from within a shading thread runs in that thread, every row once: handed to the pool
+    that thread belongs to, it would wait forever once every thread of the pool waits so."""
+    import threading
+
+    import lighting.shading.batch as il
+
+    monkeypatch.setattr(il, "_MIN_ROWS_PER_THREAD", 10)
+    seen = np.zeros(1000, dtype=int)
+    where = set()
+
+    def mark(rows):
+        seen[rows] += 1
+        where.add(threading.current_thread().name)
+
+    inner = threading.Thread(target=il.each_chunk, args=(1000, mark), name=il._THREAD_PREFIX + "_inner")
+    inner.start()
+    inner.join(timeout=20)
+    assert where == {inner.name} and np.all(seen == 1)
+    where.clear()
+    il.each_chunk(1000, mark)  # from any other thread: on the pool's threads
+    assert where and all(name.startswith(il._THREAD_PREFIX + "_") and name != inner.name for name in where)
+    assert np.all(seen == 2)
