@@ -18,7 +18,7 @@ import numpy as np
 
 from .._recent import Recent
 from ..models.base import BRDFFlags
-from ._fis import in_blocks
+from ..shading.batch import in_blocks
 
 #: Rows of the cosine-weighted BRDF table in ``θ_v`` (0 to :data:`VIEW_LIMIT`) and ``θ_l`` (0 to 90°), each evenly
 #: spaced, and in ``cos(φ/2)`` (1 to 0: ``φ`` from 0 to 180°).

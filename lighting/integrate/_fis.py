@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 from .._recent import Recent
+from ..shading.batch import in_blocks
 
 #: ``c_σ``: a sample's blur width relative to the width ``√(Ω_s / 2π)`` of its share ``Ω_s = 1/(N p)`` of the lobe.
 FILTER_SCALE = 0.8
@@ -36,10 +37,6 @@ AZIMUTHS = 64
 #: re-shade waiting on each other for the interpreter), few enough that its arrays stay in the processor's caches.
 #: ``lighting-explorer bench --ibl`` measures it: the rows pixel by pixel and of the narrow lobe.
 _BLOCK = 1 << 15
-#: Pixels per block of a re-shade that computes each pixel on its own (:func:`in_blocks`): its arrays of a few
-#: values per pixel stay in the processor's caches, and each thread takes several blocks of a large image.  A
-#: multiple of 64, so that every pixel gets the bits of one pass over the whole image.
-PIXEL_BLOCK = 1 << 15
 #: Bytes of a block's arrays at their peak (its directions, levels and weights, and each of the four taps' index,
 #: weight and texels of two levels): about 640 per pixel-sample, traced; this with a margin.
 BLOCK_BYTES = 704 * _BLOCK
@@ -219,26 +216,6 @@ def view_table_mean(part, stack, n, v, cos_v, samples, sigmas):
 
     in_blocks(n.shape[0], max(1, _BLOCK // samples), block)
     return out, w[m].sum(axis=-1) > 0
-
-
-def in_blocks(count: int, step: int, fn) -> None:
-    """``fn(rows)`` for consecutive slices of ``step`` of ``count`` rows; each shading thread takes a run of them.
-
-    The blocks start at the multiples of ``step`` whatever the number of threads, and each is a thread's worth of
-    work however few its rows (a grid's few thousand points, each with dozens of samples or cells): every thread
-    gets a run of blocks as soon as there are two.  The blocks write disjoint rows, so the result does not depend
-    on which thread computed which block; a multiple of 64 rows per block also gives each row the bits that one
-    call over every row would (BLAS's products treat rows in groups).
-    """
-    from ..shading.batch import each_chunk
-
-    starts = range(0, count, step)
-
-    def run(blocks):
-        for i in starts[blocks]:
-            fn(slice(i, min(i + step, count)))
-
-    each_chunk(len(starts), run, min_rows=1)
 
 
 def _turn(lx, ly, lz, tc, bc, nc):

@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 
+from ..shading.batch import in_blocks
+
 #: Grid rows per lobe width ``σ``.
 GRID_DENSITY = 6
 #: The coarsest grid spacing (radians), whatever the lobe's width: the cells' horizon and grazing views.
@@ -86,8 +88,6 @@ class NormalGrid:
 
         The normals face the view (``n·v >= 0``); float32 throughout.
         """
-        from ._fis import in_blocks
-
         k = values.shape[-1]
         # Each grid point's K values as one item, so that a tap is one gather of 4 K bytes.
         texels = np.ascontiguousarray(values, dtype=np.float32).reshape(-1, k).view(np.dtype((np.void, 4 * k)))[:, 0]

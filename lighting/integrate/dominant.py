@@ -63,10 +63,10 @@ from .._validate import check_bool, check_count, check_vectors
 from ..models.base import BRDFFlags
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
-from ..shading.batch import _threads
+from ..shading.batch import PIXEL_BLOCK, _threads, in_blocks
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
-from ._fis import BLOCK_BYTES, PIXEL_BLOCK, LevelStack, half_vector_mean, in_blocks, view_table_mean
+from ._fis import BLOCK_BYTES, LevelStack, half_vector_mean, view_table_mean
 from ._normalgrid import GRID_SHARE, NormalGrid, grid_points, grid_spacing
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe

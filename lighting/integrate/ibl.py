@@ -55,8 +55,8 @@ from .._validate import ArgumentTypeError, check_count, check_vectors
 from ..lights.environment import as_environment
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
+from ..shading.batch import PIXEL_BLOCK, in_blocks
 from ._delta import delta_albedo, delta_radiance, split_delta
-from ._fis import PIXEL_BLOCK, in_blocks
 from .prefilter import PrefilteredEnvironment, kernel_of_lobe, prefilter_environment
 from .radiance import _frames, _radiance_batch, _to_world
 

@@ -110,9 +110,11 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
     bsz = n.shape[0]
     vv = vl[:, None, :]
 
+    def cosine_brdf(l_local):
+        return _f_cos(brdf, l_local, np.broadcast_to(vv, l_local.shape))
+
     def integrand(l_local):
-        f = _f_cos(brdf, l_local, np.broadcast_to(vv, l_local.shape))
-        return f * env._radiance(_to_world(l_local, t, b, n))
+        return cosine_brdf(l_local) * env._radiance(_to_world(l_local, t, b, n))
 
     if method == "quadrature":
         if env.support is not None:
@@ -170,7 +172,7 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
         s = sampler._sample(rng.random((bsz, n_env, 2)), vv)
         # The environment's radiance and density at the BRDF's samples, from one turn of them into the world.
         radiance_b, pe_b = env._radiance_and_pdf(_to_world(s.directions, t, b, n))
-        gb = _f_cos(brdf, s.directions, np.broadcast_to(vv, s.directions.shape)) * radiance_b
+        gb = cosine_brdf(s.directions) * radiance_b  # the integrand, its radiance read with the density
         pb_e = sampler._pdf(le, vv)  # BRDF density at the environment's samples
         # Two-sample balance heuristic with equal counts: each pair contributes g/(p_b + p_e) twice.
         wa, wb = _ratio(ge, pe + pb_e), _ratio(gb, s.pdf + pe_b)

@@ -411,6 +411,10 @@ def shade_prepared_into(sink, points, unit_normals, view, material, lights, *, e
 
 
 _MIN_ROWS_PER_THREAD = 32768
+#: Pixels per block of a re-shade that computes each pixel on its own (:func:`in_blocks`): its arrays of a few
+#: values per pixel stay in the processor's caches, and each thread takes several blocks of a large image.  A
+#: multiple of 64, so that every pixel gets the bits of one pass over the whole image.
+PIXEL_BLOCK = 1 << 15
 #: The names of the shading threads begin so.
 _THREAD_PREFIX = "lighting-shade"
 _POOL = None
@@ -456,6 +460,24 @@ def each_chunk(n_rows: int, fn, *, min_rows: int | None = None) -> None:
         return
     for _ in _pool().map(fn, chunks):
         pass
+
+
+def in_blocks(count: int, step: int, fn) -> None:
+    """``fn(rows)`` for consecutive slices of ``step`` of ``count`` rows; each shading thread takes a run of them.
+
+    The blocks start at the multiples of ``step`` whatever the number of threads, and each is a thread's worth of
+    work however few its rows (a grid's few thousand points, each with dozens of samples or cells): every thread
+    gets a run of blocks as soon as there are two.  The blocks write disjoint rows, so the result does not depend
+    on which thread computed which block; a multiple of 64 rows per block also gives each row the bits that one
+    call over every row would (BLAS's products treat rows in groups).
+    """
+    starts = range(0, count, step)
+
+    def run(blocks):
+        for i in starts[blocks]:
+            fn(slice(i, min(i + step, count)))
+
+    each_chunk(len(starts), run, min_rows=1)
 
 
 def _pool():

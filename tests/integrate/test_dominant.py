@@ -324,13 +324,11 @@ def test_blocks_and_threads_change_no_pixel(disk_pre, monkeypatch):
     import lighting.integrate.ibl as ibl_module
     import lighting.shading.batch as batch
     from lighting.models.mirror import Mirror
+    from lighting.validation.accuracy import ibl_sphere
 
     models = [Lambert(0.3) + CookTorrance(1.0, 0.3, 1.0, ndf="ggx"), Lambert(0.2) + Mirror(),
               CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")]  # fmt: skip
-    g = np.linspace(-0.95, 0.95, 36)  # 1,000 pixels: eight blocks of 128
-    x, y = (c[np.add.outer(g * g, g * g) < 0.95] for c in np.meshgrid(g, g, indexing="ij"))
-    n = np.stack([x, y, np.sqrt(1 - x * x - y * y)], axis=-1)
-    v = np.broadcast_to(np.array([0.0, 0.0, 1.0]), n.shape)
+    _, n, v = ibl_sphere(36)  # 872 pixels of one view: seven blocks of 128
 
     def images():
         out = []
