@@ -15,7 +15,7 @@ events back onto it (:meth:`ExplorerWindow.apply`); the views' data come from
 here computes lighting.  While a slider is dragged only the engine's images follow
 (:data:`~explorer.app.views.LIVE_VIEWS`); the lobe and the plots follow on release, or once the slider
 rests.  Keys are ``QAction`` shortcuts whose view updates are coalesced: a burst of key presses costs one
-update.  The Monte-Carlo reference refines on a ``QTimer`` while the view rests.
+update.  The Monte-Carlo reference refines on a ``QTimer`` once the views have rested :data:`IDLE_MS`.
 """
 
 from __future__ import annotations
@@ -41,7 +41,8 @@ __all__ = ["ExplorerWindow", "DEFAULT_WINDOW_SIZE", "IDLE_MS", "REFINE_MS", "REF
 
 #: A slider that rests this long (ms) while held counts as released: the plots follow.
 IDLE_MS = 150
-#: The Monte-Carlo reference refines on a timer of this period (ms) while the view rests ...
+#: The Monte-Carlo reference refines on a timer of this period (ms) while the views rest (from IDLE_MS after their
+#: last change) ...
 REFINE_MS = 10
 #: ... spending at most this many seconds a tick.
 REFINE_BUDGET = 0.04
@@ -118,6 +119,10 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         self._refine_timer = QtCore.QTimer(self)
         self._refine_timer.setInterval(REFINE_MS)
         self._refine_timer.timeout.connect(self.refine_tick)
+        # The reference's ticks begin once the views have rested IDLE_MS after their last change: a burst of keys
+        # or clicks spends nothing on passes that its next event would discard.
+        self._rest_timer = _single_shot(self, IDLE_MS, self._start_ticks)
+        self._ticking = False
         self.resize(*window_size)
         self.refresh()
         if self.state.environment != "none":  # started under a sky: its exposure, as a switch would choose it
@@ -570,13 +575,22 @@ class ExplorerWindow(QtWidgets.QMainWindow):
     # ------------------------------------------------------------------ the Monte-Carlo reference
     def _update_refinement(self) -> None:
         refining = bool(getattr(self.model, "refining", False))
-        if refining and not self._refine_timer.isActive():
-            self._refine_timer.start()
-        elif not refining:
+        if not refining:
+            self._rest_timer.stop()
             self._refine_timer.stop()
+        elif self._ticking:  # the reference's own new image: its ticks go on
+            if not self._refine_timer.isActive():
+                self._refine_timer.start()
+        else:  # the views changed: the ticks wait until they rest again
+            self._refine_timer.stop()
+            self._rest_timer.start()
         caption = self.model.refine_caption() if hasattr(self.model, "refine_caption") else ""
         self.refine_label.setText(caption)
         self.refine_label.setToolTip(caption)
+
+    def _start_ticks(self) -> None:
+        if getattr(self.model, "refining", False):
+            self._refine_timer.start()
 
     def refine_tick(self, budget: float = REFINE_BUDGET) -> set[str]:
         """One step of the Monte-Carlo reference (the timer's tick): more samples, the images shown.
@@ -586,11 +600,15 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         set of str
             The views that changed.
         """
-        views = self.model.refine(budget)
-        if views:
-            self._show(views)
-        else:
-            self._update_refinement()
+        self._ticking = True
+        try:
+            views = self.model.refine(budget)
+            if views:
+                self._show(views)
+            else:
+                self._update_refinement()
+        finally:
+            self._ticking = False
         return views
 
     # ------------------------------------------------------------------ pictures
@@ -681,6 +699,7 @@ class ExplorerWindow(QtWidgets.QMainWindow):
         return paths
 
     def closeEvent(self, event):  # noqa: N802 - Qt's name
+        self._rest_timer.stop()
         self._refine_timer.stop()
         self._update_timer.stop()
         self._idle_timer.stop()

@@ -93,7 +93,12 @@ def _view_local(theta: np.ndarray) -> np.ndarray:
     return np.stack([np.sin(theta), np.zeros_like(theta), c], axis=-1)
 
 
-def _quad_albedo(brdf: BRDF, v: np.ndarray, samples: int):
+def _quad_albedo(brdf: BRDF, v: np.ndarray, samples: int, want_error: bool = True):
+    """The fine rule's albedo ``(B, 3)``, its error estimate (zero without ``want_error``) and the nodes used.
+
+    The coarse rules serve the error estimate alone: without it they are not evaluated, and the value is the
+    same fine rule's, bit for bit.
+    """
     parts = brdf.parts
     (nr, nph), (cr, cph) = _split(samples, len(parts))
     total = np.zeros(v.shape[:-1] + (3,))
@@ -101,18 +106,20 @@ def _quad_albedo(brdf: BRDF, v: np.ndarray, samples: int):
     used = 0
     for part in parts:
         vals = []
-        for rule in (_lobe_rule(part, v, nr, nph, 2), *_coarse_rules(part, v, cr, cph)):
+        coarse = _coarse_rules(part, v, cr, cph) if want_error else ()
+        for rule in (_lobe_rule(part, v, nr, nph, 2), *coarse):
             f = _f_cos(part, rule.l, np.broadcast_to(v[:, None, :], rule.l.shape))
             vals.append(np.einsum("bm,bmk->bk", rule.w, f))
             used += rule.l.shape[1]
         total += vals[0]
-        err += np.max([np.abs(vals[0] - c) for c in vals[1:]], axis=0)
+        if want_error:
+            err += np.max([np.abs(vals[0] - c) for c in vals[1:]], axis=0)
     return total, np.maximum(err, _ROUNDING * np.abs(total)), used
 
 
 def _albedo_batch(brdf, v, method, samples, rng, replicates, want_error):
     if method == "quadrature":
-        val, err, used = _quad_albedo(brdf, v, samples)
+        val, err, used = _quad_albedo(brdf, v, samples, want_error)
         return val, err, np.zeros_like(err), used
     return _mc_estimates(brdf, v, method, samples, rng, replicates, want_error)
 

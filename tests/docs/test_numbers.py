@@ -511,6 +511,7 @@ def test_the_explorers_timing_constants_and_targets_on_its_page_are_the_codes():
         f"rested for {window['IDLE_MS']} ms with the button still held (`explorer.qt.window.IDLE_MS`)",
         f"(`explorer.qt.window.REFINE_MS`, {window['REFINE_MS']} ms), each tick spends "
         f"`REFINE_BUDGET` ({window['REFINE_BUDGET']:g} s)",
+        f"The ticks begin once the views have rested for `IDLE_MS` ({window['IDLE_MS']} ms) after their last change",
         f"| drag | a light slider's value changed while held … the lit sphere's panel repainted "
         f"| ≤ {targets['drag_ms']:g} ms |",
         f"| release | the slider released … the lobe and the plots repainted | ≤ {targets['release_ms']:g} ms |",
