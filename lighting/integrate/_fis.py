@@ -17,6 +17,7 @@ texel (:class:`LevelStack`), so that one gather per bilinear tap reads both.
 from __future__ import annotations
 
 import math
+import threading
 
 import numpy as np
 
@@ -235,19 +236,11 @@ def smooth_frame(n):
     return t, b
 
 
-def half_table(part, samples: int):
-    """A narrow microfacet lobe's fixed half vectors and their weights over view angles (see :func:`half_vector_mean`).
-
-    Returns ``(h (N, 3), d (N,), weights (M, A, N))``: the half vectors of ``D(h)(n·h)`` sampling at the fixed
-    stratified points, ``D(h)(n·h)`` at each, and ``f_r (n·l)/p`` for views at :data:`TABLE_ANGLES` (rows)
-    and ``A`` azimuths (columns) in the frame of the half vectors; cached per part.
-    """
+def _half_samples(part, samples: int):
+    """The half vectors ``h (N, 3)`` of ``D(h)(n·h)`` sampling at the fixed stratified points and ``D(h)(n·h)`` at each
+    (``d (N,)``), float64."""
     from ..sampling.microfacet import MicrofacetSampler
 
-    key = ("half", type(part).__qualname__, repr(part), samples)
-    found = _tables.get(key)
-    if found is not None:
-        return found
     mf = part.microfacet()
     sampler = MicrofacetSampler(mf.ndf, float(mf.alpha_x))
     up = np.array([0.0, 0.0, 1.0])
@@ -256,21 +249,127 @@ def half_table(part, samples: int):
     h = ld + up
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     d = 4 * h[:, 2] * np.asarray(s.pdf, dtype=np.float64)  # p(l) = D (n·h) / (4 v·h)
-    ph = (np.arange(AZIMUTHS) * (2 * math.pi / AZIMUTHS))[None, :]
+    return h, d
+
+
+def _half_weights(part, h, d, theta, phi):
+    """``f_r (n·l)/p`` of the half vectors ``h`` for views at polar angles ``theta`` and azimuths ``phi`` (arrays that
+    broadcast together, shape ``S``), in the frame of the half vectors: ``S + (N,)`` float32, 0 where the reflected
+    direction or the view is below the horizon.  Each view's weights are the same whatever views are computed with
+    it (every step is elementwise in the view)."""
+    up = np.array([0.0, 0.0, 1.0])
+    v = np.stack(np.broadcast_arrays(np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)),
+                 -1)[..., None, :]  # fmt: skip
+    vh = np.sum(v * h, axis=-1)
+    lw = 2 * vh[..., None] * h - v
+    ok = (vh > 0) & (lw[..., 2] > 0) & (d > 0)
+    f = np.asarray(part.eval(up, lw, np.broadcast_to(v, lw.shape)), dtype=np.float64).mean(axis=-1)
+    return np.where(ok, f * np.maximum(lw[..., 2], 0) * 4 * np.where(ok, vh, 1) / np.where(ok, d, 1),
+                    0.0).astype(np.float32)  # fmt: skip
+
+
+#: The azimuths of the half-vector weight tables (radians).
+_AZIMUTH_ANGLES = np.arange(AZIMUTHS) * (2 * math.pi / AZIMUTHS)
+
+
+def half_table(part, samples: int):
+    """A narrow microfacet lobe's fixed half vectors and their weights over view angles (see :func:`half_vector_mean`).
+
+    Returns ``(h (N, 3), d (N,), weights (M, A, N))``: the half vectors of ``D(h)(n·h)`` sampling at the fixed
+    stratified points, ``D(h)(n·h)`` at each, and ``f_r (n·l)/p`` for views at :data:`TABLE_ANGLES` (rows)
+    and ``A`` azimuths (columns) in the frame of the half vectors.  The readable reference, every view at once:
+    :func:`half_vector_mean` reads a :class:`HalfTable`, which evaluates the views its pixels look from.
+    """
+    h, d = _half_samples(part, samples)
     w = np.empty((len(TABLE_ANGLES), AZIMUTHS, samples), dtype=np.float32)
     # A few view angles at a time: the model's evaluation over every view, azimuth and sample at once would hold
     # hundreds of MiB of temporaries; each value is the same computed either way.
     for start in range(0, len(TABLE_ANGLES), _TABLE_ROWS):
         th = TABLE_ANGLES[start : start + _TABLE_ROWS, None]
-        v = np.stack(np.broadcast_arrays(np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)),
-                     -1)[..., None, :]  # fmt: skip
-        vh = np.sum(v * h, axis=-1)
-        lw = 2 * vh[..., None] * h - v
-        ok = (vh > 0) & (lw[..., 2] > 0) & (d > 0)
-        f = np.asarray(part.eval(up, lw, np.broadcast_to(v, lw.shape)), dtype=np.float64).mean(axis=-1)
-        w[start : start + len(th)] = np.where(ok, f * np.maximum(lw[..., 2], 0) * 4 * np.where(ok, vh, 1)
-                                              / np.where(ok, d, 1), 0.0)  # fmt: skip
-    return _tables.put(key, (h.astype(np.float32), d.astype(np.float32), w))
+        w[start : start + len(th)] = _half_weights(part, h, d, th, _AZIMUTH_ANGLES[None, :])
+    return h.astype(np.float32), d.astype(np.float32), w
+
+
+class HalfTable:
+    """:func:`half_table` of one part, its weights evaluated view by view as pixels first look from them.
+
+    A small image reads a few of the table's :data:`TABLE_ANGLES` × :data:`AZIMUTHS` views; each view's weights are
+    those :func:`half_table` gives, bit for bit (:func:`_half_weights` is elementwise in the view).  Cached per part
+    and sample count (:func:`half_table_of`), so that the next image evaluates only the views it adds.
+
+    Parameters
+    ----------
+    part : BRDF
+        A microfacet part with an isotropic GGX or Beckmann distribution.
+    samples : int
+        Half vectors per view.
+
+    Attributes
+    ----------
+    h : ndarray, (N, 3) float32
+        The half vectors, in the frame of the surface.
+    d : ndarray, (N,) float32
+        ``D(h)(n·h)`` at each.
+    weights : ndarray, (M, A, N) float32
+        ``f_r (n·l)/p`` per view angle, azimuth and half vector, where :attr:`filled`.
+    filled : ndarray, (M, A) bool
+        The views evaluated so far.
+    """
+
+    def __init__(self, part, samples: int):
+        self.part = part
+        h, d = _half_samples(part, samples)
+        self._h64, self._d64 = h, d
+        self.h, self.d = h.astype(np.float32), d.astype(np.float32)
+        self.weights = np.zeros((len(TABLE_ANGLES), AZIMUTHS, samples), dtype=np.float32)
+        self.filled = np.zeros((len(TABLE_ANGLES), AZIMUTHS), dtype=bool)
+        self._lock = threading.Lock()
+
+    def fill(self, rows, cols) -> None:
+        """Evaluate the views ``(rows, cols)`` (integer arrays of table indices) not evaluated yet.
+
+        Parameters
+        ----------
+        rows, cols : ndarray of int
+            View-angle and azimuth indices, of one shape.
+
+        Returns
+        -------
+        None
+        """
+        flat = np.unique(np.asarray(rows, dtype=np.intp) * AZIMUTHS + np.asarray(cols, dtype=np.intp))
+        with self._lock:
+            missing = flat[~self.filled.reshape(-1)[flat]]
+            # As many views at once as :func:`half_table` evaluates (its temporaries' bound).
+            step = _TABLE_ROWS * AZIMUTHS
+            for start in range(0, missing.size, step):
+                views = missing[start : start + step]
+                r, c = np.divmod(views, AZIMUTHS)
+                self.weights.reshape(-1, self.weights.shape[-1])[views] = _half_weights(
+                    self.part, self._h64, self._d64, TABLE_ANGLES[r], _AZIMUTH_ANGLES[c])
+                self.filled.reshape(-1)[views] = True
+
+
+def half_table_of(part, samples: int) -> HalfTable:
+    """The :class:`HalfTable` of a part and sample count, made once per part (by its ``repr``) and kept among the
+    tables of the parts met last.
+
+    Parameters
+    ----------
+    part : BRDF
+        A microfacet part with an isotropic GGX or Beckmann distribution.
+    samples : int
+        Half vectors per view.
+
+    Returns
+    -------
+    HalfTable
+    """
+    key = ("half", type(part).__qualname__, repr(part), samples)
+    found = _tables.get(key)
+    if found is not None:
+        return found
+    return _tables.put(key, HalfTable(part, samples))
 
 
 def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):
@@ -283,7 +382,8 @@ def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):
     view's angles in that frame, times each pixel's own horizon; the levels from each sample's exact density.
     Returns ``((P, 3), ok (P,))`` as :func:`view_table_mean`.
     """
-    h_loc, d, wtab = half_table(part, samples)
+    table = half_table_of(part, samples)
+    h_loc, d, wtab = table.h, table.d, table.weights
     # log σ_k = ½ log(c_σ² 4 (v·h) / (2π N D(h)(n·h))): the sample's share 1 / (N p), p = D (n·h) / (4 v·h).
     log_c = (0.5 * np.log(HALF_FILTER_SCALE**2 * 4 / (2 * math.pi * samples * np.maximum(d, 1e-30)))).astype(np.float32)
     t, b = smooth_frame(n)
@@ -291,6 +391,7 @@ def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):
     mt = np.minimum(np.rint(np.arccos(np.clip(cos_v, 0, 1)) * np.float32(1 / TABLE_STEP)).astype(np.int32),
                     len(TABLE_ANGLES) - 1)  # fmt: skip
     ma = np.rint(np.arctan2(vb, vt) * np.float32(AZIMUTHS / (2 * math.pi))).astype(np.int32) % AZIMUTHS
+    table.fill(mt, ma)
     hx, hy, hz = h_loc[:, 0], h_loc[:, 1], h_loc[:, 2]
     out = np.empty(n.shape, dtype=np.float32)
     any_ok = np.empty(n.shape[0], dtype=bool)

@@ -765,8 +765,22 @@ def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatL
     factor = h_src // h
     # Each output pixel centre is a source pixel's corner when factor > 1: evaluate on the source grid,
     # then sample the output centres bilinearly from it (E is smooth).
-    conv, _ = _convolve_rows(src, lambda x: np.maximum(1.0 - x, 0.0), math.pi / 2 + math.pi / h_src)
+    kernel, support = (lambda x: np.maximum(1.0 - x, 0.0)), math.pi / 2 + math.pi / h_src
     if factor == 1:
+        conv, _ = _convolve_rows(src, kernel, support)
         return LatLongEnvironment(np.maximum(conv, 0.0))
-    full = LatLongEnvironment(np.maximum(conv, 0.0))
-    return LatLongEnvironment(full._radiance(_pixel_directions(h, 2 * h)))
+    # An output row's centre lies halfway between source rows f r + f/2 − 1 and f r + f/2 (f = factor, a power of
+    # two): the bilinear lookup reads those two rows alone, and only they are convolved.  The others are NaN, which
+    # any read would carry into the map: the whole source grid is convolved then, as it was.
+    read = np.arange(h)[:, None] * factor + np.array([factor // 2 - 1, factor // 2])
+    conv, _ = _convolve_rows(src, kernel, support, rows=read.reshape(-1))
+    out = _bilinear(np.maximum(conv, 0.0), _pixel_directions(h, 2 * h))
+    if np.isnan(out).any():
+        conv, _ = _convolve_rows(src, kernel, support)
+        out = _bilinear(np.maximum(conv, 0.0), _pixel_directions(h, 2 * h))
+    return LatLongEnvironment(out)
+
+
+def _bilinear(image: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """``LatLongEnvironment(image).radiance(directions)`` of a float64 image that may hold NaN (rows not computed)."""
+    return latlong_lookup(np.ascontiguousarray(image.reshape(-1, 3)), image.shape[0], image.shape[1], directions)

@@ -26,11 +26,14 @@ def _row_solid_angles(height: int, width: int) -> np.ndarray:
     return 2.0 * np.sin((t[:-1] + t[1:]) / 2) * math.sin(math.pi / height / 2) * (2 * math.pi / width)
 
 
-def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:
+def _convolve_rows(image: np.ndarray, kernel_of, support: float, rows=None) -> np.ndarray:
     r"""``Σ_{θ', φ'} K(ψ) L Ω`` for every pixel of ``image`` ``(H, W, C)``, the kernel a function of ``1 − cos ψ``.
 
     ``kernel_of(one_minus_cos)`` gives ``K``; only source rows within ``support`` radians in ``θ``
     are summed.  Also returns ``Σ K Ω`` per row (the normalization; the same for every column).
+    ``rows`` (increasing row indices), when given, are the only output rows computed, each the same as
+    without it, bit for bit (the kernel, its transform and the sum over offsets are row by row); the
+    others are NaN.
     """
     h, w, c = image.shape
     theta = (np.arange(h) + 0.5) * (math.pi / h)
@@ -43,17 +46,29 @@ def _convolve_rows(image: np.ndarray, kernel_of, support: float) -> np.ndarray:
     out = np.zeros((h, w // 2 + 1, c), dtype=np.complex128)
     norm = np.zeros(h)
     sin_t = np.sin(theta)
+    wanted = np.arange(h) if rows is None else np.asarray(rows, dtype=np.intp)
     # One offset at a time keeps the kernel block at H × W values however wide the support; the rows it
-    # pairs are two contiguous slices (no gather, no scatter).
+    # pairs are two contiguous slices (no gather, no scatter) when every row is wanted.
     for o in offsets:
-        i = slice(max(0, -o), min(h, h - o))
-        j = slice(i.start + o, i.stop + o)
+        if rows is None:
+            i = slice(max(0, -o), min(h, h - o))
+            j = slice(i.start + o, i.stop + o)
+        else:
+            i = wanted[(wanted + o >= 0) & (wanted + o < h)]
+            j = i + o
         dlat = np.sin((theta[i] - theta[j]) / 2)
         one_minus_cos = (2 * dlat * dlat)[:, None] + (2 * sin_t[i] * sin_t[j])[:, None] * s2phi[None, :]
         k = kernel_of(one_minus_cos)  # (rows, W), symmetric in Δφ: its spectrum is real
         out[i] += np.fft.rfft(k, axis=1).real[:, :, None] * src[j]
         norm[i] += k.sum(axis=1) * omega[j]
-    return np.fft.irfft(out, n=w, axis=1), norm
+    if rows is None:
+        return np.fft.irfft(out, n=w, axis=1), norm
+    conv = np.full((h, w, c), np.nan)
+    conv[wanted] = np.fft.irfft(out[wanted], n=w, axis=1)
+    left = np.ones(h, dtype=bool)
+    left[wanted] = False
+    norm[left] = np.nan
+    return conv, norm
 
 
 #: Spectral terms of a kernel row smaller than this fraction of the largest row sum are left out of the fast

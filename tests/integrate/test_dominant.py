@@ -346,3 +346,28 @@ def test_blocks_and_threads_change_no_pixel(disk_pre, monkeypatch):
     monkeypatch.setattr(batch, "_threads", lambda: 3)
     for blocked, one in zip(images(), whole, strict=True):
         assert blocked.dtype == one.dtype and np.array_equal(blocked, one)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("model", [
+    CookTorrance(1.0, 0.1, ndf="ggx", geometry="smith-correlated", fresnel="conductor", metal="gold"),
+    CookTorrance(0.7, 0.08, ndf="beckmann", geometry="smith", fresnel="schlick"),
+    CookTorrance(1.0, 0.15, ndf="ggx", geometry="smith-correlated", fresnel="dielectric", energy_compensation=True),
+])  # fmt: skip
+def test_the_half_vector_table_evaluates_the_views_read_with_the_bits_of_the_whole_table(model):
+    # A small image reads a few of the table's views: HalfTable evaluates those, in any order and any number at once,
+    # and each holds the weights of half_table, the readable reference that evaluates every view.
+    from lighting.integrate import _fis
+
+    h, d, want = _fis.half_table(model, 16)
+    table = _fis.HalfTable(model, 16)
+    rng = np.random.default_rng(7)
+    rows, cols = rng.integers(0, len(_fis.TABLE_ANGLES), 900), rng.integers(0, _fis.AZIMUTHS, 900)
+    table.fill(rows, cols)
+    assert table.filled.sum() == len(set(zip(rows.tolist(), cols.tolist(), strict=True)))
+    assert np.array_equal(table.weights[rows, cols].view(np.uint32), want[rows, cols].view(np.uint32))
+    everything = np.indices(table.filled.shape)
+    table.fill(everything[0], everything[1])
+    assert table.filled.all()
+    assert np.array_equal(table.weights.view(np.uint32), want.view(np.uint32))
+    assert np.array_equal(table.h, h) and np.array_equal(table.d, d)

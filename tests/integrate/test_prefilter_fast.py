@@ -124,3 +124,32 @@ def test_the_separable_upsampling_is_the_bilinear_lookup_at_the_pixel_centres(h_
     expected = latlong_lookup(img.reshape(-1, 4), h_in, 2 * h_in, LatLongEnvironment.pixel_directions(h, 2 * h))
     # The lookup reads its coordinates back from directions (arctan2): rounding of 1e-16 rad per pixel row.
     np.testing.assert_allclose(prefilter._upsample(img, h), expected, rtol=1e-12, atol=1e-13)
+
+
+@pytest.mark.slow  # the full run has it, the fast loop leaves it out
+def test_the_reference_convolution_of_some_rows_gives_those_rows_bits_and_nan_elsewhere():
+    img = _hdr_map(32)
+    kernel = lambda x: np.maximum(1.0 - x, 0.0)  # noqa: E731
+    conv, norm = _convolve_rows(img, kernel, math.pi / 2 + math.pi / 32)
+    rows = np.array([0, 1, 6, 7, 15, 30, 31])
+    part, part_norm = _convolve_rows(img, kernel, math.pi / 2 + math.pi / 32, rows=rows)
+    assert np.array_equal(part[rows].view(np.uint64), conv[rows].view(np.uint64))
+    assert np.array_equal(part_norm[rows].view(np.uint64), norm[rows].view(np.uint64))
+    assert np.isnan(np.delete(part, rows, axis=0)).all() and np.isnan(np.delete(part_norm, rows)).all()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("height", "source"), [(8, 64), (16, 64), (32, 64), (64, 64), (16, 32)])
+def test_the_irradiance_map_convolves_only_the_rows_it_reads_with_the_same_bits(height, source):
+    # Each output pixel is read bilinearly from two source rows: those alone are convolved; the map is the one the
+    # whole source grid gives, bit for bit.
+    from lighting.lights.environment import LatLongEnvironment
+    from lighting.lights.latlong import latlong_lookup
+
+    env = LatLongEnvironment(_hdr_map(source))
+    got = prefilter.irradiance_map(env, height).image
+    conv, _ = _convolve_rows(env.image, lambda x: np.maximum(1.0 - x, 0.0), math.pi / 2 + math.pi / source)
+    full = np.maximum(conv, 0.0)
+    want = full if height == source else latlong_lookup(
+        full.reshape(-1, 3), source, 2 * source, prefilter._pixel_directions(height, 2 * height))
+    assert np.array_equal(got.view(np.uint64), want.view(np.uint64))
