@@ -250,3 +250,23 @@ def test_table_argument_checks():
         MerlBRDF(np.full((3, *DIMS), np.nan))
     with pytest.raises(ValueError, match="interpolation"):
         MerlBRDF(np.zeros((3, *DIMS)), interpolation="cubic")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fraction", [0.01, 0.05, 0.5, 0.99])
+def test_missing_bins_are_filled_as_the_reference_fills_them_bit_for_bit(fraction):
+    # The binary search among the good entries picks the neighbour the three-copy search picks (ties to the earlier
+    # azimuth, across the seam of a row, 0 for a row with none), so the filled table is the same bits.
+    from lighting.files.merl import _fill_missing, _fill_missing_reference
+
+    rng = np.random.default_rng(int(fraction * 100))
+    for shape in [(3, 300, 180), (2, 40, 7), (6, 1), (3, 2)]:
+        rows = rng.random(shape)
+        rows[rng.random(shape) < fraction] = -1.0
+        rows[0, ...] = -1.0  # rows with no good entry
+        got, want = _fill_missing(rows), _fill_missing_reference(rows)
+        assert np.array_equal(got.view(np.uint64), want.view(np.uint64)), shape
+        assert not (got < 0).any()
+    tie = np.array([[3.0, -1, -1, -1, 4.0, -1, -1], [-1, 5.0, -1, -2, -1, 6.0, -1]])
+    assert _fill_missing(tie).tolist() == [[3, 3, 3, 4, 4, 4, 3], [5, 5, 5, 5, 6, 6, 6]]
+    assert _fill_missing(np.full((2, 3), -1.0)).tolist() == [[0, 0, 0], [0, 0, 0]]
