@@ -36,7 +36,7 @@ from ..models.base import BRDF
 from ..models.lambert import cosine_hemisphere_pdf, square_to_cosine_hemisphere
 from ..numerics import safe_div
 from ..vec import normalize
-from .base import Sampler, Samples, _dot
+from .base import Sampler, Samples, _dot, _upper
 
 __all__ = ["MerlSampler"]
 
@@ -240,7 +240,7 @@ class MerlSampler(Sampler):
         out = cos_pdf.copy()  # views at or below the horizon: the cosine alone
         s = l + v
         h = normalize(s)
-        h = np.where(h[..., 2:3] < 0, -h, h)  # the sampled h lies in the upper hemisphere
+        h = _upper(h)  # the sampled h lies in the upper hemisphere
         ok = _dot(s, s) > 0
         theta_h = np.arccos(np.clip(h[..., 2], -1.0, 1.0))
         i = np.clip((np.sqrt(theta_h / _HALF_PI) * self.theta_h_bins).astype(np.int64), 0, self.theta_h_bins - 1)

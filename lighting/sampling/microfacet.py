@@ -34,6 +34,7 @@ from .base import (
     _local_v,
     _one_minus_cos_power,
     _unit_square,
+    _upper,
 )
 
 __all__ = ["MicrofacetSampler", "VisibleNormalSampler"]
@@ -173,7 +174,7 @@ class MicrofacetSampler(Sampler):
         s = l + v
         h = normalize(s)  # h = (l + v)/|l + v| (vec.halfway's formula); the zero vector where l = −v
         # The sampled h lies in the upper hemisphere; l + v may point either way along it.
-        h = np.where(h[..., 2:3] < 0, -h, h)
+        h = _upper(h)
         return np.where(_dot(s, s) > 0, self._to_l(self._normal_pdf(h), _dot(v, h)), 0.0)
 
 
@@ -363,7 +364,7 @@ class VisibleNormalSampler(MicrofacetSampler):
         vu = normalize(v)
         s = normalize(l) + vu
         h = normalize(s)
-        h = np.where(h[..., 2:3] < 0, -h, h)  # l is unchanged by h → −h; the sampled h is the upper one
+        h = _upper(h)  # l is unchanged by h → −h; the sampled h is the upper one
         vh = _dot(vu, h)
         return np.where(_dot(s, s) > 0, self._visible_pdf(h, vu, vh), 0.0)
 
