@@ -100,7 +100,7 @@ def saturate_to(x, dtype) -> np.ndarray:
         ``x`` in ``dtype``, same shape (a NumPy scalar for a scalar ``x``); ``inf`` and every value above
         ``np.finfo(dtype).max`` become that maximum, NaN stays NaN.
     """
-    return np.minimum(x, float(np.finfo(dtype).max)).astype(dtype)
+    return np.minimum(x, float(np.finfo(dtype).max)).astype(dtype, copy=False)  # np.minimum made the copy
 
 
 def log1p(x) -> np.ndarray:

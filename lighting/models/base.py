@@ -112,7 +112,9 @@ def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
     """
     with np.errstate(over="ignore"):
         out = values[..., None] * np.asarray(coeff, dtype=np.float64)
-    return saturate_to(out, values.dtype)
+    # saturate_to, in place: the product is a fresh array.
+    np.minimum(out, float(np.finfo(values.dtype).max), out=out)
+    return out.astype(values.dtype, copy=False)
 
 
 _UNIT_RGB = np.eye(3)
@@ -128,9 +130,21 @@ def _saturating_sum(terms, dt) -> np.ndarray:
 def _combine(terms, dt) -> np.ndarray:
     """``Σ_k s_k c_k`` → ``(..., 3)`` (the inverse of the separable form)."""
     big = np.finfo(dt).max
+    terms = list(terms)
+    if not terms:
+        return np.minimum(0, big)
+    # sum() in place: the same additions in the same order, starting from 0 + the first term
+    # (which turns a −0 into +0, as sum() did).
+    out = _rgb(np.asarray(terms[0][0], dtype=dt), terms[0][1])
     with np.errstate(over="ignore"):
-        out = sum(_rgb(np.asarray(s, dtype=dt), c) for s, c in terms)
-    return np.minimum(out, big)
+        np.add(out, 0, out=out)
+        for s, c in terms[1:]:
+            term = _rgb(np.asarray(s, dtype=dt), c)
+            if np.broadcast_shapes(out.shape, term.shape) == out.shape:
+                out += term
+            else:
+                out = out + term
+    return np.minimum(out, big, out=out)
 
 
 def _color(name: str, value, hi: float | None = None) -> np.ndarray:

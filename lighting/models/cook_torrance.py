@@ -379,7 +379,7 @@ class CookTorrance(SeparableBRDF):
     # cosines come from a Geometry (the renderer's path must not pay for a check per call).
     def _D(self, g: Geometry, dtype):
         if self.anisotropic:
-            x, y, z = (g.h_local[..., i] for i in range(3))
+            x, y, z = g.h_tbn
             f = _mf._ggx_ndf_aniso if self.ndf == "ggx" else _mf._beckmann_ndf_aniso
             return f(x, y, z, self._ax, self._ay, dtype)
         c, s2 = g.n_dot_h.astype(dtype, copy=False), g.sin2_h.astype(dtype, copy=False)
@@ -457,9 +457,8 @@ class CookTorrance(SeparableBRDF):
     def _lambda_cos_vl(self, g: Geometry):
         """``Λ(v) n·v`` and ``Λ(l) n·l`` (float64; 0 below the horizon), anisotropic through the tangent frame."""
         if self.anisotropic:
-            vl, ll = g.v_local, g.l_local
-            return tuple(_mf._smith_lambda_cos_aniso(self.ndf, d[..., 0], d[..., 1], d[..., 2].astype(np.float64),
-                                                     self._ax, self._ay) for d in (vl, ll))
+            return tuple(_mf._smith_lambda_cos_aniso(self.ndf, x, y, np.asarray(z, dtype=np.float64),
+                                                     self._ax, self._ay) for x, y, z in (g.v_tbn, g.l_tbn))
         lam = self._lambda_cos
         return (lam(g.n_dot_v.astype(np.float64), self._alpha, g.sin2_v.astype(np.float64)),
                 lam(g.n_dot_l.astype(np.float64), self._alpha, g.sin2_l.astype(np.float64)))
@@ -479,8 +478,8 @@ class CookTorrance(SeparableBRDF):
         ``_smith_lambda_cos_beckmann`` (or ``_ggx``), finite at the horizon.  V-cavity:
         ``G/((n·v)(n·l)) = min(1/((n·v)(n·l)), (2 n·h / v·h) / max(n·v, n·l))``.
         """
-        nv = g.n_dot_v.astype(np.float64)
-        nl = g.n_dot_l.astype(np.float64)
+        nv = g.n_dot_v.astype(np.float64, copy=False)  # read only: no copy of a float64 geometry's cosines
+        nl = g.n_dot_l.astype(np.float64, copy=False)
         if self.geometry == "smith-correlated":
             # G2/((n·v)(n·l)) = 1 / ((n·v)(n·l) + (n·l) Λ(v)(n·v) + (n·v) Λ(l)(n·l)): every term finite
             # at grazing (Λ cos θ → α/(2√π) or α/2 there), so no small G divided by a small cosine.

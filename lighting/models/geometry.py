@@ -101,18 +101,35 @@ class Geometry:
     @_cached
     def h_local(self):
         """The half vector's components ``(h·t, h·b, h·n)`` in the shading frame, shape ``(..., 3)``."""
-        h = self.h
-        return np.stack([self._dot(h, self.t), self._dot(h, self.b), self.n_dot_h], axis=-1)
+        return np.stack(self.h_tbn, axis=-1)
 
     @_cached
     def l_local(self):
         """``(l·t, l·b, l·n)``: the light direction in the shading frame, shape ``(..., 3)``."""
-        return np.stack([self._dot(self.l, self.t), self._dot(self.l, self.b), self.n_dot_l], axis=-1)
+        return np.stack(self.l_tbn, axis=-1)
 
     @_cached
     def v_local(self):
         """``(v·t, v·b, v·n)``: the view direction in the shading frame, shape ``(..., 3)``."""
-        return np.stack([self._dot(self.v, self.t), self._dot(self.v, self.b), self.n_dot_v], axis=-1)
+        return np.stack(self.v_tbn, axis=-1)
+
+    # The same components as three separate (contiguous) arrays: a model that reads them one at a
+    # time takes these, instead of stacking them into h_local and striding over its last axis again.
+    @_cached
+    def h_tbn(self):
+        """``(h·t, h·b, h·n)`` as a tuple of three arrays: the components of :attr:`h_local`."""
+        h = self.h
+        return self._dot(h, self.t), self._dot(h, self.b), self.n_dot_h
+
+    @_cached
+    def l_tbn(self):
+        """``(l·t, l·b, l·n)`` as a tuple of three arrays: the components of :attr:`l_local`."""
+        return self._dot(self.l, self.t), self._dot(self.l, self.b), self.n_dot_l
+
+    @_cached
+    def v_tbn(self):
+        """``(v·t, v·b, v·n)`` as a tuple of three arrays: the components of :attr:`v_local`."""
+        return self._dot(self.v, self.t), self._dot(self.v, self.b), self.n_dot_v
 
     @staticmethod
     def _dot(a, b):

@@ -494,8 +494,10 @@ def _beckmann_lambda_tail(a) -> np.ndarray:
     (≈ ``1/(2a²)``).  48 terms converge to float64 rounding for ``a >= 2``.
     """
     k = np.zeros_like(a)
-    for j in range(_LAMBDA_CF_TERMS, 0, -1):
-        k = (j / 2) / (a + k)
+    ak = np.empty_like(k)
+    for j in range(_LAMBDA_CF_TERMS, 0, -1):  # k = (j/2) / (a + k), without new arrays per term
+        np.add(a, k, out=ak)
+        np.divide(j / 2, ak, out=k)
     return k / (a + k)
 
 
@@ -670,12 +672,20 @@ def _beckmann_ndf_aniso(x, y, z, ax, ay, dt) -> np.ndarray:
     q = _aniso_slope2(x, y, z, ax, ay)
     xx, yy = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
-        zz = z * z
-        ex = np.where(z > 0, q / np.where(z > 0, zz, 1.0), np.inf)
-        exc = np.minimum(ex, _EXP_CUTOFF)
-        t2 = np.where(z > 0, (xx * xx + yy * yy) / np.where(z > 0, zz, 1.0), np.inf)
-        d = np.exp(-exc) * (1.0 + t2) ** 2 / (math.pi * ax * ay)
-        d = np.where((z > 0) & (ex < _EXP_CUTOFF) & np.isfinite(d), d, 0.0)
+        up = z > 0
+        zz = np.where(up, z * z, 1.0)
+        ex = np.where(up, q / zz, np.inf)
+        t2 = np.where(up, (xx * xx + yy * yy) / zz, np.inf)
+        # d = exp(−X) (1 + tan²θ)² / (π α_x α_y), X = min(ex, cutoff): the same operations in place
+        # (out= keeps a 0-d result an array).
+        d = np.minimum(ex, _EXP_CUTOFF, out=np.empty_like(ex))
+        np.negative(d, out=d)
+        np.exp(d, out=d)
+        t2 += 1.0
+        np.square(t2, out=t2)
+        d *= t2
+        d /= math.pi * ax * ay
+        d = np.where(up & (ex < _EXP_CUTOFF) & np.isfinite(d), d, 0.0)
     return _finish(d, dt)
 
 
