@@ -94,19 +94,81 @@ def _frames(normals, view_dirs, brdf):
 
 
 def _to_world(l, t, b, n):  # noqa: E741
-    """Local directions ``l`` ``(B, M, 3)`` in the world frame of each point's ``(t, b, n)`` ``(B, 3)``."""
+    """Local directions ``l`` ``(B, M, 3)`` in the world frame of each point's ``(t, b, n)`` ``(B, 3)``.
+
+    Component by component (:func:`_to_world_reference`'s products broadcast over the axis of length 3, three
+    elements per inner loop): the same sums in the same order.
+    """
+    shape = np.broadcast_shapes(l.shape, (t.shape[0], 1, 3))
+    out = np.empty(shape, dtype=np.result_type(l, t, b, n))
+    l0, l1, l2 = l[..., 0], l[..., 1], l[..., 2]
+    for c in range(3):
+        comp = out[..., c]
+        np.multiply(l0, t[:, None, c], out=comp)
+        comp += l1 * b[:, None, c]
+        comp += l2 * n[:, None, c]
+    return out
+
+
+def _to_world_reference(l, t, b, n):  # noqa: E741
+    """:func:`_to_world` by broadcasting over the components (tests hold them equal)."""
     return l[..., 0:1] * t[:, None, :] + l[..., 1:2] * b[:, None, :] + l[..., 2:3] * n[:, None, :]
 
 
 def _to_local(d, t, b, n):
-    """World directions ``d`` ``(B, M, 3)`` in each point's local frame (inverse of :func:`_to_world`)."""
+    """World directions ``d`` ``(B, M, 3)`` in each point's local frame (inverse of :func:`_to_world`).
+
+    Each dot product as :func:`_to_local_reference`'s sum over the last axis forms it, ``((0 + x) + y) + z``:
+    ``x + y + z`` and a final ``+ 0`` (the sum's start), which takes an all-``−0`` sum to ``+0``.
+    """
+    d0, d1, d2 = d[..., 0], d[..., 1], d[..., 2]
+    comps = []
+    for axis in (t, b, n):
+        dot = d0 * axis[:, None, 0]
+        dot += d1 * axis[:, None, 1]
+        dot += d2 * axis[:, None, 2]
+        dot += 0.0
+        comps.append(dot)
+    return np.stack(comps, axis=-1)
+
+
+def _to_local_reference(d, t, b, n):
+    """:func:`_to_local` by sums over the components (tests hold them equal)."""
     return np.stack(
         [np.sum(d * t[:, None, :], -1), np.sum(d * b[:, None, :], -1), np.sum(d * n[:, None, :], -1)], axis=-1
     )
 
 
+def _pair_mean(ga, pa, gb, pb):
+    """The mean over axis 1 of ``_ratio(ga, pa) + _ratio(gb, pb)`` (``g`` ``(B, M, 3)``, ``p`` ``(B, M)``), as
+    :func:`_mean_err` finds it (each channel's ``M`` weights summed pairwise from one contiguous row).
+
+    Channel by channel, into the rows the mean reads: the same quotients as :func:`_ratio`'s (``safe_div``: 0
+    where ``p <= 0``, NaN to 0, ``±inf`` to the largest float), without its broadcasts over the axis of length 3
+    or the copy that turns the weights' samples into the last axis.
+    """
+    bsz, m = pa.shape
+    w = np.empty((bsz, 3, m), dtype=np.result_type(ga, pa, gb, pb))
+    big = np.finfo(w.dtype).max
+    for g, p, add in ((ga, pa, False), (gb, pb, True)):
+        keep = p > 0
+        for c in range(3):
+            with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+                q = g[..., c] / p
+            q = np.where(keep, q, 0)
+            np.nan_to_num(q, copy=False, nan=0.0, posinf=big, neginf=-big)
+            if add:
+                w[:, c, :] += q
+            else:
+                w[:, c, :] = q
+    return w.mean(axis=-1)
+
+
 def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_error=True):
-    """L_o, its standard error and the rule-of-three term for a batch of points (float64)."""
+    """L_o, its standard error and the rule-of-three term for a batch of points (float64).
+
+    Without ``want_error`` the error terms may be ``None`` (multiple importance sampling does not form them).
+    """
     bsz = n.shape[0]
     vv = vl[:, None, :]
 
@@ -175,10 +237,10 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
         gb = cosine_brdf(s.directions) * radiance_b  # the integrand, its radiance read with the density
         pb_e = sampler._pdf(le, vv)  # BRDF density at the environment's samples
         # Two-sample balance heuristic with equal counts: each pair contributes g/(p_b + p_e) twice.
+        if not want_error:
+            return _pair_mean(ge, pe + pb_e, gb, s.pdf + pe_b), None, None, 2 * n_env
         wa, wb = _ratio(ge, pe + pb_e), _ratio(gb, s.pdf + pe_b)
         val, se = _mean_err(wa + wb, axis=1)
-        if not want_error:
-            return val, se, np.zeros_like(se), 2 * n_env
         lo, hi = _weight_range(
             integrand,
             lambda l: env_pdf(l) + sampler._pdf(l, vv),
@@ -299,7 +361,8 @@ def outgoing_radiance(
                 smooth, env, n[sl], t[sl], b[sl], vl[sl], method, samples, rng, reps, return_error
             )
             val[sl] += a
-            err[sl] = _combine(se, rare)
+            if return_error:
+                err[sl] = _combine(se, rare)
     val = np.where(valid[:, None], val, 0.0)
     err = np.where(valid[:, None], err, 0.0)
     value = _out(val.reshape(shape + (3,)), dt)

@@ -47,7 +47,14 @@ def latlong_angles(directions):
     """
     d = directions
     phi = np.arctan2(d[..., 1], d[..., 0])
-    return np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2]), np.mod(LATLONG_LEFT_EDGE_PHI - phi, 2 * math.pi)
+    # (π − φ) mod 2π without the division: π − φ lies in [0, 2π] (φ = arctan2 in [−π, π]), where the mod
+    # leaves every value but 2π itself, which it takes to 0 (NaN stays NaN).
+    a = LATLONG_LEFT_EDGE_PHI - phi
+    if isinstance(a, np.ndarray):
+        np.copyto(a, 0.0, where=a >= 2 * math.pi)
+    else:
+        a = np.mod(a, 2 * math.pi)
+    return np.arctan2(np.hypot(d[..., 0], d[..., 1]), d[..., 2]), a
 
 
 def latlong_azimuth(a):
@@ -91,6 +98,46 @@ def latlong_lookup(flat, height: int, width: int, directions, poles=None, *, ang
     ndarray, (..., C)
         In the wider of the image's and the directions' float dtypes.
     """
+    h, w = height, width
+    theta, a = latlong_angles(directions) if angles is None else angles
+    fx = a * (w / (2 * math.pi)) - 0.5
+    j0 = np.floor(fx)
+    tx = fx - j0
+    j0 = j0.astype(np.int64) % w
+    j1 = (j0 + 1) % w
+    raw = theta * (h / math.pi) - 0.5
+    fy = np.clip(raw, 0.0, h - 1)
+    i0 = np.minimum(np.floor(fy).astype(np.int64), max(h - 2, 0))
+    ty = np.clip(fy - i0, 0.0, 1.0)
+    i1 = np.minimum(i0 + 1, h - 1)
+    r0, r1 = i0 * w, i1 * w
+    k00, k01, k10, k11 = r0 + j0, r0 + j1, r1 + j0, r1 + j1
+    sx, sy = 1 - tx, 1 - ty
+    # Channel by channel from contiguous planes: a gather of whole rows of C values, and products broadcast
+    # over an axis of length C, run C elements per inner loop.  Each value is the reference's arithmetic.
+    planes = np.ascontiguousarray(flat.T)
+    out = np.empty(np.shape(tx) + (flat.shape[1],), dtype=np.result_type(flat.dtype, tx.dtype, ty.dtype))
+    for c, plane in enumerate(planes):
+        top = plane.take(k00) * sx + plane.take(k01) * tx
+        bot = plane.take(k10) * sx + plane.take(k11) * tx
+        np.add(top * sy, bot * ty, out=out[..., c])
+    if poles is not None:
+        _near_poles(out, raw, h, poles)
+    return out
+
+
+def _near_poles(out, raw, h, poles):
+    """Within half a row of a pole: from the pole's value (t = 0) to the edge row's (t = 1), linear in θ."""
+    for value, t in ((poles[0], 2 * raw + 1), (poles[1], 2 * (h - 0.5 - raw))):
+        near = t < 1
+        if np.any(near):
+            tt = np.clip(t[near], 0.0, 1.0)[..., None].astype(out.dtype)
+            pole = np.asarray(value, dtype=out.dtype)
+            out[near] = pole + tt * (out[near] - pole)
+
+
+def _latlong_lookup_reference(flat, height: int, width: int, directions, poles=None, *, angles=None) -> np.ndarray:
+    """:func:`latlong_lookup` as written from its definition, all channels at once (tests hold them equal)."""
     h, w = height, width
     theta, a = latlong_angles(directions) if angles is None else angles
     fx = a * (w / (2 * math.pi)) - 0.5
