@@ -221,11 +221,11 @@ class AshikhminShirley(SeparableBRDF):
         ``cos=True`` each is multiplied by ``n·l`` (the specular one as ``n·l / max(n·l, n·v) <= 1``).
         """
         above = g.above
-        hl = g.h_local.astype(np.float64)
+        ht, hb, hn = (np.asarray(x, dtype=np.float64) for x in g.h_tbn)  # h_local's columns, unstacked
         nl = g.n_dot_l.astype(np.float64)
         nvw = g.n_dot_v.astype(np.float64)
         vh = g.v_dot_h.astype(np.float64)
-        log_lobe = _log_lobe(hl[..., 0], hl[..., 1], hl[..., 2], self.nu, self.nv)
+        log_lobe = _log_lobe(ht, hb, hn, self.nu, self.nv)
         m = np.maximum(nl, nvw)
         log_norm = _log_norm(self.nu, self.nv) - math.log(8.0 * math.pi)
         with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):

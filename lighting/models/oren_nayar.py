@@ -50,13 +50,37 @@ def _cross(a, b):
     )
 
 
+def _dot3(a, b):
+    """``_dot`` of two vectors given as their three component arrays (the same products, summed in the same order)."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross3(a, b):
+    """``_cross`` of two vectors given as component arrays, returned as a tuple of three (no stacking)."""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
 def _angles(g: Geometry):
     """Float64 ``cos θ_l, cos θ_v, sin θ_l, sin θ_v`` and ``P = (n×l)·(n×v) = sin θ_l sin θ_v cos(φ_l − φ_v)``.
 
     ``n × l`` is the projection of ``l`` onto the tangent plane turned by 90° about ``n`` (the same
     turn for ``v``), so ``P`` is the dot product of the two projections: no tangent frame is needed,
     and ``P = 0`` where either direction lies along ``n`` (where ``φ`` is undefined).
+
+    The projections are carried as tuples of three component arrays: the arithmetic of
+    :func:`_angles_reference` element by element, without NumPy stacking the cross products and
+    striding over the axis of length 3 again in each dot product.
     """
+    n, l, v = (np.asarray(x, dtype=np.float64) for x in (g.n, g.l, g.v))  # noqa: E741
+    n, l, v = ((x[..., 0], x[..., 1], x[..., 2]) for x in (n, l, v))  # noqa: E741
+    cl, cv = _dot3(n, l), _dot3(n, v)
+    xl, xv = _cross3(n, l), _cross3(n, v)
+    sl, sv = np.sqrt(_dot3(xl, xl)), np.sqrt(_dot3(xv, xv))
+    return cl, cv, np.minimum(sl, 1.0), np.minimum(sv, 1.0), _dot3(xl, xv), (xl, sl, xv, sv)
+
+
+def _angles_reference(g: Geometry):
+    """:func:`_angles` on stacked ``(..., 3)`` vectors (the projections returned stacked): the readable form."""
     n, l, v = (np.asarray(x, dtype=np.float64) for x in (g.n, g.l, g.v))  # noqa: E741
     cl, cv = _dot(n, l), _dot(n, v)
     xl, xv = _cross(n, l), _cross(n, v)
@@ -71,7 +95,23 @@ def _cos_dphi(xl, sl, xv, sv):
     ``1 + a·b = |a + b|²/2``, so ``1 − |cos Δφ|`` keeps its digits where the azimuths nearly agree or
     are nearly opposite (``1 − |P/(sin θ_l sin θ_v)|`` cancels there: at Δφ = π − 1e-3 it lost 10 % of
     its value to a sine clamped at 1).  Both are 0 and 1 where either direction is along ``n``.
+
+    ``xl`` and ``xv`` are component tuples (:func:`_angles`); :func:`_cos_dphi_reference` is the same on
+    stacked vectors.
     """
+    ok = (sl > 0) & (sv > 0)
+    # Each projection divided by its own length (or by 1 where that is 0): finite, of length <= 1.
+    ql, qv = np.where(ok, sl, 1.0), np.where(ok, sv, 1.0)
+    a = tuple(x / ql for x in xl)
+    b = tuple(x / qv for x in xv)
+    cphi = np.clip(_dot3(a, b), -1.0, 1.0)
+    sign = np.where(cphi >= 0, 1.0, -1.0)
+    d = tuple(ai - sign * bi for ai, bi in zip(a, b, strict=True))
+    return np.where(ok, cphi, 0.0), np.where(ok, np.minimum(_dot3(d, d) / 2, 1.0), 1.0)
+
+
+def _cos_dphi_reference(xl, sl, xv, sv):
+    """The readable form of :func:`_cos_dphi`, on stacked ``(..., 3)`` projections."""
     ok = (sl > 0) & (sv > 0)
     # Each projection divided by its own length (or by 1 where that is 0): finite, of length <= 1.
     a = xl / np.where(ok, sl, 1.0)[..., None]

@@ -47,10 +47,10 @@ def _exponent(g, alpha_x: float, alpha_y: float, *, frame: bool | None = None) -
             c = g.n_dot_h.astype(np.float64)
             tan_a = np.sqrt(g.sin2_h.astype(np.float64)) / c / alpha_x
             return tan_a * tan_a
-        h = g.h_local.astype(np.float64)
-        c = h[..., 2]
-        x = h[..., 0] / c / alpha_x
-        y = h[..., 1] / c / alpha_y
+        # The frame components as three arrays (no stacked copy): the values of h_local's columns.
+        ht, hb, c = (np.asarray(x, dtype=np.float64) for x in g.h_tbn)
+        x = ht / c / alpha_x
+        y = hb / c / alpha_y
         return x * x + y * y
 
 

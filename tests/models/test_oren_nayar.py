@@ -504,3 +504,26 @@ def test_registry_table_summary_and_errors():
         OrenNayar(form="exact")
     with pytest.raises(ValueError, match="kd"):
         OrenNayar(kd=-1)
+
+
+def test_component_angles_equal_the_stacked_reference_bit_for_bit():
+    """_angles/_cos_dphi on component tuples are the stacked reference's arithmetic, element by element."""
+    from lighting.models.geometry import Geometry
+    from lighting.models.oren_nayar import _angles, _angles_reference, _cos_dphi, _cos_dphi_reference
+
+    rng = np.random.default_rng(5)
+    l, v = rng.normal(size=(2, 300, 3))  # noqa: E741
+    v[:20] = l[:20]
+    v[20:40] = -l[20:40]
+    l[40:50] = 0
+    l[50:60] = (0, 0, 1)
+    for n in (np.array([0.0, 0.0, 1.0]), rng.normal(size=(300, 3))):
+        for dt in (np.float64, np.float32):
+            g = Geometry(n.astype(dt), l.astype(dt), v.astype(dt))
+            new, ref = _angles(g), _angles_reference(g)
+            for a, b in zip(new[:5], ref[:5], strict=True):
+                assert np.array_equal(a, b) and a.dtype == b.dtype
+            xl, sl, xv, sv = new[5]
+            assert np.array_equal(np.stack(xl, -1), ref[5][0]) and np.array_equal(np.stack(xv, -1), ref[5][2])
+            for a, b in zip(_cos_dphi(*new[5]), _cos_dphi_reference(*ref[5]), strict=True):
+                assert np.array_equal(a, b)
