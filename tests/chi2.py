@@ -87,16 +87,52 @@ def sidak(alpha: float, tests: int) -> float:
     return 1.0 - (1.0 - alpha) ** (1.0 / tests)
 
 
-def _half_vectors(l, v):  # noqa: E741
+def _half_vectors_reference(l, v):  # noqa: E741
     """``h = ±(l + v)/|l + v|`` with ``h_z >= 0``: the normal that reflects ``v`` to ``l``."""
     s = l + v
     h = s / np.linalg.norm(s, axis=-1, keepdims=True)
     return np.where(h[..., 2:3] < 0, -h, h)
 
 
-def _polar(h):
+def _unit_rows(x):
+    """``x / np.linalg.norm(x, axis=-1, keepdims=True)`` of an array (n, 3), the same numbers.
+
+    Component by component (the norm's sum in its order, ``x₀² + x₁² + x₂²``): broadcasts over the axis of
+    length 3 run NumPy's inner loops three elements at a time.
+    """
+    c = [np.ascontiguousarray(x[:, k]) for k in range(3)]
+    r = np.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+    for k in range(3):
+        np.divide(c[k], r, out=c[k])
+    return c
+
+
+def _half_vectors(l, v):  # noqa: E741
+    """:func:`_half_vectors_reference` of ``l`` (n, 3) and one ``v`` (3,), the same numbers, as (n, 3)."""
+    hx, hy, hz = _unit_rows(l + v)
+    down = hz < 0
+    h = np.empty((len(hz), 3))
+    for k, c in enumerate((hx, hy, hz)):
+        np.negative(c, out=c, where=down)
+        h[:, k] = c
+    return h
+
+
+def _polar_reference(h):
     theta = np.arccos(np.clip(h[..., 2], -1.0, 1.0))
     phi = np.mod(np.arctan2(h[..., 1], h[..., 0]), 2 * math.pi)
+    return theta, phi
+
+
+def _polar(h):
+    """:func:`_polar_reference`, the same numbers: ``arctan2`` is in ``[−π, π]``, where ``np.mod(a, 2π)`` is
+    ``a + 2π`` below 0 and ``a`` above, ``−0`` made ``+0`` (``a + 0.0``); ``np.mod``'s general floor division
+    is several times slower than the addition."""
+    theta = np.arccos(np.clip(h[..., 2], -1.0, 1.0))
+    phi = np.arctan2(h[..., 1], h[..., 0])
+    below = phi < 0
+    np.add(phi, 0.0, out=phi)
+    np.add(phi, 2 * math.pi, out=phi, where=below)
     return theta, phi
 
 
@@ -122,7 +158,8 @@ class _Cells:
         self.phi = np.stack([_edges(ph[ring == i], 0.0, 2 * math.pi, sectors) for i in range(rings)])
         self.rings, self.sectors = rings, sectors
 
-    def index(self, h):
+    def index_reference(self, h):
+        """:meth:`index` as written: a ``searchsorted`` of ``φ`` per ring."""
         th, ph = _polar(h)
         i = np.clip(np.searchsorted(self.theta, th, side="right") - 1, 0, self.rings - 1)
         j = np.empty_like(i)
@@ -130,6 +167,30 @@ class _Cells:
             sel = i == r
             j[sel] = np.clip(np.searchsorted(self.phi[r], ph[sel], side="right") - 1, 0, self.sectors - 1)
         return i * self.sectors + j
+
+    def index(self, h):
+        """The cell of each half vector, :meth:`index_reference`'s numbers.
+
+        The sector is ``searchsorted(phi[ring], φ, side="right")``, the number of the ring's edges ``<= φ``,
+        found for all rings at once by a branchless bisection in the rows of a table padded with ``+inf`` to a
+        power of two (a sorted row, as ``searchsorted`` assumes; edges out of order fall back to the reference).
+        """
+        if not np.all(np.diff(self.phi, axis=1) >= 0):
+            return self.index_reference(h)
+        th, ph = _polar(h)
+        i = np.clip(np.searchsorted(self.theta, th, side="right") - 1, 0, self.rings - 1)
+        width = 1 << int(self.sectors + 1).bit_length()  # > sectors + 1: a row always ends in +inf
+        table = np.full((self.rings, width), np.inf)
+        table[:, : self.sectors + 1] = self.phi
+        table = table.ravel()
+        base = i * width - 1
+        count = np.zeros_like(i)
+        step = width // 2
+        while step:
+            up = count + step
+            np.add(count, step, out=count, where=table[base + up] <= ph)
+            step //= 2
+        return i * self.sectors + np.clip(count - 1, 0, self.sectors - 1)
 
     def rectangles(self):
         """``(θ0, θ1, φ0, φ1, cell)`` of every cell, as arrays."""
@@ -247,9 +308,16 @@ def _setup(sampler, v, rings, sectors, pilot_seed, pilot):
     sx, sy = (max(x, 1e-300) for x in (sx, sy))
     stretch = np.array([1 / sx, 1 / sy, 1.0])
 
-    def to_g(h):
+    def to_g_reference(h):
         g = h * stretch
         return g / np.linalg.norm(g, axis=-1, keepdims=True)
+
+    def to_g(h):
+        """:func:`to_g_reference` of ``h`` (n, 3), the same numbers, as (n, 3)."""
+        g = np.empty(h.shape)
+        for k, c in enumerate(_unit_rows(h * stretch)):
+            g[:, k] = c
+        return g
 
     cells = _Cells(to_g(pilot_h), rings, sectors)
 

@@ -154,6 +154,47 @@ def _upper(h):
     return out
 
 
+def _columns_of(l, v):  # noqa: E741
+    """The three columns of ``l`` if it is an array (n, 3) of float64 and ``v`` a single float64 view, else None."""
+    if l.ndim == 2 and l.shape[1] == 3 and l.dtype == np.float64 and v.shape == (3,) and v.dtype == np.float64:
+        return l[:, 0], l[:, 1], l[:, 2]
+    return None
+
+
+def _unit_columns(s0, s1, s2):
+    """``normalize(s)`` of ``s`` given as three float64 columns, and ``_dot(s, s)``: ``(u0, u1, u2, ss)``, the
+    same numbers, or None if a row leaves ``normalize``'s direct path (zero, tiny or huge: the caller then
+    takes the reference).  Component by component, as ``normalize`` itself divides, without forming the
+    (n, 3) arrays between the steps."""
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        ss = s0 * s0 + s1 * s1 + s2 * s2
+    fi = np.finfo(np.float64)
+    # normalize's direct path (lighting.vec._normalize): |s|² well inside the normal range.
+    if not np.all((ss > float(fi.tiny) * 1e4) & (ss < float(fi.max) * 1e-4)):
+        return None
+    r = np.sqrt(ss)
+    return s0 / r, s1 / r, s2 / r, ss
+
+
+def _half_columns(s0, s1, s2):
+    """``_upper(normalize(s))`` and ``_dot(s, s)`` of three columns, ``(h0, h1, h2, ss)``, or None as
+    :func:`_unit_columns`."""
+    unit = _unit_columns(s0, s1, s2)
+    if unit is None:
+        return None
+    h0, h1, h2, ss = unit
+    down = h2 < 0
+    for c in (h0, h1, h2):
+        np.negative(c, out=c, where=down)
+    return h0, h1, h2, ss
+
+
+def _stack3(c0, c1, c2):
+    out = np.empty((len(c0), 3))
+    out[:, 0], out[:, 1], out[:, 2] = c0, c1, c2
+    return out
+
+
 class Sampler:
     """Base class: draws ``l`` for a viewer ``v`` (local frame) and evaluates the density.
 

@@ -29,10 +29,14 @@ from .base import (
     Sampler,
     Samples,
     _check_size,
+    _columns_of,
     _directions,
     _dot,
+    _half_columns,
     _local_v,
     _one_minus_cos_power,
+    _stack3,
+    _unit_columns,
     _unit_square,
     _upper,
 )
@@ -171,6 +175,13 @@ class MicrofacetSampler(Sampler):
 
     def _pdf(self, l, v):  # noqa: E741
         l, v = np.asarray(l, dtype=np.float64), _local_v(v)  # noqa: E741
+        cols = _columns_of(l, v)
+        half = None if cols is None else _half_columns(*(c + v[k] for k, c in enumerate(cols)))
+        if half is not None:
+            # Directions (n, 3) for one view: the reference's steps below, column by column.
+            h0, h1, h2, ss = half
+            vh = v[0] * h0 + v[1] * h1 + v[2] * h2
+            return np.where(ss > 0, self._to_l(self._normal_pdf(_stack3(h0, h1, h2)), vh), 0.0)
         s = l + v
         h = normalize(s)  # h = (l + v)/|l + v| (vec.halfway's formula); the zero vector where l = −v
         # The sampled h lies in the upper hemisphere; l + v may point either way along it.
@@ -316,7 +327,9 @@ class VisibleNormalSampler(MicrofacetSampler):
             h = self._visible_normals(u.reshape(-1, 2), vu)
             vh = _dot(vu, h)
             l = 2 * vh[..., None] * h - vu  # noqa: E741
-            return Samples(l.reshape(shape + (3,)), self._visible_pdf(h, vu, vh).reshape(shape))
+            # One view for every draw: its d_v (for Beckmann a continued fraction) once, not once per row.
+            den = self._den_v(vu[:1]) if v.size == 3 else None
+            return Samples(l.reshape(shape + (3,)), self._visible_pdf(h, vu, vh, den).reshape(shape))
         fallback = super()._sample(u, vb)
         if not np.any(up):
             return fallback
@@ -330,8 +343,11 @@ class VisibleNormalSampler(MicrofacetSampler):
         pdf[up] = self._visible_pdf(h, vu, vh)
         return Samples(dirs, pdf)
 
-    def _visible_pdf(self, h, v, vh):
-        """``p(l) = D(h) / (2 d_v)`` where ``v·h > 0`` and ``n·h > 0``, else 0 (``v`` unit, ``v_z > 0``)."""
+    def _visible_pdf(self, h, v, vh, den=None):
+        """``p(l) = D(h) / (2 d_v)`` where ``v·h > 0`` and ``n·h > 0``, else 0 (``v`` unit, ``v_z > 0``).
+
+        ``den``: ``self._den_v(v)`` if the caller has it (broadcasting with ``h``).
+        """
         c = h[..., 2]
         if self._aniso:
             f = _mf._ggx_ndf_aniso if self.ndf == "ggx" else _mf._beckmann_ndf_aniso
@@ -341,7 +357,7 @@ class VisibleNormalSampler(MicrofacetSampler):
             ndf = _mf._ggx_ndf if self.ndf == "ggx" else _mf._beckmann_ndf
             d = ndf(c, self.alpha, s2, np.float64)
         with np.errstate(over="ignore"):
-            p = d / (2 * self._den_v(v))
+            p = d / (2 * (self._den_v(v) if den is None else den))
         return np.where((vh > 0) & (c > 0), np.minimum(p, np.finfo(np.float64).max), 0.0)
 
     def _pdf(self, l, v):  # noqa: E741
@@ -362,11 +378,36 @@ class VisibleNormalSampler(MicrofacetSampler):
     def _visible_pdf_of(self, l, v):  # noqa: E741
         """The visible-normal density of directions ``l`` for views ``v`` above the horizon (broadcasting)."""
         vu = normalize(v)
+        cols = _columns_of(l, vu)
+        nl = None if cols is None else _unit_columns(*cols)
+        if nl is not None:
+            half = _half_columns(*(c + vu[k] for k, c in enumerate(nl[:3])))
+            if half is not None:
+                # Directions (n, 3) above the horizon for one view: the steps below, column by column.
+                h0, h1, h2, ss = half
+                vh = vu[0] * h0 + vu[1] * h1 + vu[2] * h2
+                h = _stack3(h0, h1, h2)
+                return np.where(ss > 0, self._visible_pdf(h, vu, vh, self._den_of_view(vu)), 0.0)
         s = normalize(l) + vu
         h = normalize(s)
         h = _upper(h)  # l is unchanged by h → −h; the sampled h is the upper one
         vh = _dot(vu, h)
-        return np.where(_dot(s, s) > 0, self._visible_pdf(h, vu, vh), 0.0)
+        return np.where(_dot(s, s) > 0, self._visible_pdf(h, vu, vh, self._den_of_view(vu)), 0.0)
+
+    def _den_of_view(self, vu):
+        """``self._den_v(vu)``, remembered for a single view: an integrator asks for the same view's density
+        over many blocks of directions, and Beckmann's ``d_v`` is a continued fraction.  Per-row views are
+        not remembered (None: :meth:`_visible_pdf` computes them)."""
+        if vu.shape != (3,):
+            return None
+        key = vu.tobytes()
+        cache = self.__dict__.setdefault("_den_cache", {})
+        den = cache.get(key)
+        if den is None:
+            if len(cache) >= 64:
+                cache.clear()
+            den = cache[key] = self._den_v(vu)
+        return den
 
 
 def _erfinv(x):
