@@ -59,11 +59,16 @@ from ..sampling.base import _unit_square as _checked_unit_square
 from ..sampling.environment import (
     _bilinear_shape,
     _cell_corners,
+    _cell_direction,
     _cell_masses,
+    _cell_of,
     _cell_solid_angles,
+    _corner_values,
+    _half_row_scales,
     _pick,
-    _remap,
+    _pick_in_rows,
     _sample_linear,
+    _search_table,
     _tables,
 )
 from .latlong import _pixel_rows, latlong_angles, latlong_azimuth, latlong_lookup
@@ -156,84 +161,6 @@ def uniform_sphere_pdf(directions) -> np.ndarray:
     """
     d, _ = _directions(directions)
     return np.full(d.shape[:-1], _INV_4PI)
-
-
-# Fast paths of lighting.sampling.environment's helpers for LatLongEnvironment's draws and densities: the same
-# values bit for bit (tests hold each equal to its readable form there), from fewer passes over the samples.
-def _search_table(cdf: np.ndarray) -> np.ndarray:
-    """The conditional CDFs ``(R, n)`` padded with ``+inf`` to a power-of-two width, for :func:`_pick_in_rows_fast`."""
-    rows, n = cdf.shape
-    width = 1 << max(n - 1, 0).bit_length()
-    if width == n:
-        return cdf
-    out = np.full((rows, width), np.inf)
-    out[:, :n] = cdf
-    return out
-
-
-def _pick_in_rows_fast(cdf: np.ndarray, search: np.ndarray, last: np.ndarray, rows: np.ndarray, u: np.ndarray):
-    """:func:`~lighting.sampling.environment._pick_in_rows` by a branchless bisection in ``search``
-    (:func:`_search_table` of ``cdf``).
-
-    The rows' power-of-two width needs no bound check at each step; the count it reaches is capped at
-    ``width − 1 >= n − 1``, and the row's last drawable column (``<= n − 1``) caps it further either way.
-    """
-    n, width = cdf.shape[1], search.shape[1]
-    table = search.reshape(-1)
-    start = rows * width
-    pos = np.array(start)  # a copy, and an array for a single draw too
-    step = width >> 1
-    while step:
-        pos += (table.take(pos + (step - 1)) <= u) * step
-        step >>= 1
-    k = np.minimum(pos - start, last.take(rows))
-    flat = cdf.reshape(-1)
-    base = rows * n
-    lo = np.where(k > 0, flat.take(base + np.maximum(k - 1, 0)), 0.0)
-    return k, _remap(u, lo, flat.take(base + k))
-
-
-def _corner_values_fast(corners: np.ndarray, q, s):
-    """:func:`~lighting.sampling.environment._corner_values` gathered with ``take``."""
-    n = corners.shape[1]
-    flat = corners.reshape(-1)
-    k = q * n + s
-    below = k + n
-    return flat.take(k), flat.take(below), flat.take(k + 1), flat.take(below + 1)
-
-
-def _cell_direction_fast(q, s, fz, fa, h: int, w: int) -> np.ndarray:
-    """:func:`~lighting.sampling.environment._cell_direction` reading each row boundary once."""
-    c = _pixel_rows(2 * h)
-    top, bottom = c.take(q), c.take(q + 1)
-    z = np.clip(top + (bottom - top) * fz, bottom, top)
-    r = np.sqrt(np.clip((1 - z) * (1 + z), 0.0, None))
-    phi = latlong_azimuth((s + fa) * (math.pi / w))
-    out = np.empty(z.shape + (3,))
-    np.multiply(r, np.cos(phi), out=out[..., 0])
-    np.multiply(r, np.sin(phi), out=out[..., 1])
-    out[..., 2] = z
-    return out
-
-
-def _half_row_scales(h: int) -> np.ndarray:
-    """``sin(θ_q + half/2) sin(half/2)`` of each of the ``2h`` half rows: :func:`_cell_of_fast`'s denominators."""
-    half = math.pi / (2 * h)
-    tq = np.arange(2 * h, dtype=np.int64) * half
-    return np.sin(tq + 0.5 * half) * math.sin(0.5 * half)
-
-
-def _cell_of_fast(d, h: int, w: int, scales: np.ndarray, angles=None):
-    """:func:`~lighting.sampling.environment._cell_of` with the half rows' denominators read from ``scales``
-    (:func:`_half_row_scales`), one ``sin`` per half row instead of one per direction."""
-    theta, a = latlong_angles(d) if angles is None else angles
-    half = math.pi / (2 * h)
-    q = np.clip(np.floor(theta * (2 * h / math.pi)).astype(np.int64), 0, 2 * h - 1)
-    xa = a * (w / math.pi)
-    s = np.clip(np.floor(xa).astype(np.int64), 0, 2 * w - 1)
-    tq = q * half
-    fz = np.sin(0.5 * (theta + tq)) * np.sin(0.5 * (theta - tq)) / scales.take(q)
-    return q, s, np.clip(fz, 0.0, 1.0), np.clip(xa - s, 0.0, 1.0)
 
 
 class Environment:
@@ -510,18 +437,18 @@ class LatLongEnvironment(Environment):
     def _sample(self, u):
         h, w = self.height, self.width
         q, uz = _pick(self._rows_cdf, u[..., 0])
-        s, ua = _pick_in_rows_fast(self._cols_cdf, self._cols_search, self._last_col, q, u[..., 1])
-        v00, v10, v01, v11 = _corner_values_fast(self._corners, q, s)
+        s, ua = _pick_in_rows(self._cols_cdf, self._last_col, q, u[..., 1], self._cols_search)
+        v00, v10, v01, v11 = _corner_values(self._corners, q, s)
         fz = _sample_linear(uz, v00 + v01, v10 + v11)
         fa = _sample_linear(ua, v00 + (v10 - v00) * fz, v01 + (v11 - v01) * fz)
-        d = _cell_direction_fast(q, s, fz, fa, h, w)
+        d = _cell_direction(q, s, fz, fa, h, w)
         # The density at the direction as pdf() finds it: bit for bit the same for a caller's pdf(d).
         return d, self._pdf(d)
 
     def _pdf(self, d, angles=None):
         h, w = self.height, self.width
-        q, s, fz, fa = _cell_of_fast(d, h, w, self._row_scales, angles)
-        return self._density.take(q * (2 * w) + s) * _bilinear_shape(_corner_values_fast(self._corners, q, s), fz, fa)
+        q, s, fz, fa = _cell_of(d, h, w, angles, self._row_scales)
+        return self._density.take(q * (2 * w) + s) * _bilinear_shape(_corner_values(self._corners, q, s), fz, fa)
 
     def _radiance_and_pdf(self, d):
         cls = type(self)

@@ -98,8 +98,29 @@ def latlong_lookup(flat, height: int, width: int, directions, poles=None, *, ang
     ndarray, (..., C)
         In the wider of the image's and the directions' float dtypes.
     """
-    h, w = height, width
     theta, a = latlong_angles(directions) if angles is None else angles
+    (k00, k01, k10, k11), tx, ty, raw = _bilinear_taps(theta, a, height, width)
+    sx, sy = 1 - tx, 1 - ty
+    # Channel by channel from contiguous planes: a gather of whole rows of C values, and products broadcast
+    # over an axis of length C, run C elements per inner loop.  Each value is the reference's arithmetic.
+    planes = np.ascontiguousarray(flat.T)
+    out = np.empty(np.shape(tx) + (flat.shape[1],), dtype=np.result_type(flat.dtype, tx.dtype, ty.dtype))
+    for c, plane in enumerate(planes):
+        top = plane.take(k00) * sx + plane.take(k01) * tx
+        bot = plane.take(k10) * sx + plane.take(k11) * tx
+        np.add(top * sy, bot * ty, out=out[..., c])
+    if poles is not None:
+        _near_poles(out, raw, height, poles)
+    return out
+
+
+def _bilinear_taps(theta, a, h: int, w: int):
+    """The four texels around each direction's angles and its fractions across them.
+
+    Returns ``((k00, k01, k10, k11), tx, ty, raw)``: flat indices of the texels above-left, above-right,
+    below-left and below-right (columns wrap across the seam, rows clamp at the poles), the fractions
+    ``tx`` across and ``ty`` down, and ``raw``, the row coordinate before clamping (:func:`_near_poles`).
+    """
     fx = a * (w / (2 * math.pi)) - 0.5
     j0 = np.floor(fx)
     tx = fx - j0
@@ -111,19 +132,7 @@ def latlong_lookup(flat, height: int, width: int, directions, poles=None, *, ang
     ty = np.clip(fy - i0, 0.0, 1.0)
     i1 = np.minimum(i0 + 1, h - 1)
     r0, r1 = i0 * w, i1 * w
-    k00, k01, k10, k11 = r0 + j0, r0 + j1, r1 + j0, r1 + j1
-    sx, sy = 1 - tx, 1 - ty
-    # Channel by channel from contiguous planes: a gather of whole rows of C values, and products broadcast
-    # over an axis of length C, run C elements per inner loop.  Each value is the reference's arithmetic.
-    planes = np.ascontiguousarray(flat.T)
-    out = np.empty(np.shape(tx) + (flat.shape[1],), dtype=np.result_type(flat.dtype, tx.dtype, ty.dtype))
-    for c, plane in enumerate(planes):
-        top = plane.take(k00) * sx + plane.take(k01) * tx
-        bot = plane.take(k10) * sx + plane.take(k11) * tx
-        np.add(top * sy, bot * ty, out=out[..., c])
-    if poles is not None:
-        _near_poles(out, raw, h, poles)
-    return out
+    return (r0 + j0, r0 + j1, r1 + j0, r1 + j1), tx, ty, raw
 
 
 def _near_poles(out, raw, h, poles):
@@ -137,29 +146,14 @@ def _near_poles(out, raw, h, poles):
 
 
 def _latlong_lookup_reference(flat, height: int, width: int, directions, poles=None, *, angles=None) -> np.ndarray:
-    """:func:`latlong_lookup` as written from its definition, all channels at once (tests hold them equal)."""
-    h, w = height, width
+    """:func:`latlong_lookup`'s blend as written, all channels at once (the taps and the poles are shared with it;
+    tests hold the two equal)."""
     theta, a = latlong_angles(directions) if angles is None else angles
-    fx = a * (w / (2 * math.pi)) - 0.5
-    j0 = np.floor(fx)
-    tx = (fx - j0)[..., None]
-    j0 = j0.astype(np.int64) % w
-    j1 = (j0 + 1) % w
-    raw = theta * (h / math.pi) - 0.5
-    fy = np.clip(raw, 0.0, h - 1)
-    i0 = np.minimum(np.floor(fy).astype(np.int64), max(h - 2, 0))
-    ty = np.clip(fy - i0, 0.0, 1.0)[..., None]
-    i1 = np.minimum(i0 + 1, h - 1)
-    r0, r1 = i0 * w, i1 * w
-    top = np.take(flat, r0 + j0, axis=0) * (1 - tx) + np.take(flat, r0 + j1, axis=0) * tx
-    bot = np.take(flat, r1 + j0, axis=0) * (1 - tx) + np.take(flat, r1 + j1, axis=0) * tx
+    (k00, k01, k10, k11), tx, ty, raw = _bilinear_taps(theta, a, height, width)
+    tx, ty = tx[..., None], ty[..., None]
+    top = np.take(flat, k00, axis=0) * (1 - tx) + np.take(flat, k01, axis=0) * tx
+    bot = np.take(flat, k10, axis=0) * (1 - tx) + np.take(flat, k11, axis=0) * tx
     out = top * (1 - ty) + bot * ty
     if poles is not None:
-        # Within half a row of a pole: from the pole's value (t = 0) to the edge row's (t = 1), linear in θ.
-        for value, t in ((poles[0], 2 * raw + 1), (poles[1], 2 * (h - 0.5 - raw))):
-            near = t < 1
-            if np.any(near):
-                tt = np.clip(t[near], 0.0, 1.0)[..., None].astype(out.dtype)
-                pole = np.asarray(value, dtype=out.dtype)
-                out[near] = pole + tt * (out[near] - pole)
+        _near_poles(out, raw, height, poles)
     return out

@@ -131,11 +131,40 @@ def _pick(cdf: np.ndarray, u: np.ndarray):
     return k, _remap(u, lo, cdf[k])
 
 
-def _pick_in_rows(cdf: np.ndarray, last: np.ndarray, rows: np.ndarray, u: np.ndarray):
-    """:func:`_pick` in row ``rows`` of the table ``cdf`` for each ``u``: a vectorized bisection, O(log W).
+def _search_table(cdf: np.ndarray) -> np.ndarray:
+    """The conditional CDFs ``(R, n)`` padded with ``+inf`` to a power-of-two width, for :func:`_pick_in_rows`."""
+    rows, n = cdf.shape
+    width = 1 << max(n - 1, 0).bit_length()
+    if width == n:
+        return cdf
+    out = np.full((rows, width), np.inf)
+    out[:, :n] = cdf
+    return out
 
-    The readable form is ``np.searchsorted(cdf[row], u, side="right")`` per sample (tests hold them equal).
+
+def _pick_in_rows(cdf: np.ndarray, last: np.ndarray, rows: np.ndarray, u: np.ndarray, search=None):
+    """:func:`_pick` in row ``rows`` of the table ``cdf`` for each ``u``: a branchless bisection, O(log W).
+
+    ``search`` is :func:`_search_table` of ``cdf`` (made here when not given): its power-of-two rows need no bound
+    check at each step; the count reached is capped at ``width − 1 >= n − 1``, and the row's last drawable column
+    (``<= n − 1``) caps it further either way.  The readable form is ``np.searchsorted(cdf[row], u, side="right")``
+    per sample, vectorized in :func:`_pick_in_rows_reference` (tests hold them equal).
     """
+    search = _search_table(cdf) if search is None else search
+    n, width = cdf.shape[1], search.shape[1]
+    table = search.reshape(-1)
+    start = rows * width
+    pos = np.array(start)  # a copy, and an array for a single draw too
+    step = width >> 1
+    while step:
+        pos += (table.take(pos + (step - 1)) <= u) * step
+        step >>= 1
+    k = np.minimum(pos - start, last.take(rows))
+    return k, _remap_in_row(cdf, rows * n, k, u)
+
+
+def _pick_in_rows_reference(cdf: np.ndarray, last: np.ndarray, rows: np.ndarray, u: np.ndarray):
+    """:func:`_pick_in_rows` as a bisection over the unpadded rows, each step bounded by the row's length."""
     n = cdf.shape[1]
     flat = cdf.reshape(-1)
     base = rows * n
@@ -146,8 +175,14 @@ def _pick_in_rows(cdf: np.ndarray, last: np.ndarray, rows: np.ndarray, u: np.nda
         k = np.where((k + step <= n) & (flat[base + reach - 1] <= u), k + step, k)
         step >>= 1
     k = np.minimum(k, last[rows])
-    lo = np.where(k > 0, flat[base + np.maximum(k - 1, 0)], 0.0)
-    return k, _remap(u, lo, flat[base + k])
+    return k, _remap_in_row(cdf, base, k, u)
+
+
+def _remap_in_row(cdf, base, k, u):
+    """:func:`_remap` of ``u`` in bin ``k`` of the rows starting at flat index ``base`` of ``cdf``."""
+    flat = cdf.reshape(-1)
+    lo = np.where(k > 0, flat.take(base + np.maximum(k - 1, 0)), 0.0)
+    return _remap(u, lo, flat.take(base + k))
 
 
 def _remap(u, lo, hi):
@@ -180,7 +215,8 @@ def _corner_values(corners: np.ndarray, q, s):
     n = corners.shape[1]
     flat = corners.reshape(-1)
     k = q * n + s
-    return flat[k], flat[k + n], flat[k + 1], flat[k + n + 1]
+    below = k + n
+    return flat.take(k), flat.take(below), flat.take(k + 1), flat.take(below + 1)
 
 
 def _bilinear_shape(values, fz, fa):
@@ -202,21 +238,35 @@ def _cell_direction(q, s, fz, fa, h: int, w: int) -> np.ndarray:
     """The direction at fractions ``fz`` (in ``cos θ``) and ``fa`` (in ``a``) across cell ``(q, s)`` (uniform
     fractions: uniform in solid angle inside the cell)."""
     c = _pixel_rows(2 * h)
-    z = np.clip(c[q] + (c[q + 1] - c[q]) * fz, c[q + 1], c[q])
+    top, bottom = c.take(q), c.take(q + 1)
+    z = np.clip(top + (bottom - top) * fz, bottom, top)
     r = np.sqrt(np.clip((1 - z) * (1 + z), 0.0, None))
     phi = latlong_azimuth((s + fa) * (math.pi / w))
-    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
+    out = np.empty(z.shape + (3,))
+    np.multiply(r, np.cos(phi), out=out[..., 0])
+    np.multiply(r, np.sin(phi), out=out[..., 1])
+    out[..., 2] = z
+    return out
 
 
-def _cell_of(d, h: int, w: int, angles=None):
+def _half_row_scales(h: int) -> np.ndarray:
+    """``sin(θ_q + half/2) sin(half/2)`` of each of the ``2h`` half rows: :func:`_cell_of`'s denominators."""
+    half = math.pi / (2 * h)
+    tq = np.arange(2 * h, dtype=np.int64) * half
+    return np.sin(tq + 0.5 * half) * math.sin(0.5 * half)
+
+
+def _cell_of(d, h: int, w: int, angles=None, scales=None):
     """The half-pixel cell ``(q, s)`` of directions ``d`` ``(..., 3)`` and the fractions ``(fz, fa)`` across it
-    (the inverse of :func:`_cell_direction`); ``angles``: :func:`latlong_angles` of ``d``, when the caller has them."""
+    (the inverse of :func:`_cell_direction`); ``angles``: :func:`latlong_angles` of ``d``, when the caller has them;
+    ``scales``: :func:`_half_row_scales` of ``h`` (made here when not given)."""
     theta, a = latlong_angles(d) if angles is None else angles
+    scales = _half_row_scales(h) if scales is None else scales
     half = math.pi / (2 * h)
     q = np.clip(np.floor(theta * (2 * h / math.pi)).astype(np.int64), 0, 2 * h - 1)
     xa = a * (w / math.pi)
     s = np.clip(np.floor(xa).astype(np.int64), 0, 2 * w - 1)
     # cos θ_q − cos θ over cos θ_q − cos θ_{q+1}, as products of sines (no cancellation near the poles).
     tq = q * half
-    fz = np.sin(0.5 * (theta + tq)) * np.sin(0.5 * (theta - tq)) / (np.sin(tq + 0.5 * half) * math.sin(0.5 * half))
+    fz = np.sin(0.5 * (theta + tq)) * np.sin(0.5 * (theta - tq)) / scales.take(q)
     return q, s, np.clip(fz, 0.0, 1.0), np.clip(xa - s, 0.0, 1.0)

@@ -1,8 +1,8 @@
 """The lat-long layout's and the environment sampler's fast paths against their readable forms, bit for bit.
 
 ``latlong_lookup`` (channel by channel) against ``_latlong_lookup_reference``; ``latlong_angles`` against the
-``mod 2π`` it stands for; and ``LatLongEnvironment``'s draws and densities, whose helpers in
-:mod:`lighting.lights.environment` stand for those of :mod:`lighting.sampling.environment`.
+``mod 2π`` it stands for; and the helpers of ``LatLongEnvironment``'s draws and densities
+(:mod:`lighting.sampling.environment`) against their forms as first written, spelled out here.
 """
 
 from __future__ import annotations
@@ -12,9 +12,14 @@ import math
 import numpy as np
 import pytest
 
-from lighting.lights import environment as fast
 from lighting.lights.environment import LatLongEnvironment
-from lighting.lights.latlong import _latlong_lookup_reference, latlong_angles, latlong_lookup
+from lighting.lights.latlong import (
+    _latlong_lookup_reference,
+    _pixel_rows,
+    latlong_angles,
+    latlong_azimuth,
+    latlong_lookup,
+)
 from lighting.sampling import environment as envmod
 
 
@@ -82,6 +87,32 @@ def _images():
             "black 4x8": np.zeros((4, 8, 3)), "random 9x40": rng.random((9, 40, 3)) ** 6}  # fmt: skip
 
 
+def _corner_values_as_written(corners, q, s):
+    n = corners.shape[1]
+    flat = corners.reshape(-1)
+    k = q * n + s
+    return flat[k], flat[k + n], flat[k + 1], flat[k + n + 1]
+
+
+def _cell_direction_as_written(q, s, fz, fa, h, w):
+    c = _pixel_rows(2 * h)
+    z = np.clip(c[q] + (c[q + 1] - c[q]) * fz, c[q + 1], c[q])
+    r = np.sqrt(np.clip((1 - z) * (1 + z), 0.0, None))
+    phi = latlong_azimuth((s + fa) * (math.pi / w))
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
+
+
+def _cell_of_as_written(d, h, w):
+    theta, a = latlong_angles(d)
+    half = math.pi / (2 * h)
+    q = np.clip(np.floor(theta * (2 * h / math.pi)).astype(np.int64), 0, 2 * h - 1)
+    xa = a * (w / math.pi)
+    s = np.clip(np.floor(xa).astype(np.int64), 0, 2 * w - 1)
+    tq = q * half
+    fz = np.sin(0.5 * (theta + tq)) * np.sin(0.5 * (theta - tq)) / (np.sin(tq + 0.5 * half) * math.sin(0.5 * half))
+    return q, s, np.clip(fz, 0.0, 1.0), np.clip(xa - s, 0.0, 1.0)
+
+
 @pytest.mark.parametrize("name", list(_images()))
 def test_the_sampler_helpers_are_their_readable_forms_bit_for_bit(name):
     env = LatLongEnvironment(_images()[name])
@@ -91,29 +122,33 @@ def test_the_sampler_helpers_are_their_readable_forms_bit_for_bit(name):
     u[:40], u[40:80] = 0.0, 1.0
     u[80:120, 1] = env._cols_cdf[rng.integers(0, 2 * h, 40), rng.integers(0, 2 * w, 40)]  # on a table's entries
     q, uz = envmod._pick(env._rows_cdf, u[:, 0])
-    s, ua = fast._pick_in_rows_fast(env._cols_cdf, env._cols_search, env._last_col, q, u[:, 1])
-    s_ref, ua_ref = envmod._pick_in_rows(env._cols_cdf, env._last_col, q, u[:, 1])
+    s, ua = envmod._pick_in_rows(env._cols_cdf, env._last_col, q, u[:, 1], env._cols_search)
+    s_ref, ua_ref = envmod._pick_in_rows_reference(env._cols_cdf, env._last_col, q, u[:, 1])
     assert _same(s, s_ref) and _same(ua, ua_ref)
+    for got in envmod._pick_in_rows(env._cols_cdf, env._last_col, q, u[:, 1]), (s, ua):  # the table made there
+        assert _same(got[0], s_ref) and _same(got[1], ua_ref)
     one = envmod._pick(env._rows_cdf, u[7, 0])[0]  # a single draw: NumPy scalars, as the readable form gives
-    for got, want in zip(fast._pick_in_rows_fast(env._cols_cdf, env._cols_search, env._last_col, one, u[7, 1]),
-                         envmod._pick_in_rows(env._cols_cdf, env._last_col, one, u[7, 1]), strict=True):  # fmt: skip
+    for got, want in zip(envmod._pick_in_rows(env._cols_cdf, env._last_col, one, u[7, 1], env._cols_search),
+                         envmod._pick_in_rows_reference(env._cols_cdf, env._last_col, one, u[7, 1]),
+                         strict=True):  # fmt: skip
         assert type(got) is type(want) and _same(got, want)
-    corners = fast._corner_values_fast(env._corners, q, s)
-    for got, want in zip(corners, envmod._corner_values(env._corners, q, s), strict=True):
+    corners = envmod._corner_values(env._corners, q, s)
+    for got, want in zip(corners, _corner_values_as_written(env._corners, q, s), strict=True):
         assert _same(got, want)
     fz, fa = rng.random(q.shape), rng.random(q.shape)
     fz[:10], fa[:10], fz[10:20], fa[10:20] = 0.0, 0.0, 1.0, 1.0
-    assert _same(fast._cell_direction_fast(q, s, fz, fa, h, w), envmod._cell_direction(q, s, fz, fa, h, w))
-    d = np.concatenate([envmod._cell_direction(q, s, fz, fa, h, w), _directions(np.float64)])
+    assert _same(envmod._cell_direction(q, s, fz, fa, h, w), _cell_direction_as_written(q, s, fz, fa, h, w))
+    d = np.concatenate([_cell_direction_as_written(q, s, fz, fa, h, w), _directions(np.float64)])
     d /= np.where(np.any(d != 0, axis=-1), np.linalg.norm(d, axis=-1), 1.0)[:, None]
-    for got, want in zip(fast._cell_of_fast(d, h, w, env._row_scales), envmod._cell_of(d, h, w), strict=True):
-        assert _same(got, want)
+    for cell in (envmod._cell_of(d, h, w, None, env._row_scales), envmod._cell_of(d, h, w)):
+        for got, want in zip(cell, _cell_of_as_written(d, h, w), strict=True):
+            assert _same(got, want)
 
 
 def test_the_search_table_is_padded_to_a_power_of_two_with_infinities():
     cdf = np.linspace(0.0, 1.0, 12).reshape(2, 6)
-    table = fast._search_table(cdf)
+    table = envmod._search_table(cdf)
     assert table.shape == (2, 8) and np.array_equal(table[:, :6], cdf) and np.all(table[:, 6:] == np.inf)
     square = np.ones((3, 8))
-    assert fast._search_table(square) is square
-    assert fast._search_table(np.ones((2, 1))).shape == (2, 1)
+    assert envmod._search_table(square) is square
+    assert envmod._search_table(np.ones((2, 1))).shape == (2, 1)
