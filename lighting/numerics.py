@@ -84,7 +84,7 @@ def as_float(x, dtype) -> np.ndarray:
     return np.asarray(x, dtype=dtype)
 
 
-def saturate_to(x, dtype) -> np.ndarray:
+def saturate_to(x, dtype, *, overwrite: bool = False) -> np.ndarray:
     """``x`` cast to ``dtype``, values above its largest finite number clamped to it (no overflow warning).
 
     Parameters
@@ -93,6 +93,8 @@ def saturate_to(x, dtype) -> np.ndarray:
         The values, usually float64 and >= 0: only the upper end is clamped.
     dtype : dtype or type
         The target float dtype.
+    overwrite : bool, optional
+        Clamp ``x`` itself, a float array the caller owns (a fresh product), instead of a copy of it.
 
     Returns
     -------
@@ -100,7 +102,10 @@ def saturate_to(x, dtype) -> np.ndarray:
         ``x`` in ``dtype``, same shape (a NumPy scalar for a scalar ``x``); ``inf`` and every value above
         ``np.finfo(dtype).max`` become that maximum, NaN stays NaN.
     """
-    return np.minimum(x, float(np.finfo(dtype).max)).astype(dtype, copy=False)  # np.minimum made the copy
+    top = float(np.finfo(dtype).max)
+    if overwrite:
+        return np.minimum(x, top, out=x).astype(dtype, copy=False)
+    return np.minimum(x, top).astype(dtype, copy=False)  # np.minimum made the copy
 
 
 def log1p(x) -> np.ndarray:

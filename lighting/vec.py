@@ -165,12 +165,9 @@ def normalize(a) -> np.ndarray:
 
 def _normalize(a, name):
     a = _vec(a, name=name, finite=False)
-    fi = np.finfo(a.dtype)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         len2 = a[..., 0] * a[..., 0] + a[..., 1] * a[..., 1] + a[..., 2] * a[..., 2]
-    # Fast path: squared length comfortably inside the normal range.
-    lo, hi = float(fi.tiny) * 1e4, float(fi.max) * 1e-4
-    fast = (len2 > lo) & (len2 < hi)
+    fast = _direct_path(len2, a.dtype)
     if np.all(fast):
         return _divide_components(a, np.sqrt(len2))  # a / np.sqrt(len2)[..., None]
     _refuse_nonfinite(name, a)  # NaN and inf never take the fast path: checked here, at no cost above
@@ -183,6 +180,13 @@ def _normalize(a, name):
     len_s = np.sqrt(s[..., 0] * s[..., 0] + s[..., 1] * s[..., 1] + s[..., 2] * s[..., 2])
     out[~ok] = safe_div(s, len_s[..., None])
     return out.astype(a.dtype, copy=False).reshape(a.shape)
+
+
+def _direct_path(len2, dtype) -> np.ndarray:
+    """Where :func:`normalize` divides a vector by its length directly: the squared length ``len2`` comfortably
+    inside the normal range of ``dtype`` (elsewhere it scales the vector first)."""
+    fi = np.finfo(dtype)
+    return (len2 > float(fi.tiny) * 1e4) & (len2 < float(fi.max) * 1e-4)
 
 
 def _divide_components(a: np.ndarray, d: np.ndarray) -> np.ndarray:

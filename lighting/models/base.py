@@ -112,9 +112,7 @@ def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
     """
     with np.errstate(over="ignore"):
         out = values[..., None] * np.asarray(coeff, dtype=np.float64)
-    # saturate_to, in place: the product is a fresh array.
-    np.minimum(out, float(np.finfo(values.dtype).max), out=out)
-    return out.astype(values.dtype, copy=False)
+    return saturate_to(out, values.dtype, overwrite=True)  # the product is a fresh array
 
 
 _UNIT_RGB = np.eye(3)

@@ -20,7 +20,7 @@ import numpy as np
 from .._budget import check_budget
 from .._text import quote
 from .._validate import check_count, check_vectors, real_array
-from ..vec import orthonormal_basis
+from ..vec import _direct_path, orthonormal_basis
 
 __all__ = [
     "Samples",
@@ -168,9 +168,7 @@ def _unit_columns(s0, s1, s2):
     (n, 3) arrays between the steps."""
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         ss = s0 * s0 + s1 * s1 + s2 * s2
-    fi = np.finfo(np.float64)
-    # normalize's direct path (lighting.vec._normalize): |s|² well inside the normal range.
-    if not np.all((ss > float(fi.tiny) * 1e4) & (ss < float(fi.max) * 1e-4)):
+    if not np.all(_direct_path(ss, np.float64)):
         return None
     r = np.sqrt(ss)
     return s0 / r, s1 / r, s2 / r, ss
