@@ -46,7 +46,7 @@ from ..lights.environment import SmallPatchEnvironment, as_environment
 from ..models.base import BRDFFlags
 from ..models.brdf import BRDF
 from ..models.geometry import Geometry
-from ..numerics import working_dtype
+from ..numerics import safe_div, working_dtype
 from ..sampling.base import BYTES_PER_SAMPLE
 from ..sampling.brdf import _f_cos, as_generator, importance_sampler
 from ..vec import orthonormal_basis
@@ -143,24 +143,14 @@ def _pair_mean(ga, pa, gb, pb):
     """The mean over axis 1 of ``_ratio(ga, pa) + _ratio(gb, pb)`` (``g`` ``(B, M, 3)``, ``p`` ``(B, M)``), as
     :func:`_mean_err` finds it (each channel's ``M`` weights summed pairwise from one contiguous row).
 
-    Channel by channel, into the rows the mean reads: the same quotients as :func:`_ratio`'s (``safe_div``: 0
-    where ``p <= 0``, NaN to 0, ``±inf`` to the largest float), without its broadcasts over the axis of length 3
-    or the copy that turns the weights' samples into the last axis.
+    Channel by channel, into the rows the mean reads: :func:`_ratio`'s quotients (``safe_div``) without its
+    broadcasts over the axis of length 3 or the copy that turns the weights' samples into the last axis.
     """
     bsz, m = pa.shape
     w = np.empty((bsz, 3, m), dtype=np.result_type(ga, pa, gb, pb))
-    big = np.finfo(w.dtype).max
-    for g, p, add in ((ga, pa, False), (gb, pb, True)):
-        keep = p > 0
-        for c in range(3):
-            with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-                q = g[..., c] / p
-            q = np.where(keep, q, 0)
-            np.nan_to_num(q, copy=False, nan=0.0, posinf=big, neginf=-big)
-            if add:
-                w[:, c, :] += q
-            else:
-                w[:, c, :] = q
+    for c in range(3):
+        w[:, c, :] = safe_div(ga[..., c], pa)
+        w[:, c, :] += safe_div(gb[..., c], pb)
     return w.mean(axis=-1)
 
 
