@@ -92,14 +92,24 @@ def cell_sum(part, directions, power, n, v, cos_v):
         base = iv[s, None] * plane + il * row + ip
         up = np.where(mu_l > 0, one, np.float32(0))  # below the horizon: nothing
         w0, w1 = up * (one - tv[s]), up * tv[s]
-        index, weight = [], []
+        p = base.shape[0]
+        # The eight taps' indices and weights written in place, tap after tap.
+        index = np.empty((p, 8, cells), dtype=base.dtype)
+        weight = np.empty((p, 8, cells), dtype=np.result_type(w0, tl, tp))
+        tp0 = one - tp
+        tap = 0
         for dv, wv in ((0, w0), (plane, w1)):
             for dl, wl in ((0, one - tl), (row, tl)):
                 wvl = wv * wl
-                index += [base + (dv + dl), base + (dv + dl + 1)]
-                weight += [wvl * (one - tp), wvl * tp]
-        texel = np.take(table, np.concatenate(index, axis=1)).view(np.float32).reshape(-1, 8 * cells, 4) * pw
-        out[s] = np.matmul(np.concatenate(weight, axis=1)[:, None, :], texel)[:, 0, :3]
+                np.add(base, dv + dl, out=index[:, tap])
+                np.add(base, dv + dl + 1, out=index[:, tap + 1])
+                np.multiply(wvl, tp0, out=weight[:, tap])
+                np.multiply(wvl, tp, out=weight[:, tap + 1])
+                tap += 2
+        texel = np.take(table, index.reshape(p, -1)).view(np.float32).reshape(p, 8 * cells, 4)
+        # Each tap times its cell's power in float32, held in the dtype of the weighted sum that reads it.
+        texel = np.multiply(texel, pw, out=np.empty(texel.shape, dtype=weight.dtype), dtype=np.float32)
+        out[s] = np.matmul(weight.reshape(p, 1, -1), texel)[:, 0, :3]
 
     in_blocks(n.shape[0], max(1, _BLOCK // max(cells, 1)), block)
     return out

@@ -5,7 +5,7 @@ over ``N`` fixed sample directions per pixel, each read from the prefiltered lev
 share of the lobe.  Everything that does not depend on the pixel is tabulated once per part: the sample
 directions in a local frame, their weights ``f_r (n·l) / p`` (normalized) and their levels, over the view
 angle.  Per pixel the samples are turned into the pixel's frame by three multiply-adds per coordinate, and
-read by one gather per bilinear tap from a flat array of 16-byte RGBA texels (every level after the other),
+read by one gather per bilinear tap from a flat array of texels holding two levels' RGBA (every level after the other),
 pixels a block at a time so that the block's arrays stay in the processor's cache.
 
 Each sample reads the two levels around its width and blends them (linear in ``log σ``): reading only the
@@ -39,7 +39,8 @@ AZIMUTHS = 64
 #: ``lighting-explorer bench --ibl`` measures it: the rows pixel by pixel and of the narrow lobe.
 _BLOCK = 1 << 15
 #: Bytes of a block's arrays at their peak (its directions, levels and weights, and each of the four taps' index,
-#: weight and texels of two levels): about 640 per pixel-sample, traced; this with a margin.
+#: weight and texels of two levels): about 440 per pixel-sample, traced over a
+#: whole call on one block of a narrow lobe; this with a margin.
 BLOCK_BYTES = 704 * _BLOCK
 #: The sample tables of the parts met last.
 _tables = Recent(64)
@@ -61,8 +62,9 @@ class LevelStack:
 
     A sample between levels ``k`` and ``k + 1`` is bilinear in each and linear between them.  Level ``k`` is stored
     with level ``k + 1`` beside it, read at level ``k``'s texel centres (bilinearly where it is coarser: its blur
-    spans several of its own texels), each texel the RGB and a zero of both, 32 bytes: one gather per bilinear
-    tap moves both levels' values (a gather of rows of three float32 values costs several times as much).  The
+    spans several of its own texels), each texel the RGB and a zero of both, float32 values held as float64 (64
+    bytes): one gather per bilinear tap moves both levels' values (a gather of rows of three values costs several
+    times as much).  The
     levels follow each other in one flat array, each with a border of one texel: the first and last columns
     repeated across the seam (the map wraps in azimuth) and the first and last rows repeated (the edge rows are
     clamped), so that a lookup needs no wrapping or clamping.  Rows and columns as
@@ -99,7 +101,9 @@ class LevelStack:
         self.row = np.array([im.shape[1] for im in padded], dtype=np.int32)
         self.offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int32)
         flat = np.concatenate([im.reshape(-1, 8) for im in padded])
-        self.texels = flat.view(np.dtype((np.void, 32))).reshape(-1)
+        # Held in float64, the dtype the weighted sum multiplies them in: the product reads them as they are, where
+        # float32 texels would each be converted again at every read.
+        self.texels = flat.astype(np.float64).view(np.dtype((np.void, 64))).reshape(-1)
         sig = np.asarray(pre.sigmas, dtype=np.float64)
         self.sigma1 = np.float32(sig[1])
         self.log_sigmas = np.log(sig[1:])
@@ -115,8 +119,9 @@ class LevelStack:
     def mean(self, x, y, z, level, w):
         """``Σ_k w_k L(d_k, level_k)`` over the last axis: ``x, y, z`` the unit directions, all ``(P, N)``; ``(P, 3)``.
 
-        Bilinear in each of the two levels around a fractional ``level``, linear between them; float32
-        throughout.
+        Bilinear in each of the two levels around a fractional ``level``, linear between them: the directions and
+        the texel coordinates in float32, the weights (whose fractions an integer part promotes) and the sum in
+        float64.
         """
         theta = np.arccos(np.clip(z, np.float32(-1), np.float32(1)))
         a = np.float32(math.pi) - np.arctan2(y, x)  # (π − φ) ∈ [0, 2π]
@@ -133,14 +138,24 @@ class LevelStack:
         base = np.take(self.offsets, k) + iy * row + jx
         one = np.float32(1)
         wy0, wy1 = w * (one - ty), w * ty
+        wx0 = one - tx
         # Every tap of every sample side by side: one gather, then one weighted sum per pixel (a matrix product)
-        # over the taps' two levels, weighted 1 − t and t.
-        index = np.concatenate([base, base + 1, base + row, base + row + 1], axis=1)
-        tap = np.concatenate([wy0 * (one - tx), wy0 * tx, wy1 * (one - tx), wy1 * tx], axis=1)
-        t4 = np.concatenate([t, t, t, t], axis=1)
-        weight = np.stack([tap - tap * t4, tap * t4], axis=-1).reshape(index.shape[0], 1, -1)
-        texel = np.take(self.texels, index).view(np.float32).reshape(index.shape[0], -1, 4)
-        return np.matmul(weight, texel)[:, 0, :3]
+        # over the taps' two levels, weighted 1 − t and t.  The taps' indices and weights are written in place, in
+        # the order (tap, sample, level) of the gathered texels' values.
+        p, n = base.shape
+        index = np.empty((p, 4, n), dtype=base.dtype)
+        index[:, 0] = base
+        np.add(base, 1, out=index[:, 1])
+        np.add(base, row, out=index[:, 2])
+        np.add(index[:, 2], 1, out=index[:, 3])
+        weight = np.empty((p, 4, n, 2), dtype=wy0.dtype)
+        tap = np.empty((p, n), dtype=wy0.dtype)
+        for q, (wy, wx) in enumerate(((wy0, wx0), (wy0, tx), (wy1, wx0), (wy1, tx))):
+            np.multiply(wy, wx, out=tap)
+            np.multiply(tap, t, out=weight[:, q, :, 1])
+            np.subtract(tap, weight[:, q, :, 1], out=weight[:, q, :, 0])
+        texel = np.take(self.texels, index.reshape(p, -1)).view(np.float64).reshape(p, -1, 4)
+        return np.matmul(weight.reshape(p, 1, -1), texel)[:, 0, :3]
 
 
 def _sampler(part):

@@ -86,11 +86,15 @@ class NormalGrid:
     def interpolate(self, values: np.ndarray, normals: np.ndarray) -> np.ndarray:
         """``values`` at the grid points ``(rows + 1, cols, K)`` read bilinearly at unit ``normals`` (P, 3): (P, K).
 
-        The normals face the view (``n·v >= 0``); float32 throughout.
+        The normals face the view (``n·v >= 0``); the coordinates in float32, the weighted sum in float64, the
+        result in float32.
         """
         k = values.shape[-1]
-        # Each grid point's K values as one item, so that a tap is one gather of 4 K bytes.
-        texels = np.ascontiguousarray(values, dtype=np.float32).reshape(-1, k).view(np.dtype((np.void, 4 * k)))[:, 0]
+        # Each grid point's K values as one item, so that a tap is one gather.  They are held in float64, the dtype
+        # of the bilinear weights (whose fractions an integer part promotes), so that each product reads them as
+        # they are.
+        values = np.ascontiguousarray(values, dtype=np.float32).reshape(-1, k).astype(np.float64)
+        texels = values.view(np.dtype((np.void, 8 * k)))[:, 0]
         n = normals.astype(np.float32, copy=False)
         view, e1, e2 = (a.astype(np.float32) for a in (self.view, self.e1, self.e2))
         out = np.empty((n.shape[0], k), dtype=np.float32)
@@ -109,10 +113,15 @@ class NormalGrid:
             b = a + self.cols
 
             def tap(index, weight):
-                return np.take(texels, index).view(np.float32).reshape(-1, k) * weight[:, None]
+                value = np.take(texels, index).view(np.float64).reshape(-1, k)
+                value *= weight[:, None]
+                return value
 
-            out[s] = (tap(a + j, (one - ti) * (one - tj)) + tap(a + j1, (one - ti) * tj) + tap(b + j, ti * (one - tj))
-                      + tap(b + j1, ti * tj))  # fmt: skip
+            total = tap(a + j, (one - ti) * (one - tj))
+            total += tap(a + j1, (one - ti) * tj)
+            total += tap(b + j, ti * (one - tj))
+            total += tap(b + j1, ti * tj)
+            out[s] = total
 
         in_blocks(n.shape[0], 1 << 14, block)
         return out
