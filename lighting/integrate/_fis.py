@@ -230,7 +230,7 @@ def view_table_mean(part, stack, n, v, cos_v, samples, sigmas):
         z = _turn(lx, ly, lz, t[s, 2], b[s, 2], n[s, 2])
         out[s] = stack.mean(x, y, z, level[mm], w[mm])
 
-    in_blocks(n.shape[0], max(1, _BLOCK // samples), block)
+    in_blocks(n.shape[0], max(1, _BLOCK // samples), block, balanced=True)  # each pixel on its own
     return out, w[m].sum(axis=-1) > 0
 
 
@@ -426,5 +426,5 @@ def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):
         level = stack.level_of(np.float32(0.5) * np.log(np.maximum(vh, tiny)) + log_c)
         out[s] = stack.mean(x, y, z, level, w)
 
-    in_blocks(n.shape[0], max(1, _BLOCK // samples), block)
+    in_blocks(n.shape[0], max(1, _BLOCK // samples), block, balanced=True)  # each pixel on its own
     return out, any_ok

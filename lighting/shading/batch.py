@@ -462,7 +462,7 @@ def each_chunk(n_rows: int, fn, *, min_rows: int | None = None) -> None:
         pass
 
 
-def in_blocks(count: int, step: int, fn) -> None:
+def in_blocks(count: int, step: int, fn, *, balanced: bool = False) -> None:
     """``fn(rows)`` for consecutive slices of ``step`` of ``count`` rows; each shading thread takes a run of them.
 
     The blocks start at the multiples of ``step`` whatever the number of threads, and each is a thread's worth of
@@ -470,7 +470,17 @@ def in_blocks(count: int, step: int, fn) -> None:
     gets a run of blocks as soon as there are two.  The blocks write disjoint rows, so the result does not depend
     on which thread computed which block; a multiple of 64 rows per block also gives each row the bits that one
     call over every row would (BLAS's products treat rows in groups).
+
+    ``balanced``: the blocks are made a little smaller (a multiple of 64 rows, at most ``step``) so that each
+    thread gets the same number of them, where three blocks on two threads would leave one thread idle for a
+    third of the time.  Only for a ``fn`` whose rows get the same bits whatever block they are in (each row
+    computed on its own, or blocks of a multiple of 64 rows: ``step`` one too).
     """
+    if balanced and count > step:
+        threads = _threads()
+        blocks = -(-count // step)
+        blocks = -(-blocks // threads) * threads
+        step = min(step, -(-count // (64 * blocks)) * 64)  # count / blocks, rounded up to a multiple of 64
     starts = range(0, count, step)
 
     def run(blocks):

@@ -316,10 +316,41 @@ def test_a_block_of_filtered_samples_stays_within_its_share_of_the_memory_estima
     assert BLOCK_BYTES / 2 < peak < n.shape[0] * 512 + BLOCK_BYTES, (peak, BLOCK_BYTES)
 
 
+@pytest.mark.parametrize("threads", [1, 2, 3, 8])
+@pytest.mark.parametrize("count, step", [(5328, 2048), (176544, 32768), (72360, 512), (100, 2048), (3000, 1024)])
+def test_balanced_blocks_cover_the_rows_once_in_multiples_of_64_and_an_equal_run_per_thread(monkeypatch, threads,
+                                                                                            count, step):
+    # A grid's 5,328 points in blocks of 2,048 are three blocks: on two threads one would wait a third of the time.
+    import threading
+
+    import lighting.shading.batch as batch
+
+    monkeypatch.setattr(batch, "_threads", lambda: threads)
+    seen, lock = [], threading.Lock()
+
+    def record(rows):
+        with lock:
+            seen.append((rows.start, rows.stop))
+
+    batch.in_blocks(count, step, record, balanced=True)
+    seen.sort()
+    assert seen[0][0] == 0 and seen[-1][1] == count
+    assert all(a[1] == b[0] for a, b in zip(seen[:-1], seen[1:], strict=True))  # consecutive, disjoint, every row once
+    sizes = [b - a for a, b in seen]
+    assert max(sizes) <= step and all(size % 64 == 0 for size in sizes[:-1])
+    if count > step:
+        assert len(seen) >= -(-count // step)  # never fewer blocks than asked for
+        if -(-count // step) < 4 * threads:  # few blocks, where a thread's last one matters: a whole run each
+            assert len(seen) % threads == 0, len(seen)
+    else:
+        assert seen == [(0, count)]
+
+
 def test_blocks_and_threads_change_no_pixel(disk_pre, monkeypatch):
     # Both fast methods compute each pixel on its own: in blocks of any multiple of 64 pixels, on any number of
     # threads, the same values bit for bit (on the grid of normals and pixel by pixel, float32 and float64, with a
     # mirror part).
+    import lighting.integrate._fis as fis_module
     import lighting.integrate.dominant as dominant_module
     import lighting.integrate.ibl as ibl_module
     import lighting.shading.batch as batch
@@ -342,6 +373,7 @@ def test_blocks_and_threads_change_no_pixel(disk_pre, monkeypatch):
     whole = images()
     monkeypatch.setattr(ibl_module, "PIXEL_BLOCK", 128)
     monkeypatch.setattr(dominant_module, "PIXEL_BLOCK", 128)
+    monkeypatch.setattr(fis_module, "_BLOCK", 1 << 12)  # the filtered samples in blocks balanced over the threads
     monkeypatch.setattr(batch, "_MIN_ROWS_PER_THREAD", 50)
     monkeypatch.setattr(batch, "_threads", lambda: 3)
     for blocked, one in zip(images(), whole, strict=True):
