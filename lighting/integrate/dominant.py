@@ -634,7 +634,10 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
         stacked = np.concatenate([value.astype(np.float32) for value in on_grid.values()], axis=-1)
         stacked = stacked.reshape(grid.rows + 1, grid.cols, -1)
     if work is not np.float64:
-        diffuse, specular = diffuse.astype(work), specular.astype(work)
+        if deltas:  # a mirror's reflection, added in float64
+            diffuse, specular = diffuse.astype(work), specular.astype(work)
+        else:  # fresh zeros, not a pass over the float64 ones
+            diffuse, specular = np.zeros(n.shape, dtype=work), np.zeros(n.shape, dtype=work)
     albedos = [lobe_albedo(part) for part in parts]
 
     def finish(rows):
