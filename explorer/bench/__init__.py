@@ -227,7 +227,8 @@ def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
         float32, its lights and residual made once; on the grid of normals, as every pixel shares one view),
         ``ibl_dominant_studio_ms`` and ``ibl_dominant_sun_ms`` (the same under the studio's two soft boxes and under a
         1.5° sun over a gradient sky), ``ibl_dominant_pixels_ms`` (daylight, pixel by pixel: ``normal_grid=False``),
-        ``ibl_dominant_narrow_ms`` (daylight, GGX ``α`` = 0.05: a lobe too narrow for the grid to pay),
+        ``ibl_dominant_narrow_ms`` (daylight, GGX ``α`` = 0.05: a narrow lobe, four times the samples per point, on
+        a grid of four rows per ``σ``),
         ``ibl_dominant_setup_ms`` (making them: the lights, the residual's levels and irradiance map),
         ``ibl_prefilter_ms`` (8 levels),
         ``ibl_mc64_ms`` (:class:`~lighting.integrate.ibl.ProgressiveRadiance`, one 64-sample pass),
@@ -320,7 +321,7 @@ def format_ibl(r: dict) -> str:
         ("  the same under the studio (two soft boxes)", "ibl_dominant_studio_ms"),
         ("  the same under a 1.5° sun over a gradient sky", "ibl_dominant_sun_ms"),
         ("  daylight, pixel by pixel (no grid of normals)", "ibl_dominant_pixels_ms"),
-        ("  daylight, GGX α=0.05 (too narrow for the grid)", "ibl_dominant_narrow_ms"),
+        ("  daylight, GGX α=0.05 (a narrow lobe: 64 samples)", "ibl_dominant_narrow_ms"),
         ("  its lights, residual levels and irradiance, once", "ibl_dominant_setup_ms"),
         ("prefilter 512x256, 8 lobe widths", "ibl_prefilter_ms"),
         ("Monte Carlo MIS reference, 64 spp", "ibl_mc64_ms"),

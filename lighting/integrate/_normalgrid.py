@@ -32,9 +32,10 @@ MAX_SPACING = math.radians(2.5)
 GRID_SHARE = 0.25
 
 
-def grid_spacing(sigma: float) -> float:
-    """``Δθ`` (radians) of the grid of a lobe ``σ`` wide (before rounding to a whole number of rows to π/2)."""
-    return min(sigma / GRID_DENSITY, MAX_SPACING)
+def grid_spacing(sigma: float, density: float = GRID_DENSITY) -> float:
+    """``Δθ`` (radians) of the grid of a lobe ``σ`` wide at ``density`` rows per ``σ`` (before rounding to a whole
+    number of rows to π/2)."""
+    return min(sigma / density, MAX_SPACING)
 
 
 def _shape(spacing: float) -> tuple[int, int]:

@@ -67,7 +67,7 @@ from ..shading.batch import PIXEL_BLOCK, _threads, in_blocks
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
 from ._fis import BLOCK_BYTES, LevelStack, half_vector_mean, view_table_mean
-from ._normalgrid import GRID_SHARE, NormalGrid, grid_points, grid_spacing
+from ._normalgrid import GRID_DENSITY, GRID_SHARE, NormalGrid, grid_points, grid_spacing
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
 
@@ -103,6 +103,11 @@ AREA_CELL_ROWS = 16
 WIDE_LOBE = 0.25
 #: A glossy lobe narrower than :data:`WIDE_LOBE` takes this many times ``samples`` filtered samples.
 NARROW_FACTOR = 4
+#: Rows of the grid of normals per lobe width ``σ`` for a lobe narrower than :data:`WIDE_LOBE` (a wider one:
+#: :data:`~lighting.integrate._normalgrid.GRID_DENSITY`).  Its points cost :data:`NARROW_FACTOR` times as many
+#: samples each; at this density the grid reads what the pixels compute within a fraction of the method's own error
+#: (``report accuracy --only ibl``, the ``normal grid`` rows), and a 512² sphere of GGX ``α`` = 0.05 qualifies.
+NARROW_GRID_DENSITY = 4
 #: Rows of the residual's irradiance map (E is smooth once the small sources are out).
 IRRADIANCE_HEIGHT = 64
 #: The irradiance map integrates the residual at most this many rows high (a larger map is averaged down first).
@@ -623,7 +628,7 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
                 blurred["irradiance"] = dom.irradiance.radiance(nb) / math.pi
             else:
                 on_grid["irradiance"] = dom.irradiance.radiance(gn) / math.pi
-        elif grid is not None and grid_spacing(sigma) >= grid.spacing:
+        elif grid is not None and _spacing(sigma) >= grid.spacing:
             terms = _glossy_terms(part, sigma, dom, gn_dt, gv, gc, 2 * gc[:, None] * gn_dt - gv, samples)
             if len(dom.lights):  # the lights through a lobe that the grid's spacing resolves, with the areas' cells
                 terms[:, :3] += _light_term(part, dom.lights, gn_dt, gv, dt, sigma)
@@ -680,11 +685,16 @@ def _grid_for(sigmas, normal_grid, pixels, vb):
     if normal_grid is False or not pixels:
         return None
     best = None
-    for spacing in sorted({grid_spacing(s) for s in sigmas}, reverse=True):
+    for spacing in sorted({_spacing(s) for s in sigmas}, reverse=True):
         if normal_grid is None and grid_points(spacing) > GRID_SHARE * pixels:
             break
         best = spacing
     return None if best is None else NormalGrid(vb[0], best)
+
+
+def _spacing(sigma: float) -> float:
+    """The grid spacing of a lobe ``σ`` wide: :data:`NARROW_GRID_DENSITY` rows per ``σ`` below :data:`WIDE_LOBE`."""
+    return grid_spacing(sigma, NARROW_GRID_DENSITY if sigma < WIDE_LOBE else GRID_DENSITY)
 
 
 def _glossy_terms(part, sigma, dom, n, v, cos_v, r, samples):

@@ -521,6 +521,34 @@ def test_the_explorers_timing_constants_and_targets_on_its_page_are_the_codes():
         assert phrase in text, phrase
 
 
+def test_the_grid_of_normals_on_the_lights_page_is_the_codes():
+    # The rows per lobe width, the narrow lobes' width and sample factor, and the claim that GGX α = 0.05 fits a
+    # 512² sphere's grid (its points at most a quarter of the sphere's pixels, as the method decides).
+    import math
+
+    from lighting.integrate._normalgrid import GRID_DENSITY, GRID_SHARE, MAX_SPACING, grid_points, grid_spacing
+    from lighting.integrate.dominant import NARROW_FACTOR, NARROW_GRID_DENSITY, WIDE_LOBE
+    from lighting.integrate.ibl import lobe_sigma
+    from lighting.models.brdf import CookTorrance
+    from lighting.validation.accuracy import ibl_sphere
+
+    text = _prose("lights.md")
+    factor = {2: "two", 4: "four", 8: "eight"}[NARROW_FACTOR]
+    for phrase in (
+        f"(rows every `σ/{GRID_DENSITY}`, at most {math.degrees(MAX_SPACING):g}°, from the view to the silhouette",
+        f"A lobe narrower than {WIDE_LOBE:g} rad, whose points take {factor} "
+        f"times the samples, has rows every `σ/{NARROW_GRID_DENSITY}` (`NARROW_GRID_DENSITY`): GGX at α = 0.05 then "
+        "fits a 512² sphere's grid",
+        "at most a quarter of the pixels' count of points",
+    ):
+        assert phrase in text, phrase
+    assert GRID_SHARE == 0.25
+    sigma = lobe_sigma(CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none").lobe())
+    _, n, _ = ibl_sphere(512)
+    assert sigma < WIDE_LOBE
+    assert grid_points(grid_spacing(sigma, NARROW_GRID_DENSITY)) <= GRID_SHARE * n.shape[0]
+
+
 def test_the_explorers_key_table_is_the_windows_key_table():
     # The page's table under "### Keys", row by row, is explorer.app.captions.KEYS: each key as its Qt key
     # sequence and its words (a "|" in the words escaped for the Markdown table).

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from lighting.integrate._normalgrid import GRID_SHARE, MAX_SPACING, NormalGrid, grid_points, grid_spacing
+from lighting.integrate._normalgrid import GRID_DENSITY, GRID_SHARE, MAX_SPACING, NormalGrid, grid_points, grid_spacing
 from lighting.integrate.dominant import dominant_radiance
 from lighting.integrate.ibl import ALBEDO_ANGLES, lobe_albedo
 from lighting.integrate.prefilter import prefilter_environment
@@ -64,6 +64,28 @@ def test_interpolation_is_exact_along_theta_and_within_the_bilinear_bound():
     err = np.abs(got - np.exp(n.astype(np.float64) @ d))
     assert err.max() <= bound + 1e-5, (err.max(), bound)
     assert err.max() > bound / 20  # the bound is near what is met: the test would see a coarser read
+
+
+def test_a_narrow_lobe_has_a_coarser_grid_that_reads_the_pixels_within_the_interpolations_error():
+    # GGX α = 0.1 (σ = 0.14, narrower than WIDE_LOBE): four rows per σ, 8,280 points, which a 240² sphere's 38,780
+    # pixels pay for; six rows per σ (18,224 points) would not.
+    from lighting.integrate.dominant import NARROW_GRID_DENSITY, WIDE_LOBE
+    from lighting.integrate.ibl import lobe_sigma
+    from lighting.validation.accuracy import ibl_environment, ibl_sphere
+
+    m = Lambert(0.3) + CookTorrance(1.0, 0.1, 1.0, ndf="ggx", fresnel="none")
+    sigma = lobe_sigma(m.parts[1].lobe())
+    assert sigma < WIDE_LOBE and NARROW_GRID_DENSITY < GRID_DENSITY
+    _, n, v = ibl_sphere(240)
+    n, v = n.astype(np.float32), v.astype(np.float32)
+    narrow, wide = (grid_points(grid_spacing(sigma, d)) for d in (NARROW_GRID_DENSITY, GRID_DENSITY))
+    assert narrow <= GRID_SHARE * n.shape[0] < wide
+    pre = prefilter_environment(ibl_environment("daylight", 64))
+    auto, on, off = (dominant_radiance(m, pre, n, v, normal_grid=g) for g in (None, True, False))
+    np.testing.assert_array_equal(auto, on)
+    assert not np.array_equal(on, off)
+    rel = np.max(np.abs(on - off), -1) / np.max(off, -1)
+    assert np.median(rel) < 1e-3 and np.percentile(rel, 95) < 5e-3, (np.median(rel), np.percentile(rel, 95))
 
 
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
