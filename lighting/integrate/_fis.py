@@ -5,8 +5,8 @@ over ``N`` fixed sample directions per pixel, each read from the prefiltered lev
 share of the lobe.  Everything that does not depend on the pixel is tabulated once per part: the sample
 directions in a local frame, their weights ``f_r (n·l) / p`` (normalized) and their levels, over the view
 angle.  Per pixel the samples are turned into the pixel's frame by three multiply-adds per coordinate, and
-read by one gather per bilinear tap from a flat array of texels holding two levels' RGBA (every level after the other),
-pixels a block at a time so that the block's arrays stay in the processor's cache.
+read by one gather per bilinear tap from a flat array of texels that hold two levels' RGBA (every level after
+the other), pixels a block at a time so that the block's arrays stay in the processor's cache.
 
 Each sample reads the two levels around its width and blends them (linear in ``log σ``): reading only the
 nearest level moves the value by a whole level's blur where the width crosses a midpoint, and the error of a
@@ -39,8 +39,8 @@ AZIMUTHS = 64
 #: ``lighting-explorer bench --ibl`` measures it: the rows pixel by pixel and of the narrow lobe.
 _BLOCK = 1 << 15
 #: Bytes of a block's arrays at their peak (its directions, levels and weights, and each of the four taps' index,
-#: weight and texels of two levels): about 440 per pixel-sample, traced over a
-#: whole call on one block of a narrow lobe; this with a margin.
+#: weight and texels of two levels): about 440 per pixel-sample, traced over a whole call on one block of a
+#: narrow lobe; this with a margin.
 BLOCK_BYTES = 704 * _BLOCK
 #: The sample tables of the parts met last.
 _tables = Recent(64)
@@ -64,10 +64,9 @@ class LevelStack:
     with level ``k + 1`` beside it, read at level ``k``'s texel centres (bilinearly where it is coarser: its blur
     spans several of its own texels), each texel the RGB and a zero of both, float32 values held as float64 (64
     bytes): one gather per bilinear tap moves both levels' values (a gather of rows of three values costs several
-    times as much).  The
-    levels follow each other in one flat array, each with a border of one texel: the first and last columns
-    repeated across the seam (the map wraps in azimuth) and the first and last rows repeated (the edge rows are
-    clamped), so that a lookup needs no wrapping or clamping.  Rows and columns as
+    times as much).  The levels follow each other in one flat array, each with a border of one texel: the first
+    and last columns repeated across the seam (the map wraps in azimuth) and the first and last rows repeated (the
+    edge rows are clamped), so that a lookup needs no wrapping or clamping.  Rows and columns as
     :func:`lighting.lights.latlong.latlong_lookup`: row ``i`` of ``h`` centred at ``θ = (i + ½)π/h``, column
     angle ``a = (π − φ) mod 2π`` over ``2h`` columns.
 
