@@ -177,10 +177,11 @@ TIME_LIMIT = 30.0
 #: of that kind; ``measured table``: one view table of a measured BRDF's importance sampler (90 are built at most,
 #: once per file); ``prefilter`` and ``prefilter pixel``: prefiltering an environment for the split sum and the
 #: dominant lights, once and per pixel of the prefiltered image; ``split-sum`` / ``dominant`` + ``diffuse`` /
-#: ``glossy`` / ``narrow`` (a lobe narrower than the dominant method's ``WIDE_LOBE``): one shading point per part
-#: under those methods; ``dominant`` and ``dominant pixel``: finding an environment's dominant lights and making
-#: the residual's levels, once and per pixel of the prefiltered image; ``dominant narrow table``: a narrow lobe's
-#: table of half vectors (once per part).
+#: ``glossy`` / ``narrow`` (a lobe narrower than the dominant method's ``WIDE_LOBE``, measured on one that takes its
+#: ``MID_FACTOR`` of samples, the most a narrow lobe takes): one shading point per part under those methods;
+#: ``dominant`` and ``dominant pixel``: finding an environment's dominant lights and making the residual's levels,
+#: once and per pixel of the prefiltered image; ``dominant narrow table``: a narrow lobe's table of half vectors
+#: (once per part).
 SECONDS_PER = {
     "pixel": 2.5e-07,
     "render": 0.001,
@@ -213,7 +214,7 @@ SECONDS_PER = {
     "split-sum glossy": 4.9e-07,
     "dominant diffuse": 3.5e-07,
     "dominant glossy": 3.9e-06,
-    "dominant narrow": 7.1e-06,
+    "dominant narrow": 1.3e-05,
     "dominant pixel": 3.7e-06,
     "dominant": 0.0006,
     "dominant narrow table": 0.19,

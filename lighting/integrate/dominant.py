@@ -25,12 +25,13 @@ round lobe about the mirror direction, which is far off where the sky holds a sm
   :mod:`lighting.integrate._cells`), and only the calm rest is filtered; a narrower lobe reads them by its
   filtered samples.
 
-A lobe narrower than :data:`WIDE_LOBE` reads everything by its samples, :data:`NARROW_FACTOR` times as many: the
-sharp edges of large bright areas (a studio's boxes) and what its long tails gather from them over a dark ground
-need them.  A narrow GGX or Beckmann lobe's half vectors (``D(h)(n·h)`` sampling, which does not depend on the
-view) stay fixed in a frame turning smoothly with the normal, and each pixel reflects its own view about them:
-samples turning with the plane of incidence would spin about the point facing the viewer and draw a pinwheel
-there.  Where it errs most is there, and on coarse maps; the accuracy report gives the numbers.
+A lobe narrower than :data:`WIDE_LOBE` reads everything by its samples, :data:`NARROW_FACTOR` times as many
+(:data:`MID_FACTOR` from :data:`MID_LOBE`: :func:`sample_count`): the sharp edges of large bright areas (a studio's
+boxes) and what its long tails gather from them over a dark ground need them.  A narrow GGX or Beckmann lobe's
+half vectors (``D(h)(n·h)`` sampling, which does not depend on the view) stay fixed in a frame turning smoothly
+with the normal, and each pixel reflects its own view about them: samples turning with the plane of incidence would
+spin about the point facing the viewer and draw a pinwheel there.  Where it errs most is there, and on coarse
+maps; the accuracy report gives the numbers.
 
 An ideal mirror part reflects ``R(μ_v) L(r)`` of the whole map, exactly as in the split sum.
 
@@ -77,6 +78,9 @@ __all__ = [
     "DOMINANT_MAX_SOLID_ANGLE",
     "DOMINANT_SAMPLES",
     "NARROW_FACTOR",
+    "MID_LOBE",
+    "MID_FACTOR",
+    "sample_count",
     "DiskLights",
     "DominantEnvironment",
     "dominant_environment",
@@ -104,8 +108,15 @@ AREA_CELL_ROWS = 16
 #: sample in its tail reads a wide level), where the cells hold the edge: from GGX α ≈ 0.13 the cells are the closer
 #: of the two (``report accuracy --only ibl`` measures the method's lobes).
 WIDE_LOBE = 0.18
-#: A glossy lobe narrower than :data:`WIDE_LOBE` takes this many times ``samples`` filtered samples.
+#: A glossy lobe narrower than :data:`MID_LOBE` takes this many times ``samples`` filtered samples.
 NARROW_FACTOR = 4
+#: A glossy lobe from this width (radians) up to :data:`WIDE_LOBE` takes :data:`MID_FACTOR` times ``samples``.  Each
+#: sample's blur grows with the lobe's width over the square root of the samples' count, and a box's edge is sharp
+#: in absolute angle: under the studio the lobes just below :data:`WIDE_LOBE` spread its edges past the targets with
+#: the narrow lobes' count (``report accuracy --only ibl`` measures the method).
+MID_LOBE = 0.09
+#: The factor of the lobes from :data:`MID_LOBE` to :data:`WIDE_LOBE`.
+MID_FACTOR = 8
 #: Rows of the grid of normals per lobe width ``σ`` for a lobe narrower than :data:`WIDE_LOBE` (a wider one:
 #: :data:`~lighting.integrate._normalgrid.GRID_DENSITY`).  Its points cost :data:`NARROW_FACTOR` times as many
 #: samples each; at this density the grid reads what the pixels compute within a fraction of the method's own error
@@ -533,7 +544,7 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
         Unit surface normals and unit directions toward the viewer (broadcast together).
     samples : int >= 1
         Filtered-importance samples per glossy part and pixel (a lobe narrower than :data:`WIDE_LOBE`:
-        :data:`NARROW_FACTOR` times as many).
+        :data:`NARROW_FACTOR` or :data:`MID_FACTOR` times as many, :func:`sample_count`).
     split_terms : bool
         Return ``{"diffuse": ..., "specular": ...}`` (normal lobes; the others) instead of their sum.
     normal_grid : bool or None
@@ -695,6 +706,30 @@ def _grid_for(sigmas, normal_grid, pixels, vb):
     return None if best is None else NormalGrid(vb[0], best)
 
 
+def sample_count(sigma: float, samples: int = DOMINANT_SAMPLES) -> int:
+    """The filtered samples per point of a glossy lobe ``σ`` wide (:data:`NARROW_FACTOR`, :data:`MID_FACTOR`).
+
+    Parameters
+    ----------
+    sigma : float
+        The lobe's width (:func:`lighting.integrate.ibl.lobe_sigma`, radians).
+    samples : int, optional
+        The samples of a wide lobe (:func:`dominant_radiance`'s ``samples``).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> sample_count(0.5), sample_count(0.12), sample_count(0.07)
+    (16, 128, 64)
+    """
+    if sigma >= WIDE_LOBE:
+        return samples
+    return (MID_FACTOR if sigma >= MID_LOBE else NARROW_FACTOR) * samples
+
+
 def _spacing(sigma: float) -> float:
     """The grid spacing of a lobe ``σ`` wide: :data:`NARROW_GRID_DENSITY` rows per ``σ`` below :data:`WIDE_LOBE`."""
     return grid_spacing(sigma, NARROW_GRID_DENSITY if sigma < WIDE_LOBE else GRID_DENSITY)
@@ -712,8 +747,8 @@ def _glossy_terms(part, sigma, dom, n, v, cos_v, r, samples):
         out[:, :3] = cell_sum(part, dom.cell_directions, dom.cell_power, n32, v32, c32)
     rest, levels = (dom.calm, dom.calm_levels) if wide else (dom.residual, dom.levels)
     # A narrow lobe reads sharp areas of light (a box's edge, its long tails over a dark ground) by its samples
-    # alone: it takes NARROW_FACTOR times as many.
-    count = samples if sigma >= WIDE_LOBE else NARROW_FACTOR * samples
+    # alone: it takes NARROW_FACTOR or MID_FACTOR times as many.
+    count = sample_count(sigma, samples)
     mf = part.microfacet()
     half = sigma < WIDE_LOBE and mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic
     fis = half_vector_mean if half else view_table_mean

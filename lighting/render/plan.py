@@ -481,12 +481,13 @@ def _environment_words(light, where: str) -> str:
     h = prefilter_height(light.environment)
     state = "already prefiltered" if light._prefiltered is not None else "prefiltered once, on first use"
     if light.method == "dominant":
-        from ..integrate.dominant import DOMINANT_SAMPLES, NARROW_FACTOR
+        from ..integrate.dominant import DOMINANT_SAMPLES, MID_FACTOR, NARROW_FACTOR
 
         return (f"environment light {what}: dominant lights and filtered importance sampling {where} — the map's "
                 "small bright regions as disk lights shaded with the BRDF, the rest by its irradiance map for "
                 f"diffuse parts and {DOMINANT_SAMPLES} filtered samples per glossy part "
-                f"({NARROW_FACTOR * DOMINANT_SAMPLES} for a narrow lobe), prefiltered at {2 * h}x{h} "
+                f"({NARROW_FACTOR * DOMINANT_SAMPLES} or {MID_FACTOR * DOMINANT_SAMPLES} for a narrow lobe), "
+                f"prefiltered at {2 * h}x{h} "
                 f"for {len(PREFILTER_SIGMAS)} lobe widths ({state})")  # fmt: skip
     return (f"environment light {what}: split sum {where} — SH9 irradiance for diffuse parts, the environment "
             f"prefiltered at {2 * h}x{h} for {len(PREFILTER_SIGMAS)} lobe widths ({state}) times each glossy "

@@ -527,19 +527,31 @@ def test_the_grid_of_normals_on_the_lights_page_is_the_codes():
     import math
 
     from lighting.integrate._normalgrid import GRID_DENSITY, GRID_SHARE, MAX_SPACING, grid_points, grid_spacing
-    from lighting.integrate.dominant import NARROW_FACTOR, NARROW_GRID_DENSITY, WIDE_LOBE
+    from lighting.integrate.dominant import (
+        DOMINANT_SAMPLES,
+        MID_FACTOR,
+        MID_LOBE,
+        NARROW_FACTOR,
+        NARROW_GRID_DENSITY,
+        WIDE_LOBE,
+    )
     from lighting.integrate.ibl import lobe_sigma
     from lighting.models.brdf import CookTorrance
     from lighting.validation.accuracy import ibl_sphere
 
     text = _prose("lights.md")
-    factor = {2: "two", 4: "four", 8: "eight"}[NARROW_FACTOR]
+    words = {2: "two", 4: "four", 8: "eight", 16: "sixteen"}
+    factor = f"{words[NARROW_FACTOR]} or {words[MID_FACTOR]}"
     for phrase in (
         f"(rows every `σ/{GRID_DENSITY}`, at most {math.degrees(MAX_SPACING):g}°, from the view to the silhouette",
         f"A lobe narrower than {WIDE_LOBE:g} rad, whose points take {factor} "
         f"times the samples, has rows every `σ/{NARROW_GRID_DENSITY}` (`NARROW_GRID_DENSITY`): GGX at α = 0.05 then "
         "fits a 512² sphere's grid",
         "at most a quarter of the pixels' count of points",
+        f"({NARROW_FACTOR * DOMINANT_SAMPLES} for a lobe narrower than {MID_LOBE:g} rad, "
+        f"{MID_FACTOR * DOMINANT_SAMPLES} from there up to {WIDE_LOBE:g} rad:",
+        f"({NARROW_FACTOR * DOMINANT_SAMPLES} for a lobe narrower than {MID_LOBE:g} rad, "
+        f"{MID_FACTOR * DOMINANT_SAMPLES} up to {WIDE_LOBE:g} rad)",
     ):
         assert phrase in text, phrase
     assert GRID_SHARE == 0.25
