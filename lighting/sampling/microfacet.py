@@ -327,8 +327,9 @@ class VisibleNormalSampler(MicrofacetSampler):
             h = self._visible_normals(u.reshape(-1, 2), vu)
             vh = _dot(vu, h)
             l = 2 * vh[..., None] * h - vu  # noqa: E741
-            # One view for every draw: its d_v (for Beckmann a continued fraction) once, not once per row.
-            den = self._den_v(vu[:1]) if v.size == 3 else None
+            # One view for every draw: its d_v (for Beckmann a continued fraction) once, not once per row, and
+            # remembered with the densities' (the same view's pdf asks for it next).
+            den = self._den_of_view(vu[0]) if v.size == 3 else None
             return Samples(l.reshape(shape + (3,)), self._visible_pdf(h, vu, vh, den).reshape(shape))
         fallback = super()._sample(u, vb)
         if not np.any(up):
