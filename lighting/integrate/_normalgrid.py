@@ -88,13 +88,13 @@ class NormalGrid:
         """``values`` at the grid points ``(rows + 1, cols, K)`` read bilinearly at unit ``normals`` (P, 3): (P, K).
 
         The normals face the view (``n·v >= 0``); the coordinates in float32, the weighted sum in float64, the
-        result in float32.
+        result in float32.  The values are read in float64, the dtype of the bilinear weights (whose fractions an
+        integer part promotes), so that each product reads them as they are: a caller that reads one grid in
+        several calls converts it once (C-contiguous float64 values are used as they are).
         """
         k = values.shape[-1]
-        # Each grid point's K values as one item, so that a tap is one gather.  They are held in float64, the dtype
-        # of the bilinear weights (whose fractions an integer part promotes), so that each product reads them as
-        # they are.
-        values = np.ascontiguousarray(values, dtype=np.float32).reshape(-1, k).astype(np.float64)
+        # Each grid point's K values as one item, so that a tap is one gather.
+        values = np.ascontiguousarray(values, dtype=np.float64).reshape(-1, k)
         texels = values.view(np.dtype((np.void, 8 * k)))[:, 0]
         n = normals.astype(np.float32, copy=False)
         view, e1, e2 = (a.astype(np.float32) for a in (self.view, self.e1, self.e2))

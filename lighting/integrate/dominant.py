@@ -650,7 +650,8 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
         else:
             blurred[i] = _glossy_terms(part, sigma, dom, nb, vb, cos_v, 2 * cos_v[:, None] * nb - vb, samples)
     if on_grid:
-        stacked = np.concatenate([value.astype(np.float32) for value in on_grid.values()], axis=-1)
+        # The grid's terms rounded to float32, then held in float64 for the bilinear reads (once, not per block).
+        stacked = np.concatenate([value.astype(np.float32) for value in on_grid.values()], axis=-1, dtype=np.float64)
         stacked = stacked.reshape(grid.rows + 1, grid.cols, -1)
     if work is not np.float64:
         if deltas:  # a mirror's reflection, added in float64
