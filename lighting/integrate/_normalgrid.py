@@ -8,12 +8,22 @@ at the points of a grid over the normals facing ``v`` and read bilinearly at eac
 normals need a few thousand points for a wide lobe.  The dominant lights (sharp where the lobe is narrow) and the
 lobe's albedo (steep at grazing views) stay per pixel.
 
-The grid is polar about ``v``: rows at ``θ_i = i Δθ`` from ``v`` (row 0 is ``v`` itself, the last row the
-silhouette, ``θ = π/2``), columns evenly in the azimuth ``ψ`` about ``v`` (wrapping), ``Δθ`` = ``σ`` /
-:data:`GRID_DENSITY` and at most :data:`MAX_SPACING`.  Bilinear interpolation of a function that varies on the
-scale ``σ`` errs by about ``(Δθ/σ)² / 8`` of its curvature there: a fraction of a percent at 6 points per
-``σ``.  How far the grid moves the method's values from those shaded pixel by pixel is measured by
-``lighting-explorer report accuracy --only ibl`` (the ``normal grid`` rows).
+The grid is polar about ``v``: rings at ``θ_i = i Δθ`` from ``v`` (ring 0 is ``v`` itself, one point; the last
+ring the silhouette, ``θ = π/2``), ``Δθ`` = ``σ`` / :data:`GRID_DENSITY` and at most :data:`MAX_SPACING`, each ring
+``c_i`` points evenly in the azimuth ``ψ`` about ``v`` (wrapping), ``Δψ_i = 2π / c_i``.  A pixel between rings
+``i`` and ``i + 1`` is read linearly in ``ψ`` on each ring and linearly in ``θ`` between them (four taps).
+
+How many points a ring needs follows from the interpolation's error.  Reading ``f`` linearly in ``θ`` errs by at
+most ``Δθ² max|f_θθ| / 8``, and in ``ψ`` on ring ``i`` by ``Δψ_i² max|f_ψψ| / 8``.  Along a ring the normal moves
+as ``sin θ`` (``|∂n/∂ψ| = |∂²n/∂ψ²| = sin θ``), so for a function smooth on the sphere ``|f_ψψ|`` is of the order
+of ``sin θ`` times its derivatives, and the ``ψ`` error is within the ``θ`` one when ``Δψ_i² sin θ_i <= Δθ²``:
+``c_i = ⌈2π √(sin θ_i) / Δθ⌉`` (at least 8).  Columns evenly spaced as at the silhouette on every ring would take
+``π/2 ÷ ∫ √(sin θ) dθ`` ≈ 1.31 times as many points for the same bound.
+
+Bilinear interpolation of a function that varies on the scale ``σ`` errs by about ``(Δθ/σ)² / 8`` of its
+curvature there: a fraction of a percent at 6 points per ``σ``.  How far the grid moves the method's values from
+those shaded pixel by pixel is measured by ``lighting-explorer report accuracy --only ibl`` (the ``normal grid``
+rows).
 """
 
 from __future__ import annotations
@@ -38,16 +48,24 @@ def grid_spacing(sigma: float, density: float = GRID_DENSITY) -> float:
     return min(sigma / density, MAX_SPACING)
 
 
-def _shape(spacing: float) -> tuple[int, int]:
-    """``(rows, cols)`` of the grid of spacing at most ``spacing``: ``rows + 1`` rows from the view to π/2."""
+#: The fewest points of a ring other than the view's own.
+MIN_COLUMNS = 8
+
+
+def _shape(spacing: float) -> tuple[int, np.ndarray]:
+    """``(rows, columns)`` of the grid of spacing at most ``spacing``: ``rows + 1`` rings from the view to π/2, ring
+    ``i`` of ``columns[i]`` points (module notes: ``Δψ_i² sin θ_i <= Δθ²``)."""
     rows = max(2, math.ceil((math.pi / 2) / spacing))
-    return rows, max(8, math.ceil(2 * math.pi / ((math.pi / 2) / rows)))
+    d_theta = (math.pi / 2) / rows
+    reach = np.sqrt(np.sin(np.arange(rows + 1) * d_theta))
+    columns = np.maximum(np.ceil(2 * math.pi * reach / d_theta), MIN_COLUMNS).astype(np.int64)
+    columns[0] = 1  # the view itself
+    return rows, columns
 
 
 def grid_points(spacing: float) -> int:
     """The number of points of :class:`NormalGrid` ``(view, spacing)`` (without making it)."""
-    rows, cols = _shape(spacing)
-    return (rows + 1) * cols
+    return int(_shape(spacing)[1].sum())
 
 
 class NormalGrid:
@@ -59,6 +77,17 @@ class NormalGrid:
         The unit direction toward the viewer that every pixel shares.
     spacing : float
         Largest ``Δθ`` (radians); the rows divide ``π/2`` evenly.
+
+    Attributes
+    ----------
+    rows : int
+        Rings after the view's own: ring ``i`` at ``θ = i Δθ``, ``i = 0 … rows``.
+    columns : ndarray of int64, (rows + 1,)
+        The points of each ring (1 for ring 0), evenly in ``ψ`` from ``ψ = 0``.
+    starts : ndarray of int64, (rows + 1,)
+        Each ring's first point in :attr:`normals`.
+    normals : ndarray, (size, 3) float64
+        The unit normals, ring after ring.
     """
 
     def __init__(self, view, spacing: float):
@@ -68,29 +97,30 @@ class NormalGrid:
         self.view = self.view / np.linalg.norm(self.view)
         #: The spacing asked for (the rows' ``Δθ`` is at most this).
         self.spacing = float(spacing)
-        self.rows, self.cols = _shape(spacing)
+        self.rows, self.columns = _shape(spacing)
+        self.starts = np.concatenate([[0], np.cumsum(self.columns)[:-1]])
         self.d_theta = (math.pi / 2) / self.rows
-        self.d_psi = 2 * math.pi / self.cols
         e1, e2 = (np.asarray(a, dtype=np.float64) for a in orthonormal_basis(self.view))
         self.e1, self.e2 = e1, e2
-        theta = (np.arange(self.rows + 1) * self.d_theta)[:, None, None]
-        psi = (np.arange(self.cols) * self.d_psi)[None, :, None]
+        ring = np.repeat(np.arange(self.rows + 1), self.columns)
+        theta = (ring * self.d_theta)[:, None]
+        psi = ((np.arange(ring.size) - self.starts[ring]) * (2 * math.pi / self.columns[ring]))[:, None]
         n = np.sin(theta) * (np.cos(psi) * e1 + np.sin(psi) * e2) + np.cos(theta) * self.view
-        #: (rows + 1, cols, 3) unit normals; row 0 is the view direction, the last row is perpendicular to it.
         self.normals = n / np.linalg.norm(n, axis=-1, keepdims=True)
 
     @property
     def size(self) -> int:
         """The number of grid points."""
-        return (self.rows + 1) * self.cols
+        return int(self.columns.sum())
 
     def interpolate(self, values: np.ndarray, normals: np.ndarray) -> np.ndarray:
-        """``values`` at the grid points ``(rows + 1, cols, K)`` read bilinearly at unit ``normals`` (P, 3): (P, K).
+        """``values`` at the grid points ``(size, K)`` read at unit ``normals`` (P, 3): (P, K).
 
-        The normals face the view (``n·v >= 0``); the coordinates in float32, the weighted sum in float64, the
-        result in float32.  The values are read in float64, the dtype of the bilinear weights (whose fractions an
-        integer part promotes), so that each product reads them as they are: a caller that reads one grid in
-        several calls converts it once (C-contiguous float64 values are used as they are).
+        Linear in ``ψ`` on the two rings around each normal, linear in ``θ`` between them.  The normals face the
+        view (``n·v >= 0``); the coordinates in float32, the weighted sum in float64, the result in float32.  The
+        values are read in float64, the dtype of the weights (whose fractions an integer part promotes), so that each
+        product reads them as they are: a caller that reads one grid in several calls converts it once (C-contiguous
+        float64 values are used as they are).
         """
         k = values.shape[-1]
         # Each grid point's K values as one item, so that a tap is one gather.
@@ -98,30 +128,36 @@ class NormalGrid:
         texels = values.view(np.dtype((np.void, 8 * k)))[:, 0]
         n = normals.astype(np.float32, copy=False)
         view, e1, e2 = (a.astype(np.float32) for a in (self.view, self.e1, self.e2))
+        columns, starts = self.columns.astype(np.int32), self.starts.astype(np.int32)
         out = np.empty((n.shape[0], k), dtype=np.float32)
         one = np.float32(1)
+
+        def ring(i, turn):
+            """The two taps of ring ``i`` at the fraction ``turn`` of a whole turn: ``(index, index, fraction)``."""
+            c = np.take(columns, i)
+            fj = turn * c
+            j = np.minimum(fj.astype(np.int32), c - 1)  # turn < 1, but float32 may round fj up to c
+            start = np.take(starts, i)
+            return start + j, start + np.where(j == c - 1, 0, j + 1), fj - j
+
+        def tap(index, weight):
+            value = np.take(texels, index).view(np.float64).reshape(-1, k)
+            value *= weight[:, None]
+            return value
 
         def block(s):
             nn = n[s]
             fi = np.arccos(np.clip(nn @ view, 0, 1)) * np.float32(1 / self.d_theta)
             i = np.minimum(fi.astype(np.int32), self.rows - 1)
             ti = fi - i
-            fj = np.mod(np.arctan2(nn @ e2, nn @ e1) * np.float32(1 / self.d_psi), np.float32(self.cols))
-            j = np.minimum(fj.astype(np.int32), self.cols - 1)  # fj < cols, but float32 may round up to it
-            tj = fj - j
-            j1 = np.where(j == self.cols - 1, 0, j + 1)
-            a = i * self.cols
-            b = a + self.cols
-
-            def tap(index, weight):
-                value = np.take(texels, index).view(np.float64).reshape(-1, k)
-                value *= weight[:, None]
-                return value
-
-            total = tap(a + j, (one - ti) * (one - tj))
-            total += tap(a + j1, (one - ti) * tj)
-            total += tap(b + j, ti * (one - tj))
-            total += tap(b + j1, ti * tj)
+            turn = np.arctan2(nn @ e2, nn @ e1) * np.float32(1 / (2 * math.pi))
+            turn = np.where(turn < 0, turn + one, turn)
+            a0, a1, ta = ring(i, turn)
+            b0, b1, tb = ring(i + 1, turn)
+            total = tap(a0, (one - ti) * (one - ta))
+            total += tap(a1, (one - ti) * ta)
+            total += tap(b0, ti * (one - tb))
+            total += tap(b1, ti * tb)
             out[s] = total
 
         in_blocks(n.shape[0], 1 << 14, block)

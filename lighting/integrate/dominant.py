@@ -629,7 +629,7 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     # part's channels made at its points (a glossy part's dominant lights added to its areas'), then all of them read
     # at the pixels at once.
     if grid is not None:  # the grid's points as pixels of the one view
-        gn = grid.normals.reshape(-1, 3)
+        gn = grid.normals
         gn_dt = gn.astype(dt)
         gv = np.broadcast_to(vb[0], gn.shape)
         gc = gn_dt @ vb[0]
@@ -652,7 +652,6 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     if on_grid:
         # The grid's terms rounded to float32, then held in float64 for the bilinear reads (once, not per block).
         stacked = np.concatenate([value.astype(np.float32) for value in on_grid.values()], axis=-1, dtype=np.float64)
-        stacked = stacked.reshape(grid.rows + 1, grid.cols, -1)
     if work is not np.float64:
         if deltas:  # a mirror's reflection, added in float64
             diffuse, specular = diffuse.astype(work), specular.astype(work)

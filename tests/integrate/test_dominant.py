@@ -320,7 +320,7 @@ def test_a_block_of_filtered_samples_stays_within_its_share_of_the_memory_estima
 @pytest.mark.parametrize("count, step", [(5328, 2048), (176544, 32768), (72360, 512), (100, 2048), (3000, 1024)])
 def test_balanced_blocks_cover_the_rows_once_in_multiples_of_64_and_an_equal_run_per_thread(monkeypatch, threads,
                                                                                             count, step):
-    # A grid's 5,328 points in blocks of 2,048 are three blocks: on two threads one would wait a third of the time.
+    # 5,328 rows in blocks of 2,048 are three blocks: on two threads one would wait a third of the time.
     import threading
 
     import lighting.shading.batch as batch

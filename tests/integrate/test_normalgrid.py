@@ -35,17 +35,36 @@ def daylight():
 
 def test_the_grid_is_polar_about_the_view_from_the_view_to_the_silhouette():
     g = NormalGrid(VIEW, math.radians(2.0))
-    assert g.normals.shape == (g.rows + 1, g.cols, 3) and g.size == (g.rows + 1) * g.cols == grid_points(g.spacing)
+    assert g.normals.shape == (g.size, 3) and g.size == g.columns.sum() == grid_points(g.spacing)
+    assert g.columns.shape == (g.rows + 1,) and g.columns[0] == 1 and g.columns[1:].min() >= 8
+    np.testing.assert_array_equal(g.starts, np.cumsum(g.columns) - g.columns)
     np.testing.assert_allclose(np.linalg.norm(g.normals, axis=-1), 1.0, atol=1e-15)
-    np.testing.assert_allclose(g.normals[0], np.broadcast_to(VIEW, (g.cols, 3)), atol=1e-15)
-    np.testing.assert_allclose(g.normals[-1] @ VIEW, 0.0, atol=1e-15)
-    # Rows evenly in θ (whole rows to π/2, no wider than asked), columns evenly in ψ.
-    theta = np.arccos(np.clip(g.normals[:, 0] @ VIEW, -1, 1))
-    np.testing.assert_allclose(np.diff(theta), g.d_theta, atol=1e-7)
+    np.testing.assert_allclose(g.normals[0], VIEW, atol=1e-15)
+    silhouette = g.normals[g.starts[-1] :]
+    assert len(silhouette) == g.columns[-1]
+    np.testing.assert_allclose(silhouette @ VIEW, 0.0, atol=1e-15)
+    # Rings evenly in θ (whole rings to π/2, no wider than asked), each ring's points evenly in ψ.
+    ring_of = np.repeat(np.arange(g.rows + 1), g.columns)
+    theta = np.arccos(np.clip(g.normals @ VIEW, -1, 1))
+    np.testing.assert_allclose(theta, ring_of * g.d_theta, atol=1e-7)
     assert g.d_theta <= math.radians(2.0) and g.rows * g.d_theta == pytest.approx(math.pi / 2)
-    ring = g.normals[g.rows // 2]
-    np.testing.assert_allclose(np.sum(ring * np.roll(ring, -1, axis=0), -1), np.dot(ring[0], ring[1]), atol=1e-14)
-    assert g.cols * g.d_psi == pytest.approx(2 * math.pi) and g.d_psi <= g.d_theta
+    for i in (1, g.rows // 3, g.rows):
+        ring = g.normals[g.starts[i] : g.starts[i] + g.columns[i]]
+        step = np.sum(ring * np.roll(ring, -1, axis=0), -1)
+        np.testing.assert_allclose(step, step[0], atol=1e-14)
+        # The turn between neighbours is 2π/c_i about the view: the chord of that angle on a circle of radius sin θ.
+        chord = 2 * math.sin(i * g.d_theta) * math.sin(math.pi / g.columns[i])
+        np.testing.assert_allclose(np.linalg.norm(ring - np.roll(ring, -1, axis=0), axis=-1), chord, rtol=1e-12)
+    # The fewest points with the azimuth's error within the polar angle's: Δψ_i² sin θ_i <= Δθ², and one point
+    # fewer on any ring (above the floor of 8) would break it.
+    sin_t = np.sin(np.arange(1, g.rows + 1) * g.d_theta)
+    d_psi = 2 * math.pi / g.columns[1:]
+    assert np.all(d_psi**2 * sin_t <= g.d_theta**2 * (1 + 1e-12))
+    fewer = g.columns[1:] - 1
+    assert np.all((fewer < 8) | ((2 * math.pi / fewer) ** 2 * sin_t > g.d_theta**2))
+    # The silhouette's columns evenly spaced on every ring would cost about π/2 ÷ ∫₀^{π/2} √(sin θ) dθ = 1.31 times as
+    # many points.
+    assert (g.rows + 1) * g.columns[-1] / g.size == pytest.approx(1.31, abs=0.02)
 
 
 def test_grid_spacing_is_a_sixth_of_the_lobe_at_most_the_cap():
@@ -58,25 +77,25 @@ def test_interpolation_is_exact_along_theta_and_within_the_bilinear_bound():
     n = _facing(VIEW, 5000).astype(np.float32)
     theta = np.arccos(np.clip(n @ VIEW, 0, 1))
     # A function linear in θ is read exactly (float32 arithmetic).
-    rows = np.arange(g.rows + 1) * g.d_theta
-    at_grid = np.broadcast_to(rows[:, None, None], (g.rows + 1, g.cols, 1))
+    at_grid = (np.repeat(np.arange(g.rows + 1), g.columns) * g.d_theta)[:, None]
     np.testing.assert_allclose(g.interpolate(at_grid, n)[:, 0], theta, atol=2e-6)
-    # f(n) = exp(n·d): bilinear in (θ, ψ) errs by at most (Δθ² max|f_θθ| + Δψ² max|f_ψψ|)/8, and both second
-    # derivatives are at most e (|∂²n/∂θ²| = 1, |∂²n/∂ψ²| = sin θ, |n·d| ≤ 1, first derivatives bounded by 1 too:
-    # f'' = (n''·d + (n'·d)²) f ≤ 2e).
+    # f(n) = exp(n·d): linear in ψ on each ring and in θ between them errs by at most
+    # (Δθ² max|f_θθ| + max_i Δψ_i² max|f_ψψ on ring i|)/8, with |f_θθ| ≤ 2e and |f_ψψ| ≤ 2e sin θ_i (|∂²n/∂θ²| = 1,
+    # |∂n/∂ψ| = |∂²n/∂ψ²| = sin θ, |n·d| ≤ 1: f'' = (n''·d + (n'·d)²) f).
     d = np.array([0.2, 0.9, -0.3])
     d /= np.linalg.norm(d)
     values = np.exp(g.normals @ d)[..., None]
     got = g.interpolate(values, n)[:, 0]
-    bound = (g.d_theta**2 + g.d_psi**2) * 2 * math.e / 8
+    ring_psi = np.max((2 * math.pi / g.columns[1:]) ** 2 * np.sin(np.arange(1, g.rows + 1) * g.d_theta))
+    bound = (g.d_theta**2 + ring_psi) * 2 * math.e / 8
     err = np.abs(got - np.exp(n.astype(np.float64) @ d))
     assert err.max() <= bound + 1e-5, (err.max(), bound)
     assert err.max() > bound / 20  # the bound is near what is met: the test would see a coarser read
 
 
 def test_a_narrow_lobe_has_a_coarser_grid_that_reads_the_pixels_within_the_interpolations_error(daylight):
-    # GGX α = 0.1 (σ = 0.14, narrower than WIDE_LOBE): four rows per σ, 8,280 points, which a 240² sphere's 38,780
-    # pixels pay for; six rows per σ (18,224 points) would not.
+    # GGX α = 0.1 (σ = 0.14, narrower than WIDE_LOBE): four rows per σ, 6,289 points, which a 240² sphere's 38,780
+    # pixels pay for; six rows per σ (13,859 points) would not.
     from lighting.integrate.dominant import NARROW_GRID_DENSITY, WIDE_LOBE
     from lighting.integrate.ibl import lobe_sigma
     from lighting.validation.accuracy import ibl_sphere
