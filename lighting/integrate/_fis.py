@@ -39,9 +39,9 @@ AZIMUTHS = 64
 #: ``lighting-explorer bench --ibl`` measures it: the rows pixel by pixel and of the narrow lobe.
 _BLOCK = 1 << 15
 #: Bytes of a block's arrays at their peak (its directions, levels and weights, and each of the four taps' index,
-#: weight and texels of two levels): about 440 per pixel-sample, traced over a whole call on one block of a
+#: weight and texels of two levels): about 275 per pixel-sample, traced over a whole call on one block of a
 #: narrow lobe; this with a margin.
-BLOCK_BYTES = 704 * _BLOCK
+BLOCK_BYTES = 440 * _BLOCK
 #: The sample tables of the parts met last.
 _tables = Recent(64)
 #: View angles of a half-vector table evaluated at once (:func:`half_table`).
@@ -62,13 +62,13 @@ class LevelStack:
 
     A sample between levels ``k`` and ``k + 1`` is bilinear in each and linear between them.  Level ``k`` is stored
     with level ``k + 1`` beside it, read at level ``k``'s texel centres (bilinearly where it is coarser: its blur
-    spans several of its own texels), each texel the RGB and a zero of both, float32 values held as float64 (64
-    bytes): one gather per bilinear tap moves both levels' values (a gather of rows of three values costs several
-    times as much).  The levels follow each other in one flat array, each with a border of one texel: the first
-    and last columns repeated across the seam (the map wraps in azimuth) and the first and last rows repeated (the
-    edge rows are clamped), so that a lookup needs no wrapping or clamping.  Rows and columns as
-    :func:`lighting.lights.latlong.latlong_lookup`: row ``i`` of ``h`` centred at ``θ = (i + ½)π/h``, column
-    angle ``a = (π − φ) mod 2π`` over ``2h`` columns.
+    spans several of its own texels), each texel the RGB and a zero of both in float32 (32 bytes): one gather per
+    bilinear tap moves both levels' values (a gather of rows of three values costs several times as much).  The
+    levels follow each other in one flat array, each with a border of one texel: the first and last columns repeated
+    across the seam (the map wraps in azimuth) and the first and last rows repeated (the edge rows are clamped), so
+    that a lookup needs no wrapping or clamping.  Rows and columns as
+    :func:`lighting.lights.latlong.latlong_lookup`: row ``i`` of ``h`` centred at ``θ = (i + ½)π/h``, column angle
+    ``a = (π − φ) mod 2π`` over ``2h`` columns.
 
     Parameters
     ----------
@@ -100,9 +100,7 @@ class LevelStack:
         self.row = np.array([im.shape[1] for im in padded], dtype=np.int32)
         self.offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int32)
         flat = np.concatenate([im.reshape(-1, 8) for im in padded])
-        # Held in float64, the dtype the weighted sum multiplies them in: the product reads them as they are, where
-        # float32 texels would each be converted again at every read.
-        self.texels = flat.astype(np.float64).view(np.dtype((np.void, 64))).reshape(-1)
+        self.texels = np.ascontiguousarray(flat).view(np.dtype((np.void, 32))).reshape(-1)
         sig = np.asarray(pre.sigmas, dtype=np.float64)
         self.sigma1 = np.float32(sig[1])
         self.log_sigmas = np.log(sig[1:])
@@ -118,21 +116,23 @@ class LevelStack:
     def mean(self, x, y, z, level, w):
         """``Σ_k w_k L(d_k, level_k)`` over the last axis: ``x, y, z`` the unit directions, all ``(P, N)``; ``(P, 3)``.
 
-        Bilinear in each of the two levels around a fractional ``level``, linear between them: the directions and
-        the texel coordinates in float32, the weights (whose fractions an integer part promotes) and the sum in
-        float64.
+        Bilinear in each of the two levels around a fractional ``level``, linear between them, in float32: the
+        directions, the texel coordinates, the weights and their sum (the weights of a pixel sum to 1; a float32 sum of
+        a few hundred products errs by a few units of 1e-7 of the result, where the sample count's own error is
+        percents).  Float32 fractions are taken from float32 integer parts, which NumPy would otherwise promote to
+        float64 and carry into every product: half the bytes gathered and multiplied per tap.
         """
         theta = np.arccos(np.clip(z, np.float32(-1), np.float32(1)))
         a = np.float32(math.pi) - np.arctan2(y, x)  # (π − φ) ∈ [0, 2π]
         k = level.astype(np.int32)  # level >= 0: the truncation is the floor
-        t = level - k
+        t = level - k.astype(np.float32)
         scale = np.take(self.scale, k)
         # Texel coordinates in the padded level (one texel of border: + 1, centres at + ½): positive, so the
         # truncation to an integer is the floor.
         fx = a * scale + np.float32(0.5)
         fy = theta * scale + np.float32(0.5)
         jx, iy = fx.astype(np.int32), fy.astype(np.int32)
-        tx, ty = fx - jx, fy - iy
+        tx, ty = fx - jx.astype(np.float32), fy - iy.astype(np.float32)
         row = np.take(self.row, k)
         base = np.take(self.offsets, k) + iy * row + jx
         one = np.float32(1)
@@ -153,7 +153,7 @@ class LevelStack:
             np.multiply(wy, wx, out=tap)
             np.multiply(tap, t, out=weight[:, q, :, 1])
             np.subtract(tap, weight[:, q, :, 1], out=weight[:, q, :, 0])
-        texel = np.take(self.texels, index.reshape(p, -1)).view(np.float64).reshape(p, -1, 4)
+        texel = np.take(self.texels, index.reshape(p, -1)).view(np.float32).reshape(p, -1, 4)
         return np.matmul(weight.reshape(p, 1, -1), texel)[:, 0, :3]
 
 
