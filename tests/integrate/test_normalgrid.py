@@ -93,6 +93,28 @@ def test_interpolation_is_exact_along_theta_and_within_the_bilinear_bound():
     assert err.max() > bound / 20  # the bound is near what is met: the test would see a coarser read
 
 
+@pytest.mark.parametrize("view", [VIEW, np.array([0.0, 0.0, 1.0]), np.array([0.0, 0.0, -1.0]), np.array([1.0, 0, 0])])
+def test_every_read_weighs_its_four_taps_to_one_at_the_view_the_silhouette_and_across_the_seam(view):
+    # Values that differ from point to point and a constant: the constant is read exactly wherever the normal is
+    # (the view itself, the silhouette, ψ just below 2π, where the first column follows the last), and no read leaves
+    # the values' range.
+    g = NormalGrid(view, math.radians(2.5))
+    e1, e2 = g.e1, g.e2
+    psi = np.array([0.0, 1e-7, math.pi, 2 * math.pi - 1e-7, -1e-9, 1.0])
+    theta = np.array([0.0, 1e-7, g.d_theta, math.pi / 4, math.pi / 2 - 1e-7, math.pi / 2])
+    tt, pp = (a.ravel() for a in np.meshgrid(theta, psi))
+    n = np.sin(tt)[:, None] * (np.cos(pp)[:, None] * e1 + np.sin(pp)[:, None] * e2) + np.cos(tt)[:, None] * view
+    n = np.concatenate([n, _facing(view, 2000, seed=5)]).astype(np.float32)
+    values = np.stack([np.full(g.size, 0.7), np.random.default_rng(6).random(g.size)], axis=-1)
+    got = g.interpolate(values, n)
+    np.testing.assert_allclose(got[:, 0], 0.7, rtol=1e-6)
+    assert got[:, 1].min() >= values[:, 1].min() - 1e-6 and got[:, 1].max() <= values[:, 1].max() + 1e-6
+    # At a grid point itself the read is that point's value, within its float32 coordinates (measured 2.1e-5 of a
+    # unit step between neighbours).
+    at = g.interpolate(values, g.normals.astype(np.float32))[:, 1]
+    np.testing.assert_allclose(at, values[:, 1], atol=1e-4)
+
+
 def test_a_narrow_lobe_has_a_coarser_grid_that_reads_the_pixels_within_the_interpolations_error(daylight):
     # GGX α = 0.1 (σ = 0.14, narrower than WIDE_LOBE): four rows per σ, 6,289 points, which a 240² sphere's 38,780
     # pixels pay for; six rows per σ (13,859 points) would not.
