@@ -100,7 +100,7 @@ class LevelStack:
         self.row = np.array([im.shape[1] for im in padded], dtype=np.int32)
         self.offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int32)
         flat = np.concatenate([im.reshape(-1, 8) for im in padded])
-        self.texels = np.ascontiguousarray(flat).view(np.dtype((np.void, 32))).reshape(-1)
+        self.texels = flat.view(np.dtype((np.void, 32))).reshape(-1)
         sig = np.asarray(pre.sigmas, dtype=np.float64)
         self.sigma1 = np.float32(sig[1])
         self.log_sigmas = np.log(sig[1:])

@@ -6,7 +6,15 @@ import math
 import numpy as np
 import pytest
 
-from lighting.integrate._normalgrid import GRID_DENSITY, GRID_SHARE, MAX_SPACING, NormalGrid, grid_points, grid_spacing
+from lighting.integrate._normalgrid import (
+    GRID_DENSITY,
+    GRID_SHARE,
+    MAX_SPACING,
+    MIN_COLUMNS,
+    NormalGrid,
+    grid_points,
+    grid_spacing,
+)
 from lighting.integrate.dominant import dominant_radiance
 from lighting.integrate.ibl import ALBEDO_ANGLES, lobe_albedo
 from lighting.integrate.prefilter import prefilter_environment
@@ -36,7 +44,7 @@ def daylight():
 def test_the_grid_is_polar_about_the_view_from_the_view_to_the_silhouette():
     g = NormalGrid(VIEW, math.radians(2.0))
     assert g.normals.shape == (g.size, 3) and g.size == g.columns.sum() == grid_points(g.spacing)
-    assert g.columns.shape == (g.rows + 1,) and g.columns[0] == 1 and g.columns[1:].min() >= 8
+    assert g.columns.shape == (g.rows + 1,) and g.columns[0] == 1 and g.columns[1:].min() >= MIN_COLUMNS
     np.testing.assert_array_equal(g.starts, np.cumsum(g.columns) - g.columns)
     np.testing.assert_allclose(np.linalg.norm(g.normals, axis=-1), 1.0, atol=1e-15)
     np.testing.assert_allclose(g.normals[0], VIEW, atol=1e-15)
@@ -56,12 +64,12 @@ def test_the_grid_is_polar_about_the_view_from_the_view_to_the_silhouette():
         chord = 2 * math.sin(i * g.d_theta) * math.sin(math.pi / g.columns[i])
         np.testing.assert_allclose(np.linalg.norm(ring - np.roll(ring, -1, axis=0), axis=-1), chord, rtol=1e-12)
     # The fewest points with the azimuth's error within the polar angle's: Δψ_i² sin θ_i <= Δθ², and one point
-    # fewer on any ring (above the floor of 8) would break it.
+    # fewer on any ring (above the floor of MIN_COLUMNS) would break it.
     sin_t = np.sin(np.arange(1, g.rows + 1) * g.d_theta)
     d_psi = 2 * math.pi / g.columns[1:]
     assert np.all(d_psi**2 * sin_t <= g.d_theta**2 * (1 + 1e-12))
     fewer = g.columns[1:] - 1
-    assert np.all((fewer < 8) | ((2 * math.pi / fewer) ** 2 * sin_t > g.d_theta**2))
+    assert np.all((fewer < MIN_COLUMNS) | ((2 * math.pi / fewer) ** 2 * sin_t > g.d_theta**2))
     # The silhouette's columns evenly spaced on every ring would cost about π/2 ÷ ∫₀^{π/2} √(sin θ) dθ = 1.31 times as
     # many points.
     assert (g.rows + 1) * g.columns[-1] / g.size == pytest.approx(1.31, abs=0.02)
@@ -161,7 +169,7 @@ def test_the_grid_is_used_for_one_view_and_enough_pixels_only(daylight):
 
     pre = daylight
     m = Lambert(0.4) + CookTorrance(1.0, 0.4, 1.0, ndf="ggx", fresnel="none")
-    _, n, v = ibl_sphere(200)  # 31,000 pixels: more than four times the grid's 5,500 points
+    _, n, v = ibl_sphere(200)  # 26,932 pixels: more than four times the grid's 4,041 points
     n, v = n.astype(np.float32), v.astype(np.float32)
     assert NormalGrid(v[0], grid_spacing(math.inf)).size <= GRID_SHARE * n.shape[0]
     auto, on, off = (dominant_radiance(m, pre, n, v, normal_grid=g) for g in (None, True, False))
