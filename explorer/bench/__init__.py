@@ -228,7 +228,7 @@ def ibl_frames(size: int = SIZE, env_height: int = 256, model=None) -> dict:
         ``ibl_dominant_studio_ms`` and ``ibl_dominant_sun_ms`` (the same under the studio's two soft boxes and under a
         1.5° sun over a gradient sky), ``ibl_dominant_pixels_ms`` (daylight, pixel by pixel: ``normal_grid=False``),
         ``ibl_dominant_narrow_ms`` (daylight, GGX ``α`` = 0.05: a narrow lobe, four times the samples per point, on
-        a grid of four rows per ``σ``),
+        a grid of two rows per ``σ`` with the round lobe read per pixel),
         ``ibl_dominant_setup_ms`` (making them: the lights, the residual's levels and irradiance map),
         ``ibl_prefilter_ms`` (8 levels),
         ``ibl_mc64_ms`` (:class:`~lighting.integrate.ibl.ProgressiveRadiance`, one 64-sample pass),

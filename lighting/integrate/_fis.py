@@ -57,6 +57,25 @@ def stratified_square(count: int) -> np.ndarray:
     return np.stack([(k + 0.5) / count, np.mod(0.5 + k * golden, 1.0)], axis=-1)
 
 
+def _padded_pair(levels, k):
+    """Level ``k`` with level ``k + 1`` (read at level ``k``'s texel centres) beside it: ``(h + 2, w + 2, 8)`` float32,
+    each texel the RGB and a zero of both, with a border of one texel (:class:`LevelStack`)."""
+    from ..lights.environment import LatLongEnvironment
+    from ..lights.latlong import latlong_lookup
+
+    im = levels[k]
+    nxt = levels[min(k + 1, len(levels) - 1)]
+    if nxt.shape != im.shape:  # coarser: read at this level's texel centres, a band of rows at a time
+        d = LatLongEnvironment.pixel_directions(*im.shape[:2])
+        coarse, nxt = nxt, np.empty(im.shape, dtype=np.float32)
+        step = max(1, _LOOKUP_PIXELS // im.shape[1])
+        for r in range(0, im.shape[0], step):
+            nxt[r : r + step] = latlong_lookup(coarse.reshape(-1, 3), *coarse.shape[:2], d[r : r + step])
+    pair = np.zeros(im.shape[:2] + (8,), dtype=np.float32)
+    pair[..., :3], pair[..., 4:7] = im, nxt
+    return np.pad(np.pad(pair, ((0, 0), (1, 1), (0, 0)), mode="wrap"), ((1, 1), (0, 0), (0, 0)), mode="edge")
+
+
 class LevelStack:
     """Every level of a prefiltered environment's von Mises–Fisher family, for one gather per bilinear tap.
 
@@ -76,24 +95,10 @@ class LevelStack:
     """
 
     def __init__(self, pre):
-        from ..lights.environment import LatLongEnvironment
-        from ..lights.latlong import latlong_lookup
 
         levels = [np.asarray(im, dtype=np.float32) for im in pre.families["mirror"]]
         self.count = len(levels)
-        padded = []
-        for k, im in enumerate(levels):
-            nxt = levels[min(k + 1, self.count - 1)]
-            if nxt.shape != im.shape:  # coarser: read at this level's texel centres, a band of rows at a time
-                d = LatLongEnvironment.pixel_directions(*im.shape[:2])
-                coarse, nxt = nxt, np.empty(im.shape, dtype=np.float32)
-                step = max(1, _LOOKUP_PIXELS // im.shape[1])
-                for r in range(0, im.shape[0], step):
-                    nxt[r : r + step] = latlong_lookup(coarse.reshape(-1, 3), *coarse.shape[:2], d[r : r + step])
-            pair = np.zeros(im.shape[:2] + (8,), dtype=np.float32)
-            pair[..., :3], pair[..., 4:7] = im, nxt
-            padded.append(np.pad(np.pad(pair, ((0, 0), (1, 1), (0, 0)), mode="wrap"), ((1, 1), (0, 0), (0, 0)),
-                                 mode="edge"))  # fmt: skip
+        padded = [_padded_pair(levels, k) for k in range(self.count)]
         sizes = [im.shape[0] * im.shape[1] for im in padded]
         #: Per level: texels per radian (``h/π`` both ways), the padded row length, the first texel.
         self.scale = np.array([im.shape[0] / math.pi for im in levels], dtype=np.float32)
@@ -156,6 +161,49 @@ class LevelStack:
         texel = np.take(self.texels, index.reshape(p, -1)).view(np.float32).reshape(p, -1, 4)
         return np.matmul(weight.reshape(p, 1, -1), texel)[:, 0, :3]
 
+
+class OneLevel:
+    """A prefiltered family at one lobe width: its two levels around it blended once, a bilinear read per direction.
+
+    Parameters
+    ----------
+    pre : PrefilteredEnvironment
+    kernel : str
+        The family (a key of ``pre.families``).
+    sigma : float
+        The lobe width (radians): levels as :meth:`PrefilteredEnvironment.level_of`.
+    """
+
+    def __init__(self, pre, kernel, sigma):
+        levels = [np.asarray(im, dtype=np.float32) for im in pre.families[kernel]]
+        level = float(pre.level_of(sigma))
+        k = min(int(level), len(levels) - 1)
+        t = np.float32(level - k)
+        pair = _padded_pair(levels, k)
+        blend = pair[..., :4] * (np.float32(1) - t) + pair[..., 4:] * t
+        self.texels = np.ascontiguousarray(blend).reshape(-1, 4).view(np.dtype((np.void, 16))).reshape(-1)
+        self.scale, self.row = np.float32(levels[k].shape[0] / math.pi), pair.shape[1]
+
+    def read(self, d):
+        """``L̄(d)`` of unit directions ``d`` (P, 3) float32: (P, 3) float32, bilinear as :meth:`LevelStack.mean`."""
+        theta = np.arccos(np.clip(d[:, 2], np.float32(-1), np.float32(1)))
+        a = np.float32(math.pi) - np.arctan2(d[:, 1], d[:, 0])
+        fx = a * self.scale + np.float32(0.5)
+        fy = theta * self.scale + np.float32(0.5)
+        jx, iy = fx.astype(np.int32), fy.astype(np.int32)
+        tx, ty = (fx - jx.astype(np.float32))[:, None], (fy - iy.astype(np.float32))[:, None]
+        base = iy * self.row + jx
+        below = base + self.row
+
+        def tap(index):  # (P, 4): RGB and a zero, contiguous (a slice of three would be strided in every pass)
+            return np.take(self.texels, index).view(np.float32).reshape(-1, 4)
+
+        top = tap(base)
+        top += (tap(base + 1) - top) * tx
+        bottom = tap(below)
+        bottom += (tap(below + 1) - bottom) * tx
+        top += (bottom - top) * ty
+        return top[:, :3]
 
 def _sampler(part):
     """The part's sampler; for a rough isotropic GGX or Beckmann part the visible normals' (its weights vary least).

@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import functools
 import math
+import threading
 import weakref
 from dataclasses import dataclass
 
@@ -67,7 +68,7 @@ from ..sampling.brdf import _check_brdf
 from ..shading.batch import PIXEL_BLOCK, _threads, in_blocks
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
-from ._fis import BLOCK_BYTES, LevelStack, half_vector_mean, view_table_mean
+from ._fis import BLOCK_BYTES, LevelStack, OneLevel, half_vector_mean, view_table_mean
 from ._normalgrid import GRID_DENSITY, GRID_SHARE, NormalGrid, grid_points, grid_spacing
 from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
@@ -118,10 +119,22 @@ MID_LOBE = 0.09
 #: The factor of the lobes from :data:`MID_LOBE` to :data:`WIDE_LOBE`.
 MID_FACTOR = 8
 #: Rows of the grid of normals per lobe width ``σ`` for a lobe narrower than :data:`WIDE_LOBE` (a wider one:
-#: :data:`~lighting.integrate._normalgrid.GRID_DENSITY`).  Its points cost :data:`NARROW_FACTOR` times as many
-#: samples each; at this density the grid reads what the pixels compute within a fraction of the method's own error
-#: (``report accuracy --only ibl``, the ``normal grid`` rows), and a 512² sphere of GGX ``α`` = 0.05 qualifies.
+#: :data:`~lighting.integrate._normalgrid.GRID_DENSITY`; a narrow microfacet lobe: :data:`HALF_GRID_DENSITY`).  Its
+#: points cost :data:`NARROW_FACTOR` times as many samples each; at this density the grid reads what the pixels
+#: compute within a fraction of the method's own error (``report accuracy --only ibl``, the ``normal grid`` rows).
 NARROW_GRID_DENSITY = 4
+#: A narrow microfacet lobe (its half vectors fixed to the surface: :func:`~lighting.integrate._fis.half_vector_mean`)
+#: puts on the grid of normals its filtered mean less the split sum's round lobe of this many times its width ``σ``,
+#: and each pixel adds that round lobe back at its own normal: the difference is smooth where the mean itself is sharp
+#: (a studio box's edge through the lobe), so :data:`HALF_GRID_DENSITY` rows per ``σ`` read it within a fraction of
+#: the method's own error (``report accuracy --only ibl``, the ``normal grid`` rows).  A round lobe a little narrower
+#: than the whole ``σ`` follows the filtered mean's core more closely.
+ROUND_LOBE_WIDTH = 0.75
+#: Rows of the grid of normals per ``σ`` for a narrow microfacet lobe, its round lobe read per pixel
+#: (:data:`ROUND_LOBE_WIDTH`).  Other lobes' filtered samples turn with the plane of incidence and differ more from
+#: one normal to the next, and keep :data:`NARROW_GRID_DENSITY` without a round lobe: under the studio a Ward or Phong
+#: lobe's 95th percentile against the reference grows by a third at this density.
+HALF_GRID_DENSITY = 2
 #: Rows of the residual's irradiance map (E is smooth once the small sources are out).
 IRRADIANCE_HEIGHT = 64
 #: The irradiance map integrates the residual at most this many rows high (a larger map is averaged down first).
@@ -375,6 +388,7 @@ class DominantEnvironment:
             env = LatLongEnvironment(base)
             self.residual = prefiltered.for_environment(prefiltered.environment)  # unturned, unscaled
         self.levels = LevelStack(self.residual)
+        self._one_levels, self._lock = {}, threading.Lock()
         rest = np.asarray(self.residual.levels[0], dtype=np.float64)
         self.cell_directions, self.cell_power, calm = find_area_cells(rest, threshold=area_threshold,
                                                                       cell_rows=cell_rows)  # fmt: skip
@@ -392,6 +406,28 @@ class DominantEnvironment:
         # The map's quadrature errs by O((π/H)²) on each row alike: divided by what it gives for a uniform sky
         # (π exactly), a uniform sky's irradiance is exact — the furnace — and smooth ones gain too.
         self.irradiance = LatLongEnvironment(irr.image * (math.pi / _uniform_irradiance(h0, 2 * h0, h)))
+
+    def one_level(self, kernel: str, sigma: float) -> OneLevel:
+        """The residual's ``kernel`` family at the width ``sigma`` (:class:`~lighting.integrate._fis.OneLevel`),
+        made once per family and width.
+
+        Parameters
+        ----------
+        kernel : str
+            A prefiltered family (:func:`~lighting.integrate.prefilter.kernel_of_lobe`).
+        sigma : float
+            The lobe width, radians.
+
+        Returns
+        -------
+        OneLevel
+        """
+        key = (kernel, float(sigma))
+        with self._lock:
+            found = self._one_levels.get(key)
+            if found is None:
+                found = self._one_levels[key] = OneLevel(self.residual, kernel, sigma)
+        return found
 
     def __repr__(self):
         return f"DominantEnvironment({len(self.lights)} lights, residual {self.residual!r})"
@@ -621,7 +657,8 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     vb = v if turn is None else (v.astype(np.float64) @ turn).astype(dt)
     scale = np.asarray(pre._scale, dtype=np.float64)
     sigmas = [lobe_sigma(part.lobe()) for part in parts]
-    grid = _grid_for(sigmas, normal_grid, n.shape[0], vb)
+    grid = _grid_for([_spacing(part, sigma) for part, sigma in zip(parts, sigmas, strict=True)], normal_grid,
+                     n.shape[0], vb)  # fmt: skip
     # Pixel by pixel the terms add up in float64; read from the grid (float32 already), in the pixels' dtype.
     work = np.float64 if grid is None else dt
     # What a lobe blurs, per part: the diffuse parts' irradiance E(n)/π (RGB, one for all of them); a glossy part's
@@ -633,7 +670,7 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
         gn_dt = gn.astype(dt)
         gv = np.broadcast_to(vb[0], gn.shape)
         gc = gn_dt @ vb[0]
-    blurred, on_grid = {}, {}
+    blurred, on_grid, round_lobes = {}, {}, {}
     for i, (part, sigma) in enumerate(zip(parts, sigmas, strict=True)):
         if math.isinf(sigma):
             if "irradiance" in blurred or "irradiance" in on_grid:
@@ -642,9 +679,14 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
                 blurred["irradiance"] = dom.irradiance.radiance(nb) / math.pi
             else:
                 on_grid["irradiance"] = dom.irradiance.radiance(gn) / math.pi
-        elif grid is not None and _spacing(sigma) >= grid.spacing:
+        elif grid is not None and _spacing(part, sigma) >= grid.spacing:
             terms = _glossy_terms(part, sigma, dom, gn_dt, gv, gc, 2 * gc[:, None] * gn_dt - gv, samples)
-            if len(dom.lights):  # the lights through a lobe that the grid's spacing resolves, with the areas' cells
+            if _half_vector_lobe(part, sigma):
+                # A narrow microfacet lobe's grid holds its filtered mean less the round lobe's read, which each pixel
+                # adds back at its own normal (ROUND_LOBE_WIDTH); its dominant lights, sharp through it, stay per pixel.
+                round_lobes[i] = _round_lobe(part, sigma, dom)
+                terms = terms[:, 3:] - round_lobes[i](gn_dt, gv, gc)
+            elif len(dom.lights):  # the lights through a lobe that the grid's spacing resolves, with the areas' cells
                 terms[:, :3] += _light_term(part, dom.lights, gn_dt, gv, dt, sigma)
             on_grid[i] = terms
         else:
@@ -672,15 +714,18 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
         dif, spec = diffuse[rows], specular[rows]
         for i, (part, sigma, table) in enumerate(zip(parts, sigmas, albedos, strict=True)):
             value = np.zeros(dif.shape, dtype=work)
-            if len(dom.lights) and (math.isinf(sigma) or i not in on_grid):  # else the grid holds them
+            if len(dom.lights) and (math.isinf(sigma) or i not in on_grid or i in round_lobes):  # else the grid's
                 value += _light_term(part, dom.lights, nb[rows], vb[rows], dt, sigma, work)
             # A constant albedo (Lambert's k_d) is what the interpolation would give at every angle, exactly.
             rho = table[0].astype(work) if np.all(table == table[0]) else _albedo_at(table, theta_v, work)
             if math.isinf(sigma):
                 value += rho * here["irradiance"]
             else:
-                value += here[i][:, :3]
-                value += rho * here[i][:, 3:]
+                if i in round_lobes:
+                    value += rho * (here[i] + round_lobes[i](nb[rows], vb[rows], cos_v[rows]).astype(work))
+                else:
+                    value += here[i][:, :3]
+                    value += rho * here[i][:, 3:]
             (dif if math.isinf(sigma) else spec)[:] += value * scale.astype(work)
 
     # Every pixel on its own from here: blocks of pixels that stay in the processor's caches, on the shading threads.
@@ -688,18 +733,35 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     return {"diffuse": diffuse, "specular": specular}
 
 
-def _grid_for(sigmas, normal_grid, pixels, vb):
+def _round_lobe(part, sigma, dom):
+    """The residual's round-lobe read of a glossy part, ``(n, v, cos_v) -> (P, 3)`` float32 (:data:`ROUND_LOBE_WIDTH`).
+
+    The split sum's value of the part's prefiltered family at ``ROUND_LOBE_WIDTH σ`` about the mirror direction; its
+    two levels blended once per environment, family and width (:class:`~lighting.integrate._fis.OneLevel`).
+    """
+    kernel = kernel_of_lobe(part.lobe())
+    width = min(ROUND_LOBE_WIDTH * sigma, dom.residual.sigmas[-1])
+    one = dom.one_level(kernel, width)
+
+    def read(n, v, cos_v):
+        n, v, cos_v = (a.astype(np.float32, copy=False) for a in (n, v, cos_v))
+        return one.read((cos_v + cos_v)[:, None] * n - v)
+
+    return read
+
+
+def _grid_for(spacings, normal_grid, pixels, vb):
     """The :class:`~lighting.integrate._normalgrid.NormalGrid` that the parts' blurred terms are shaded on, or None.
 
-    Its spacing is the finest of the parts whose own grid would qualify: ``normal_grid`` False, none; True, every
-    part; None, those whose grid has at most :data:`GRID_SHARE` of ``pixels``' count of points.  Every pixel shares
-    the view ``vb[0]`` unless ``normal_grid`` is False.  A part whose spacing is finer than the grid's is shaded
-    pixel by pixel.
+    Its spacing is the finest of the parts' ``spacings`` (:func:`_spacing`) whose own grid would qualify:
+    ``normal_grid`` False, none; True, every part; None, those whose grid has at most :data:`GRID_SHARE` of
+    ``pixels``' count of points.  Every pixel shares the view ``vb[0]`` unless ``normal_grid`` is False.  A part
+    whose spacing is finer than the grid's is shaded pixel by pixel.
     """
     if normal_grid is False or not pixels:
         return None
     best = None
-    for spacing in sorted({_spacing(s) for s in sigmas}, reverse=True):
+    for spacing in sorted(set(spacings), reverse=True):
         if normal_grid is None and grid_points(spacing) > GRID_SHARE * pixels:
             break
         best = spacing
@@ -730,9 +792,23 @@ def sample_count(sigma: float, samples: int = DOMINANT_SAMPLES) -> int:
     return (MID_FACTOR if sigma >= MID_LOBE else NARROW_FACTOR) * samples
 
 
-def _spacing(sigma: float) -> float:
-    """The grid spacing of a lobe ``σ`` wide: :data:`NARROW_GRID_DENSITY` rows per ``σ`` below :data:`WIDE_LOBE`."""
-    return grid_spacing(sigma, NARROW_GRID_DENSITY if sigma < WIDE_LOBE else GRID_DENSITY)
+def _spacing(part, sigma: float) -> float:
+    """The grid spacing of a glossy part ``σ`` wide (``inf``: a diffuse one): :data:`HALF_GRID_DENSITY` rows per ``σ``
+    for a narrow microfacet lobe (:func:`_half_vector_lobe`), :data:`NARROW_GRID_DENSITY` for another lobe below
+    :data:`WIDE_LOBE`, :data:`~lighting.integrate._normalgrid.GRID_DENSITY` from there."""
+    if sigma >= WIDE_LOBE:
+        return grid_spacing(sigma, GRID_DENSITY)
+    return grid_spacing(sigma, HALF_GRID_DENSITY if _half_vector_lobe(part, sigma) else NARROW_GRID_DENSITY)
+
+
+def _half_vector_lobe(part, sigma: float) -> bool:
+    """Whether a glossy part is read by half vectors fixed to the surface
+    (:func:`~lighting.integrate._fis.half_vector_mean`): an isotropic GGX or Beckmann lobe narrower than
+    :data:`WIDE_LOBE`."""
+    if sigma >= WIDE_LOBE:
+        return False
+    mf = part.microfacet()
+    return mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic
 
 
 def _glossy_terms(part, sigma, dom, n, v, cos_v, r, samples):
@@ -749,9 +825,7 @@ def _glossy_terms(part, sigma, dom, n, v, cos_v, r, samples):
     # A narrow lobe reads sharp areas of light (a box's edge, its long tails over a dark ground) by its samples
     # alone: it takes NARROW_FACTOR or MID_FACTOR times as many.
     count = sample_count(sigma, samples)
-    mf = part.microfacet()
-    half = sigma < WIDE_LOBE and mf is not None and mf.ndf in ("ggx", "beckmann") and mf.isotropic
-    fis = half_vector_mean if half else view_table_mean
+    fis = half_vector_mean if _half_vector_lobe(part, sigma) else view_table_mean
     mean, ok = fis(part, levels, n32, v32, c32, count, rest.sigmas)
     out[:, 3:] = mean
     if not np.all(ok):  # every sample below the horizon (grazing views): the lobe's prefiltered value

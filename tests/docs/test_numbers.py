@@ -529,10 +529,12 @@ def test_the_grid_of_normals_on_the_lights_page_is_the_codes():
     from lighting.integrate._normalgrid import GRID_DENSITY, GRID_SHARE, MAX_SPACING, grid_points, grid_spacing
     from lighting.integrate.dominant import (
         DOMINANT_SAMPLES,
+        HALF_GRID_DENSITY,
         MID_FACTOR,
         MID_LOBE,
         NARROW_FACTOR,
         NARROW_GRID_DENSITY,
+        ROUND_LOBE_WIDTH,
         WIDE_LOBE,
     )
     from lighting.integrate.ibl import lobe_sigma
@@ -545,8 +547,10 @@ def test_the_grid_of_normals_on_the_lights_page_is_the_codes():
     for phrase in (
         f"(rows every `σ/{GRID_DENSITY}`, at most {math.degrees(MAX_SPACING):g}°, from the view to the silhouette",
         f"A lobe narrower than {WIDE_LOBE:g} rad, whose points take {factor} "
-        f"times the samples, has rows every `σ/{NARROW_GRID_DENSITY}` (`NARROW_GRID_DENSITY`): GGX at α = 0.05 then "
-        "fits a 512² sphere's grid",
+        f"times the samples, has rows every `σ/{NARROW_GRID_DENSITY}` (`NARROW_GRID_DENSITY`).",
+        f"A narrow GGX or Beckmann lobe has rows every `σ/{HALF_GRID_DENSITY}` (`HALF_GRID_DENSITY`): GGX at α = 0.05 "
+        "then fits a 512² sphere's grid",
+        f"the split sum's round lobe of `{ROUND_LOBE_WIDTH:g} σ` (`ROUND_LOBE_WIDTH`)",
         "at most a quarter of the pixels' count of points",
         f"({NARROW_FACTOR * DOMINANT_SAMPLES} for a lobe narrower than {MID_LOBE:g} rad, "
         f"{MID_FACTOR * DOMINANT_SAMPLES} from there up to {WIDE_LOBE:g} rad:",
@@ -558,7 +562,7 @@ def test_the_grid_of_normals_on_the_lights_page_is_the_codes():
     sigma = lobe_sigma(CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none").lobe())
     _, n, _ = ibl_sphere(512)
     assert sigma < WIDE_LOBE
-    assert grid_points(grid_spacing(sigma, NARROW_GRID_DENSITY)) <= GRID_SHARE * n.shape[0]
+    assert grid_points(grid_spacing(sigma, HALF_GRID_DENSITY)) <= GRID_SHARE * n.shape[0]
 
 
 def test_the_explorers_key_table_is_the_windows_key_table():

@@ -263,6 +263,55 @@ def test_the_level_stack_reads_what_the_lat_long_lookup_reads_blended_between_tw
     np.testing.assert_allclose(got, want, rtol=2e-4, atol=2e-5)
 
 
+@pytest.mark.parametrize("kernel", ["mirror", "ggx", "beckmann"])
+def test_one_level_reads_what_the_split_sum_reads_at_that_width(kernel):
+    # A narrow microfacet lobe's round lobe, read per pixel: the family at one width, its two levels blended once, is
+    # the split sum's own lookup (bilinear in each level, linear between them) in float32, the coarser level read at
+    # the finer one's texel centres as in the level stack (hence its tolerance) — away from the poles, where the
+    # lookup runs linearly to the edge row's mean and the padded level repeats the edge row instead; there it stays
+    # within the levels' range.
+    from lighting.integrate._fis import OneLevel
+
+    rng = np.random.default_rng(11)
+    pre = prefilter_environment(LatLongEnvironment(rng.random((32, 64, 3)) * [1.0, 2.0, 3.0]))
+    d = rng.normal(size=(600, 3))
+    d[:6] = [[-1, 0, 0], [-1, 1e-7, 0], [-1, -1e-7, 0], [1, 0, 0], [0, 1, 0], [0, -1, 1e-3]]  # the seam, the axes
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    for sigma in (0.0, 0.03, 0.07, 0.2, 0.9, 5.0):  # the map itself, between levels, past the last one
+        one = OneLevel(pre, kernel, sigma)
+        got = one.read(d.astype(np.float32))
+        assert got.dtype == np.float32 and got.shape == (600, 3)
+        want = pre._lookup(d, sigma, kernel)
+        h = pre.families[kernel][min(int(pre.level_of(sigma)), len(pre.sigmas) - 1)].shape[0]
+        inside = np.abs(d[:, 2]) < np.cos(0.5 * math.pi / h)  # more than half a row from either pole
+        np.testing.assert_allclose(got[inside], want[inside], rtol=2e-4, atol=2e-5)
+        lo, hi = (np.stack([f(im.reshape(-1, 3), axis=0) for im in pre.families[kernel]]) for f in (np.min, np.max))
+        assert np.all(got >= lo.min(axis=0) - 1e-6) and np.all(got <= hi.max(axis=0) + 1e-6)
+
+
+def test_a_narrow_lobe_on_the_grid_is_a_white_furnace_with_its_round_lobe_taken_out_and_put_back():
+    # Under a uniform sky the filtered mean and the round lobe are both L: the grid holds 0, each pixel adds L back,
+    # and the lobe reflects its albedo times L at every pixel, as pixel by pixel.
+    from lighting.integrate.dominant import HALF_GRID_DENSITY, _half_vector_lobe
+    from lighting.integrate.ibl import ALBEDO_ANGLES, lobe_albedo, lobe_sigma
+
+    pre = prefilter_environment(ConstantEnvironment(1.5), height=32)
+    ggx = CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")
+    assert _half_vector_lobe(ggx, lobe_sigma(ggx.lobe())) and HALF_GRID_DENSITY == 2
+    view = np.array([0.48, -0.6, 0.64])
+    rng = np.random.default_rng(3)
+    n = rng.normal(size=(30000, 3))
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    n = np.where((n @ view < 0)[:, None], -n, n)
+    v = np.broadcast_to(view, n.shape)
+    on, off = (dominant_radiance(ggx, pre, n.astype(np.float32), v.astype(np.float32), normal_grid=g)
+               for g in (True, False))  # fmt: skip
+    rho = np.interp(np.arccos(np.clip(n @ view, 0, 1)), ALBEDO_ANGLES, lobe_albedo(ggx)[:, 0])
+    lit = n @ view > 0
+    np.testing.assert_allclose(on[lit, 0], 1.5 * rho[lit], rtol=2e-5, atol=1e-6)
+    np.testing.assert_allclose(on[lit], off[lit], rtol=2e-5, atol=1e-6)
+
+
 @pytest.mark.parametrize("part", [
     CookTorrance(1.0, 0.2, 1.0, ndf="ggx", fresnel="none"),
     CookTorrance(1.0, 0.5, (0.95, 0.64, 0.54), ndf="beckmann", fresnel="schlick"),

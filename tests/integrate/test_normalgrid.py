@@ -124,9 +124,10 @@ def test_every_read_weighs_its_four_taps_to_one_at_the_view_the_silhouette_and_a
 
 
 def test_a_narrow_lobe_has_a_coarser_grid_that_reads_the_pixels_within_the_interpolations_error(daylight):
-    # GGX α = 0.1 (σ = 0.14, narrower than WIDE_LOBE): four rows per σ, 6,289 points, which a 240² sphere's 38,780
-    # pixels pay for; six rows per σ (13,859 points) would not.
-    from lighting.integrate.dominant import NARROW_GRID_DENSITY, WIDE_LOBE
+    # GGX α = 0.1 (σ = 0.14, narrower than WIDE_LOBE): two rows per σ (2.5° at most: 4,041 points) and its round lobe
+    # per pixel, which a 240² sphere's 38,780 pixels pay for; six rows per σ (13,859 points) would not.
+    from lighting.integrate.dominant import HALF_GRID_DENSITY as NARROW_GRID_DENSITY
+    from lighting.integrate.dominant import WIDE_LOBE
     from lighting.integrate.ibl import lobe_sigma
     from lighting.validation.accuracy import ibl_sphere
 
