@@ -626,29 +626,37 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
         if normal_grid:
             raise ValueError("normal_grid=True needs every pixel to share one view direction; these differ")
         normal_grid = False
-    if seen.size < cos_v.size:
-        terms = _radiance(brdf, pre, n[seen], v[seen], cos_v[seen], dt, samples, normal_grid)
-        for key, value in terms.items():
-            terms[key] = np.zeros(n.shape, dtype=np.float64)
-            terms[key][seen] = value
-    else:
-        terms = _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid)
+    some = seen.size < cos_v.size
+    terms = _radiance(brdf, pre, *((n[seen], v[seen], cos_v[seen]) if some else (n, v, cos_v)), dt, samples,
+                      normal_grid)  # fmt: skip
+
+    def whole(value):
+        """``value`` of the pixels seen, in ``dt``, at every pixel (0 off the object)."""
+        value = value.astype(dt, copy=False)
+        if some:
+            value, seen_value = np.zeros(n.shape, dtype=dt), value
+            value[seen] = seen_value
+        return value.reshape(out_shape)
+
     if split_terms:
-        return {key: value.astype(dt).reshape(out_shape) for key, value in terms.items()}
-    return (terms["diffuse"] + terms["specular"]).astype(dt).reshape(out_shape)
+        return {key: whole(value) for key, value in terms.items()}
+    # The terms' sum in their own dtype (float64 pixel by pixel, float32 from the grid: a float32 sum is the float64
+    # sum rounded once), then in dt.
+    return whole(terms["diffuse"] + terms["specular"])
 
 
 def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     """:func:`dominant_radiance` of pixels that face the viewer, ``n``, ``v`` (P, 3) in ``dt``: ``{term: (P, 3)}``."""
-    diffuse = np.zeros(n.shape, dtype=np.float64)
-    specular = np.zeros(n.shape, dtype=np.float64)
     smooth, deltas = split_delta(brdf)
+    mirror = None  # a mirror's reflection, in float64
     if deltas:
         reflectance = delta_albedo(deltas, np.clip(cos_v, 0, 1).astype(np.float64))
-        specular += reflectance * pre._lookup(2 * cos_v[:, None] * n - v, 0.0, "mirror")
+        mirror = np.zeros(n.shape, dtype=np.float64)
+        mirror += reflectance * pre._lookup(2 * cos_v[:, None] * n - v, 0.0, "mirror")
     parts = () if smooth is None else smooth.parts
     if not parts:
-        return {"diffuse": diffuse, "specular": specular}
+        return {"diffuse": np.zeros(n.shape, dtype=np.float64),
+                "specular": np.zeros(n.shape, dtype=np.float64) if mirror is None else mirror}  # fmt: skip
     dom = dominant_environment(pre)
     # The lights, the residual and its irradiance are in the frame of the environment's base: turn the
     # pixels into it (an isotropic BRDF does not change under a turn of n, v and l together).
@@ -694,11 +702,8 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
     if on_grid:
         # The grid's terms rounded to float32, then held in float64 for the bilinear reads (once, not per block).
         stacked = np.concatenate([value.astype(np.float32) for value in on_grid.values()], axis=-1, dtype=np.float64)
-    if work is not np.float64:
-        if deltas:  # a mirror's reflection, added in float64
-            diffuse, specular = diffuse.astype(work), specular.astype(work)
-        else:  # fresh zeros, not a pass over the float64 ones
-            diffuse, specular = np.zeros(n.shape, dtype=work), np.zeros(n.shape, dtype=work)
+    diffuse = np.zeros(n.shape, dtype=work)
+    specular = np.zeros(n.shape, dtype=work) if mirror is None else mirror.astype(work, copy=False)
     albedos = [lobe_albedo(part) for part in parts]
 
     def finish(rows):
