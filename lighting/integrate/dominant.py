@@ -128,7 +128,9 @@ NARROW_GRID_DENSITY = 4
 #: and each pixel adds that round lobe back at its own normal: the difference is smooth where the mean itself is sharp
 #: (a studio box's edge through the lobe), so :data:`HALF_GRID_DENSITY` rows per ``σ`` read it within a fraction of
 #: the method's own error (``report accuracy --only ibl``, the ``normal grid`` rows).  A round lobe a little narrower
-#: than the whole ``σ`` follows the filtered mean's core more closely.
+#: than the whole ``σ`` follows the filtered mean's core more closely: against the exact pixel sum under the studio
+#: (GGX α = 0.05, the lit pixels of 2,048) 0.75 σ left the smallest 95th percentile on the grid of 0.75, 0.9 and
+#: 1.0 σ, and 0.5 or 0.6 σ a larger median.
 ROUND_LOBE_WIDTH = 0.75
 #: Rows of the grid of normals per ``σ`` for a narrow microfacet lobe, its round lobe read per pixel
 #: (:data:`ROUND_LOBE_WIDTH`).  Other lobes' filtered samples turn with the plane of incidence and differ more from
