@@ -289,7 +289,8 @@ def test_one_level_reads_what_the_split_sum_reads_at_that_width(kernel):
         assert np.all(got >= lo.min(axis=0) - 1e-6) and np.all(got <= hi.max(axis=0) + 1e-6)
 
 
-def test_a_narrow_lobe_on_the_grid_is_a_white_furnace_with_its_round_lobe_taken_out_and_put_back():
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_a_narrow_lobe_on_the_grid_is_a_white_furnace_with_its_round_lobe_taken_out_and_put_back(dtype):
     # Under a uniform sky the filtered mean and the round lobe are both L: the grid holds 0, each pixel adds L back,
     # and the lobe reflects its albedo times L at every pixel, as pixel by pixel.
     from lighting.integrate.dominant import HALF_GRID_DENSITY, _half_vector_lobe
@@ -304,8 +305,8 @@ def test_a_narrow_lobe_on_the_grid_is_a_white_furnace_with_its_round_lobe_taken_
     n /= np.linalg.norm(n, axis=-1, keepdims=True)
     n = np.where((n @ view < 0)[:, None], -n, n)
     v = np.broadcast_to(view, n.shape)
-    on, off = (dominant_radiance(ggx, pre, n.astype(np.float32), v.astype(np.float32), normal_grid=g)
-               for g in (True, False))  # fmt: skip
+    on, off = (dominant_radiance(ggx, pre, n.astype(dtype), v.astype(dtype), normal_grid=g) for g in (True, False))
+    assert on.dtype == off.dtype == dtype
     rho = np.interp(np.arccos(np.clip(n @ view, 0, 1)), ALBEDO_ANGLES, lobe_albedo(ggx)[:, 0])
     lit = n @ view > 0
     np.testing.assert_allclose(on[lit, 0], 1.5 * rho[lit], rtol=2e-5, atol=1e-6)
