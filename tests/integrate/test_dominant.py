@@ -155,6 +155,20 @@ def test_a_turned_and_scaled_environment_is_the_base_seen_from_turned_pixels(dis
                                2.0 * dominant_radiance(m, disk_pre, n, v), rtol=1e-6)  # fmt: skip
 
 
+def test_a_narrow_lobe_on_the_grid_under_a_turned_and_scaled_environment_is_the_base_turned(disk_pre):
+    # The round lobe is read in the base's frame like the rest of the method: one view for every pixel, turned with
+    # the pixels, and the turned light gives twice the base's values on the grid as pixel by pixel.
+    from lighting.validation.accuracy import ibl_sphere
+
+    turned = disk_pre.for_environment(TransformedEnvironment(disk_pre.environment, intensity=2.0, rotation=90.0))
+    _, n, v = ibl_sphere(160)
+    rz = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # +90° about +z
+    m = Lambert(0.2) + CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")
+    base = dominant_radiance(m, disk_pre, n, v, normal_grid=True)
+    np.testing.assert_allclose(dominant_radiance(m, turned, n @ rz.T, v @ rz.T, normal_grid=True), 2.0 * base,
+                               rtol=1e-5, atol=1e-6 * base.max())  # fmt: skip
+
+
 def test_the_precomputation_is_made_once_per_base_environment(disk_pre):
     from lighting.integrate.dominant import dominant_environment
 
