@@ -107,6 +107,7 @@ class NormalGrid:
         psi = ((np.arange(ring.size) - self.starts[ring]) * (2 * math.pi / self.columns[ring]))[:, None]
         n = np.sin(theta) * (np.cos(psi) * e1 + np.sin(psi) * e2) + np.cos(theta) * self.view
         self.normals = n / np.linalg.norm(n, axis=-1, keepdims=True)
+        self.normals.setflags(write=False)  # a grid is kept and shared by the re-shades of its view
 
     @property
     def size(self) -> int:

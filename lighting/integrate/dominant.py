@@ -391,6 +391,7 @@ class DominantEnvironment:
             self.residual = prefiltered.for_environment(prefiltered.environment)  # unturned, unscaled
         self.levels = LevelStack(self.residual)
         self._one_levels, self._lock = {}, threading.Lock()
+        self._grid_irradiance = Recent(4)
         rest = np.asarray(self.residual.levels[0], dtype=np.float64)
         self.cell_directions, self.cell_power, calm = find_area_cells(rest, threshold=area_threshold,
                                                                       cell_rows=cell_rows)  # fmt: skip
@@ -408,6 +409,26 @@ class DominantEnvironment:
         # The map's quadrature errs by O((π/H)²) on each row alike: divided by what it gives for a uniform sky
         # (π exactly), a uniform sky's irradiance is exact — the furnace — and smooth ones gain too.
         self.irradiance = LatLongEnvironment(irr.image * (math.pi / _uniform_irradiance(h0, 2 * h0, h)))
+
+    def grid_irradiance(self, grid) -> np.ndarray:
+        """``E(n)/π`` of the residual at the points of a grid of normals, ``(size, 3)`` float64 (read-only), made
+        once per grid (the grids met last).
+
+        Parameters
+        ----------
+        grid : NormalGrid
+            In the frame of the environment's base.
+
+        Returns
+        -------
+        ndarray
+        """
+        found = self._grid_irradiance.get(id(grid))
+        if found is None or found[0] is not grid:
+            value = self.irradiance.radiance(grid.normals) / math.pi
+            value.setflags(write=False)
+            found = self._grid_irradiance.put(id(grid), (grid, value))
+        return found[1]
 
     def one_level(self, kernel: str, sigma: float) -> OneLevel:
         """The residual's ``kernel`` family at the width ``sigma`` (:class:`~lighting.integrate._fis.OneLevel`),
@@ -688,7 +709,7 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
             if grid is None:
                 blurred["irradiance"] = dom.irradiance.radiance(nb) / math.pi
             else:
-                on_grid["irradiance"] = dom.irradiance.radiance(gn) / math.pi
+                on_grid["irradiance"] = dom.grid_irradiance(grid)
         elif grid is not None and _spacing(part, sigma) >= grid.spacing:
             terms = _glossy_terms(part, sigma, dom, gn_dt, gv, gc, 2 * gc[:, None] * gn_dt - gv, samples)
             if _half_vector_lobe(part, sigma):
@@ -757,6 +778,10 @@ def _round_lobe(part, sigma, dom):
     return read
 
 
+#: The grids of normals made last, by view and spacing.
+_grids = Recent(8)
+
+
 def _grid_for(spacings, normal_grid, pixels, vb):
     """The :class:`~lighting.integrate._normalgrid.NormalGrid` that the parts' blurred terms are shaded on, or None.
 
@@ -772,7 +797,11 @@ def _grid_for(spacings, normal_grid, pixels, vb):
         if normal_grid is None and grid_points(spacing) > GRID_SHARE * pixels:
             break
         best = spacing
-    return None if best is None else NormalGrid(vb[0], best)
+    if best is None:
+        return None
+    # The same view and spacing (an explorer's sphere re-shaded under a moving light) reuse the grid.
+    key = (np.asarray(vb[0], dtype=np.float64).tobytes(), best)
+    return _grids.get(key) or _grids.put(key, NormalGrid(vb[0], best))
 
 
 def sample_count(sigma: float, samples: int = DOMINANT_SAMPLES) -> int:

@@ -189,3 +189,21 @@ def test_the_grid_is_used_for_one_view_and_enough_pixels_only(daylight):
         dominant_radiance(m, pre, n, turned, normal_grid=True)
     with pytest.raises(TypeError, match="normal_grid"):
         dominant_radiance(m, pre, n, v, normal_grid="yes")
+
+
+def test_a_view_and_spacing_met_again_reuse_their_grid_and_its_irradiance(daylight):
+    # An explorer's sphere re-shaded under a moving light: the same view makes the same grid once, and the residual's
+    # irradiance at its points once per environment; another view makes its own. The values are those made anew.
+    from lighting.integrate.dominant import _grid_for, dominant_environment
+
+    view = np.array([[0.0, 0.0, 1.0]])
+    first, again = (_grid_for([grid_spacing(0.5)], True, 10, view) for _ in range(2))
+    assert again is first and not first.normals.flags.writeable
+    other = _grid_for([grid_spacing(0.5)], True, 10, np.array([[0.0, 0.6, 0.8]]))
+    assert other is not first
+    np.testing.assert_array_equal(other.normals, NormalGrid((0.0, 0.6, 0.8), grid_spacing(0.5)).normals)
+    dom = dominant_environment(daylight)
+    e = dom.grid_irradiance(first)
+    assert dom.grid_irradiance(first) is e and not e.flags.writeable
+    np.testing.assert_array_equal(e, dom.irradiance.radiance(first.normals) / math.pi)
+    assert dom.grid_irradiance(other).shape == (other.size, 3)
