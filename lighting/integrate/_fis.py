@@ -76,6 +76,22 @@ def _padded_pair(levels, k):
     return np.pad(np.pad(pair, ((0, 0), (1, 1), (0, 0)), mode="wrap"), ((1, 1), (0, 0), (0, 0)), mode="edge")
 
 
+def _texel_coordinates(x, y, z, scale):
+    """The bilinear taps of unit directions ``(x, y, z)`` (float32) in a padded level of ``scale`` texels per radian:
+    ``(jx, iy, tx, ty)``, the upper-left texel's column and row and the fractions toward the next, in float32.
+
+    Rows and columns as :func:`lighting.lights.latlong.latlong_lookup` (:class:`LevelStack`), shifted by the border
+    of one texel (+ 1) and to the texel centres (+ ½): positive, so the truncation to an integer is the floor.
+    Float32 fractions are taken from float32 integer parts, which NumPy would otherwise promote to float64.
+    """
+    theta = np.arccos(np.clip(z, np.float32(-1), np.float32(1)))
+    a = np.float32(math.pi) - np.arctan2(y, x)  # (π − φ) ∈ [0, 2π]
+    fx = a * scale + np.float32(0.5)
+    fy = theta * scale + np.float32(0.5)
+    jx, iy = fx.astype(np.int32), fy.astype(np.int32)
+    return jx, iy, fx - jx.astype(np.float32), fy - iy.astype(np.float32)
+
+
 class LevelStack:
     """Every level of a prefiltered environment's von Mises–Fisher family, for one gather per bilinear tap.
 
@@ -95,7 +111,6 @@ class LevelStack:
     """
 
     def __init__(self, pre):
-
         levels = [np.asarray(im, dtype=np.float32) for im in pre.families["mirror"]]
         self.count = len(levels)
         padded = [_padded_pair(levels, k) for k in range(self.count)]
@@ -122,22 +137,13 @@ class LevelStack:
         """``Σ_k w_k L(d_k, level_k)`` over the last axis: ``x, y, z`` the unit directions, all ``(P, N)``; ``(P, 3)``.
 
         Bilinear in each of the two levels around a fractional ``level``, linear between them, in float32: the
-        directions, the texel coordinates, the weights and their sum (the weights of a pixel sum to 1; a float32 sum of
-        a few hundred products errs by a few units of 1e-7 of the result, where the sample count's own error is
-        percents).  Float32 fractions are taken from float32 integer parts, which NumPy would otherwise promote to
-        float64 and carry into every product: half the bytes gathered and multiplied per tap.
+        directions, the texel coordinates (:func:`_texel_coordinates`), the weights and their sum (the weights of a
+        pixel sum to 1; a float32 sum of a few hundred products errs by a few units of 1e-7 of the result, where the
+        sample count's own error is percents): half the bytes of float64 gathered and multiplied per tap.
         """
-        theta = np.arccos(np.clip(z, np.float32(-1), np.float32(1)))
-        a = np.float32(math.pi) - np.arctan2(y, x)  # (π − φ) ∈ [0, 2π]
         k = level.astype(np.int32)  # level >= 0: the truncation is the floor
         t = level - k.astype(np.float32)
-        scale = np.take(self.scale, k)
-        # Texel coordinates in the padded level (one texel of border: + 1, centres at + ½): positive, so the
-        # truncation to an integer is the floor.
-        fx = a * scale + np.float32(0.5)
-        fy = theta * scale + np.float32(0.5)
-        jx, iy = fx.astype(np.int32), fy.astype(np.int32)
-        tx, ty = fx - jx.astype(np.float32), fy - iy.astype(np.float32)
+        jx, iy, tx, ty = _texel_coordinates(x, y, z, np.take(self.scale, k))
         row = np.take(self.row, k)
         base = np.take(self.offsets, k) + iy * row + jx
         one = np.float32(1)
@@ -186,12 +192,8 @@ class OneLevel:
 
     def read(self, d):
         """``L̄(d)`` of unit directions ``d`` (P, 3) float32: (P, 3) float32, bilinear as :meth:`LevelStack.mean`."""
-        theta = np.arccos(np.clip(d[:, 2], np.float32(-1), np.float32(1)))
-        a = np.float32(math.pi) - np.arctan2(d[:, 1], d[:, 0])
-        fx = a * self.scale + np.float32(0.5)
-        fy = theta * self.scale + np.float32(0.5)
-        jx, iy = fx.astype(np.int32), fy.astype(np.int32)
-        tx, ty = (fx - jx.astype(np.float32))[:, None], (fy - iy.astype(np.float32))[:, None]
+        jx, iy, tx, ty = _texel_coordinates(d[:, 0], d[:, 1], d[:, 2], self.scale)
+        tx, ty = tx[:, None], ty[:, None]
         base = iy * self.row + jx
         below = base + self.row
 
@@ -204,6 +206,7 @@ class OneLevel:
         bottom += (tap(below + 1) - bottom) * tx
         top += (bottom - top) * ty
         return top[:, :3]
+
 
 def _sampler(part):
     """The part's sampler; for a rough isotropic GGX or Beckmann part the visible normals' (its weights vary least).

@@ -53,7 +53,6 @@ from __future__ import annotations
 
 import functools
 import math
-import threading
 import weakref
 from dataclasses import dataclass
 
@@ -390,8 +389,9 @@ class DominantEnvironment:
             env = LatLongEnvironment(base)
             self.residual = prefiltered.for_environment(prefiltered.environment)  # unturned, unscaled
         self.levels = LevelStack(self.residual)
-        self._one_levels, self._lock = {}, threading.Lock()
-        self._grid_irradiance = Recent(4)
+        # The round lobes of the narrow parts met last (a roughness slider makes a new width at every step) and the
+        # irradiance at the points of the grids met last.
+        self._one_levels, self._grid_irradiance = Recent(8), Recent(4)
         rest = np.asarray(self.residual.levels[0], dtype=np.float64)
         self.cell_directions, self.cell_power, calm = find_area_cells(rest, threshold=area_threshold,
                                                                       cell_rows=cell_rows)  # fmt: skip
@@ -423,16 +423,17 @@ class DominantEnvironment:
         -------
         ndarray
         """
-        found = self._grid_irradiance.get(id(grid))
-        if found is None or found[0] is not grid:
-            value = self.irradiance.radiance(grid.normals) / math.pi
-            value.setflags(write=False)
-            found = self._grid_irradiance.put(id(grid), (grid, value))
-        return found[1]
+        key = (grid.view.tobytes(), grid.spacing)
+        found = self._grid_irradiance.get(key)
+        if found is None:
+            found = self.irradiance.radiance(grid.normals) / math.pi
+            found.setflags(write=False)
+            self._grid_irradiance.put(key, found)
+        return found
 
     def one_level(self, kernel: str, sigma: float) -> OneLevel:
         """The residual's ``kernel`` family at the width ``sigma`` (:class:`~lighting.integrate._fis.OneLevel`),
-        made once per family and width.
+        made once per family and width (the widths met last).
 
         Parameters
         ----------
@@ -446,11 +447,7 @@ class DominantEnvironment:
         OneLevel
         """
         key = (kernel, float(sigma))
-        with self._lock:
-            found = self._one_levels.get(key)
-            if found is None:
-                found = self._one_levels[key] = OneLevel(self.residual, kernel, sigma)
-        return found
+        return self._one_levels.get(key) or self._one_levels.put(key, OneLevel(self.residual, kernel, sigma))
 
     def __repr__(self):
         return f"DominantEnvironment({len(self.lights)} lights, residual {self.residual!r})"
@@ -748,12 +745,11 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
             rho = table[0].astype(work) if np.all(table == table[0]) else _albedo_at(table, theta_v, work)
             if math.isinf(sigma):
                 value += rho * here["irradiance"]
+            elif i in round_lobes:
+                value += rho * (here[i] + round_lobes[i](nb[rows], vb[rows], cos_v[rows]).astype(work))
             else:
-                if i in round_lobes:
-                    value += rho * (here[i] + round_lobes[i](nb[rows], vb[rows], cos_v[rows]).astype(work))
-                else:
-                    value += here[i][:, :3]
-                    value += rho * here[i][:, 3:]
+                value += here[i][:, :3]
+                value += rho * here[i][:, 3:]
             (dif if math.isinf(sigma) else spec)[:] += value * scale.astype(work)
 
     # Every pixel on its own from here: blocks of pixels that stay in the processor's caches, on the shading threads.

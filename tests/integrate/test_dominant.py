@@ -303,6 +303,19 @@ def test_one_level_reads_what_the_split_sum_reads_at_that_width(kernel):
         assert np.all(got >= lo.min(axis=0) - 1e-6) and np.all(got <= hi.max(axis=0) + 1e-6)
 
 
+def test_the_round_lobes_are_kept_for_the_widths_met_last(disk_pre):
+    # A roughness slider meets a new width at every step: each width's blended level is made once while it is in
+    # use, and the widths met longest ago are let go, so that memory stays bounded.
+    from lighting.integrate.dominant import dominant_environment
+
+    dom = dominant_environment(disk_pre)
+    first = dom.one_level("ggx", 0.05)
+    assert dom.one_level("ggx", 0.05) is first and dom.one_level("beckmann", 0.05) is not first
+    for k in range(16):
+        dom.one_level("ggx", 0.06 + 0.001 * k)
+    assert len(dom._one_levels) <= 16 and dom.one_level("ggx", 0.05) is not first
+
+
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
 def test_a_narrow_lobe_on_the_grid_is_a_white_furnace_with_its_round_lobe_taken_out_and_put_back(dtype):
     # Under a uniform sky the filtered mean and the round lobe are both L: the grid holds 0, each pixel adds L back,
