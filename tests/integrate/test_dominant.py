@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from lighting.integrate.dominant import DominantEnvironment, dominant_radiance, find_dominant_lights
+from lighting.integrate.dominant import DominantEnvironment, dominant_radiance
+from lighting.integrate.extraction import find_dominant_lights
 from lighting.integrate.ibl import lobe_albedo, split_sum_radiance
 from lighting.integrate.prefilter import prefilter_environment
 from lighting.lights.envfiles import TransformedEnvironment
