@@ -516,19 +516,22 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
         theta_v = np.arccos(np.clip(cos_v[rows].astype(work), 0.0, 1.0))
         dif, spec = diffuse[rows], specular[rows]
         for i, (part, sigma, table) in enumerate(zip(parts, sigmas, albedos, strict=True)):
-            value = np.zeros(dif.shape, dtype=work)
+            terms = []  # added up in this order (the dominant lights first), each a new array
             if len(dom.lights) and (math.isinf(sigma) or i not in on_grid or i in round_lobes):  # else the grid's
-                value += _light_term(part, dom.lights, nb[rows], vb[rows], dt, sigma, work)
+                terms.append(_light_term(part, dom.lights, nb[rows], vb[rows], dt, sigma, work))
             # A constant albedo (Lambert's k_d) is what the interpolation would give at every angle, exactly.
             rho = table[0].astype(work) if np.all(table == table[0]) else _albedo_at(table, theta_v, work)
             if math.isinf(sigma):
-                value += rho * here["irradiance"]
+                terms.append(rho * here["irradiance"])
             elif i in round_lobes:
-                value += rho * (here[i] + round_lobes[i](nb[rows], vb[rows], cos_v[rows]).astype(work))
+                terms.append(rho * (here[i] + round_lobes[i](nb[rows], vb[rows], cos_v[rows]).astype(work)))
             else:
-                value += here[i][:, :3]
-                value += rho * here[i][:, 3:]
-            (dif if math.isinf(sigma) else spec)[:] += value * scale.astype(work)
+                terms += [here[i][:, :3], rho * here[i][:, 3:]]
+            value = terms[0].astype(work)
+            for term in terms[1:]:
+                value += term
+            value *= scale.astype(work)
+            (dif if math.isinf(sigma) else spec)[:] += value
 
     # Every pixel on its own from here: blocks of pixels that stay in the processor's caches, on the shading threads.
     in_blocks(n.shape[0], PIXEL_BLOCK, finish)

@@ -146,6 +146,11 @@ def lobe_albedo(part) -> np.ndarray:
 
 def _albedo_at(table, theta, dt):
     """``table`` interpolated at the view angles ``theta`` (radians; linear in ``θ_v``)."""
+    if np.array_equal(table[:, 0], table[:, 1]) and np.array_equal(table[:, 0], table[:, 2]):
+        # A grey lobe (most materials' specular part): one channel's values, the same numbers in all three.
+        out = np.empty(np.shape(theta) + (3,), dtype=dt)
+        out[:] = np.interp(theta, ALBEDO_ANGLES, table[:, 0]).astype(dt, copy=False)[..., None]
+        return out
     out = np.stack([np.interp(theta, ALBEDO_ANGLES, table[:, c]) for c in range(3)], axis=-1)
     return out.astype(dt, copy=False)
 
