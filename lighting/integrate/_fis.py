@@ -457,18 +457,23 @@ def half_vector_mean(part, stack, n, v, cos_v, samples, sigmas):
                     len(TABLE_ANGLES) - 1)  # fmt: skip
     ma = np.rint(np.arctan2(vb, vt) * np.float32(AZIMUTHS / (2 * math.pi))).astype(np.int32) % AZIMUTHS
     table.fill(mt, ma)
-    hx, hy, hz = h_loc[:, 0], h_loc[:, 1], h_loc[:, 2]
+    hz = h_loc[:, 2]
     out = np.empty(n.shape, dtype=np.float32)
     any_ok = np.empty(n.shape[0], dtype=bool)
     tiny = np.float32(1e-6)
 
     def block(s):
         nn, vv = n[s], v[s]
-        h = [hx * t[s, c, None] + hy * b[s, c, None] + hz * nn[:, c, None] for c in range(3)]  # world, (P, N) each
-        vh = h[0] * vv[:, 0, None] + h[1] * vv[:, 1, None] + h[2] * vv[:, 2, None]
+        p = nn.shape[0]
+        # The half vectors in the world, h_c = Σ_k h_k frame_k,c (the frame t, b, n), and v·h = Σ_k h_k (v·frame_k):
+        # each one product of the frames by the fixed local half vectors.
+        frames = np.stack([t[s], b[s], nn], axis=-1).reshape(3 * p, 3)
+        h = (frames @ h_loc.T).reshape(p, 3, -1)
+        vh = np.stack([vt[s], vb[s], cos_v[s]], axis=-1) @ h_loc.T
         two = vh + vh
-        x, y, z = two * h[0] - vv[:, 0, None], two * h[1] - vv[:, 1, None], two * h[2] - vv[:, 2, None]
-        nl = x * nn[:, 0, None] + y * nn[:, 1, None] + z * nn[:, 2, None]
+        x, y, z = (two * h[:, c] - vv[:, c, None] for c in range(3))
+        # n·l = 2 (v·h)(n·h) − n·v, and n·h is the local half vector's z.
+        nl = two * hz - cos_v[s, None]
         w = np.where((vh > 0) & (nl > 0), wtab[mt[s], ma[s]], np.float32(0))
         total = w.sum(axis=-1)
         any_ok[s] = total > 0
