@@ -147,6 +147,52 @@ def test_the_models_beyond_the_slides_meet_the_bound_in_both_dtypes(result):
         assert r.max_rel_err == lam[(r.case_family, r.dtype, r.form)].max_rel_err, (r.case_family, r.dtype, r.form)
 
 
+def test_the_conductor_family_meets_the_bound_in_both_dtypes(result):
+    rows = [r for r in result.rows if r.model_family == "CT conductor"]
+    assert {r.dtype for r in rows} == {"float32", "float64"}
+    assert {r.case_family for r in rows} == set(st.CASE_FAMILIES)
+    assert {r.model for r in rows} == {s.label for s in st.brdf_specs() if s.family == "CT conductor"}
+    assert all(r.passed for r in rows), [r.first_failure for r in rows if not r.passed]
+    assert sum(r.nonfinite + r.negative + r.warnings for r in rows) == 0
+    assert max(r.max_ratio for r in rows) <= st.BOUND_FACTOR
+    for dt in ("float32", "float64"):
+        assert sum(r.normal for r in rows if r.dtype == dt) > 1000
+    # Reciprocity and the NDF's order along the peak sweeps are checked on these rows too.
+    assert sum(r.recip_pairs for r in rows) > 0 and sum(r.recip_fail for r in rows) == 0
+    assert sum(r.mono_pairs for r in rows) > 0 and sum(r.mono_fail for r in rows) == 0
+
+
+def test_docs_writes_the_table_and_its_numbers_between_the_markers(result, tmp_path):
+    # report stability --docs: the quick sweep's table and the numbers of its paragraph, between the markers.
+    page = tmp_path / "stability.md"
+    page.write_text("intro\n\n" + report_stability.DOCS_START + "\nold table\n" + report_stability.DOCS_END
+                    + "\n\nafter\n", encoding="utf-8")  # fmt: skip
+    figure = tmp_path / "fig.png"
+    figure.write_bytes(b"\x89PNG\r\n\x1a\nfigure")
+    table = report_stability.format_table(result)
+    written = report_stability.write_docs(result, table, page, figure)
+    assert written == [page, tmp_path / "images" / "stability.png"]
+    assert (tmp_path / "images" / "stability.png").read_bytes() == figure.read_bytes()
+    text = page.read_text(encoding="utf-8")
+    head, rest = text.split(report_stability.DOCS_START + "\n")
+    block, tail = rest.split(report_stability.DOCS_END + "\n")
+    assert head == "intro\n\n" and tail == "\nafter\n" and "old table" not in text
+    assert block.startswith("```text\n" + table + "\n```\n\n")
+    rows = result.rows
+    total = sum(r.points for r in rows)
+    counts = [sum(getattr(r, c) for r in rows) for c in ("normal", "ill", "edge", "zero", "under", "over")]
+    assert sum(counts) == total
+    para = block.split("\n```\n\n")[1].strip()
+    assert para.startswith("In that run every row met the bound")
+    worst = max(rows, key=lambda r: r.max_ratio)
+    assert f"the worst ratio was {worst.max_ratio:.2f} ({worst.model}, `{worst.form}`" in para
+    assert f"{counts[0]:,} normal values".replace(",", " ") in para
+    assert f"{counts[3]:,} exact zeros".replace(",", " ") in para
+    # Written again, the page changes only inside the markers.
+    report_stability.write_docs(result, table, page)
+    assert page.read_text(encoding="utf-8") == text
+
+
 def test_general_reference_at_closed_forms():
     # l = v = n: Ward's three normalizations give k_s/(4π α_x α_y); Cook–Torrance with the correlated
     # G2 gives D(n) F(1)/4 = f0/(4π α²); Oren–Nayar gives A/π.

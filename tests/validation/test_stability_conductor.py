@@ -1,8 +1,9 @@
 """The conductor Fresnel term in the stability sweep, and ``report stability --docs``.
 
-The sweep's ``CT conductor`` family (Cook–Torrance GGX with the height-correlated G2 and the exact
-conductor Fresnel term: gold channel by channel, ``η → 0``, huge ``k``, ``k = 0``) against its 80-digit
-reference, and the command that writes the sweep's table into the documentation.
+The sweep's ``CT conductor`` cases (Cook–Torrance GGX with the height-correlated G2 and the exact conductor
+Fresnel term: gold channel by channel, ``η → 0``, huge ``k``, ``k = 0``) and their 80-digit reference, and the
+options that command refuses.  The family's rows in the quick sweep and the page the command writes are checked
+on the sweep that ``test_stability.py`` runs once for every family.
 """
 
 from __future__ import annotations
@@ -17,7 +18,6 @@ from lighting.models.fresnel import METALS
 from lighting.validation import cases as vcases
 from lighting.validation import model_references as mr
 from lighting.validation import stability as st
-from lighting.validation import tables as vtables
 
 
 def _conductor_specs():
@@ -66,66 +66,6 @@ def test_the_reference_at_l_v_n_is_f0_over_4_pi_alpha_squared(eta, k):
             ct = mpmath.sqrt(1 - (1 - c * c) / e**2)
             r_s, r_p = (c - e * ct) / (c + e * ct), (e * c - ct) / (e * c + ct)
             assert abs(mr.conductor_fresnel(c, eta, k) - (r_s**2 + r_p**2) / 2) < mpmath.mpf(10) ** -75
-
-
-@pytest.fixture(scope="module")
-def conductor_sweep():
-    """The quick sweep of Lambert (the factor path needs a column) and the conductor family, both dtypes."""
-    only = [s for s in st.brdf_specs() if s.family in ("Lambert", "CT conductor")]
-    mp = pytest.MonkeyPatch()
-    mp.setattr(st, "brdf_specs", lambda: only)
-    mp.setattr(vtables, "brdf_specs", lambda: only)
-    try:
-        yield st.run(quick=True, workers=1, rearrangements=False)
-    finally:
-        mp.undo()
-
-
-@pytest.mark.slow  # 80-digit references of the conductor family (the quick case set)
-def test_the_conductor_family_meets_the_bound_in_both_dtypes(conductor_sweep):
-    rows = [r for r in conductor_sweep.rows if r.model_family == "CT conductor"]
-    assert {r.dtype for r in rows} == {"float32", "float64"}
-    assert {r.case_family for r in rows} == set(st.CASE_FAMILIES)
-    assert {r.model for r in rows} == {s.label for s in _conductor_specs()}
-    assert all(r.passed for r in rows), [r.first_failure for r in rows if not r.passed]
-    assert sum(r.nonfinite + r.negative + r.warnings for r in rows) == 0
-    assert max(r.max_ratio for r in rows) <= st.BOUND_FACTOR
-    for dt in ("float32", "float64"):
-        assert sum(r.normal for r in rows if r.dtype == dt) > 1000
-    # Reciprocity and the NDF's order along the peak sweeps are checked on these rows too.
-    assert sum(r.recip_pairs for r in rows) > 0 and sum(r.recip_fail for r in rows) == 0
-    assert sum(r.mono_pairs for r in rows) > 0 and sum(r.mono_fail for r in rows) == 0
-
-
-@pytest.mark.slow  # runs the conductor sweep of the test above
-def test_docs_writes_the_table_and_its_numbers_between_the_markers(conductor_sweep, tmp_path):
-    page = tmp_path / "stability.md"
-    page.write_text("intro\n\n" + report_stability.DOCS_START + "\nold table\n" + report_stability.DOCS_END
-                    + "\n\nafter\n", encoding="utf-8")  # fmt: skip
-    figure = tmp_path / "fig.png"
-    figure.write_bytes(b"\x89PNG\r\n\x1a\nfigure")
-    table = report_stability.format_table(conductor_sweep)
-    written = report_stability.write_docs(conductor_sweep, table, page, figure)
-    assert written == [page, tmp_path / "images" / "stability.png"]
-    assert (tmp_path / "images" / "stability.png").read_bytes() == figure.read_bytes()
-    text = page.read_text(encoding="utf-8")
-    head, rest = text.split(report_stability.DOCS_START + "\n")
-    block, tail = rest.split(report_stability.DOCS_END + "\n")
-    assert head == "intro\n\n" and tail == "\nafter\n" and "old table" not in text
-    assert block.startswith("```text\n" + table + "\n```\n\n")
-    rows = conductor_sweep.rows
-    total = sum(r.points for r in rows)
-    counts = [sum(getattr(r, c) for r in rows) for c in ("normal", "ill", "edge", "zero", "under", "over")]
-    assert sum(counts) == total
-    para = block.split("\n```\n\n")[1].strip()
-    assert para.startswith("In that run every row met the bound")
-    worst = max(rows, key=lambda r: r.max_ratio)
-    assert f"the worst ratio was {worst.max_ratio:.2f} ({worst.model}, `{worst.form}`" in para
-    assert f"{counts[0]:,} normal values".replace(",", " ") in para
-    assert f"{counts[3]:,} exact zeros".replace(",", " ") in para
-    # Written again, the page changes only inside the markers.
-    report_stability.write_docs(conductor_sweep, table, page)
-    assert page.read_text(encoding="utf-8") == text
 
 
 @pytest.mark.parametrize(
