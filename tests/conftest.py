@@ -63,6 +63,20 @@ def pytest_ignore_collect(collection_path, config):
     return True if _slow_file(collection_path) else None
 
 
+@pytest.hookimpl(wrapper=True)
+def pytest_collect_file(file_path, parent):
+    """The suite's files collected without a doctest search of them (``--doctest-modules`` is for the packages).
+
+    They hold no doctests, and searching them costs every worker a second and a half at each start: doctest
+    asks each module-level object whether it wraps another, and a test file's ``pv =
+    pytest.importorskip("pyvista")`` answers by importing all of PyVista's plotting.
+    """
+    from _pytest.doctest import DoctestModule
+
+    collectors = yield
+    return [c for c in collectors if not isinstance(c, DoctestModule)]
+
+
 def pytest_collection_modifyitems(config, items):
     """Files marked slow as a whole first, then the others by their number of tests, most first.
 
