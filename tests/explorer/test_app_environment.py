@@ -243,31 +243,6 @@ def test_help_lists_the_environment_options_with_defaults(capsys):
     assert "(default: none)" in out and "(default: lobe)" in out
 
 
-# ------------------------------------------------------------------ the notebook explorer
-def test_notebook_shows_the_object_and_refines_on_request():
-    pytest.importorskip("ipywidgets")
-    from explorer.notebook import NotebookExplorer, png_of
-
-    nb = NotebookExplorer(furnace_state(kd=0.5, form="physical"), sphere_size=48, mesh_size=48, lobe_resolution=8)
-    nb.model.object_size = (48, 32)  # before the object's renderer is made: a small image, a quick test
-    sv = nb.model.views["sphere"]
-    assert nb.images["sphere"].value == png_of(sv.rgb8)
-    albedo = nb.state.diffuse_albedo  # k_d × colour
-    np.testing.assert_allclose(sv.image[sv.coverage], np.broadcast_to(albedo, (sv.coverage.sum(), 3)), rtol=2e-6)
-    lobe_png = nb.images["lobe"].value
-    nb.controls["view3d"].value = "object"  # as a click does
-    ov = nb.model.views["object"]
-    assert nb.images["lobe"].value == png_of(ov.rgb8) and "Lit object" in nb.titles["lobe"].value
-    spp = nb.refine(0.3)
-    assert spp >= PASS_SAMPLES and nb.model.views["object"].method == "reference"
-    assert nb.images["lobe"].value == png_of(nb.model.views["object"].rgb8)
-    assert f"{spp} spp" in nb.status.value
-    nb.controls["environment"].value = "none"
-    assert nb.model.refinement is None and nb.model.views["object"].method == "key light"
-    nb.controls["view3d"].value = "lobe"
-    assert nb.images["lobe"].value == lobe_png  # the same lobe picture again
-
-
 def test_a_scene_s_environment_light_becomes_the_environment_controls():
     from explorer.app.scenes import scene_environment_file
     from explorer.app.state import AppState

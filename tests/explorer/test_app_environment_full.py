@@ -1,5 +1,5 @@
-"""Image-based lighting in the explorer window: the lit object shown, refined by ticks and keys (slow set; the
-environment choice, the images and the reference: test_app_environment.py)."""
+"""Image-based lighting in the explorer window and the notebook: the lit object shown, refined by ticks, keys and
+on request (slow set; the environment choice, the images and the reference: test_app_environment.py)."""
 
 import numpy as np
 import pytest
@@ -10,6 +10,7 @@ pytest.importorskip("PySide6")
 pytest.importorskip("pytestqt")
 
 from qt_window_support import flush, open_window, shown_image
+from test_app_environment import furnace_state
 
 from explorer.app import captions
 from explorer.app import environment as environment_mod
@@ -19,7 +20,7 @@ from explorer.qt.keys import do_key
 from explorer.qt.window import REFINE_MS
 from lighting.lights import SKIES, write_hdr
 
-pytestmark = pytest.mark.slow  # the explorer window, its views drawn by Qt, Matplotlib and VTK off-screen
+pytestmark = pytest.mark.slow  # the explorer window and notebook, views drawn by Qt, Matplotlib and VTK off-screen
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -80,3 +81,28 @@ def test_window_shows_the_object_and_refines_it(app, qtbot):
     do_key(app, "environment+")
     assert app.state.environment == "file"
     flush(app)
+
+
+# ------------------------------------------------------------------ the notebook explorer
+def test_notebook_shows_the_object_and_refines_on_request():
+    pytest.importorskip("ipywidgets")
+    from explorer.notebook import NotebookExplorer, png_of
+
+    nb = NotebookExplorer(furnace_state(kd=0.5, form="physical"), sphere_size=48, mesh_size=48, lobe_resolution=8)
+    nb.model.object_size = (48, 32)  # before the object's renderer is made: a small image, a quick test
+    sv = nb.model.views["sphere"]
+    assert nb.images["sphere"].value == png_of(sv.rgb8)
+    albedo = nb.state.diffuse_albedo  # k_d × colour
+    np.testing.assert_allclose(sv.image[sv.coverage], np.broadcast_to(albedo, (sv.coverage.sum(), 3)), rtol=2e-6)
+    lobe_png = nb.images["lobe"].value
+    nb.controls["view3d"].value = "object"  # as a click does
+    ov = nb.model.views["object"]
+    assert nb.images["lobe"].value == png_of(ov.rgb8) and "Lit object" in nb.titles["lobe"].value
+    spp = nb.refine(0.3)
+    assert spp >= PASS_SAMPLES and nb.model.views["object"].method == "reference"
+    assert nb.images["lobe"].value == png_of(nb.model.views["object"].rgb8)
+    assert f"{spp} spp" in nb.status.value
+    nb.controls["environment"].value = "none"
+    assert nb.model.refinement is None and nb.model.views["object"].method == "key light"
+    nb.controls["view3d"].value = "lobe"
+    assert nb.images["lobe"].value == lobe_png  # the same lobe picture again

@@ -152,20 +152,6 @@ def test_sphere_caption_says_how_much_clips_and_the_exposure():
     assert lines[-1] == "exposure +1.0 stops"
 
 
-def test_sphere_caption_under_a_sky_says_the_automatic_exposure():
-    state = AppState(environment="daylight")
-    model = _model(state)
-    sv = model.views["sphere"]
-    assert captions.exposure_note(state, sv) == f"exposure 0 stops (automatic: {sv.auto_exposure:+.1f})".replace(
-        "-", "−")
-    model.apply_auto_exposure()
-    sv = model.views["sphere"]
-    assert sv.auto_exposure == -1.6
-    text = captions.sphere_caption(state, sv)
-    assert text.endswith("\nexposure −1.6 stops (automatic)")
-    assert "directional, elevation 45°, azimuth 135° · environment daylight" in text
-
-
 def test_split_legend_names_the_halves_along_the_light():
     assert captions.split_sides(90.0) == ("left", "right")
     assert captions.split_sides(135.0) == ("lower left", "upper right")

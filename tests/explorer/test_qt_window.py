@@ -248,31 +248,6 @@ def test_five_thousand_timer_slot_calls_leave_the_process_alive():
     assert lost < calls // 10  # a reference lost per call would show as 5000
 
 
-# =============================================================================== 2. the Monte-Carlo reference
-def test_ticking_reference_starts_the_monte_carlo_reference_on_a_qtimer(qtbot, window):
-    choose(window, "environment", "studio")
-    assert window.state.environment == "studio"
-    current(window)
-    box = window.controls.widget("reference")
-    assert window.controls.row_visible("reference") and not box.isChecked()
-    scroll_to(window, box)
-    click_box(qtbot, box)
-    assert window.state.reference is True and box.isChecked()
-    ref = window.model  # the reference's passes: within a few seconds, whatever else the machine runs
-    qtbot.waitUntil(lambda: ref.refinement is not None and ref.refinement.samples > 0, timeout=10000)
-    first = window.model.refinement.samples
-    assert isinstance(window._refine_timer, QtCore.QTimer) and window._refine_timer.isActive()
-    qtbot.waitUntil(lambda: window.model.refinement.samples > first, timeout=10000)
-    text = window.refine_label.text()
-    spp = int(re.search(r"reference: (\d+) spp", text).group(1))
-    assert first < spp <= window.model.refinement.samples
-    assert "reference:" in full(window.sphere_panel.caption)
-    click_box(qtbot, box)  # off again: the timer stops, the label empties
-    current(window)
-    assert window.state.reference is False and not window._refine_timer.isActive()
-    assert window.refine_label.text() == ""
-
-
 # =============================================================================== 5. no stray widget
 def test_shading_mode_keys_leave_the_same_widgets_and_nothing_over_the_polar_caption(qtbot, window):
     before = widget_census(window)

@@ -1,15 +1,16 @@
 """The explorer's Qt window at every size, under a storm of events, and as a process that is sent signals.
 
-The longer companions of ``test_qt_window.py`` (whose helpers they use): the control panel's rows where their
-labels are after resizes, every label's text whole at three window sizes, the window's picture at those
-sizes, a seeded storm of clicks, drags, keys and resizes through the real widgets, and ``lighting-explorer``
-closed by SIGTERM and Ctrl-C.
+The longer companions of ``test_qt_window.py`` (whose helpers they use): the Monte-Carlo reference ticked on by
+its box and refined on a QTimer, the control panel's rows where their labels are after resizes, every label's
+text whole at three window sizes, the window's picture at those sizes, a seeded storm of clicks, drags, keys and
+resizes through the real widgets, and ``lighting-explorer`` closed by SIGTERM and Ctrl-C.
 """
 
 from __future__ import annotations
 
 import os
 import random
+import re
 import signal
 import subprocess
 import sys
@@ -27,10 +28,12 @@ pytest.importorskip("pyvistaqt")
 pytest.importorskip("pytestqt")
 
 import numpy as np  # noqa: E402
+import test_qt_window  # noqa: E402
 from PySide6 import QtCore, QtGui, QtWidgets  # noqa: E402
 from qt_window_support import click_box, groove_and_handle  # noqa: E402
 from test_qt_window import (  # noqa: E402 (the fast file's helpers, beside this file)
     LEFT,
+    choose,
     current,
     full,
     make_window,
@@ -38,6 +41,7 @@ from test_qt_window import (  # noqa: E402 (the fast file's helpers, beside this
     press,
     qapp,  # noqa: F401 (the explorer's QApplication, for qtbot)
     rect_in,
+    scroll_to,
     settle,
 )
 
@@ -45,6 +49,9 @@ from explorer.app import captions  # noqa: E402
 from explorer.app.state import CONTROLS, AppState  # noqa: E402
 from explorer.qt._controls_editors import NumberEditor  # noqa: E402
 
+#: The fast file's window fixtures (its small window, made once, reset for each test): assigned, not imported, as an
+#: imported ``window`` would clash with the local windows of this file's tests and helpers.
+shared_window, window = test_qt_window.shared_window, test_qt_window.window
 SIZES = ((1024, 640), (1280, 768), (1920, 1080))
 #: A folder where the pictures are also kept, for a person to look at (none unless the variable names one).
 SCREENS = os.environ.get("LIGHTING_EXPLORER_SCREENS", "")
@@ -88,6 +95,31 @@ def _check_rows_beside_labels(window):
             assert row.rect().contains(where), (name, row.rect(), where)
             assert box.left() > where.right(), (name, where, box)  # beside it, to its right
             assert box.top() < where.bottom() and where.top() < box.bottom(), (name, where, box)  # on its line
+
+
+# =============================================================================== 2. the Monte-Carlo reference
+def test_ticking_reference_starts_the_monte_carlo_reference_on_a_qtimer(qtbot, window):
+    choose(window, "environment", "studio")
+    assert window.state.environment == "studio"
+    current(window)
+    box = window.controls.widget("reference")
+    assert window.controls.row_visible("reference") and not box.isChecked()
+    scroll_to(window, box)
+    click_box(qtbot, box)
+    assert window.state.reference is True and box.isChecked()
+    ref = window.model  # the reference's passes: within a few seconds, whatever else the machine runs
+    qtbot.waitUntil(lambda: ref.refinement is not None and ref.refinement.samples > 0, timeout=10000)
+    first = window.model.refinement.samples
+    assert isinstance(window._refine_timer, QtCore.QTimer) and window._refine_timer.isActive()
+    qtbot.waitUntil(lambda: window.model.refinement.samples > first, timeout=10000)
+    text = window.refine_label.text()
+    spp = int(re.search(r"reference: (\d+) spp", text).group(1))
+    assert first < spp <= window.model.refinement.samples
+    assert "reference:" in full(window.sphere_panel.caption)
+    click_box(qtbot, box)  # off again: the timer stops, the label empties
+    current(window)
+    assert window.state.reference is False and not window._refine_timer.isActive()
+    assert window.refine_label.text() == ""
 
 
 # =============================================================================== 3. resizing

@@ -2,7 +2,8 @@
 
 Checked against what is known exactly: the furnace (a uniform sky reflects ``k_d L`` from a Lambertian surface)
 and the directional albedo (a uniform sky of radiance 1 reflects ``ρ(v)``), with the error it reports covering
-the true error; ``tests/integrate/test_pixelsum_full.py`` holds it to the Monte-Carlo reference under a sun.
+the true error; ``tests/integrate/test_pixelsum_full.py`` holds it to the Monte-Carlo reference under a sun, and
+runs the IBL study that judges the fast methods against it.
 """
 
 import math
@@ -76,24 +77,3 @@ def test_refusals_name_what_is_allowed():
         environment_sum_radiance(Lambert(0.5), ConstantEnvironment(1.0), up, up)
     with pytest.raises(ValueError, match="rtol must be a finite number >= 1e-06 and <= 0.01; got 0.5"):
         environment_sum_radiance(Lambert(0.5), sky, up, up, rtol=0.5)
-
-
-def test_the_ibl_study_judges_the_fast_methods_against_the_pixel_sum():
-    from lighting.validation import accuracy
-
-    cfg = accuracy._settings(True) | {"ibl_exact_pixels": 4, "ibl_size": 16, "ibl_pixels": 16, "ibl_env_height": 32,
-                                      "ibl_reference_spp": 64, "ibl_spp": [8]}  # fmt: skip
-    cfg["ibl_environments"] = dict(list(accuracy.IBL_ENVIRONMENTS.items())[:1])
-    points = accuracy._ibl_points(cfg, lambda *a: None)
-    judged = {(p.case, p.method): p for p in points if p.method.endswith(" · pixel sum")}
-    models = [label for label, _ in cfg["ibl_models"] if label in accuracy.IBL_EXACT_MODELS]
-    assert models and len(judged) == 3 * len(models)  # the split sum, the dominant lights, those on the normal grid
-    for p in judged.values():
-        assert p.reference_error <= accuracy.IBL_EXACT_RTOL and math.isfinite(p.error) and p.error_p95 >= p.error
-        assert "on 4 of the 16 pixels" in p.reference
-    lambert = [p for (case, _), p in judged.items() if case.startswith("Lambert")]
-    split = next(p for p in lambert if p.method.startswith("split sum"))
-    dominant = [p for p in lambert if p.method.startswith("dominant lights")]
-    # The dominant lights shade a Lambertian part by the map's exact irradiance (read at each pixel or from the grid
-    # of normals); the split sum by SH9.
-    assert len(dominant) == 2 and all(p.error < split.error / 10 for p in dominant)
