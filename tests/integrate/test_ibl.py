@@ -162,6 +162,23 @@ def test_the_albedo_of_a_white_microfacet_is_the_engine_s_e_table():
     np.testing.assert_allclose(table[:-4, 0], direct, atol=2e-3)  # the table's own accuracy (energy.py)
 
 
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_a_grey_albedo_table_is_read_as_each_channel_would_be(dtype):
+    # A grey lobe's table is interpolated once for its three equal channels: the numbers np.interp gives each channel
+    # on its own, bit for bit; a coloured table (a gold conductor) channel by channel.
+    from lighting.integrate.ibl import _albedo_at
+
+    theta = np.random.default_rng(3).uniform(0.0, math.pi / 2, 1000).astype(dtype)
+    for model, grey in ((CookTorrance(0.7, 0.25, 1.0, fresnel="none", ndf="ggx"), True),
+                        (CookTorrance(1.0, 0.25, 1.0, fresnel="conductor", metal="gold"), False)):  # fmt: skip
+        table = lobe_albedo(model)
+        assert np.array_equal(table[:, 0], table[:, 2]) == grey
+        out = _albedo_at(table, theta, dtype)
+        want = np.stack([np.interp(theta, ALBEDO_ANGLES, table[:, c]) for c in range(3)], axis=-1).astype(dtype)
+        assert out.dtype == dtype and out.shape == (1000, 3)
+        np.testing.assert_array_equal(out, want)
+
+
 def test_lobe_widths_follow_the_models_lobes():
     assert lobe_sigma(Lambert(0.5).lobe()) == math.inf
     assert lobe_sigma(Phong(1.0, 400).lobe()) == pytest.approx(1 / 20)
