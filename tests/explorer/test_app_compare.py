@@ -184,22 +184,6 @@ def test_brdf_option_refuses_a_bad_file_in_one_line(tmp_path, capsys):
     assert err.count("\n") == 1 and "missing.binary" in err
 
 
-def test_brdf_option_opens_merl_data(tmp_path, monkeypatch):
-    from lighting.files.merl import tabulate_merl, write_merl
-
-    path = tmp_path / "grey.binary"
-    write_merl(path, tabulate_merl(Lambert(0.5)))
-    monkeypatch.setattr(app_mod, "ExplorerApp", _FakeWindow)
-    _FakeWindow.made.clear()
-    assert main(["--brdf", str(path), "--screenshot", str(tmp_path / "shot.png")]) == 0
-    state = _FakeWindow.made[0].state
-    assert state.model == "grey" and getattr(app_mod.state.model_variants()["grey"][0], "file_path", None)
-    n, l, v = pairs(50)
-    got = state.brdf().eval(n, l, v)
-    lit = (l[:, 2] > 0) & (v[:, 2] > 0)
-    np.testing.assert_allclose(got[lit], 0.5 / math.pi, rtol=1e-6)  # a constant table: every lookup is 0.5/π
-
-
 # ----------------------------------------------------------------------------- fitting and the split sphere
 def test_split_sphere_halves_are_the_single_model_renders():
     m = small_model(model="cook-torrance", roughness=0.15, elevation=30.0, azimuth=160.0)

@@ -1,5 +1,7 @@
-"""The comparison drawn in the explorer window: overlays, hide and solo, the blitted angle plots, the albedo panel
-(slow set; the comparison's state and values: test_app_compare.py)."""
+"""The comparison drawn in the explorer window: overlays, hide and solo, the blitted angle plots, the albedo panel;
+and a MERL file opened by ``--brdf`` (slow set; the comparison's state and values: test_app_compare.py)."""
+
+import math
 
 import numpy as np
 import pytest
@@ -10,11 +12,15 @@ pytest.importorskip("PySide6")
 pytest.importorskip("pytestqt")
 
 from qt_window_support import flush, open_window, pixels, reset, settle
+from test_app_compare import _FakeWindow, pairs
 
+from explorer import app as app_mod
+from explorer.app.command import main
 from explorer.app.comparing import ALBEDO_ANGLES_DEG
 from explorer.qt.keys import do_key
+from lighting import Lambert
 
-pytestmark = pytest.mark.slow  # the explorer window, its views drawn by Qt, Matplotlib and VTK off-screen
+pytestmark = pytest.mark.slow  # the explorer window drawn by Qt, Matplotlib and VTK off-screen; a MERL table tabulated
 
 SIZE = (1200, 720)
 
@@ -133,3 +139,20 @@ def test_albedo_panel_draws_each_curve_and_its_flags(fresh):
     do_key(app, "panel")
     flush(app)
     assert app.state.panel == "angles" and app.stack_plots.currentWidget() is app.angle_canvas
+
+
+# ----------------------------------------------------------------------------- files from the command line
+def test_brdf_option_opens_merl_data(tmp_path, monkeypatch):
+    from lighting.files.merl import tabulate_merl, write_merl
+
+    path = tmp_path / "grey.binary"
+    write_merl(path, tabulate_merl(Lambert(0.5)))
+    monkeypatch.setattr(app_mod, "ExplorerApp", _FakeWindow)
+    _FakeWindow.made.clear()
+    assert main(["--brdf", str(path), "--screenshot", str(tmp_path / "shot.png")]) == 0
+    state = _FakeWindow.made[0].state
+    assert state.model == "grey" and getattr(app_mod.state.model_variants()["grey"][0], "file_path", None)
+    n, l, v = pairs(50)
+    got = state.brdf().eval(n, l, v)
+    lit = (l[:, 2] > 0) & (v[:, 2] > 0)
+    np.testing.assert_allclose(got[lit], 0.5 / math.pi, rtol=1e-6)  # a constant table: every lookup is 0.5/π

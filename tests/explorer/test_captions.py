@@ -179,27 +179,7 @@ def test_mirror_note():
         "where R = v exactly (one point): black but for ambient and k_d\n")
 
 
-# ------------------------------------------------------------------ scan line, coarse sphere, object
-def test_profile_coarse_and_object_captions():
-    state = AppState(view3d="object")
-    model = _model(state)
-    m = model.views
-    pv, cv, ov = m["profile"], m["coarse"], m["object"]
-    assert captions.profile_title(state) == "Scan line: intensity (luminance Y)"
-    assert captions.profile_caption(pv) == (f"Mach-band metric (slope kinks): Gouraud {pv.metric_gouraud:.2f}, "
-                                            f"Phong {pv.metric_phong:.2f}")  # fmt: skip
-    assert captions.coarse_caption(cv).startswith(f"{len(cv.faces)} triangles, {len(cv.vertices)} vertices")
-    assert (captions.coarse_title(state), captions.phong_title(state)) == (
-        "Gouraud: lit at the vertices", "Phong interpolation: lit per pixel")
-    assert captions.phong_caption(state).endswith("red line: the scan line")
-    assert captions.lobe_title(state, m["lobe"]) == "3D lobe: f_r (1/sr)  [luminance Y]"
-    assert captions.object_caption(state, ov) == "no environment (key + ambient light) · key light"
-    state.environment = "band-limited"
-    model.update()
-    assert captions.object_caption(state, model.views["object"]) == "sky band-limited · dominant lights"
-    assert captions.object_title(state, model.views["object"]).endswith(f"{ov.triangles} triangles, Phong normals")
-
-
+# ------------------------------------------------------------------ the polar and angle plots
 def test_polar_and_angle_captions_name_the_compare_list_when_drawn():
     state = AppState()
     model = _model(state)

@@ -99,21 +99,6 @@ def test_model_dropdown_builds_the_parameter_table(ex):
     assert ex.state.param("shininess") == 80.0
 
 
-def test_a_none_default_row_has_its_check_box():
-    ex = NotebookExplorer(AppState(model="cook-torrance"), **SIZES)
-    none_rows = [k for k in ex.controls if k.endswith(":none")]
-    expected = [p.name for p in offered_parameters("cook-torrance") if p.default is None]
-    assert sorted(k.split(":")[1] for k in none_rows) == sorted(expected)
-    if expected:
-        name = expected[0]
-        assert ex.state.param(name) is None and ex.controls[f"param:{name}"].disabled
-        ex.controls[f"param:{name}:none"].value = False  # take the slider's value
-        assert ex.state.param(name) == pytest.approx(ex.controls[f"param:{name}"].value)
-        assert not ex.controls[f"param:{name}"].disabled
-        ex.controls[f"param:{name}:none"].value = True
-        assert ex.state.param(name) is None and ex.controls[f"param:{name}"].disabled
-
-
 def test_open_brdf_joins_the_model_list(tmp_path):
     path = tmp_path / "phong-file.brdf"
     path.write_text(PHONG_FILE)

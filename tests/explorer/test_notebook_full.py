@@ -1,4 +1,5 @@
-"""The notebook explorer in a kernel and without PyVista; the docs notebook run (slow set; fast: test_notebook.py)."""
+"""The notebook explorer in a kernel and without PyVista, its check box of a parameter without a default; the docs
+notebook run (slow set; fast: test_notebook.py)."""
 
 from __future__ import annotations
 
@@ -14,7 +15,13 @@ pytest.importorskip("ipywidgets")
 pytest.importorskip("matplotlib")
 PIL = pytest.importorskip("PIL.Image")
 
-pytestmark = pytest.mark.slow  # a Jupyter kernel, a fresh interpreter and the desktop window
+from test_notebook import SIZES  # noqa: E402
+
+from explorer.app.params import offered_parameters  # noqa: E402
+from explorer.app.state import AppState  # noqa: E402
+from explorer.notebook import NotebookExplorer  # noqa: E402
+
+pytestmark = pytest.mark.slow  # a Jupyter kernel, a fresh interpreter, the desktop window, a notebook explorer's plots
 
 
 def decode(png: bytes) -> np.ndarray:
@@ -77,6 +84,21 @@ def test_docs_notebook_runs_headless(tmp_path):
                                    "theta_h", "theta_v"]))  # fmt: skip
     assert lines[1] == "NotebookExplorer(Phong, light directional at elevation 30°, azimuth 135°, phong shading)"
     assert seconds < 60, seconds
+
+
+def test_a_none_default_row_has_its_check_box():
+    ex = NotebookExplorer(AppState(model="cook-torrance"), **SIZES)
+    none_rows = [k for k in ex.controls if k.endswith(":none")]
+    expected = [p.name for p in offered_parameters("cook-torrance") if p.default is None]
+    assert sorted(k.split(":")[1] for k in none_rows) == sorted(expected)
+    if expected:
+        name = expected[0]
+        assert ex.state.param(name) is None and ex.controls[f"param:{name}"].disabled
+        ex.controls[f"param:{name}:none"].value = False  # take the slider's value
+        assert ex.state.param(name) == pytest.approx(ex.controls[f"param:{name}"].value)
+        assert not ex.controls[f"param:{name}"].disabled
+        ex.controls[f"param:{name}:none"].value = True
+        assert ex.state.param(name) is None and ex.controls[f"param:{name}"].disabled
 
 
 def test_without_pyvista_and_without_display():

@@ -191,27 +191,6 @@ def sphere_luminance(window) -> np.ndarray:
     return np.asarray(window.model.views["sphere"].image, dtype=np.float64) @ LUMA
 
 
-# =============================================================================== 1. pin and remove
-def test_pinning_then_removing_that_row_four_times_leaves_the_window_alive(qtbot, window):
-    panel, compare = window.compare_panel, window.model.compare
-    window.docks["Compare"].raise_()
-    settle()
-    for n in range(4):
-        window.apply({"shininess": 10.0 * (n + 1)})
-        press(qtbot, window, "p")
-        qtbot.waitUntil(lambda: len(panel.rows) == 1)
-        label = f"Blinn-Phong e={10 * (n + 1)} k_s=0.5"
-        assert len(compare) == 1 and panel.rows[0].label.text() == compare[0].label == label
-        row = panel.rows[0]
-        qtbot.mouseClick(row.remove, LEFT)
-        qtbot.waitUntil(lambda: len(compare) == 0 and panel.rows == [])
-        qtbot.waitUntil(lambda row=row: not shiboken6.isValid(row))  # deleted after its own click
-        current(window)
-        assert window.isVisible() and panel.hint.isVisible()
-        assert window.model.views["polar"].overlays == ()  # the removed entry is drawn nowhere
-    assert window.last_error == ""
-
-
 # =============================================================================== 1b. PySide6's slot calls
 SLOT_LOOP = textwrap.dedent("""
     import sys

@@ -1,9 +1,10 @@
 """The explorer's Qt window at every size, under a storm of events, and as a process that is sent signals.
 
-The longer companions of ``test_qt_window.py`` (whose helpers they use): the Monte-Carlo reference ticked on by
-its box and refined on a QTimer, the control panel's rows where their labels are after resizes, every label's
-text whole at three window sizes, the window's picture at those sizes, a seeded storm of clicks, drags, keys and
-resizes through the real widgets, and ``lighting-explorer`` closed by SIGTERM and Ctrl-C.
+The longer companions of ``test_qt_window.py`` (whose helpers they use): an entry pinned and its row removed four
+times, the Monte-Carlo reference ticked on by its box and refined on a QTimer, the control panel's rows where their
+labels are after resizes, every label's text whole at three window sizes, the window's picture at those sizes, a
+seeded storm of clicks, drags, keys and resizes through the real widgets, and ``lighting-explorer`` closed by
+SIGTERM and Ctrl-C.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ pytest.importorskip("pyvistaqt")
 pytest.importorskip("pytestqt")
 
 import numpy as np  # noqa: E402
+import shiboken6  # noqa: E402
 import test_qt_window  # noqa: E402
 from PySide6 import QtCore, QtGui, QtWidgets  # noqa: E402
 from qt_window_support import click_box, groove_and_handle  # noqa: E402
@@ -95,6 +97,27 @@ def _check_rows_beside_labels(window):
             assert row.rect().contains(where), (name, row.rect(), where)
             assert box.left() > where.right(), (name, where, box)  # beside it, to its right
             assert box.top() < where.bottom() and where.top() < box.bottom(), (name, where, box)  # on its line
+
+
+# =============================================================================== 1. pin and remove
+def test_pinning_then_removing_that_row_four_times_leaves_the_window_alive(qtbot, window):
+    panel, compare = window.compare_panel, window.model.compare
+    window.docks["Compare"].raise_()
+    settle()
+    for n in range(4):
+        window.apply({"shininess": 10.0 * (n + 1)})
+        press(qtbot, window, "p")
+        qtbot.waitUntil(lambda: len(panel.rows) == 1)
+        label = f"Blinn-Phong e={10 * (n + 1)} k_s=0.5"
+        assert len(compare) == 1 and panel.rows[0].label.text() == compare[0].label == label
+        row = panel.rows[0]
+        qtbot.mouseClick(row.remove, LEFT)
+        qtbot.waitUntil(lambda: len(compare) == 0 and panel.rows == [])
+        qtbot.waitUntil(lambda row=row: not shiboken6.isValid(row))  # deleted after its own click
+        current(window)
+        assert window.isVisible() and panel.hint.isVisible()
+        assert window.model.views["polar"].overlays == ()  # the removed entry is drawn nowhere
+    assert window.last_error == ""
 
 
 # =============================================================================== 2. the Monte-Carlo reference

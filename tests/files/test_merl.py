@@ -13,7 +13,6 @@ from lighting.brdf import BlinnPhong, Lambert
 from lighting.files.merl import (
     BINS,
     DIMS,
-    SCALE,
     MerlBRDF,
     bin_centres,
     read_merl,
@@ -51,34 +50,6 @@ def _pairs(seed, count=20_000, min_z=0.35):
 
 
 # -- format and round trips --------------------------------------------------------------------
-
-
-def test_lambert_table_is_kd_over_pi_after_the_scales(tmp_path):
-    kd = np.array([0.8, 0.5, 0.2])
-    path = tmp_path / "lambert.binary"
-    write_merl(path, tabulate_merl(Lambert(kd)))
-    assert os.path.getsize(path) == SIZE
-    data = path.read_bytes()
-    assert np.frombuffer(data[:12], "<i4").tolist() == [90, 90, 180]
-    raw = np.frombuffer(data[12:], "<f8").reshape(3, BINS)
-    above = raw[0] != 0  # centres below the horizon are 0
-    assert above.mean() > 0.5
-    for c in range(3):
-        np.testing.assert_allclose(raw[c][above], kd[c] / np.pi / SCALE[c], rtol=1e-15)
-    m = read_merl(path)
-    l, v = _pairs(1)  # noqa: E741
-    np.testing.assert_allclose(m.eval(N, l, v), np.broadcast_to(kd / np.pi, (len(l), 3)), rtol=1e-15)
-
-
-def test_round_trip_is_bitwise(blinn_file, tmp_path):
-    path, table = blinn_file
-    m = read_merl(path)
-    np.testing.assert_array_equal(m.raw, (table.reshape(3, BINS) / SCALE[:, None]).reshape(3, *DIMS))
-    np.testing.assert_allclose(m.table, table, rtol=2e-16, atol=0)
-    again = tmp_path / "again.binary"
-    write_merl(again, m)
-    assert again.read_bytes() == path.read_bytes()
-    assert not [p for p in os.listdir(tmp_path) if p.endswith(".tmp")]  # the temporary file is gone
 
 
 def test_load_brdf_reads_binary_with_options(blinn_file):
@@ -139,24 +110,6 @@ def test_horizon_dtype_and_cos(blinn_file):
     np.testing.assert_allclose(m.classic(N, l, v), np.pi * f64 * l[:, 2:3], rtol=1e-12)
     # Broadcasting: one normal and light, many views.
     assert m.eval(N, l[0], v[:5]).shape == (5, 3)
-
-
-# -- missing bins ------------------------------------------------------------------------------
-
-
-def test_missing_bins_take_the_nearest_measured_phi_d():
-    table = np.zeros((3, *DIMS))
-    table[:, :, :, :] = np.arange(DIMS[2])[None, None, None, :] + 1.0  # value = φ_d bin + 1
-    table[:, 5, 7, 10:14] = -1.0  # 10, 11 take bin 9 (value 10); 12, 13 take bin 14 (value 15)
-    table[:, 5, 8, [178, 179, 0]] = -1.0  # across the wrap: 178 ← 177; 179 a tie (177 or 1) → 177; 0 ← 1
-    table[1, 6, 9, :] = -1.0  # a whole row missing: 0
-    m = MerlBRDF(table)
-    assert m.missing == 3 * 4 + 3 * 3 + 180
-    lut = m._lut.reshape(*DIMS, 3)
-    np.testing.assert_allclose(lut[5, 7, 10:14, 0], [10.0, 10.0, 15.0, 15.0], rtol=1e-15)
-    np.testing.assert_allclose(lut[5, 8, [178, 179, 0], 0], [178.0, 178.0, 2.0], rtol=1e-15)
-    assert np.all(lut[6, 9, :, 1] == 0) and np.all(lut[6, 9, :, 0] > 0)
-    np.testing.assert_allclose(m.table, table, rtol=3e-16)  # the table as given keeps its marks
 
 
 # -- bad files ---------------------------------------------------------------------------------

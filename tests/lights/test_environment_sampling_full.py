@@ -1,16 +1,42 @@
-"""Environment sampling against fine references (slow set; the fast checks: test_environment_sampling.py)."""
+"""Environment sampling against fine references, and a one-pixel sun found by one sample per pixel of a 256 x 256
+render (slow set; the fast checks: test_environment_sampling.py)."""
 
 import math
 
 import numpy as np
 import pytest
-from test_environment_sampling import COLOUR, H, W, _DilatedPixels, _exact_irradiance, _sphere, _sunny_image
+from test_environment_sampling import (
+    COLOUR,
+    H,
+    W,
+    _DilatedPixels,
+    _exact_irradiance,
+    _lum,
+    _one_pixel,
+    _sphere,
+    _sunny_image,
+)
 
 from lighting.integrate.ibl import ProgressiveRadiance
 from lighting.lights.environment import LatLongEnvironment
 from lighting.models.brdf import Lambert
+from lighting.sampling import environment as envmod
 
-pytestmark = pytest.mark.slow  # brute-force irradiance on a 24x finer grid; 1024-spp references under a one-pixel sun
+pytestmark = pytest.mark.slow  # irradiance on a 24x finer grid; 1024-spp references, 65,536 samples of a one-pixel sun
+
+
+@pytest.mark.parametrize("where", [(20, 40), (30, 0), (17, 127), (0, 64), (63, 5)])
+def test_a_one_pixel_sun_is_found_at_one_sample_per_pixel(where):
+    # One environment sample per pixel of a 256 x 256 render (jittered): every one lands in the sun's light.
+    img = _one_pixel(64, 128, *where, 3000.0)
+    env = LatLongEnvironment(img)
+    g = (np.stack(np.meshgrid(np.arange(256), np.arange(256), indexing="ij"), axis=-1).reshape(-1, 2)
+         + np.random.default_rng(14).random((65536, 2))) / 256  # fmt: skip
+    d, p = env.sample(g)
+    assert np.all(env.radiance(d)[:, 0] > 0)
+    # The estimate of the sun's power from those samples alone: ∫ L dω within 0.5 %.
+    power = envmod._cell_masses_reference(_lum(img)).sum()
+    assert np.mean(env.radiance(d)[:, 0] / p) == pytest.approx(power, rel=5e-3)
 
 
 def test_the_exact_irradiance_is_the_lookup_s_integral():

@@ -1,4 +1,5 @@
-"""Procedural skies: values, the furnace, SH9 exactness for the band-limited sky, the figures' skies unchanged."""
+"""Procedural skies: values, the furnace, the figures' skies unchanged (SH9 exactness for the band-limited sky:
+test_skies_full.py)."""
 
 import math
 
@@ -7,9 +8,8 @@ import pytest
 
 from lighting import CookTorrance, Lambert
 from lighting.integrate import directional_albedo, outgoing_radiance
-from lighting.integrate.sh import _band_basis, sh_coefficients, sh_irradiance
 from lighting.lights.environment import FunctionEnvironment, LatLongEnvironment
-from lighting.lights.skies import SKIES, band_limited_irradiance, sky, sky_names
+from lighting.lights.skies import SKIES, sky, sky_names
 
 
 def _rand_dirs(k, seed):
@@ -51,30 +51,6 @@ def test_uniform_sky_is_the_white_furnace():
     v1 = np.array([math.sin(theta_v), 0.0, math.cos(theta_v)])
     lo = outgoing_radiance(ct, sky("uniform", value=2.0), np.array([0.0, 0.0, 1.0]), v1, samples=16384)
     np.testing.assert_allclose(lo, 2.0 * directional_albedo(ct, theta_v, samples=16384), rtol=1e-6)
-
-
-def test_band_limited_sky_has_nothing_above_band_two_and_sh9_is_exact():
-    env = sky("band-limited")
-    # Nothing in bands 3 and 4: a 64-point Gauss rule in z times 128 in φ integrates degree 8 exactly.
-    z, wz = np.polynomial.legendre.leggauss(64)
-    phi = (np.arange(128) + 0.5) * (2 * math.pi / 128)
-    r = np.sqrt(1 - z * z)
-    d = np.stack(np.broadcast_arrays(r[:, None] * np.cos(phi), r[:, None] * np.sin(phi), z[:, None]), axis=-1)
-    d = d.reshape(-1, 3)
-    w = np.repeat(wz, 128) * (2 * math.pi / 128)
-    rad = env.radiance(d)
-    for band in (3, 4):
-        proj = np.einsum("i,im,ic->mc", w, _band_basis(d, band), rad)
-        assert np.abs(proj).max() < 1e-13
-    # SH9 irradiance equals the closed form (Funk–Hecke) and an independent quadrature.
-    n = np.concatenate([_rand_dirs(40, 3), np.eye(3), -np.eye(3)])
-    coeffs = sh_coefficients(env, samples=4096)
-    exact = band_limited_irradiance(n)
-    np.testing.assert_allclose(sh_irradiance(coeffs, n), exact, rtol=1e-10)
-    quad = math.pi * outgoing_radiance(Lambert(1.0), env, n, n, method="quadrature", samples=65536)
-    np.testing.assert_allclose(quad, exact, rtol=1e-6)
-    # Positive everywhere (its smallest value per channel is above 0.2).
-    assert env.radiance(_sphere_grid()).min() > 0.2
 
 
 def test_daylight_sky_is_the_rendering_figures_formula_bit_for_bit():

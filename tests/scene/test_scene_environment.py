@@ -295,33 +295,3 @@ def test_a_2048_by_1024_panorama_fits_the_default_budget_under_either_method():
     assert environment_setup_bytes(split) == prefilter
     assert environment_setup_bytes(default) == prefilter + DOMINANT_BYTES + DOMINANT_BYTES_PER_PIXEL * pixels
     assert environment_setup_bytes(split) < environment_setup_bytes(default) < DEFAULT_MEMORY_BUDGET
-
-
-def test_the_estimate_covers_what_the_default_method_allocates_to_shade_its_first_frame():
-    # Everything traced from the sky's prefilter to a glossy sphere's first frame under the dominant lights (the
-    # tables of a part not met before, the residual's levels) stays within the estimate; the parts' albedo tables,
-    # which every method but Monte Carlo reads, are made before.
-    import tracemalloc
-
-    from lighting._budget import environment_setup_bytes
-    from lighting.integrate.dominant import dominant_radiance, forget_environments
-    from lighting.integrate.ibl import lobe_albedo
-    from lighting.integrate.prefilter import prefilter_environment
-    from lighting.lights.envlight import EnvironmentLight
-    from lighting.models.brdf import CookTorrance, Lambert
-
-    forget_environments()
-    env = LatLongEnvironment(sky("daylight").radiance(LatLongEnvironment.pixel_directions(64, 128)))
-    model = Lambert(0.3) + CookTorrance(1.0, 0.0731, ndf="ggx")  # a roughness no other test shades
-    n = LatLongEnvironment.pixel_directions(96, 96).reshape(-1, 3)
-    n = n[n[:, 1] < 0]
-    v = np.broadcast_to([0.0, -1.0, 0.0], n.shape)
-    for part in model.parts:
-        lobe_albedo(part)
-    tracemalloc.start()
-    try:
-        dominant_radiance(model, prefilter_environment(env, reuse=False), n, v)
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
-    assert peak < environment_setup_bytes(EnvironmentLight(env)), peak

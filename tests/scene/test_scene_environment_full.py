@@ -1,4 +1,5 @@
-"""Environment lights in scene files rendered with named skies (slow set; fast: test_scene_environment.py)."""
+"""Environment lights in scene files rendered with named skies, and the memory estimate against what the default
+method allocates to shade its first frame (slow set; fast: test_scene_environment.py)."""
 
 import shutil
 
@@ -7,10 +8,11 @@ import pytest
 from test_scene_environment import FURNACE, SKY_FILE, render
 
 from explorer.commands.render import load_with_defines
+from lighting.lights.environment import LatLongEnvironment
 from lighting.lights.skies import sky
 from lighting.scene import SceneRenderer, example_path, load_scene, parse_scene, scene_to_toml
 
-pytestmark = pytest.mark.slow  # each test prefilters a 256-row sky twice
+pytestmark = pytest.mark.slow  # each test prefilters a 256-row sky twice, or a 64-row one under tracemalloc
 
 
 def test_background_is_the_sky_along_each_camera_ray_rotated():
@@ -74,3 +76,33 @@ def test_define_rotation_overrides_the_file(tmp_path):
     np.testing.assert_array_equal(render(turned)[0], render(load_scene(tmp_path / "b.toml"))[0])
     with pytest.raises(ValueError, match=r"lights\[0\]\.rotation: must be a finite number.*\(with -D lights"):
         load_with_defines(str(tmp_path / "a.toml"), ['lights[0].rotation="x"'])
+
+
+def test_the_estimate_covers_what_the_default_method_allocates_to_shade_its_first_frame():
+    # Everything traced from the sky's prefilter to a glossy sphere's first frame under the dominant lights (the
+    # tables of a part not met before, the residual's levels) stays within the estimate; the parts' albedo tables,
+    # which every method but Monte Carlo reads, are made before.
+    import tracemalloc
+
+    from lighting._budget import environment_setup_bytes
+    from lighting.integrate.dominant import dominant_radiance, forget_environments
+    from lighting.integrate.ibl import lobe_albedo
+    from lighting.integrate.prefilter import prefilter_environment
+    from lighting.lights.envlight import EnvironmentLight
+    from lighting.models.brdf import CookTorrance, Lambert
+
+    forget_environments()
+    env = LatLongEnvironment(sky("daylight").radiance(LatLongEnvironment.pixel_directions(64, 128)))
+    model = Lambert(0.3) + CookTorrance(1.0, 0.0731, ndf="ggx")  # a roughness no other test shades
+    n = LatLongEnvironment.pixel_directions(96, 96).reshape(-1, 3)
+    n = n[n[:, 1] < 0]
+    v = np.broadcast_to([0.0, -1.0, 0.0], n.shape)
+    for part in model.parts:
+        lobe_albedo(part)
+    tracemalloc.start()
+    try:
+        dominant_radiance(model, prefilter_environment(env, reuse=False), n, v)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < environment_setup_bytes(EnvironmentLight(env)), peak
