@@ -472,38 +472,6 @@ def _silence_stdout() -> None:
         pass  # no file descriptor behind sys.stdout (a test's capture): nothing will be flushed to a pipe
 
 
-def _program_stops(after: bool) -> None:
-    """Stop signals outside the command's own handlers, in the program itself (main thread only; an ignored signal
-    stays ignored).
-
-    Before the command (``after`` False) a ``SIGTERM`` or Ctrl-C exits at once with a stop's status, 143 or 130:
-    nothing is written yet.  After it (``after`` True) they are ignored: the command's files are in place and it
-    has its status, but Python's shutdown (exit handlers, the modules' teardown) still takes a moment, and at its
-    end Python puts the default handlers back, under which a ``SIGTERM`` would kill the process by the signal
-    instead of letting it exit with that status.
-    """
-    import signal
-    import threading
-
-    if threading.current_thread() is not threading.main_thread():
-        return
-
-    def stop(status):
-        def handler(signum, frame):
-            for stream in (sys.stdout, sys.stderr):
-                try:
-                    stream.flush()
-                except (OSError, ValueError, AttributeError):
-                    pass  # a closed pipe or no stream: nothing more to say
-            os._exit(status)
-
-        return handler
-
-    for sig, status in ((signal.SIGTERM, 143), (signal.SIGINT, 130)):
-        if signal.getsignal(sig) is not signal.SIG_IGN:
-            signal.signal(sig, signal.SIG_IGN if after else stop(status))
-
-
 def main(argv=None) -> int:
     """Run ``lighting-explorer``.
 
@@ -521,12 +489,14 @@ def main(argv=None) -> int:
         ``SIGTERM``, 141 when the output's reader closed the pipe.
     """
     if argv is None:  # the program itself (the console script, python -m explorer.cli)
+        from .output import program_stops
+
         # Set before the command's own handlers, which put these back when it returns: no moment without one.
-        _program_stops(after=False)
+        program_stops(after=False)
         try:
             return _main(list(sys.argv[1:]))
         finally:
-            _program_stops(after=True)
+            program_stops(after=True)
     return _main(list(argv))
 
 

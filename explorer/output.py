@@ -58,6 +58,7 @@ __all__ = [
     "encode_image",
     "file_mode",
     "signals_as_exceptions",
+    "program_stops",
     "deferred_signals",
     "on_signal",
     "received_signal",
@@ -393,6 +394,42 @@ def signals_as_exceptions():
         for sig, handler in old.items():
             signal.signal(sig, handler if handler is not None else signal.SIG_DFL)
         _deferral["received"] = None
+
+
+def program_stops(*, after: bool) -> None:
+    """The program's own handlers for ``SIGINT`` and ``SIGTERM``, outside :func:`signals_as_exceptions`' block.
+
+    Before the command (``after`` False) a stop exits at once with the status a shell gives it (``128 +`` the
+    signal: 130, 143): nothing is written yet, and the command's block, entered next, restores this handler when it
+    ends.  After the command (``after`` True) stops are ignored: its files are in place and it has its status, but
+    Python's shutdown (exit handlers, the modules' teardown) still takes a moment, and at its end Python puts the
+    default handlers back, under which a ``SIGTERM`` would kill the process by the signal instead of letting it exit
+    with that status.  As :func:`signals_as_exceptions`: an ignored signal stays ignored, and off the main thread
+    this does nothing.
+
+    Parameters
+    ----------
+    after : bool
+        Whether the command has returned.
+
+    Returns
+    -------
+    None
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return
+
+    def stop(signum, frame):
+        for stream in (sys.stdout, sys.stderr):  # what the command printed is not lost
+            try:
+                stream.flush()
+            except (OSError, ValueError, AttributeError):
+                pass  # a closed pipe or no stream: nothing more to say
+        os._exit(128 + signum)
+
+    for sig in _SIGNALS:
+        if signal.getsignal(sig) is not signal.SIG_IGN:
+            signal.signal(sig, signal.SIG_IGN if after else stop)
 
 
 # --------------------------------------------------------------------------- atomic writing
