@@ -212,7 +212,7 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
         n_env = samples if method == "environment" else max(1, samples // 2)
         d, pe = env._sample(rng.random((bsz, n_env, 2)))
         le = _to_local(d, t, b, n)
-        ge = integrand(le)
+        ge = cosine_brdf(le) * env._radiance(d)  # the radiance where it was drawn, not turned there and back
         if method == "environment":
             w = _ratio(ge, pe)
             val, se = _mean_err(w, axis=1)
