@@ -302,26 +302,31 @@ def _unit_sum(l: np.ndarray, v: np.ndarray, s: np.ndarray, rows: np.ndarray) -> 
 
     in which the ``l_i² v_i²`` terms have cancelled exactly: the result depends on the
     directions of ``l`` and ``v`` alone (their lengths only divide, where nothing
-    cancels), so it is as accurate as the direction components themselves.
+    cancels), so it is as accurate as the direction components themselves.  ``s`` is written in place when it
+    is a writable C-contiguous array of the broadcast shape (the callers' fresh sum), else copied first.
     """
     shape = np.broadcast_shapes(l.shape, v.shape)
-    s = np.array(np.broadcast_to(s, shape))
+    if s.shape != shape or not (s.flags.writeable and s.flags.c_contiguous):
+        s = np.array(np.broadcast_to(s, shape))
     rows = np.broadcast_to(rows, shape[:-1])
-    L = np.broadcast_to(l, shape)[rows]
-    V = np.broadcast_to(v, shape)[rows]
-    nl = np.sqrt(L[:, 0] * L[:, 0] + L[:, 1] * L[:, 1] + L[:, 2] * L[:, 2])
-    nv = np.sqrt(V[:, 0] * V[:, 0] + V[:, 1] * V[:, 1] + V[:, 2] * V[:, 2])
-    out = L + V
+    # The rows' components gathered as contiguous columns (NumPy's passes over strided columns are several times
+    # slower); each product below is formed once where the formula repeats it, in the formula's order.
+    at = np.flatnonzero(rows)
+    lc = [np.broadcast_to(l[..., c], shape[:-1]).reshape(-1).take(at) for c in range(3)]
+    vc = [np.broadcast_to(v[..., c], shape[:-1]).reshape(-1).take(at) for c in range(3)]
+    nl = np.sqrt(lc[0] * lc[0] + lc[1] * lc[1] + lc[2] * lc[2])
+    nv = np.sqrt(vc[0] * vc[0] + vc[1] * vc[1] + vc[2] * vc[2])
+    nl_nv = nl * nv
+    flat = s.reshape(-1, 3)
     for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-        li, vi = L[:, i], V[:, i]
-        num = (li * V[:, j] - vi * L[:, j]) * (li * V[:, j] + vi * L[:, j]) + (li * V[:, k] - vi * L[:, k]) * (
-            li * V[:, k] + vi * L[:, k]
-        )
-        den = nl * nv * (li * nv - vi * nl)
+        li, vi = lc[i], vc[i]
+        a, b = li * vc[j], vi * lc[j]
+        c, d = li * vc[k], vi * lc[k]
+        num = (a - b) * (a + b) + (c - d) * (c + d)
+        den = nl_nv * (li * nv - vi * nl)
         opposite = li * vi < 0  # then li·nv and −vi·nl have one sign: den is never 0
         with np.errstate(divide="ignore", invalid="ignore"):
-            out[:, i] = np.where(opposite, num / np.where(opposite, den, 1), out[:, i])
-    s[rows] = out
+            flat[at, i] = np.where(opposite, num / den, li + vi)  # the quotient elsewhere unused
     return s
 
 
