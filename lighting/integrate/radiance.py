@@ -212,7 +212,13 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
         n_env = samples if method == "environment" else max(1, samples // 2)
         d, pe = env._sample(rng.random((bsz, n_env, 2)))
         le = _to_local(d, t, b, n)
-        ge = cosine_brdf(le) * env._radiance(d)  # the radiance where it was drawn, not turned there and back
+        # A model is 0 below the surface (its contract), so only the samples above it are evaluated: the others
+        # weigh 0 whatever the BRDF's density there.  Their radiance is read where they were drawn (not turned
+        # into the pixel's frame and back).
+        above = np.nonzero(le[..., 2] > 0)
+        l_up, v_up = le[above], np.broadcast_to(vv, le.shape)[above]
+        ge = np.zeros(le.shape)
+        ge[above] = _f_cos(brdf, l_up, v_up) * env._radiance(d[above])
         if method == "environment":
             w = _ratio(ge, pe)
             val, se = _mean_err(w, axis=1)
@@ -225,7 +231,8 @@ def _radiance_batch(brdf, env, n, t, b, vl, method, samples, rng, reps, want_err
         # The environment's radiance and density at the BRDF's samples, from one turn of them into the world.
         radiance_b, pe_b = env._radiance_and_pdf(_to_world(s.directions, t, b, n))
         gb = cosine_brdf(s.directions) * radiance_b  # the integrand, its radiance read with the density
-        pb_e = sampler._pdf(le, vv)  # BRDF density at the environment's samples
+        pb_e = np.zeros(le.shape[:-1])  # BRDF density at the environment's samples (those above the surface)
+        pb_e[above] = sampler._pdf(l_up, v_up)
         # Two-sample balance heuristic with equal counts: each pair contributes g/(p_b + p_e) twice.
         if not want_error:
             return _pair_mean(ge, pe + pb_e, gb, s.pdf + pe_b), None, None, 2 * n_env
