@@ -141,15 +141,19 @@ def test_the_reference_convolution_of_some_rows_gives_those_rows_bits_and_nan_el
 @pytest.mark.slow
 @pytest.mark.parametrize(("height", "source"), [(8, 64), (16, 64), (32, 64), (64, 64), (16, 32)])
 def test_the_irradiance_map_convolves_only_the_rows_it_reads_with_the_same_bits(height, source):
-    # Each output pixel is read bilinearly from two source rows: those alone are convolved; the map is the one the
-    # whole source grid gives, bit for bit.
+    # The reference path (sources over 256 rows): each output pixel is read bilinearly from two source rows, and
+    # those alone are convolved; the map is the one the whole source grid gives, bit for bit.  The map of a
+    # smaller source (the fast convolution of every row) is that map to float64 rounding.
     from lighting.lights.environment import LatLongEnvironment
     from lighting.lights.latlong import latlong_lookup
 
     env = LatLongEnvironment(_hdr_map(source))
-    got = prefilter.irradiance_map(env, height).image
+    got = prefilter._irradiance_reference(env.image, height)
     conv, _ = _convolve_rows(env.image, lambda x: np.maximum(1.0 - x, 0.0), math.pi / 2 + math.pi / source)
     full = np.maximum(conv, 0.0)
     want = full if height == source else latlong_lookup(
         full.reshape(-1, 3), source, 2 * source, prefilter._pixel_directions(height, 2 * height))
     assert np.array_equal(got.view(np.uint64), want.view(np.uint64))
+    fast = prefilter.irradiance_map(env, height).image
+    np.testing.assert_allclose(fast, want, rtol=1e-12, atol=1e-13 * np.abs(want).max())
+    assert not np.array_equal(fast, want)  # the fast path was taken (its sums round differently)
