@@ -326,7 +326,7 @@ def _unit_sum(l: np.ndarray, v: np.ndarray, s: np.ndarray, rows: np.ndarray) -> 
         den = nl_nv * (li * nv - vi * nl)
         opposite = li * vi < 0  # then li·nv and −vi·nl have one sign: den is never 0
         with np.errstate(divide="ignore", invalid="ignore"):
-            flat[at, i] = np.where(opposite, num / den, li + vi)  # the quotient elsewhere unused
+            flat[at, i] = np.where(opposite, num / np.where(opposite, den, 1), li + vi)
     return s
 
 
