@@ -762,12 +762,13 @@ def irradiance_map(environment, height: int = 32, *, source_height=None) -> LatL
         raise ValueError(f"height must be a power of two from 8 to the source height {h_src}; got {quote(height)}")
     check_budget("source_height", h_src * 2 * h_src * 3 * 8 * 12, what=f"irradiance of a {2 * h_src}x{h_src} map")
     src = _base_image(env, h_src)
+    support = math.pi / 2 + math.pi / h_src  # the hemisphere, and half a source row
     if h_src <= _MAX_LEVEL_HEIGHT:
         # The fast convolution of every source row: a few times faster than the reference on the rows it reads
         # (the same sums to float64 rounding); its tables grow as the source's height squared, hence the bound.
-        conv = np.maximum(_convolve_rows_fast(src, _clamped_cosine, math.pi / 2 + math.pi / h_src)[0], 0.0)
+        conv = np.maximum(_convolve_rows_fast(src, _clamped_cosine, support)[0], 0.0)
         return LatLongEnvironment(conv if h == h_src else _bilinear(conv, _pixel_directions(h, 2 * h)))
-    return LatLongEnvironment(_irradiance_reference(src, h))
+    return LatLongEnvironment(_irradiance_reference(src, h, support))
 
 
 def _clamped_cosine(one_minus_cos):
@@ -775,14 +776,13 @@ def _clamped_cosine(one_minus_cos):
     return np.maximum(1.0 - one_minus_cos, 0.0)
 
 
-def _irradiance_reference(src: np.ndarray, h: int) -> np.ndarray:
-    """:func:`irradiance_map`'s image of ``h`` rows from the source image ``src`` by the reference convolution: on
-    the source grid, read bilinearly at the output centres (``E`` is smooth).  An output row's centre lies halfway
-    between source rows ``f r + f/2 − 1`` and ``f r + f/2`` (``f`` the ratio of the heights): those alone are
-    convolved; the others are NaN, which any read would carry into the map (the whole grid is convolved then)."""
-    h_src = src.shape[0]
-    factor = h_src // h
-    kernel, support = _clamped_cosine, math.pi / 2 + math.pi / h_src
+def _irradiance_reference(src: np.ndarray, h: int, support: float) -> np.ndarray:
+    """:func:`irradiance_map`'s image of ``h`` rows from the source ``src`` by the reference convolution (the clamped
+    cosine within ``support`` radians) on the source grid, read bilinearly at the output centres.  An output row's
+    centre lies between source rows ``f r + f/2 − 1`` and ``f r + f/2`` (``f`` the ratio of the heights): those alone
+    are convolved; the others are NaN, which any read would carry into the map (the whole grid is convolved then)."""
+    factor = src.shape[0] // h
+    kernel = _clamped_cosine
     if factor == 1:
         conv, _ = _convolve_rows(src, kernel, support)
         return np.maximum(conv, 0.0)

@@ -445,12 +445,16 @@ class LatLongEnvironment(Environment):
         d = _cell_direction(q, s, fz, fa, h, w)
         # The density of the cell drawn, at the fractions drawn: what pdf(d) finds from the direction's angles, to
         # rounding, without finding the cell again.
-        return d, self._density.take(q * (2 * w) + s) * _bilinear_shape(values, fz, fa)
+        return d, self._cell_density(q, s, fz, fa, values)
 
     def _pdf(self, d, angles=None):
-        h, w = self.height, self.width
-        q, s, fz, fa = _cell_of(d, h, w, angles, self._row_scales)
-        return self._density.take(q * (2 * w) + s) * _bilinear_shape(_corner_values(self._corners, q, s), fz, fa)
+        q, s, fz, fa = _cell_of(d, self.height, self.width, angles, self._row_scales)
+        return self._cell_density(q, s, fz, fa, _corner_values(self._corners, q, s))
+
+    def _cell_density(self, q, s, fz, fa, values):
+        """The sampler's density at fractions ``(fz, fa)`` across half-pixel cells ``(q, s)`` whose corner values
+        (:func:`~lighting.sampling.environment._corner_values`) are ``values``."""
+        return self._density.take(q * (2 * self.width) + s) * _bilinear_shape(values, fz, fa)
 
     def _radiance_and_pdf(self, d):
         cls = type(self)

@@ -148,7 +148,7 @@ def test_the_irradiance_map_convolves_only_the_rows_it_reads_with_the_same_bits(
     from lighting.lights.latlong import latlong_lookup
 
     env = LatLongEnvironment(_hdr_map(source))
-    got = prefilter._irradiance_reference(env.image, height)
+    got = prefilter._irradiance_reference(env.image, height, math.pi / 2 + math.pi / source)
     conv, _ = _convolve_rows(env.image, lambda x: np.maximum(1.0 - x, 0.0), math.pi / 2 + math.pi / source)
     full = np.maximum(conv, 0.0)
     want = full if height == source else latlong_lookup(
