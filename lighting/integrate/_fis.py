@@ -193,7 +193,9 @@ class OneLevel:
     def read(self, d):
         """``L̄(d)`` of unit directions ``d`` (P, 3) float32: (P, 3) float32, bilinear as :meth:`LevelStack.mean`."""
         jx, iy, tx, ty = _texel_coordinates(d[:, 0], d[:, 1], d[:, 2], self.scale)
-        tx, ty = tx[:, None], ty[:, None]
+        # Each fraction repeated over the texel's four values: the products run over contiguous runs instead of
+        # broadcasting one fraction over four values at a time (the same products).
+        tx, ty = np.repeat(tx, 4).reshape(-1, 4), np.repeat(ty, 4).reshape(-1, 4)
         base = iy * self.row + jx
         below = base + self.row
 

@@ -78,7 +78,7 @@ from .extraction import (
     find_area_cells,
     find_dominant_lights,
 )
-from .ibl import _albedo_at, _check_prefiltered, lobe_albedo, lobe_sigma
+from .ibl import _albedo_columns, _check_prefiltered, lobe_albedo, lobe_sigma
 from .prefilter import kernel_of_lobe
 
 __all__ = [
@@ -420,7 +420,7 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     seen = np.flatnonzero(cos_v > 0)
     out_shape = shape[:-1] + (3,)
     # One view for every pixel (off the object too: an orthographic camera), else pixel by pixel.
-    if normal_grid is not False and not (seen.size and np.all(v == v[0])):
+    if normal_grid is not False and not (seen.size and _one_view(v)):
         if normal_grid:
             raise ValueError("normal_grid=True needs every pixel to share one view direction; these differ")
         normal_grid = False
@@ -441,6 +441,13 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     # The terms' sum in their own dtype (float64 pixel by pixel, float32 from the grid: a float32 sum is the float64
     # sum rounded once), then in dt.
     return whole(terms["diffuse"] + terms["specular"])
+
+
+def _one_view(v) -> bool:
+    """Whether every row of ``v`` (P, 3), finite, is the same vector: each row equal to the one before it, compared
+    as one contiguous run of values (a broadcast of ``v[0]`` over the rows would compare three values at a time)."""
+    flat = v.reshape(-1)
+    return bool(np.array_equal(flat[3:], flat[:-3]))
 
 
 def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
@@ -516,26 +523,39 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
         theta_v = np.arccos(np.clip(cos_v[rows].astype(work), 0.0, 1.0))
         dif, spec = diffuse[rows], specular[rows]
         for i, (part, sigma, table) in enumerate(zip(parts, sigmas, albedos, strict=True)):
-            terms = []  # added up in this order (the dominant lights first), each a new array
+            # Each term as its three channels (1-D arrays, or a channel's constant), added up in this order (the
+            # dominant lights first), scaled and added to the pixels channel by channel: the operations of the same
+            # sums on (P, 3) arrays on each value, without NumPy's broadcasts over the three channels of a pixel
+            # (inner loops three values long).
+            terms = []
             if len(dom.lights) and (math.isinf(sigma) or i not in on_grid or i in round_lobes):  # else the grid's
-                terms.append(_light_term(part, dom.lights, nb[rows], vb[rows], dt, sigma, work))
+                terms.append(_channels(_light_term(part, dom.lights, nb[rows], vb[rows], dt, sigma, work)))
             # A constant albedo (Lambert's k_d) is what the interpolation would give at every angle, exactly.
-            rho = table[0].astype(work) if np.all(table == table[0]) else _albedo_at(table, theta_v, work)
+            rho = list(table[0].astype(work)) if np.all(table == table[0]) else _albedo_columns(table, theta_v, work)
             if math.isinf(sigma):
-                terms.append(rho * here["irradiance"])
+                terms.append([r * e for r, e in zip(rho, _channels(here["irradiance"]), strict=True)])
             elif i in round_lobes:
-                terms.append(rho * (here[i] + round_lobes[i](nb[rows], vb[rows], cos_v[rows]).astype(work)))
+                lobe = _channels(round_lobes[i](nb[rows], vb[rows], cos_v[rows]).astype(work, copy=False))
+                terms.append([r * (g + b) for r, g, b in zip(rho, _channels(here[i]), lobe, strict=True)])
             else:
-                terms += [here[i][:, :3], rho * here[i][:, 3:]]
-            value = terms[0].astype(work)
-            for term in terms[1:]:
-                value += term
-            value *= scale.astype(work)
-            (dif if math.isinf(sigma) else spec)[:] += value
+                terms += [_channels(here[i][:, :3]), [r * m for r, m in zip(rho, _channels(here[i][:, 3:]),
+                                                                            strict=True)]]  # fmt: skip
+            target = dif if math.isinf(sigma) else spec
+            for c, factor in enumerate(scale.astype(work)):
+                value = np.array(terms[0][c], dtype=work)
+                for term in terms[1:]:
+                    value += term[c]
+                value *= factor
+                target[:, c] += value
 
     # Every pixel on its own from here: blocks of pixels that stay in the processor's caches, on the shading threads.
     in_blocks(n.shape[0], PIXEL_BLOCK, finish)
     return {"diffuse": diffuse, "specular": specular}
+
+
+def _channels(rgb):
+    """The three channels of ``(P, 3)`` values, as three 1-D views."""
+    return [rgb[:, 0], rgb[:, 1], rgb[:, 2]]
 
 
 def _round_lobe(part, sigma, dom):

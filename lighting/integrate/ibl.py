@@ -145,14 +145,17 @@ def lobe_albedo(part) -> np.ndarray:
 
 
 def _albedo_at(table, theta, dt):
-    """``table`` interpolated at the view angles ``theta`` (radians; linear in ``θ_v``)."""
+    """``table`` interpolated at the view angles ``theta`` (radians; linear in ``θ_v``): ``(..., 3)`` in ``dt``."""
+    return np.stack(_albedo_columns(table, theta, dt), axis=-1)
+
+
+def _albedo_columns(table, theta, dt):
+    """:func:`_albedo_at`'s three channels, each an array of ``theta``'s shape in ``dt`` (one array for all three of a
+    grey lobe, most materials' specular part: one channel's values are the same numbers in all three)."""
     if np.array_equal(table[:, 0], table[:, 1]) and np.array_equal(table[:, 0], table[:, 2]):
-        # A grey lobe (most materials' specular part): one channel's values, the same numbers in all three.
-        out = np.empty(np.shape(theta) + (3,), dtype=dt)
-        out[:] = np.interp(theta, ALBEDO_ANGLES, table[:, 0]).astype(dt, copy=False)[..., None]
-        return out
-    out = np.stack([np.interp(theta, ALBEDO_ANGLES, table[:, c]) for c in range(3)], axis=-1)
-    return out.astype(dt, copy=False)
+        grey = np.interp(theta, ALBEDO_ANGLES, table[:, 0]).astype(dt, copy=False)
+        return [grey] * 3
+    return [np.interp(theta, ALBEDO_ANGLES, table[:, c]).astype(dt, copy=False) for c in range(3)]
 
 
 def _check_prefiltered(prefiltered):
