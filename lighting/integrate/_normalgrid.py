@@ -48,6 +48,11 @@ def grid_spacing(sigma: float, density: float = GRID_DENSITY) -> float:
     return min(sigma / density, MAX_SPACING)
 
 
+#: Values (pixels times channels) read per block by :meth:`NormalGrid.interpolate`: a block of 65,536 pixels of six
+#: channels, the dominant method's finish block read at once (shading threads making many short NumPy passes wait on
+#: each other for the interpreter between them); fewer pixels of more channels, so that a tap's values and their sum
+#: (float64: 16 bytes a value) stay within 6 MiB.
+READ_VALUES = 6 << 16
 #: The fewest points of a ring other than the view's own.
 MIN_COLUMNS = 8
 
@@ -161,5 +166,6 @@ class NormalGrid:
             total += tap(b1, ti * tb)
             out[s] = total
 
-        in_blocks(n.shape[0], 1 << 14, block)
+        # A multiple of 64 rows per block: each pixel gets the bits of one pass over all of them (in_blocks).
+        in_blocks(n.shape[0], max(64, READ_VALUES // k // 64 * 64), block)
         return out

@@ -64,7 +64,7 @@ from .._validate import check_bool, check_count, check_vectors
 from ..models.base import BRDFFlags
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
-from ..shading.batch import PIXEL_BLOCK, _threads, in_blocks
+from ..shading.batch import _threads, in_blocks
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
 from ._fis import BLOCK_BYTES, LevelStack, OneLevel, half_vector_mean, view_table_mean
@@ -128,6 +128,11 @@ ROUND_LOBE_WIDTH = 0.75
 #: one normal to the next, and keep :data:`NARROW_GRID_DENSITY` without a round lobe: under the studio a Ward lobe's
 #: 95th percentile against the reference grew from 14 to 20 % at this density, a Phong lobe's from 13 to 14 %.
 HALF_GRID_DENSITY = 2
+#: Pixels per block of the per-pixel finish (a multiple of 64; the blocks are balanced between the shading threads,
+#: each pixel computed on its own).  Each of a block's NumPy passes runs long enough that the shading threads seldom
+#: wait on each other for the interpreter between them: blocks of half this size spend a fifth of a narrow lobe's
+#: re-shade on two threads in such hand-overs (``lighting-explorer bench --ibl`` measures it).
+FINISH_BLOCK = 1 << 16
 #: Rows of the residual's irradiance map (E is smooth once the small sources are out).
 IRRADIANCE_HEIGHT = 64
 #: The irradiance map integrates the residual at most this many rows high (a larger map is averaged down first).
@@ -321,6 +326,13 @@ def _to_base_matrix(pre):
     return np.asarray(pre._to_base(np.eye(3)), dtype=np.float64)
 
 
+def _dot_rows(a, d):
+    """``a · d`` of each row of ``a`` (P, 3) with one vector ``d``, component by component: each row's value the same
+    whatever rows are computed with it (a matrix product groups rows, and a row's bits would depend on its place
+    among the pixels lit in its block)."""
+    return a[:, 0] * d[0] + a[:, 1] * d[1] + a[:, 2] * d[2]
+
+
 def _light_term(part, lights, n, v, dt, widths, work=np.float64):
     """``Σ_k f_r(v, l) (n·l) L_k dω`` over the disks of ``lights``: stratified points, each its share of ``Ω``.
 
@@ -336,7 +348,7 @@ def _light_term(part, lights, n, v, dt, widths, work=np.float64):
         if constant:
             lit, nl = slice(None), n
         else:
-            lit = np.flatnonzero(n @ c.astype(dt) > -math.sin(gamma))
+            lit = np.flatnonzero(_dot_rows(n, c.astype(dt)) > -math.sin(gamma))
             if not lit.size:
                 continue
             nl, vl = n[lit], v[lit]
@@ -350,7 +362,7 @@ def _light_term(part, lights, n, v, dt, widths, work=np.float64):
             off = math.hypot(x, y)
             ld = c * math.cos(off) + (t * x + b * y) * (math.sin(off) / off if off > 0 else 1.0)
             ld = ld / np.linalg.norm(ld)
-            cos_l = np.maximum(nl @ ld.astype(dt), 0)
+            cos_l = np.maximum(_dot_rows(nl, ld.astype(dt)), 0)
             if constant:
                 acc[:, 0] += cos_l * wgt
             else:
@@ -412,7 +424,10 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     shape = np.broadcast_shapes(n.shape, v.shape)
     pixels = math.prod(shape) // 3
     # The filtered samples are read a block of pixels at a time (lighting.integrate._fis), a block per shading thread.
-    check_budget("normals", pixels * 512 + _threads() * BLOCK_BYTES, what=f"{pixels} pixels at {samples} samples")
+    # The per-pixel finish's block, after: each part's grid values (six float32 at most) and its terms' channels.
+    finish_bytes = FINISH_BLOCK * (256 + 48 * len(brdf.parts))
+    check_budget("normals", pixels * 512 + _threads() * max(BLOCK_BYTES, finish_bytes),
+                 what=f"{pixels} pixels at {samples} samples")  # fmt: skip
     n = np.broadcast_to(n, shape).reshape(-1, 3).astype(dt, copy=False)
     v = np.broadcast_to(v, shape).reshape(-1, 3).astype(dt, copy=False)
     cos_v = np.einsum("ij,ij->i", n, v)
@@ -549,7 +564,7 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
                 target[:, c] += value
 
     # Every pixel on its own from here: blocks of pixels that stay in the processor's caches, on the shading threads.
-    in_blocks(n.shape[0], PIXEL_BLOCK, finish)
+    in_blocks(n.shape[0], FINISH_BLOCK, finish, balanced=True)
     return {"diffuse": diffuse, "specular": specular}
 
 

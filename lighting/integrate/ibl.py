@@ -55,7 +55,7 @@ from .._validate import ArgumentTypeError, check_count, check_vectors
 from ..lights.environment import as_environment
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
-from ..shading.batch import PIXEL_BLOCK, in_blocks
+from ..shading.batch import in_blocks
 from ._delta import delta_albedo, delta_radiance, split_delta
 from .prefilter import PrefilteredEnvironment, kernel_of_lobe, prefilter_environment
 from .radiance import _frames, _radiance_batch, _to_world
@@ -66,6 +66,10 @@ __all__ = ["ALBEDO_ANGLES", "lobe_albedo", "lobe_sigma", "split_sum_radiance", "
 ALBEDO_ANGLES = np.append(np.radians(np.arange(0.0, 89.6, 1.5)), math.pi / 2)
 #: Albedo tables kept (the one used longest ago goes first).
 _albedo_cache = Recent(64)
+#: Pixels per block of a split-sum re-shade (a multiple of 64; the blocks are balanced between the shading threads, each
+#: pixel computed on its own): few enough that a block's arrays stay in the processor's caches, many enough that the
+#: shading threads seldom wait on each other for the interpreter between its NumPy passes (``bench --ibl``).
+RESHADE_BLOCK = 1 << 16
 
 
 def lobe_sigma(lobe) -> float:
@@ -241,7 +245,7 @@ def split_sum_radiance(brdf, prefiltered, normals, view_dirs, *, split_terms: bo
         spec[unseen] = 0
 
     # Every pixel on its own: blocks of pixels that stay in the processor's caches, on the shading threads.
-    in_blocks(n.shape[0], PIXEL_BLOCK, block)
+    in_blocks(n.shape[0], RESHADE_BLOCK, block, balanced=True)
     out_shape = shape[:-1] + (3,)
     if split_terms:
         return {"diffuse": diffuse.reshape(out_shape), "specular": specular.reshape(out_shape)}

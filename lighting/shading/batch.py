@@ -411,10 +411,6 @@ def shade_prepared_into(sink, points, unit_normals, view, material, lights, *, e
 
 
 _MIN_ROWS_PER_THREAD = 32768
-#: Pixels per block of a re-shade that computes each pixel on its own (:func:`in_blocks`): its arrays of a few
-#: values per pixel stay in the processor's caches, and each thread takes several blocks of a large image.  A
-#: multiple of 64, so that every pixel gets the bits of one pass over the whole image.
-PIXEL_BLOCK = 1 << 15
 #: The names of the shading threads begin so.
 _THREAD_PREFIX = "lighting-shade"
 _POOL = None

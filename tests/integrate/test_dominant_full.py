@@ -139,6 +139,7 @@ def test_blocks_and_threads_change_no_pixel(disk_pre, monkeypatch):
     # threads, the same values bit for bit (on the grid of normals and pixel by pixel, float32 and float64, with a
     # mirror part).
     import lighting.integrate._fis as fis_module
+    import lighting.integrate._normalgrid as normalgrid_module
     import lighting.integrate.dominant as dominant_module
     import lighting.integrate.ibl as ibl_module
     import lighting.shading.batch as batch
@@ -159,8 +160,9 @@ def test_blocks_and_threads_change_no_pixel(disk_pre, monkeypatch):
         return out
 
     whole = images()
-    monkeypatch.setattr(ibl_module, "PIXEL_BLOCK", 128)
-    monkeypatch.setattr(dominant_module, "PIXEL_BLOCK", 128)
+    monkeypatch.setattr(ibl_module, "RESHADE_BLOCK", 128)
+    monkeypatch.setattr(dominant_module, "FINISH_BLOCK", 128)
+    monkeypatch.setattr(normalgrid_module, "READ_VALUES", 6 * 64)  # the grid read 64 pixels at a time
     monkeypatch.setattr(fis_module, "_BLOCK", 1 << 12)  # the filtered samples in blocks balanced over the threads
     monkeypatch.setattr(batch, "_MIN_ROWS_PER_THREAD", 50)
     monkeypatch.setattr(batch, "_threads", lambda: 3)
