@@ -130,8 +130,8 @@ ROUND_LOBE_WIDTH = 0.75
 HALF_GRID_DENSITY = 2
 #: Pixels per block of the per-pixel finish (a multiple of 64; the blocks are balanced between the shading threads,
 #: each pixel computed on its own).  Each of a block's NumPy passes runs long enough that the shading threads seldom
-#: wait on each other for the interpreter between them: blocks of half this size spend a fifth of a narrow lobe's
-#: re-shade on two threads in such hand-overs (``lighting-explorer bench --ibl`` measures it).
+#: wait on each other for the interpreter between them, which many short passes do (``lighting-explorer bench --ibl``
+#: measures the re-shades; half this size was measurably slower on two threads, and no faster on one).
 FINISH_BLOCK = 1 << 16
 #: Rows of the residual's irradiance map (E is smooth once the small sources are out).
 IRRADIANCE_HEIGHT = 64
