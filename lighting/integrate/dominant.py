@@ -326,6 +326,12 @@ def _to_base_matrix(pre):
     return np.asarray(pre._to_base(np.eye(3)), dtype=np.float64)
 
 
+def _finish_bytes(parts: int) -> int:
+    """Bytes per pixel of a block of the per-pixel finish at its peak, with a margin, for a model of ``parts`` parts:
+    its normals, view angles and albedos, and each part's grid values (six float32 at most) and terms' channels."""
+    return 256 + 48 * parts
+
+
 def _dot_rows(a, d):
     """``a · d`` of each row of ``a`` (P, 3) with one vector ``d``, component by component: each row's value the same
     whatever rows are computed with it (a matrix product groups rows, and a row's bits would depend on its place
@@ -424,9 +430,8 @@ def dominant_radiance(brdf, prefiltered, normals, view_dirs, *, samples: int = D
     shape = np.broadcast_shapes(n.shape, v.shape)
     pixels = math.prod(shape) // 3
     # The filtered samples are read a block of pixels at a time (lighting.integrate._fis), a block per shading thread.
-    # The per-pixel finish's block, after: each part's grid values (six float32 at most) and its terms' channels.
-    finish_bytes = FINISH_BLOCK * (256 + 48 * len(brdf.parts))
-    check_budget("normals", pixels * 512 + _threads() * max(BLOCK_BYTES, finish_bytes),
+    # The per-pixel finish's blocks come after the samples' (one of each per thread at a time).
+    check_budget("normals", pixels * 512 + _threads() * max(BLOCK_BYTES, FINISH_BLOCK * _finish_bytes(len(brdf.parts))),
                  what=f"{pixels} pixels at {samples} samples")  # fmt: skip
     n = np.broadcast_to(n, shape).reshape(-1, 3).astype(dt, copy=False)
     v = np.broadcast_to(v, shape).reshape(-1, 3).astype(dt, copy=False)

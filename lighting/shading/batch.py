@@ -469,10 +469,11 @@ def in_blocks(count: int, step: int, fn, *, balanced: bool = False) -> None:
 
     ``balanced``: the blocks are made a little smaller (a multiple of 64 rows, at most ``step``) so that each
     thread gets the same number of them, where three blocks on two threads would leave one thread idle for a
-    third of the time.  Only for a ``fn`` whose rows get the same bits whatever block they are in (each row
-    computed on its own, or blocks of a multiple of 64 rows: ``step`` one too).
+    third of the time, and one block of fewer than ``step`` rows (but more than 64) is cut in one per thread.
+    Only for a ``fn`` whose rows get the same bits whatever block they are in (each row computed on its own, or
+    blocks of a multiple of 64 rows: ``step`` one too).
     """
-    if balanced and count > step:
+    if balanced and count > 64:
         threads = _threads()
         blocks = -(-count // step)
         blocks = -(-blocks // threads) * threads

@@ -316,12 +316,15 @@ def test_the_cells_table_gives_the_models_own_sum_over_the_cells(part):
     assert np.percentile(rel[front], 99) < 0.01 and rel[front].max() < 0.05
 
 
-def test_a_block_of_filtered_samples_stays_within_its_share_of_the_memory_estimate(disk_pre):
+def test_a_block_of_filtered_samples_stays_within_its_share_of_the_memory_estimate(disk_pre, monkeypatch):
     # One block of a narrow lobe's filtered samples (512 pixels at 64 samples, one shading thread): traced, under
     # the bytes dominant_radiance's budget sets aside per thread, and not far under them.
     import tracemalloc
 
+    import lighting.shading.batch as batch
     from lighting.integrate._fis import _BLOCK, BLOCK_BYTES
+
+    monkeypatch.setattr(batch, "_threads", lambda: 1)  # on more threads the block's rows are cut among them
 
     pre = disk_pre
     model = CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")
@@ -339,6 +342,47 @@ def test_a_block_of_filtered_samples_stays_within_its_share_of_the_memory_estima
     finally:
         tracemalloc.stop()
     assert BLOCK_BYTES / 2 < peak < n.shape[0] * 512 + BLOCK_BYTES, (peak, BLOCK_BYTES)
+
+
+@pytest.mark.parametrize("model", [Lambert(0.3) + CookTorrance(1.0, 0.3, 1.0, ndf="ggx"),
+                                   Lambert(0.3) + CookTorrance(1.0, 0.05, 1.0, ndf="ggx", fresnel="none")])
+def test_a_block_of_the_per_pixel_finish_stays_within_its_share_of_the_memory_estimate(disk_pre, monkeypatch, model):
+    # Each block of the per-pixel finish (one shading thread, on the grid of normals): traced, under the bytes per
+    # pixel that dominant_radiance's budget sets aside for it, and not far under them.
+    import tracemalloc
+
+    import lighting.integrate.dominant as dominant_module
+    import lighting.shading.batch as batch
+    from lighting.validation.accuracy import ibl_sphere
+
+    monkeypatch.setattr(batch, "_threads", lambda: 1)
+    monkeypatch.setattr(dominant_module, "FINISH_BLOCK", 8192)
+    _, n, v = ibl_sphere(200)
+    n32, v32 = n.astype(np.float32), v.astype(np.float32)
+    per_pixel = []
+    in_blocks = dominant_module.in_blocks
+
+    def traced(count, step, fn, **kwargs):
+        if fn.__name__ != "finish":
+            return in_blocks(count, step, fn, **kwargs)
+
+        def block(rows):
+            tracemalloc.reset_peak()
+            before = tracemalloc.get_traced_memory()[0]
+            fn(rows)
+            per_pixel.append((tracemalloc.get_traced_memory()[1] - before) / (rows.stop - rows.start))
+
+        return in_blocks(count, step, block, **kwargs)
+
+    dominant_radiance(model, disk_pre, n32, v32)  # the tables and the grid, once
+    monkeypatch.setattr(dominant_module, "in_blocks", traced)
+    tracemalloc.start()
+    try:
+        dominant_radiance(model, disk_pre, n32, v32, normal_grid=True)
+    finally:
+        tracemalloc.stop()
+    estimate = dominant_module._finish_bytes(len(model.parts))
+    assert len(per_pixel) >= 3 and all(estimate / 2 < b < estimate for b in per_pixel), (per_pixel, estimate)
 
 
 @pytest.mark.parametrize("threads", [1, 2, 3, 8])
@@ -367,6 +411,8 @@ def test_balanced_blocks_cover_the_rows_once_in_multiples_of_64_and_an_equal_run
         assert len(seen) >= -(-count // step)  # never fewer blocks than asked for
         if -(-count // step) < 4 * threads:  # few blocks, where a thread's last one matters: a whole run each
             assert len(seen) % threads == 0, len(seen)
+    elif count > 64 and threads > 1:  # fewer rows than a block, but worth a thread each: one block per thread at most
+        assert 2 <= len(seen) <= threads, seen
     else:
         assert seen == [(0, count)]
 
