@@ -78,7 +78,12 @@ def dot(a, b) -> np.ndarray:
     32.0
     """
     dt = working_dtype(a, b)
-    a, b = _vec(a, dt, "a"), _vec(b, dt, "b")
+    return _dot(_vec(a, dt, "a"), _vec(b, dt, "b"))
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """:func:`dot` of checked arrays, component by component: each vector's value is the same whatever vectors are
+    computed with it (a matrix product groups rows, and a row's bits would depend on its place among them)."""
     return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
 
 

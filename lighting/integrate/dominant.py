@@ -65,6 +65,7 @@ from ..models.base import BRDFFlags
 from ..numerics import working_dtype
 from ..sampling.brdf import _check_brdf
 from ..shading.batch import _threads, in_blocks
+from ..vec import _dot
 from ._cells import cell_sum
 from ._delta import delta_albedo, split_delta
 from ._fis import BLOCK_BYTES, LevelStack, OneLevel, half_vector_mean, view_table_mean
@@ -332,13 +333,6 @@ def _finish_bytes(parts: int) -> int:
     return 256 + 48 * parts
 
 
-def _dot_rows(a, d):
-    """``a · d`` of each row of ``a`` (P, 3) with one vector ``d``, component by component: each row's value the same
-    whatever rows are computed with it (a matrix product groups rows, and a row's bits would depend on its place
-    among the pixels lit in its block)."""
-    return a[:, 0] * d[0] + a[:, 1] * d[1] + a[:, 2] * d[2]
-
-
 def _light_term(part, lights, n, v, dt, widths, work=np.float64):
     """``Σ_k f_r(v, l) (n·l) L_k dω`` over the disks of ``lights``: stratified points, each its share of ``Ω``.
 
@@ -354,7 +348,7 @@ def _light_term(part, lights, n, v, dt, widths, work=np.float64):
         if constant:
             lit, nl = slice(None), n
         else:
-            lit = np.flatnonzero(_dot_rows(n, c.astype(dt)) > -math.sin(gamma))
+            lit = np.flatnonzero(_dot(n, c.astype(dt)) > -math.sin(gamma))
             if not lit.size:
                 continue
             nl, vl = n[lit], v[lit]
@@ -368,7 +362,7 @@ def _light_term(part, lights, n, v, dt, widths, work=np.float64):
             off = math.hypot(x, y)
             ld = c * math.cos(off) + (t * x + b * y) * (math.sin(off) / off if off > 0 else 1.0)
             ld = ld / np.linalg.norm(ld)
-            cos_l = np.maximum(_dot_rows(nl, ld.astype(dt)), 0)
+            cos_l = np.maximum(_dot(nl, ld.astype(dt)), 0)
             if constant:
                 acc[:, 0] += cos_l * wgt
             else:
@@ -568,7 +562,7 @@ def _radiance(brdf, pre, n, v, cos_v, dt, samples, normal_grid):
                 value *= factor
                 target[:, c] += value
 
-    # Every pixel on its own from here: blocks of pixels that stay in the processor's caches, on the shading threads.
+    # Every pixel on its own from here, in blocks shared evenly between the shading threads (FINISH_BLOCK).
     in_blocks(n.shape[0], FINISH_BLOCK, finish, balanced=True)
     return {"diffuse": diffuse, "specular": specular}
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..numerics import _exponent_in, as_float, log_corrected, working_dtype
-from ..vec import _one_minus_cos_between, normalize
+from ..vec import _dot, _one_minus_cos_between, normalize
 
 __all__ = ["Geometry"]
 
@@ -131,9 +131,7 @@ class Geometry:
         """``(v·t, v·b, v·n)`` as a tuple of three arrays: the components of :attr:`v_local`."""
         return self._dot(self.v, self.t), self._dot(self.v, self.b), self.n_dot_v
 
-    @staticmethod
-    def _dot(a, b):
-        return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+    _dot = staticmethod(_dot)
 
     @staticmethod
     def _cross2(a, b):
