@@ -52,8 +52,13 @@ def hemisphere(func, *, scale=1e-3, panels=48, order=24, n_phi=256):
     """∫_Ω func(l) dω_l over the upper hemisphere; ``func`` takes ``(..., 3)`` directions."""
     th, wt = theta_nodes(scale=scale, panels=panels, order=order)
     ph = (np.arange(n_phi) + 0.5) * (2 * np.pi / n_phi)
-    T, P = np.meshgrid(th, ph, indexing="ij")
-    d = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1)
+    # The directions of the (θ, φ) grid, each sine and cosine taken once per θ and once per φ (the same numbers as
+    # taken at every node of the grid): one pass per component, written into the stacked array.
+    d = np.empty((len(th), n_phi, 3))
+    st = np.sin(th)[:, None]
+    np.multiply(st, np.cos(ph), out=d[..., 0])
+    np.multiply(st, np.sin(ph), out=d[..., 1])
+    d[..., 2] = np.cos(th)[:, None]
     vals = evaluate(func, d)
     w = (wt * np.sin(th))[:, None] * (2 * np.pi / n_phi)
     if vals.ndim == 3:
