@@ -405,11 +405,12 @@ def _h_integral(func, alpha, v=None):
     if v is None or v[2] >= 1:  # the whole circle: the periodic trapezoid rule, spectrally accurate
         half, pv = np.full(th.shape, math.pi), 0.0
         x, w = np.arange(1024) / 512 - 1, np.full(1024, 2 / 1024)
+        ph = pv + half[:1, None] * x  # every ring's azimuths: one row, its sines and cosines shared
     else:
         tv, pv = math.acos(v[2]), math.atan2(v[1], v[0])
         half = np.arccos(np.clip(-math.cos(tv) * np.cos(th) / (math.sin(tv) * np.sin(th)), -1, 1))
         x, w = leggauss(384)
-    ph = pv + half[:, None] * x
+        ph = pv + half[:, None] * x
     h = np.stack(
         np.broadcast_arrays(np.sin(th)[:, None] * np.cos(ph), np.sin(th)[:, None] * np.sin(ph), np.cos(th)[:, None]), -1
     )
