@@ -22,6 +22,20 @@ BRDF_FORMS = ("eval", "eval_cos", "classic")
 LIGHT_FORMS = ("scale", "irradiance")
 
 
+def perturbed_inputs(x, d):
+    """``(i, side, x with x_i → x_i (1 ± δ))`` for each nonzero input ``x_i``: the inputs of a condition number.
+
+    ``side`` is 0 for ``+δ`` and 1 for ``−δ``; ``x`` and ``d`` are numbers of one arithmetic (mpmath's or MPFR's).
+    """
+    for i, xi in enumerate(x):
+        if xi == 0:
+            continue
+        for j, sgn in enumerate((1, -1)):
+            xp = list(x)
+            xp[i] = xi * (1 + sgn * d)
+            yield i, j, xp
+
+
 def unit_roundoff(dtype) -> float:
     """``u`` of a float type: 2^-24 for float32, 2^-53 for float64.
 

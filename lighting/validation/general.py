@@ -26,8 +26,16 @@ import math
 
 import numpy as np
 
-from .cases import DELTA, ModelSpec
-from .model_references import condition_parameters, frame, microfacet_ndf, model_parameters, model_value
+from .cases import DELTA, ModelSpec, perturbed_inputs
+from .model_references import (
+    arithmetic,
+    condition_parameters,
+    frame,
+    microfacet_ndf,
+    model_parameters,
+    model_value,
+)
+from .mpfr import mpfr_context
 
 
 def _ndf_value(model, q, prm):
@@ -79,9 +87,7 @@ def general_table(specs: list[ModelSpec], cols: list[tuple[int, str]], inputs, d
         ``hi``, ``lo`` (the double-double value), ``nz``, ``kappa``, ``logref``, each ``(len(inputs), len(cols))``.
     """
     import mpmath
-    import mpmath.libmp as libmp
 
-    mp = mpmath.mp
     m, k = len(inputs), len(cols)
     out = {
         "hi": np.zeros((m, k)),
@@ -93,60 +99,108 @@ def general_table(specs: list[ModelSpec], cols: list[tuple[int, str]], inputs, d
     groups: dict = {}  # spec index -> [(column, form)]
     for c, (si, form) in enumerate(cols):
         groups.setdefault(si, []).append((c, form))
-    with mp.workdps(dps):
-        d = mp.mpf(DELTA)
-        prm0 = {si: {key: mp.mpf(val) for key, val in model_parameters(specs[si].model).items()} for si in groups}
-        pnames_of = {si: condition_parameters(specs[si].model) for si in groups}
-        for r, item in enumerate(inputs):
-            x = [mp.mpf(float(c)) for c in (*item[0], *item[1], *item[2])]
-            sweep = len(item) > 3 and bool(item[3])
-            q0 = frame(x[0:3], x[3:6], x[6:9])
-            if not q0["above"]:
-                continue
-            perturbed = []  # (row, side, frame)
-            for i, xi in enumerate(x):
-                if xi == 0:
-                    continue
-                for j, sgn in enumerate((1, -1)):
-                    xp = list(x)
-                    xp[i] = xi * (1 + sgn * d)
-                    perturbed.append((i, j, frame(xp[0:3], xp[3:6], xp[6:9])))
-            for si, members in groups.items():
-                model = specs[si].model
-                members = [(c, f) for c, f in members if f != "D" or sweep]
-                if not members:
-                    continue
-                forms = [f for _, f in members]
-                base = _form_values(mp, model, forms, q0, prm0[si])
-                pnames = pnames_of[si]
-                rel = np.zeros((len(forms), 9 + len(pnames), 2))
-                for i, j, qp in perturbed:
-                    if qp["above"] != q0["above"]:
-                        rel[:, i, j] = np.inf
-                        continue
-                    vals = _form_values(mp, model, forms, qp, prm0[si])
-                    for a, (v0, v1) in enumerate(zip(base, vals, strict=True)):
-                        rel[a, i, j] = float((v1 - v0) / (v0 * d)) if v0 != 0 else 0.0
-                for pi_, name in enumerate(pnames):
-                    for j, sgn in enumerate((1, -1)):
-                        prm = dict(prm0[si])
-                        prm[name] = prm[name] * (1 + sgn * d)
-                        vals = _form_values(mp, model, forms, q0, prm)
-                        for a, (v0, v1) in enumerate(zip(base, vals, strict=True)):
-                            rel[a, 9 + pi_, j] = float((v1 - v0) / (v0 * d)) if v0 != 0 else 0.0
-                for a, (c, _) in enumerate(members):
-                    val = base[a]
-                    if val == 0:
-                        continue
-                    g = rel[a]
-                    out["kappa"][r, c] = (
-                        float(np.sum(np.max(np.abs(g), axis=1))) if np.all(np.isfinite(g)) else math.inf
-                    )
-                    raw = val._mpf_
-                    hi = libmp.to_float(raw)
-                    out["hi"][r, c] = hi
-                    if math.isfinite(hi) and hi != 0:
-                        out["lo"][r, c] = libmp.to_float(libmp.mpf_sub(raw, libmp.from_float(hi), 64, "n"))
-                    out["nz"][r, c] = True
-                    out["logref"][r, c] = float(mp.log(val))
+    # Each input in MPFR where gmpy2 is installed; a model whose values there leave MPFR's exponent range (or divide
+    # by 0) is computed again in mpmath, whose exponents have no bound (lighting.validation.mpfr).
+    fast = mpfr_context()
+    params = {si: (model_parameters(specs[si].model), condition_parameters(specs[si].model)) for si in groups}
+    for r, item in enumerate(inputs):
+        cells, again = [], list(groups) if fast is None else []
+        if fast is not None:
+            with fast.workdps(dps), arithmetic(fast):
+                frames = _frames(fast, item)
+                if fast.exceptional():  # the frames themselves (products of binary inputs: not in practice)
+                    again = list(groups)
+                for si, members in groups.items() if not again else ():
+                    fast.clear_flags()
+                    found = _cells(fast, frames, specs[si].model, members, params[si])
+                    if fast.exceptional():
+                        again.append(si)
+                    else:
+                        cells += found
+        if again:
+            with mpmath.mp.workdps(dps), arithmetic(mpmath.mp):
+                frames = _frames(mpmath.mp, item)
+                for si in again:
+                    cells += _cells(mpmath.mp, frames, specs[si].model, groups[si], params[si])
+        for c, kappa, hi, lo, logref in cells:
+            out["kappa"][r, c] = kappa
+            out["hi"][r, c] = hi
+            out["lo"][r, c] = lo
+            out["nz"][r, c] = True
+            out["logref"][r, c] = logref
     return out
+
+
+def _double_double(mp, val) -> tuple[float, float]:
+    """``val`` rounded to the nearest double and its remainder (rounded to 64 bits, then to a double), as floats."""
+    if hasattr(val, "_mpf_"):  # mpmath: on its raw numbers
+        import mpmath.libmp as libmp
+
+        raw = val._mpf_
+        hi = libmp.to_float(raw)
+        lo = 0.0
+        if math.isfinite(hi) and hi != 0:
+            lo = libmp.to_float(libmp.mpf_sub(raw, libmp.from_float(hi), 64, "n"))
+        return hi, lo
+    hi = float(val)
+    lo = 0.0
+    if math.isfinite(hi) and hi != 0:
+        with mp.workprec(64):
+            lo = float(val - mp.mpf(hi))
+    return hi, lo
+
+
+def _frames(mp, item):
+    """The frame at one input and at each of its perturbed inputs, in ``mp``.
+
+    Returns ``(d, sweep, q0, perturbed)``: δ, whether the input is on a peak sweep, the input's :func:`frame` and
+    ``(input index, side, frame)`` of each perturbed input (``q0["above"]`` False: nothing to compute).
+    """
+    d = mp.mpf(DELTA)
+    x = [mp.mpf(float(c)) for c in (*item[0], *item[1], *item[2])]
+    sweep = len(item) > 3 and bool(item[3])
+    q0 = frame(x[0:3], x[3:6], x[6:9])
+    perturbed = []
+    if q0["above"]:
+        perturbed = [(i, j, frame(xp[0:3], xp[3:6], xp[6:9])) for i, j, xp in perturbed_inputs(x, d)]
+    return d, sweep, q0, perturbed
+
+
+def _cells(mp, frames, model, members, params) -> list:
+    """``(column, κ, hi, lo, log value)`` of each nonzero column of one model at one input (:func:`_frames`).
+
+    ``members`` are the model's ``(column, form)``; ``params`` its parameters (floats) and the names perturbed.
+    """
+    d, sweep, q0, perturbed = frames
+    members = [(c, f) for c, f in members if f != "D" or sweep]
+    if not q0["above"] or not members:
+        return []
+    forms = [f for _, f in members]
+    values, pnames = params
+    prm0 = {key: mp.mpf(val) for key, val in values.items()}
+    base = _form_values(mp, model, forms, q0, prm0)
+    rel = np.zeros((len(forms), 9 + len(pnames), 2))
+    for i, j, qp in perturbed:
+        if qp["above"] != q0["above"]:
+            rel[:, i, j] = np.inf
+            continue
+        vals = _form_values(mp, model, forms, qp, prm0)
+        for a, (v0, v1) in enumerate(zip(base, vals, strict=True)):
+            rel[a, i, j] = float((v1 - v0) / (v0 * d)) if v0 != 0 else 0.0
+    for pi_, name in enumerate(pnames):
+        for j, sgn in enumerate((1, -1)):
+            prm = dict(prm0)
+            prm[name] = prm[name] * (1 + sgn * d)
+            vals = _form_values(mp, model, forms, q0, prm)
+            for a, (v0, v1) in enumerate(zip(base, vals, strict=True)):
+                rel[a, 9 + pi_, j] = float((v1 - v0) / (v0 * d)) if v0 != 0 else 0.0
+    cells = []
+    for a, (c, _) in enumerate(members):
+        val = base[a]
+        if val == 0:
+            continue
+        g = rel[a]
+        kappa = float(np.sum(np.max(np.abs(g), axis=1))) if np.all(np.isfinite(g)) else math.inf
+        hi, lo = _double_double(mp, val)
+        cells.append((c, kappa, hi, lo, float(mp.log(val))))
+    return cells

@@ -44,13 +44,36 @@ __all__ = [
     "model_value",
     "model_parameters",
     "condition_parameters",
+    "arithmetic",
 ]
 
 
+#: The arithmetic the references compute in, when not mpmath's ``mp``: set by :func:`arithmetic`.
+_ARITHMETIC: list = [None]
+
+
 def _mp():
+    if _ARITHMETIC[0] is not None:
+        return _ARITHMETIC[0]
     import mpmath
 
     return mpmath.mp
+
+
+class arithmetic:  # noqa: N801 - used as a context manager, like mpmath's workdps
+    """``with arithmetic(ctx):`` the references compute with ``ctx`` (an :class:`~lighting.validation.mpfr.MPFRContext`
+    or mpmath's ``mp``) instead of mpmath's ``mp``."""
+
+    def __init__(self, ctx):
+        self.ctx = ctx
+
+    def __enter__(self):
+        self.before = _ARITHMETIC[0]
+        _ARITHMETIC[0] = self.ctx
+        return self.ctx
+
+    def __exit__(self, *exc):
+        _ARITHMETIC[0] = self.before
 
 
 _CONSTANTS: dict = {}
@@ -58,7 +81,7 @@ _CONSTANTS: dict = {}
 
 def _c(mp, text: str):
     """The decimal constant ``text`` (the papers' 0.33, 0.45, 0.08 …) at the working precision, parsed once."""
-    key = (text, mp.prec)
+    key = (text, mp.prec, type(mp))
     val = _CONSTANTS.get(key)
     if val is None:
         val = _CONSTANTS[key] = mp.mpf(text)
@@ -384,12 +407,16 @@ def smith_lambda(ndf: str, wt, wb, wn, ax, ay):
     mpf
     """
     mp = _mp()
-    key = (ndf, wt, wb, wn, ax, ay, mp.prec)  # perturbing l leaves Λ(v) as it was, and vice versa
+    key = (ndf, wt, wb, wn, ax, ay, mp.prec, type(mp))  # perturbing l leaves Λ(v) as it was, and vice versa
     val = _LAMBDA_MEMO.get(key)
     if val is None:
         if len(_LAMBDA_MEMO) > 4096:
             _LAMBDA_MEMO.clear()
-        val = _LAMBDA_MEMO[key] = _smith_lambda(mp, ndf, wt, wb, wn, ax, ay)
+        val = _smith_lambda(mp, ndf, wt, wb, wn, ax, ay)
+        # A value that left MPFR's exponent range is not kept: its input is computed again in mpmath, and a later
+        # input that reads it must see the same flags.
+        if not getattr(mp, "exceptional", bool)():
+            _LAMBDA_MEMO[key] = val
     return val
 
 

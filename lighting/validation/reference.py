@@ -13,6 +13,7 @@ from .cases import (
     ROUGHNESS,
     SHININESS,
     LightSpec,
+    perturbed_inputs,
 )
 
 
@@ -219,18 +220,13 @@ def _brdf_gradients(mp, x, delta):
     names = [k for k in INTERMEDIATES if k in q0]
     dq = {k: np.zeros((nrow, 2)) for k in names}  # Δq / δ (absolute change of the intermediate)
     flipped = np.zeros((nrow, 2), dtype=bool)
-    for i, xi in enumerate(x):
-        if xi == 0:
+    for i, j, xp in perturbed_inputs(x, d):
+        qp = _brdf_geometry(mp, xp)
+        if qp["above"] != q0["above"]:
+            flipped[i, j] = True
             continue
-        for j, sgn in enumerate((1, -1)):
-            xp = list(x)
-            xp[i] = xi * (1 + sgn * d)
-            qp = _brdf_geometry(mp, xp)
-            if qp["above"] != q0["above"]:
-                flipped[i, j] = True
-                continue
-            for k in names:
-                dq[k][i, j] = float((qp[k] - q0[k]) / d)
+        for k in names:
+            dq[k][i, j] = float((qp[k] - q0[k]) / d)
     values = {k: q0[k] for k in ("nl", "nv", "rv") if k in q0}
     grads = {}
     for k in list(values):
@@ -269,23 +265,18 @@ def _gradient(mp, fn, x, base, keys, delta):
     """
     g = np.zeros((len(keys), len(x), 2))
     d = mp.mpf(delta)
-    for i, xi in enumerate(x):
-        if xi == 0:
-            continue
-        for j, sgn in enumerate((1, -1)):
-            xp = list(x)
-            xp[i] = xi * (1 + sgn * d)
-            f = fn(mp, xp)
-            for k, key in enumerate(keys):
-                b = base.get(key)
-                if b is None or key not in f:
-                    g[k, i, j] = np.nan
-                elif b == 0:
-                    g[k, i, j] = 0.0 if f[key] == 0 else np.inf
-                else:
-                    g[k, i, j] = float((f[key] - b) / (b * d))
-            if f.get("above") != base.get("above"):
-                g[:, i, j] = np.inf
+    for i, j, xp in perturbed_inputs(x, d):
+        f = fn(mp, xp)
+        for k, key in enumerate(keys):
+            b = base.get(key)
+            if b is None or key not in f:
+                g[k, i, j] = np.nan
+            elif b == 0:
+                g[k, i, j] = 0.0 if f[key] == 0 else np.inf
+            else:
+                g[k, i, j] = float((f[key] - b) / (b * d))
+        if f.get("above") != base.get("above"):
+            g[:, i, j] = np.inf
     return g
 
 
