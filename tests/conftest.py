@@ -110,14 +110,30 @@ def pytest_collection_finish(session):
 
 
 @pytest.fixture(scope="session")
-def quick_accuracy_studies():
-    """``run_studies(quick=True)``: the accuracy studies at their quick settings, measured once per session.
+def quick_accuracy_studies(tmp_path_factory):
+    """``run_studies(quick=True)``: the accuracy studies at their quick settings, measured once per test run.
 
     Several files check what the same quick studies measured; each measuring them anew would cost the same again.
+    Under pytest-xdist the workers share the run's temporary root: the first to need the studies measures them (a
+    file lock holds the others) and leaves them there, pickled; the others read that file.
     """
+    import fcntl
+    import pickle
+
     from lighting.validation.accuracy import run_studies
 
-    return run_studies(quick=True)
+    base = tmp_path_factory.getbasetemp()
+    root = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+    saved = root / "quick-accuracy-studies.pickle"
+    with open(root / "quick-accuracy-studies.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if saved.is_file():
+            return pickle.loads(saved.read_bytes())  # written by this very run's other worker, just above
+        studies = run_studies(quick=True)
+        part = saved.with_suffix(".part")
+        part.write_bytes(pickle.dumps(studies))
+        os.replace(part, saved)
+        return studies
 
 
 @pytest.fixture(autouse=True, scope="session")
