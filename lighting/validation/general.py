@@ -104,19 +104,19 @@ def general_table(specs: list[ModelSpec], cols: list[tuple[int, str]], inputs, d
     fast = mpfr_context()
     params = {si: (model_parameters(specs[si].model), condition_parameters(specs[si].model)) for si in groups}
     for r, item in enumerate(inputs):
-        cells, again = [], list(groups) if fast is None else []
+        cells, again = [], list(groups)
         if fast is not None:
             with fast.workdps(dps), arithmetic(fast):
                 frames = _frames(fast, item)
-                if fast.exceptional():  # the frames themselves (products of binary inputs: not in practice)
-                    again = list(groups)
-                for si, members in groups.items() if not again else ():
-                    fast.clear_flags()
-                    found = _cells(fast, frames, specs[si].model, members, params[si])
-                    if fast.exceptional():
-                        again.append(si)
-                    else:
-                        cells += found
+                if not fast.exceptional():  # the frames (products of binary inputs) stay in range in practice
+                    again = []
+                    for si, members in groups.items():
+                        fast.clear_flags()
+                        found = _cells(fast, frames, specs[si].model, members, params[si])
+                        if fast.exceptional():
+                            again.append(si)
+                        else:
+                            cells += found
         if again:
             with mpmath.mp.workdps(dps), arithmetic(mpmath.mp):
                 frames = _frames(mpmath.mp, item)
@@ -131,17 +131,22 @@ def general_table(specs: list[ModelSpec], cols: list[tuple[int, str]], inputs, d
     return out
 
 
-def _double_double(mp, val) -> tuple[float, float]:
-    """``val`` rounded to the nearest double and its remainder (rounded to 64 bits, then to a double), as floats."""
-    if hasattr(val, "_mpf_"):  # mpmath: on its raw numbers
-        import mpmath.libmp as libmp
+def split_raw(raw) -> tuple[float, float]:
+    """An mpmath number's raw tuple (``x._mpf_``) rounded to the nearest double, and its remainder rounded to 64 bits
+    and then to a double (0 where the double is 0 or not finite): the double-double value the sweep keeps."""
+    import mpmath.libmp as libmp
 
-        raw = val._mpf_
-        hi = libmp.to_float(raw)
-        lo = 0.0
-        if math.isfinite(hi) and hi != 0:
-            lo = libmp.to_float(libmp.mpf_sub(raw, libmp.from_float(hi), 64, "n"))
-        return hi, lo
+    hi = libmp.to_float(raw)
+    lo = 0.0
+    if math.isfinite(hi) and hi != 0:
+        lo = libmp.to_float(libmp.mpf_sub(raw, libmp.from_float(hi), 64, "n"))
+    return hi, lo
+
+
+def _double_double(mp, val) -> tuple[float, float]:
+    """:func:`split_raw` of ``val``, an mpmath or an MPFR number (the same two roundings in MPFR)."""
+    if hasattr(val, "_mpf_"):
+        return split_raw(val._mpf_)
     hi = float(val)
     lo = 0.0
     if math.isfinite(hi) and hi != 0:

@@ -29,6 +29,7 @@ E. Heitz, "Understanding the masking-shadowing function in microfacet-based BRDF
 from __future__ import annotations
 
 from collections.abc import Sequence
+from contextlib import contextmanager
 
 __all__ = [
     "frame",
@@ -60,20 +61,16 @@ def _mp():
     return mpmath.mp
 
 
-class arithmetic:  # noqa: N801 - used as a context manager, like mpmath's workdps
+@contextmanager
+def arithmetic(ctx):
     """``with arithmetic(ctx):`` the references compute with ``ctx`` (an :class:`~lighting.validation.mpfr.MPFRContext`
     or mpmath's ``mp``) instead of mpmath's ``mp``."""
-
-    def __init__(self, ctx):
-        self.ctx = ctx
-
-    def __enter__(self):
-        self.before = _ARITHMETIC[0]
-        _ARITHMETIC[0] = self.ctx
-        return self.ctx
-
-    def __exit__(self, *exc):
-        _ARITHMETIC[0] = self.before
+    before = _ARITHMETIC[0]
+    _ARITHMETIC[0] = ctx
+    try:
+        yield ctx
+    finally:
+        _ARITHMETIC[0] = before
 
 
 _CONSTANTS: dict = {}

@@ -20,11 +20,6 @@ from __future__ import annotations
 __all__ = ["MPFRContext", "mpfr_context"]
 
 
-def _dps_to_prec(dps: int) -> int:
-    """Bits for ``dps`` decimal digits, as mpmath converts them (``mpmath.libmp.dps_to_prec``)."""
-    return max(1, int(round((int(dps) + 1) * 3.3219280948873626)))
-
-
 class MPFRContext:
     """mpmath's ``mp`` as the references use it (``mpf``, ``sqrt``, ``pi``, ``workdps`` …), on gmpy2's MPFR.
 
@@ -67,7 +62,9 @@ class MPFRContext:
         return g.context(ctx)
 
     def workdps(self, dps: int):
-        return self.workprec(_dps_to_prec(dps))
+        from mpmath.libmp import dps_to_prec  # the bits mpmath's workdps would work at
+
+        return self.workprec(dps_to_prec(dps))
 
     def clear_flags(self) -> None:
         """Clear the working context's flags (what :meth:`exceptional` reads)."""

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from .cases import DELTA, LIGHT_FORMS, REFERENCE_DPS, ModelSpec, brdf_specs, light_specs
-from .general import general_table
+from .general import general_table, split_raw
 from .reference import _brdf_gradients, _constant, _light_gradients, _mp
 
 
@@ -164,10 +164,7 @@ def _ref_table(kind: str, dtname: str, inputs: Sequence, dps: int = REFERENCE_DP
                 t = const_raw[c]
                 pid = prog_cols[c]
                 val = t if pid < 0 else _libmp.mpf_mul(t, pre[pid], prec, "n")
-                hi = _libmp.to_float(val)
-                out["hi"][r, c] = hi
-                if math.isfinite(hi) and hi != 0:
-                    out["lo"][r, c] = _libmp.to_float(_libmp.mpf_sub(val, _libmp.from_float(hi), 64, "n"))
+                out["hi"][r, c], out["lo"][r, c] = split_raw(val)
                 out["nz"][r, c] = True
                 out["kappa"][r, c] = kap[c]
                 out["logref"][r, c] = logs[c]
