@@ -117,16 +117,14 @@ def quick_accuracy_studies(tmp_path_factory):
     Under pytest-xdist the workers share the run's temporary root: the first to need the studies measures them (a
     file lock holds the others) and leaves them there, pickled; the others read that file.
     """
-    import fcntl
     import pickle
+
+    from run_once import run_root_locked
 
     from lighting.validation.accuracy import run_studies
 
-    base = tmp_path_factory.getbasetemp()
-    root = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
-    saved = root / "quick-accuracy-studies.pickle"
-    with open(root / "quick-accuracy-studies.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    with run_root_locked(tmp_path_factory, "quick-accuracy-studies") as root:
+        saved = root / "quick-accuracy-studies.pickle"
         if saved.is_file():
             return pickle.loads(saved.read_bytes())  # written by this very run's other worker, just above
         studies = run_studies(quick=True)

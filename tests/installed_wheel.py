@@ -6,11 +6,11 @@ needs no network; the package itself is the wheel's copy (``tests/test_installed
 
 from __future__ import annotations
 
-import fcntl
-import os
 import subprocess
 import sys
 from pathlib import Path
+
+from run_once import run_root_locked
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -28,11 +28,8 @@ def shared_install(tmp_path_factory):
     Under pytest-xdist the workers share the run's temporary root: the first to get there builds the wheel and the
     environment (a file lock holds the others), the rest use them.  Each caller gets a fresh work folder.
     """
-    base = tmp_path_factory.getbasetemp()
-    root = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
-    shared = root / "installed-wheel"
-    with open(root / "installed-wheel.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    with run_root_locked(tmp_path_factory, "installed-wheel") as root:
+        shared = root / "installed-wheel"
         done = shared / "done.txt"
         if done.is_file():
             bin_dir, wheel = (Path(p) for p in done.read_text(encoding="utf-8").splitlines())

@@ -8,6 +8,7 @@ accurate for smooth periodic integrands).
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -68,3 +69,34 @@ def hemisphere(func, *, scale=1e-3, panels=48, order=24, n_phi=256):
 
 def direction(theta, phi=0.0):
     return np.array([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
+
+
+def half_vector_integral(func, alpha, v=None):
+    """``∫ func(h) dω_h`` over the upper hemisphere; with ``v``, over the arc of φ where ``v·h > 0``.
+
+    θ_h in Gauss–Legendre panels graded toward the pole by ``alpha`` (60 × 24 nodes); φ by the periodic trapezoid
+    rule (1024 nodes) over the whole circle, or Gauss–Legendre (384 nodes) over the arc where ``v·h > 0`` (the
+    integrand's kink there an endpoint).
+    """
+    h, half, w, th, wt = half_vector_nodes(alpha, v)
+    return float(np.sum(evaluate(func, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
+
+
+def half_vector_nodes(alpha, v=None):
+    """The nodes ``h`` of :func:`half_vector_integral` and the factors of its weights: ``(h, half, w, θ, w_θ)``."""
+    th, wt = theta_nodes(scale=alpha * 1e-3, panels=60, order=24)
+    if v is None or v[2] >= 1:
+        half, pv = np.full(th.shape, math.pi), 0.0
+        x, w = np.arange(1024) / 512 - 1, np.full(1024, 2 / 1024)
+        # Every ring spans the whole circle: its azimuths are one row, whose sines and cosines each ring shares.
+        ph = pv + half[:1, None] * x
+    else:
+        tv, pv = math.acos(v[2]), math.atan2(v[1], v[0])
+        half = np.arccos(np.clip(-math.cos(tv) * np.cos(th) / (math.sin(tv) * np.sin(th)), -1, 1))
+        x, w = leggauss(384)
+        ph = pv + half[:, None] * x
+    h = np.stack(
+        np.broadcast_arrays(np.sin(th)[:, None] * np.cos(ph), np.sin(th)[:, None] * np.sin(ph), np.cos(th)[:, None]),
+        -1,
+    )
+    return h, half, w, th, wt

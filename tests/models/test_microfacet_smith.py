@@ -17,7 +17,7 @@ import warnings
 import mpmath
 import numpy as np
 import pytest
-from quadrature import direction, hemisphere
+from quadrature import direction, half_vector_integral, hemisphere
 
 from lighting.integrate import directional_albedo
 from lighting.models import microfacet as mf
@@ -276,15 +276,15 @@ def _density_integral(sampler, v, alpha):
 
     Every ``l ≠ −v`` is ``2 (v·h) h − v`` for exactly one ``h`` with ``n·h > 0``; where that ``h`` has
     ``v·h <= 0`` the density is 0, a jump in ``l``.  In ``h`` the integrand vanishes linearly there, and
-    :func:`_h_integral` integrates each ``θ_h``'s ``φ`` interval with ``v·h > 0`` by Gauss–Legendre, so no
-    node straddles the cut.
+    :func:`quadrature.half_vector_integral` integrates each ``θ_h``'s ``φ`` interval with ``v·h > 0`` by
+    Gauss–Legendre, so no node straddles the cut.
     """
 
     def integrand(h):
         vh = h @ v
         return sampler.pdf(2 * vh[..., None] * h - v, v) * 4 * np.maximum(vh, 0)
 
-    return _h_integral(integrand, alpha, v)
+    return half_vector_integral(integrand, alpha, v)
 
 
 @pytest.mark.parametrize("ndf, alpha", SAMPLER_CASES)
@@ -393,30 +393,6 @@ def _ndf_and_g1(ndf, ax, ay):
     return (lambda h: _d_aniso(ndf, h, ax, ay)), (lambda w: _g1_aniso(ndf, w, ax, ay))
 
 
-def _h_integral(func, alpha, v=None):
-    """``∫ func(h) dω_h`` over the upper hemisphere; with ``v``, over the part with ``v·h > 0`` only.
-
-    θ_h: Gauss panels graded toward the pole by ``alpha``; φ: Gauss–Legendre over the interval where
-    ``v·h > 0`` (``cos(φ − φ_v) > −cot θ_v cot θ_h``), so the integrand's kink there is an endpoint.
-    """
-    from quadrature import evaluate, leggauss, theta_nodes
-
-    th, wt = theta_nodes(scale=alpha * 1e-3, panels=60, order=24)
-    if v is None or v[2] >= 1:  # the whole circle: the periodic trapezoid rule, spectrally accurate
-        half, pv = np.full(th.shape, math.pi), 0.0
-        x, w = np.arange(1024) / 512 - 1, np.full(1024, 2 / 1024)
-        ph = pv + half[:1, None] * x  # every ring's azimuths: one row, its sines and cosines shared
-    else:
-        tv, pv = math.acos(v[2]), math.atan2(v[1], v[0])
-        half = np.arccos(np.clip(-math.cos(tv) * np.cos(th) / (math.sin(tv) * np.sin(th)), -1, 1))
-        x, w = leggauss(384)
-        ph = pv + half[:, None] * x
-    h = np.stack(
-        np.broadcast_arrays(np.sin(th)[:, None] * np.cos(ph), np.sin(th)[:, None] * np.sin(ph), np.cos(th)[:, None]), -1
-    )
-    return float(np.sum(evaluate(func, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
-
-
 @pytest.mark.parametrize("ndf", NDFS)
 @pytest.mark.parametrize("ax, ay", [(a, a) for a in (1e-3, 0.1, 0.5, 1.0, 2.0)] + ANISO)
 def test_ndf_normalization_and_projected_area(ndf, ax, ay):
@@ -424,10 +400,10 @@ def test_ndf_normalization_and_projected_area(ndf, ax, ay):
     # microsurface equals that of the macrosurface; Heitz 2014 eq. 12), for views up to 89° at several azimuths.
     dfun, gfun = _ndf_and_g1(ndf, ax, ay)
     a = min(ax, ay)
-    assert _h_integral(lambda h: dfun(h) * h[..., 2], a) == pytest.approx(1.0, abs=1e-9)
+    assert half_vector_integral(lambda h: dfun(h) * h[..., 2], a) == pytest.approx(1.0, abs=1e-9)
     for tv, pv in ((0.0, 0.0), (0.6, 0.4), (1.2, 2.0), (1.5, -0.9), (math.radians(89), 0.8)):
         v = _dir(tv, pv)
-        got = _h_integral(lambda h, v=v: gfun(v) * np.maximum(h @ v, 0) * dfun(h), a, v)
+        got = half_vector_integral(lambda h, v=v: gfun(v) * np.maximum(h @ v, 0) * dfun(h), a, v)
         assert got == pytest.approx(v[2], rel=1e-7, abs=1e-12), (tv, pv)
 
 
@@ -436,7 +412,7 @@ def test_blinn_phong_ndf_normalization():
     # approximation, so the projected-area identity holds only approximately and is not asserted).
     for alpha in (0.05, 0.3, 1.0):
         ct = CookTorrance(1.0, alpha, 1.0, ndf="blinn-phong")
-        total = _h_integral(lambda h, e=ct._exponent: mf.blinn_phong_ndf(h[..., 2], e) * h[..., 2], alpha)
+        total = half_vector_integral(lambda h, e=ct._exponent: mf.blinn_phong_ndf(h[..., 2], e) * h[..., 2], alpha)
         assert total == pytest.approx(1.0, abs=1e-9)
 
 

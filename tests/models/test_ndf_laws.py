@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 import pytest
-from quadrature import evaluate, leggauss, theta_nodes
+from quadrature import evaluate, half_vector_integral, half_vector_nodes
 
 from lighting.microfacet import beckmann_ndf, ggx_ndf, smith_g1_beckmann, smith_g1_ggx
 from lighting.models import disney as dm
@@ -50,32 +50,6 @@ VIEWS_DEG = ((0.0, 0.0), (60.0, 0.4), (85.0, 2.0), (89.0, -0.9))
 
 def _dir(theta, phi=0.0):
     return np.array([math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi), math.cos(theta)])
-
-
-def _h_integral(func, alpha, v=None):
-    """``∫ func(h) dω_h`` over the upper hemisphere; with ``v``, over the arc of φ where ``v·h > 0``."""
-    h, half, w, th, wt = _h_nodes(alpha, v)
-    return float(np.sum(evaluate(func, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
-
-
-def _h_nodes(alpha, v=None):
-    """The nodes ``h`` of :func:`_h_integral` and the factors of its weights (``half``, ``w``, ``θ``, ``w_θ``)."""
-    th, wt = theta_nodes(scale=alpha * 1e-3, panels=60, order=24)
-    if v is None or v[2] >= 1:
-        half, pv = np.full(th.shape, math.pi), 0.0
-        x, w = np.arange(1024) / 512 - 1, np.full(1024, 2 / 1024)
-        # Every ring spans the whole circle: its azimuths are one row, whose sines and cosines each ring shares.
-        ph = pv + half[:1, None] * x
-    else:
-        tv, pv = math.acos(v[2]), math.atan2(v[1], v[0])
-        half = np.arccos(np.clip(-math.cos(tv) * np.cos(th) / (math.sin(tv) * np.sin(th)), -1, 1))
-        x, w = leggauss(384)
-        ph = pv + half[:, None] * x
-    h = np.stack(
-        np.broadcast_arrays(np.sin(th)[:, None] * np.cos(ph), np.sin(th)[:, None] * np.sin(ph), np.cos(th)[:, None]),
-        -1,
-    )
-    return h, half, w, th, wt
 
 
 def _s2(h):
@@ -119,10 +93,10 @@ EXACT = [(name, a, a) for name in ("beckmann", "ggx", "gtr2", "ward") for a in A
 def test_normalization_and_projected_area(name, ax, ay):
     d, g1 = _ndf(name, ax, ay)
     a = min(ax, ay)
-    assert _h_integral(lambda h: d(h) * h[..., 2], a) == pytest.approx(1.0, abs=1e-9)
+    assert half_vector_integral(lambda h: d(h) * h[..., 2], a) == pytest.approx(1.0, abs=1e-9)
     for tv, pv in VIEWS_DEG:
         v = _dir(math.radians(tv), pv)
-        got = _h_integral(lambda h, v=v: g1(v) * np.maximum(h @ v, 0) * d(h), a, v)
+        got = half_vector_integral(lambda h, v=v: g1(v) * np.maximum(h @ v, 0) * d(h), a, v)
         assert got == pytest.approx(v[2], rel=1e-7, abs=1e-12), (tv, pv)
 
 
@@ -143,12 +117,12 @@ def test_ward_half_vector_density_is_the_anisotropic_beckmann_ndf_times_cos():
 def test_blinn_phong_ndf_is_normalized_and_beckmann_masking_nearly_fits_it(alpha, bound):
     e = float(mf.blinn_phong_exponent(alpha))
     d = lambda h: mf.blinn_phong_ndf(h[..., 2], e)  # noqa: E731
-    assert _h_integral(lambda h: d(h) * h[..., 2], alpha) == pytest.approx(1.0, abs=1e-9)
+    assert half_vector_integral(lambda h: d(h) * h[..., 2], alpha) == pytest.approx(1.0, abs=1e-9)
     worst = 0.0
     for tv, pv in VIEWS_DEG:
         v = _dir(math.radians(tv), pv)
         g1v = smith_g1_beckmann(v[2], alpha, _s2(v))
-        got = _h_integral(lambda h, v=v, g1v=g1v: g1v * np.maximum(h @ v, 0) * d(h), alpha, v)
+        got = half_vector_integral(lambda h, v=v, g1v=g1v: g1v * np.maximum(h @ v, 0) * d(h), alpha, v)
         worst = max(worst, abs(got / v[2] - 1))
     # Beckmann's G1 is the masking of Beckmann's D, which (e+2)/(2π) cos^e only approximates.
     assert 0 < worst < bound, worst
@@ -159,12 +133,12 @@ def test_gtr1_is_normalized_and_its_clearcoat_masking_is_not_its_own(a):
     def d(h):
         return dm.gtr1(h[..., 2], _s2(h), a)
 
-    assert _h_integral(lambda h: d(h) * h[..., 2], a) == pytest.approx(1.0, abs=1e-9)
+    assert half_vector_integral(lambda h: d(h) * h[..., 2], a) == pytest.approx(1.0, abs=1e-9)
     # The clearcoat's G1 is GGX's at α = 0.25 (BRDF Explorer): at 85° the identity misses by far more than
     # the quadrature's error wherever α differs from 0.25.
     v = _dir(math.radians(85.0))
     g1v = smith_g1_ggx(v[2], 0.25, _s2(v))
-    got = _h_integral(lambda h: g1v * np.maximum(h @ v, 0) * d(h), a, v) / v[2]
+    got = half_vector_integral(lambda h: g1v * np.maximum(h @ v, 0) * d(h), a, v) / v[2]
     assert abs(got - 1) > 1e-3
 
 
@@ -172,8 +146,8 @@ def test_gtr1_is_normalized_and_its_clearcoat_masking_is_not_its_own(a):
 def test_ashikhmin_shirley_half_vector_density_is_a_density_not_an_ndf(nu, nv):
     s = AshikhminShirleySampler(nu, nv)
     width = 1 / math.sqrt(max(nu, nv) + 1)
-    assert _h_integral(s._normal_pdf, width) == pytest.approx(1.0, abs=1e-9)
-    proj = _h_integral(lambda h: s._normal_pdf(h) * h[..., 2], width)
+    assert half_vector_integral(s._normal_pdf, width) == pytest.approx(1.0, abs=1e-9)
+    proj = half_vector_integral(lambda h: s._normal_pdf(h) * h[..., 2], width)
     if nu == nv:
         assert proj == pytest.approx((nu + 1) / (nu + 2), abs=1e-9)  # not 1: not normalized as an NDF
     else:
@@ -201,8 +175,8 @@ def test_signed_projected_area_holds_for_every_ndf(name, ax, ay):
     else:
         d = _ndf(name, ax, ay)[0]
     # The whole hemisphere's nodes do not depend on the view: D on them once, then each view's integral
-    # exactly as _h_integral(lambda h: d(h) * (h @ v), ...) sums it.
-    h, half, w, th, wt = _h_nodes(min(ax, ay))
+    # exactly as half_vector_integral(lambda h: d(h) * (h @ v), ...) sums it.
+    h, half, w, th, wt = half_vector_nodes(min(ax, ay))
     dh = evaluate(d, h)
     for tv, pv in VIEWS_DEG:
         v = _dir(math.radians(tv), pv)

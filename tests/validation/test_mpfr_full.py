@@ -9,22 +9,17 @@ checks of the arithmetic itself.
 
 import numpy as np
 import pytest
+from test_mpfr import _general_columns
 
 from lighting.validation import general
 from lighting.validation.cases import brdf_cases
 from lighting.validation.mpfr import MPFRContext
-from lighting.validation.stability import REFERENCE_DPS, brdf_specs
+from lighting.validation.stability import REFERENCE_DPS
 from lighting.validation.summary import _binary
-from lighting.validation.tables import _brdf_forms, _columns
 
 pytestmark = pytest.mark.slow  # the general table at 80 digits in pure-Python mpmath, every model, two dtypes
 
 gmpy2 = pytest.importorskip("gmpy2")
-
-
-def _general_columns():
-    specs = brdf_specs()
-    return specs, [(si, form) for si, form in _columns(specs, _brdf_forms) if specs[si].general]
 
 
 def _inputs(dt, every=15):
