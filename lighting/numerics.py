@@ -191,9 +191,17 @@ def safe_div(num, den, *, zero_where_den_le0: bool = True) -> np.ndarray:
     den = np.asarray(den)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         q = num / den
+    mask = den > 0 if zero_where_den_le0 else den != 0
+    if isinstance(q, np.ndarray) and q.ndim and q.dtype.kind == "f":
+        # The quotient is a fresh float array: saturated and zeroed in place, the numbers the general form below
+        # gives (np.clip keeps NaN and −0; NaN and the masked entries are then set to +0).
+        big = np.finfo(q.dtype).max
+        keep = mask & ~np.isnan(q)
+        np.clip(q, -big, big, out=q)
+        np.copyto(q, 0, where=~keep)
+        return q
     dt = q.dtype if q.dtype.kind == "f" else np.float64
     big = np.finfo(dt).max
-    mask = den > 0 if zero_where_den_le0 else den != 0
     q = np.where(mask, q, 0)
     q = np.nan_to_num(q, nan=0.0, posinf=big, neginf=-big)
     return q.astype(dt, copy=False)

@@ -110,8 +110,16 @@ def _rgb(values: np.ndarray, coeff: np.ndarray) -> np.ndarray:
     The product is formed in float64 (a coefficient of 1e300 has no float32 value) and
     saturates at the dtype's largest finite number.
     """
+    coeff = np.asarray(coeff, dtype=np.float64)
     with np.errstate(over="ignore"):
-        out = values[..., None] * np.asarray(coeff, dtype=np.float64)
+        if coeff.shape != (3,):
+            out = values[..., None] * coeff
+        else:
+            # One multiplication per channel into a strided column, the products ``values[..., None] * coeff``
+            # forms: broadcasting over a last axis of length 3 runs NumPy's inner loop three elements at a time.
+            out = np.empty((*np.shape(values), 3), dtype=np.result_type(values, coeff))
+            for k in range(3):
+                np.multiply(values, coeff[k], out=out[..., k])
     return saturate_to(out, values.dtype, overwrite=True)  # the product is a fresh array
 
 
