@@ -252,7 +252,10 @@ def _mp_albedo_full_nested(sigma, theta_v, dps=15):
     kink of its own where the clamp starts to act (``c₀ = −1``, the root of ``slope = A + c₃ tan θ_m``): the
     outer rule splits there too (found by a scan of 256 steps per panel and ``findroot``).  Without that
     breakpoint the outer rule is 8.2e-8 high at σ = π/2, θ_v = 1.5 (QUADPACK, adaptive in float64, agrees
-    with the split rule to 1e-15, and the split rule at 22 digits with the one at 15).
+    with the split rule by tanh-sinh to 1e-15).  Between the breakpoints both integrands are smooth, and both
+    rules here are mpmath's Gauss–Legendre, which raises its degree until two degrees agree to the working
+    precision: over the thirteen cases of this file it is within 1.4e-13 of the split rule by tanh-sinh at 22
+    digits (σ = π/2, θ_v = 1.5), and within 2e-16 at every θ_v <= 1.2.
     """
     mp = mpmath.mp
     with mp.workdps(dps):
@@ -288,7 +291,7 @@ def _mp_albedo_full_nested(sigma, theta_v, dps=15):
             pts = [0, mp.pi / 2, mp.pi]
             if slope > 0 and (A + c3 * tm) / slope < 1:
                 pts = [0, mp.pi / 2, mp.acos(-(A + c3 * tm) / slope), mp.pi]
-            return mp.quad(f, pts)
+            return mp.quad(f, pts, method="gauss-legendre")
 
         outer = [mp.mpf(0), tv, mp.pi / 2]
         kinks = []
@@ -298,7 +301,8 @@ def _mp_albedo_full_nested(sigma, theta_v, dps=15):
             for i in range(256):
                 if sign[i] != sign[i + 1]:
                     kinks.append(mp.findroot(clamped, (grid[i], grid[i + 1]), solver="anderson"))
-        return 2 / mp.pi * mp.quad(lambda t: inner(t) * mp.cos(t) * mp.sin(t), sorted(outer + kinks))
+        return 2 / mp.pi * mp.quad(lambda t: inner(t) * mp.cos(t) * mp.sin(t), sorted(outer + kinks),
+                                   method="gauss-legendre")
 
 
 def test_the_albedo_references_agree():
