@@ -13,8 +13,8 @@ import numpy as np
 
 from .._validate import check_bool, check_nonnegative
 from ..numerics import safe_div, saturate_to
-from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
-from ..vec import _one_minus_cos_between, normalize
+from ..sampling.base import _TWO_PI, Sampler, Samples, _local_v
+from ..vec import _dot, _one_minus_cos_between, normalize
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text
 from .protocol import Lobe, Parameter, register_model
 

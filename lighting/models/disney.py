@@ -16,8 +16,8 @@ import numpy as np
 
 from .._validate import check_range
 from ..numerics import safe_div, saturate_to
-from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
-from ..vec import normalize
+from ..sampling.base import _TWO_PI, Sampler, Samples, _local_v
+from ..vec import _dot, normalize
 from .base import BRDF, BRDFFlags, _color, _color_text
 from .geometry import Geometry
 from .protocol import Lobe, Parameter, register_model

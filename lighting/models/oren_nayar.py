@@ -15,6 +15,7 @@ import numpy as np
 from .._text import quote
 from .._validate import check_choice, real_array
 from ..numerics import saturate_to
+from ..vec import _dot
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _combine
 from .geometry import Geometry
 from .lambert import CosineSampler
@@ -33,10 +34,6 @@ def _check_sigma(sigma) -> float:
     if arr.shape != () or not np.isfinite(arr) or arr < 0:
         raise ValueError(f"sigma must be {allowed}; got {quote(sigma)}")
     return float(arr)
-
-
-def _dot(a, b):
-    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
 
 
 def _cross(a, b):

@@ -19,8 +19,8 @@ import numpy as np
 
 from .._validate import check_choice, check_positive
 from ..numerics import saturate_to
-from ..sampling.base import _TWO_PI, Sampler, Samples, _dot, _local_v
-from ..vec import normalize
+from ..sampling.base import _TWO_PI, Sampler, Samples, _local_v
+from ..vec import _dot, normalize
 from .base import BRDFFlags, SeparableBRDF, _color, _color_text, _combine
 from .geometry import Geometry
 from .protocol import Lobe, Parameter, register_model

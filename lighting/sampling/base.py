@@ -136,10 +136,6 @@ def _local_v(v) -> np.ndarray:
     return v
 
 
-def _dot(a, b):
-    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
-
-
 def _upper(h):
     """``h`` turned into the upper hemisphere, ``np.where(h[..., 2:3] < 0, -h, h)``: the same numbers.
 

@@ -35,8 +35,8 @@ from .._validate import check_count, check_range
 from ..models.base import BRDF
 from ..models.lambert import cosine_hemisphere_pdf, square_to_cosine_hemisphere
 from ..numerics import safe_div
-from ..vec import normalize
-from .base import Sampler, Samples, _dot, _upper
+from ..vec import _dot, normalize
+from .base import Sampler, Samples, _upper
 
 __all__ = ["MerlSampler"]
 

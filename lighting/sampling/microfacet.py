@@ -23,7 +23,7 @@ import numpy as np
 from .._validate import check_choice, check_nonnegative, check_positive
 from ..models import microfacet as _mf
 from ..numerics import safe_div
-from ..vec import normalize
+from ..vec import _dot, normalize
 from .base import (
     _TWO_PI,
     Sampler,
@@ -31,7 +31,6 @@ from .base import (
     _check_size,
     _columns_of,
     _directions,
-    _dot,
     _half_columns,
     _local_v,
     _one_minus_cos_power,

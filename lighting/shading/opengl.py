@@ -117,6 +117,7 @@ from .._budget import check_budget
 from .._text import quote
 from .._validate import ArgumentTypeError, check_bool, check_count, check_vectors, real_array
 from ..numerics import cos_sin_deg, working_dtype
+from ..vec import _dot
 
 __all__ = ["Material", "Light", "shade_vertices", "GL_MAX_SHININESS", "GL_MAX_SPOT_EXPONENT"]
 
@@ -359,10 +360,6 @@ def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _sat(x: np.ndarray) -> np.ndarray:
     """Clamp to the finite float64 range (an overflowed ``±inf`` becomes ``±max``)."""
     return np.clip(x, -_BIG, _BIG)
-
-
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
 
 
 def _light_list(lights) -> list[Light]:
