@@ -100,8 +100,7 @@ def _star(c, t1, t2, psi_max, width, n_r: int, n_phi: int, breaks=None, eps=None
         sp = np.sqrt(np.clip(omc * (2 - omc), 0.0, None))
         w = (y_max * wx) / k * np.exp(-(power / k) * np.log1p(-y)) * wphi[..., None]
         ray = np.cos(phi)[..., None] * t1[:, None, :] + np.sin(phi)[..., None] * t2[:, None, :]
-        d = (1 - omc)[..., None] * c[:, None, None, :] + sp[..., None] * ray[:, :, None, :]
-        return d.reshape(b, -1, 3), w.reshape(b, -1)
+        return _directions(1 - omc, c, sp, ray).reshape(b, -1, 3), w.reshape(b, -1)
     a = None if width is None else np.arcsinh(pm / width)
     # Panel boundaries (in ψ): a few multiples of the lobe width, so the lobe always gets
     # panels of its own however far the ray reaches, and the kinks of the integrand.
@@ -141,8 +140,22 @@ def _star(c, t1, t2, psi_max, width, n_r: int, n_phi: int, breaks=None, eps=None
     sp = np.sin(psi)
     w = dpsi * sp * wphi[..., None]
     ray = np.cos(phi)[..., None] * t1[:, None, :] + np.sin(phi)[..., None] * t2[:, None, :]  # (B, n_phi, 3)
-    d = np.cos(psi)[..., None] * c[:, None, None, :] + sp[..., None] * ray[:, :, None, :]
-    return d.reshape(b, -1, 3), w.reshape(b, -1)
+    return _directions(np.cos(psi), c, sp, ray).reshape(b, -1, 3), w.reshape(b, -1)
+
+
+def _directions(cos_psi, c, sin_psi, ray):
+    """``cos ψ c + sin ψ ray`` at every node: ``(B, n_phi, n_r)`` cosines and sines, ``c`` ``(B, 3)``, rays
+    ``(B, n_phi, 3)`` → ``(B, n_phi, n_r, 3)``.
+
+    ``cos_psi[..., None] * c[:, None, None, :] + sin_psi[..., None] * ray[:, :, None, :]``, the same products and
+    sums, formed one component at a time: a broadcast over the last axis of length 3 runs NumPy's inner loop three
+    elements at a time.
+    """
+    d = np.empty((*cos_psi.shape, 3), dtype=np.result_type(cos_psi, c, sin_psi, ray))
+    for k in range(3):
+        np.multiply(cos_psi, c[:, None, None, k], out=d[..., k])
+        d[..., k] += sin_psi * ray[:, :, None, k]
+    return d
 
 
 def _horizon_cut(c, t1, t2):
