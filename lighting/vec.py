@@ -201,6 +201,20 @@ def _direct_path(len2, dtype) -> np.ndarray:
     return (len2 > float(fi.tiny) * 1e4) & (len2 < float(fi.max) * 1e-4)
 
 
+def _add_vectors(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a + b`` for vectors ``(..., 3)`` of one float dtype: the same sums, bit for bit, a fresh C-contiguous array.
+
+    Where the shapes differ the sum is formed one component at a time: a broadcast over the last axis of
+    length 3 runs NumPy's inner loop three elements at a time.
+    """
+    if a.shape == b.shape:
+        return a + b
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape), dtype=np.result_type(a, b))
+    for k in range(3):
+        np.add(a[..., k], b[..., k], out=out[..., k])
+    return out
+
+
 def _divide_components(a: np.ndarray, d: np.ndarray) -> np.ndarray:
     """``a / d[..., None]`` for vectors ``a`` ``(..., 3)`` and divisors ``d`` ``(...)`` of one float dtype.
 

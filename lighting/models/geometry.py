@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..numerics import _exponent_in, as_float, log_corrected, working_dtype
-from ..vec import _dot, _one_minus_cos_between, normalize
+from ..vec import _add_vectors, _dot, _one_minus_cos_between, normalize
 
 __all__ = ["Geometry"]
 
@@ -169,7 +169,7 @@ class Geometry:
         the highlight lives.  Those rows are rebuilt from the tangential parts
         (:func:`_unit_sum`), which depends on the directions only.
         """
-        s = self.l + self.v
+        s = _add_vectors(self.l, self.v)
         len2 = self._dot(s, s)
         far = len2 < 1
         if np.any(far):
