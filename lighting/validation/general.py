@@ -199,13 +199,15 @@ def _cells(mp, frames, model, members, params) -> list:
             vals = _form_values(mp, model, forms, q0, prm)
             for a, (v0, v1) in enumerate(zip(base, vals, strict=True)):
                 rel[a, 9 + pi_, j] = float((v1 - v0) / (v0 * d)) if v0 != 0 else 0.0
+    # Every column's κ at once (each row of the sums is the sum np.sum forms of that column alone).
+    finite = np.isfinite(rel).all(axis=(1, 2))
+    kappas = np.sum(np.max(np.abs(rel), axis=2), axis=1)
     cells = []
     for a, (c, _) in enumerate(members):
         val = base[a]
         if val == 0:
             continue
-        g = rel[a]
-        kappa = float(np.sum(np.max(np.abs(g), axis=1))) if np.all(np.isfinite(g)) else math.inf
+        kappa = float(kappas[a]) if finite[a] else math.inf
         hi, lo = _double_double(mp, val)
         cells.append((c, kappa, hi, lo, float(mp.log(val))))
     return cells

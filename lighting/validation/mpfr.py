@@ -17,6 +17,8 @@ to the last few of its 269 bits: the double-double values and condition numbers 
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 __all__ = ["MPFRContext", "mpfr_context"]
 
 
@@ -36,9 +38,14 @@ class MPFRContext:
         self.zero = gmpy2.mpfr(0)
         self.one = gmpy2.mpfr(1)
         self._pi: dict = {}
+        self._prec = None  # the innermost precision entered through workprec / workdps (None: none entered)
 
     @property
     def prec(self) -> int:
+        # The references read it for every constant they use (model_references._c, pi): kept here, it is an
+        # attribute read instead of a query of gmpy2's thread-local context.
+        if self._prec is not None:
+            return self._prec
         return self._gmpy2.get_context().precision
 
     @property
@@ -54,12 +61,19 @@ class MPFRContext:
     def power(x, y):
         return x**y
 
+    @contextmanager
     def workprec(self, bits: int):
         g = self._gmpy2
         ctx = g.get_context().copy()
         ctx.precision = int(bits)
         ctx.clear_flags()
-        return g.context(ctx)
+        before = self._prec
+        with g.context(ctx) as active:
+            self._prec = int(bits)
+            try:
+                yield active
+            finally:
+                self._prec = before
 
     def workdps(self, dps: int):
         from mpmath.libmp import dps_to_prec  # the bits mpmath's workdps would work at
