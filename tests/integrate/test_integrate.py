@@ -595,7 +595,7 @@ def test_small_patch_monte_carlo_methods_are_unbiased():
 _CT_GGX_SHARP = CookTorrance(1.0, 0.02, 1.0, ndf="ggx", geometry="smith", fresnel="none")
 COVERAGE_CASES = [
     # (label, model, θ_v in degrees, method, samples)
-    ("issue: Phong e=50 at 60°, lobe cut by the horizon", Phong(1.0, 50.0), 60.0, "importance", 1024),
+    ("Phong e=50 at 60°, lobe cut by the horizon", Phong(1.0, 50.0), 60.0, "importance", 1024),
     ("Phong e=50 at 60°, stratified", Phong(1.0, 50.0), 60.0, "stratified", 1024),
     ("grazing Phong e=50 at 89.5°", Phong(1.0, 50.0), 89.5, "importance", 256),
     ("sharp lobe e=1e4, uniform (mostly missed)", Phong(1.0, 1e4), 30.0, "uniform", 256),
@@ -656,11 +656,12 @@ def test_monte_carlo_error_covers_the_true_error_in_90_percent_of_seeds(label, m
     assert np.median(reported) <= bound, f"{label}: median error {np.median(reported):.3g} > {bound:.3g}"
 
 
-def test_the_issue_case_no_longer_reports_rounding_as_its_error():
-    # Old code: ±2.8e-16 while the true error is 2.7e-6 (no sample fell where the horizon cuts the lobe).
+def test_a_lobe_cut_by_the_horizon_does_not_report_rounding_as_its_error():
+    # The sample variance alone reports ±2.8e-16 here, where the true error is 2.7e-6: no sample falls where the
+    # horizon cuts the lobe.
     with mpmath.workdps(30):
         ref = _phong_albedo_mp(50.0, math.radians(60.0))
-    # The reported call, with a seed where (as in 93 % of seeds) no sample falls below the horizon.
+    # A seed where (as in 93 % of seeds) no sample falls below the horizon.
     est = directional_albedo(Phong(1, 50), math.radians(60), samples=1024, method="importance", return_error=True,
                              seed=1)  # fmt: skip
     assert abs(est.value[0] - ref) == pytest.approx(2.7e-6, rel=0.05)

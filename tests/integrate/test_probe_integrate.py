@@ -370,7 +370,7 @@ def test_probe_b_legal_base_calls_work():
 
 @pytest.mark.parametrize("samples", [10**9, 2**40])
 def test_huge_sample_counts_are_refused_before_allocating(samples):
-    # The issue: samples=10**9 was accepted and then allocated 6 GiB.
+    # Refused by the memory budget before anything is allocated: 10**9 samples would take 6 GiB.
     with pytest.raises(ValueError, match=r"samples needs about .* over the memory budget"):
         integrate.directional_albedo(Phong(1.0, 50.0), 0.3, samples, "importance")
     with pytest.raises(ValueError, match="samples"):
