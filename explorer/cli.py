@@ -13,6 +13,7 @@ The parser itself (one-line errors, the help's conventions, ``--size`` and choic
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import re
 import sys
@@ -213,8 +214,12 @@ def require(command: str, *modules: str) -> None:
             raise missing_extra(command, missing if missing.split(".")[0] in EXTRAS else name) from None
 
 
+@functools.cache
 def package_version() -> str:
     """The installed version of ``lighting-explorer`` (package metadata), or ``"unknown"`` when not installed.
+
+    Read once per process: the metadata search lists every folder on the import path, and the parser that
+    shows the version is built for every command run in the process.
 
     Returns
     -------

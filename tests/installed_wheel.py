@@ -48,7 +48,9 @@ def _build_and_install(tmp: Path):
          "--disable-pip-version-check", "-w", str(wheels), str(ROOT)], cwd=tmp)  # fmt: skip
     (wheel,) = wheels.glob("lighting_explorer-*.whl")
     venv = tmp / "venv"
-    run_command([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], cwd=tmp)
+    # No pip of its own (ensurepip would install one, seconds of work): this interpreter's pip, seen through the
+    # system site-packages, installs into the environment it runs in.
+    run_command([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", str(venv)], cwd=tmp)
     bin_dir = venv / "bin"
     run_command([str(bin_dir / "python"), "-m", "pip", "install", "--quiet", "--no-deps", "--no-index",
          "--disable-pip-version-check", "--force-reinstall", str(wheel)], cwd=tmp)  # fmt: skip

@@ -31,6 +31,7 @@ trapezoid rule (1024 nodes) over the whole circle or Gauss–Legendre (384 nodes
 ``v·h > 0`` (its kink becomes an endpoint).
 """
 
+import functools
 import math
 
 import numpy as np
@@ -66,7 +67,8 @@ def _g1_from_lambda_cos(ndf, ax, ay):
 
 
 def _ndf(name, ax, ay):
-    """``(D(h), G1(ω))`` of a distribution (``G1`` None where it has no masking of its own)."""
+    """``(D(h), G1(ω))`` of a distribution, ``G1`` the masking the engine pairs with it at the same α (None for
+    GTR1: the clearcoat pairs it with GGX's at α = 0.25 whatever its own α)."""
     if name == "beckmann" and ax == ay:
         return (lambda h: beckmann_ndf(h[..., 2], ax, _s2(h))), (lambda w: smith_g1_beckmann(w[..., 2], ax, _s2(w)))
     if name == "ggx" and ax == ay:
@@ -79,7 +81,44 @@ def _ndf(name, ax, ay):
     if name == "ward":
         s = WardSampler(ax, ay)
         return (lambda h: s._half_pdf(h) / np.maximum(h[..., 2], 1e-300)), _g1_from_lambda_cos("beckmann", ax, ay)
+    if name == "blinn-phong":  # its masking in the engine: Beckmann's G1 of the same α
+        e = float(mf.blinn_phong_exponent(ax))
+        return (lambda h: mf.blinn_phong_ndf(h[..., 2], e)), (lambda w: smith_g1_beckmann(w[..., 2], ax, _s2(w)))
+    if name == "gtr1":
+        return (lambda h: dm.gtr1(h[..., 2], _s2(h), ax)), None
     raise AssertionError(name)
+
+
+def _weighted_sum(vals, nodes):
+    """``Σ vals · w`` over :func:`quadrature.half_vector_nodes` ``nodes``, summed as ``half_vector_integral`` sums."""
+    _, half, w, th, wt = nodes
+    return float(np.sum(vals * half[:, None] * w * (wt * np.sin(th))[:, None]))
+
+
+@functools.cache
+def _whole_circle(name, ax, ay):
+    """The integrals over the whole circle of half vectors (α = min(ax, ay)), with ``D`` on its nodes evaluated once.
+
+    ``(∫ D(h) (n·h) dω_h, ∫ G1(n) max(0, n·h) D(h) dω_h, (∫ D(h) (v·h) dω_h for each view of VIEWS_DEG))``, the
+    masked one None for a law without its masking here.  The nodes are the normal view's too (VIEWS_DEG[0]:
+    ``v·h > 0`` on every ring), and each integral is the one ``half_vector_integral`` gives with ``D`` in its
+    integrand: ``D`` is evaluated at each node, then multiplied by the other factor, in the same order.
+    """
+    d, g1 = _ndf(name, ax, ay)
+    nodes = half_vector_nodes(min(ax, ay))
+    h = nodes[0]
+    dh = evaluate(d, h)
+    normalization = _weighted_sum(dh * h[..., 2], nodes)
+    n = _dir(math.radians(VIEWS_DEG[0][0]), VIEWS_DEG[0][1])
+    masked = None
+    if g1 is not None:
+        g1n = g1(n)
+        masked = _weighted_sum(evaluate(lambda x: g1n * np.maximum(x @ n, 0), h) * dh, nodes)
+    signed = []
+    for tv, pv in VIEWS_DEG:
+        v = _dir(math.radians(tv), pv)
+        signed.append(_weighted_sum(dh * evaluate(lambda x, v=v: x @ v, h), nodes))
+    return normalization, masked, tuple(signed)
 
 
 ALPHAS = (1e-3, 0.01, 0.1, 0.5, 1.0)
@@ -93,10 +132,15 @@ EXACT = [(name, a, a) for name in ("beckmann", "ggx", "gtr2", "ward") for a in A
 def test_normalization_and_projected_area(name, ax, ay):
     d, g1 = _ndf(name, ax, ay)
     a = min(ax, ay)
-    assert half_vector_integral(lambda h: d(h) * h[..., 2], a) == pytest.approx(1.0, abs=1e-9)
+    normalization, at_normal, _ = _whole_circle(name, ax, ay)
+    assert normalization == pytest.approx(1.0, abs=1e-9)
     for tv, pv in VIEWS_DEG:
         v = _dir(math.radians(tv), pv)
-        got = half_vector_integral(lambda h, v=v: g1(v) * np.maximum(h @ v, 0) * d(h), a, v)
+        if (tv, pv) == VIEWS_DEG[0]:
+            got = at_normal  # on the whole circle's nodes, where D is evaluated once for every integral there
+        else:
+            g1v = g1(v)  # the view's masking, the same at every node
+            got = half_vector_integral(lambda h, v=v, g1v=g1v: g1v * np.maximum(h @ v, 0) * d(h), a, v)
         assert got == pytest.approx(v[2], rel=1e-7, abs=1e-12), (tv, pv)
 
 
@@ -115,14 +159,17 @@ def test_ward_half_vector_density_is_the_anisotropic_beckmann_ndf_times_cos():
 # α = 0.5: 0, 0.015, 0.080, 0.101 (the two lobes part as α grows, most at grazing views).
 @pytest.mark.parametrize("alpha, bound", [(0.05, 1e-3), (0.2, 0.02), (0.5, 0.11)])
 def test_blinn_phong_ndf_is_normalized_and_beckmann_masking_nearly_fits_it(alpha, bound):
-    e = float(mf.blinn_phong_exponent(alpha))
-    d = lambda h: mf.blinn_phong_ndf(h[..., 2], e)  # noqa: E731
-    assert half_vector_integral(lambda h: d(h) * h[..., 2], alpha) == pytest.approx(1.0, abs=1e-9)
+    d = _ndf("blinn-phong", alpha, alpha)[0]
+    normalization, at_normal, _ = _whole_circle("blinn-phong", alpha, alpha)
+    assert normalization == pytest.approx(1.0, abs=1e-9)
     worst = 0.0
     for tv, pv in VIEWS_DEG:
         v = _dir(math.radians(tv), pv)
-        g1v = smith_g1_beckmann(v[2], alpha, _s2(v))
-        got = half_vector_integral(lambda h, v=v, g1v=g1v: g1v * np.maximum(h @ v, 0) * d(h), alpha, v)
+        if (tv, pv) == VIEWS_DEG[0]:
+            got = at_normal  # on the whole circle's nodes, with Beckmann's G1 of the same α there
+        else:
+            g1v = smith_g1_beckmann(v[2], alpha, _s2(v))
+            got = half_vector_integral(lambda h, v=v, g1v=g1v: g1v * np.maximum(h @ v, 0) * d(h), alpha, v)
         worst = max(worst, abs(got / v[2] - 1))
     # Beckmann's G1 is the masking of Beckmann's D, which (e+2)/(2π) cos^e only approximates.
     assert 0 < worst < bound, worst
@@ -146,8 +193,11 @@ def test_gtr1_is_normalized_and_its_clearcoat_masking_is_not_its_own(a):
 def test_ashikhmin_shirley_half_vector_density_is_a_density_not_an_ndf(nu, nv):
     s = AshikhminShirleySampler(nu, nv)
     width = 1 / math.sqrt(max(nu, nv) + 1)
-    assert half_vector_integral(s._normal_pdf, width) == pytest.approx(1.0, abs=1e-9)
-    proj = half_vector_integral(lambda h: s._normal_pdf(h) * h[..., 2], width)
+    # Both integrals on the same nodes: the density there, evaluated once.
+    nodes = half_vector_nodes(width)
+    p = evaluate(s._normal_pdf, nodes[0])
+    assert _weighted_sum(p, nodes) == pytest.approx(1.0, abs=1e-9)
+    proj = _weighted_sum(p * nodes[0][..., 2], nodes)
     if nu == nv:
         assert proj == pytest.approx((nu + 1) / (nu + 2), abs=1e-9)  # not 1: not normalized as an NDF
     else:
@@ -167,18 +217,8 @@ def test_signed_projected_area_holds_for_every_ndf(name, ax, ay):
     projected area of the microsurface onto any direction is the macrosurface's (Heitz 2014, eq. 4).  Every
     distribution of the engine obeys it, the Blinn–Phong NDF and the clearcoat's GTR1 included (their masking
     terms, which are not their own, are what breaks the masked identity above)."""
-    if name == "blinn-phong":
-        e = float(mf.blinn_phong_exponent(ax))
-        d = lambda h: mf.blinn_phong_ndf(h[..., 2], e)  # noqa: E731
-    elif name == "gtr1":
-        d = lambda h: dm.gtr1(h[..., 2], _s2(h), ax)  # noqa: E731
-    else:
-        d = _ndf(name, ax, ay)[0]
-    # The whole hemisphere's nodes do not depend on the view: D on them once, then each view's integral
-    # exactly as half_vector_integral(lambda h: d(h) * (h @ v), ...) sums it.
-    h, half, w, th, wt = half_vector_nodes(min(ax, ay))
-    dh = evaluate(d, h)
-    for tv, pv in VIEWS_DEG:
+    # The whole hemisphere's nodes do not depend on the view: D on them once (with the normalization and the
+    # masked identity at the normal, _whole_circle), then each view's integral.
+    for (tv, pv), got in zip(VIEWS_DEG, _whole_circle(name, ax, ay)[2], strict=True):
         v = _dir(math.radians(tv), pv)
-        got = float(np.sum(dh * evaluate(lambda x, v=v: x @ v, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
         assert got == pytest.approx(v[2], rel=1e-8, abs=1e-12), (tv, pv)
