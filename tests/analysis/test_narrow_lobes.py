@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -18,7 +19,7 @@ import pytest
 from test_analysis import mesh_is_valid
 
 from lighting import BlinnPhong, CookTorrance, Lambert
-from lighting.analysis import VERTEX_BUDGET, lobe_mesh, lobe_peak, reciprocity_pair, theta_v_curve
+from lighting.analysis import VERTEX_BUDGET, lobe_mesh, lobe_peak, polar_slice, theta_v_curve
 from lighting.analysis.quantity import _quantity_rgb, _reduce
 from lighting.models.ashikhmin_shirley import AshikhminShirley
 from lighting.models.ward import Ward
@@ -37,15 +38,37 @@ THETA = math.radians(45.0)
 PHIS = [math.pi, math.pi / 2, math.radians(30.0)]  # the explorer's φ = 180°, along the wide axis, oblique
 
 
+def _light(phi, dtype):
+    """The light at polar angle THETA and azimuth ``phi``, in ``dtype``."""
+    return spherical_direction(THETA, phi).astype(dtype)
+
+
+# The peak and the mesh of one lobe under one light are the same whichever test asks (the peak does not depend on
+# the mesh's resolution): each is found once, and only read.
+@functools.cache
+def _peak(name, phi, dtype):
+    return lobe_peak(NARROW[name], _light(phi, dtype))
+
+
+@functools.cache
+def _mesh(name, phi, resolution, dtype):
+    return lobe_mesh(NARROW[name], _light(phi, dtype), resolution=resolution)
+
+
 def _value(brdf, l, v):  # noqa: E741
     return _reduce(_quantity_rgb(brdf, np.broadcast_to(l, v.shape), v, None, np.float64, None), "luminance")
 
 
+@functools.cache
+def _hemisphere_grid(n):
+    """The directions of a polar grid of the hemisphere, ``(n - 1) · 2n`` of them: the same for every lobe."""
+    t, p = np.meshgrid(np.linspace(0.0, math.pi / 2, n)[:-1], np.linspace(-math.pi, math.pi, 2 * n))
+    return np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1).reshape(-1, 3)
+
+
 def _hemisphere_max(brdf, l, n=600):  # noqa: E741
     """The largest value on a polar grid of the hemisphere (a lower bound of the true maximum)."""
-    t, p = np.meshgrid(np.linspace(0.0, math.pi / 2, n)[:-1], np.linspace(-math.pi, math.pi, 2 * n))
-    v = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1).reshape(-1, 3)
-    return float(_value(brdf, l, v).max())
+    return float(_value(brdf, l, _hemisphere_grid(n)).max())
 
 
 def _interpolate(mesh, q):
@@ -72,10 +95,8 @@ def _reflect(l, h):  # noqa: E741
 @pytest.mark.parametrize("phi", PHIS, ids=["phi180", "phi90", "phi30"])
 @pytest.mark.parametrize("name", list(NARROW))
 def test_the_drawn_peak_is_the_reported_peak(name, phi, resolution, dtype):
-    brdf = NARROW[name]
-    l = spherical_direction(THETA, phi).astype(dtype)  # noqa: E741
-    peak = lobe_peak(brdf, l)
-    mesh = lobe_mesh(brdf, l, resolution=resolution)
+    peak = _peak(name, phi, dtype)
+    mesh = _mesh(name, phi, resolution, dtype)
     assert len(mesh.values) == 1 + 2 * resolution**2 <= VERTEX_BUDGET
     assert float(mesh.values.max()) == pytest.approx(peak.value, rel=0.01)
     mesh_is_valid(mesh)
@@ -89,7 +110,7 @@ def test_no_direction_beats_the_reported_peak(name, phi):
     # ridge climbs toward the horizon (at φ = 180° Ward's reaches 2.9 times its in-plane value).
     brdf = NARROW[name]
     l = spherical_direction(THETA, phi)  # noqa: E741
-    peak = lobe_peak(brdf, l)
+    peak = _peak(name, phi, np.float64)
     assert peak.value >= _hemisphere_max(brdf, l) * (1 - 1e-12)
     assert float(_value(brdf, l, peak.direction[None, :])[0]) == peak.value
 
@@ -108,7 +129,7 @@ def test_an_anisotropic_lobe_is_one_continuous_ridge(name, phi):
     # spikes) and 0 % (Ward: a dotted line) of the ridge's value between them.
     brdf = RIDGES[name]
     l = spherical_direction(THETA, phi)  # noqa: E741
-    mesh = lobe_mesh(brdf, l, resolution=40)
+    mesh = _mesh(name, phi, 40, np.float64)
     tilt = np.tan(np.linspace(-1.5, 1.5, 401))
     h = np.stack([np.zeros_like(tilt), tilt, np.ones_like(tilt)], axis=-1)
     ridge = _reflect(l, h)
@@ -142,7 +163,8 @@ def test_the_slices_sample_a_lobe_narrow_in_their_plane(name):
     # used to put 2 (Ward) and 8 (Ashikhmin–Shirley) samples above half the maximum.
     brdf = NARROW[name]
     l = spherical_direction(THETA, math.pi)  # noqa: E741
-    light, _ = reciprocity_pair(brdf, THETA, phi_in=math.pi, channel="luminance")
+    # The light-fixed slice of reciprocity_pair (the view-fixed one is not looked at here).
+    light = polar_slice(brdf, THETA, fixed="light", phi_in=math.pi, channel="luminance")
     curve = theta_v_curve(brdf, THETA, phi_l=math.pi, channel="luminance")
     top = _scan_max(brdf, l, math.pi)
     for values in (light.values, curve.values):

@@ -87,24 +87,35 @@ def test_a_narrow_lobe_does_not_spin_about_the_point_facing_the_viewer():
 
 
 # ------------------------------------------------------------------ a large map's irradiance
-def test_a_large_maps_irradiance_is_integrated_at_256_rows_and_keeps_its_closed_form(monkeypatch):
-    # E(n) of (1 + 0.5 z + 0.3 x) is π + (2π/3)(0.5 n_z + 0.3 n_x) (Â_0 = π, Â_1 = 2π/3).  A 1024 × 512 map is
-    # averaged down to 256 rows before the row convolution, whose work grows as the cube of the height.
+@pytest.fixture(scope="module")
+def large_linear_sky():
+    """A 1024 × 512 map of the linear sky ``(1 + 0.5 z + 0.3 x)`` RGB, its :class:`DominantEnvironment`, and the
+    source heights of the irradiance maps that construction integrated.
+
+    Both tests below read the same map's precomputation (the same image, so the same levels, lights and irradiance):
+    it is made once for this file, recording the heights as it goes, and only read afterwards.
+    """
     from lighting.integrate import prefilter
-    from lighting.integrate.dominant import IRRADIANCE_SOURCE_HEIGHT
 
     rgb = np.array([1.0, 0.8, 0.6])
-
-    def linear(d):
-        return (1 + 0.5 * d[..., 2:3] + 0.3 * d[..., 0:1]) * rgb
-
-    env = LatLongEnvironment(linear(LatLongEnvironment.pixel_directions(512, 1024)))
+    d = LatLongEnvironment.pixel_directions(512, 1024)
+    env = LatLongEnvironment((1 + 0.5 * d[..., 2:3] + 0.3 * d[..., 0:1]) * rgb)
     pre = prefilter_environment(env)
     heights = []
     real = prefilter.irradiance_map
-    monkeypatch.setattr(prefilter, "irradiance_map",
-                        lambda *a, **k: heights.append(k["source_height"]) or real(*a, **k))  # fmt: skip
-    dom = DominantEnvironment(pre)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(prefilter, "irradiance_map", lambda *a, **k: heights.append(k["source_height"]) or real(*a, **k))
+        dom = DominantEnvironment(pre)
+    return env, dom, tuple(heights)
+
+
+def test_a_large_maps_irradiance_is_integrated_at_256_rows_and_keeps_its_closed_form(large_linear_sky):
+    # E(n) of (1 + 0.5 z + 0.3 x) is π + (2π/3)(0.5 n_z + 0.3 n_x) (Â_0 = π, Â_1 = 2π/3).  A 1024 × 512 map is
+    # averaged down to 256 rows before the row convolution, whose work grows as the cube of the height.
+    from lighting.integrate.dominant import IRRADIANCE_SOURCE_HEIGHT
+
+    rgb = np.array([1.0, 0.8, 0.6])
+    _, dom, heights = large_linear_sky
     assert len(dom.lights) == 0 and set(heights) == {IRRADIANCE_SOURCE_HEIGHT} == {256}  # the residual, the uniform sky
     d = LatLongEnvironment.pixel_directions(64, 128)
     exact = (math.pi + 2 * math.pi / 3 * (0.5 * d[..., 2:3] + 0.3 * d[..., 0:1])) * rgb
@@ -112,20 +123,18 @@ def test_a_large_maps_irradiance_is_integrated_at_256_rows_and_keeps_its_closed_
     # whole map's 512 rows integrated, 3.4e-6 from it, and within 3e-5 of this)
 
 
-def test_a_large_maps_irradiance_averaged_down_is_the_whole_maps_within_the_quadratures_error():
+def test_a_large_maps_irradiance_averaged_down_is_the_whole_maps_within_the_quadratures_error(large_linear_sky):
     # A 1024 × 512 map's residual is averaged down to 256 rows before its irradiance is integrated
     # (the test above: the closed form of a linear sky within 3e-5); the whole map's 512 rows integrated (seconds
     # of the row convolution) give the same map within that.
     import math
 
-    from lighting.integrate.dominant import DominantEnvironment, _uniform_irradiance
+    from lighting.integrate.dominant import _uniform_irradiance
     from lighting.integrate.prefilter import irradiance_map
     from lighting.lights.environment import LatLongEnvironment
 
     rgb = np.array([1.0, 0.8, 0.6])
-    d = LatLongEnvironment.pixel_directions(512, 1024)
-    env = LatLongEnvironment((1 + 0.5 * d[..., 2:3] + 0.3 * d[..., 0:1]) * rgb)
-    dom = DominantEnvironment(prefilter_environment(env))
+    env, dom, _ = large_linear_sky  # the test above's map and its DominantEnvironment
     full = irradiance_map(env, 64, source_height=512).image * (math.pi / _uniform_irradiance(512, 1024, 64))
     d64 = LatLongEnvironment.pixel_directions(64, 128)
     exact = (math.pi + 2 * math.pi / 3 * (0.5 * d64[..., 2:3] + 0.3 * d64[..., 0:1])) * rgb

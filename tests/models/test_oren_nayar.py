@@ -15,7 +15,9 @@
 
 from __future__ import annotations
 
+import functools
 import math
+import types
 
 import mpmath
 import numpy as np
@@ -54,6 +56,17 @@ def _AB(sigma):
 
 
 # =========================================================================== the 80-digit reference
+@functools.cache
+def _mp_frame(n, l, v):  # noqa: E741
+    """:func:`lighting.validation.model_references.frame` at 80 digits of raw inputs (tuples of floats), read-only.
+
+    The frame depends on the directions alone: one frame of a row serves every σ and both forms (and both
+    dtypes where their values coincide), as it serves the nodes the two forms' 2-D albedo quadratures share.
+    """
+    with mpmath.mp.workdps(80):
+        return types.MappingProxyType(mr.frame(n, l, v))
+
+
 def _mp_reference(N, L, V, sigma, form, kd):
     """``(f_r, κ, n·l)`` as mpf at 80 digits, from the raw inputs (exact binary values).
 
@@ -64,7 +77,7 @@ def _mp_reference(N, L, V, sigma, form, kd):
     """
     mp = mpmath.mp
     with mp.workdps(80):
-        q = mr.frame(*([float(c) for c in x] for x in (N, L, V)))
+        q = _mp_frame(*(tuple(float(c) for c in x) for x in (N, L, V)))
         if not q["above"]:
             return mp.mpf(0), mp.mpf(1), mp.mpf(0)
         kd, sigma = mp.mpf(kd), mp.mpf(sigma)
@@ -73,6 +86,17 @@ def _mp_reference(N, L, V, sigma, form, kd):
         direct = max(mp.fsum(terms), 0)
         spread = (kd * mp.fsum(abs(t) for t in terms) + kd * kd * inter) / (kd * direct + kd * kd * inter)
         return f, spread * (1 + 1 / q["nl"] + 1 / q["nv"]), q["nl"]
+
+
+def _mp_value(N, L, V, sigma, form, kd):
+    """The ``f_r`` of :func:`_mp_reference` alone (0 below the horizon): what the albedo quadratures integrate,
+    without the condition estimate they do not use."""
+    mp = mpmath.mp
+    with mp.workdps(80):
+        q = _mp_frame(*(tuple(float(c) for c in x) for x in (N, L, V)))
+        if not q["above"]:
+            return mp.mpf(0)
+        return mr.oren_nayar(q, mp.mpf(kd), mp.mpf(sigma), form)
 
 
 def _mp_inputs(dtype):
@@ -205,7 +229,7 @@ def _mp_albedo_2d(sigma, form, theta_v, kd=1.0, dps=15):
 
         def g(t, p):
             lvec = (float(mp.sin(t) * mp.cos(p)), float(mp.sin(t) * mp.sin(p)), float(mp.cos(t)))
-            f = _mp_reference(n, lvec, v, sigma, form, kd)[0]
+            f = _mp_value(n, lvec, v, sigma, form, kd)
             return f * mp.cos(t) * mp.sin(t)
 
         # Every kink is a panel edge (θ_l = θ_v, cos φ = 0), so the integrand is smooth on each panel, where
@@ -224,6 +248,19 @@ def _mp_albedo_1d(sigma, form, theta_v, kd=1.0, dps=30):
     with mp.workdps(dps):
         s = mp.mpf(sigma)
         s2 = s * s
+        rho = kd * _mp_direct_albedo_1d(sigma, form, theta_v, dps)
+        if form == "full":
+            rho += kd * kd * mp.mpf("0.17") * s2 / (s2 + mp.mpf("0.13"))
+        return rho
+
+
+@functools.cache
+def _mp_direct_albedo_1d(sigma, form, theta_v, dps):
+    """``A + ∫ …`` of :func:`_mp_albedo_1d`, per unit k_d: independent of k_d, one integral serves every channel."""
+    mp = mpmath.mp
+    with mp.workdps(dps):
+        s = mp.mpf(sigma)
+        s2 = s * s
         A = 1 - s2 / (2 * (s2 + mp.mpf("0.33")))
         B = mp.mpf("0.45") * s2 / (s2 + mp.mpf("0.09"))
         C3 = mp.mpf("0.125") * s2 / (s2 + mp.mpf("0.09"))
@@ -238,10 +275,7 @@ def _mp_albedo_1d(sigma, form, theta_v, kd=1.0, dps=30):
                 x += (2 * mp.pi - 4) * C3 * (4 * a * b / mp.pi**2) ** 2 * mp.tan((a + b) / 2)
             return x * mp.cos(t) * mp.sin(t) / mp.pi
 
-        rho = kd * (A + mp.quad(g, [0, tv, mp.pi / 2]))
-        if form == "full":
-            rho += kd * kd * mp.mpf("0.17") * s2 / (s2 + mp.mpf("0.13"))
-        return rho
+        return A + mp.quad(g, [0, tv, mp.pi / 2])
 
 
 def _mp_albedo_full_nested(sigma, theta_v, dps=15):
