@@ -1,6 +1,7 @@
 """The plausibility audit: the deck's verdicts on its own models, and the table's renderings."""
 
 import csv
+import functools
 import io
 import math
 
@@ -8,6 +9,8 @@ import numpy as np
 import pytest
 
 from lighting.analysis.audit import AuditCase, audit, default_cases, direction_pairs
+from lighting.integrate import albedo_curve
+from lighting.models import create_model
 from lighting.models.brdf import CookTorrance, Lambert, Phong
 
 
@@ -229,6 +232,23 @@ def test_a_delta_inside_a_sum():
 _METAL_LABELS = [f"C-T {name} α=0.3" for name in ("gold", "silver", "copper", "aluminium", "chromium")]
 
 
+@functools.cache
+def _plain_lobe_reference():
+    """The F = 1 lobe's audit row and albedo curve at the metals' view angles, which bound every metal.
+
+    The lobe, the audit's settings and the view angles are the same for each metal, and both computations are
+    deterministic (fixed quadrature, no random state), so they are made once and shared; the curve's arrays
+    are read-only so no metal's test can change what the next one reads.
+    """
+    one = create_model("cook-torrance", ks=1.0, roughness=0.3, f0=1.0, ndf="ggx", geometry="smith-correlated",
+                       fresnel="none")  # fmt: skip
+    ref = audit([("F=1", one)])["F=1"]
+    plain = albedo_curve(one, np.radians([0.0, 30.0, 60.0, 80.0, 89.0]), 4096)
+    for a in (plain.theta, plain.albedo, plain.error):
+        a.flags.writeable = False
+    return ref, plain
+
+
 def test_the_default_cases_end_with_one_row_per_named_metal():
     from lighting.analysis.audit import metal_cases
     from lighting.models.fresnel import METALS
@@ -243,15 +263,11 @@ def test_the_default_cases_end_with_one_row_per_named_metal():
 @pytest.mark.parametrize("label", _METAL_LABELS)
 def test_metals_are_plausible_and_take_energy_per_channel(table, label):
     """F in [0, 1]: a metal reflects at most the F = 1 lobe, and at normal view about its largest F0 times it."""
-    from lighting.integrate import albedo_curve
-    from lighting.models import create_model
     from lighting.models.fresnel import conductor, conductor_f0, metal_index
 
     r = table[label]
     assert r.plausible and r.min_value > 0 and r.reciprocity < 1e-12
-    one = create_model("cook-torrance", ks=1.0, roughness=0.3, f0=1.0, ndf="ggx", geometry="smith-correlated",
-                       fresnel="none")  # fmt: skip
-    ref = audit([("F=1", one)])["F=1"]
+    ref, plain = _plain_lobe_reference()
     assert r.albedo_max <= ref.albedo_max + r.albedo_error + ref.albedo_error
     f0 = conductor_f0(*metal_index(label.split()[1]))
     assert r.albedo_normal == pytest.approx(float(f0.max()) * ref.albedo_normal, rel=3e-3)
@@ -260,7 +276,6 @@ def test_metals_are_plausible_and_take_energy_per_channel(table, label):
     f = conductor(np.linspace(0.0, 1.0, 20001), *metal_index(label.split()[1]))
     theta = np.radians([0.0, 30.0, 60.0, 80.0, 89.0])
     metal = albedo_curve(table_case(label), theta, 4096)
-    plain = albedo_curve(one, theta, 4096)
     slack = metal.error + plain.error + 1e-12
     assert np.all(metal.albedo <= plain.albedo + slack)
     assert np.all(metal.albedo >= f.min(axis=0) * plain.albedo - slack)

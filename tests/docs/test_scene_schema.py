@@ -8,6 +8,7 @@ both refuse a misspelt key and a value outside its choices.
 from __future__ import annotations
 
 import copy
+import functools
 import json
 import math
 import tomllib
@@ -25,7 +26,13 @@ SCHEMA_FILE = ROOT / "docs" / "scene.schema.json"
 EXAMPLES = sorted((ROOT / "lighting" / "scene" / "examples").glob("*.toml"))
 
 
+@functools.cache
 def _validator():
+    """The validator of the committed schema file, built and checked against the metaschema once.
+
+    Every test judges against the same file, and validating (``iter_errors``, ``is_valid``) leaves the validator
+    as it was, so all of them share this one.
+    """
     jsonschema = pytest.importorskip("jsonschema")
     s = json.loads(SCHEMA_FILE.read_text(encoding="utf-8"))
     jsonschema.Draft202012Validator.check_schema(s)
