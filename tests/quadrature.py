@@ -78,8 +78,15 @@ def half_vector_integral(func, alpha, v=None):
     rule (1024 nodes) over the whole circle, or Gauss–Legendre (384 nodes) over the arc where ``v·h > 0`` (the
     integrand's kink there an endpoint).
     """
-    h, half, w, th, wt = half_vector_nodes(alpha, v)
-    return float(np.sum(evaluate(func, h) * half[:, None] * w * (wt * np.sin(th))[:, None]))
+    nodes = half_vector_nodes(alpha, v)
+    return half_vector_sum(evaluate(func, nodes[0]), nodes)
+
+
+def half_vector_sum(values, nodes):
+    """:func:`half_vector_integral`'s sum of ``values`` already evaluated at ``nodes`` (:func:`half_vector_nodes`):
+    for several integrands that share one factor, evaluated once on the same nodes."""
+    _, half, w, th, wt = nodes
+    return float(np.sum(values * half[:, None] * w * (wt * np.sin(th))[:, None]))
 
 
 def half_vector_nodes(alpha, v=None):

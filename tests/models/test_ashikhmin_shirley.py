@@ -17,11 +17,11 @@ from __future__ import annotations
 
 import functools
 import math
-import types
 
 import mpmath as mp
 import numpy as np
 import pytest
+from exact_frames import exact_frame
 from quadrature import hemisphere
 
 from lighting.integrate import directional_albedo
@@ -46,19 +46,11 @@ def _reference(n, l, v, tangent, rd, rs, nu, nv, *, diffuse=True, cos=False):  #
 
 
 @functools.cache
-def _frame(n, l, v, tangent):  # noqa: E741
-    """:func:`lighting.validation.model_references.frame` at 80 digits of raw inputs (tuples of floats), read-only:
-    it depends on the directions and the tangent alone, so one frame serves every exponent pair."""
-    with mp.workdps(80):
-        return types.MappingProxyType(mr.frame(n, l, v, tangent))
-
-
-@functools.cache
 def _reference_fr(n, l, v, tangent, rd, rs, nu, nv, diffuse):  # noqa: E741
     """``(frame, f_r per channel)`` of :func:`_reference` at 80 digits (``None`` below the horizon), from floats
     and tuples of floats: one ``f_r`` for ``eval`` and for ``eval_cos``, which multiplies it by ``n·l``."""
     with mp.workdps(80):
-        q = _frame(n, l, v, tangent)
+        q = exact_frame(n, l, v, tangent)
         if not q["above"]:
             return q, None
         nu, nv = mp.mpf(nu), mp.mpf(nv)

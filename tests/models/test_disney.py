@@ -18,7 +18,6 @@ Measured numbers (this machine):
 
 from __future__ import annotations
 
-import functools
 import math
 import warnings
 
@@ -26,6 +25,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 from chi2 import chi2_sf
+from exact_frames import exact_frame
 from quadrature import hemisphere
 
 from lighting.integrate import directional_albedo
@@ -45,22 +45,11 @@ def ref_disney(p, n, l, v, t=None):  # noqa: E741
     """:func:`lighting.validation.model_references.disney` (the shader disney.brdf of BRDF Explorer, without
     mon2lin) at the working precision (the callers set 80 digits), RGB; p: the model's parameters (floats);
     n, l, v, t: mpf vectors, the documented frame (t made ⊥ n, else ẑ × n, else x̂)."""
-    q = _mp_frame(tuple(n), tuple(l), tuple(v), None if t is None else tuple(t), mp.mp.prec)
+    q = exact_frame(n, l, v, t)
     if not q["above"]:
         return [mp.mpf(0)] * 3
     prm = {k: mp.mpf(float(x)) for k, x in p.items() if k != "base_color"}
     return mr.disney(q, prm, [mp.mpf(float(c)) for c in np.broadcast_to(p["base_color"], 3)])
-
-
-@functools.cache
-def _mp_frame(n, l, v, t, prec):  # noqa: E741
-    """:func:`lighting.validation.model_references.frame` of the exact inputs (tuples of mpf) at ``prec`` bits.
-
-    The frame depends on the directions alone: every setting of the model is referenced at the same points
-    (and at the same perturbed points of its condition number) on the same frames, which the reference only reads.
-    """
-    with mp.workprec(prec):
-        return mr.frame(n, l, v, t)
 
 
 def _params(model):

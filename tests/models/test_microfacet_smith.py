@@ -17,7 +17,7 @@ import warnings
 import mpmath
 import numpy as np
 import pytest
-from quadrature import direction, evaluate, half_vector_integral, half_vector_nodes, hemisphere
+from quadrature import direction, evaluate, half_vector_integral, half_vector_nodes, half_vector_sum, hemisphere
 
 from lighting.integrate import directional_albedo
 from lighting.models import microfacet as mf
@@ -377,12 +377,6 @@ def _g1_aniso(ndf, w, ax, ay):
     return np.where(c > 0, c / np.where(c > 0, c + lc, 1.0), 0.0)
 
 
-def _weighted_sum(vals, nodes):
-    """``Σ vals · w`` over :func:`quadrature.half_vector_nodes` ``nodes``, summed as ``half_vector_integral`` sums."""
-    _, half, w, th, wt = nodes
-    return float(np.sum(vals * half[:, None] * w * (wt * np.sin(th))[:, None]))
-
-
 def _ndf_and_g1(ndf, ax, ay):
     """``D(h)`` and ``G1(ω)`` for an NDF: isotropic (the public functions) or anisotropic (the model's)."""
     if ax == ay:
@@ -410,12 +404,13 @@ def test_ndf_normalization_and_projected_area(ndf, ax, ay):
     # them evaluated once; each integral the same products at every node, summed as half_vector_integral sums it.
     whole = half_vector_nodes(a)
     d_whole = evaluate(dfun, whole[0])
-    assert _weighted_sum(d_whole * whole[0][..., 2], whole) == pytest.approx(1.0, abs=1e-9)
+    assert half_vector_sum(d_whole * whole[0][..., 2], whole) == pytest.approx(1.0, abs=1e-9)
     for tv, pv in ((0.0, 0.0), (0.6, 0.4), (1.2, 2.0), (1.5, -0.9), (math.radians(89), 0.8)):
         v = _dir(tv, pv)
         g1v = gfun(v)  # the view's masking, the same at every node
         if v[2] >= 1:  # half_vector_integral's whole circle
-            got = _weighted_sum(evaluate(lambda h, v=v, g1v=g1v: g1v * np.maximum(h @ v, 0), whole[0]) * d_whole, whole)
+            masked = evaluate(lambda h, v=v, g1v=g1v: g1v * np.maximum(h @ v, 0), whole[0])
+            got = half_vector_sum(masked * d_whole, whole)
         else:
             got = half_vector_integral(lambda h, v=v, g1v=g1v: g1v * np.maximum(h @ v, 0) * dfun(h), a, v)
         assert got == pytest.approx(v[2], rel=1e-7, abs=1e-12), (tv, pv)

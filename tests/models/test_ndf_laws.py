@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 import pytest
-from quadrature import evaluate, half_vector_integral, half_vector_nodes
+from quadrature import evaluate, half_vector_integral, half_vector_nodes, half_vector_sum
 
 from lighting.microfacet import beckmann_ndf, ggx_ndf, smith_g1_beckmann, smith_g1_ggx
 from lighting.models import disney as dm
@@ -89,12 +89,6 @@ def _ndf(name, ax, ay):
     raise AssertionError(name)
 
 
-def _weighted_sum(vals, nodes):
-    """``Σ vals · w`` over :func:`quadrature.half_vector_nodes` ``nodes``, summed as ``half_vector_integral`` sums."""
-    _, half, w, th, wt = nodes
-    return float(np.sum(vals * half[:, None] * w * (wt * np.sin(th))[:, None]))
-
-
 @functools.cache
 def _whole_circle(name, ax, ay):
     """The integrals over the whole circle of half vectors (α = min(ax, ay)), with ``D`` on its nodes evaluated once.
@@ -108,16 +102,16 @@ def _whole_circle(name, ax, ay):
     nodes = half_vector_nodes(min(ax, ay))
     h = nodes[0]
     dh = evaluate(d, h)
-    normalization = _weighted_sum(dh * h[..., 2], nodes)
+    normalization = half_vector_sum(dh * h[..., 2], nodes)
     n = _dir(math.radians(VIEWS_DEG[0][0]), VIEWS_DEG[0][1])
     masked = None
     if g1 is not None:
         g1n = g1(n)
-        masked = _weighted_sum(evaluate(lambda x: g1n * np.maximum(x @ n, 0), h) * dh, nodes)
+        masked = half_vector_sum(evaluate(lambda x: g1n * np.maximum(x @ n, 0), h) * dh, nodes)
     signed = []
     for tv, pv in VIEWS_DEG:
         v = _dir(math.radians(tv), pv)
-        signed.append(_weighted_sum(dh * evaluate(lambda x, v=v: x @ v, h), nodes))
+        signed.append(half_vector_sum(dh * evaluate(lambda x, v=v: x @ v, h), nodes))
     return normalization, masked, tuple(signed)
 
 
@@ -196,8 +190,8 @@ def test_ashikhmin_shirley_half_vector_density_is_a_density_not_an_ndf(nu, nv):
     # Both integrals on the same nodes: the density there, evaluated once.
     nodes = half_vector_nodes(width)
     p = evaluate(s._normal_pdf, nodes[0])
-    assert _weighted_sum(p, nodes) == pytest.approx(1.0, abs=1e-9)
-    proj = _weighted_sum(p * nodes[0][..., 2], nodes)
+    assert half_vector_sum(p, nodes) == pytest.approx(1.0, abs=1e-9)
+    proj = half_vector_sum(p * nodes[0][..., 2], nodes)
     if nu == nv:
         assert proj == pytest.approx((nu + 1) / (nu + 2), abs=1e-9)  # not 1: not normalized as an NDF
     else:

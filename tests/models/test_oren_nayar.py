@@ -17,11 +17,11 @@ from __future__ import annotations
 
 import functools
 import math
-import types
 
 import mpmath
 import numpy as np
 import pytest
+from exact_frames import exact_frame
 
 from lighting.integrate import directional_albedo
 from lighting.models import create_model, model_class, model_names
@@ -56,17 +56,6 @@ def _AB(sigma):
 
 
 # =========================================================================== the 80-digit reference
-@functools.cache
-def _mp_frame(n, l, v):  # noqa: E741
-    """:func:`lighting.validation.model_references.frame` at 80 digits of raw inputs (tuples of floats), read-only.
-
-    The frame depends on the directions alone: one frame of a row serves every σ and both forms (and both
-    dtypes where their values coincide), as it serves the nodes the two forms' 2-D albedo quadratures share.
-    """
-    with mpmath.mp.workdps(80):
-        return types.MappingProxyType(mr.frame(n, l, v))
-
-
 def _mp_reference(N, L, V, sigma, form, kd):
     """``(f_r, κ, n·l)`` as mpf at 80 digits, from the raw inputs (exact binary values).
 
@@ -77,7 +66,7 @@ def _mp_reference(N, L, V, sigma, form, kd):
     """
     mp = mpmath.mp
     with mp.workdps(80):
-        q = _mp_frame(*(tuple(float(c) for c in x) for x in (N, L, V)))
+        q = exact_frame(*([float(c) for c in x] for x in (N, L, V)))
         if not q["above"]:
             return mp.mpf(0), mp.mpf(1), mp.mpf(0)
         kd, sigma = mp.mpf(kd), mp.mpf(sigma)
@@ -93,7 +82,7 @@ def _mp_value(N, L, V, sigma, form, kd):
     without the condition estimate they do not use."""
     mp = mpmath.mp
     with mp.workdps(80):
-        q = _mp_frame(*(tuple(float(c) for c in x) for x in (N, L, V)))
+        q = exact_frame(*([float(c) for c in x] for x in (N, L, V)))
         if not q["above"]:
             return mp.mpf(0)
         return mr.oren_nayar(q, mp.mpf(kd), mp.mpf(sigma), form)

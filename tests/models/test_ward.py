@@ -15,12 +15,12 @@
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 
 import mpmath as mp
 import numpy as np
 import pytest
+from exact_frames import exact_frame
 from quadrature import hemisphere
 
 from lighting.integrate import directional_albedo
@@ -50,17 +50,6 @@ def _mp_dot(a, b):
     return sum(x * y for x, y in zip(a, b, strict=True))
 
 
-@functools.cache
-def _mp_frame(n, l, v, t):  # noqa: E741
-    """:func:`lighting.validation.model_references.frame` of the exact float inputs (tuples), 80 digits.
-
-    The frame depends on the directions alone: a test's rows are referenced at every normalization and
-    roughness, as ``f_r`` and as ``f_r (n·l)``, on the same frames (read, never changed, by the references).
-    """
-    with mp.workdps(80):
-        return mr.frame(n, l, v, t)
-
-
 def _mp_ward(n, l, v, t, ks, ax, ay, norm, cos=False):  # noqa: E741
     """:func:`lighting.validation.model_references.ward` (the papers' formulas) from the exact float inputs, 80 digits.
 
@@ -71,7 +60,7 @@ def _mp_ward(n, l, v, t, ks, ax, ay, norm, cos=False):  # noqa: E741
     with the exponent ``E = ((h·t/α_x)² + (h·b/α_y)²)/(h·n)²``.
     """
     with mp.workdps(80):
-        q = _mp_frame(*(tuple(float(c) for c in x) for x in (n, l, v, t)))
+        q = exact_frame(*([float(c) for c in x] for x in (n, l, v, t)))
         if not q["above"]:
             return mp.mpf(0), mp.mpf(1)
         ax, ay = mp.mpf(float(ax)), mp.mpf(float(ay))
