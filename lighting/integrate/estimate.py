@@ -175,8 +175,9 @@ def _weight_range(g, pdf, probes, w_obs):
     ``(B, N, 3)``: the weights actually drawn.
     """
     probes = np.concatenate([probes, probes * np.array([1.0, 1.0, -1.0])], axis=1)
-    w = _ratio(g(probes), pdf(probes))
-    can = (pdf(probes) > 0)[..., None]
+    p = pdf(probes)
+    w = _ratio(g(probes), p)
+    can = (p > 0)[..., None]
     lo = np.min(np.where(can, w, np.inf), axis=1)
     hi = np.max(np.where(can, w, -np.inf), axis=1)
     return np.minimum(lo, w_obs.min(axis=1)), np.maximum(hi, w_obs.max(axis=1))
