@@ -267,14 +267,19 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
     fig, spec, params, q, measured = make_figure(name, quick=quick, dpi=dpi, options=options)
     w_in, h_in = (float(x) for x in fig.get_size_inches())
     _check_raster(name, w_in, h_in, q.dpi)
-    files, contents = {}, []
+    # Each save lays the figure out again, starting from where the last save left it, and constrained layout
+    # does not always come back to the same place (the gallery's polar panels move by a pixel or two).  So
+    # every figure is saved in the order of FORMATS, up to the last format asked for, those not asked for into
+    # memory only: a file is the same image whichever other formats were asked for, and in whatever order.
+    saved = {}
     with matplotlib.rc_context(STYLE):
-        for fmt in formats:
+        for fmt in FORMATS[: 1 + max(FORMATS.index(f) for f in formats)]:
             buf = io.BytesIO()
             fig.savefig(buf, format=fmt, dpi=q.dpi, metadata=_SAVE_METADATA[fmt])
-            files[fmt] = f"{name}.{fmt}"
-            data = stable_svg_ids(buf.getvalue()) if fmt == "svg" else buf.getvalue()
-            contents.append((os.path.join(out_dir, files[fmt]), data))
+            if fmt in formats:
+                saved[fmt] = stable_svg_ids(buf.getvalue()) if fmt == "svg" else buf.getvalue()
+    files = {fmt: f"{name}.{fmt}" for fmt in formats}
+    contents = [(os.path.join(out_dir, files[fmt]), saved[fmt]) for fmt in formats]
     smallest_pt = _smallest_text_pt(fig)
     if "png" in files:
         size = list(_png_size(contents[list(files).index("png")][1]))
