@@ -272,11 +272,19 @@ COMMANDS = {
 }
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The one argparse tree of ``lighting-explorer``: every sub-command and its options.
 
     Each command module's ``add_parser(subparsers)`` adds its sub-parser (with ``func`` set to its
     ``run``).  Building it imports no window, figure or report code: ``render`` stays fast.
+
+    Parameters
+    ----------
+    command : str, optional
+        A key of :data:`COMMANDS`: the tree with that sub-command alone, which parses any line that starts
+        with its name as the whole tree does (:func:`parse` builds it for such a line: the other commands'
+        dozens of options are never needed there).  ``None`` (default): every sub-command, for ``--help``,
+        a misspelt command and the documentation.
 
     Returns
     -------
@@ -298,8 +306,9 @@ def build_parser() -> argparse.ArgumentParser:
     # The commands are listed by the parser's own help (CommandTreeParser.format_commands), not by argparse.
     sub = p.add_subparsers(dest="command", required=True, parser_class=OneLineParser, metavar="COMMAND",
                            help=argparse.SUPPRESS, prog=PROG)  # fmt: skip
-    for module in COMMANDS.values():
-        importlib.import_module(module).add_parser(sub)
+    for name, module in COMMANDS.items():
+        if command is None or name == command:
+            importlib.import_module(module).add_parser(sub)
     return p
 
 
@@ -322,7 +331,7 @@ def parse(argv: list[str]) -> argparse.Namespace:
         For a malformed line; a misspelt command gets the closest name; an unrecognized argument is
         reported by the sub-command's own parser, in its words (``(see lighting-explorer render --help)``).
     """
-    parser = build_parser()
+    parser = build_parser(argv[0] if argv and argv[0] in COMMANDS else None)
     command = command_parser(parser, argv)
     args, extras = parser.parse_known_args(argv)
     if extras:
