@@ -281,8 +281,8 @@ def _render_one(name: str, out_dir: str, formats, quick: bool, dpi, options) -> 
     files = {fmt: f"{name}.{fmt}" for fmt in formats}
     contents = [(os.path.join(out_dir, files[fmt]), saved[fmt]) for fmt in formats]
     smallest_pt = _smallest_text_pt(fig)
-    if "png" in files:
-        size = list(_png_size(contents[list(files).index("png")][1]))
+    if "png" in saved:
+        size = list(_png_size(saved["png"]))
     else:
         size = [int(round(w_in * q.dpi)), int(round(h_in * q.dpi))]
     fig.clf()
