@@ -58,36 +58,40 @@ def test_the_top_level_help_lists_every_command_s_options_with_their_defaults(mo
             assert line in text.splitlines(), (name, line)
 
 
-def _outcome(tree, argv):
-    """What :func:`cli.parse` makes of ``argv`` with ``tree``: the options, the unparsed words and the command's
-    name, or the one line that refuses it."""
+def _parsed(argv):
+    """What :func:`cli.parse` makes of ``argv``: its options, or the one line that refuses it."""
     try:
-        command = cli.command_parser(tree, argv)
-        args, extras = tree.parse_known_args(argv)
+        return vars(cli.parse(argv))
     except UsageError as exc:
         return str(exc)
-    return vars(args), extras, command.prog
 
 
 def test_a_line_parses_alike_with_its_command_alone_and_with_the_whole_tree(monkeypatch):
     # parse() builds the tree with the command a line names alone: each leaf command's lines (bare, with an
     # unknown option, and with each of its options that takes a value given one no option accepts) must come out
-    # with the same options, or be refused in the same words, and each command's help must read the same.
+    # with the same options, or be refused in the same words, as through the whole tree, and each command's help
+    # must read the same.
     monkeypatch.setenv("COLUMNS", "400")
-    whole = cli.build_parser()
-    lines = 0
+    build = cli.build_parser
+    whole = build()
+    lines = []
     for name, command in cli.leaf_commands(whole):
         path = name.split()
-        alone = cli.build_parser(path[0])
+        alone = build(path[0])
         assert list(alone.subcommands) == [path[0]]
         assert cli.command_parser(alone, path).format_help() == command.format_help(), name
         # "  --size WxH", "  -o OUT, --out OUT", "  -D KEY=VALUE": an option that takes a value.
         flags = re.findall(r"^  (?:-\w \S+, )?(--?[\w-]+) (?! )", command.format_help(), re.M)
         assert flags, name
-        for argv in [path, [*path, "--no-such-option"], *([*path, flag, "§"] for flag in flags)]:
-            assert _outcome(alone, argv) == _outcome(whole, argv), argv
-            lines += 1
-    assert lines > 50
+        lines += [path, [*path, "--no-such-option"], *([*path, flag, "§"] for flag in flags)]
+    assert len(lines) > 50
+    built = []
+    monkeypatch.setattr(cli, "build_parser", lambda command=None: built.append(command) or build(command))
+    alone_results = [_parsed(argv) for argv in lines]
+    assert built == [argv[0] for argv in lines]  # each line through its command's tree alone
+    monkeypatch.setattr(cli, "build_parser", lambda command=None: build())
+    for argv, got in zip(lines, alone_results, strict=True):
+        assert _parsed(argv) == got, argv
 
 
 def test_building_the_tree_loads_no_figure_window_or_report_code():
