@@ -87,6 +87,20 @@ def test_a_narrow_lobe_does_not_spin_about_the_point_facing_the_viewer():
 
 
 # ------------------------------------------------------------------ a large map's irradiance
+#: The colour of the linear sky below.
+LINEAR_SKY_RGB = np.array([1.0, 0.8, 0.6])
+
+
+def _linear_sky(d):
+    """The linear sky ``(1 + 0.5 z + 0.3 x)`` RGB in the directions ``d``."""
+    return (1 + 0.5 * d[..., 2:3] + 0.3 * d[..., 0:1]) * LINEAR_SKY_RGB
+
+
+def _linear_sky_irradiance(d):
+    """Its irradiance at the normals ``d``: π + (2π/3)(0.5 n_z + 0.3 n_x) (Â_0 = π, Â_1 = 2π/3)."""
+    return (math.pi + 2 * math.pi / 3 * (0.5 * d[..., 2:3] + 0.3 * d[..., 0:1])) * LINEAR_SKY_RGB
+
+
 @pytest.fixture(scope="module")
 def large_linear_sky():
     """A 1024 × 512 map of the linear sky ``(1 + 0.5 z + 0.3 x)`` RGB, its :class:`DominantEnvironment`, and the
@@ -97,9 +111,7 @@ def large_linear_sky():
     """
     from lighting.integrate import prefilter
 
-    rgb = np.array([1.0, 0.8, 0.6])
-    d = LatLongEnvironment.pixel_directions(512, 1024)
-    env = LatLongEnvironment((1 + 0.5 * d[..., 2:3] + 0.3 * d[..., 0:1]) * rgb)
+    env = LatLongEnvironment(_linear_sky(LatLongEnvironment.pixel_directions(512, 1024)))
     pre = prefilter_environment(env)
     heights = []
     real = prefilter.irradiance_map
@@ -114,11 +126,9 @@ def test_a_large_maps_irradiance_is_integrated_at_256_rows_and_keeps_its_closed_
     # averaged down to 256 rows before the row convolution, whose work grows as the cube of the height.
     from lighting.integrate.dominant import IRRADIANCE_SOURCE_HEIGHT
 
-    rgb = np.array([1.0, 0.8, 0.6])
     _, dom, heights = large_linear_sky
     assert len(dom.lights) == 0 and set(heights) == {IRRADIANCE_SOURCE_HEIGHT} == {256}  # the residual, the uniform sky
-    d = LatLongEnvironment.pixel_directions(64, 128)
-    exact = (math.pi + 2 * math.pi / 3 * (0.5 * d[..., 2:3] + 0.3 * d[..., 0:1])) * rgb
+    exact = _linear_sky_irradiance(LatLongEnvironment.pixel_directions(64, 128))
     assert np.abs(dom.irradiance.image / exact - 1).max() < 3e-5  # measured 2.0e-5 (the next test: the
     # whole map's 512 rows integrated, 3.4e-6 from it, and within 3e-5 of this)
 
@@ -127,17 +137,12 @@ def test_a_large_maps_irradiance_averaged_down_is_the_whole_maps_within_the_quad
     # A 1024 × 512 map's residual is averaged down to 256 rows before its irradiance is integrated
     # (the test above: the closed form of a linear sky within 3e-5); the whole map's 512 rows integrated (seconds
     # of the row convolution) give the same map within that.
-    import math
-
     from lighting.integrate.dominant import _uniform_irradiance
     from lighting.integrate.prefilter import irradiance_map
-    from lighting.lights.environment import LatLongEnvironment
 
-    rgb = np.array([1.0, 0.8, 0.6])
     env, dom, _ = large_linear_sky  # the test above's map and its DominantEnvironment
     full = irradiance_map(env, 64, source_height=512).image * (math.pi / _uniform_irradiance(512, 1024, 64))
-    d64 = LatLongEnvironment.pixel_directions(64, 128)
-    exact = (math.pi + 2 * math.pi / 3 * (0.5 * d64[..., 2:3] + 0.3 * d64[..., 0:1])) * rgb
+    exact = _linear_sky_irradiance(LatLongEnvironment.pixel_directions(64, 128))
     assert np.abs(full / exact - 1).max() < 5e-6  # measured 3.4e-6
     assert np.abs(dom.irradiance.image / full - 1).max() < 3e-5  # measured 1.7e-5
 
