@@ -109,7 +109,7 @@ def test_no_direction_beats_the_reported_peak(name, phi):
     # lobe_peak is the largest value over the hemisphere, off the plane of incidence too: an anisotropic
     # ridge climbs toward the horizon (at φ = 180° Ward's reaches 2.9 times its in-plane value).
     brdf = NARROW[name]
-    l = spherical_direction(THETA, phi)  # noqa: E741
+    l = _light(phi, np.float64)  # noqa: E741
     peak = _peak(name, phi, np.float64)
     assert peak.value >= _hemisphere_max(brdf, l) * (1 - 1e-12)
     assert float(_value(brdf, l, peak.direction[None, :])[0]) == peak.value
@@ -118,7 +118,7 @@ def test_no_direction_beats_the_reported_peak(name, phi):
 def test_the_vertex_budget():
     assert VERTEX_BUDGET == 1 + 2 * 99**2
     for brdf in NARROW.values():
-        assert len(lobe_mesh(brdf, spherical_direction(THETA, math.pi), resolution=99).values) == VERTEX_BUDGET
+        assert len(lobe_mesh(brdf, _light(math.pi, np.float64), resolution=99).values) == VERTEX_BUDGET
 
 
 @pytest.mark.parametrize("phi", PHIS, ids=["phi180", "phi90", "phi30"])
@@ -128,7 +128,7 @@ def test_an_anisotropic_lobe_is_one_continuous_ridge(name, phi):
     # the ridge.  Before, the mesh interpolated between its vertices fell to 3 % (Ashikhmin–Shirley: a comb of
     # spikes) and 0 % (Ward: a dotted line) of the ridge's value between them.
     brdf = RIDGES[name]
-    l = spherical_direction(THETA, phi)  # noqa: E741
+    l = _light(phi, np.float64)  # noqa: E741
     mesh = _mesh(name, phi, 40, np.float64)
     tilt = np.tan(np.linspace(-1.5, 1.5, 401))
     h = np.stack([np.zeros_like(tilt), tilt, np.ones_like(tilt)], axis=-1)
@@ -162,7 +162,7 @@ def test_the_slices_sample_a_lobe_narrow_in_their_plane(name):
     # At φ = 180° the plane of incidence holds the narrow axis of the anisotropic lobes: their slices
     # used to put 2 (Ward) and 8 (Ashikhmin–Shirley) samples above half the maximum.
     brdf = NARROW[name]
-    l = spherical_direction(THETA, math.pi)  # noqa: E741
+    l = _light(math.pi, np.float64)  # noqa: E741
     # The light-fixed slice of reciprocity_pair (the view-fixed one is not looked at here).
     light = polar_slice(brdf, THETA, fixed="light", phi_in=math.pi, channel="luminance")
     curve = theta_v_curve(brdf, THETA, phi_l=math.pi, channel="luminance")
